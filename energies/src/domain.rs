@@ -1,0 +1,148 @@
+//! Where the points live: the [`Domain`] trait and the periodic unit cube.
+//!
+//! A domain gives an integrator what it needs to keep a moving set inside: a containment
+//! test, a uniform start, and a rule that brings a point that left back in. Domains with a
+//! boundary (implicit regions g(x) ≤ 0) also give the closest boundary point, which the
+//! boundary-aware energies use; the periodic cube has no boundary.
+
+use crate::{Error, PointSet, Result};
+use rand::{RngExt, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+/// A region of R^s that points are spread over.
+pub trait Domain: Send + Sync + std::fmt::Debug {
+    /// The dimension s.
+    fn dim(&self) -> usize;
+
+    /// Whether `x` lies in the domain (boundary included).
+    fn contains(&self, x: &[f64]) -> bool;
+
+    /// n points drawn uniformly from the domain with a seeded generator.
+    fn sample(&self, n: usize, seed: u64) -> Result<PointSet>;
+
+    /// Brings a point that an integrator moved to `x` back into the domain. `prev` is the
+    /// point's previous position, which a two-step scheme needs moved consistently (the
+    /// periodic cube shifts it by the same integer vector, so the velocity is unchanged).
+    fn bring_back(&self, x: &mut [f64], prev: &mut [f64]);
+
+    /// True for a domain without boundary whose translates tile space (the torus).
+    fn is_periodic(&self) -> bool {
+        false
+    }
+
+    /// Distance from `x` to the boundary and the closest boundary point, written to
+    /// `foot`; `None` for a domain without boundary.
+    fn closest_boundary_point(&self, _x: &[f64], _foot: &mut [f64]) -> Option<f64> {
+        None
+    }
+
+    /// The axis-aligned box `(lo, hi)` that holds the domain.
+    fn bounding_box(&self) -> (Vec<f64>, Vec<f64>);
+}
+
+/// The unit cube [0, 1)^s with opposite faces identified (the flat torus).
+///
+/// A coordinate that leaves [0, 1) is wrapped back by an integer (eq. 42 of the paper,
+/// with the floor rather than the nearest integer so that the result is in [0, 1)).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PeriodicCube {
+    s: usize,
+}
+
+impl PeriodicCube {
+    /// The periodic unit cube in s ≥ 1 dimensions.
+    pub fn new(s: usize) -> Result<Self> {
+        if s == 0 {
+            return Err(Error::invalid("s", s, "at least 1 dimension"));
+        }
+        Ok(PeriodicCube { s })
+    }
+
+    /// Wraps every coordinate of a set into [0, 1).
+    pub fn wrap_set(points: &mut PointSet) {
+        for v in points.as_mut_slice() {
+            *v = wrap_unit(*v).0;
+        }
+    }
+}
+
+/// `(v - floor(v), floor(v))`, with the rounding case `v - floor(v) == 1` sent to 0 so the
+/// result is always in [0, 1).
+#[inline]
+pub(crate) fn wrap_unit(v: f64) -> (f64, f64) {
+    let f = v.floor();
+    let r = v - f;
+    if r >= 1.0 {
+        (0.0, f + 1.0)
+    } else {
+        (r, f)
+    }
+}
+
+impl Domain for PeriodicCube {
+    fn dim(&self) -> usize {
+        self.s
+    }
+
+    fn contains(&self, x: &[f64]) -> bool {
+        x.len() == self.s && x.iter().all(|v| (0.0..1.0).contains(v))
+    }
+
+    fn sample(&self, n: usize, seed: u64) -> Result<PointSet> {
+        if n == 0 {
+            return Err(Error::invalid("n", n, "at least 1 point"));
+        }
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+        let data = (0..n * self.s).map(|_| rng.random::<f64>()).collect();
+        PointSet::new(n, self.s, data)
+    }
+
+    fn bring_back(&self, x: &mut [f64], prev: &mut [f64]) {
+        for (v, p) in x.iter_mut().zip(prev.iter_mut()) {
+            if !(0.0..1.0).contains(v) {
+                let (r, f) = wrap_unit(*v);
+                *v = r;
+                *p -= f;
+            }
+        }
+    }
+
+    fn is_periodic(&self) -> bool {
+        true
+    }
+
+    fn bounding_box(&self) -> (Vec<f64>, Vec<f64>) {
+        (vec![0.0; self.s], vec![1.0; self.s])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wrap_keeps_velocity_and_lands_in_unit_interval() {
+        let cube = PeriodicCube::new(3).unwrap();
+        let mut x = vec![1.25, -0.5, -1e-18];
+        let mut prev = vec![1.2, -0.45, 0.01];
+        let vel: Vec<f64> = x.iter().zip(&prev).map(|(a, b)| a - b).collect();
+        cube.bring_back(&mut x, &mut prev);
+        assert!(x.iter().all(|v| (0.0..1.0).contains(v)), "{x:?}");
+        for k in 0..3 {
+            assert!((x[k] - prev[k] - vel[k]).abs() < 1e-12);
+        }
+        assert!(cube.contains(&x));
+    }
+
+    #[test]
+    fn sample_is_seeded_and_inside() {
+        let cube = PeriodicCube::new(4).unwrap();
+        let a = cube.sample(50, 7).unwrap();
+        let b = cube.sample(50, 7).unwrap();
+        assert_eq!(a, b);
+        assert!(a.rows().all(|r| cube.contains(r)));
+        assert_ne!(a, cube.sample(50, 8).unwrap());
+        assert!(PeriodicCube::new(0).is_err());
+        assert!(cube.sample(0, 1).is_err());
+    }
+}

@@ -1,0 +1,62 @@
+//! Point sets, domains and potential energies for the stillpoint many-body model.
+//!
+//! A [`PointSet`] is n points × s coordinates stored row per point in one contiguous
+//! buffer; every crate of the workspace uses it. A [`Domain`] says where the points live
+//! (the periodic unit cube here; implicit regions plug into the same trait). An [`Energy`]
+//! is a potential over the whole set with its gradient; the integrators drive a set to a
+//! minimum of one.
+//!
+//! Equation numbers refer to Wu, Zhao, Zhao and Zhong (2021), *Relationship between
+//! low-discrepancy sequence and static solution to multi-bodies problem*.
+
+mod domain;
+mod error;
+mod pointset;
+mod uqp;
+
+pub use domain::{Domain, PeriodicCube};
+pub use error::{Error, Result};
+pub use pointset::PointSet;
+pub use uqp::{paper_qp, Distance, PaperQp, Uqp};
+
+/// A potential energy over a whole point set.
+///
+/// Implementations must be deterministic: the same points give the same bits whatever
+/// the number of rayon threads (fixed-order reductions).
+pub trait Energy: Send + Sync {
+    /// Short name with parameters, e.g. `U_{q,p}(q=0.3, p=0.8)`.
+    fn name(&self) -> String;
+
+    /// Energy of the set.
+    fn value(&self, points: &PointSet) -> f64;
+
+    /// Energy of the set, with its gradient (or a subgradient where the energy is not
+    /// differentiable) written into `grad`, laid out like the points (row per point).
+    ///
+    /// `grad.len()` must equal `points.len()`.
+    fn value_and_gradient(&self, points: &PointSet, grad: &mut [f64]) -> f64;
+}
+
+impl<E: Energy + ?Sized> Energy for &E {
+    fn name(&self) -> String {
+        (**self).name()
+    }
+    fn value(&self, points: &PointSet) -> f64 {
+        (**self).value(points)
+    }
+    fn value_and_gradient(&self, points: &PointSet, grad: &mut [f64]) -> f64 {
+        (**self).value_and_gradient(points, grad)
+    }
+}
+
+impl<E: Energy + ?Sized> Energy for Box<E> {
+    fn name(&self) -> String {
+        (**self).name()
+    }
+    fn value(&self, points: &PointSet) -> f64 {
+        (**self).value(points)
+    }
+    fn value_and_gradient(&self, points: &PointSet, grad: &mut [f64]) -> f64 {
+        (**self).value_and_gradient(points, grad)
+    }
+}

@@ -1,0 +1,16 @@
+//! stillpoint: point sets that fill a domain as evenly as possible, as the static solution
+//! of a damped many-body problem (the dynamical evolutionary model, DEM).
+//!
+//! This crate composes the workspace: [`energies`] (point sets, domains, potentials),
+//! [`integrators`] (the damped central-difference DEM), and here the metrics that prove a
+//! set's quality, the classic sequences it starts from or is compared with, file I/O and
+//! the run driver behind the `stillpoint` command.
+
+pub use stillpoint_energies as energies;
+pub use stillpoint_integrators as integrators;
+
+pub use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Uqp};
+
+pub mod io;
+pub mod metrics;
+pub mod sequences;

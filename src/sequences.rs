@@ -1,0 +1,1 @@
+//! Classic point sequences: starts for the DEM and baselines to compare with.
