@@ -1,1 +1,912 @@
-//! File input and output of point sets.
+//! Reading and writing point sets as files: CSV/TSV text, JSON and NumPy `.npy`.
+//!
+//! Reading is forgiving about layout (delimiters, comments, a header line) and strict
+//! about content: every refusal names the file and what is wrong. Writing is atomic, so a
+//! crash or a full disk never leaves a half-written point set behind, and every format
+//! round-trips the coordinates bit for bit.
+
+use std::fmt::Write as _;
+use std::fs;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use crate::{Error, PointSet};
+
+/// A point-set file format, chosen by file extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// Comma-separated text with `#` comment lines and an `x1,x2,...` header.
+    Csv,
+    /// Tab-separated text, otherwise as [`Format::Csv`].
+    Tsv,
+    /// `{"n": .., "s": .., "meta": {..}, "points": [[..], ..]}`.
+    Json,
+    /// NumPy `.npy`: float64, shape `[n, s]`, C order.
+    Npy,
+}
+
+impl Format {
+    /// The format for a path by its extension (case-insensitive): `.csv`, `.tsv`/`.tab`,
+    /// `.json`, `.npy`; anything else, or no extension, is [`Format::Csv`].
+    pub fn from_path(path: &Path) -> Format {
+        Format::from_extension(path).unwrap_or(Format::Csv)
+    }
+
+    /// `None` for an extension that names no format, which reading treats as "look at the
+    /// content" rather than assuming CSV.
+    fn from_extension(path: &Path) -> Option<Format> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "csv" => Some(Format::Csv),
+            "tsv" | "tab" => Some(Format::Tsv),
+            "json" => Some(Format::Json),
+            "npy" => Some(Format::Npy),
+            _ => None,
+        }
+    }
+}
+
+/// Why a point-set file could not be read or written. Every message starts with the file.
+#[derive(Debug, thiserror::Error)]
+pub enum IoError {
+    /// The operating system refused to read, create, write or rename a file.
+    #[error("{}: {action}: {error}", path.display())]
+    Io {
+        /// The file the caller asked for (not the temporary file of an atomic write).
+        path: PathBuf,
+        /// What was being attempted, e.g. `cannot read`.
+        action: String,
+        /// The operating system's error.
+        error: std::io::Error,
+    },
+    /// A text field that should hold a number does not.
+    #[error("{file}: line {line}, field {field}: {}", not_a_number(.text))]
+    NotANumber {
+        /// The file (or source name) being parsed.
+        file: String,
+        /// 1-based line number in the file, counting comments and blank lines.
+        line: usize,
+        /// 1-based field number within the line.
+        field: usize,
+        /// The offending field as written.
+        text: String,
+    },
+    /// Two text rows with different numbers of coordinates.
+    #[error(
+        "{file}: line {line} has {}, line {first_line} has {first_count} \
+         (every point needs the same number)",
+        coordinates(*.count)
+    )]
+    Ragged {
+        /// The file (or source name) being parsed.
+        file: String,
+        /// The line that disagrees.
+        line: usize,
+        /// Its number of coordinates.
+        count: usize,
+        /// The first data line, which fixed the dimension.
+        first_line: usize,
+        /// The dimension it fixed.
+        first_count: usize,
+    },
+    /// The file holds no points at all.
+    #[error("{file}: no points found")]
+    Empty {
+        /// The file (or source name) being parsed.
+        file: String,
+    },
+    /// The file is not laid out as a point set (wrong JSON shape, wrong array dtype or
+    /// rank, invalid UTF-8, ...); the message says what was found and what is accepted.
+    #[error("{file}: {message}")]
+    Format {
+        /// The file (or source name) being parsed.
+        file: String,
+        /// What is wrong and what is accepted.
+        message: String,
+    },
+    /// The numbers parsed but do not make a point set (a NaN or infinite coordinate).
+    #[error("{file}: {error}")]
+    Points {
+        /// The file (or source name) being parsed.
+        file: String,
+        /// The refusal from [`PointSet::new`] or an equivalent one with a line number.
+        error: Error,
+    },
+}
+
+fn not_a_number(text: &str) -> String {
+    if text.is_empty() {
+        "empty field (expected a number)".to_string()
+    } else {
+        let shown: String = text.chars().take(40).collect();
+        let dots = if shown.len() < text.len() { "..." } else { "" };
+        format!("{shown:?}{dots} is not a number")
+    }
+}
+
+fn coordinates(count: usize) -> String {
+    if count == 1 {
+        "1 coordinate".to_string()
+    } else {
+        format!("{count} coordinates")
+    }
+}
+
+fn io_error(path: &Path, action: impl Into<String>, error: std::io::Error) -> IoError {
+    IoError::Io {
+        path: path.to_path_buf(),
+        action: action.into(),
+        error,
+    }
+}
+
+fn format_error(file: &str, message: impl Into<String>) -> IoError {
+    IoError::Format {
+        file: file.to_string(),
+        message: message.into(),
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Reading
+// ---------------------------------------------------------------------------------------
+
+const NPY_MAGIC: &[u8] = b"\x93NUMPY";
+
+/// Reads a point set from `path`.
+///
+/// The NumPy magic bytes select `.npy` whatever the extension. Otherwise `.npy` and
+/// `.json` are read as such, `.csv`/`.tsv`/`.tab` as text ([`parse_text`]), and any other
+/// extension by content: JSON if it starts with `{` or `[`, text otherwise. The [0, 1]
+/// range is not checked here.
+pub fn read_points(path: &Path) -> Result<PointSet, IoError> {
+    let bytes = fs::read(path).map_err(|e| io_error(path, "cannot read", e))?;
+    let file = path.display().to_string();
+    if bytes.starts_with(NPY_MAGIC) {
+        return parse_npy(&bytes, &file);
+    }
+    let format = Format::from_extension(path);
+    if format == Some(Format::Npy) {
+        return Err(format_error(
+            &file,
+            "not a NumPy .npy file (it does not start with the \\x93NUMPY magic bytes)",
+        ));
+    }
+    let text = std::str::from_utf8(&bytes).map_err(|e| {
+        format_error(
+            &file,
+            format!(
+                "not UTF-8 text (invalid byte at offset {}); expected CSV/TSV text, JSON or .npy",
+                e.valid_up_to()
+            ),
+        )
+    })?;
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let is_json = match format {
+        Some(Format::Json) => true,
+        Some(_) => false,
+        None => matches!(text.trim_start().as_bytes().first(), Some(b'{' | b'[')),
+    };
+    if is_json {
+        parse_json(text, &file)
+    } else {
+        parse_text(text, &file)
+    }
+}
+
+/// Parses delimited text into a point set; `source` names the input in error messages.
+///
+/// Blank lines and lines starting with `#` are skipped. The first remaining line fixes the
+/// delimiter: `;` if it has one, else `,`, else tab, else runs of whitespace. If every
+/// field of that line is non-numeric it is a header and skipped; if only its first field
+/// is empty it is a pandas header with an index column, and the first column of every row
+/// is dropped. Fields may be padded with spaces or wrapped in double quotes, one trailing
+/// delimiter is allowed, and with `;` a decimal comma (`0,5`) is accepted. Every row must
+/// have the same number of coordinates and each must be a finite number.
+pub fn parse_text(text: &str, source: &str) -> Result<PointSet, IoError> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut delim: Option<Delim> = None;
+    let mut skip_first_column = false;
+    let mut s = 0usize;
+    let mut first_line = 0usize;
+    let mut n = 0usize;
+    let mut data: Vec<f64> = Vec::new();
+
+    for (idx, raw) in text.lines().enumerate() {
+        let line_no = idx + 1;
+        let line = raw.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let d = match delim {
+            Some(d) => d,
+            None => {
+                let d = Delim::detect(line);
+                delim = Some(d);
+                let fields: Vec<&str> = d.fields(raw).collect();
+                let names = |f: &[&str]| f.iter().all(|f| parse_field(f, d).is_none());
+                // pandas' default `to_csv` writes the index as an unnamed first column, and
+                // names columns 0, 1, ... unless told otherwise. An empty first field is
+                // otherwise an error, so treating it as this header loses nothing.
+                let index_header = fields.len() > 1
+                    && fields[0].is_empty()
+                    && (names(&fields[1..])
+                        || fields[1..]
+                            .iter()
+                            .enumerate()
+                            .all(|(k, f)| *f == k.to_string()));
+                if index_header || names(&fields) {
+                    skip_first_column = index_header;
+                    continue;
+                }
+                d
+            }
+        };
+
+        let mut count = 0usize;
+        for (f, field) in d.fields(raw).enumerate() {
+            if skip_first_column && f == 0 {
+                continue;
+            }
+            let v = parse_field(field, d).ok_or_else(|| IoError::NotANumber {
+                file: source.to_string(),
+                line: line_no,
+                field: f + 1,
+                text: field.to_string(),
+            })?;
+            count += 1;
+            if !v.is_finite() {
+                return Err(IoError::Points {
+                    file: source.to_string(),
+                    error: Error::invalid(
+                        format!("point {}, coordinate {count} (line {line_no})", n + 1),
+                        v,
+                        "a finite number",
+                    ),
+                });
+            }
+            data.push(v);
+        }
+        if n == 0 {
+            s = count;
+            first_line = line_no;
+            // The first row tells the width; reserving for the rest of the file by its
+            // byte count avoids repeated regrowth on large inputs.
+            data.reserve(s * (text.len() / line.len().max(1)));
+        } else if count != s {
+            return Err(IoError::Ragged {
+                file: source.to_string(),
+                line: line_no,
+                count,
+                first_line,
+                first_count: s,
+            });
+        }
+        n += 1;
+    }
+
+    if n == 0 || s == 0 {
+        return Err(IoError::Empty {
+            file: source.to_string(),
+        });
+    }
+    PointSet::new(n, s, data).map_err(|error| IoError::Points {
+        file: source.to_string(),
+        error,
+    })
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Delim {
+    Char(char),
+    Whitespace,
+}
+
+impl Delim {
+    fn detect(line: &str) -> Delim {
+        // `;` first: spreadsheets in decimal-comma locales write `0,5;0,25`.
+        for c in [';', ',', '\t'] {
+            if line.contains(c) {
+                return Delim::Char(c);
+            }
+        }
+        Delim::Whitespace
+    }
+
+    /// The trimmed, unquoted fields of a non-blank line, borrowing from it.
+    fn fields(self, line: &str) -> impl Iterator<Item = &str> {
+        let (by_char, by_space) = match self {
+            Delim::Char(c) => {
+                // Trimming must keep a leading tab in TSV: it marks an empty first field.
+                let line = line.trim_matches(|ch: char| ch.is_whitespace() && ch != c);
+                let line = line.strip_suffix(c).unwrap_or(line);
+                (Some(line.split(c).map(unquote)), None)
+            }
+            Delim::Whitespace => (None, Some(line.split_ascii_whitespace().map(unquote))),
+        };
+        by_char
+            .into_iter()
+            .flatten()
+            .chain(by_space.into_iter().flatten())
+    }
+}
+
+fn unquote(field: &str) -> &str {
+    let field = field.trim();
+    field
+        .strip_prefix('"')
+        .and_then(|f| f.strip_suffix('"'))
+        .map(str::trim)
+        .unwrap_or(field)
+}
+
+fn parse_field(field: &str, delim: Delim) -> Option<f64> {
+    if let Ok(v) = field.parse::<f64>() {
+        return Some(v);
+    }
+    if delim == Delim::Char(';') && field.contains(',') && !field.contains('.') {
+        return field.replacen(',', ".", 1).parse().ok();
+    }
+    None
+}
+
+/// A JSON value as far as point sets care: numbers keep their text so that they can be
+/// parsed exactly (serde_json's default float parsing is not correctly rounded).
+enum Json<'a> {
+    Num(&'a str),
+    Arr(Vec<Json<'a>>),
+    Obj(Vec<(&'a str, Json<'a>)>),
+    /// A string, `true`, `false` or `null`, as written.
+    Other(&'a str),
+}
+
+impl Json<'_> {
+    fn describe(&self) -> String {
+        match self {
+            Json::Num(t) => format!("the number {t}"),
+            Json::Arr(_) => "a list".to_string(),
+            Json::Obj(_) => "an object".to_string(),
+            Json::Other(t) if t.starts_with('"') => "a string".to_string(),
+            Json::Other(t) => (*t).to_string(),
+        }
+    }
+
+    fn raw(&self) -> String {
+        match self {
+            Json::Num(t) | Json::Other(t) => t.chars().take(40).collect(),
+            Json::Arr(_) => "[...]".to_string(),
+            Json::Obj(_) => "{...}".to_string(),
+        }
+    }
+}
+
+/// A scanner for text that serde_json has already accepted, so it only has to find token
+/// boundaries; `None` means the two disagree, which would be a bug here.
+struct Scanner<'a> {
+    text: &'a str,
+    pos: usize,
+}
+
+impl<'a> Scanner<'a> {
+    fn peek(&mut self) -> Option<u8> {
+        let bytes = self.text.as_bytes();
+        while self.pos < bytes.len() && bytes[self.pos].is_ascii_whitespace() {
+            self.pos += 1;
+        }
+        bytes.get(self.pos).copied()
+    }
+
+    fn expect(&mut self, b: u8) -> Option<()> {
+        if self.peek()? != b {
+            return None;
+        }
+        self.pos += 1;
+        Some(())
+    }
+
+    fn value(&mut self) -> Option<Json<'a>> {
+        match self.peek()? {
+            b'[' => {
+                self.pos += 1;
+                let mut items = Vec::new();
+                if self.peek()? == b']' {
+                    self.pos += 1;
+                    return Some(Json::Arr(items));
+                }
+                loop {
+                    items.push(self.value()?);
+                    match self.peek()? {
+                        b',' => self.pos += 1,
+                        b']' => {
+                            self.pos += 1;
+                            return Some(Json::Arr(items));
+                        }
+                        _ => return None,
+                    }
+                }
+            }
+            b'{' => {
+                self.pos += 1;
+                let mut entries = Vec::new();
+                if self.peek()? == b'}' {
+                    self.pos += 1;
+                    return Some(Json::Obj(entries));
+                }
+                loop {
+                    let key = self.string()?;
+                    self.expect(b':')?;
+                    let key = &key[1..key.len() - 1];
+                    entries.push((key, self.value()?));
+                    match self.peek()? {
+                        b',' => self.pos += 1,
+                        b'}' => {
+                            self.pos += 1;
+                            return Some(Json::Obj(entries));
+                        }
+                        _ => return None,
+                    }
+                }
+            }
+            b'"' => self.string().map(Json::Other),
+            _ => {
+                let start = self.pos;
+                let bytes = self.text.as_bytes();
+                while self.pos < bytes.len()
+                    && (bytes[self.pos].is_ascii_alphanumeric()
+                        || matches!(bytes[self.pos], b'+' | b'-' | b'.'))
+                {
+                    self.pos += 1;
+                }
+                let token = &self.text[start..self.pos];
+                match token.as_bytes().first()? {
+                    b't' | b'f' | b'n' => Some(Json::Other(token)),
+                    _ => Some(Json::Num(token)),
+                }
+            }
+        }
+    }
+
+    /// A string token including its quotes.
+    fn string(&mut self) -> Option<&'a str> {
+        if self.peek()? != b'"' {
+            return None;
+        }
+        let bytes = self.text.as_bytes();
+        let start = self.pos;
+        let mut i = start + 1;
+        while i < bytes.len() {
+            match bytes[i] {
+                b'\\' => i += 2,
+                b'"' => {
+                    self.pos = i + 1;
+                    return Some(&self.text[start..self.pos]);
+                }
+                _ => i += 1,
+            }
+        }
+        None
+    }
+}
+
+const JSON_SHAPE: &str = r#"expected {"points": [[x1, x2, ...], ...]} or [[x1, x2, ...], ...]"#;
+
+fn parse_json(text: &str, file: &str) -> Result<PointSet, IoError> {
+    serde_json::from_str::<serde::de::IgnoredAny>(text)
+        .map_err(|e| format_error(file, format!("not valid JSON ({e})")))?;
+    let root = Scanner { text, pos: 0 }
+        .value()
+        .ok_or_else(|| format_error(file, "could not scan this JSON (please report)"))?;
+    let shape = |detail: String| format_error(file, format!("{JSON_SHAPE} ({detail})"));
+
+    let mut hints: Vec<(&str, &str)> = Vec::new();
+    let list = match root {
+        Json::Arr(list) => list,
+        Json::Obj(entries) => {
+            let mut list = None;
+            for (key, value) in entries {
+                match (key, value) {
+                    ("points", Json::Arr(v)) => list = Some(v),
+                    ("points", other) => {
+                        return Err(shape(format!("\"points\" is {}", other.describe())))
+                    }
+                    ("n" | "s", Json::Num(t)) => hints.push((key, t)),
+                    _ => {}
+                }
+            }
+            list.ok_or_else(|| shape("the object has no \"points\" key".to_string()))?
+        }
+        other => return Err(shape(format!("got {}", other.describe()))),
+    };
+    if list.is_empty() {
+        return Err(IoError::Empty {
+            file: file.to_string(),
+        });
+    }
+
+    let number = |j: &Json, point: usize, coord: usize| match j {
+        Json::Num(t) => t.parse::<f64>().map_err(|_| {
+            format_error(
+                file,
+                format!("point {point}, coordinate {coord}: bad number {t}"),
+            )
+        }),
+        other => Err(format_error(
+            file,
+            format!(
+                "point {point}, coordinate {coord}: {} is not a number",
+                other.raw()
+            ),
+        )),
+    };
+
+    let n = list.len();
+    let mut data = Vec::new();
+    let s = if matches!(list[0], Json::Num(_)) {
+        // A flat list of numbers is n points on a line.
+        data.reserve(n);
+        for (i, item) in list.iter().enumerate() {
+            if !matches!(item, Json::Num(_)) {
+                return Err(shape(format!(
+                    "point {} is {} but point 1 is a number",
+                    i + 1,
+                    item.describe()
+                )));
+            }
+            data.push(number(item, i + 1, 1)?);
+        }
+        1
+    } else {
+        let mut s = 0;
+        for (i, item) in list.iter().enumerate() {
+            let Json::Arr(row) = item else {
+                return Err(shape(format!(
+                    "point {} is {}, not a list of numbers",
+                    i + 1,
+                    item.describe()
+                )));
+            };
+            if i == 0 {
+                if row.is_empty() {
+                    return Err(format_error(file, "point 1 has no coordinates"));
+                }
+                s = row.len();
+                data.reserve(n * s);
+            } else if row.len() != s {
+                return Err(format_error(
+                    file,
+                    format!(
+                        "point {} has {}, point 1 has {s} (every point needs the same number)",
+                        i + 1,
+                        coordinates(row.len())
+                    ),
+                ));
+            }
+            for (k, v) in row.iter().enumerate() {
+                data.push(number(v, i + 1, k + 1)?);
+            }
+        }
+        s
+    };
+
+    for (key, t) in hints {
+        let actual = if key == "n" { n } else { s };
+        if t.parse::<f64>().ok() != Some(actual as f64) {
+            return Err(format_error(
+                file,
+                format!(
+                    "\"{key}\" is {t} but \"points\" holds {actual} {}",
+                    if key == "n" {
+                        "points"
+                    } else {
+                        "coordinates per point"
+                    }
+                ),
+            ));
+        }
+    }
+
+    PointSet::new(n, s, data).map_err(|error| IoError::Points {
+        file: file.to_string(),
+        error,
+    })
+}
+
+fn parse_npy(bytes: &[u8], file: &str) -> Result<PointSet, IoError> {
+    const EXPECTED: &str = "expected a 2-D array of float64 or float32";
+    let mut rest = bytes;
+    let header = npyz::NpyHeader::from_reader(&mut rest)
+        .map_err(|e| format_error(file, format!("not a valid .npy file ({e})")))?;
+    let shape = header.shape().to_vec();
+    let (n, s) = match shape[..] {
+        [n] => (n, 1),
+        [n, s] => (n, s),
+        _ => {
+            return Err(format_error(
+                file,
+                format!("{EXPECTED} (got shape {shape:?})"),
+            ))
+        }
+    };
+    if n == 0 {
+        return Err(IoError::Empty {
+            file: file.to_string(),
+        });
+    }
+    if s == 0 {
+        return Err(format_error(
+            file,
+            format!("{EXPECTED} (got shape {shape:?})"),
+        ));
+    }
+    let dtype = header.dtype();
+    let width = match &dtype {
+        npyz::DType::Plain(t) if t.type_char() == npyz::TypeChar::Float => match t.size_field() {
+            8 => 8u64,
+            4 => 4u64,
+            _ => 0,
+        },
+        _ => 0,
+    };
+    if width == 0 {
+        return Err(format_error(
+            file,
+            format!("{EXPECTED} (got dtype {})", dtype.descr()),
+        ));
+    }
+    // Checked before decoding so that a corrupt header cannot ask for a huge allocation.
+    let needed = n.checked_mul(s).and_then(|len| len.checked_mul(width));
+    if needed.is_none_or(|b| b > rest.len() as u64) {
+        return Err(format_error(
+            file,
+            format!(
+                "truncated: shape {shape:?} needs {} bytes of data, the file has {}",
+                needed.map_or_else(|| "more than 2^64".to_string(), |b| b.to_string()),
+                rest.len()
+            ),
+        ));
+    }
+    let (n, s) = (n as usize, s as usize);
+    let fortran = header.order() == npyz::Order::Fortran;
+    let npy = npyz::NpyFile::with_header(header, rest);
+    let decoded = if width == 8 {
+        npy.into_vec::<f64>()
+    } else {
+        npy.into_vec::<f32>()
+            .map(|v| v.into_iter().map(f64::from).collect())
+    };
+    let flat = decoded.map_err(|e| format_error(file, format!("corrupt .npy data ({e})")))?;
+    let data = if fortran && s > 1 {
+        // Column-major on disk: element (i, k) sits at k·n + i.
+        let mut data = vec![0.0; n * s];
+        for (k, column) in flat.chunks_exact(n).enumerate() {
+            for (i, &v) in column.iter().enumerate() {
+                data[i * s + k] = v;
+            }
+        }
+        data
+    } else {
+        flat
+    };
+    PointSet::new(n, s, data).map_err(|error| IoError::Points {
+        file: file.to_string(),
+        error,
+    })
+}
+
+// ---------------------------------------------------------------------------------------
+// Writing
+// ---------------------------------------------------------------------------------------
+
+/// Appends `v` so that parsing the text gives back the same bits: Rust's shortest
+/// round-trip digits, positional for ordinary magnitudes and with an exponent for tiny or
+/// huge ones (where positional form would run to hundreds of digits). Valid JSON too.
+fn push_coord(out: &mut String, v: f64) {
+    let a = v.abs();
+    if a == 0.0 || (1e-5..1e16).contains(&a) {
+        let _ = write!(out, "{v}");
+    } else {
+        let _ = write!(out, "{v:e}");
+    }
+}
+
+/// One `# key: value` line per entry of a JSON object; any other non-null value becomes a
+/// single `# meta: value` line.
+fn push_meta_comments(out: &mut String, meta: &serde_json::Value) {
+    let mut line = |key: &str, value: &serde_json::Value| {
+        // A newline in a key would end the comment and corrupt the data that follows.
+        let key: String = key
+            .chars()
+            .map(|c| if c.is_control() { ' ' } else { c })
+            .collect();
+        let _ = writeln!(out, "# {key}: {value}");
+    };
+    match meta {
+        serde_json::Value::Null => {}
+        serde_json::Value::Object(map) => map.iter().for_each(|(k, v)| line(k, v)),
+        other => line("meta", other),
+    }
+}
+
+fn to_text(points: &PointSet, meta: &serde_json::Value, sep: char) -> String {
+    let mut out = String::with_capacity(64 + points.len() * 21);
+    let _ = writeln!(out, "# stillpoint {}", env!("CARGO_PKG_VERSION"));
+    push_meta_comments(&mut out, meta);
+    for k in 1..=points.s() {
+        if k > 1 {
+            out.push(sep);
+        }
+        let _ = write!(out, "x{k}");
+    }
+    out.push('\n');
+    for row in points.rows() {
+        for (k, &v) in row.iter().enumerate() {
+            if k > 0 {
+                out.push(sep);
+            }
+            push_coord(&mut out, v);
+        }
+        out.push('\n');
+    }
+    out
+}
+
+fn to_json(points: &PointSet, meta: &serde_json::Value) -> String {
+    let mut out = String::with_capacity(128 + points.len() * 21);
+    let _ = write!(
+        out,
+        "{{\n  \"stillpoint\": \"{}\",\n  \"n\": {},\n  \"s\": {},\n",
+        env!("CARGO_PKG_VERSION"),
+        points.n(),
+        points.s()
+    );
+    if !meta.is_null() {
+        let _ = writeln!(out, "  \"meta\": {meta},");
+    }
+    out.push_str("  \"points\": [\n");
+    for (i, row) in points.rows().enumerate() {
+        out.push_str("    [");
+        for (k, &v) in row.iter().enumerate() {
+            if k > 0 {
+                out.push_str(", ");
+            }
+            push_coord(&mut out, v);
+        }
+        out.push_str(if i + 1 < points.n() { "],\n" } else { "]\n" });
+    }
+    out.push_str("  ]\n}\n");
+    out
+}
+
+fn to_npy(points: &PointSet) -> Vec<u8> {
+    // Format version 1.0: magic, version, u16 header length, a Python dict literal padded
+    // with spaces and ended by a newline so that the data starts 64-byte aligned.
+    let mut header = format!(
+        "{{'descr': '<f8', 'fortran_order': False, 'shape': ({}, {}), }}",
+        points.n(),
+        points.s()
+    );
+    let unpadded = NPY_MAGIC.len() + 2 + 2 + header.len() + 1;
+    header.extend(std::iter::repeat_n(
+        ' ',
+        unpadded.next_multiple_of(64) - unpadded,
+    ));
+    header.push('\n');
+    let mut out = Vec::with_capacity(10 + header.len() + 8 * points.len());
+    out.extend_from_slice(NPY_MAGIC);
+    out.extend_from_slice(&[1, 0]);
+    // A dict for two dimensions is far below the 65 535-byte limit of version 1.0.
+    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    out.extend_from_slice(header.as_bytes());
+    for &v in points.as_slice() {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    out
+}
+
+/// The bytes of `points` in `format`, exactly as [`write_points`] stores them. `meta` (a
+/// JSON object; `null` for none) goes into the comment lines of CSV/TSV and under the
+/// `"meta"` key of JSON, and is dropped for `.npy`.
+pub fn encode(points: &PointSet, meta: &serde_json::Value, format: Format) -> Vec<u8> {
+    match format {
+        Format::Csv => to_text(points, meta, ',').into_bytes(),
+        Format::Tsv => to_text(points, meta, '\t').into_bytes(),
+        Format::Json => to_json(points, meta).into_bytes(),
+        Format::Npy => to_npy(points),
+    }
+}
+
+/// The CSV form of `points` (as [`write_points`] writes a `.csv`), e.g. for stdout:
+/// `# stillpoint <version>`, one `# key: value` line per entry of `meta`, the header
+/// `x1,...,xs`, then one row per point.
+pub fn to_csv_string(points: &PointSet, meta: &serde_json::Value) -> String {
+    to_text(points, meta, ',')
+}
+
+/// Writes `points` to `path` atomically in the format its extension names
+/// ([`Format::from_path`]; CSV when it names none).
+///
+/// CSV/TSV start with `#` comment lines (version, then `key: value` per entry of `meta`)
+/// and a header line; JSON is `{"stillpoint": version, "n", "s", "meta": meta, "points"}`
+/// with `meta` kept under its own key so that it can never clobber the data; NPY is
+/// float64 `[n, s]` in C order without `meta`. Reading any of them back with
+/// [`read_points`] gives identical bits.
+pub fn write_points(
+    path: &Path,
+    points: &PointSet,
+    meta: &serde_json::Value,
+) -> Result<(), IoError> {
+    write_atomic(path, &encode(points, meta, Format::from_path(path)))
+}
+
+static TEMP_COUNTER: AtomicUsize = AtomicUsize::new(0);
+
+/// Replaces `path` with `bytes` so that readers see either the old file or the complete
+/// new one: the bytes go to `.{name}.tmp-{pid}-{k}` in the same directory, are synced to
+/// disk and renamed over `path`. On any failure the temporary file is removed and `path`
+/// is left as it was. An existing file's permissions are kept.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+    let name = path.file_name().ok_or_else(|| {
+        io_error(
+            path,
+            "cannot write",
+            std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a file name"),
+        )
+    })?;
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+
+    let (tmp, mut file) = loop {
+        let k = TEMP_COUNTER.fetch_add(1, Ordering::Relaxed);
+        let mut tmp_name = std::ffi::OsString::from(".");
+        tmp_name.push(name);
+        tmp_name.push(format!(".tmp-{}-{k}", std::process::id()));
+        let tmp = dir.join(tmp_name);
+        // create_new: never truncate or follow something that is already there.
+        match fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+        {
+            Ok(file) => break (tmp, file),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && k < 1 << 20 => continue,
+            Err(e) => {
+                return Err(io_error(
+                    path,
+                    format!("cannot create temporary file {}", tmp.display()),
+                    e,
+                ))
+            }
+        }
+    };
+
+    let written = (|| {
+        file.write_all(bytes)
+            .map_err(|e| io_error(path, format!("cannot write {}", tmp.display()), e))?;
+        file.flush()
+            .and_then(|()| file.sync_all())
+            .map_err(|e| io_error(path, format!("cannot sync {}", tmp.display()), e))?;
+        if let Ok(old) = fs::metadata(path) {
+            if old.is_file() {
+                let _ = file.set_permissions(old.permissions());
+            }
+        }
+        drop(file);
+        fs::rename(&tmp, path)
+            .map_err(|e| io_error(path, format!("cannot rename {} onto it", tmp.display()), e))
+    })();
+
+    if written.is_err() {
+        let _ = fs::remove_file(&tmp);
+        return written;
+    }
+    // The rename is durable only once the directory entry is; best effort, since some
+    // platforms and file systems cannot sync a directory.
+    #[cfg(unix)]
+    if let Ok(d) = fs::File::open(dir) {
+        let _ = d.sync_all();
+    }
+    Ok(())
+}

@@ -1,1 +1,162 @@
 //! Classic point sequences: starts for the DEM and baselines to compare with.
+//!
+//! [`halton`] is the plain (unscrambled) Halton sequence the paper starts its Table 5 runs
+//! from and lists as row [15]; [`random`] is seeded i.i.d. uniform sampling, the start of
+//! its Section 5.1 runs and the Monte Carlo baseline.
+
+use rand::{RngExt, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+use crate::{Error, PointSet};
+
+/// The first `k` primes in increasing order (2, 3, 5, 7, ...); empty for `k = 0`.
+///
+/// These are the Halton bases: dimension k (counting from 1) uses the k-th prime.
+pub fn first_primes(k: usize) -> Vec<u64> {
+    let mut primes: Vec<u64> = Vec::with_capacity(k);
+    let mut candidate = 2u64;
+    while primes.len() < k {
+        // Trial division by the primes found so far suffices up to √candidate.
+        if primes
+            .iter()
+            .take_while(|&&p| p * p <= candidate)
+            .all(|&p| candidate % p != 0)
+        {
+            primes.push(candidate);
+        }
+        candidate += if candidate == 2 { 1 } else { 2 };
+    }
+    primes
+}
+
+/// Radical inverse of `index` in base `base`: its base-b digits mirrored about the point.
+///
+/// The digits are gathered into one integer numerator over b^m and divided once, so the
+/// result is the correctly rounded value whenever b^m ≤ 2^53 (every realistic n and s);
+/// summing digit × b^(−j) term by term would round at every digit instead.
+fn radical_inverse(mut index: u64, base: u64) -> f64 {
+    let b = u128::from(base);
+    let mut numerator: u128 = 0;
+    let mut denominator: u128 = 1;
+    while index > 0 {
+        numerator = numerator * b + u128::from(index % base);
+        denominator *= b;
+        index /= base;
+    }
+    numerator as f64 / denominator as f64
+}
+
+/// Plain (unscrambled) Halton points with indices 1..=n, in s dimensions.
+///
+/// Coordinate k (counting from 1) of point i is the radical inverse of i in the k-th
+/// prime base, so the first points in 2-D are (1/2, 1/3), (1/4, 2/3), (3/4, 1/9). Index 0
+/// (the origin) is skipped, as in the paper's Table 5 row [15]; unlike SciPy's
+/// `qmc.Halton(scramble=False)`, which starts at index 0. Any s is accepted; the primes
+/// are generated as needed, though plain Halton is known to degrade for large bases
+/// (strongly correlated coordinates once the base exceeds n).
+///
+/// Refuses `n = 0` or `s = 0`, naming the argument.
+pub fn halton(n: usize, s: usize) -> Result<PointSet, Error> {
+    check_shape(n, s)?;
+    let bases = first_primes(s);
+    let mut data = Vec::with_capacity(n * s);
+    for i in 1..=n as u64 {
+        data.extend(bases.iter().map(|&b| radical_inverse(i, b)));
+    }
+    PointSet::new(n, s, data)
+}
+
+/// n points drawn uniformly and independently in [0, 1)^s.
+///
+/// The generator is `Xoshiro256PlusPlus::seed_from_u64(seed)` and the coordinates are
+/// drawn row by row (all of point 1, then point 2, ...), so the same seed gives the same
+/// points on every platform, and the first m points of a larger draw equal a draw of m.
+///
+/// Refuses `n = 0` or `s = 0`, naming the argument.
+pub fn random(n: usize, s: usize, seed: u64) -> Result<PointSet, Error> {
+    check_shape(n, s)?;
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    let data = (0..n * s).map(|_| rng.random::<f64>()).collect();
+    PointSet::new(n, s, data)
+}
+
+/// Refuses an empty shape, or one whose buffer length overflows, before allocating.
+fn check_shape(n: usize, s: usize) -> Result<(), Error> {
+    if n == 0 {
+        return Err(Error::invalid("n", n, "at least 1 point"));
+    }
+    if s == 0 {
+        return Err(Error::invalid("s", s, "at least 1 dimension"));
+    }
+    if n.checked_mul(s).is_none() {
+        return Err(Error::invalid(
+            "n·s",
+            format!("{n}·{s}"),
+            format!("at most {}", usize::MAX),
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn primes() {
+        assert!(first_primes(0).is_empty());
+        assert_eq!(
+            first_primes(12),
+            vec![2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37]
+        );
+        let p = first_primes(1000);
+        assert_eq!(p[999], 7919);
+    }
+
+    #[test]
+    fn first_halton_points() {
+        let h = halton(3, 2).unwrap();
+        assert_eq!(h.point(0), &[1.0 / 2.0, 1.0 / 3.0]);
+        assert_eq!(h.point(1), &[1.0 / 4.0, 2.0 / 3.0]);
+        assert_eq!(h.point(2), &[3.0 / 4.0, 1.0 / 9.0]);
+    }
+
+    #[test]
+    fn halton_digits_are_mirrored() {
+        // 11 = 1011₂ → 0.1101₂ = 13/16; 11 = 102₃ → 0.201₃ = 19/27; 11 = 21₅ → 0.12₅ = 7/25.
+        let h = halton(11, 3).unwrap();
+        assert_eq!(h.point(10), &[13.0 / 16.0, 19.0 / 27.0, 7.0 / 25.0]);
+    }
+
+    #[test]
+    fn halton_high_dimension_uses_later_primes() {
+        // The 30th prime is 113: index 1 maps to 1/113, index 114 = 1·113 + 1 to 1/113 + 1/113².
+        let h = halton(114, 30).unwrap();
+        assert_eq!(h.point(0)[29], 1.0 / 113.0);
+        assert_eq!(h.point(113)[29], 114.0 / (113.0 * 113.0));
+        assert!(h.as_slice().iter().all(|&v| v > 0.0 && v < 1.0));
+    }
+
+    #[test]
+    fn refuses_empty_shapes() {
+        for (n, s, name) in [(0, 2, "n"), (3, 0, "s")] {
+            for r in [halton(n, s), random(n, s, 1)] {
+                match r {
+                    Err(Error::InvalidArgument { name: got, .. }) => assert_eq!(got, name),
+                    other => panic!("expected an error naming {name}, got {other:?}"),
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn random_is_seeded_and_in_the_unit_cube() {
+        let a = random(50, 3, 7).unwrap();
+        assert_eq!(a, random(50, 3, 7).unwrap());
+        assert_ne!(a, random(50, 3, 8).unwrap());
+        assert!(a.as_slice().iter().all(|&v| (0.0..1.0).contains(&v)));
+        // Row by row: a shorter draw is a prefix of a longer one.
+        let b = random(20, 3, 7).unwrap();
+        assert_eq!(b.as_slice(), &a.as_slice()[..60]);
+    }
+}

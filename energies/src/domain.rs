@@ -66,6 +66,51 @@ impl PeriodicCube {
     }
 }
 
+impl PeriodicCube {
+    /// Shifts the set periodically, coordinate by coordinate, so that the mean of the
+    /// wrapped coordinates is exactly 0.5 (eq. 43), choosing the smallest such shift.
+    /// Returns the shift applied to each coordinate.
+    ///
+    /// On the torus eq. 45 (subtract the mean, add 0.5) does not do this by itself: the
+    /// points it pushes across a face wrap and pull the mean back. For a shift c the
+    /// wrapped mean is M + c − W(c)/n with W(c) = #{v ≥ 1 − c}, so the candidates are
+    /// c_w = 0.5 − M + w/n for w wrapped points, each valid when exactly w points wrap.
+    pub fn centre_mean(points: &mut PointSet) -> Vec<f64> {
+        let (n, s) = (points.n(), points.s());
+        let mut shifts = vec![0.0; s];
+        let mut col = vec![0.0; n];
+        for (k, shift) in shifts.iter_mut().enumerate() {
+            for (i, c) in col.iter_mut().enumerate() {
+                *c = points.as_slice()[i * s + k];
+            }
+            let mean = col.iter().sum::<f64>() / n as f64;
+            col.sort_by(|a, b| b.total_cmp(a));
+            let mut best: Option<f64> = None;
+            for w in 0..=n {
+                let c = 0.5 - mean + w as f64 / n as f64;
+                if !(0.0..1.0).contains(&c) {
+                    continue;
+                }
+                // Exactly w points wrap: the w largest reach 1, the next does not.
+                let wraps_w = w == 0 || col[w - 1] + c >= 1.0;
+                let not_next = w == n || col[w] + c < 1.0;
+                if wraps_w && not_next {
+                    let better = best.is_none_or(|b| c.min(1.0 - c) < b.min(1.0 - b));
+                    if better {
+                        best = Some(c);
+                    }
+                }
+            }
+            let c = best.unwrap_or(0.5 - mean);
+            for row in points.as_mut_slice().chunks_exact_mut(s) {
+                row[k] = wrap_unit(row[k] + c).0;
+            }
+            *shift = c;
+        }
+        shifts
+    }
+}
+
 /// `(v - floor(v), floor(v))`, with the rounding case `v - floor(v) == 1` sent to 0 so the
 /// result is always in [0, 1).
 #[inline]
@@ -144,5 +189,34 @@ mod tests {
         assert_ne!(a, cube.sample(50, 8).unwrap());
         assert!(PeriodicCube::new(0).is_err());
         assert!(cube.sample(0, 1).is_err());
+    }
+
+    #[test]
+    fn centre_mean_reaches_one_half_exactly() {
+        let cube = PeriodicCube::new(3).unwrap();
+        for seed in 0..20 {
+            let mut x = cube.sample(37, seed).unwrap();
+            // Skew the set so that plain subtraction of the mean would wrap many points.
+            for v in x.as_mut_slice() {
+                *v = (*v * *v + 0.3).fract();
+            }
+            let before = x.clone();
+            PeriodicCube::centre_mean(&mut x);
+            for m in x.mean() {
+                assert!((m - 0.5).abs() < 1e-13, "seed {seed}: mean {m}");
+            }
+            assert!(x.rows().all(|r| cube.contains(r)));
+            // A periodic shift keeps all torus distances.
+            let d = |a: &[f64], b: &[f64]| -> f64 {
+                a.iter()
+                    .zip(b)
+                    .map(|(u, v)| {
+                        let t = (u - v).abs();
+                        t.min(1.0 - t).powi(2)
+                    })
+                    .sum()
+            };
+            assert!((d(x.point(0), x.point(5)) - d(before.point(0), before.point(5))).abs() < 1e-12);
+        }
     }
 }

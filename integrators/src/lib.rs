@@ -1,1 +1,104 @@
-//! x
+//! Integrators that drive a point set to rest under an energy in a domain.
+//!
+//! The [`Integrator`] trait is what the run driver calls; [`Dem`] is the damped
+//! central-difference scheme of the paper (eqs. 21–26, parameters eqs. 39–41, periodic
+//! wrap eq. 42, restart for unbiasedness eqs. 43–45). Every integrator returns its
+//! trajectory as [`Record`]s so that runs can be compared side by side, and calls an
+//! [`Observer`] after each step (progress bars, discrepancy logging, early stop).
+
+mod dem;
+
+pub use dem::{Dem, Kappa, Restart};
+
+use serde::Serialize;
+use stillpoint_energies::{Domain, Energy, PointSet, Result};
+
+/// One entry of a trajectory: the state x^(step) before the step is taken.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Record {
+    /// Step index j of x^(j); 0 is the start.
+    pub step: usize,
+    /// Energy at x^(j).
+    pub energy: f64,
+    /// Wall time since the run began, in seconds (not part of any reproducible output).
+    pub seconds: f64,
+    /// Largest coordinate change of the step that produced x^(j) (0 at the start).
+    pub max_move: f64,
+    /// Whether x^(j) came from a restart (§4.3) rather than a dynamic step.
+    pub restarted: bool,
+    /// Extra named values an observer attached (for example discrepancies every k steps).
+    pub metrics: Vec<(String, f64)>,
+}
+
+/// What an observer asks the integrator to do next.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Control {
+    /// Go on.
+    Continue,
+    /// Stop now and return the current state.
+    Stop,
+}
+
+/// Called by an integrator with every record, before it is stored.
+pub trait Observer {
+    /// Sees the record and the points it describes; may attach metrics to the record.
+    fn observe(&mut self, record: &mut Record, points: &PointSet) -> Control;
+}
+
+/// An observer that does nothing.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct NoObserver;
+
+impl Observer for NoObserver {
+    fn observe(&mut self, _record: &mut Record, _points: &PointSet) -> Control {
+        Control::Continue
+    }
+}
+
+/// Why a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    /// The step budget was used up.
+    StepBudget,
+    /// Steps and forces fell below the tolerance.
+    Converged,
+    /// An observer asked to stop.
+    Observer,
+}
+
+/// The outcome of a run.
+#[derive(Debug, Clone)]
+pub struct RunOutput {
+    /// The final points.
+    pub points: PointSet,
+    /// One record per state visited, starting with the start.
+    pub trajectory: Vec<Record>,
+    /// Why the run ended.
+    pub stop: StopReason,
+    /// Free-form facts about the run (κ used, restarts, trials), for reports.
+    pub info: Vec<(String, f64)>,
+}
+
+impl RunOutput {
+    /// A value from [`RunOutput::info`] by name.
+    pub fn info(&self, key: &str) -> Option<f64> {
+        self.info.iter().find(|(k, _)| k == key).map(|(_, v)| *v)
+    }
+}
+
+/// Drives a point set to rest under an energy in a domain.
+pub trait Integrator {
+    /// Short name with parameters.
+    fn name(&self) -> String;
+
+    /// Runs from `start` (which must lie in `domain`) and returns the final state with its
+    /// trajectory.
+    fn run(
+        &self,
+        energy: &dyn Energy,
+        domain: &dyn Domain,
+        start: PointSet,
+        observer: &mut dyn Observer,
+    ) -> Result<RunOutput>;
+}

@@ -1,0 +1,406 @@
+//! The damped central-difference DEM (§4 of the paper).
+//!
+//! m ẍ + c ẋ + G ∇U(x) = 0 is stepped with central differences (eqs. 24–26):
+//!
+//! x^(j+1) = (A1 x^(j) − A2 x^(j−1) − G f^(j)) / A0,
+//! A0 = m/Δt² + c/(2Δt), A1 = 2m/Δt², A2 = m/Δt² − c/(2Δt),
+//!
+//! started from rest with the Taylor step x^(1) = x^(0) − G f^(0) Δt² / (2m) (eq. 23 with
+//! ẍ(0) = −G f/m: the paper's eq. 22 drops the sign). m and c follow eq. 41 from
+//! μ0 = U(X0)/X0ᵀX0 and κ, so that A2/A0 = ((√κ − 1)/(√κ + 1))² and
+//! 1/A0 = 4/(μ0 (1 + √κ)²): the scheme is heavy-ball gradient descent and Δt, G cancel.
+
+use crate::{Control, Integrator, Observer, Record, RunOutput, StopReason};
+use std::time::Instant;
+use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Result};
+
+/// How κ of eq. 39 (μ1 ≈ κ μ0) is chosen.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Kappa {
+    /// Use this κ ≥ 1 as it is.
+    Fixed(f64),
+    /// The trial of §4.1: start at `start`; while the energy fails to decrease at every one
+    /// of the first `trial_steps` steps, multiply κ by `factor` and begin again from the
+    /// start, up to `max`.
+    Auto {
+        /// First κ tried (the paper's 100).
+        start: f64,
+        /// Enlargement factor per failed trial.
+        factor: f64,
+        /// Steps that must each lower the energy.
+        trial_steps: usize,
+        /// Largest κ tried; if it also fails, it is used anyway and the run says so.
+        max: f64,
+    },
+}
+
+impl Default for Kappa {
+    fn default() -> Self {
+        Kappa::Auto {
+            start: 100.0,
+            factor: 2.0,
+            trial_steps: 20,
+            max: 1e8,
+        }
+    }
+}
+
+/// The restart of §4.3: when the mean leaves 0.5 by more than ε_p in some coordinate
+/// (eq. 44), the set is shifted back to mean 0.5 (eq. 45) and the dynamics restart from
+/// rest. Only periodic domains are restarted (a shift is what the torus allows).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Restart {
+    /// No restarts.
+    Off,
+    /// Restart when ΔP > ε_p.
+    Threshold(f64),
+    /// ε_p = 2/n: one point wrapping across a face moves the mean by 1/n, so a smaller
+    /// threshold would restart after almost every wrap.
+    Auto,
+}
+
+impl Restart {
+    fn threshold(&self, n: usize) -> Option<f64> {
+        match *self {
+            Restart::Off => None,
+            Restart::Threshold(e) => Some(e),
+            Restart::Auto => Some(2.0 / n as f64),
+        }
+    }
+}
+
+/// The damped central-difference DEM integrator.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Dem {
+    /// Step budget (the paper uses 1000).
+    pub steps: usize,
+    /// κ of eq. 39.
+    pub kappa: Kappa,
+    /// Δt (0.1 in the paper; it cancels from the scheme).
+    pub dt: f64,
+    /// The gravitational constant G (1 in the paper; it cancels from the scheme).
+    pub g: f64,
+    /// The restart for unbiasedness.
+    pub restart: Restart,
+    /// Stop when both the largest coordinate move of a step and the largest force step
+    /// |G f|/A0 fall below this (0 disables).
+    pub tolerance: f64,
+}
+
+impl Default for Dem {
+    fn default() -> Self {
+        Dem {
+            steps: 1000,
+            kappa: Kappa::default(),
+            dt: 0.1,
+            g: 1.0,
+            restart: Restart::Auto,
+            tolerance: 1e-12,
+        }
+    }
+}
+
+impl Dem {
+    fn validate(&self, domain: &dyn Domain, start: &PointSet) -> Result<()> {
+        if start.s() != domain.dim() {
+            return Err(Error::invalid(
+                "start dimension",
+                start.s(),
+                format!("the domain's dimension {}", domain.dim()),
+            ));
+        }
+        if let Some(i) = (0..start.n()).find(|&i| !domain.contains(start.point(i))) {
+            return Err(Error::invalid(
+                format!("start point {}", i + 1),
+                format!("{:?}", start.point(i)),
+                "a point inside the domain",
+            ));
+        }
+        let pos = |name: &str, v: f64| {
+            if v > 0.0 && v.is_finite() {
+                Ok(())
+            } else {
+                Err(Error::invalid(name, v, "a finite number > 0"))
+            }
+        };
+        pos("dt", self.dt)?;
+        pos("G", self.g)?;
+        if self.tolerance.is_nan() || self.tolerance < 0.0 {
+            return Err(Error::invalid("tolerance", self.tolerance, "a number ≥ 0"));
+        }
+        match self.kappa {
+            Kappa::Fixed(k) if !(k >= 1.0 && k.is_finite()) => {
+                return Err(Error::invalid("kappa", k, "a finite number ≥ 1"))
+            }
+            Kappa::Auto {
+                start,
+                factor,
+                max,
+                ..
+            } => {
+                if !(start >= 1.0 && start.is_finite()) {
+                    return Err(Error::invalid("kappa start", start, "a finite number ≥ 1"));
+                }
+                if !(factor > 1.0 && factor.is_finite()) {
+                    return Err(Error::invalid("kappa factor", factor, "a number > 1"));
+                }
+                if !(max >= start && max.is_finite()) {
+                    return Err(Error::invalid("kappa max", max, "a finite number ≥ start"));
+                }
+            }
+            _ => {}
+        }
+        if let Restart::Threshold(e) = self.restart {
+            if !(e > 0.0) {
+                return Err(Error::invalid(
+                    "restart threshold ε_p",
+                    e,
+                    "a number > 0 (or no restart)",
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The scheme's coefficients for one κ.
+#[derive(Debug, Clone, Copy)]
+struct Coefficients {
+    a0: f64,
+    a1: f64,
+    a2: f64,
+    g: f64,
+}
+
+impl Coefficients {
+    /// Eq. 41 for m and c, then eq. 26.
+    fn new(mu0: f64, kappa: f64, dt: f64, g: f64) -> Self {
+        let m = (1.0 + kappa) / 4.0 * mu0 * dt * dt;
+        let c = mu0 * kappa.sqrt() * dt;
+        Coefficients {
+            a0: m / (dt * dt) + c / (2.0 * dt),
+            a1: 2.0 * m / (dt * dt),
+            a2: m / (dt * dt) - c / (2.0 * dt),
+            g,
+        }
+    }
+}
+
+/// The evolving state: x^(j), x^(j−1), the gradient at x^(j) and whether the next step
+/// starts from rest.
+struct State {
+    cur: PointSet,
+    prev: PointSet,
+    grad: Vec<f64>,
+    from_rest: bool,
+}
+
+impl State {
+    fn new(start: &PointSet) -> Self {
+        State {
+            cur: start.clone(),
+            prev: start.clone(),
+            grad: vec![0.0; start.len()],
+            from_rest: true,
+        }
+    }
+
+    /// U(x^(j)), leaving the gradient for [`State::advance`].
+    fn evaluate(&mut self, energy: &dyn Energy) -> f64 {
+        energy.value_and_gradient(&self.cur, &mut self.grad)
+    }
+
+    /// Moves to x^(j+1) with eq. 25 (or the Taylor start) and brings points back into the
+    /// domain. Returns (largest coordinate move, largest force step |G f|/A0).
+    fn advance(&mut self, domain: &dyn Domain, co: &Coefficients) -> (f64, f64) {
+        let s = self.cur.s();
+        let mut max_move: f64 = 0.0;
+        let mut max_force: f64 = 0.0;
+        let cur = self.cur.as_mut_slice();
+        let prev = self.prev.as_mut_slice();
+        for ((xc, xp), &gr) in cur.iter_mut().zip(prev.iter_mut()).zip(&self.grad) {
+            let f = co.g * gr;
+            let next = if self.from_rest {
+                *xc - f / co.a1
+            } else {
+                (co.a1 * *xc - co.a2 * *xp - f) / co.a0
+            };
+            max_move = max_move.max((next - *xc).abs());
+            max_force = max_force.max((f / co.a0).abs());
+            *xp = *xc;
+            *xc = next;
+        }
+        for (xc, xp) in cur.chunks_exact_mut(s).zip(prev.chunks_exact_mut(s)) {
+            domain.bring_back(xc, xp);
+        }
+        self.from_rest = false;
+        (max_move, max_force)
+    }
+
+    /// Eqs. 44–45: if the mean is more than `eps` from 0.5 in some coordinate, shift the
+    /// set periodically back to mean exactly 0.5 and restart from rest. Returns whether it
+    /// did.
+    fn maybe_recentre(&mut self, eps: f64) -> bool {
+        let dp = self
+            .cur
+            .mean()
+            .iter()
+            .map(|m| (m - 0.5).abs())
+            .fold(0.0, f64::max);
+        if dp <= eps {
+            return false;
+        }
+        PeriodicCube::centre_mean(&mut self.cur);
+        self.prev.as_mut_slice().copy_from_slice(self.cur.as_slice());
+        self.from_rest = true;
+        true
+    }
+}
+
+impl Integrator for Dem {
+    fn name(&self) -> String {
+        match self.kappa {
+            Kappa::Fixed(k) => format!("DEM(κ={k}, steps={})", self.steps),
+            Kappa::Auto { start, .. } => format!("DEM(κ auto from {start}, steps={})", self.steps),
+        }
+    }
+
+    fn run(
+        &self,
+        energy: &dyn Energy,
+        domain: &dyn Domain,
+        start: PointSet,
+        observer: &mut dyn Observer,
+    ) -> Result<RunOutput> {
+        self.validate(domain, &start)?;
+        let clock = Instant::now();
+        let u0 = energy.value(&start);
+        if !u0.is_finite() {
+            return Err(Error::Numerical(format!(
+                "the energy {} of the start is not finite ({u0}): two points coincide, or p is \
+                 too small for this n (the energy overflows)",
+                energy.name()
+            )));
+        }
+        let xtx: f64 = start.as_slice().iter().map(|v| v * v).sum();
+        let mu0 = if xtx > 0.0 { u0 / xtx } else { u0 };
+        if !(mu0 > 0.0 && mu0.is_finite()) {
+            return Err(Error::Numerical(format!(
+                "cannot set the DEM parameters: U(X0)/X0ᵀX0 = {mu0} (eq. 39 needs a positive, \
+                 finite value)"
+            )));
+        }
+        let eps = if domain.is_periodic() {
+            self.restart.threshold(start.n())
+        } else {
+            None
+        };
+
+        // κ trial (§4.1): each of the first `trial_steps` steps must lower the energy, or κ
+        // grows and the run begins again from the start. An accepted trial's steps are kept.
+        let (mut kappa, factor, trial_steps, kmax) = match self.kappa {
+            Kappa::Fixed(k) => (k, 1.0, 0, k),
+            Kappa::Auto {
+                start,
+                factor,
+                trial_steps,
+                max,
+            } => (start, factor, trial_steps, max),
+        };
+        let mut trials = 1usize;
+        let mut trial_failed = false;
+        let mut co = Coefficients::new(mu0, kappa, self.dt, self.g);
+        let mut state = State::new(&start);
+        let mut trajectory: Vec<Record> = Vec::with_capacity(self.steps + 1);
+        let mut stop = StopReason::StepBudget;
+        let mut restarts = 0usize;
+        let (mut restarted, mut last_move) = (false, 0.0);
+        let mut j = 0usize;
+        loop {
+            let u = state.evaluate(energy);
+            if j < trial_steps && !trial_failed {
+                let rising = trajectory.last().is_some_and(|r| u >= r.energy);
+                if !u.is_finite() || rising {
+                    if kappa * factor <= kmax {
+                        kappa *= factor;
+                        trials += 1;
+                        co = Coefficients::new(mu0, kappa, self.dt, self.g);
+                        state = State::new(&start);
+                        trajectory.clear();
+                        restarts = 0;
+                        (restarted, last_move, j) = (false, 0.0, 0);
+                        continue;
+                    }
+                    trial_failed = true;
+                }
+            }
+            if !u.is_finite() {
+                return Err(Error::Numerical(format!(
+                    "the energy became {u} at step {j} with κ = {kappa}; fix a larger κ"
+                )));
+            }
+            let mut rec = Record {
+                step: j,
+                energy: u,
+                seconds: clock.elapsed().as_secs_f64(),
+                max_move: last_move,
+                restarted,
+                metrics: Vec::new(),
+            };
+            let ctl = observer.observe(&mut rec, &state.cur);
+            trajectory.push(rec);
+            if j == self.steps {
+                break;
+            }
+            if ctl == Control::Stop {
+                stop = StopReason::Observer;
+                break;
+            }
+            let (mv, mf) = state.advance(domain, &co);
+            last_move = mv;
+            restarted = false;
+            j += 1;
+            if self.tolerance > 0.0 && mv < self.tolerance && mf < self.tolerance {
+                stop = StopReason::Converged;
+                let u = state.evaluate(energy);
+                let mut rec = Record {
+                    step: j,
+                    energy: u,
+                    seconds: clock.elapsed().as_secs_f64(),
+                    max_move: mv,
+                    restarted,
+                    metrics: Vec::new(),
+                };
+                observer.observe(&mut rec, &state.cur);
+                trajectory.push(rec);
+                break;
+            }
+            if let Some(e) = eps {
+                if state.maybe_recentre(e) {
+                    restarts += 1;
+                    restarted = true;
+                }
+            }
+        }
+        let info = vec![
+            ("mu0".to_string(), mu0),
+            ("kappa".to_string(), kappa),
+            ("kappa_trials".to_string(), trials as f64),
+            (
+                "kappa_trial_failed".to_string(),
+                if trial_failed { 1.0 } else { 0.0 },
+            ),
+            ("restarts".to_string(), restarts as f64),
+            (
+                "restart_threshold".to_string(),
+                eps.unwrap_or(f64::INFINITY),
+            ),
+        ];
+        Ok(RunOutput {
+            points: state.cur,
+            trajectory,
+            stop,
+            info,
+        })
+    }
+}
