@@ -700,7 +700,7 @@ fn parse_npy(bytes: &[u8], file: &str) -> Result<PointSet, IoError> {
 
 /// Appends `v` so that parsing the text gives back the same bits: Rust's shortest
 /// round-trip digits, positional for ordinary magnitudes and with an exponent for tiny or
-/// huge ones (where positional form would run to hundreds of digits). Valid JSON too.
+/// huge ones (where positional form would run to hundreds of digits).
 fn push_coord(out: &mut String, v: f64) {
     let a = v.abs();
     if a == 0.0 || (1e-5..1e16).contains(&a) {
@@ -770,7 +770,9 @@ fn to_json(points: &PointSet, meta: &serde_json::Value) -> String {
             if k > 0 {
                 out.push_str(", ");
             }
-            push_coord(&mut out, v);
+            // Debug adds ".0" to whole numbers, so JSON readers see floats throughout,
+            // and switches to an exponent at the same magnitudes as `push_coord`.
+            let _ = write!(out, "{v:?}");
         }
         out.push_str(if i + 1 < points.n() { "],\n" } else { "]\n" });
     }

@@ -11,6 +11,8 @@ pub use stillpoint_integrators as integrators;
 
 pub use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Uqp};
 
+pub mod bench;
 pub mod io;
+pub mod run;
 pub mod metrics;
 pub mod sequences;

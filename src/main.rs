@@ -1,1 +1,443 @@
-fn main(){}
+//! The `stillpoint` command: generate evenly spread point sets, evaluate any point file,
+//! and benchmark the kernels.
+
+use anyhow::{bail, Context, Result};
+use clap::{Parser, Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde_json::{json, Value};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use stillpoint::energies::{paper_qp, Distance, Energy, Uqp};
+use stillpoint::metrics::Metrics;
+use stillpoint::run::{self, GenerateConfig, GenerateReport, Init};
+use stillpoint::{bench, io, PointSet};
+
+#[derive(Parser)]
+#[command(
+    name = "stillpoint",
+    version,
+    about = "Evenly spread point sets in [0,1]^s from the static solution of a damped \
+             many-body problem (the DEM), with the numbers that prove their quality."
+)]
+struct Cli {
+    /// Worker threads (default: all cores). Results are the same bytes for any count.
+    #[arg(long, global = true, value_name = "T")]
+    threads: Option<usize>,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum EnergyName {
+    /// U_{q,p} of the paper (eqs. 5, 12).
+    Uqp,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Generate n points in [0,1)^s with the DEM and print their quality before and after.
+    Generate {
+        /// Number of points n ≥ 1 (taken from --init FILE when omitted).
+        #[arg(short = 'n', value_name = "N")]
+        n: Option<usize>,
+        /// Dimension s ≥ 1 (taken from --init FILE when omitted).
+        #[arg(short = 's', value_name = "S")]
+        s: Option<usize>,
+        /// Output file: .csv (default), .tsv, .json or .npy by extension. Without it the
+        /// points go to standard output as CSV and the report to standard error.
+        #[arg(short = 'o', long = "output", value_name = "FILE")]
+        output: Option<PathBuf>,
+        /// The potential energy.
+        #[arg(long, value_enum, default_value = "uqp")]
+        energy: EnergyName,
+        /// q of U_{q,p}: a number > 0, `inf` (torus distance) or `E` (Euclidean).
+        /// Default: eq. 48 of the paper for (n, s).
+        #[arg(long, value_name = "Q")]
+        q: Option<String>,
+        /// p of U_{q,p}: a number > 0. Default: eq. 48 of the paper for (n, s).
+        #[arg(long, value_name = "P")]
+        p: Option<f64>,
+        /// Step budget of the DEM.
+        #[arg(long, default_value_t = 1000, value_name = "K")]
+        steps: usize,
+        /// Start: `halton` (plain, indices 1..n), `random`, or a point file in [0,1]^s.
+        #[arg(long, default_value = "halton", value_name = "halton|random|FILE")]
+        init: String,
+        /// Seed for the random start.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// κ of eq. 39: `auto` (trial from 100, doubled while the energy fails to fall)
+        /// or a fixed number ≥ 1.
+        #[arg(long, default_value = "auto", value_name = "auto|K")]
+        kappa: String,
+        /// Restart for unbiasedness (§4.3): `auto` (ε_p = 2/n), `off`, or ε_p > 0.
+        #[arg(long, default_value = "auto", value_name = "auto|off|EPS")]
+        restart: String,
+        /// Record D_L2* and D_MD every K steps in the trajectory (default 10 with
+        /// --trajectory, else never).
+        #[arg(long, value_name = "K")]
+        log_every: Option<usize>,
+        /// Write the trajectory (energy each step, discrepancies every --log-every steps)
+        /// as JSON to FILE.
+        #[arg(long, value_name = "FILE")]
+        trajectory: Option<PathBuf>,
+        /// Print the report as one JSON object instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// No progress bar.
+        #[arg(long, short = 'q')]
+        quiet: bool,
+    },
+    /// Print the quality of any point file (CSV, TSV, whitespace, JSON, .npy).
+    Eval {
+        /// The point file; coordinates must lie in [0, 1].
+        file: PathBuf,
+        /// Print one JSON object (keys documented in the README).
+        #[arg(long)]
+        json: bool,
+    },
+    /// Time the kernels against their baselines in one run and print the ratios.
+    Bench {
+        /// Smaller sizes and fewer repetitions.
+        #[arg(long)]
+        quick: bool,
+    },
+}
+
+fn main() {
+    let cli = Cli::parse();
+    if let Err(e) = real_main(cli) {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn real_main(cli: Cli) -> Result<()> {
+    if let Some(t) = cli.threads {
+        if t == 0 {
+            bail!("invalid --threads = 0: expected a number of threads ≥ 1");
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build_global()
+            .context("cannot start the thread pool")?;
+    }
+    match cli.command {
+        Command::Generate {
+            n,
+            s,
+            output,
+            energy: EnergyName::Uqp,
+            q,
+            p,
+            steps,
+            init,
+            seed,
+            kappa,
+            restart,
+            log_every,
+            trajectory,
+            json,
+            quiet,
+        } => {
+            let init = match init.as_str() {
+                "halton" => Init::Halton,
+                "random" => Init::Random,
+                path => Init::Points(
+                    io::read_points(std::path::Path::new(path))
+                        .with_context(|| format!("--init {path}"))?,
+                ),
+            };
+            let (n, s) = match (&init, n, s) {
+                (Init::Points(p), n, s) => (n.unwrap_or(p.n()), s.unwrap_or(p.s())),
+                (_, Some(n), Some(s)) => (n, s),
+                (_, None, _) => bail!("missing -n N: the number of points (at least 1)"),
+                (_, _, None) => bail!("missing -s S: the dimension (at least 1)"),
+            };
+            let mut cfg = GenerateConfig::new(n, s);
+            cfg.q = q.as_deref().map(Distance::parse).transpose()?;
+            if let Some(p) = p {
+                if !(p > 0.0 && p.is_finite()) {
+                    bail!("invalid --p = {p}: expected a finite number > 0");
+                }
+            }
+            cfg.p = p;
+            cfg.init = init;
+            cfg.seed = seed;
+            cfg.dem.steps = steps;
+            cfg.dem.kappa = run::parse_kappa(&kappa)?;
+            cfg.dem.restart = run::parse_restart(&restart)?;
+            cfg.log_every = log_every.unwrap_or(if trajectory.is_some() { 10 } else { 0 });
+            if let Some(out) = &output {
+                check_writable(out)?;
+            }
+            let bar = progress_bar(steps as u64, quiet);
+            let report = run::generate(&cfg, |r| bar.set_position(r.step as u64))?;
+            bar.finish_and_clear();
+            let meta = report_json(&report, &cfg, false);
+            if let Some(path) = &trajectory {
+                let traj = serde_json::to_vec_pretty(&json!({
+                    "energy": report.energy_name,
+                    "records": report.output.trajectory,
+                }))?;
+                io::write_atomic(path, &traj)?;
+            }
+            match &output {
+                Some(path) => io::write_points(path, &report.output.points, &meta)?,
+                None if json => {}
+                None => print!("{}", io::to_csv_string(&report.output.points, &meta)),
+            }
+            if json {
+                let mut v = report_json(&report, &cfg, true);
+                if output.is_none() {
+                    v["points"] = json!(report
+                        .output
+                        .points
+                        .rows()
+                        .map(|r| r.to_vec())
+                        .collect::<Vec<_>>());
+                }
+                println!("{}", serde_json::to_string_pretty(&v)?);
+            } else {
+                let table = report_table(&report, &cfg, output.as_ref());
+                if output.is_some() {
+                    print!("{table}");
+                } else {
+                    eprint!("{table}");
+                }
+            }
+        }
+        Command::Eval { file, json } => {
+            let points = io::read_points(&file)?;
+            points
+                .check_unit_cube()
+                .with_context(|| format!("{}", file.display()))?;
+            let v = eval_json(&points);
+            if json {
+                println!("{}", serde_json::to_string_pretty(&v)?);
+            } else {
+                print!("{}", eval_table(&file, &points, &v));
+            }
+        }
+        Command::Bench { quick } => bench::run(quick, &mut std::io::stdout())?,
+    }
+    Ok(())
+}
+
+/// Refuses an output path whose directory does not exist before any work is done.
+fn check_writable(path: &std::path::Path) -> Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => std::path::Path::new("."),
+    };
+    if !dir.is_dir() {
+        bail!(
+            "invalid -o {}: the directory {} does not exist",
+            path.display(),
+            dir.display()
+        );
+    }
+    if path.is_dir() {
+        bail!("invalid -o {}: it is a directory, expected a file name", path.display());
+    }
+    Ok(())
+}
+
+fn progress_bar(len: u64, quiet: bool) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} steps  {elapsed} elapsed, ETA {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    bar
+}
+
+fn metrics_json(m: &Metrics) -> Value {
+    serde_json::to_value(m).unwrap_or(Value::Null)
+}
+
+fn report_json(r: &GenerateReport, cfg: &GenerateConfig, full: bool) -> Value {
+    let info: serde_json::Map<String, Value> = r
+        .output
+        .info
+        .iter()
+        .map(|(k, v)| (k.clone(), finite_or_null(*v)))
+        .collect();
+    let init = match &cfg.init {
+        Init::Halton => "halton".to_string(),
+        Init::Random => "random".to_string(),
+        Init::Points(_) => "file".to_string(),
+    };
+    let mut v = json!({
+        "generator": format!("stillpoint {}", env!("CARGO_PKG_VERSION")),
+        "n": cfg.n,
+        "s": cfg.s,
+        "energy": r.energy_name,
+        "q": r.choice.q,
+        "p": r.choice.p,
+        "init": init,
+        "seed": cfg.seed,
+        "steps": r.output.trajectory.last().map(|t| t.step).unwrap_or(0),
+        "stop": r.output.stop,
+        "kappa": r.output.info("kappa"),
+        "restarts": r.output.info("restarts"),
+    });
+    if full {
+        v["eq48"] = json!({
+            "used": r.choice.from_eq48,
+            "in_fitted_range": r.choice.eq48_in_fitted_range,
+            "clamped": r.choice.eq48_clamped,
+        });
+        v["run"] = Value::Object(info);
+        v["energy_start"] = finite_or_null(r.energy.0);
+        v["energy_result"] = finite_or_null(r.energy.1);
+        v["metrics_start"] = metrics_json(&r.metrics.0);
+        v["metrics_result"] = metrics_json(&r.metrics.1);
+        v["seconds"] = json!(r.seconds);
+    } else {
+        v["star_l2"] = json!(r.metrics.1.star_l2);
+        v["modified_l2"] = json!(r.metrics.1.modified_l2);
+    }
+    v
+}
+
+fn finite_or_null(v: f64) -> Value {
+    if v.is_finite() {
+        json!(v)
+    } else {
+        Value::Null
+    }
+}
+
+fn report_table(r: &GenerateReport, cfg: &GenerateConfig, out: Option<&PathBuf>) -> String {
+    let (m0, m1) = (&r.metrics.0, &r.metrics.1);
+    let init = match &cfg.init {
+        Init::Halton => "plain Halton (indices 1..n)".to_string(),
+        Init::Random => format!("random (seed {})", cfg.seed),
+        Init::Points(_) => "points from file".to_string(),
+    };
+    let mut t = String::new();
+    t += &format!(
+        "stillpoint: n = {}, s = {}, {} from {}\n",
+        cfg.n, cfg.s, r.energy_name, init
+    );
+    if r.choice.from_eq48 {
+        t += &format!(
+            "  (q, p) from eq. 48{}{}\n",
+            if r.choice.eq48_in_fitted_range {
+                ""
+            } else {
+                "; (n, s) is outside the fitted range 1 ≤ s ≤ 20, s ≤ n ≤ 1500"
+            },
+            if r.choice.eq48_clamped {
+                "; clamped into [0.05, 1]"
+            } else {
+                ""
+            }
+        );
+    }
+    let steps = r.output.trajectory.last().map(|x| x.step).unwrap_or(0);
+    t += &format!(
+        "  DEM: {} steps ({:?}), κ = {} after {} trial(s){}, {} restart(s)\n\n",
+        steps,
+        r.output.stop,
+        r.output.info("kappa").unwrap_or(f64::NAN),
+        r.output.info("kappa_trials").unwrap_or(0.0),
+        if r.output.info("kappa_trial_failed") == Some(1.0) {
+            " (the energy never fell steadily: κ capped)"
+        } else {
+            ""
+        },
+        r.output.info("restarts").unwrap_or(0.0),
+    );
+    t += &format!("  {:<36} {:>14} {:>14} {:>9}\n", "", "start", "result", "change");
+    let mut row = |name: &str, a: f64, b: f64, sci: bool| {
+        let f = |v: f64| {
+            if sci {
+                format!("{v:.6e}")
+            } else {
+                format!("{v:.6}")
+            }
+        };
+        let change = if a != 0.0 && a.is_finite() && b.is_finite() {
+            format!("{:+.1}%", 100.0 * (b - a) / a)
+        } else {
+            "-".to_string()
+        };
+        t += &format!("  {:<36} {:>14} {:>14} {:>9}\n", name, f(a), f(b), change);
+    };
+    row("energy U_{q,p}", r.energy.0, r.energy.1, true);
+    row("star L2 discrepancy D_L2* (root)", m0.star_l2, m1.star_l2, false);
+    row("modified L2 discrepancy D_MD (root)", m0.modified_l2, m1.modified_l2, false);
+    row("centred L2 discrepancy (root)", m0.centered_l2, m1.centered_l2, false);
+    row("wrap-around L2 discrepancy (root)", m0.wrap_around_l2, m1.wrap_around_l2, false);
+    row("minimum distance (Euclidean)", m0.min_distance, m1.min_distance, false);
+    row("minimum distance (periodic)", m0.min_distance_periodic, m1.min_distance_periodic, false);
+    t += &format!(
+        "\n  time {:.2} s; points written to {}\n",
+        r.seconds,
+        out.map(|p| p.display().to_string())
+            .unwrap_or_else(|| "standard output".into())
+    );
+    t
+}
+
+fn eval_json(points: &PointSet) -> Value {
+    let m = Metrics::compute(points);
+    let fit = paper_qp(points.n(), points.s());
+    let uqp = Uqp::new(Distance::Q(fit.q), fit.p).map(|e| e.value(points)).ok();
+    let mean_gap = points
+        .mean()
+        .iter()
+        .map(|v| (v - 0.5).abs())
+        .fold(0.0, f64::max);
+    json!({
+        "n": points.n(),
+        "s": points.s(),
+        "star_l2": m.star_l2,
+        "modified_l2": m.modified_l2,
+        "centered_l2": m.centered_l2,
+        "wrap_around_l2": m.wrap_around_l2,
+        "min_distance": finite_or_null(m.min_distance),
+        "min_distance_periodic": finite_or_null(m.min_distance_periodic),
+        "energy_uqp": uqp.map(finite_or_null),
+        "energy_uqp_q": fit.q,
+        "energy_uqp_p": fit.p,
+        "energy_e_inf": finite_or_null(1.0 / m.min_distance),
+        "mean_gap": mean_gap,
+    })
+}
+
+fn eval_table(file: &std::path::Path, points: &PointSet, v: &Value) -> String {
+    let num = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
+    let mut t = format!(
+        "{}: n = {}, s = {}\n",
+        file.display(),
+        points.n(),
+        points.s()
+    );
+    let rows = [
+        ("star L2 discrepancy D_L2* (root)", num("star_l2")),
+        ("modified L2 discrepancy D_MD (root)", num("modified_l2")),
+        ("centred L2 discrepancy (root)", num("centered_l2")),
+        ("wrap-around L2 discrepancy (root)", num("wrap_around_l2")),
+        ("minimum distance (Euclidean)", num("min_distance")),
+        ("minimum distance (periodic)", num("min_distance_periodic")),
+        ("mean gap max_k |mean_k − 0.5|", num("mean_gap")),
+    ];
+    for (name, val) in rows {
+        t += &format!("  {name:<40} {val:.6}\n");
+    }
+    t += &format!(
+        "  {:<40} {:.6e}   (q = {:.4}, p = {:.4} from eq. 48)\n",
+        "energy U_{q,p}",
+        num("energy_uqp"),
+        num("energy_uqp_q"),
+        num("energy_uqp_p")
+    );
+    t += &format!("  {:<40} {:.6}\n", "energy U_{E,∞} = 1/d_min", num("energy_e_inf"));
+    t
+}
