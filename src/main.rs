@@ -52,10 +52,10 @@ enum Command {
         energy: EnergyName,
         /// q of U_{q,p}: a number > 0, `inf` (torus distance) or `E` (Euclidean).
         /// Default: eq. 48 of the paper for (n, s).
-        #[arg(long, value_name = "Q")]
+        #[arg(long, value_name = "Q", allow_hyphen_values = true)]
         q: Option<String>,
         /// p of U_{q,p}: a number > 0. Default: eq. 48 of the paper for (n, s).
-        #[arg(long, value_name = "P")]
+        #[arg(long, value_name = "P", allow_hyphen_values = true)]
         p: Option<f64>,
         /// Step budget of the DEM.
         #[arg(long, default_value_t = 1000, value_name = "K")]
@@ -68,10 +68,10 @@ enum Command {
         seed: u64,
         /// κ of eq. 39: `auto` (trial from 100, doubled while the energy fails to fall)
         /// or a fixed number ≥ 1.
-        #[arg(long, default_value = "auto", value_name = "auto|K")]
+        #[arg(long, default_value = "auto", value_name = "auto|K", allow_hyphen_values = true)]
         kappa: String,
         /// Restart for unbiasedness (§4.3): `auto` (ε_p = 2/n), `off`, or ε_p > 0.
-        #[arg(long, default_value = "auto", value_name = "auto|off|EPS")]
+        #[arg(long, default_value = "auto", value_name = "auto|off|EPS", allow_hyphen_values = true)]
         restart: String,
         /// Record D_L2* and D_MD every K steps in the trajectory (default 10 with
         /// --trajectory, else never).
@@ -145,7 +145,7 @@ fn real_main(cli: Cli) -> Result<()> {
                 "random" => Init::Random,
                 path => Init::Points(
                     io::read_points(std::path::Path::new(path))
-                        .with_context(|| format!("--init {path}"))?,
+                        .context("--init")?,
                 ),
             };
             let (n, s) = match (&init, n, s) {

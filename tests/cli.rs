@@ -1,0 +1,163 @@
+//! End-to-end tests of the `stillpoint` command: outputs, reports, refusals and
+//! reproducibility.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_stillpoint"))
+}
+
+fn tmpdir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("stillpoint-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run(args: &[&str]) -> Output {
+    bin().args(args).output().expect("run stillpoint")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn files_in(d: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn generate_improves_on_halton_and_eval_agrees() {
+    let d = tmpdir("gen");
+    let out = d.join("p.csv");
+    let o = run(&[
+        "generate", "-n", "120", "-s", "2", "-o", out.to_str().unwrap(), "--json", "-q",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rep: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let before = rep["metrics_start"]["modified_l2"].as_f64().unwrap();
+    let after = rep["metrics_result"]["modified_l2"].as_f64().unwrap();
+    assert!(after < 0.8 * before, "D_MD {before} -> {after}");
+    let dmin0 = rep["metrics_start"]["min_distance"].as_f64().unwrap();
+    let dmin1 = rep["metrics_result"]["min_distance"].as_f64().unwrap();
+    assert!(dmin1 > dmin0);
+    // eval reads the file back and reports the same figures.
+    let e = run(&["eval", out.to_str().unwrap(), "--json"]);
+    assert!(e.status.success(), "{}", stderr(&e));
+    let ev: serde_json::Value = serde_json::from_slice(&e.stdout).unwrap();
+    assert_eq!(ev["n"], 120);
+    assert_eq!(ev["s"], 2);
+    assert_eq!(ev["modified_l2"].as_f64().unwrap(), after);
+    // The table form names the metrics and says they are roots.
+    let t = run(&["eval", out.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&t.stdout);
+    assert!(text.contains("modified L2 discrepancy D_MD (root)"), "{text}");
+}
+
+#[test]
+fn formats_by_extension_round_trip() {
+    let d = tmpdir("fmt");
+    let mut results = Vec::new();
+    for ext in ["csv", "tsv", "json", "npy"] {
+        let f = d.join(format!("p.{ext}"));
+        let o = run(&[
+            "generate", "-n", "30", "-s", "3", "--steps", "20", "-o", f.to_str().unwrap(), "-q",
+        ]);
+        assert!(o.status.success(), "{ext}: {}", stderr(&o));
+        let e = run(&["eval", f.to_str().unwrap(), "--json"]);
+        assert!(e.status.success(), "{ext}: {}", stderr(&e));
+        let v: serde_json::Value = serde_json::from_slice(&e.stdout).unwrap();
+        results.push(v["star_l2"].as_f64().unwrap().to_bits());
+    }
+    assert!(results.windows(2).all(|w| w[0] == w[1]), "formats disagree");
+}
+
+#[test]
+fn same_bytes_for_one_and_two_threads() {
+    let d = tmpdir("threads");
+    let mut bytes = Vec::new();
+    for t in ["1", "2"] {
+        let f = d.join(format!("p{t}.csv"));
+        let o = run(&[
+            "--threads", t, "generate", "-n", "90", "-s", "3", "--steps", "80", "--init",
+            "random", "--seed", "7", "-o", f.to_str().unwrap(), "-q",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        bytes.push(std::fs::read(&f).unwrap());
+    }
+    assert_eq!(bytes[0], bytes[1]);
+}
+
+#[test]
+fn points_to_stdout_report_to_stderr() {
+    let o = run(&["generate", "-n", "10", "-s", "2", "--steps", "5", "-q"]);
+    assert!(o.status.success());
+    let csv = String::from_utf8_lossy(&o.stdout);
+    let rows = csv
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with('x'))
+        .count();
+    assert_eq!(rows, 10, "{csv}");
+    assert!(stderr(&o).contains("star L2 discrepancy"));
+}
+
+#[test]
+fn bad_input_is_refused_clearly_and_writes_nothing() {
+    let d = tmpdir("bad");
+    let out = d.join("out.csv");
+    let o_s = out.to_str().unwrap();
+    let ragged = d.join("ragged.csv");
+    std::fs::write(&ragged, "0.1,0.2\n0.3\n").unwrap();
+    let words = d.join("words.csv");
+    std::fs::write(&words, "0.1,0.2\n0.3,abc\n").unwrap();
+    let outside = d.join("outside.csv");
+    std::fs::write(&outside, "0.1,0.2\n0.3,1.5\n").unwrap();
+    let nan = d.join("nan.csv");
+    std::fs::write(&nan, "0.1,0.2\n0.3,nan\n").unwrap();
+    let empty = d.join("empty.csv");
+    std::fs::write(&empty, "# nothing\n").unwrap();
+    let missing = d.join("missing.csv");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["generate", "-n", "0", "-s", "2", "-o", o_s], "n"),
+        (vec!["generate", "-n", "10", "-s", "0", "-o", o_s], "s"),
+        (vec!["generate", "-n", "10", "-s", "2", "--p", "0", "-o", o_s], "p"),
+        (vec!["generate", "-n", "10", "-s", "2", "--p", "-1", "-o", o_s], "p"),
+        (vec!["generate", "-n", "10", "-s", "2", "--p", "nan", "-o", o_s], "p"),
+        (vec!["generate", "-n", "10", "-s", "2", "--q", "0", "-o", o_s], "q"),
+        (vec!["generate", "-n", "10", "-s", "2", "--q", "-2", "-o", o_s], "q"),
+        (vec!["generate", "-n", "10", "-s", "2", "--q", "abc", "-o", o_s], "q"),
+        (vec!["generate", "-n", "10", "-s", "2", "--kappa", "0.5", "-o", o_s], "kappa"),
+        (vec!["generate", "-n", "10", "-s", "2", "--restart", "-1", "-o", o_s], "restart"),
+        (vec!["generate", "-n", "10", "-o", o_s], "-s"),
+        (vec!["generate", "--init", ragged.to_str().unwrap(), "-o", o_s], "line 2"),
+        (vec!["generate", "--init", words.to_str().unwrap(), "-o", o_s], "abc"),
+        (vec!["generate", "--init", outside.to_str().unwrap(), "-o", o_s], "[0, 1]"),
+        (vec!["generate", "--init", nan.to_str().unwrap(), "-o", o_s], "finite"),
+        (vec!["generate", "-n", "3", "-s", "2", "--init", words.to_str().unwrap(), "-o", o_s], "abc"),
+        (vec!["generate", "-n", "10", "-s", "2", "-o", "/nonexistent-dir/x.csv"], "does not exist"),
+        (vec!["--threads", "0", "generate", "-n", "10", "-s", "2", "-o", o_s], "threads"),
+        (vec!["eval", ragged.to_str().unwrap()], "line 2"),
+        (vec!["eval", outside.to_str().unwrap()], "[0, 1]"),
+        (vec!["eval", nan.to_str().unwrap()], "finite"),
+        (vec!["eval", empty.to_str().unwrap()], "no points"),
+        (vec!["eval", missing.to_str().unwrap()], "missing.csv"),
+    ];
+    let before = files_in(&d);
+    for (args, needle) in &cases {
+        let o = run(args);
+        let err = stderr(&o);
+        assert!(!o.status.success(), "{args:?} succeeded");
+        assert!(
+            err.contains(needle),
+            "{args:?}: message {err:?} does not mention {needle:?}"
+        );
+        assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+        assert_eq!(files_in(&d), before, "{args:?} left a file behind");
+    }
+}
