@@ -44,8 +44,9 @@ pub fn naive_uqp_gradient(points: &PointSet, q: f64, p: f64, grad: &mut [f64]) -
                 let dl = diff.abs();
                 let w = (1.0 - dl).powf(q) + dl.powf(q);
                 d2 += (dl * dl * (1.0 - dl) * (1.0 - dl)) / w.powf(2.0 / q);
-                a[k] = diff.signum() * dl * (1.0 - dl) * ((1.0 - dl).powf(q + 1.0) - dl.powf(q + 1.0))
-                    / w.powf(1.0 + 2.0 / q);
+                a[k] =
+                    diff.signum() * dl * (1.0 - dl) * ((1.0 - dl).powf(q + 1.0) - dl.powf(q + 1.0))
+                        / w.powf(1.0 + 2.0 / q);
             }
             let d = d2.sqrt();
             if j > i {

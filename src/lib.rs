@@ -13,6 +13,7 @@ pub use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Uqp
 
 pub mod bench;
 pub mod io;
-pub mod run;
 pub mod metrics;
+pub mod run;
 pub mod sequences;
+pub mod shift;

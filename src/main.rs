@@ -33,6 +33,8 @@ enum EnergyName {
     Uqp,
 }
 
+// Parsed once per process, so the size of the largest variant does not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand)]
 enum Command {
     /// Generate n points in [0,1)^s with the DEM and print their quality before and after.
@@ -68,11 +70,26 @@ enum Command {
         seed: u64,
         /// κ of eq. 39: `auto` (trial from 100, doubled while the energy fails to fall)
         /// or a fixed number ≥ 1.
-        #[arg(long, default_value = "auto", value_name = "auto|K", allow_hyphen_values = true)]
+        #[arg(
+            long,
+            default_value = "auto",
+            value_name = "auto|K",
+            allow_hyphen_values = true
+        )]
         kappa: String,
         /// Restart for unbiasedness (§4.3): `auto` (ε_p = 2/n), `off`, or ε_p > 0.
-        #[arg(long, default_value = "auto", value_name = "auto|off|EPS", allow_hyphen_values = true)]
+        #[arg(
+            long,
+            default_value = "auto",
+            value_name = "auto|off|EPS",
+            allow_hyphen_values = true
+        )]
         restart: String,
+        /// Periodic shifts tried after the DEM (0: none). The energy is unchanged by a
+        /// shift on the torus, the discrepancies are not: the shift with the smallest
+        /// modified L2 discrepancy is kept.
+        #[arg(long, default_value_t = 64, value_name = "K")]
+        shifts: usize,
         /// Record D_L2* and D_MD every K steps in the trajectory (default 10 with
         /// --trajectory, else never).
         #[arg(long, value_name = "K")]
@@ -135,6 +152,7 @@ fn real_main(cli: Cli) -> Result<()> {
             seed,
             kappa,
             restart,
+            shifts,
             log_every,
             trajectory,
             json,
@@ -143,10 +161,9 @@ fn real_main(cli: Cli) -> Result<()> {
             let init = match init.as_str() {
                 "halton" => Init::Halton,
                 "random" => Init::Random,
-                path => Init::Points(
-                    io::read_points(std::path::Path::new(path))
-                        .context("--init")?,
-                ),
+                path => {
+                    Init::Points(io::read_points(std::path::Path::new(path)).context("--init")?)
+                }
             };
             let (n, s) = match (&init, n, s) {
                 (Init::Points(p), n, s) => (n.unwrap_or(p.n()), s.unwrap_or(p.s())),
@@ -167,6 +184,7 @@ fn real_main(cli: Cli) -> Result<()> {
             cfg.dem.steps = steps;
             cfg.dem.kappa = run::parse_kappa(&kappa)?;
             cfg.dem.restart = run::parse_restart(&restart)?;
+            cfg.shifts = shifts;
             cfg.log_every = log_every.unwrap_or(if trajectory.is_some() { 10 } else { 0 });
             if let Some(out) = &output {
                 check_writable(out)?;
@@ -238,7 +256,10 @@ fn check_writable(path: &std::path::Path) -> Result<()> {
         );
     }
     if path.is_dir() {
-        bail!("invalid -o {}: it is a directory, expected a file name", path.display());
+        bail!(
+            "invalid -o {}: it is a directory, expected a file name",
+            path.display()
+        );
     }
     Ok(())
 }
@@ -296,6 +317,7 @@ fn report_json(r: &GenerateReport, cfg: &GenerateConfig, full: bool) -> Value {
         v["energy_result"] = finite_or_null(r.energy.1);
         v["metrics_start"] = metrics_json(&r.metrics.0);
         v["metrics_result"] = metrics_json(&r.metrics.1);
+        v["shift"] = serde_json::to_value(&r.shift).unwrap_or(Value::Null);
         v["seconds"] = json!(r.seconds);
     } else {
         v["star_l2"] = json!(r.metrics.1.star_l2);
@@ -353,7 +375,10 @@ fn report_table(r: &GenerateReport, cfg: &GenerateConfig, out: Option<&PathBuf>)
         },
         r.output.info("restarts").unwrap_or(0.0),
     );
-    t += &format!("  {:<36} {:>14} {:>14} {:>9}\n", "", "start", "result", "change");
+    t += &format!(
+        "  {:<36} {:>14} {:>14} {:>9}\n",
+        "", "start", "result", "change"
+    );
     let mut row = |name: &str, a: f64, b: f64, sci: bool| {
         let f = |v: f64| {
             if sci {
@@ -370,12 +395,58 @@ fn report_table(r: &GenerateReport, cfg: &GenerateConfig, out: Option<&PathBuf>)
         t += &format!("  {:<36} {:>14} {:>14} {:>9}\n", name, f(a), f(b), change);
     };
     row("energy U_{q,p}", r.energy.0, r.energy.1, true);
-    row("star L2 discrepancy D_L2* (root)", m0.star_l2, m1.star_l2, false);
-    row("modified L2 discrepancy D_MD (root)", m0.modified_l2, m1.modified_l2, false);
-    row("centred L2 discrepancy (root)", m0.centered_l2, m1.centered_l2, false);
-    row("wrap-around L2 discrepancy (root)", m0.wrap_around_l2, m1.wrap_around_l2, false);
-    row("minimum distance (Euclidean)", m0.min_distance, m1.min_distance, false);
-    row("minimum distance (periodic)", m0.min_distance_periodic, m1.min_distance_periodic, false);
+    row(
+        "star L2 discrepancy D_L2* (root)",
+        m0.star_l2,
+        m1.star_l2,
+        false,
+    );
+    row(
+        "modified L2 discrepancy D_MD (root)",
+        m0.modified_l2,
+        m1.modified_l2,
+        false,
+    );
+    row(
+        "centred L2 discrepancy (root)",
+        m0.centered_l2,
+        m1.centered_l2,
+        false,
+    );
+    row(
+        "wrap-around L2 discrepancy (root)",
+        m0.wrap_around_l2,
+        m1.wrap_around_l2,
+        false,
+    );
+    row(
+        "minimum distance (Euclidean)",
+        m0.min_distance,
+        m1.min_distance,
+        false,
+    );
+    row(
+        "minimum distance (periodic)",
+        m0.min_distance_periodic,
+        m1.min_distance_periodic,
+        false,
+    );
+    let gap = |p: &PointSet| p.mean().iter().map(|v| (v - 0.5).abs()).fold(0.0, f64::max);
+    row(
+        "mean gap max_k |mean_k − 0.5|",
+        gap(&r.start),
+        gap(&r.output.points),
+        false,
+    );
+    if let Some(sh) = &r.shift {
+        t += &format!(
+            "\n  shift selection: D_MD {:.6} after the DEM → {:.6} with shift ({}) ({} evaluations)\n",
+            sh.modified_l2_before,
+            sh.modified_l2_after,
+            sh.shift.iter().map(|c| format!("{c:.4}")).collect::<Vec<_>>().join(", "),
+            sh.evaluations
+        );
+    }
     t += &format!(
         "\n  time {:.2} s; points written to {}\n",
         r.seconds,
@@ -388,7 +459,9 @@ fn report_table(r: &GenerateReport, cfg: &GenerateConfig, out: Option<&PathBuf>)
 fn eval_json(points: &PointSet) -> Value {
     let m = Metrics::compute(points);
     let fit = paper_qp(points.n(), points.s());
-    let uqp = Uqp::new(Distance::Q(fit.q), fit.p).map(|e| e.value(points)).ok();
+    let uqp = Uqp::new(Distance::Q(fit.q), fit.p)
+        .map(|e| e.value(points))
+        .ok();
     let mean_gap = points
         .mean()
         .iter()
@@ -438,6 +511,10 @@ fn eval_table(file: &std::path::Path, points: &PointSet, v: &Value) -> String {
         num("energy_uqp_q"),
         num("energy_uqp_p")
     );
-    t += &format!("  {:<40} {:.6}\n", "energy U_{E,∞} = 1/d_min", num("energy_e_inf"));
+    t += &format!(
+        "  {:<40} {:.6}\n",
+        "energy U_{E,∞} = 1/d_min",
+        num("energy_e_inf")
+    );
     t
 }

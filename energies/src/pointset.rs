@@ -166,6 +166,10 @@ mod tests {
         assert_eq!(p.mean(), vec![0.25, 0.5]);
         assert!(p.check_unit_cube().is_ok());
         let q = PointSet::from_rows(&[[0.0, 1.5]]).unwrap();
-        assert!(q.check_unit_cube().unwrap_err().to_string().contains("coordinate 2"));
+        assert!(q
+            .check_unit_cube()
+            .unwrap_err()
+            .to_string()
+            .contains("coordinate 2"));
     }
 }

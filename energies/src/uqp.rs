@@ -35,9 +35,9 @@ impl Distance {
             "inf" | "Inf" | "INF" | "infinity" | "∞" => return Ok(Distance::Torus),
             _ => {}
         }
-        let v: f64 = t.parse().map_err(|_| {
-            Error::invalid("q", q, "a number in (0, ∞), `inf` or `E` (Euclidean)")
-        })?;
+        let v: f64 = t
+            .parse()
+            .map_err(|_| Error::invalid("q", q, "a number in (0, ∞), `inf` or `E` (Euclidean)"))?;
         Distance::from_q(v)
     }
 
@@ -94,8 +94,8 @@ impl Kernel {
         match d {
             Distance::Euclidean => Kernel::Euclidean,
             Distance::Torus => Kernel::Torus,
-            Distance::Q(q) if q == 1.0 => Kernel::Q1,
-            Distance::Q(q) if q == 2.0 => Kernel::Q2,
+            Distance::Q(1.0) => Kernel::Q1,
+            Distance::Q(2.0) => Kernel::Q2,
             Distance::Q(q) => Kernel::Q { q, inv_q: 1.0 / q },
         }
     }
@@ -308,6 +308,8 @@ impl PaperQp {
 /// Eq. 48: p = α·(1, n, s, n², ns, s²), q = β·(…) with Table 4's coefficients (α for p,
 /// β for q). Outside 1 ≤ s ≤ 20, s ≤ n ≤ 1500 the fit is an extrapolation: it is still
 /// evaluated, flagged, and clamped to [0.05, 1].
+// The coefficients are kept digit for digit as Table 4 prints them.
+#[allow(clippy::excessive_precision)]
 pub fn paper_qp(n: usize, s: usize) -> PaperQp {
     const ALPHA: [f64; 6] = [
         0.0503965655930105,

@@ -12,20 +12,25 @@ fn random_set(n: usize, s: usize, seed: u64) -> PointSet {
 fn fd_gradient(e: &dyn Energy, x: &PointSet, h: f64) -> Vec<f64> {
     let mut g = vec![0.0; x.len()];
     let mut y = x.clone();
-    for idx in 0..x.len() {
+    for (idx, gi) in g.iter_mut().enumerate() {
         let v = x.as_slice()[idx];
         y.as_mut_slice()[idx] = v + h;
         let up = e.value(&y);
         y.as_mut_slice()[idx] = v - h;
         let down = e.value(&y);
         y.as_mut_slice()[idx] = v;
-        g[idx] = (up - down) / (2.0 * h);
+        *gi = (up - down) / (2.0 * h);
     }
     g
 }
 
 fn rel_err(a: &[f64], b: &[f64]) -> f64 {
-    let num: f64 = a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt();
+    let num: f64 = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).powi(2))
+        .sum::<f64>()
+        .sqrt();
     let den: f64 = b.iter().map(|y| y * y).sum::<f64>().sqrt();
     num / den
 }
@@ -116,7 +121,10 @@ fn same_bits_for_one_and_two_threads() {
             .install(|| {
                 let mut g = vec![0.0; x.len()];
                 let u = e.value_and_gradient(&x, &mut g);
-                (u.to_bits(), g.iter().map(|v| v.to_bits()).collect::<Vec<_>>())
+                (
+                    u.to_bits(),
+                    g.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                )
             })
     };
     assert_eq!(run(1), run(2));

@@ -133,10 +133,7 @@ impl Dem {
                 return Err(Error::invalid("kappa", k, "a finite number ≥ 1"))
             }
             Kappa::Auto {
-                start,
-                factor,
-                max,
-                ..
+                start, factor, max, ..
             } => {
                 if !(start >= 1.0 && start.is_finite()) {
                     return Err(Error::invalid("kappa start", start, "a finite number ≥ 1"));
@@ -151,7 +148,7 @@ impl Dem {
             _ => {}
         }
         if let Restart::Threshold(e) = self.restart {
-            if !(e > 0.0) {
+            if e.is_nan() || e <= 0.0 {
                 return Err(Error::invalid(
                     "restart threshold ε_p",
                     e,
@@ -251,7 +248,9 @@ impl State {
             return false;
         }
         PeriodicCube::centre_mean(&mut self.cur);
-        self.prev.as_mut_slice().copy_from_slice(self.cur.as_slice());
+        self.prev
+            .as_mut_slice()
+            .copy_from_slice(self.cur.as_slice());
         self.from_rest = true;
         true
     }

@@ -45,7 +45,12 @@ fn energy_falls_from_a_random_start() {
         }
         m
     };
-    assert!(dmin(&out.points) > 2.0 * dmin(&start), "{} -> {}", dmin(&start), dmin(&out.points));
+    assert!(
+        dmin(&out.points) > 2.0 * dmin(&start),
+        "{} -> {}",
+        dmin(&start),
+        dmin(&out.points)
+    );
     // Most steps lower the energy (restarts and momentum allow a few rises).
     let falls = out
         .trajectory
