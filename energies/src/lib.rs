@@ -11,6 +11,7 @@
 
 mod domain;
 mod error;
+pub mod pairs;
 mod pointset;
 mod uqp;
 

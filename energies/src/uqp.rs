@@ -11,6 +11,7 @@
 //! Pair sums run row by row in parallel; each row is summed sequentially and the row totals
 //! are added in index order, so the result has the same bits for any thread count.
 
+use crate::pairs::for_each_pair_tile;
 use crate::{Energy, Error, PointSet, Result};
 use rayon::prelude::*;
 
@@ -131,18 +132,23 @@ impl Kernel {
                 (t * t / w, sg * t * (u * u * u - dl * dl * dl) / (w * w))
             }
             Kernel::Q { q, inv_q } => {
-                let (dl, sg) = unit_abs(delta);
+                // h is symmetric about 1/2 (h(Δ) = h(1 − Δ), so h·h' changes sign): work
+                // with Δ ≤ 1/2. With t = (Δ/(1 − Δ))^q ≤ 1 and v = (1 + t)^{−1/q}, eq. 11
+                // is h = Δ·v and eq. 16 is h·h' = Δ v² ((1 − Δ) − tΔ) / ((1 − Δ)(1 + t)):
+                // two powers per coordinate instead of three.
+                let (mut dl, mut sg) = unit_abs(delta);
+                if dl > 0.5 {
+                    dl = 1.0 - dl;
+                    sg = -sg;
+                }
                 if dl == 0.0 {
                     return (0.0, 0.0);
                 }
                 let u = 1.0 - dl;
-                let a = dl.powf(q);
-                let b = u.powf(q);
-                let w = a + b;
-                let wi = w.powf(-inv_q);
-                let t = dl * u;
-                let h = t * wi;
-                (h * h, sg * t * (u * b - dl * a) * wi * wi / w)
+                let t = (dl / u).powf(q);
+                let v = (1.0 + t).powf(-inv_q);
+                let h = dl * v;
+                (h * h, sg * h * v * (u - t * dl) / (u * (1.0 + t)))
             }
         }
     }
@@ -233,51 +239,53 @@ impl Energy for Uqp {
     fn value_and_gradient(&self, points: &PointSet, grad: &mut [f64]) -> f64 {
         assert_eq!(grad.len(), points.len(), "gradient buffer length");
         let (n, s) = (points.n(), points.s());
+        grad.fill(0.0);
         if n < 2 {
-            grad.fill(0.0);
             return 0.0;
         }
         let x = points.as_slice();
         let kern = Kernel::new(self.distance);
         let half_p = 0.5 * self.p;
-        // Each row i sums over all j ≠ i (both halves) so rows are independent and the
-        // bits do not depend on scheduling; S takes only j > i.
-        let row_sums: Vec<f64> = grad
-            .par_chunks_mut(s)
-            .enumerate()
-            .map_init(
-                || vec![0.0; s],
-                |gbuf, (i, gi)| {
-                    let xi = &x[i * s..(i + 1) * s];
-                    gi.fill(0.0);
-                    let mut acc = 0.0;
-                    for j in 0..n {
-                        if j == i {
-                            continue;
-                        }
-                        let xj = &x[j * s..(j + 1) * s];
-                        let mut d2 = 0.0;
-                        for k in 0..s {
-                            let (h2, g) = kern.eval(xi[k] - xj[k]);
-                            d2 += h2;
-                            gbuf[k] = g;
-                        }
-                        let e = inv_pow(d2, half_p);
-                        if j > i {
-                            acc += e;
-                        }
-                        if d2 > 0.0 {
-                            let w = e / d2;
+        // Accumulate Σ_j a_ijk / d_ij^{p+2} into row i (and its negative into row j),
+        // and S; the common factor −S^{1/p−1} is applied at the end.
+        let sum = for_each_pair_tile(n, s, grad, |ri, rj, gi, gj| {
+            let mut gbuf = vec![0.0; s];
+            let mut acc = 0.0;
+            let diag = gj.is_empty();
+            for i in ri.clone() {
+                let xi = &x[i * s..(i + 1) * s];
+                let js = if diag { i + 1..ri.end } else { rj.clone() };
+                for j in js {
+                    let xj = &x[j * s..(j + 1) * s];
+                    let mut d2 = 0.0;
+                    for k in 0..s {
+                        let (h2, g) = kern.eval(xi[k] - xj[k]);
+                        d2 += h2;
+                        gbuf[k] = g;
+                    }
+                    let e = inv_pow(d2, half_p);
+                    acc += e;
+                    if d2 > 0.0 {
+                        let w = e / d2;
+                        let oi = (i - ri.start) * s;
+                        if diag {
+                            let oj = (j - ri.start) * s;
                             for k in 0..s {
-                                gi[k] += w * gbuf[k];
+                                gi[oi + k] += w * gbuf[k];
+                                gi[oj + k] -= w * gbuf[k];
+                            }
+                        } else {
+                            let oj = (j - rj.start) * s;
+                            for k in 0..s {
+                                gi[oi + k] += w * gbuf[k];
+                                gj[oj + k] -= w * gbuf[k];
                             }
                         }
                     }
-                    acc
-                },
-            )
-            .collect();
-        let sum: f64 = row_sums.iter().sum();
+                }
+            }
+            acc
+        });
         let scale = -sum.powf(1.0 / self.p - 1.0);
         grad.iter_mut().for_each(|g| *g *= scale);
         sum.powf(1.0 / self.p)
