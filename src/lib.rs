@@ -17,3 +17,8 @@ pub mod metrics;
 pub mod run;
 pub mod sequences;
 pub mod shift;
+
+/// The README's Rust examples, compiled and run as doctests so they stay true.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

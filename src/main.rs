@@ -85,6 +85,15 @@ enum Command {
             allow_hyphen_values = true
         )]
         restart: String,
+        /// Stop early when every coordinate step and every force step |G f|/A0 is below
+        /// this (0: always use the whole budget).
+        #[arg(
+            long,
+            default_value_t = 1e-12,
+            value_name = "TOL",
+            allow_hyphen_values = true
+        )]
+        tolerance: f64,
         /// Periodic shifts tried after the DEM (0: none). The energy is unchanged by a
         /// shift on the torus, the discrepancies are not: the shift with the smallest
         /// modified L2 discrepancy is kept.
@@ -152,6 +161,7 @@ fn real_main(cli: Cli) -> Result<()> {
             seed,
             kappa,
             restart,
+            tolerance,
             shifts,
             log_every,
             trajectory,
@@ -184,6 +194,10 @@ fn real_main(cli: Cli) -> Result<()> {
             cfg.dem.steps = steps;
             cfg.dem.kappa = run::parse_kappa(&kappa)?;
             cfg.dem.restart = run::parse_restart(&restart)?;
+            if tolerance.is_nan() || tolerance < 0.0 {
+                bail!("invalid --tolerance = {tolerance}: expected a number ≥ 0");
+            }
+            cfg.dem.tolerance = tolerance;
             cfg.shifts = shifts;
             cfg.log_every = log_every.unwrap_or(if trajectory.is_some() { 10 } else { 0 });
             if let Some(out) = &output {

@@ -206,6 +206,20 @@ fn bad_input_is_refused_clearly_and_writes_nothing() {
         ),
         (vec!["generate", "-n", "10", "-o", o_s], "-s"),
         (
+            vec![
+                "generate",
+                "-n",
+                "10",
+                "-s",
+                "2",
+                "--tolerance",
+                "-1",
+                "-o",
+                o_s,
+            ],
+            "tolerance",
+        ),
+        (
             vec!["generate", "--init", ragged.to_str().unwrap(), "-o", o_s],
             "line 2",
         ),

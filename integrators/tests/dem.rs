@@ -31,8 +31,10 @@ fn energy_falls_from_a_random_start() {
     let out = dem.run(&e, &cube, start.clone(), &mut NoObserver).unwrap();
     let u0 = e.value(&start);
     let u1 = e.value(&out.points);
-    assert_eq!(out.trajectory.first().unwrap().energy, u0);
-    assert_eq!(out.trajectory.last().unwrap().energy, u1);
+    // The gradient path sums pairs in another order than `value`: equal to rounding.
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs();
+    assert!(close(out.trajectory.first().unwrap().energy, u0));
+    assert!(close(out.trajectory.last().unwrap().energy, u1));
     // U_{q,p} is dominated by far pairs, so its relative drop is small; the nearest
     // neighbours, which it pushes apart, show the change.
     assert!(u1 < 0.99 * u0, "energy {u0} -> {u1}");
