@@ -12,8 +12,10 @@ pub use stillpoint_integrators as integrators;
 pub use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Uqp};
 
 pub mod bench;
+pub mod expr;
 pub mod io;
 pub mod metrics;
+pub mod plot;
 pub mod run;
 pub mod sequences;
 pub mod shift;

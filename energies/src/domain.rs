@@ -38,6 +38,12 @@ pub trait Domain: Send + Sync + std::fmt::Debug {
 
     /// The axis-aligned box `(lo, hi)` that holds the domain.
     fn bounding_box(&self) -> (Vec<f64>, Vec<f64>);
+
+    /// A level function of the domain, ≤ 0 inside and > 0 outside (for drawing its
+    /// boundary); `None` where the domain has no boundary.
+    fn level(&self, _x: &[f64]) -> Option<f64> {
+        None
+    }
 }
 
 /// The unit cube [0, 1)^s with opposite faces identified (the flat torus).

@@ -9,10 +9,14 @@
 //! Equation numbers refer to Wu, Zhao, Zhao and Zhong (2021), *Relationship between
 //! low-discrepancy sequence and static solution to multi-bodies problem*.
 
+pub mod boundary;
 mod domain;
+pub mod einf;
 mod error;
 pub mod pairs;
 mod pointset;
+pub mod region;
+pub mod shapes;
 mod uqp;
 
 pub use domain::{Domain, PeriodicCube};

@@ -1,0 +1,1 @@
+//! U_{E,∞}: the inverse minimum distance, with its active-pair subgradient (eq. 19).

@@ -1,0 +1,1 @@
+//! Built-in regions with exact closest points: ball, ellipsoid, box, simplex, polytope.

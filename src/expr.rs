@@ -1,0 +1,1 @@
+//! Region expressions g(x1, …, xs) from the command line.

@@ -1,0 +1,1 @@
+//! Pictures of point sets: scatter plots with region boundaries, PNG and SVG, no system fonts.
