@@ -40,6 +40,13 @@ pub trait Energy: Send + Sync {
     ///
     /// `grad.len()` must equal `points.len()`.
     fn value_and_gradient(&self, points: &PointSet, grad: &mut [f64]) -> f64;
+
+    /// Whether the energy is differentiable away from coincident points. Integrators use
+    /// it to judge a trial run: a max-type energy (U_{E,∞}) need not fall at every step
+    /// even when the scheme is stable.
+    fn is_smooth(&self) -> bool {
+        true
+    }
 }
 
 impl<E: Energy + ?Sized> Energy for &E {
@@ -52,6 +59,9 @@ impl<E: Energy + ?Sized> Energy for &E {
     fn value_and_gradient(&self, points: &PointSet, grad: &mut [f64]) -> f64 {
         (**self).value_and_gradient(points, grad)
     }
+    fn is_smooth(&self) -> bool {
+        (**self).is_smooth()
+    }
 }
 
 impl<E: Energy + ?Sized> Energy for Box<E> {
@@ -63,5 +73,8 @@ impl<E: Energy + ?Sized> Energy for Box<E> {
     }
     fn value_and_gradient(&self, points: &PointSet, grad: &mut [f64]) -> f64 {
         (**self).value_and_gradient(points, grad)
+    }
+    fn is_smooth(&self) -> bool {
+        (**self).is_smooth()
     }
 }

@@ -287,7 +287,12 @@ impl Energy for Uqp {
             acc
         });
         let scale = -sum.powf(1.0 / self.p - 1.0);
-        grad.iter_mut().for_each(|g| *g *= scale);
+        if scale.is_finite() {
+            grad.iter_mut().for_each(|g| *g *= scale);
+        } else {
+            // Coincident points: the energy is +∞ and no finite force is defined.
+            grad.fill(0.0);
+        }
         sum.powf(1.0 / self.p)
     }
 }

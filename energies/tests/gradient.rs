@@ -129,3 +129,17 @@ fn same_bits_for_one_and_two_threads() {
     };
     assert_eq!(run(1), run(2));
 }
+
+#[test]
+fn coincident_points_give_infinite_energy_and_no_nan() {
+    let x = PointSet::from_rows(&[[0.1, 0.2], [0.1, 0.2], [0.4, 0.2]]).unwrap();
+    for q in [Distance::Euclidean, Distance::Q(0.5), Distance::Torus] {
+        for p in [0.5, 1.0, 2.0] {
+            let e = Uqp::new(q, p).unwrap();
+            let mut g = vec![0.0; 6];
+            let u = e.value_and_gradient(&x, &mut g);
+            assert!(u.is_infinite(), "{q:?} {p}");
+            assert!(g.iter().all(|v| v.is_finite()), "{q:?} {p}: {g:?}");
+        }
+    }
+}

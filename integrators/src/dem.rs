@@ -46,8 +46,9 @@ impl Default for Kappa {
 }
 
 /// The restart of §4.3: when the mean leaves 0.5 by more than ε_p in some coordinate
-/// (eq. 44), the set is shifted back to mean 0.5 (eq. 45) and the dynamics restart from
-/// rest. Only periodic domains are restarted (a shift is what the torus allows).
+/// (eq. 44), the set is shifted on the torus to mean exactly 0.5 (eq. 45, made exact by
+/// [`PeriodicCube::centre_mean`]) and the dynamics restart from rest. Only periodic
+/// domains are restarted (a shift is what the torus allows).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Restart {
     /// No restarts.
@@ -318,7 +319,15 @@ impl Integrator for Dem {
         loop {
             let u = state.evaluate(energy);
             if j < trial_steps && !trial_failed {
-                let rising = trajectory.last().is_some_and(|r| u >= r.energy);
+                // A smooth energy must fall at every trial step (§4.1). A max-type energy
+                // moves only its active pairs and may stall or rise a little while stable,
+                // so it must only stay below its start and end the trial lower.
+                let rising = if energy.is_smooth() {
+                    trajectory.last().is_some_and(|r| u >= r.energy)
+                } else {
+                    let u0 = trajectory.first().map_or(u, |r| r.energy);
+                    u > u0 || (j + 1 == trial_steps && u >= u0)
+                };
                 if !u.is_finite() || rising {
                     if kappa * factor <= kmax {
                         kappa *= factor;
