@@ -22,7 +22,7 @@ use crate::PointSet;
 ///
 /// D_L2² = (1/3)^s − (2/n) Σ_i Π_k (1 − x_ik²)/2 + (1/n²) Σ_{i,l} Π_k (1 − max(x_ik, x_lk)).
 ///
-/// It is the mean over t ∈ [0,1]^s of the squared local discrepancy
+/// It is the mean over t ∈ \[0,1\]^s of the squared local discrepancy
 /// #{x_i ∈ [0, t)}/n − Π_k t_k, so it weighs only boxes anchored at the origin. Its root
 /// is SciPy's `qmc.discrepancy(method='L2-star')`. Clamped at 0 against rounding.
 pub fn star_l2_squared(points: &PointSet) -> f64 {

@@ -1,7 +1,7 @@
 //! Classic point sequences: starts for the DEM and baselines to compare with.
 //!
 //! [`halton`] is the plain (unscrambled) Halton sequence the paper starts its Table 5 runs
-//! from and lists as row [15]; [`random`] is seeded i.i.d. uniform sampling, the start of
+//! from and lists as row \[15\]; [`random`] is seeded i.i.d. uniform sampling, the start of
 //! its Section 5.1 runs and the Monte Carlo baseline.
 
 use rand::{RngExt, SeedableRng};
@@ -50,7 +50,7 @@ fn radical_inverse(mut index: u64, base: u64) -> f64 {
 ///
 /// Coordinate k (counting from 1) of point i is the radical inverse of i in the k-th
 /// prime base, so the first points in 2-D are (1/2, 1/3), (1/4, 2/3), (3/4, 1/9). Index 0
-/// (the origin) is skipped, as in the paper's Table 5 row [15]; unlike SciPy's
+/// (the origin) is skipped, as in the paper's Table 5 row \[15\]; unlike SciPy's
 /// `qmc.Halton(scramble=False)`, which starts at index 0. Any s is accepted; the primes
 /// are generated as needed, though plain Halton is known to degrade for large bases
 /// (strongly correlated coordinates once the base exceeds n).
