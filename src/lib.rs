@@ -16,6 +16,7 @@ pub mod expr;
 pub mod io;
 pub mod metrics;
 pub mod plot;
+pub mod regions;
 pub mod run;
 pub mod sequences;
 pub mod shift;

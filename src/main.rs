@@ -2,14 +2,19 @@
 //! and benchmark the kernels.
 
 use anyhow::{bail, Context, Result};
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{json, Value};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use stillpoint::energies::{paper_qp, Distance, Energy, Uqp};
 use stillpoint::metrics::Metrics;
-use stillpoint::run::{self, GenerateConfig, GenerateReport, Init};
+use stillpoint::energies::region::ImplicitRegion;
+use stillpoint::energies::shapes::{Ball, BoxRegion, Ellipsoid, Polytope, Simplex};
+use stillpoint::energies::Domain;
+use stillpoint::regions::{generate_in_region, RegionConfig, RegionEnergy, RegionInit, RegionReport};
+use stillpoint::run::{self, CubeEnergy, GenerateConfig, GenerateReport, Init};
+use std::sync::Arc;
 use stillpoint::{bench, io, PointSet};
 
 #[derive(Parser)]
@@ -25,12 +30,6 @@ struct Cli {
     threads: Option<usize>,
     #[command(subcommand)]
     command: Command,
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum EnergyName {
-    /// U_{q,p} of the paper (eqs. 5, 12).
-    Uqp,
 }
 
 // Parsed once per process, so the size of the largest variant does not matter.
@@ -49,9 +48,28 @@ enum Command {
         /// points go to standard output as CSV and the report to standard error.
         #[arg(short = 'o', long = "output", value_name = "FILE")]
         output: Option<PathBuf>,
-        /// The potential energy.
-        #[arg(long, value_enum, default_value = "uqp")]
-        energy: EnergyName,
+        /// The potential energy: `uqp` (U_{q,p}, the cube's default), `e-inf` (U_{E,∞},
+        /// maximin; with --q E in the closed cube, else on the torus), `e-inf-g`
+        /// (U_{E,∞,g} of eq. 56, a region's default), `e-p-g` (smooth U_{E,p,g} for a
+        /// region, p from --p, default 8).
+        #[arg(long, value_name = "NAME")]
+        energy: Option<String>,
+        /// A region {x : g(x) ≤ 0}: g as an expression in x1..xs (or x, y, z), e.g.
+        /// "|x| + 2*|y| - 5". Needs --box.
+        #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
+        region: Option<String>,
+        /// Bounding box of --region (or of a polytope): LO1,HI1,LO2,HI2,...
+        #[arg(long = "box", value_name = "LO1,HI1,...", allow_hyphen_values = true)]
+        bbox: Option<String>,
+        /// A built-in region: `ball:R[@C1,C2,..]`, `ellipsoid:A1,A2,..[@C1,..]`,
+        /// `box:LO1,HI1,LO2,HI2,..`, `simplex` (dimension from -s), or `polytope:FILE`
+        /// (rows a1 .. as b meaning a·x ≤ b; needs --box).
+        #[arg(long, value_name = "SHAPE", allow_hyphen_values = true)]
+        shape: Option<String>,
+        /// Draw the start beside the result, with the region's boundary (PNG or SVG by
+        /// extension; the first two coordinates).
+        #[arg(long, value_name = "FILE")]
+        plot: Option<PathBuf>,
         /// q of U_{q,p}: a number > 0, `inf` (torus distance) or `E` (Euclidean).
         /// Default: eq. 48 of the paper for (n, s).
         #[arg(long, value_name = "Q", allow_hyphen_values = true)]
@@ -62,9 +80,10 @@ enum Command {
         /// Step budget of the DEM.
         #[arg(long, default_value_t = 1000, value_name = "K")]
         steps: usize,
-        /// Start: `halton` (plain, indices 1..n), `random`, or a point file in [0,1]^s.
-        #[arg(long, default_value = "halton", value_name = "halton|random|FILE")]
-        init: String,
+        /// Start: `halton` (plain, indices 1..n; the cube's default), `random` (a region's
+        /// default: uniform in the box, the first n inside), or a point file.
+        #[arg(long, value_name = "halton|random|FILE")]
+        init: Option<String>,
         /// Seed for the random start.
         #[arg(long, default_value_t = 0)]
         seed: u64,
@@ -153,7 +172,11 @@ fn real_main(cli: Cli) -> Result<()> {
             n,
             s,
             output,
-            energy: EnergyName::Uqp,
+            energy,
+            region,
+            bbox,
+            shape,
+            plot,
             q,
             p,
             steps,
@@ -168,7 +191,78 @@ fn real_main(cli: Cli) -> Result<()> {
             json,
             quiet,
         } => {
-            let init = match init.as_str() {
+            if let Some(out) = &output {
+                check_writable(out)?;
+            }
+            if let Some(out) = &plot {
+                check_writable(out)?;
+            }
+            if region.is_some() || shape.is_some() {
+                let domain = region_domain(region.as_deref(), bbox.as_deref(), shape.as_deref(), s)?;
+                let n = n.context("missing -n N: the number of points (at least 1)")?;
+                let mut cfg = RegionConfig::new(domain, n);
+                cfg.energy = match energy.as_deref().unwrap_or("e-inf-g") {
+                    "e-inf-g" => RegionEnergy::EInfG,
+                    "e-inf" => RegionEnergy::EInf,
+                    "e-p-g" => RegionEnergy::EpG(p.unwrap_or(8.0)),
+                    other => bail!(
+                        "invalid --energy = {other} for a region: expected e-inf-g (eq. 56), \
+                         e-inf or e-p-g"
+                    ),
+                };
+                cfg.init = match init.as_deref().unwrap_or("random") {
+                    "random" => RegionInit::Random,
+                    "halton" => RegionInit::Halton,
+                    path => RegionInit::Points(
+                        io::read_points(std::path::Path::new(path)).context("--init")?,
+                    ),
+                };
+                cfg.seed = seed;
+                cfg.dem.steps = steps;
+                cfg.dem.kappa = run::parse_kappa(&kappa)?;
+                if tolerance.is_nan() || tolerance < 0.0 {
+                    bail!("invalid --tolerance = {tolerance}: expected a number ≥ 0");
+                }
+                cfg.dem.tolerance = tolerance;
+                let bar = progress_bar(steps as u64, quiet);
+                let report = generate_in_region(&cfg, |r| bar.set_position(r.step as u64))?;
+                bar.finish_and_clear();
+                let meta = region_json(&report, &cfg, false);
+                if let Some(path) = &trajectory {
+                    let traj = serde_json::to_vec_pretty(&json!({
+                        "energy": report.energy_name,
+                        "records": report.output.trajectory,
+                    }))?;
+                    io::write_atomic(path, &traj)?;
+                }
+                if let Some(path) = &plot {
+                    plot_start_result(path, &report.start, &report.output.points, cfg.domain.as_ref())?;
+                }
+                match &output {
+                    Some(path) => io::write_points(path, &report.output.points, &meta)?,
+                    None if json => {}
+                    None => print!("{}", io::to_csv_string(&report.output.points, &meta)),
+                }
+                if json {
+                    let mut v = region_json(&report, &cfg, true);
+                    if output.is_none() {
+                        v["points"] = points_json(&report.output.points);
+                    }
+                    println!("{}", serde_json::to_string_pretty(&v)?);
+                } else {
+                    let t = region_table(&report, &cfg, output.as_ref());
+                    if output.is_some() {
+                        print!("{t}");
+                    } else {
+                        eprint!("{t}");
+                    }
+                }
+                return Ok(());
+            }
+            if bbox.is_some() {
+                bail!("--box needs --region EXPR or --shape polytope:FILE");
+            }
+            let init = match init.as_deref().unwrap_or("halton") {
                 "halton" => Init::Halton,
                 "random" => Init::Random,
                 path => {
@@ -182,6 +276,14 @@ fn real_main(cli: Cli) -> Result<()> {
                 (_, _, None) => bail!("missing -s S: the dimension (at least 1)"),
             };
             let mut cfg = GenerateConfig::new(n, s);
+            cfg.energy = match energy.as_deref().unwrap_or("uqp") {
+                "uqp" => CubeEnergy::Uqp,
+                "e-inf" => CubeEnergy::EInf,
+                other => bail!(
+                    "invalid --energy = {other} in the cube: expected uqp or e-inf \
+                     (e-inf-g and e-p-g need --region or --shape)"
+                ),
+            };
             cfg.q = q.as_deref().map(Distance::parse).transpose()?;
             if let Some(p) = p {
                 if !(p > 0.0 && p.is_finite()) {
@@ -200,9 +302,6 @@ fn real_main(cli: Cli) -> Result<()> {
             cfg.dem.tolerance = tolerance;
             cfg.shifts = shifts;
             cfg.log_every = log_every.unwrap_or(if trajectory.is_some() { 10 } else { 0 });
-            if let Some(out) = &output {
-                check_writable(out)?;
-            }
             let bar = progress_bar(steps as u64, quiet);
             let report = run::generate(&cfg, |r| bar.set_position(r.step as u64))?;
             bar.finish_and_clear();
@@ -214,6 +313,10 @@ fn real_main(cli: Cli) -> Result<()> {
                 }))?;
                 io::write_atomic(path, &traj)?;
             }
+            if let Some(path) = &plot {
+                let cube = stillpoint::PeriodicCube::new(cfg.s)?;
+                plot_start_result(path, &report.start, &report.output.points, &cube)?;
+            }
             match &output {
                 Some(path) => io::write_points(path, &report.output.points, &meta)?,
                 None if json => {}
@@ -222,12 +325,7 @@ fn real_main(cli: Cli) -> Result<()> {
             if json {
                 let mut v = report_json(&report, &cfg, true);
                 if output.is_none() {
-                    v["points"] = json!(report
-                        .output
-                        .points
-                        .rows()
-                        .map(|r| r.to_vec())
-                        .collect::<Vec<_>>());
+                    v["points"] = points_json(&report.output.points);
                 }
                 println!("{}", serde_json::to_string_pretty(&v)?);
             } else {
@@ -529,6 +627,236 @@ fn eval_table(file: &std::path::Path, points: &PointSet, v: &Value) -> String {
         "  {:<40} {:.6}\n",
         "energy U_{E,∞} = 1/d_min",
         num("energy_e_inf")
+    );
+    t
+}
+
+fn points_json(points: &PointSet) -> Value {
+    json!(points.rows().map(|r| r.to_vec()).collect::<Vec<_>>())
+}
+
+/// Parses a comma-separated list of numbers for the option `name`.
+fn number_list(name: &str, text: &str) -> Result<Vec<f64>> {
+    text.split(',')
+        .map(|t| {
+            t.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .with_context(|| {
+                    format!("invalid {name} = {text}: {t:?} is not a finite number (expected comma-separated numbers)")
+                })
+        })
+        .collect()
+}
+
+/// `--box LO1,HI1,LO2,HI2,...` as (lo, hi).
+fn parse_box(text: &str) -> Result<(Vec<f64>, Vec<f64>)> {
+    let v = number_list("--box", text)?;
+    if v.is_empty() || v.len() % 2 != 0 {
+        bail!("invalid --box = {text}: expected LO1,HI1,LO2,HI2,... (two numbers per dimension)");
+    }
+    let lo: Vec<f64> = v.iter().step_by(2).copied().collect();
+    let hi: Vec<f64> = v.iter().skip(1).step_by(2).copied().collect();
+    if let Some(k) = (0..lo.len()).find(|&k| lo[k] >= hi[k]) {
+        bail!(
+            "invalid --box = {text}: dimension {} has LO = {} ≥ HI = {} (expected LO < HI)",
+            k + 1,
+            lo[k],
+            hi[k]
+        );
+    }
+    Ok((lo, hi))
+}
+
+/// The domain of `--region EXPR --box ..` or `--shape SPEC`.
+fn region_domain(
+    region: Option<&str>,
+    bbox: Option<&str>,
+    shape: Option<&str>,
+    s: Option<usize>,
+) -> Result<Arc<dyn Domain>> {
+    let dim_check = |got: usize| -> Result<()> {
+        match s {
+            Some(s) if s != got => {
+                bail!("invalid -s = {s}: the region has dimension {got}")
+            }
+            _ => Ok(()),
+        }
+    };
+    if region.is_some() && shape.is_some() {
+        bail!("give either --region EXPR or --shape SHAPE, not both");
+    }
+    if let Some(expr) = region {
+        let (lo, hi) = parse_box(bbox.context("--region needs --box LO1,HI1,LO2,HI2,...")?)?;
+        dim_check(lo.len())?;
+        let g = stillpoint::expr::RegionExpr::parse(expr, lo.len())
+            .with_context(|| "invalid --region".to_string())?;
+        let r = ImplicitRegion::new(g.into_fn(), lo, hi)?;
+        r.check(4096, 0).context("--region")?;
+        return Ok(Arc::new(r));
+    }
+    let spec = shape.unwrap_or_default();
+    let (kind, rest) = spec.split_once(':').unwrap_or((spec, ""));
+    let need_s = || s.context("this --shape needs -s S (the dimension)");
+    let split_at = |text: &str| -> Result<(Vec<f64>, Option<Vec<f64>>)> {
+        match text.split_once('@') {
+            Some((a, c)) => Ok((number_list("--shape", a)?, Some(number_list("--shape", c)?))),
+            None => Ok((number_list("--shape", text)?, None)),
+        }
+    };
+    let domain: Arc<dyn Domain> = match kind {
+        "ball" => {
+            let (r, c) = split_at(rest)?;
+            if r.len() != 1 {
+                bail!("invalid --shape = {spec}: expected ball:R or ball:R@C1,C2,...");
+            }
+            let c = match c {
+                Some(c) => c,
+                None => vec![0.0; need_s()?],
+            };
+            Arc::new(Ball::new(c, r[0])?)
+        }
+        "ellipsoid" => {
+            let (a, c) = split_at(rest)?;
+            let c = c.unwrap_or_else(|| vec![0.0; a.len()]);
+            Arc::new(Ellipsoid::new(c, a)?)
+        }
+        "box" => {
+            let (lo, hi) = parse_box(rest).map_err(|e| {
+                anyhow::anyhow!("invalid --shape = {spec}: {e}")
+            })?;
+            Arc::new(BoxRegion::new(lo, hi)?)
+        }
+        "simplex" => Arc::new(Simplex::new(need_s()?)?),
+        "polytope" => {
+            let rows = io::read_points(std::path::Path::new(rest))
+                .context("--shape polytope:FILE")?;
+            if rows.s() < 2 {
+                bail!("invalid --shape = {spec}: each row needs a1 .. as b (at least 2 numbers)");
+            }
+            let a: Vec<Vec<f64>> = rows.rows().map(|r| r[..r.len() - 1].to_vec()).collect();
+            let b: Vec<f64> = rows.rows().map(|r| r[r.len() - 1]).collect();
+            let (lo, hi) = parse_box(bbox.context("--shape polytope:FILE needs --box")?)?;
+            Arc::new(Polytope::new(a, b, lo, hi)?)
+        }
+        _ => bail!(
+            "invalid --shape = {spec}: expected ball:R[@C..], ellipsoid:A1,..[@C..], \
+             box:LO1,HI1,.., simplex or polytope:FILE"
+        ),
+    };
+    dim_check(domain.dim())?;
+    Ok(domain)
+}
+
+/// Draws the start beside the result, with the boundary when the domain has one and s = 2.
+fn plot_start_result(
+    path: &std::path::Path,
+    start: &PointSet,
+    result: &PointSet,
+    domain: &dyn Domain,
+) -> Result<()> {
+    if start.s() < 2 {
+        bail!("invalid --plot: the points have s = 1; plots need s ≥ 2");
+    }
+    let (lo, hi) = domain.bounding_box();
+    let (lo2, hi2) = ([lo[0], lo[1]], [hi[0], hi[1]]);
+    let boundary = if start.s() == 2 && domain.level(&[lo[0], lo[1]]).is_some() {
+        stillpoint::plot::boundary_polylines(
+            &|x: &[f64]| domain.level(x).unwrap_or(f64::NAN),
+            lo2,
+            hi2,
+            300,
+        )
+    } else {
+        Vec::new()
+    };
+    let panels = [
+        stillpoint::plot::Panel {
+            title: "start".into(),
+            points: start,
+            lo: lo2,
+            hi: hi2,
+            boundary: boundary.clone(),
+        },
+        stillpoint::plot::Panel {
+            title: "result".into(),
+            points: result,
+            lo: lo2,
+            hi: hi2,
+            boundary,
+        },
+    ];
+    stillpoint::plot::save_panels(path, &panels, 2)?;
+    Ok(())
+}
+
+fn region_json(r: &RegionReport, cfg: &RegionConfig, full: bool) -> Value {
+    let mut v = json!({
+        "generator": format!("stillpoint {}", env!("CARGO_PKG_VERSION")),
+        "n": cfg.n,
+        "s": cfg.domain.dim(),
+        "region": format!("{:?}", cfg.domain),
+        "energy": r.energy_name,
+        "seed": cfg.seed,
+        "steps": r.output.trajectory.last().map(|t| t.step).unwrap_or(0),
+        "stop": r.output.stop,
+        "kappa": r.output.info("kappa"),
+        "energy_e_inf_g_reduction": finite_or_null(r.reduction()),
+    });
+    if full {
+        let info: serde_json::Map<String, Value> = r
+            .output
+            .info
+            .iter()
+            .map(|(k, v)| (k.clone(), finite_or_null(*v)))
+            .collect();
+        v["run"] = Value::Object(info);
+        v["metrics_start"] = serde_json::to_value(r.metrics.0).unwrap_or(Value::Null);
+        v["metrics_result"] = serde_json::to_value(r.metrics.1).unwrap_or(Value::Null);
+        v["seconds"] = json!(r.seconds);
+    }
+    v
+}
+
+fn region_table(r: &RegionReport, cfg: &RegionConfig, out: Option<&PathBuf>) -> String {
+    let (a, b) = (&r.metrics.0, &r.metrics.1);
+    let mut t = format!(
+        "stillpoint: n = {}, s = {} in {:?}\n  {} from {}, DEM: {} steps ({:?}), κ = {} after {} trial(s)\n\n",
+        cfg.n,
+        cfg.domain.dim(),
+        cfg.domain,
+        r.energy_name,
+        match &cfg.init {
+            RegionInit::Random => format!("random start (seed {}, first n inside the box)", cfg.seed),
+            RegionInit::Halton => "Halton start (first n inside the box)".into(),
+            RegionInit::Points(_) => "points from file".into(),
+        },
+        r.output.trajectory.last().map(|x| x.step).unwrap_or(0),
+        r.output.stop,
+        r.output.info("kappa").unwrap_or(f64::NAN),
+        r.output.info("kappa_trials").unwrap_or(0.0),
+    );
+    t += &format!("  {:<36} {:>14} {:>14} {:>9}\n", "", "start", "result", "change");
+    for (name, x, y) in [
+        ("energy U_{E,∞,g} (eq. 56)", a.energy_e_inf_g, b.energy_e_inf_g),
+        ("minimum distance", a.min_distance, b.min_distance),
+        ("minimum distance to the boundary", a.min_boundary_distance, b.min_boundary_distance),
+    ] {
+        t += &format!(
+            "  {:<36} {:>14.6} {:>14.6} {:>+8.1}%\n",
+            name,
+            x,
+            y,
+            100.0 * (y - x) / x
+        );
+    }
+    t += &format!(
+        "\n  U_{{E,∞,g}} reduction {:.1}%; time {:.2} s; points written to {}\n",
+        100.0 * r.reduction(),
+        r.seconds,
+        out.map(|p| p.display().to_string())
+            .unwrap_or_else(|| "standard output".into())
     );
     t
 }

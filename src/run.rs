@@ -1,6 +1,8 @@
 //! The run driver: turns a [`GenerateConfig`] into a start set, an energy and a DEM run,
 //! and reports the quality of the start and the result side by side.
 
+use crate::energies::einf::UEInf;
+use crate::energies::shapes::BoxRegion;
 use crate::energies::{paper_qp, Distance, Domain, Energy, PeriodicCube, PointSet, Uqp};
 use crate::integrators::{Control, Dem, Integrator, Kappa, Observer, Record, Restart, RunOutput};
 use crate::metrics::{self, Metrics};
@@ -21,6 +23,17 @@ pub enum Init {
     Points(PointSet),
 }
 
+/// The energy of a cube run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CubeEnergy {
+    /// U_{q,p} (eqs. 5, 12) on the periodic cube.
+    Uqp,
+    /// U_{E,∞} = 1/d_min (eq. 3) with its active-pair subgradient: with the torus distance
+    /// on the periodic cube, or (q = 'E') with the Euclidean distance in the closed cube
+    /// [0, 1]^s, where it gives a maximin design.
+    EInf,
+}
+
 /// Everything a `generate` run needs. [`GenerateConfig::new`] gives the defaults.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GenerateConfig {
@@ -28,7 +41,10 @@ pub struct GenerateConfig {
     pub n: usize,
     /// Dimension s ≥ 1.
     pub s: usize,
-    /// The distance of U_{q,p}; `None` takes q from eq. 48.
+    /// The energy.
+    pub energy: CubeEnergy,
+    /// The distance of U_{q,p}; `None` takes q from eq. 48. For U_{E,∞}: `Euclidean`
+    /// selects the closed cube, anything else the torus.
     pub q: Option<Distance>,
     /// The exponent p; `None` takes p from eq. 48.
     pub p: Option<f64>,
@@ -52,6 +68,7 @@ impl GenerateConfig {
         GenerateConfig {
             n,
             s,
+            energy: CubeEnergy::Uqp,
             q: None,
             p: None,
             init: Init::Halton,
@@ -144,10 +161,7 @@ pub fn start_set(cfg: &GenerateConfig) -> Result<PointSet, Error> {
                 ));
             }
             p.check_unit_cube()?;
-            let mut p = p.clone();
-            // 1.0 is the same point as 0.0 on the torus.
-            PeriodicCube::wrap_set(&mut p);
-            Ok(p)
+            Ok(p.clone())
         }
     }
 }
@@ -185,13 +199,40 @@ pub fn generate(
 ) -> Result<GenerateReport, Error> {
     let clock = Instant::now();
     let start = start_set(cfg)?;
-    let (energy, choice) = choose_energy(cfg.n, cfg.s, cfg.q, cfg.p)?;
-    let domain = PeriodicCube::new(cfg.s)?;
+    let (energy, domain, choice): (Box<dyn Energy>, Box<dyn Domain>, EnergyChoice) =
+        match cfg.energy {
+            CubeEnergy::Uqp => {
+                let (e, choice) = choose_energy(cfg.n, cfg.s, cfg.q, cfg.p)?;
+                (Box::new(e), Box::new(PeriodicCube::new(cfg.s)?), choice)
+            }
+            CubeEnergy::EInf => {
+                let euclid = cfg.q == Some(Distance::Euclidean);
+                let choice = EnergyChoice {
+                    q: if euclid { "E" } else { "inf" }.to_string(),
+                    p: f64::INFINITY,
+                    from_eq48: false,
+                    eq48_in_fitted_range: false,
+                    eq48_clamped: false,
+                };
+                if euclid {
+                    let cube = BoxRegion::new(vec![0.0; cfg.s], vec![1.0; cfg.s])?;
+                    (Box::new(UEInf::new(Distance::Euclidean)?), Box::new(cube), choice)
+                } else {
+                    let cube = PeriodicCube::new(cfg.s)?;
+                    (Box::new(UEInf::new(Distance::Torus)?), Box::new(cube), choice)
+                }
+            }
+        };
+    let mut start = start;
+    if domain.is_periodic() {
+        // 1.0 is the same point as 0.0 on the torus.
+        PeriodicCube::wrap_set(&mut start);
+    }
     let mut observer = LoggingObserver::new(cfg.log_every, on_record);
-    let mut output = cfg
-        .dem
-        .run(&energy, &domain, start.clone(), &mut observer)?;
-    let shift = if cfg.shifts > 0 && energy.distance().is_periodic() {
+    let mut output =
+        cfg.dem
+            .run(energy.as_ref(), domain.as_ref(), start.clone(), &mut observer)?;
+    let shift = if cfg.shifts > 0 && domain.is_periodic() {
         let (points, outcome) = shift::best_shift(&output.points, cfg.shifts);
         output.points = points;
         Some(outcome)

@@ -208,28 +208,47 @@ impl State {
         energy.value_and_gradient(&self.cur, &mut self.grad)
     }
 
-    /// Moves to x^(j+1) with eq. 25 (or the Taylor start) and brings points back into the
-    /// domain. Returns (largest coordinate move, largest force step |G f|/A0).
+    /// Moves to x^(j+1) with eq. 25 (or the Taylor start). On the torus a point that
+    /// leaves is wrapped back (eq. 42, with x^(j) shifted by the same integer). In a region
+    /// a point whose step would leave stays at x^(j) and loses its velocity: projecting it
+    /// onto the boundary would put it at distance 0, where the boundary-aware energies
+    /// are infinite. Returns (largest coordinate move, largest force step |G f|/A0).
     fn advance(&mut self, domain: &dyn Domain, co: &Coefficients) -> (f64, f64) {
         let s = self.cur.s();
+        let periodic = domain.is_periodic();
         let mut max_move: f64 = 0.0;
         let mut max_force: f64 = 0.0;
+        let mut next = vec![0.0; s];
         let cur = self.cur.as_mut_slice();
         let prev = self.prev.as_mut_slice();
-        for ((xc, xp), &gr) in cur.iter_mut().zip(prev.iter_mut()).zip(&self.grad) {
-            let f = co.g * gr;
-            let next = if self.from_rest {
-                *xc - f / co.a1
+        for ((xc, xp), gr) in cur
+            .chunks_exact_mut(s)
+            .zip(prev.chunks_exact_mut(s))
+            .zip(self.grad.chunks_exact(s))
+        {
+            let mut mv: f64 = 0.0;
+            for k in 0..s {
+                let f = co.g * gr[k];
+                next[k] = if self.from_rest {
+                    xc[k] - f / co.a1
+                } else {
+                    (co.a1 * xc[k] - co.a2 * xp[k] - f) / co.a0
+                };
+                mv = mv.max((next[k] - xc[k]).abs());
+                max_force = max_force.max((f / co.a0).abs());
+            }
+            if periodic {
+                xp.copy_from_slice(xc);
+                xc.copy_from_slice(&next);
+                domain.bring_back(xc, xp);
+            } else if domain.contains(&next) {
+                xp.copy_from_slice(xc);
+                xc.copy_from_slice(&next);
             } else {
-                (co.a1 * *xc - co.a2 * *xp - f) / co.a0
-            };
-            max_move = max_move.max((next - *xc).abs());
-            max_force = max_force.max((f / co.a0).abs());
-            *xp = *xc;
-            *xc = next;
-        }
-        for (xc, xp) in cur.chunks_exact_mut(s).zip(prev.chunks_exact_mut(s)) {
-            domain.bring_back(xc, xp);
+                xp.copy_from_slice(xc);
+                mv = 0.0;
+            }
+            max_move = max_move.max(mv);
         }
         self.from_rest = false;
         (max_move, max_force)
@@ -318,6 +337,21 @@ impl Integrator for Dem {
         let mut j = 0usize;
         loop {
             let u = state.evaluate(energy);
+            // A blow-up after the trial (the energy non-finite or four times its start)
+            // means κ was still too small for a stiffer state reached later: treat it as a
+            // failed trial.
+            let diverged = j >= trial_steps
+                && (!u.is_finite() || trajectory.first().is_some_and(|r| u > 4.0 * r.energy));
+            if diverged && kappa * factor <= kmax {
+                kappa *= factor;
+                trials += 1;
+                co = Coefficients::new(mu0, kappa, self.dt, self.g);
+                state = State::new(&start);
+                trajectory.clear();
+                restarts = 0;
+                (restarted, last_move, j) = (false, 0.0, 0);
+                continue;
+            }
             if j < trial_steps && !trial_failed {
                 // A smooth energy must fall at every trial step (§4.1). A max-type energy
                 // moves only its active pairs and may stall or rise a little while stable,
