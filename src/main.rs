@@ -7,14 +7,16 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{json, Value};
 use std::io::IsTerminal;
 use std::path::PathBuf;
-use stillpoint::energies::{paper_qp, Distance, Energy, Uqp};
-use stillpoint::metrics::Metrics;
+use std::sync::Arc;
 use stillpoint::energies::region::ImplicitRegion;
 use stillpoint::energies::shapes::{Ball, BoxRegion, Ellipsoid, Polytope, Simplex};
 use stillpoint::energies::Domain;
-use stillpoint::regions::{generate_in_region, RegionConfig, RegionEnergy, RegionInit, RegionReport};
+use stillpoint::energies::{paper_qp, Distance, Energy, Uqp};
+use stillpoint::metrics::Metrics;
+use stillpoint::regions::{
+    generate_in_region, RegionConfig, RegionEnergy, RegionInit, RegionReport,
+};
 use stillpoint::run::{self, CubeEnergy, GenerateConfig, GenerateReport, Init};
-use std::sync::Arc;
 use stillpoint::{bench, io, PointSet};
 
 #[derive(Parser)]
@@ -77,9 +79,10 @@ enum Command {
         /// p of U_{q,p}: a number > 0. Default: eq. 48 of the paper for (n, s).
         #[arg(long, value_name = "P", allow_hyphen_values = true)]
         p: Option<f64>,
-        /// Step budget of the DEM.
-        #[arg(long, default_value_t = 1000, value_name = "K")]
-        steps: usize,
+        /// Step budget of the DEM (default 1000 in the cube, as in the paper; 10 000 in a
+        /// region, where U_{E,∞,g} moves only its active elements at each step).
+        #[arg(long, value_name = "K")]
+        steps: Option<usize>,
         /// Start: `halton` (plain, indices 1..n; the cube's default), `random` (a region's
         /// default: uniform in the box, the first n inside), or a point file.
         #[arg(long, value_name = "halton|random|FILE")]
@@ -198,7 +201,8 @@ fn real_main(cli: Cli) -> Result<()> {
                 check_writable(out)?;
             }
             if region.is_some() || shape.is_some() {
-                let domain = region_domain(region.as_deref(), bbox.as_deref(), shape.as_deref(), s)?;
+                let domain =
+                    region_domain(region.as_deref(), bbox.as_deref(), shape.as_deref(), s)?;
                 let n = n.context("missing -n N: the number of points (at least 1)")?;
                 let mut cfg = RegionConfig::new(domain, n);
                 cfg.energy = match energy.as_deref().unwrap_or("e-inf-g") {
@@ -218,6 +222,7 @@ fn real_main(cli: Cli) -> Result<()> {
                     ),
                 };
                 cfg.seed = seed;
+                let steps = steps.unwrap_or(cfg.dem.steps);
                 cfg.dem.steps = steps;
                 cfg.dem.kappa = run::parse_kappa(&kappa)?;
                 if tolerance.is_nan() || tolerance < 0.0 {
@@ -236,7 +241,12 @@ fn real_main(cli: Cli) -> Result<()> {
                     io::write_atomic(path, &traj)?;
                 }
                 if let Some(path) = &plot {
-                    plot_start_result(path, &report.start, &report.output.points, cfg.domain.as_ref())?;
+                    plot_start_result(
+                        path,
+                        &report.start,
+                        &report.output.points,
+                        cfg.domain.as_ref(),
+                    )?;
                 }
                 match &output {
                     Some(path) => io::write_points(path, &report.output.points, &meta)?,
@@ -293,6 +303,7 @@ fn real_main(cli: Cli) -> Result<()> {
             cfg.p = p;
             cfg.init = init;
             cfg.seed = seed;
+            let steps = steps.unwrap_or(1000);
             cfg.dem.steps = steps;
             cfg.dem.kappa = run::parse_kappa(&kappa)?;
             cfg.dem.restart = run::parse_restart(&restart)?;
@@ -723,15 +734,14 @@ fn region_domain(
             Arc::new(Ellipsoid::new(c, a)?)
         }
         "box" => {
-            let (lo, hi) = parse_box(rest).map_err(|e| {
-                anyhow::anyhow!("invalid --shape = {spec}: {e}")
-            })?;
+            let (lo, hi) =
+                parse_box(rest).map_err(|e| anyhow::anyhow!("invalid --shape = {spec}: {e}"))?;
             Arc::new(BoxRegion::new(lo, hi)?)
         }
         "simplex" => Arc::new(Simplex::new(need_s()?)?),
         "polytope" => {
-            let rows = io::read_points(std::path::Path::new(rest))
-                .context("--shape polytope:FILE")?;
+            let rows =
+                io::read_points(std::path::Path::new(rest)).context("--shape polytope:FILE")?;
             if rows.s() < 2 {
                 bail!("invalid --shape = {spec}: each row needs a1 .. as b (at least 2 numbers)");
             }
@@ -837,11 +847,22 @@ fn region_table(r: &RegionReport, cfg: &RegionConfig, out: Option<&PathBuf>) -> 
         r.output.info("kappa").unwrap_or(f64::NAN),
         r.output.info("kappa_trials").unwrap_or(0.0),
     );
-    t += &format!("  {:<36} {:>14} {:>14} {:>9}\n", "", "start", "result", "change");
+    t += &format!(
+        "  {:<36} {:>14} {:>14} {:>9}\n",
+        "", "start", "result", "change"
+    );
     for (name, x, y) in [
-        ("energy U_{E,∞,g} (eq. 56)", a.energy_e_inf_g, b.energy_e_inf_g),
+        (
+            "energy U_{E,∞,g} (eq. 56)",
+            a.energy_e_inf_g,
+            b.energy_e_inf_g,
+        ),
         ("minimum distance", a.min_distance, b.min_distance),
-        ("minimum distance to the boundary", a.min_boundary_distance, b.min_boundary_distance),
+        (
+            "minimum distance to the boundary",
+            a.min_boundary_distance,
+            b.min_boundary_distance,
+        ),
     ] {
         t += &format!(
             "  {:<36} {:>14.6} {:>14.6} {:>+8.1}%\n",

@@ -216,10 +216,18 @@ pub fn generate(
                 };
                 if euclid {
                     let cube = BoxRegion::new(vec![0.0; cfg.s], vec![1.0; cfg.s])?;
-                    (Box::new(UEInf::new(Distance::Euclidean)?), Box::new(cube), choice)
+                    (
+                        Box::new(UEInf::new(Distance::Euclidean)?),
+                        Box::new(cube),
+                        choice,
+                    )
                 } else {
                     let cube = PeriodicCube::new(cfg.s)?;
-                    (Box::new(UEInf::new(Distance::Torus)?), Box::new(cube), choice)
+                    (
+                        Box::new(UEInf::new(Distance::Torus)?),
+                        Box::new(cube),
+                        choice,
+                    )
                 }
             }
         };
@@ -229,9 +237,12 @@ pub fn generate(
         PeriodicCube::wrap_set(&mut start);
     }
     let mut observer = LoggingObserver::new(cfg.log_every, on_record);
-    let mut output =
-        cfg.dem
-            .run(energy.as_ref(), domain.as_ref(), start.clone(), &mut observer)?;
+    let mut output = cfg.dem.run(
+        energy.as_ref(),
+        domain.as_ref(),
+        start.clone(),
+        &mut observer,
+    )?;
     let shift = if cfg.shifts > 0 && domain.is_periodic() {
         let (points, outcome) = shift::best_shift(&output.points, cfg.shifts);
         output.points = points;
