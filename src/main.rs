@@ -517,7 +517,8 @@ fn report_table(r: &GenerateReport, cfg: &GenerateConfig, out: Option<&PathBuf>)
         };
         t += &format!("  {:<36} {:>14} {:>14} {:>9}\n", name, f(a), f(b), change);
     };
-    row("energy U_{q,p}", r.energy.0, r.energy.1, true);
+    let energy_label = format!("energy {}", r.energy_name.split('(').next().unwrap_or(""));
+    row(&energy_label, r.energy.0, r.energy.1, true);
     row(
         "star L2 discrepancy D_L2* (root)",
         m0.star_l2,

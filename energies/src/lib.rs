@@ -10,6 +10,7 @@
 //! low-discrepancy sequence and static solution to multi-bodies problem*.
 
 pub mod boundary;
+pub mod discrepancy;
 mod domain;
 pub mod einf;
 mod error;

@@ -7,6 +7,7 @@
 //! [`Observer`] after each step (progress bars, discrepancy logging, early stop).
 
 mod dem;
+pub mod lbfgs;
 
 pub use dem::{Dem, Kappa, Restart};
 

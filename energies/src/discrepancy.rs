@@ -1,0 +1,1 @@
+//! The L2 discrepancies as energies: squared star, modified, centred and wrap-around L2 with their gradients.
