@@ -12,6 +12,7 @@ pub use stillpoint_integrators as integrators;
 pub use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Uqp};
 
 pub mod bench;
+pub mod compare;
 pub mod expr;
 pub mod io;
 pub mod metrics;

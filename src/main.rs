@@ -8,6 +8,7 @@ use serde_json::{json, Value};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::sync::Arc;
+use stillpoint::energies::discrepancy::DiscrepancyKind;
 use stillpoint::energies::region::ImplicitRegion;
 use stillpoint::energies::shapes::{Ball, BoxRegion, Ellipsoid, Polytope, Simplex};
 use stillpoint::energies::Domain;
@@ -16,7 +17,7 @@ use stillpoint::metrics::Metrics;
 use stillpoint::regions::{
     generate_in_region, RegionConfig, RegionEnergy, RegionInit, RegionReport,
 };
-use stillpoint::run::{self, CubeEnergy, GenerateConfig, GenerateReport, Init};
+use stillpoint::run::{self, CubeEnergy, GenerateConfig, GenerateReport, Init, Solver};
 use stillpoint::{bench, io, PointSet};
 
 #[derive(Parser)]
@@ -79,6 +80,10 @@ enum Command {
         /// p of U_{q,p}: a number > 0. Default: eq. 48 of the paper for (n, s).
         #[arg(long, value_name = "P", allow_hyphen_values = true)]
         p: Option<f64>,
+        /// The solver: `dem` (the paper's damped dynamics) or `lbfgs` (argmin's L-BFGS
+        /// with restarts; in the cube only).
+        #[arg(long, default_value = "dem", value_name = "dem|lbfgs")]
+        integrator: String,
         /// Step budget of the DEM (default 1000 in the cube, as in the paper; 10 000 in a
         /// region, where U_{E,∞,g} moves only its active elements at each step).
         #[arg(long, value_name = "K")]
@@ -144,6 +149,25 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Compare the DEM and L-BFGS on U_{q,p} and on a discrepancy energy, for a list of
+    /// (s, n); writes comparison.md, comparison.json and convergence pictures.
+    Compare {
+        /// Cases as SxN, comma-separated (default: 2x1500,3x1500,5x1500,6x1500,5x200,10x400).
+        #[arg(long, value_name = "SxN,...")]
+        cases: Option<String>,
+        /// Step or iteration budget per run.
+        #[arg(long, default_value_t = 1000)]
+        steps: usize,
+        /// The discrepancy energy: l2star, md, cd or periodic.
+        #[arg(long, default_value = "md")]
+        energy: String,
+        /// Output directory.
+        #[arg(long, default_value = "comparison")]
+        out: PathBuf,
+        /// Small cases (2x200, 3x200) and 200 steps.
+        #[arg(long)]
+        quick: bool,
+    },
     /// Time the kernels against their baselines in one run and print the ratios.
     Bench {
         /// Smaller sizes and fewer repetitions.
@@ -180,6 +204,7 @@ fn real_main(cli: Cli) -> Result<()> {
             bbox,
             shape,
             plot,
+            integrator,
             q,
             p,
             steps,
@@ -204,6 +229,9 @@ fn real_main(cli: Cli) -> Result<()> {
                 let domain =
                     region_domain(region.as_deref(), bbox.as_deref(), shape.as_deref(), s)?;
                 let n = n.context("missing -n N: the number of points (at least 1)")?;
+                if integrator != "dem" {
+                    bail!("invalid --integrator = {integrator} for a region: expected dem");
+                }
                 let mut cfg = RegionConfig::new(domain, n);
                 cfg.energy = match energy.as_deref().unwrap_or("e-inf-g") {
                     "e-inf-g" => RegionEnergy::EInfG,
@@ -289,10 +317,22 @@ fn real_main(cli: Cli) -> Result<()> {
             cfg.energy = match energy.as_deref().unwrap_or("uqp") {
                 "uqp" => CubeEnergy::Uqp,
                 "e-inf" => CubeEnergy::EInf,
-                other => bail!(
-                    "invalid --energy = {other} in the cube: expected uqp or e-inf \
-                     (e-inf-g and e-p-g need --region or --shape)"
+                "e-inf-g" | "e-p-g" => bail!(
+                    "invalid --energy = {} in the cube: e-inf-g and e-p-g need --region or \
+                     --shape; the cube accepts uqp, e-inf, l2star, md, cd, periodic",
+                    energy.as_deref().unwrap_or_default()
                 ),
+                other => CubeEnergy::Discrepancy(DiscrepancyKind::parse(other).map_err(|_| {
+                    anyhow::anyhow!(
+                        "invalid --energy = {other} in the cube: expected uqp, e-inf, \
+                             l2star, md, cd or periodic"
+                    )
+                })?),
+            };
+            cfg.solver = match integrator.as_str() {
+                "dem" => Solver::Dem,
+                "lbfgs" => Solver::Lbfgs,
+                other => bail!("invalid --integrator = {other}: expected dem or lbfgs"),
             };
             cfg.q = q.as_deref().map(Distance::parse).transpose()?;
             if let Some(p) = p {
@@ -359,6 +399,28 @@ fn real_main(cli: Cli) -> Result<()> {
             } else {
                 print!("{}", eval_table(&file, &points, &v));
             }
+        }
+        Command::Compare {
+            cases,
+            steps,
+            energy,
+            out,
+            quick,
+        } => {
+            let mut settings = stillpoint::compare::CompareSettings {
+                steps,
+                discrepancy: DiscrepancyKind::parse(&energy)?,
+                ..Default::default()
+            };
+            if quick {
+                settings.cases = vec![(2, 200), (3, 200)];
+                settings.steps = steps.min(200);
+            }
+            if let Some(c) = cases {
+                settings.cases = parse_cases(&c)?;
+            }
+            let table = stillpoint::compare::run_and_write(&settings, &out, true)?;
+            print!("{table}");
         }
         Command::Bench { quick } => bench::run(quick, &mut std::io::stdout())?,
     }
@@ -485,19 +547,27 @@ fn report_table(r: &GenerateReport, cfg: &GenerateConfig, out: Option<&PathBuf>)
         );
     }
     let steps = r.output.trajectory.last().map(|x| x.step).unwrap_or(0);
-    t += &format!(
-        "  DEM: {} steps ({:?}), κ = {} after {} trial(s){}, {} restart(s)\n\n",
-        steps,
-        r.output.stop,
-        r.output.info("kappa").unwrap_or(f64::NAN),
-        r.output.info("kappa_trials").unwrap_or(0.0),
-        if r.output.info("kappa_trial_failed") == Some(1.0) {
-            " (the energy never fell steadily: κ capped)"
-        } else {
-            ""
-        },
-        r.output.info("restarts").unwrap_or(0.0),
-    );
+    t += &match r.output.info("kappa") {
+        Some(kappa) => format!(
+            "  DEM: {} steps ({:?}), κ = {} after {} trial(s){}, {} restart(s)\n\n",
+            steps,
+            r.output.stop,
+            kappa,
+            r.output.info("kappa_trials").unwrap_or(0.0),
+            if r.output.info("kappa_trial_failed") == Some(1.0) {
+                " (the energy never fell steadily: κ capped)"
+            } else {
+                ""
+            },
+            r.output.info("restarts").unwrap_or(0.0),
+        ),
+        None => format!(
+            "  L-BFGS: {} iterations ({:?}), {} restart(s)\n\n",
+            steps,
+            r.output.stop,
+            r.output.info("restarts").unwrap_or(0.0),
+        ),
+    };
     t += &format!(
         "  {:<36} {:>14} {:>14} {:>9}\n",
         "", "start", "result", "change"
@@ -881,4 +951,22 @@ fn region_table(r: &RegionReport, cfg: &RegionConfig, out: Option<&PathBuf>) -> 
             .unwrap_or_else(|| "standard output".into())
     );
     t
+}
+
+/// `--cases 2x1500,3x1500` as (s, n) pairs.
+fn parse_cases(text: &str) -> Result<Vec<(usize, usize)>> {
+    text.split(',')
+        .map(|c| {
+            let (s, n) = c.trim().split_once(['x', 'X']).with_context(|| {
+                format!("invalid --cases = {text}: {c:?} is not SxN (e.g. 2x1500)")
+            })?;
+            let parse = |v: &str, what: &str| -> Result<usize> {
+                match v.trim().parse::<usize>() {
+                    Ok(k) if k >= 1 => Ok(k),
+                    _ => bail!("invalid --cases = {text}: {what} {v:?} is not an integer ≥ 1"),
+                }
+            };
+            Ok((parse(s, "s")?, parse(n, "n")?))
+        })
+        .collect()
 }

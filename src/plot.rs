@@ -555,3 +555,159 @@ fn encode_png(rgb: &[u8], (width, height): (u32, u32)) -> Result<Vec<u8>, PlotEr
     writer.finish().map_err(encode_error)?;
     Ok(bytes)
 }
+
+/// One curve of a line chart.
+#[derive(Debug, Clone)]
+pub struct Series {
+    /// Legend text.
+    pub name: String,
+    /// (x, y) points in drawing order; non-finite points are skipped.
+    pub points: Vec<(f64, f64)>,
+}
+
+/// A chart of curves against a common x axis.
+#[derive(Debug, Clone)]
+pub struct LineChart {
+    /// Text above the chart.
+    pub title: String,
+    /// Label of the x axis.
+    pub x_label: String,
+    /// Label of the y axis.
+    pub y_label: String,
+    /// Draw y on a log scale (for energies and discrepancies falling over decades).
+    pub log_y: bool,
+    /// The curves.
+    pub series: Vec<Series>,
+}
+
+const LINE_COLOURS: [RGBColor; 6] = [
+    RGBColor(31, 70, 160),
+    RGBColor(200, 40, 40),
+    RGBColor(30, 140, 60),
+    RGBColor(150, 60, 170),
+    RGBColor(220, 130, 20),
+    RGBColor(40, 160, 170),
+];
+
+/// Saves line charts side by side (`.png` or `.svg` by extension), written atomically.
+pub fn save_line_charts(path: &Path, charts: &[LineChart]) -> Result<(), PlotError> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let png = match ext.to_ascii_lowercase().as_str() {
+        "png" => true,
+        "svg" => false,
+        _ => {
+            return Err(PlotError::UnsupportedFormat {
+                path: path.to_path_buf(),
+                ext,
+            })
+        }
+    };
+    if charts.is_empty() {
+        return Err(PlotError::NoPanels);
+    }
+    register_font()?;
+    let size = (700 * charts.len() as u32, 520);
+    let bytes = if png {
+        let mut rgb = vec![0u8; size.0 as usize * size.1 as usize * 3];
+        {
+            let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
+            draw_charts(&root, charts)?;
+            root.present().map_err(draw_error)?;
+        }
+        encode_png(&rgb, size)?
+    } else {
+        let mut svg = String::new();
+        {
+            let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+            draw_charts(&root, charts)?;
+            root.present().map_err(draw_error)?;
+        }
+        svg.into_bytes()
+    };
+    crate::io::write_atomic(path, &bytes)?;
+    Ok(())
+}
+
+fn draw_charts<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    charts: &[LineChart],
+) -> Result<(), PlotError> {
+    root.fill(&WHITE).map_err(draw_error)?;
+    for (chart, cell) in charts.iter().zip(root.split_evenly((1, charts.len()))) {
+        let finite =
+            |p: &&(f64, f64)| p.0.is_finite() && p.1.is_finite() && (!chart.log_y || p.1 > 0.0);
+        let all: Vec<(f64, f64)> = chart
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter().filter(finite).copied())
+            .collect();
+        if all.is_empty() {
+            continue;
+        }
+        let (mut x0, mut x1) = all
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                (a.min(p.0), b.max(p.0))
+            });
+        let (mut y0, mut y1) = all
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                (a.min(p.1), b.max(p.1))
+            });
+        if x1 <= x0 {
+            x1 = x0 + 1.0;
+            x0 -= 0.0;
+        }
+        if y1 <= y0 {
+            let pad = if y0 == 0.0 { 1.0 } else { y0.abs() * 0.1 };
+            y0 -= pad;
+            y1 += pad;
+        }
+        let mut builder = ChartBuilder::on(&cell);
+        builder
+            .caption(&chart.title, ("sans-serif", 20))
+            .margin(12)
+            .x_label_area_size(40)
+            .y_label_area_size(80);
+        macro_rules! body {
+            ($ctx:expr) => {{
+                let mut ctx = $ctx;
+                ctx.configure_mesh()
+                    .x_desc(chart.x_label.as_str())
+                    .y_desc(chart.y_label.as_str())
+                    .label_style(("sans-serif", 14))
+                    .draw()
+                    .map_err(draw_error)?;
+                for (k, s) in chart.series.iter().enumerate() {
+                    let colour = LINE_COLOURS[k % LINE_COLOURS.len()];
+                    let pts: Vec<(f64, f64)> = s.points.iter().filter(finite).copied().collect();
+                    ctx.draw_series(LineSeries::new(pts, colour.stroke_width(2)))
+                        .map_err(draw_error)?
+                        .label(s.name.as_str())
+                        .legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
+                        });
+                }
+                ctx.configure_series_labels()
+                    .background_style(WHITE.mix(0.85))
+                    .border_style(BLACK)
+                    .label_font(("sans-serif", 14))
+                    .draw()
+                    .map_err(draw_error)?;
+            }};
+        }
+        if chart.log_y {
+            body!(builder
+                .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+                .map_err(draw_error)?);
+        } else {
+            body!(builder
+                .build_cartesian_2d(x0..x1, y0..y1)
+                .map_err(draw_error)?);
+        }
+    }
+    Ok(())
+}

@@ -1,9 +1,11 @@
 //! The run driver: turns a [`GenerateConfig`] into a start set, an energy and a DEM run,
 //! and reports the quality of the start and the result side by side.
 
+use crate::energies::discrepancy::{DiscrepancyEnergy, DiscrepancyKind};
 use crate::energies::einf::UEInf;
 use crate::energies::shapes::BoxRegion;
 use crate::energies::{paper_qp, Distance, Domain, Energy, PeriodicCube, PointSet, Uqp};
+use crate::integrators::lbfgs::Lbfgs;
 use crate::integrators::{Control, Dem, Integrator, Kappa, Observer, Record, Restart, RunOutput};
 use crate::metrics::{self, Metrics};
 use crate::sequences;
@@ -32,6 +34,18 @@ pub enum CubeEnergy {
     /// on the periodic cube, or (q = 'E') with the Euclidean distance in the closed cube
     /// [0, 1]^s, where it gives a maximin design.
     EInf,
+    /// A squared L2 discrepancy as the energy: on the torus for the wrap-around L2, in
+    /// the closed cube for the others.
+    Discrepancy(DiscrepancyKind),
+}
+
+/// The solver of a cube run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Solver {
+    /// The damped central-difference DEM of the paper.
+    Dem,
+    /// argmin's L-BFGS with restarts (see [`crate::integrators::lbfgs`]).
+    Lbfgs,
 }
 
 /// Everything a `generate` run needs. [`GenerateConfig::new`] gives the defaults.
@@ -52,8 +66,12 @@ pub struct GenerateConfig {
     pub init: Init,
     /// Seed for every random choice (the random start).
     pub seed: u64,
-    /// The integrator's settings.
+    /// The solver.
+    pub solver: Solver,
+    /// The DEM's settings (its `steps` is the budget of either solver).
     pub dem: Dem,
+    /// L-BFGS settings; its iteration budget is taken from `dem.steps`.
+    pub lbfgs: Lbfgs,
     /// Compute D_L2* and D_MD every this many steps into the trajectory (0: never).
     pub log_every: usize,
     /// Candidate periodic shifts tried after the DEM (0: none); see [`crate::shift`].
@@ -73,7 +91,9 @@ impl GenerateConfig {
             p: None,
             init: Init::Halton,
             seed: 0,
+            solver: Solver::Dem,
             dem: Dem::default(),
+            lbfgs: Lbfgs::default(),
             log_every: 0,
             shifts: 64,
         }
@@ -230,6 +250,22 @@ pub fn generate(
                     )
                 }
             }
+            CubeEnergy::Discrepancy(kind) => {
+                let choice = EnergyChoice {
+                    q: "-".to_string(),
+                    p: f64::NAN,
+                    from_eq48: false,
+                    eq48_in_fitted_range: false,
+                    eq48_clamped: false,
+                };
+                // Only the wrap-around L2 is periodic; the others live in the closed cube.
+                let domain: Box<dyn Domain> = if kind.is_periodic() {
+                    Box::new(PeriodicCube::new(cfg.s)?)
+                } else {
+                    Box::new(BoxRegion::new(vec![0.0; cfg.s], vec![1.0; cfg.s])?)
+                };
+                (Box::new(DiscrepancyEnergy::new(kind)), domain, choice)
+            }
         };
     let mut start = start;
     if domain.is_periodic() {
@@ -237,12 +273,17 @@ pub fn generate(
         PeriodicCube::wrap_set(&mut start);
     }
     let mut observer = LoggingObserver::new(cfg.log_every, on_record);
-    let mut output = cfg.dem.run(
-        energy.as_ref(),
-        domain.as_ref(),
-        start.clone(),
-        &mut observer,
-    )?;
+    let (e, d) = (energy.as_ref(), domain.as_ref());
+    let mut output = match cfg.solver {
+        Solver::Dem => cfg.dem.run(e, d, start.clone(), &mut observer)?,
+        Solver::Lbfgs => {
+            let lbfgs = Lbfgs {
+                iterations: cfg.dem.steps,
+                ..cfg.lbfgs.clone()
+            };
+            lbfgs.run(e, d, start.clone(), &mut observer)?
+        }
+    };
     let shift = if cfg.shifts > 0 && domain.is_periodic() {
         let (points, outcome) = shift::best_shift(&output.points, cfg.shifts);
         output.points = points;

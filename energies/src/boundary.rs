@@ -183,6 +183,10 @@ impl Energy for UEInfG {
         "U_{E,∞,g}".to_string()
     }
 
+    fn is_smooth(&self) -> bool {
+        false
+    }
+
     fn value(&self, points: &PointSet) -> f64 {
         1.0 / self.min_distance(points)
     }
@@ -425,6 +429,8 @@ impl Energy for UEpG {
 
     fn value_and_gradient(&self, points: &PointSet, grad: &mut [f64]) -> f64 {
         assert_eq!(grad.len(), points.len(), "gradient buffer length");
+        // `eval` accumulates into the buffer; callers reuse theirs between steps.
+        grad.fill(0.0);
         self.eval(points, Some(grad))
     }
 }

@@ -253,6 +253,10 @@ impl Energy for UEInf {
         }
     }
 
+    fn is_smooth(&self) -> bool {
+        false
+    }
+
     fn value(&self, points: &PointSet) -> f64 {
         if points.n() < 2 {
             return 0.0;

@@ -210,9 +210,9 @@ impl State {
 
     /// Moves to x^(j+1) with eq. 25 (or the Taylor start). On the torus a point that
     /// leaves is wrapped back (eq. 42, with x^(j) shifted by the same integer). In a region
-    /// a point whose step would leave stays at x^(j) and loses its velocity: projecting it
-    /// onto the boundary would put it at distance 0, where the boundary-aware energies
-    /// are infinite. Returns (largest coordinate move, largest force step |G f|/A0).
+    /// a point whose step would leave takes the largest of the halved steps (1/2, 1/4, …)
+    /// that stays inside and loses its velocity: projecting it onto the boundary would put
+    /// it at distance 0, where the boundary-aware energies are infinite. Returns (largest coordinate move, largest force step |G f|/A0).
     fn advance(&mut self, domain: &dyn Domain, co: &Coefficients) -> (f64, f64) {
         let s = self.cur.s();
         let periodic = domain.is_periodic();
@@ -245,8 +245,24 @@ impl State {
                 xp.copy_from_slice(xc);
                 xc.copy_from_slice(&next);
             } else {
+                // Halve the step until it stays inside, then stop the point there.
                 xp.copy_from_slice(xc);
+                let mut t = 0.5;
                 mv = 0.0;
+                for _ in 0..40 {
+                    let trial: Vec<f64> =
+                        xc.iter().zip(&next).map(|(a, b)| a + t * (b - a)).collect();
+                    if domain.contains(&trial) {
+                        mv = xc
+                            .iter()
+                            .zip(&trial)
+                            .fold(0.0, |m: f64, (a, b)| m.max((a - b).abs()));
+                        xc.copy_from_slice(&trial);
+                        break;
+                    }
+                    t *= 0.5;
+                }
+                xp.copy_from_slice(xc);
             }
             max_move = max_move.max(mv);
         }
@@ -335,6 +351,10 @@ impl Integrator for Dem {
         let mut restarts = 0usize;
         let (mut restarted, mut last_move) = (false, 0.0);
         let mut j = 0usize;
+        // A max-type or kinked energy is not a descent method's friend: keep the lowest
+        // state seen and return it (for a smooth energy the last state is returned).
+        let keep_best = !energy.is_smooth();
+        let mut best: Option<(f64, usize, PointSet)> = None;
         loop {
             let u = state.evaluate(energy);
             // A blow-up after the trial (the energy non-finite or four times its start)
@@ -342,7 +362,7 @@ impl Integrator for Dem {
             // failed trial.
             let diverged = j >= trial_steps
                 && (!u.is_finite() || trajectory.first().is_some_and(|r| u > 4.0 * r.energy));
-            if diverged && kappa * factor <= kmax {
+            if diverged && factor > 1.0 && kappa * factor <= kmax {
                 kappa *= factor;
                 trials += 1;
                 co = Coefficients::new(mu0, kappa, self.dt, self.g);
@@ -391,6 +411,9 @@ impl Integrator for Dem {
             };
             let ctl = observer.observe(&mut rec, &state.cur);
             trajectory.push(rec);
+            if keep_best && best.as_ref().is_none_or(|b| u < b.0) {
+                best = Some((u, j, state.cur.clone()));
+            }
             if j == self.steps {
                 break;
             }
@@ -424,7 +447,25 @@ impl Integrator for Dem {
                 }
             }
         }
+        let mut returned_step = trajectory.last().map_or(0, |r| r.step);
+        if let Some((u, step, points)) = best {
+            if trajectory.last().is_some_and(|r| u < r.energy) {
+                state.cur = points;
+                returned_step = step;
+                let mut rec = Record {
+                    step,
+                    energy: u,
+                    seconds: clock.elapsed().as_secs_f64(),
+                    max_move: 0.0,
+                    restarted: false,
+                    metrics: Vec::new(),
+                };
+                observer.observe(&mut rec, &state.cur);
+                trajectory.push(rec);
+            }
+        }
         let info = vec![
+            ("returned_step".to_string(), returned_step as f64),
             ("mu0".to_string(), mu0),
             ("kappa".to_string(), kappa),
             ("kappa_trials".to_string(), trials as f64),

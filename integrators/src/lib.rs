@@ -73,7 +73,9 @@ pub enum StopReason {
 pub struct RunOutput {
     /// The final points.
     pub points: PointSet,
-    /// One record per state visited, starting with the start.
+    /// One record per state visited, starting with the start; the last record describes
+    /// the returned points (for a non-smooth energy the DEM returns the lowest state seen
+    /// and repeats its record at the end).
     pub trajectory: Vec<Record>,
     /// Why the run ended.
     pub stop: StopReason,
