@@ -486,7 +486,7 @@ fn report_json(r: &GenerateReport, cfg: &GenerateConfig, full: bool) -> Value {
         "p": r.choice.p,
         "init": init,
         "seed": cfg.seed,
-        "steps": r.output.trajectory.last().map(|t| t.step).unwrap_or(0),
+        "steps": r.output.trajectory.iter().map(|t| t.step).max().unwrap_or(0),
         "stop": r.output.stop,
         "kappa": r.output.info("kappa"),
         "restarts": r.output.info("restarts"),
@@ -546,7 +546,7 @@ fn report_table(r: &GenerateReport, cfg: &GenerateConfig, out: Option<&PathBuf>)
             }
         );
     }
-    let steps = r.output.trajectory.last().map(|x| x.step).unwrap_or(0);
+    let steps = r.output.trajectory.iter().map(|x| x.step).max().unwrap_or(0);
     t += &match r.output.info("kappa") {
         Some(kappa) => format!(
             "  DEM: {} steps ({:?}), κ = {} after {} trial(s){}, {} restart(s)\n\n",
@@ -880,7 +880,7 @@ fn region_json(r: &RegionReport, cfg: &RegionConfig, full: bool) -> Value {
         "region": format!("{:?}", cfg.domain),
         "energy": r.energy_name,
         "seed": cfg.seed,
-        "steps": r.output.trajectory.last().map(|t| t.step).unwrap_or(0),
+        "steps": r.output.trajectory.iter().map(|t| t.step).max().unwrap_or(0),
         "stop": r.output.stop,
         "kappa": r.output.info("kappa"),
         "energy_e_inf_g_reduction": finite_or_null(r.reduction()),
@@ -913,7 +913,7 @@ fn region_table(r: &RegionReport, cfg: &RegionConfig, out: Option<&PathBuf>) -> 
             RegionInit::Halton => "Halton start (first n inside the box)".into(),
             RegionInit::Points(_) => "points from file".into(),
         },
-        r.output.trajectory.last().map(|x| x.step).unwrap_or(0),
+        r.output.trajectory.iter().map(|x| x.step).max().unwrap_or(0),
         r.output.stop,
         r.output.info("kappa").unwrap_or(f64::NAN),
         r.output.info("kappa_trials").unwrap_or(0.0),
