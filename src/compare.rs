@@ -123,7 +123,13 @@ pub fn run(
                     modified_l2: metrics::modified_l2(&r.output.points),
                     star_l2: metrics::star_l2(&r.output.points),
                     min_distance: metrics::min_distance_euclidean(&r.output.points),
-                    steps: r.output.trajectory.iter().map(|t| t.step).max().unwrap_or(0),
+                    steps: r
+                        .output
+                        .trajectory
+                        .iter()
+                        .map(|t| t.step)
+                        .max()
+                        .unwrap_or(0),
                     seconds: r.seconds,
                     curve,
                 };

@@ -546,7 +546,13 @@ fn report_table(r: &GenerateReport, cfg: &GenerateConfig, out: Option<&PathBuf>)
             }
         );
     }
-    let steps = r.output.trajectory.iter().map(|x| x.step).max().unwrap_or(0);
+    let steps = r
+        .output
+        .trajectory
+        .iter()
+        .map(|x| x.step)
+        .max()
+        .unwrap_or(0);
     t += &match r.output.info("kappa") {
         Some(kappa) => format!(
             "  DEM: {} steps ({:?}), κ = {} after {} trial(s){}, {} restart(s)\n\n",

@@ -665,6 +665,14 @@ fn draw_charts<DB: DrawingBackend>(
             let pad = if y0 == 0.0 { 1.0 } else { y0.abs() * 0.1 };
             y0 -= pad;
             y1 += pad;
+        } else if chart.log_y {
+            // Room above and below so the extreme curves are not drawn on the frame.
+            y0 *= 0.8;
+            y1 *= 1.25;
+        } else {
+            let pad = 0.05 * (y1 - y0);
+            y0 -= pad;
+            y1 += pad;
         }
         let mut builder = ChartBuilder::on(&cell);
         builder

@@ -389,3 +389,38 @@ fn boundary_lines_are_clipped_to_the_box() {
     let red = red_pixels(&path);
     assert!((600..=2000).contains(&red), "{red} red pixels");
 }
+
+#[test]
+fn line_charts_render_and_refuse_unknown_formats() {
+    use stillpoint::plot::{save_line_charts, LineChart, Series};
+    let dir = std::env::temp_dir().join(format!("stillpoint-lines-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let chart = LineChart {
+        title: "energy".into(),
+        x_label: "t".into(),
+        y_label: "U".into(),
+        log_y: true,
+        series: vec![
+            Series {
+                name: "a".into(),
+                points: (1..50).map(|k| (k as f64, 1.0 / k as f64)).collect(),
+            },
+            Series {
+                name: "b".into(),
+                points: vec![(1.0, 0.5), (2.0, f64::NAN), (3.0, 0.0), (4.0, 0.1)],
+            },
+        ],
+    };
+    let png = dir.join("c.png");
+    save_line_charts(&png, &[chart.clone(), chart.clone()]).unwrap();
+    let bytes = std::fs::read(&png).unwrap();
+    assert!(bytes.starts_with(b"\x89PNG"));
+    let svg = dir.join("c.svg");
+    save_line_charts(&svg, &[chart.clone()]).unwrap();
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("<svg") && text.contains("energy"));
+    let bad = dir.join("c.gif");
+    assert!(save_line_charts(&bad, &[chart]).is_err());
+    assert!(!bad.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
