@@ -416,7 +416,7 @@ fn line_charts_render_and_refuse_unknown_formats() {
     let bytes = std::fs::read(&png).unwrap();
     assert!(bytes.starts_with(b"\x89PNG"));
     let svg = dir.join("c.svg");
-    save_line_charts(&svg, &[chart.clone()]).unwrap();
+    save_line_charts(&svg, std::slice::from_ref(&chart)).unwrap();
     let text = std::fs::read_to_string(&svg).unwrap();
     assert!(text.contains("<svg") && text.contains("energy"));
     let bad = dir.join("c.gif");
