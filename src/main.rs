@@ -112,6 +112,11 @@ enum Command {
             allow_hyphen_values = true
         )]
         restart: String,
+        /// Polish the result with L-BFGS on a squared discrepancy: `md`, `l2star`, `cd`,
+        /// `periodic`, or `none`. The best points we know how to make: the DEM spreads the
+        /// points, the shift places them, the polish lowers the chosen discrepancy.
+        #[arg(long, default_value = "none", value_name = "KIND")]
+        polish: String,
         /// Stop early when every coordinate step and every force step |G f|/A0 is below
         /// this (0: always use the whole budget).
         #[arg(
@@ -213,6 +218,7 @@ fn real_main(cli: Cli) -> Result<()> {
             kappa,
             restart,
             tolerance,
+            polish,
             shifts,
             log_every,
             trajectory,
@@ -352,6 +358,14 @@ fn real_main(cli: Cli) -> Result<()> {
             }
             cfg.dem.tolerance = tolerance;
             cfg.shifts = shifts;
+            cfg.polish = match polish.as_str() {
+                "none" => None,
+                other => Some(DiscrepancyKind::parse(other).map_err(|_| {
+                    anyhow::anyhow!(
+                        "invalid --polish = {other}: expected none, md, l2star, cd or periodic"
+                    )
+                })?),
+            };
             cfg.log_every = log_every.unwrap_or(if trajectory.is_some() { 10 } else { 0 });
             let bar = progress_bar(steps as u64, quiet);
             let report = run::generate(&cfg, |r| bar.set_position(r.step as u64))?;
@@ -503,6 +517,10 @@ fn report_json(r: &GenerateReport, cfg: &GenerateConfig, full: bool) -> Value {
         v["metrics_start"] = metrics_json(&r.metrics.0);
         v["metrics_result"] = metrics_json(&r.metrics.1);
         v["shift"] = serde_json::to_value(&r.shift).unwrap_or(Value::Null);
+        v["polish"] = match r.polish {
+            Some((a, b, it)) => json!({"before": a, "after": b, "iterations": it}),
+            None => Value::Null,
+        };
         v["seconds"] = json!(r.seconds);
     } else {
         v["star_l2"] = json!(r.metrics.1.star_l2);
@@ -646,6 +664,10 @@ fn report_table(r: &GenerateReport, cfg: &GenerateConfig, out: Option<&PathBuf>)
             sh.shift.iter().map(|c| format!("{c:.4}")).collect::<Vec<_>>().join(", "),
             sh.evaluations
         );
+    }
+    if let Some((a, b, it)) = r.polish {
+        t +=
+            &format!("  polish: squared discrepancy {a:.6e} → {b:.6e} in {it} L-BFGS iterations\n");
     }
     t += &format!(
         "\n  time {:.2} s; points written to {}\n",

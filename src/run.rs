@@ -6,7 +6,9 @@ use crate::energies::einf::UEInf;
 use crate::energies::shapes::BoxRegion;
 use crate::energies::{paper_qp, Distance, Domain, Energy, PeriodicCube, PointSet, Uqp};
 use crate::integrators::lbfgs::Lbfgs;
-use crate::integrators::{Control, Dem, Integrator, Kappa, Observer, Record, Restart, RunOutput};
+use crate::integrators::{
+    Control, Dem, Integrator, Kappa, NoObserver, Observer, Record, Restart, RunOutput,
+};
 use crate::metrics::{self, Metrics};
 use crate::sequences;
 use crate::shift::{self, ShiftOutcome};
@@ -77,6 +79,9 @@ pub struct GenerateConfig {
     /// Candidate periodic shifts tried after the DEM (0: none); see [`crate::shift`].
     /// Only used with a periodic distance (q ≠ 'E').
     pub shifts: usize,
+    /// A last L-BFGS run on this squared discrepancy, from the result (after the shift
+    /// selection), in the closed cube for the non-periodic kinds. `None`: no polish.
+    pub polish: Option<DiscrepancyKind>,
 }
 
 impl GenerateConfig {
@@ -96,6 +101,7 @@ impl GenerateConfig {
             lbfgs: Lbfgs::default(),
             log_every: 0,
             shifts: 64,
+            polish: None,
         }
     }
 }
@@ -132,6 +138,8 @@ pub struct GenerateReport {
     pub choice: EnergyChoice,
     /// The shift selection after the DEM, when it ran.
     pub shift: Option<ShiftOutcome>,
+    /// The polish, when it ran: (squared discrepancy before, after, L-BFGS iterations).
+    pub polish: Option<(f64, f64, usize)>,
     /// Wall time of the whole run in seconds.
     pub seconds: f64,
 }
@@ -291,6 +299,29 @@ pub fn generate(
     } else {
         None
     };
+    let polish = match cfg.polish {
+        Some(kind) => {
+            let e = DiscrepancyEnergy::new(kind);
+            let d: Box<dyn Domain> = if kind.is_periodic() {
+                Box::new(PeriodicCube::new(cfg.s)?)
+            } else {
+                Box::new(BoxRegion::new(vec![0.0; cfg.s], vec![1.0; cfg.s])?)
+            };
+            let before = e.value(&output.points);
+            let lbfgs = Lbfgs {
+                iterations: cfg.dem.steps,
+                ..cfg.lbfgs.clone()
+            };
+            let out = lbfgs.run(&e, d.as_ref(), output.points.clone(), &mut NoObserver)?;
+            let iterations = out.trajectory.iter().map(|r| r.step).max().unwrap_or(0);
+            let after = e.value(&out.points);
+            if after < before {
+                output.points = out.points;
+            }
+            Some((before, after.min(before), iterations))
+        }
+        None => None,
+    };
     debug_assert!(output.points.rows().all(|r| domain.contains(r)));
     let energy_pair = (
         output
@@ -313,6 +344,7 @@ pub fn generate(
         metrics: metrics_pair,
         choice,
         shift,
+        polish,
         seconds: clock.elapsed().as_secs_f64(),
     })
 }

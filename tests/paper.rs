@@ -81,3 +81,19 @@ fn table5_p3_1500() {
     report("P_{3,1500}", &o, (0.001986, 0.000965));
     assert!(o.result.0 < 0.00204 && o.result.1 < 0.00103);
 }
+
+#[test]
+fn polish_lowers_the_chosen_discrepancy() {
+    use stillpoint::energies::discrepancy::DiscrepancyKind;
+    let mut cfg = GenerateConfig::new(300, 3);
+    let plain = generate(&cfg, |_| {}).unwrap();
+    cfg.polish = Some(DiscrepancyKind::ModifiedL2);
+    let polished = generate(&cfg, |_| {}).unwrap();
+    let (before, after, _) = polished.polish.unwrap();
+    let md_plain = metrics::modified_l2(&plain.output.points);
+    let md_polished = metrics::modified_l2(&polished.output.points);
+    assert!((before.sqrt() - md_plain).abs() < 1e-12);
+    assert!((after.sqrt() - md_polished).abs() < 1e-12);
+    assert!(md_polished < 0.95 * md_plain, "{md_plain} -> {md_polished}");
+    assert!(polished.output.points.check_unit_cube().is_ok());
+}
