@@ -20,7 +20,7 @@ fn small_comparison_improves_on_halton_and_writes_its_files() {
     let json: serde_json::Value =
         serde_json::from_slice(&std::fs::read(dir.join("comparison.json")).unwrap()).unwrap();
     let rows = json.as_array().unwrap();
-    assert_eq!(rows.len(), 4, "{table}");
+    assert_eq!(rows.len(), 5, "{table}");
     for r in rows {
         let md = r["modified_l2"].as_f64().unwrap();
         assert!(md < halton, "{}: D_MD {md} vs Halton {halton}", r["solver"]);
