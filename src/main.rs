@@ -282,25 +282,12 @@ fn real_main(cli: Cli) -> Result<()> {
                         cfg.domain.as_ref(),
                     )?;
                 }
-                match &output {
-                    Some(path) => io::write_points(path, &report.output.points, &meta)?,
-                    None if json => {}
-                    None => print!("{}", io::to_csv_string(&report.output.points, &meta)),
-                }
-                if json {
-                    let mut v = region_json(&report, &cfg, true);
-                    if output.is_none() {
-                        v["points"] = points_json(&report.output.points);
-                    }
-                    println!("{}", serde_json::to_string_pretty(&v)?);
+                let summary = if json {
+                    region_json(&report, &cfg, true)
                 } else {
-                    let t = region_table(&report, &cfg, output.as_ref());
-                    if output.is_some() {
-                        print!("{t}");
-                    } else {
-                        eprint!("{t}");
-                    }
-                }
+                    Value::String(region_table(&report, &cfg, output.as_ref()))
+                };
+                emit(&report.output.points, &meta, output.as_ref(), summary)?;
                 return Ok(());
             }
             if bbox.is_some() {
@@ -382,25 +369,12 @@ fn real_main(cli: Cli) -> Result<()> {
                 let cube = stillpoint::PeriodicCube::new(cfg.s)?;
                 plot_start_result(path, &report.start, &report.output.points, &cube)?;
             }
-            match &output {
-                Some(path) => io::write_points(path, &report.output.points, &meta)?,
-                None if json => {}
-                None => print!("{}", io::to_csv_string(&report.output.points, &meta)),
-            }
-            if json {
-                let mut v = report_json(&report, &cfg, true);
-                if output.is_none() {
-                    v["points"] = points_json(&report.output.points);
-                }
-                println!("{}", serde_json::to_string_pretty(&v)?);
+            let summary = if json {
+                report_json(&report, &cfg, true)
             } else {
-                let table = report_table(&report, &cfg, output.as_ref());
-                if output.is_some() {
-                    print!("{table}");
-                } else {
-                    eprint!("{table}");
-                }
-            }
+                Value::String(report_table(&report, &cfg, output.as_ref()))
+            };
+            emit(&report.output.points, &meta, output.as_ref(), summary)?;
         }
         Command::Eval { file, json } => {
             let points = io::read_points(&file)?;
@@ -997,4 +971,30 @@ fn parse_cases(text: &str) -> Result<Vec<(usize, usize)>> {
             Ok((parse(s, "s")?, parse(n, "n")?))
         })
         .collect()
+}
+
+/// Writes the points (to `output`, or as CSV to standard output) and the summary: a JSON
+/// object (printed to standard output, with the points when there is no output file) or a
+/// table (to standard output, or to standard error when the points went there).
+fn emit(points: &PointSet, meta: &Value, output: Option<&PathBuf>, summary: Value) -> Result<()> {
+    match summary {
+        Value::String(table) => match output {
+            Some(path) => {
+                io::write_points(path, points, meta)?;
+                print!("{table}");
+            }
+            None => {
+                print!("{}", io::to_csv_string(points, meta));
+                eprint!("{table}");
+            }
+        },
+        mut v => {
+            match output {
+                Some(path) => io::write_points(path, points, meta)?,
+                None => v["points"] = points_json(points),
+            }
+            println!("{}", serde_json::to_string_pretty(&v)?);
+        }
+    }
+    Ok(())
 }
