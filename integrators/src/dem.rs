@@ -103,20 +103,7 @@ impl Default for Dem {
 
 impl Dem {
     fn validate(&self, domain: &dyn Domain, start: &PointSet) -> Result<()> {
-        if start.s() != domain.dim() {
-            return Err(Error::invalid(
-                "start dimension",
-                start.s(),
-                format!("the domain's dimension {}", domain.dim()),
-            ));
-        }
-        if let Some(i) = (0..start.n()).find(|&i| !domain.contains(start.point(i))) {
-            return Err(Error::invalid(
-                format!("start point {}", i + 1),
-                format!("{:?}", start.point(i)),
-                "a point inside the domain",
-            ));
-        }
+        crate::check_start(domain, start)?;
         let pos = |name: &str, v: f64| {
             if v > 0.0 && v.is_finite() {
                 Ok(())

@@ -155,20 +155,7 @@ impl Default for Lbfgs {
 
 impl Lbfgs {
     fn validate(&self, domain: &dyn Domain, start: &PointSet) -> Result<()> {
-        if start.s() != domain.dim() {
-            return Err(Error::invalid(
-                "start dimension",
-                start.s(),
-                format!("the domain's dimension {}", domain.dim()),
-            ));
-        }
-        if let Some(i) = (0..start.n()).find(|&i| !domain.contains(start.point(i))) {
-            return Err(Error::invalid(
-                format!("start point {}", i + 1),
-                format!("{:?}", start.point(i)),
-                "a point inside the domain",
-            ));
-        }
+        crate::check_start(domain, start)?;
         if self.memory == 0 {
             return Err(Error::invalid(
                 "L-BFGS memory",

@@ -105,3 +105,23 @@ pub trait Integrator {
         observer: &mut dyn Observer,
     ) -> Result<RunOutput>;
 }
+
+/// Refuses a start whose dimension differs from the domain's or with a point outside it,
+/// naming the first offending point.
+pub fn check_start(domain: &dyn Domain, start: &PointSet) -> Result<()> {
+    if start.s() != domain.dim() {
+        return Err(stillpoint_energies::Error::invalid(
+            "start dimension",
+            start.s(),
+            format!("the domain's dimension {}", domain.dim()),
+        ));
+    }
+    if let Some(i) = (0..start.n()).find(|&i| !domain.contains(start.point(i))) {
+        return Err(stillpoint_energies::Error::invalid(
+            format!("start point {}", i + 1),
+            format!("{:?}", start.point(i)),
+            "a point inside the domain",
+        ));
+    }
+    Ok(())
+}
