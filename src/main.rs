@@ -268,11 +268,7 @@ fn real_main(cli: Cli) -> Result<()> {
                 bar.finish_and_clear();
                 let meta = region_json(&report, &cfg, false);
                 if let Some(path) = &trajectory {
-                    let traj = serde_json::to_vec_pretty(&json!({
-                        "energy": report.energy_name,
-                        "records": report.output.trajectory,
-                    }))?;
-                    io::write_atomic(path, &traj)?;
+                    write_trajectory(path, &report.energy_name, &report.output)?;
                 }
                 if let Some(path) = &plot {
                     plot_start_result(
@@ -359,11 +355,7 @@ fn real_main(cli: Cli) -> Result<()> {
             bar.finish_and_clear();
             let meta = report_json(&report, &cfg, false);
             if let Some(path) = &trajectory {
-                let traj = serde_json::to_vec_pretty(&json!({
-                    "energy": report.energy_name,
-                    "records": report.output.trajectory,
-                }))?;
-                io::write_atomic(path, &traj)?;
+                write_trajectory(path, &report.energy_name, &report.output)?;
             }
             if let Some(path) = &plot {
                 let cube = stillpoint::PeriodicCube::new(cfg.s)?;
@@ -996,5 +988,19 @@ fn emit(points: &PointSet, meta: &Value, output: Option<&PathBuf>, summary: Valu
             println!("{}", serde_json::to_string_pretty(&v)?);
         }
     }
+    Ok(())
+}
+
+/// The run's trajectory as JSON (energy every step, logged metrics), written atomically.
+fn write_trajectory(
+    path: &std::path::Path,
+    energy: &str,
+    output: &stillpoint::integrators::RunOutput,
+) -> Result<()> {
+    let traj = serde_json::to_vec_pretty(&json!({
+        "energy": energy,
+        "records": output.trajectory,
+    }))?;
+    io::write_atomic(path, &traj)?;
     Ok(())
 }

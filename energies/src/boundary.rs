@@ -28,7 +28,7 @@
 //! any number of rayon threads.
 
 use crate::einf::{add_pair_subgradient, check_tie_tolerance, Metric, PairScan};
-use crate::pairs::for_each_pair_tile;
+use crate::pairs::{for_each_pair_tile, scatter_pair};
 use crate::{Domain, Energy, Error, PointSet, Result};
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -373,20 +373,7 @@ impl UEpG {
                     acc += t;
                     let d = d2.sqrt();
                     let w = t * (m / d) / d;
-                    let oi = (i - ri.start) * s;
-                    if diag {
-                        let oj = (j - ri.start) * s;
-                        for k in 0..s {
-                            gi[oi + k] += w * diff[k];
-                            gi[oj + k] -= w * diff[k];
-                        }
-                    } else {
-                        let oj = (j - rj.start) * s;
-                        for k in 0..s {
-                            gi[oi + k] += w * diff[k];
-                            gj[oj + k] -= w * diff[k];
-                        }
-                    }
+                    scatter_pair(gi, gj, (ri.start, rj.start), (i, j), w, &diff);
                 }
             }
             acc

@@ -72,6 +72,35 @@ where
     total
 }
 
+/// Inside a tile of [`for_each_pair_tile`]: adds w·v to the gradient row of point i and
+/// −w·v to that of point j (a pair force), given the first indices of the tile's two
+/// blocks. On a diagonal tile `gj` is empty and both rows are in `gi`.
+#[inline]
+pub fn scatter_pair(
+    gi: &mut [f64],
+    gj: &mut [f64],
+    (ri0, rj0): (usize, usize),
+    (i, j): (usize, usize),
+    w: f64,
+    v: &[f64],
+) {
+    let s = v.len();
+    let oi = (i - ri0) * s;
+    if gj.is_empty() {
+        let oj = (j - ri0) * s;
+        for k in 0..s {
+            gi[oi + k] += w * v[k];
+            gi[oj + k] -= w * v[k];
+        }
+    } else {
+        let oj = (j - rj0) * s;
+        for k in 0..s {
+            gi[oi + k] += w * v[k];
+            gj[oj + k] -= w * v[k];
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -11,7 +11,7 @@
 //! Pair sums run row by row in parallel; each row is summed sequentially and the row totals
 //! are added in index order, so the result has the same bits for any thread count.
 
-use crate::pairs::for_each_pair_tile;
+use crate::pairs::{for_each_pair_tile, scatter_pair};
 use crate::{Energy, Error, PointSet, Result};
 use rayon::prelude::*;
 
@@ -266,21 +266,7 @@ impl Energy for Uqp {
                     let e = inv_pow(d2, half_p);
                     acc += e;
                     if d2 > 0.0 {
-                        let w = e / d2;
-                        let oi = (i - ri.start) * s;
-                        if diag {
-                            let oj = (j - ri.start) * s;
-                            for k in 0..s {
-                                gi[oi + k] += w * gbuf[k];
-                                gi[oj + k] -= w * gbuf[k];
-                            }
-                        } else {
-                            let oj = (j - rj.start) * s;
-                            for k in 0..s {
-                                gi[oi + k] += w * gbuf[k];
-                                gj[oj + k] -= w * gbuf[k];
-                            }
-                        }
+                        scatter_pair(gi, gj, (ri.start, rj.start), (i, j), e / d2, &gbuf);
                     }
                 }
             }
