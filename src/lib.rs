@@ -21,6 +21,9 @@ pub mod regions;
 pub mod run;
 pub mod sequences;
 pub mod shift;
+pub mod studies;
+pub mod testfns;
+pub mod uq;
 
 /// The README's Rust examples, compiled and run as doctests so they stay true.
 #[doc = include_str!("../README.md")]

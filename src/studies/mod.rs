@@ -1,0 +1,1 @@
+//! The paper's studies, each reproducible by one command.
