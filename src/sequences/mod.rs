@@ -1,13 +1,33 @@
-//! Classic point sequences: starts for the DEM and baselines to compare with.
+//! Classic point sequences and designs: starts for the DEM and the baselines its results
+//! are compared with.
 //!
 //! [`halton`] is the plain (unscrambled) Halton sequence the paper starts its Table 5 runs
 //! from and lists as row \[15\]; [`random`] is seeded i.i.d. uniform sampling, the start of
 //! its Section 5.1 runs and the Monte Carlo baseline.
+//!
+//! [`Baseline`] names every generator a quasi-Monte Carlo user compares against (random,
+//! Halton, scrambled Halton, Owen-scrambled Sobol', Hua–Wang good points, rank-1
+//! lattices, Latin hypercubes plain and maximin) behind one `generate(n, s, seed)`; each
+//! variant's [`Baseline::describe`] states exactly which construction it is. The
+//! generators are also public one by one, with the unscrambled Sobol' net and the lattice
+//! generating vector exposed so their structure can be checked.
 
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
 use crate::{Error, PointSet};
+
+mod baseline;
+mod latin;
+mod lattices;
+mod scrambled_halton;
+mod sobol_owen;
+
+pub use baseline::Baseline;
+pub use latin::{lhs, lhs_maximin, LHS_MAXIMIN_MAX_N};
+pub use lattices::{hua_wang, korobov_p2, lattice, lattice_generator, rank1_lattice};
+pub use scrambled_halton::{halton_scrambled, HALTON_SCRAMBLED_MAX_S};
+pub use sobol_owen::{sobol_plain, sobol_scrambled, SOBOL_MAX_N, SOBOL_MAX_S};
 
 /// The first `k` primes in increasing order (2, 3, 5, 7, ...); empty for `k = 0`.
 ///
@@ -81,7 +101,7 @@ pub fn random(n: usize, s: usize, seed: u64) -> Result<PointSet, Error> {
 }
 
 /// Refuses an empty shape, or one whose buffer length overflows, before allocating.
-fn check_shape(n: usize, s: usize) -> Result<(), Error> {
+pub(crate) fn check_shape(n: usize, s: usize) -> Result<(), Error> {
     if n == 0 {
         return Err(Error::invalid("n", n, "at least 1 point"));
     }
@@ -96,6 +116,34 @@ fn check_shape(n: usize, s: usize) -> Result<(), Error> {
         ));
     }
     Ok(())
+}
+
+/// A 64-bit mixing function (the SplitMix64 finaliser, Stafford's "variant 13"
+/// constants): every input bit affects every output bit, which is what turns a structured
+/// key (seed, dimension, digit level, prefix) into independent-looking random bits.
+pub(crate) fn mix64(mut z: u64) -> u64 {
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
+/// A keyed hash of one word: distinct `(key, x)` pairs give unrelated outputs. The golden
+/// ratio offset keeps x = 0 away from mix64's fixed point at 0.
+pub(crate) fn hash2(key: u64, x: u64) -> u64 {
+    mix64(key ^ mix64(x.wrapping_add(0x9e37_79b9_7f4a_7c15)))
+}
+
+/// A seeded generator for one labelled sub-stream (a dimension, a digit position, a
+/// search), so each part of a construction draws the same numbers however many other
+/// parts there are and in whatever order they are computed.
+pub(crate) fn substream(seed: u64, label: u64, index: u64) -> Xoshiro256PlusPlus {
+    Xoshiro256PlusPlus::seed_from_u64(hash2(hash2(mix64(seed), label), index))
+}
+
+/// The largest f64 below `x` (for positive finite x): where a value that must stay inside
+/// a half-open interval is clamped when rounding carried it onto the right end.
+pub(crate) fn prev_float(x: f64) -> f64 {
+    f64::from_bits(x.to_bits() - 1)
 }
 
 #[cfg(test)]

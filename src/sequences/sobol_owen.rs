@@ -1,0 +1,173 @@
+//! Sobol' points from the Joe–Kuo D6 direction numbers, plain and with Owen's nested
+//! uniform scrambling.
+//!
+//! The net is the standard digital construction: the 32-bit value of point i in
+//! dimension j is the XOR of the direction numbers v_{j,k} over the set bits k of i
+//! (natural order, not the Gray-code order most iterators use; both orders give the same
+//! set for n = 2^m, but only natural order makes the first n points a prefix of any
+//! longer run). Direction numbers come from the `sobol` crate's copy of Joe and Kuo's
+//! `new-joe-kuo-6.21201` table (S. Joe, F. Y. Kuo, *Constructing Sobol sequences with
+//! better two-dimensional projections*, SIAM J. Sci. Comput. 30 (2008) 2635–2654).
+//!
+//! Owen's nested scrambling (A. B. Owen, *Randomly permuted (t,m,s)-nets and
+//! (t,s)-sequences*, 1995) flips bit ℓ of a coordinate according to an independent random
+//! bit attached to the node (ℓ, first ℓ−1 bits) of the binary tree of intervals. Storing
+//! those 2^ℓ bits per level is impossible, so each is a hash of (seed, dimension, level,
+//! prefix), as in Burley's and Laine–Karras's hash-based Owen scrambling; each level is
+//! hashed separately here rather than with their one-multiply approximation, so the
+//! flips are as independent as the hash is good.
+
+use std::sync::OnceLock;
+
+use rayon::prelude::*;
+use sobol::params::JoeKuoD6;
+use sobol::Sobol;
+
+use super::{check_shape, hash2, mix64};
+use crate::{Error, PointSet};
+
+/// Largest dimension the bundled Joe–Kuo D6 table covers.
+pub const SOBOL_MAX_S: usize = 21_201;
+
+/// Largest number of points: the direction numbers have 32 bits, so indices beyond 2^32
+/// would repeat the net.
+pub const SOBOL_MAX_N: usize = 1 << 32;
+
+/// Distinguishes the Sobol' scramble's hash stream from other users of the same seed.
+const SOBOL_LABEL: u64 = 0x536f_626f_6c27_4f77;
+
+/// Bits of resolution of the direction numbers (and of the plain net's coordinates).
+const BITS: u32 = 32;
+
+/// Direction numbers v_{j,1..32} for dimensions 1..=s, each left-aligned in a u32 so
+/// that bit 31 is the 1/2 digit.
+fn direction_numbers(s: usize) -> Vec<Vec<u32>> {
+    // The crate ships three sizes of the same table; parsing the 21 201-dimension one
+    // costs tens of milliseconds, so load the smallest that covers s, once per process.
+    static MINIMAL: OnceLock<JoeKuoD6> = OnceLock::new();
+    static STANDARD: OnceLock<JoeKuoD6> = OnceLock::new();
+    static EXTENDED: OnceLock<JoeKuoD6> = OnceLock::new();
+    let params = if s <= 100 {
+        MINIMAL.get_or_init(JoeKuoD6::minimal)
+    } else if s <= 1000 {
+        STANDARD.get_or_init(JoeKuoD6::standard)
+    } else {
+        EXTENDED.get_or_init(JoeKuoD6::extended)
+    };
+    Sobol::<u32>::init_direction_vals::<u32>(s, BITS as usize, params)
+}
+
+fn check_sobol_shape(n: usize, s: usize) -> Result<(), Error> {
+    check_shape(n, s)?;
+    if n > SOBOL_MAX_N {
+        return Err(Error::invalid(
+            "n",
+            n,
+            format!("1..={SOBOL_MAX_N} (2^32) for Sobol' points with 32-bit direction numbers"),
+        ));
+    }
+    if s > SOBOL_MAX_S {
+        return Err(Error::invalid(
+            "s",
+            s,
+            format!("1..={SOBOL_MAX_S} for Sobol' points (the Joe–Kuo D6 table's dimensions)"),
+        ));
+    }
+    Ok(())
+}
+
+/// The 32-bit net values of points 0..n in one dimension, natural order.
+fn net_column(n: usize, v: &[u32]) -> Vec<u32> {
+    let mut y = vec![0u32; n];
+    // y(i) = y(i with its lowest set bit cleared) ^ v[that bit]: one XOR per point.
+    for i in 1..n {
+        y[i] = y[i & (i - 1)] ^ v[i.trailing_zeros() as usize];
+    }
+    y
+}
+
+/// Lays columns (one Vec per dimension) out row by row.
+fn rows_from_columns(n: usize, columns: &[Vec<f64>]) -> Vec<f64> {
+    let s = columns.len();
+    let mut data = vec![0.0; n * s];
+    for (j, col) in columns.iter().enumerate() {
+        for (i, &x) in col.iter().enumerate() {
+            data[i * s + j] = x;
+        }
+    }
+    data
+}
+
+/// Unscrambled Sobol' points with indices 0..n−1 in natural order, Joe–Kuo D6 direction
+/// numbers, each coordinate an exact multiple of 2^−32.
+///
+/// The first points are (0, 0, 0), (1/2, 1/2, 1/2), (1/4, 3/4, 3/4), (3/4, 1/4, 1/4),
+/// (1/8, 5/8, 3/8), ...; the first 2^m points are the same set as SciPy's
+/// `qmc.Sobol(scramble=False)`, which lists them in Gray-code order. Point 0 is the
+/// origin.
+///
+/// Refuses n = 0, s = 0, n > 2^32 and s > 21 201, naming the argument.
+pub fn sobol_plain(n: usize, s: usize) -> Result<PointSet, Error> {
+    check_sobol_shape(n, s)?;
+    let dirs = direction_numbers(s);
+    let scale = (-f64::from(BITS)).exp2();
+    let columns: Vec<Vec<f64>> = dirs
+        .par_iter()
+        .map(|v| {
+            net_column(n, v)
+                .into_iter()
+                .map(|y| f64::from(y) * scale)
+                .collect()
+        })
+        .collect();
+    PointSet::new(n, s, rows_from_columns(n, &columns))
+}
+
+/// Owen's nested uniform scramble of one 32-bit net value, extended to 53 random-looking
+/// bits: bit ℓ (ℓ = 1 is the 1/2 digit) is flipped by a hash of (dimension key, ℓ, the
+/// original first ℓ−1 bits), and the 21 bits below the net's resolution, which are all
+/// zero in the net, become hash bits of the whole 32-bit value, as nested scrambling of
+/// those zero digits implies.
+fn owen_scramble(y: u32, dim_key: u64) -> u64 {
+    let y = u64::from(y);
+    let mut out = 0u64;
+    for level in 1..=BITS {
+        // A leading 1 marks the prefix length, so (level, prefix) pairs never collide.
+        let node = (1u64 << (level - 1)) | (y >> (BITS - level + 1));
+        let flip = hash2(dim_key, node) >> 63;
+        let bit = (y >> (BITS - level)) & 1;
+        out |= (bit ^ flip) << (BITS - level);
+    }
+    let tail = hash2(dim_key, (1u64 << BITS) | y) >> (64 - 21);
+    (out << 21) | tail
+}
+
+/// Owen-scrambled Sobol' points: the net of [`sobol_plain`] (indices 0..n−1, natural
+/// order, Joe–Kuo D6) with an independent nested uniform scramble per dimension, seeded by
+/// `seed`, as 53-bit f64 values in [0, 1).
+///
+/// Every 2^m-point prefix keeps the net's structure: each one-dimensional projection has
+/// one point in each interval \[k/2^m, (k+1)/2^m), and dimensions 1 and 2 form a
+/// (0, m, 2)-net. Unlike SciPy's `qmc.Sobol(scramble=True)`, which applies a linear matrix
+/// scramble plus a digital shift (LMS + shift), this is Owen's full nested scramble.
+///
+/// Refuses n = 0, s = 0, n > 2^32 and s > 21 201, naming the argument.
+pub fn sobol_scrambled(n: usize, s: usize, seed: u64) -> Result<PointSet, Error> {
+    check_sobol_shape(n, s)?;
+    let dirs = direction_numbers(s);
+    let scale = (-53f64).exp2();
+    // A label of its own keeps these bits unrelated to other generators fed the same seed.
+    let seed_key = hash2(mix64(seed), SOBOL_LABEL);
+    let columns: Vec<Vec<f64>> = dirs
+        .par_iter()
+        .enumerate()
+        .map(|(j, v)| {
+            let dim_key = hash2(seed_key, j as u64);
+            net_column(n, v)
+                .into_iter()
+                .map(|y| owen_scramble(y, dim_key) as f64 * scale)
+                .collect()
+        })
+        .collect();
+    PointSet::new(n, s, rows_from_columns(n, &columns))
+}
