@@ -1,5 +1,6 @@
-//! The `stillpoint` command: generate evenly spread point sets, evaluate any point file,
-//! and benchmark the kernels.
+//! The `stillpoint` command: generate evenly spread point sets, evaluate and integrate
+//! with any point file, write the classic sequences, reproduce the paper's studies, and
+//! benchmark the kernels.
 
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
@@ -18,6 +19,8 @@ use stillpoint::regions::{
     generate_in_region, RegionConfig, RegionEnergy, RegionInit, RegionReport,
 };
 use stillpoint::run::{self, CubeEnergy, GenerateConfig, GenerateReport, Init, Solver};
+use stillpoint::sequences::Baseline;
+use stillpoint::studies::{self, Study, StudyOptions};
 use stillpoint::{bench, io, PointSet};
 
 #[derive(Parser)]
@@ -172,6 +175,57 @@ enum Command {
         /// Small cases (2x200, 3x200) and 200 steps.
         #[arg(long)]
         quick: bool,
+    },
+    /// Write a classic point set (a baseline to compare with): random, halton,
+    /// halton-scrambled, sobol, hua-wang, lattice, lhs, lhs-maximin.
+    Baseline {
+        /// The generator; `stillpoint baseline --list` describes each exactly.
+        #[arg(value_name = "NAME", required_unless_present = "list")]
+        name: Option<String>,
+        /// Number of points n ≥ 1.
+        #[arg(short = 'n', value_name = "N", required_unless_present = "list")]
+        n: Option<usize>,
+        /// Dimension s ≥ 1.
+        #[arg(short = 's', value_name = "S", required_unless_present = "list")]
+        s: Option<usize>,
+        /// Output file (.csv, .tsv, .json, .npy); standard output as CSV without it.
+        #[arg(short = 'o', long = "output", value_name = "FILE")]
+        output: Option<PathBuf>,
+        /// Seed of the randomized generators (scrambles, random, LHS).
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Describe every generator and exit.
+        #[arg(long)]
+        list: bool,
+    },
+    /// Integrate the eight test functions F1–F8 of eq. 49 (exact integrals 0) with the
+    /// points of a file and print each estimate, i.e. each integration error.
+    Integrate {
+        /// The point file (CSV, TSV, whitespace, JSON, .npy); coordinates in [0, 1].
+        file: PathBuf,
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Reproduce one of the paper's studies: correlation (Tables 1–2, Figs. 3–5), table5,
+    /// catalog (the 127 sets, resumable), table6 (Figs. 6–7), kraichnan-orszag (Table 7,
+    /// Fig. 8), shear-frame (Table 8), regions (Fig. 9), or `all`.
+    Study {
+        /// The study name, or `all`.
+        #[arg(value_name = "NAME")]
+        name: String,
+        /// A small, fast version (what CI runs).
+        #[arg(long)]
+        quick: bool,
+        /// Output directory (default: results/, or results/quick/ with --quick).
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Seed of every random choice.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// No progress lines.
+        #[arg(long, short = 'q')]
+        quiet: bool,
     },
     /// Time the kernels against their baselines in one run and print the ratios.
     Bench {
@@ -401,6 +455,139 @@ fn real_main(cli: Cli) -> Result<()> {
             }
             let table = stillpoint::compare::run_and_write(&settings, &out, true)?;
             print!("{table}");
+        }
+        Command::Baseline {
+            name,
+            n,
+            s,
+            output,
+            seed,
+            list,
+        } => {
+            if list {
+                for b in Baseline::all() {
+                    println!("{} ({}):\n  {}\n", b.name(), b.label(), b.describe());
+                }
+                return Ok(());
+            }
+            let (Some(name), Some(n), Some(s)) = (name, n, s) else {
+                bail!("missing NAME, -n N or -s S (see stillpoint baseline --help)");
+            };
+            if let Some(out) = &output {
+                check_writable(out)?;
+            }
+            let b = Baseline::parse(&name)?;
+            let points = b.generate(n, s, seed)?;
+            let meta = json!({
+                "generator": format!("stillpoint baseline {}", b.name()),
+                "n": n, "s": s, "seed": if b.is_randomized() { Some(seed) } else { None },
+            });
+            match &output {
+                Some(path) => {
+                    io::write_points(path, &points, &meta)?;
+                    let m = Metrics::compute(&points);
+                    println!(
+                        "{} ({}), n = {n}, s = {s}: D_MD {:.6}, D_L2* {:.6}, minimum distance \
+                         {:.6}; written to {}",
+                        b.name(),
+                        b.label(),
+                        m.modified_l2,
+                        m.star_l2,
+                        m.min_distance,
+                        path.display()
+                    );
+                }
+                None => print!("{}", io::to_csv_string(&points, &meta)),
+            }
+        }
+        Command::Integrate { file, json } => {
+            let points = io::read_points(&file)?;
+            points
+                .check_unit_cube()
+                .with_context(|| format!("{}", file.display()))?;
+            let report = stillpoint::testfns::integrate(&points)?;
+            let fns = stillpoint::testfns::TestFunction::all();
+            if json {
+                let rows: Vec<Value> = fns
+                    .iter()
+                    .zip(report.estimates)
+                    .map(|(f, e)| {
+                        json!({"function": f.name(), "formula": f.formula(),
+                               "estimate": e, "error": e.map(f64::abs)})
+                    })
+                    .collect();
+                let v = json!({"file": file, "n": points.n(), "s": points.s(),
+                               "exact": 0.0, "functions": rows});
+                println!("{}", serde_json::to_string_pretty(&v)?);
+            } else {
+                println!(
+                    "{}: n = {}, s = {}; every exact integral is 0, so |estimate| is the error\n",
+                    file.display(),
+                    points.n(),
+                    points.s()
+                );
+                println!(
+                    "  {:<4} {:>14} {:>12}   integrand",
+                    "", "estimate", "|error|"
+                );
+                for (f, e) in fns.iter().zip(report.estimates) {
+                    match e {
+                        Some(v) => println!(
+                            "  {:<4} {:>14.6e} {:>12.3e}   {}",
+                            f.name(),
+                            v,
+                            v.abs(),
+                            f.formula()
+                        ),
+                        None => println!(
+                            "  {:<4} {:>14} {:>12}   {} (needs s ≥ 2)",
+                            f.name(),
+                            "—",
+                            "—",
+                            f.formula()
+                        ),
+                    }
+                }
+            }
+        }
+        Command::Study {
+            name,
+            quick,
+            out,
+            seed,
+            quiet,
+        } => {
+            let studies: Vec<Study> = if name.trim().eq_ignore_ascii_case("all") {
+                Study::all().to_vec()
+            } else {
+                vec![Study::parse(&name)?]
+            };
+            let out = out.unwrap_or_else(|| {
+                if quick {
+                    PathBuf::from("results/quick")
+                } else {
+                    PathBuf::from("results")
+                }
+            });
+            for study in studies {
+                let mut opts = StudyOptions::new(quick, out.join(study.name()));
+                opts.catalog_dir = out.join("catalog");
+                opts.seed = seed;
+                let mut log = |line: &str| {
+                    if !quiet {
+                        eprintln!("{line}");
+                    }
+                };
+                let result = studies::run(study, &opts, &mut log)?;
+                print!("{}", result.markdown);
+                eprintln!(
+                    "{}: {} file(s) in {} ({})",
+                    study.name(),
+                    result.files.len(),
+                    opts.out.display(),
+                    studies::human_seconds(result.seconds)
+                );
+            }
         }
         Command::Bench { quick } => bench::run(quick, &mut std::io::stdout())?,
     }

@@ -1,0 +1,275 @@
+//! Tables 1–2 and Figs. 3–5: along DEM trajectories from a random start, how closely the
+//! energy (U_{1,1} or U_{E,∞}) tracks the discrepancies D_L2* and D_MD (Spearman's ρ), and
+//! how the final sets compare with the classic sequences.
+
+use super::{fmt_opt, markdown_table, save_charts, spearman, Body, StudyOptions};
+use crate::energies::einf::UEInf;
+use crate::energies::{Distance, Energy, PointSet, Uqp};
+use crate::metrics;
+use crate::plot::{LineChart, Series};
+use crate::run::{generate, CubeEnergy, GenerateConfig, Init};
+use crate::sequences::Baseline;
+use anyhow::Result;
+use serde_json::json;
+
+/// Table 1 (s = 2, by n) of the paper: ρ_{1,L2}, ρ_{1,MD}, ρ_{E,L2}, ρ_{E,MD}.
+const PAPER_T1: [(usize, [f64; 4]); 6] = [
+    (10, [0.9970, 0.9995, 0.8930, 0.8917]),
+    (20, [-0.6550, -0.0441, 0.9485, 0.9460]),
+    (40, [-0.8378, -0.8290, 0.7048, 0.6971]),
+    (80, [0.9342, 0.9544, 0.6885, 0.6968]),
+    (160, [0.5750, 0.5700, 0.7953, 0.9733]),
+    (320, [0.9625, 0.9495, 0.7639, 0.9547]),
+];
+
+/// Table 2 (n = 100, by s).
+const PAPER_T2: [(usize, [f64; 4]); 5] = [
+    (2, [0.8128, 0.8387, 0.7484, 0.8005]),
+    (4, [0.5967, 0.8786, 0.8488, 0.8679]),
+    (6, [0.6048, 0.8814, 0.9386, 0.9320]),
+    (8, [0.9629, 0.9944, 0.9320, 0.9898]),
+    (10, [0.6343, 0.7849, 0.9625, 0.9855]),
+];
+
+/// One DEM run's trajectory: energy, D_L2*, D_MD at every step, and the final set.
+struct Trajectory {
+    steps: Vec<f64>,
+    energy: Vec<f64>,
+    star: Vec<f64>,
+    modified: Vec<f64>,
+    points: PointSet,
+}
+
+fn trajectory(n: usize, s: usize, einf: bool, steps: usize, seed: u64) -> Result<Trajectory> {
+    let mut cfg = GenerateConfig::new(n, s);
+    cfg.init = Init::Random;
+    cfg.seed = seed;
+    cfg.dem.steps = steps;
+    cfg.log_every = 1;
+    // The trajectory itself is studied: no shift selection after it.
+    cfg.shifts = 0;
+    if einf {
+        cfg.energy = CubeEnergy::EInf;
+        cfg.q = Some(Distance::Euclidean);
+    } else {
+        cfg.energy = CubeEnergy::Uqp;
+        cfg.q = Some(Distance::Q(1.0));
+        cfg.p = Some(1.0);
+    }
+    let report = generate(&cfg, |_| {})?;
+    let mut t = Trajectory {
+        steps: vec![],
+        energy: vec![],
+        star: vec![],
+        modified: vec![],
+        points: report.output.points.clone(),
+    };
+    for r in &report.output.trajectory {
+        let get = |k: &str| r.metrics.iter().find(|(m, _)| m == k).map(|(_, v)| *v);
+        if let (Some(l2), Some(md)) = (get("star_l2"), get("modified_l2")) {
+            t.steps.push(r.step as f64);
+            t.energy.push(r.energy);
+            t.star.push(l2);
+            t.modified.push(md);
+        }
+    }
+    Ok(t)
+}
+
+/// The four uniformity indexes of Figs. 4–5 for a set.
+fn indexes(points: &PointSet) -> Result<[f64; 4]> {
+    let (l2, md) = metrics::discrepancies(points);
+    let u11 = Uqp::new(Distance::Q(1.0), 1.0)?.value(points);
+    let ue = UEInf::new(Distance::Euclidean)?.value(points);
+    Ok([l2, md, u11, ue])
+}
+
+pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body> {
+    let (ns, ss, steps, n2): (Vec<usize>, Vec<usize>, usize, usize) = if opts.quick {
+        (vec![10, 20, 40], vec![2, 4], 200, 40)
+    } else {
+        (
+            vec![10, 20, 40, 80, 160, 320],
+            vec![2, 4, 6, 8, 10],
+            1000,
+            100,
+        )
+    };
+    let mut files = vec![];
+    let mut json_cases = vec![];
+    let mut md = String::from(
+        "# Correlation of energy and discrepancy along DEM trajectories (Tables 1–2, Figs. 3–5)\n\n",
+    );
+    md += &format!(
+        "Each set starts from uniform random points (seed {}) and runs {steps} DEM steps twice: \
+         once on U_{{1,1}} (the q-distance of eq. 11, q = p = 1, periodic cube) and once on \
+         U_{{E,∞}} (Euclidean distance, closed cube: the maximin energy). At every step D_L2* \
+         and D_MD (roots of eqs. 46–47) are computed; ρ is Spearman's rank correlation of the \
+         energy with each discrepancy over the trajectory. No shift selection is applied. \
+         Paper values in parentheses.\n\n",
+        opts.seed
+    );
+    let baselines = [
+        Baseline::Random,
+        Baseline::Halton,
+        Baseline::ScrambledHalton,
+        Baseline::Sobol,
+        Baseline::HuaWang,
+    ];
+    for (title, cases, paper) in [
+        (
+            format!("Table 1: s = 2, n ∈ {ns:?}"),
+            ns.iter().map(|&n| (n, 2)).collect::<Vec<_>>(),
+            &PAPER_T1[..],
+        ),
+        (
+            format!("Table 2: n = {n2}, s ∈ {ss:?}"),
+            ss.iter().map(|&s| (n2, s)).collect::<Vec<_>>(),
+            &PAPER_T2[..],
+        ),
+    ] {
+        let by_n = paper.len() == PAPER_T1.len();
+        let mut rows: Vec<Vec<String>> = vec![
+            vec!["ρ_{1,L2}".into()],
+            vec!["ρ_{1,MD}".into()],
+            vec!["ρ_{E,L2}".into()],
+            vec!["ρ_{E,MD}".into()],
+        ];
+        let mut header = vec![if by_n { "n" } else { "s" }.to_string()];
+        // Fig. 4/5 data: index -> method -> value per case.
+        let mut figure: Vec<Vec<Series>> = (0..4).map(|_| vec![]).collect();
+        let method_names: Vec<String> = baselines
+            .iter()
+            .map(|b| b.label().to_string())
+            .chain(["DEM U_{1,1}".to_string(), "DEM U_{E,∞}".to_string()])
+            .collect();
+        for series in figure.iter_mut() {
+            for name in &method_names {
+                series.push(Series {
+                    name: name.clone(),
+                    points: vec![],
+                });
+            }
+        }
+        for &(n, s) in &cases {
+            let key = if by_n { n } else { s };
+            header.push(key.to_string());
+            let t1 = trajectory(n, s, false, steps, opts.seed)?;
+            let te = trajectory(n, s, true, steps, opts.seed)?;
+            let rho = [
+                spearman(&t1.energy, &t1.star),
+                spearman(&t1.energy, &t1.modified),
+                spearman(&te.energy, &te.star),
+                spearman(&te.energy, &te.modified),
+            ];
+            let paper_row = paper.iter().find(|(k, _)| *k == key).map(|(_, v)| *v);
+            for (k, row) in rows.iter_mut().enumerate() {
+                let p = paper_row.map_or(String::new(), |v| format!(" ({:.4})", v[k]));
+                row.push(format!("{}{p}", fmt_opt(rho[k], 4)));
+            }
+            let mut sets: Vec<(String, PointSet)> = vec![];
+            for b in &baselines {
+                sets.push((b.label().to_string(), b.generate(n, s, opts.seed)?));
+            }
+            sets.push(("DEM U_{1,1}".into(), t1.points.clone()));
+            sets.push(("DEM U_{E,∞}".into(), te.points.clone()));
+            let mut values = serde_json::Map::new();
+            for (m, (name, set)) in sets.iter().enumerate() {
+                let v = indexes(set)?;
+                for (i, series) in figure.iter_mut().enumerate() {
+                    series[m].points.push((key as f64, v[i]));
+                }
+                values.insert(
+                    name.clone(),
+                    json!({"star_l2": v[0], "modified_l2": v[1], "u11": v[2], "u_e_inf": v[3]}),
+                );
+            }
+            json_cases.push(json!({
+                "n": n, "s": s, "steps": steps,
+                "rho_1_l2": rho[0], "rho_1_md": rho[1], "rho_e_l2": rho[2], "rho_e_md": rho[3],
+                "paper": paper_row,
+                "final": values,
+                "dem_u11_start": {"star_l2": t1.star.first(), "modified_l2": t1.modified.first()},
+                "dem_u11_end": {"star_l2": t1.star.last(), "modified_l2": t1.modified.last()},
+            }));
+            log(&format!(
+                "correlation n={n} s={s}: ρ = {}",
+                rho.iter()
+                    .map(|r| fmt_opt(*r, 4))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+            // Fig. 3: the evolution of P_{2,20} (the paper's example of a negative ρ).
+            if by_n && n == 20 {
+                let chart = |title: &str, y: &str, series: Vec<Series>| LineChart {
+                    title: title.into(),
+                    x_label: "step".into(),
+                    y_label: y.into(),
+                    log_y: true,
+                    series,
+                };
+                let zip = |v: &[f64]| t1.steps.iter().copied().zip(v.iter().copied()).collect();
+                let path = opts.out.join("fig3_p2_20.png");
+                save_charts(
+                    &path,
+                    &[
+                        chart(
+                            "P_{2,20}: discrepancies along the DEM on U_{1,1}",
+                            "discrepancy",
+                            vec![
+                                Series {
+                                    name: "D_L2*".into(),
+                                    points: zip(&t1.star),
+                                },
+                                Series {
+                                    name: "D_MD".into(),
+                                    points: zip(&t1.modified),
+                                },
+                            ],
+                        ),
+                        chart(
+                            "P_{2,20}: U_{1,1}",
+                            "U_{1,1}",
+                            vec![Series {
+                                name: "U_{1,1}".into(),
+                                points: zip(&t1.energy),
+                            }],
+                        ),
+                    ],
+                    &mut files,
+                )?;
+            }
+        }
+        md += &format!("## {title}\n\n");
+        md += &markdown_table(&header, &rows);
+        md += "\n";
+        let fig = if by_n {
+            "fig4_by_n.png"
+        } else {
+            "fig5_by_s.png"
+        };
+        let labels = ["D_L2*", "D_MD", "U_{1,1}", "U_{E,∞}"];
+        let charts: Vec<LineChart> = figure
+            .into_iter()
+            .zip(labels)
+            .map(|(series, label)| LineChart {
+                title: format!("{label} of the final sets"),
+                x_label: if by_n { "n" } else { "s" }.into(),
+                y_label: label.into(),
+                log_y: true,
+                series,
+            })
+            .collect();
+        save_charts(&opts.out.join(fig), &charts, &mut files)?;
+        md += &format!(
+            "Final sets against the classic sequences (Fig. {}): [{fig}]({fig}).\n\n",
+            if by_n { 4 } else { 5 }
+        );
+    }
+    md += "Fig. 3 (the evolution of P_{2,20}): [fig3_p2_20.png](fig3_p2_20.png).\n";
+    Ok(Body {
+        markdown: md,
+        json: json!({"study": "correlation", "cases": json_cases}),
+        files,
+    })
+}
