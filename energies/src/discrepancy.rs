@@ -30,11 +30,9 @@
 //!             + (1/n²) d/dx_ik Π_m K(x_im, x_im):
 //!
 //! each unordered pair appears twice in Σ_{i,l}, and the diagonal terms i = l are not
-//! constant (K(x, x) = 1 − x for the star L2). For a pair, Π_{m≠k} K_m is the pair's
-//! product divided by K_k when that product is a normal nonzero number (then no factor is
-//! 0, and the divisions vectorise); otherwise (the star L2's factor 1 − max is 0 when a
-//! coordinate is 1, or the product underflowed) it comes from prefix and suffix products,
-//! with no division. The per-point terms always use prefix and suffix products.
+//! constant (K(x, x) = 1 − x for the star L2). Π_{m≠k} K_m comes from prefix and suffix
+//! products, with no division, so a zero factor (the star L2's 1 − max is 0 when a
+//! coordinate is 1, where a bounded solver likes to park points) needs no special case.
 //!
 //! **Kinks.** The energy is continuous but only piecewise smooth. Where x_ik = x_lk for
 //! some pair, max(x, y) and |x − y| have a kink, and the centred L2 has another wherever
@@ -54,15 +52,21 @@
 //! wrap-around L2 is invariant under x → (x + c) mod 1 of the whole set
 //! ([`DiscrepancyKind::is_periodic`]).
 //!
-//! **Determinism and cost.** The pair sum runs through
-//! [`for_each_pair_tile`], the per-point terms in index order, so value and gradient have
-//! the same bits for any number of rayon threads, and [`Energy::value`] sums in the same
-//! order as [`Energy::value_and_gradient`]. O(n² s) time, O(n s) memory; the pair loop does
-//! not allocate (its scratch lives on the stack for s ≤ 64, in one buffer per tile above).
-//! The value-only path skips the derivatives and costs about a third of the gradient.
+//! **Determinism and cost.** The pair sums run through the tiled half loop of
+//! [`crate::pairs`] in vectors of 16 lanes (consecutive points j), the per-point terms in
+//! index order, so value and gradient have the same bits for any number of rayon threads,
+//! and [`Energy::value`] sums in the same order as [`Energy::value_and_gradient`] (same
+//! bits). No fused multiply-add is used, so the results are also the same bits with and
+//! without AVX2. O(n² s) time, O(n s) memory (block-transposed copies of the points and
+//! the gradient); the pair loop does not allocate (one reused scratch buffer per worker
+//! thread). The value-only path skips the derivatives. [`pair_product_sums`] gives the
+//! pair sums of several kinds in one pass, for the metrics of the root crate.
 
-use crate::pairs::for_each_pair_tile;
+use crate::pairs::{
+    give_scratch, grad_tiles, sum_tiles, take_scratch, Blocks, GradTiles, Simd, SumTiles,
+};
 use crate::{Energy, Error, PointSet, Result};
+use std::marker::PhantomData;
 
 /// Which L2 discrepancy an energy squares.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -167,7 +171,7 @@ fn dispatch(kind: DiscrepancyKind, points: &PointSet, grad: Option<&mut [f64]>) 
 }
 
 /// The one-dimensional factors of a discrepancy's closed form.
-trait Kernel {
+trait Kernel: Sync + Send + 'static {
     /// Per-coordinate factor of |C_s| = CONSTANT_BASE^s.
     const CONSTANT_BASE: f64;
     /// Sign of C_s (negative for the wrap-around L2).
@@ -181,6 +185,27 @@ trait Kernel {
     /// K(x, y), ∂K/∂x and ∂K/∂y (averaged one-sided derivatives at a kink). The value must
     /// be the same expression as the root crate's metric so that the two agree closely.
     fn pair(x: f64, y: f64) -> (f64, f64, f64);
+
+    /// K(x, y) lane by lane: the same operations as `pair`'s value.
+    fn vpair<V: Simd>(x: V, y: V) -> V;
+
+    /// ∂K/∂x and ∂K/∂y lane by lane, as `pair` gives them.
+    fn vderiv<V: Simd>(x: V, y: V) -> (V, V);
+}
+
+/// sgn(v)/2 with sgn(0) = 0, lane by lane.
+#[inline(always)]
+fn vhalf_sgn<V: Simd>(v: V) -> V {
+    let zero = V::splat(0.0);
+    let s = v.lt(zero).select(V::splat(-0.5), zero);
+    v.gt(zero).select(V::splat(0.5), s)
+}
+
+/// ∂ max(x, y)/∂x lane by lane: 1, 0, or ½ on the tie.
+#[inline(always)]
+fn vdmax_dx<V: Simd>(x: V, y: V) -> V {
+    let t = x.lt(y).select(V::splat(0.0), V::splat(0.5));
+    x.gt(y).select(V::splat(1.0), t)
 }
 
 /// Sign with sgn(0) = 0, the middle of |·|'s subdifferential at 0 (`f64::signum` gives ±1).
@@ -228,6 +253,17 @@ impl Kernel for Star {
         // ∂max/∂x + ∂max/∂y = 1 in every case, including the tie.
         (1.0 - x.max(y), -dx, dx - 1.0)
     }
+
+    #[inline(always)]
+    fn vpair<V: Simd>(x: V, y: V) -> V {
+        V::splat(1.0).sub(x.max(y))
+    }
+
+    #[inline(always)]
+    fn vderiv<V: Simd>(x: V, y: V) -> (V, V) {
+        let dx = vdmax_dx(x, y);
+        (V::splat(0.0).sub(dx), dx.sub(V::splat(1.0)))
+    }
 }
 
 impl Kernel for Modified {
@@ -246,6 +282,17 @@ impl Kernel for Modified {
     fn pair(x: f64, y: f64) -> (f64, f64, f64) {
         let dx = dmax_dx(x, y);
         (2.0 - x.max(y), -dx, dx - 1.0)
+    }
+
+    #[inline(always)]
+    fn vpair<V: Simd>(x: V, y: V) -> V {
+        V::splat(2.0).sub(x.max(y))
+    }
+
+    #[inline(always)]
+    fn vderiv<V: Simd>(x: V, y: V) -> (V, V) {
+        let dx = vdmax_dx(x, y);
+        (V::splat(0.0).sub(dx), dx.sub(V::splat(1.0)))
     }
 }
 
@@ -266,6 +313,24 @@ impl Kernel for Centered {
         let sd = 0.5 * sgn(x - y);
         (v, 0.5 * sgn(x - 0.5) - sd, 0.5 * sgn(y - 0.5) + sd)
     }
+
+    #[inline(always)]
+    fn vpair<V: Simd>(x: V, y: V) -> V {
+        let (one, half) = (V::splat(1.0), V::splat(0.5));
+        let ax = half.mul(x.sub(half).abs());
+        let ay = half.mul(y.sub(half).abs());
+        one.add(ax).add(ay).sub(half.mul(x.sub(y).abs()))
+    }
+
+    #[inline(always)]
+    fn vderiv<V: Simd>(x: V, y: V) -> (V, V) {
+        let half = V::splat(0.5);
+        let sd = vhalf_sgn(x.sub(y));
+        (
+            vhalf_sgn(x.sub(half)).sub(sd),
+            vhalf_sgn(y.sub(half)).add(sd),
+        )
+    }
 }
 
 impl Kernel for Wrap {
@@ -285,52 +350,35 @@ impl Kernel for Wrap {
         let dx = -sgn(x - y) * (1.0 - 2.0 * d);
         (1.5 - d * (1.0 - d), dx, -dx)
     }
+
+    #[inline(always)]
+    fn vpair<V: Simd>(x: V, y: V) -> V {
+        let d = x.sub(y).abs();
+        V::splat(1.5).sub(d.mul(V::splat(1.0).sub(d)))
+    }
+
+    #[inline(always)]
+    fn vderiv<V: Simd>(x: V, y: V) -> (V, V) {
+        let d = x.sub(y).abs();
+        let two = V::splat(2.0);
+        // −sgn(x − y)(1 − 2d) = −2·(sgn/2)·(1 − 2d).
+        let dx = V::splat(0.0).sub(
+            two.mul(vhalf_sgn(x.sub(y)))
+                .mul(V::splat(1.0).sub(two.mul(d))),
+        );
+        (dx, V::splat(0.0).sub(dx))
+    }
 }
-
-/// Pairs handled together: each pair's value is a chain of s dependent multiplications,
-/// so a lone pair waits on multiplier latency; interleaving independent pairs fills the
-/// pipeline. Each pair still multiplies its factors in coordinate order and every sum
-/// still runs in j order, so the bits do not depend on it.
-const LANES: usize = 4;
-
-/// Largest s whose pair scratch lives on the stack.
-const STACK_S: usize = 64;
-
-/// Scratch rows of length s per call of [`pair_terms`]: factors, ∂₁ and ∂₂ for each
-/// lane, and one row of prefix products.
-const SCRATCH: usize = 3 * LANES + 1;
 
 /// D² of the set, and its gradient into `grad` when given.
 fn evaluate<K: Kernel>(points: &PointSet, grad: Option<&mut [f64]>) -> f64 {
     let (n, s) = (points.n(), points.s());
-    let x = points.as_slice();
     let nf = n as f64;
     let constant = K::CONSTANT_SIGN * (0..s).fold(1.0, |p, _| p * K::CONSTANT_BASE);
 
     match grad {
         None => {
-            // The tiles depend on n only, so a one-column dummy buffer gives the same
-            // summation order as the gradient path and the same bits for the value.
-            let mut dummy = vec![0.0; n];
-            let off = for_each_pair_tile(n, 1, &mut dummy, |ri, rj, _, gj| {
-                let diag = gj.is_empty();
-                let mut acc = 0.0;
-                for i in ri.clone() {
-                    let xi = &x[i * s..(i + 1) * s];
-                    let js = if diag { i + 1..ri.end } else { rj.clone() };
-                    let mut j = js.start;
-                    while j + LANES <= js.end {
-                        for p in pair_values::<K, LANES>(xi, &x[j * s..(j + LANES) * s]) {
-                            acc += p;
-                        }
-                        j += LANES;
-                    }
-                    for j in j..js.end {
-                        acc += pair_values::<K, 1>(xi, &x[j * s..(j + 1) * s])[0];
-                    }
-                }
-                acc
-            });
+            let [off] = products::<Single<K>, 1>(points);
             let (mut single, mut diag) = (0.0, 0.0);
             for xi in points.rows() {
                 if K::HAS_SINGLE {
@@ -341,42 +389,22 @@ fn evaluate<K: Kernel>(points: &PointSet, grad: Option<&mut [f64]>) -> f64 {
             assemble(constant, single, diag, off, nf)
         }
         Some(grad) => {
-            grad.fill(0.0);
             // Raw Σ_{l≠i, unordered} ∂₁K Π_{m≠k} K into every row; scaled below.
-            let off = for_each_pair_tile(n, s, grad, |ri, rj, gi, gj| {
-                let mut stack = [0.0; SCRATCH * STACK_S];
-                let mut heap = Vec::new();
-                let scratch: &mut [f64] = if s <= STACK_S {
-                    &mut stack[..SCRATCH * s]
-                } else {
-                    heap.resize(SCRATCH * s, 0.0);
-                    &mut heap
-                };
-                let diag = gj.is_empty();
-                let mut acc = 0.0;
-                for i in ri.clone() {
-                    let xi = &x[i * s..(i + 1) * s];
-                    let js = if diag { i + 1..ri.end } else { rj.clone() };
-                    // Row j's position: in `gi` for a diagonal tile, in `gj` otherwise.
-                    let (oi, jb) = ((i - ri.start) * s, if diag { ri.start } else { rj.start });
-                    let mut j = js.start;
-                    while j + LANES <= js.end {
-                        let (g_i, g_j) = grad_rows(gi, gj, oi, (j - jb) * s, LANES * s);
-                        let xj = &x[j * s..(j + LANES) * s];
-                        for p in pair_terms::<K, LANES>(xi, xj, g_i, g_j, scratch) {
-                            acc += p;
-                        }
-                        j += LANES;
-                    }
-                    for j in j..js.end {
-                        let (g_i, g_j) = grad_rows(gi, gj, oi, (j - jb) * s, s);
-                        let xj = &x[j * s..(j + 1) * s];
-                        acc += pair_terms::<K, 1>(xi, xj, g_i, g_j, scratch)[0];
-                    }
+            let off = if n < 2 {
+                grad.fill(0.0);
+                0.0
+            } else {
+                let tiles = GradPairs::<K> {
+                    blocks: Blocks::new(n, s),
+                    xt: Vec::new(),
+                    kernel: PhantomData,
                 }
-                acc
-            });
-
+                .with_points(points);
+                let mut gt = vec![0.0; tiles.blocks.total_len()];
+                let off = grad_tiles(&tiles.blocks, &tiles, &mut gt);
+                tiles.blocks.untranspose(&gt, grad, 1.0);
+                off
+            };
             // Per-point terms, in index order: the diagonal K(x_i, x_i) (whose derivative
             // is ∂₁K + ∂₂K) and the single product g. O(s) scratch, outside the pair loop.
             let mut pre = vec![0.0; 2 * s];
@@ -416,109 +444,193 @@ fn evaluate<K: Kernel>(points: &PointSet, grad: Option<&mut [f64]>) -> f64 {
     }
 }
 
-/// Gradient row i (s values at offset `oi` of `gi`) and the `len` values of rows j, … at
-/// offset `oj`, as disjoint slices. In a diagonal tile (`gj` empty) both live in `gi`
-/// with j > i, so the split goes before row j; otherwise rows j, … are in `gj`.
-#[inline(always)]
-fn grad_rows<'a>(
-    gi: &'a mut [f64],
-    gj: &'a mut [f64],
-    oi: usize,
-    oj: usize,
-    len: usize,
-) -> (&'a mut [f64], &'a mut [f64]) {
-    if gj.is_empty() {
-        let (a, b) = gi.split_at_mut(oj);
-        (&mut a[oi..], &mut b[..len])
-    } else {
-        (&mut gi[oi..], &mut gj[oj..oj + len])
+/// The kinds of [`pair_product_sums`]: `M` kernels whose pair products one pass forms.
+trait Kinds<const M: usize>: Sync {
+    /// Multiplies each product `p[m]` by kernel m's factor K_m(x, y).
+    fn mul_factors<V: Simd>(x: V, y: V, p: &mut [V; M]);
+}
+
+/// One kernel.
+struct Single<K>(PhantomData<K>);
+
+impl<K: Kernel> Kinds<1> for Single<K> {
+    #[inline(always)]
+    fn mul_factors<V: Simd>(x: V, y: V, p: &mut [V; 1]) {
+        p[0] = p[0].mul(K::vpair(x, y));
     }
 }
 
-/// Π_k K(x_ik, x_jk) for the L pairs (i, j), j over the L consecutive rows of `xj`.
-#[inline(always)]
-fn pair_values<K: Kernel, const L: usize>(xi: &[f64], xj: &[f64]) -> [f64; L] {
-    let s = xi.len();
-    let xj = &xj[..L * s];
-    let mut p = [1.0; L];
-    for k in 0..s {
-        let a = xi[k];
-        for (l, pl) in p.iter_mut().enumerate() {
-            *pl *= K::pair(a, xj[l * s + k]).0;
-        }
+/// Star and modified L2, what a run logs.
+struct StarModified;
+
+impl Kinds<2> for StarModified {
+    #[inline(always)]
+    fn mul_factors<V: Simd>(x: V, y: V, p: &mut [V; 2]) {
+        p[0] = p[0].mul(Star::vpair(x, y));
+        p[1] = p[1].mul(Modified::vpair(x, y));
     }
-    p
 }
 
-/// Π_k K(x_ik, x_jk) for the L pairs (i, j), j over the L consecutive rows of `xj`,
-/// adding ∂₁K_k Π_{m≠k} K_m to `gi[k]` and ∂₂K_k Π_{m≠k} K_m to row j of `gj`.
-/// `scratch` holds (3·L + 1)·s values. Row i receives the pairs' contributions in j order.
-#[inline(always)]
-fn pair_terms<K: Kernel, const L: usize>(
-    xi: &[f64],
-    xj: &[f64],
-    gi: &mut [f64],
-    gj: &mut [f64],
-    scratch: &mut [f64],
-) -> [f64; L] {
-    let s = xi.len();
-    let (xj, gi, gj) = (&xj[..L * s], &mut gi[..s], &mut gj[..L * s]);
-    let (f, rest) = scratch.split_at_mut(L * s);
-    let (d1, rest) = rest.split_at_mut(L * s);
-    let (d2, pre) = rest.split_at_mut(L * s);
-    let pre = &mut pre[..s];
-    // Factors and their partial derivatives, lane by lane; independent across k, so the
-    // loop vectorises.
-    for l in 0..L {
-        let (xr, fr) = (&xj[l * s..(l + 1) * s], &mut f[l * s..(l + 1) * s]);
-        let (ar, br) = (&mut d1[l * s..(l + 1) * s], &mut d2[l * s..(l + 1) * s]);
-        for k in 0..s {
-            let (kv, a, b) = K::pair(xi[k], xr[k]);
-            fr[k] = kv;
-            ar[k] = a;
-            br[k] = b;
-        }
+/// The four L2 discrepancies, in the order of [`DiscrepancyKind`].
+struct AllFour;
+
+impl Kinds<4> for AllFour {
+    #[inline(always)]
+    fn mul_factors<V: Simd>(x: V, y: V, p: &mut [V; 4]) {
+        p[0] = p[0].mul(Star::vpair(x, y));
+        p[1] = p[1].mul(Modified::vpair(x, y));
+        p[2] = p[2].mul(Centered::vpair(x, y));
+        p[3] = p[3].mul(Wrap::vpair(x, y));
     }
-    // The pairs' values, each multiplied in coordinate order like `pair_values`; the
-    // lanes interleave so the dependent chains overlap.
-    let mut p = [1.0; L];
-    for k in 0..s {
-        for l in 0..L {
-            p[l] *= f[l * s + k];
-        }
+}
+
+/// Σ_{i<j} Π_k K(x_ik, x_jk) for each kind of `kinds`, in the same order: the pair term of
+/// the closed form without the diagonal i = j (so the sum over all ordered pairs is
+/// Σ_i Π_k K(x_ik, x_ik) + 2·this). The star, modified, centred and wrap-around kernels
+/// are those of the module documentation.
+///
+/// One vectorised pass over the pairs serves all the kinds (the discrepancy, star +
+/// modified, and all four in [`DiscrepancyKind`] order have fused passes; other lists run
+/// one pass per kind). Each kind's sum has the same bits whichever list it is computed in,
+/// for any number of threads and with or without AVX2 (no fused multiply-add), and the
+/// same bits as the pair term of [`DiscrepancyEnergy`]'s value. The points must lie in
+/// [0, 1]^s (not checked).
+pub fn pair_product_sums(points: &PointSet, kinds: &[DiscrepancyKind]) -> Vec<f64> {
+    use DiscrepancyKind::*;
+    match kinds {
+        [StarL2, ModifiedL2, CenteredL2, WrapAroundL2] => products::<AllFour, 4>(points).to_vec(),
+        [StarL2, ModifiedL2] => products::<StarModified, 2>(points).to_vec(),
+        _ => kinds
+            .iter()
+            .map(|k| match k {
+                StarL2 => products::<Single<Star>, 1>(points)[0],
+                ModifiedL2 => products::<Single<Modified>, 1>(points)[0],
+                CenteredL2 => products::<Single<Centered>, 1>(points)[0],
+                WrapAroundL2 => products::<Single<Wrap>, 1>(points)[0],
+            })
+            .collect(),
     }
-    for l in 0..L {
-        let (fr, ar, br) = (
-            &f[l * s..(l + 1) * s],
-            &d1[l * s..(l + 1) * s],
-            &d2[l * s..(l + 1) * s],
-        );
-        let gr = &mut gj[l * s..(l + 1) * s];
-        if p[l].abs() >= f64::MIN_POSITIVE {
-            // No factor is 0 and the product did not underflow: Π_{m≠k} = p / K_k.
+}
+
+/// Σ_{i<j} of the M pair products of `P`.
+fn products<P: Kinds<M>, const M: usize>(points: &PointSet) -> [f64; M] {
+    let (n, s) = (points.n(), points.s());
+    if n < 2 {
+        return [0.0; M];
+    }
+    let blocks = Blocks::new(n, s);
+    let xt = blocks.transpose(points.as_slice(), |v| v);
+    let tiles = SumPairs::<P, M> {
+        blocks: &blocks,
+        xt: &xt,
+        kinds: PhantomData,
+    };
+    sum_tiles(
+        &blocks,
+        &tiles,
+        || [0.0; M],
+        |a, b| std::array::from_fn(|m| a[m] + b[m]),
+    )
+}
+
+/// The value-only pair loop: per lane, the products multiply their factors in coordinate
+/// order from 1; the lanes of a tile are summed lane by lane, then across lanes.
+struct SumPairs<'a, P, const M: usize> {
+    blocks: &'a Blocks,
+    xt: &'a [f64],
+    kinds: PhantomData<P>,
+}
+
+impl<P: Kinds<M>, const M: usize> SumTiles for SumPairs<'_, P, M> {
+    type Out = [f64; M];
+
+    #[inline(always)]
+    fn tile<V: Simd>(&self, a: usize, b: usize) -> [f64; M] {
+        let bl = self.blocks;
+        let (bs, s) = (bl.bs, bl.s);
+        let (xa, xb) = (bl.chunk(self.xt, a), bl.chunk(self.xt, b));
+        let zero = V::splat(0.0);
+        let mut acc = [zero; M];
+        for ii in 0..bl.len(a) {
+            for (jj, mask) in bl.lanes::<V>(a, b, ii) {
+                let mut p = [V::splat(1.0); M];
+                for k in 0..s {
+                    let x = V::splat(xa[k * bs + ii]);
+                    P::mul_factors(x, V::load(&xb[k * bs + jj..]), &mut p);
+                }
+                for m in 0..M {
+                    acc[m] = acc[m].add(mask.select(p[m], zero));
+                }
+            }
+        }
+        std::array::from_fn(|m| acc[m].hsum())
+    }
+}
+
+/// The gradient pair loop of one kernel: the same products as [`SumPairs`] (so the same
+/// value bits), with ∂K_k Π_{m≠k} K_m from prefix and suffix products added to row i
+/// (∂₁) and row j (∂₂).
+struct GradPairs<K> {
+    blocks: Blocks,
+    xt: Vec<f64>,
+    kernel: PhantomData<K>,
+}
+
+impl<K: Kernel> GradPairs<K> {
+    fn with_points(mut self, points: &PointSet) -> Self {
+        self.xt = self.blocks.transpose(points.as_slice(), |v| v);
+        self
+    }
+}
+
+impl<K: Kernel> GradTiles for GradPairs<K> {
+    #[inline(always)]
+    fn tile<V: Simd>(&self, a: usize, b: usize, ga: &mut [f64], mut gb: Option<&mut [f64]>) -> f64 {
+        let bl = &self.blocks;
+        let (bs, s) = (bl.bs, bl.s);
+        let (xa, xb) = (bl.chunk(&self.xt, a), bl.chunk(&self.xt, b));
+        let zero = V::splat(0.0);
+        let n = V::N;
+        // Factors, prefix products and row i's lanes, s vectors each.
+        let len = 3 * s * n;
+        let mut buf = take_scratch(len);
+        let (fac, rest) = buf[..len].split_at_mut(s * n);
+        let (pre, row_i) = rest.split_at_mut(s * n);
+        let mut acc = zero;
+        for ii in 0..bl.len(a) {
+            row_i.fill(0.0);
+            for (jj, mask) in bl.lanes::<V>(a, b, ii) {
+                let mut p = V::splat(1.0);
+                for k in 0..s {
+                    let f = K::vpair(V::splat(xa[k * bs + ii]), V::load(&xb[k * bs + jj..]));
+                    p.store(&mut pre[k * n..]);
+                    f.store(&mut fac[k * n..]);
+                    p = p.mul(f);
+                }
+                acc = acc.add(mask.select(p, zero));
+                let gj: &mut [f64] = match &mut gb {
+                    Some(g) => g,
+                    None => &mut *ga,
+                };
+                let mut suf = mask.select(V::splat(1.0), zero);
+                for k in (0..s).rev() {
+                    let w = V::load(&pre[k * n..]).mul(suf);
+                    let (d1, d2) =
+                        K::vderiv(V::splat(xa[k * bs + ii]), V::load(&xb[k * bs + jj..]));
+                    let r = &mut row_i[k * n..];
+                    V::load(r).add(w.mul(d1)).store(r);
+                    let g = &mut gj[k * bs + jj..];
+                    V::load(g).add(w.mul(d2)).store(g);
+                    suf = suf.mul(V::load(&fac[k * n..]));
+                }
+            }
             for k in 0..s {
-                let w = p[l] / fr[k];
-                gi[k] += w * ar[k];
-                gr[k] += w * br[k];
-            }
-        } else {
-            // A zero factor (the star L2 at a coordinate equal to 1, where a bounded
-            // solver likes to park points) or an underflow: prefix and suffix products.
-            let mut acc = 1.0;
-            for (pk, &fk) in pre.iter_mut().zip(fr) {
-                *pk = acc;
-                acc *= fk;
-            }
-            let mut suf = 1.0;
-            for k in (0..s).rev() {
-                let w = pre[k] * suf;
-                gi[k] += w * ar[k];
-                gr[k] += w * br[k];
-                suf *= fr[k];
+                ga[k * bs + ii] += V::load(&row_i[k * n..]).hsum();
             }
         }
+        give_scratch(buf);
+        acc.hsum()
     }
-    p
 }
 
 /// C − (2/n) Σ g + (1/n²) (Σ_i K(x_i, x_i) + 2 Σ_{i<l} K(x_i, x_l)), as the metric
