@@ -260,6 +260,15 @@ pub(crate) fn pct(v: f64) -> String {
     }
 }
 
+/// A percentage with two decimals (relative errors of Tables 7–8).
+pub(crate) fn pct2(v: f64) -> String {
+    if v.is_finite() {
+        format!("{:.2}%", 100.0 * v)
+    } else {
+        "—".to_string()
+    }
+}
+
 /// Saves line charts and records the file.
 pub(crate) fn save_charts(
     path: &Path,

@@ -2,7 +2,7 @@
 //! equations with n = 200, the 20-storey shear frame with n = 400), solved with the DEM set
 //! and with each baseline, against our own Monte Carlo references.
 
-use super::{markdown_table, pct, save_charts, Body, StudyOptions};
+use super::{markdown_table, pct2, save_charts, Body, StudyOptions};
 use crate::plot::{LineChart, Series};
 use crate::run::{generate, GenerateConfig};
 use crate::sequences::Baseline;
@@ -105,10 +105,10 @@ pub(crate) fn run_kraichnan_orszag(opts: &StudyOptions, log: &mut dyn FnMut(&str
         let e_mc = ko_relative_errors(&m, &reference)?;
         let e_g = ko_relative_errors(&m, &gauss)?;
         let mut row = vec![name.clone()];
-        row.extend(e_mc.mean.iter().map(|v| pct(*v)));
-        row.extend(e_mc.sd.iter().map(|v| pct(*v)));
-        row.extend(e_g.mean.iter().map(|v| pct(*v)));
-        row.extend(e_g.sd.iter().map(|v| pct(*v)));
+        row.extend(e_mc.mean.iter().map(|v| pct2(*v)));
+        row.extend(e_mc.sd.iter().map(|v| pct2(*v)));
+        row.extend(e_g.mean.iter().map(|v| pct2(*v)));
+        row.extend(e_g.sd.iter().map(|v| pct2(*v)));
         rows.push(row);
         json_rows.push(
             json!({"method": name, "vs_monte_carlo": {"mean": e_mc.mean, "sd": e_mc.sd},
@@ -193,8 +193,14 @@ pub(crate) fn run_kraichnan_orszag(opts: &StudyOptions, log: &mut dyn FnMut(&str
          measures sampling error only, as the paper's does.\n\n",
         settings.dt,
         settings.t_end,
-        mc_vs_gauss.mean.map(pct).join(" / "),
-        mc_vs_gauss.sd.map(pct).join(" / "),
+        mc_vs_gauss
+            .mean
+            .map(|e| format!("{:.4}%", 100.0 * e))
+            .join(" / "),
+        mc_vs_gauss
+            .sd
+            .map(|e| format!("{:.4}%", 100.0 * e))
+            .join(" / "),
         opts.seed
     );
     md += &markdown_table(&header, &rows);
