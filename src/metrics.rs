@@ -11,11 +11,15 @@
 //! `'CD'`, `'WD'`, `'MD'`), and its `'MD'` is the *mixture* discrepancy, not the modified
 //! L2 discrepancy of the paper; each function below says which SciPy value it matches.
 //!
-//! The results are the same bits whatever the number of rayon threads: work is split by
-//! rows, each row's sum runs in a fixed order, and the row sums are added in index order.
+//! The pair sums run in the vectorised, tiled half loop of
+//! [`stillpoint_energies::discrepancy::pair_product_sums`] (the minimum distances in
+//! [`stillpoint_energies::pairs::min_squared_distances`]): each pair once, 16 pairs per
+//! vector, on all rayon threads. The results are the same bits whatever the number of
+//! threads (the tiles and the order their sums are added in depend on n only), and the
+//! same bits with or without AVX2 (no fused multiply-add). O(n² s) time, O(n s) memory.
 
-use rayon::prelude::*;
-
+use crate::energies::discrepancy::{pair_product_sums, DiscrepancyKind};
+use crate::energies::pairs::min_squared_distances;
 use crate::PointSet;
 
 /// Star L2 discrepancy squared, the paper's eq. 46 (Warnock's formula):
@@ -26,7 +30,7 @@ use crate::PointSet;
 /// #{x_i ∈ [0, t)}/n − Π_k t_k, so it weighs only boxes anchored at the origin. Its root
 /// is SciPy's `qmc.discrepancy(method='L2-star')`. Clamped at 0 against rounding.
 pub fn star_l2_squared(points: &PointSet) -> f64 {
-    let [pair] = pair_sums(points, |a, b| [pair_product(a, b, star_pair)]);
+    let [pair] = pair_sums(points, [DiscrepancyKind::StarL2], [star_pair]);
     assemble(
         power(1.0 / 3.0, points.s()),
         single_sum(points, star_single),
@@ -50,7 +54,7 @@ pub fn star_l2(points: &PointSet) -> f64 {
 /// grows. This is *not* SciPy's `method='MD'`, which is the mixture discrepancy; SciPy
 /// has no equivalent. Clamped at 0 against rounding.
 pub fn modified_l2_squared(points: &PointSet) -> f64 {
-    let [pair] = pair_sums(points, |a, b| [pair_product(a, b, modified_pair)]);
+    let [pair] = pair_sums(points, [DiscrepancyKind::ModifiedL2], [modified_pair]);
     assemble(
         power(4.0 / 3.0, points.s()),
         single_sum(points, modified_single),
@@ -75,7 +79,7 @@ pub fn modified_l2(points: &PointSet) -> f64 {
 /// (x_k → 1 − x_k). Equals SciPy's `qmc.discrepancy(method='CD')`, which returns this
 /// squared value. Clamped at 0 against rounding.
 pub fn centered_l2_squared(points: &PointSet) -> f64 {
-    let [pair] = pair_sums(points, |a, b| [pair_product(a, b, centered_pair)]);
+    let [pair] = pair_sums(points, [DiscrepancyKind::CenteredL2], [centered_pair]);
     assemble(
         power(13.0 / 12.0, points.s()),
         single_sum(points, centered_single),
@@ -99,7 +103,7 @@ pub fn centered_l2(points: &PointSet) -> f64 {
 /// Equals SciPy's `qmc.discrepancy(method='WD')`, which returns this squared value.
 /// Clamped at 0 against rounding.
 pub fn wrap_around_l2_squared(points: &PointSet) -> f64 {
-    let [pair] = pair_sums(points, |a, b| [pair_product(a, b, wrap_pair)]);
+    let [pair] = pair_sums(points, [DiscrepancyKind::WrapAroundL2], [wrap_pair]);
     // ∫ K(x, y) dy is (4/3)^s for every x, so the middle term merges with the first.
     assemble(-power(4.0 / 3.0, points.s()), 0.0, pair, points.n())
 }
@@ -113,7 +117,7 @@ pub fn wrap_around_l2(points: &PointSet) -> f64 {
 /// Smallest Euclidean distance between two distinct points of the set (the separation
 /// a space-filling design maximises); `f64::INFINITY` for a single point.
 pub fn min_distance_euclidean(points: &PointSet) -> f64 {
-    let [d2] = pair_mins(points, |a, b| [euclidean_sq(a, b)]);
+    let [d2, _] = pair_mins(points);
     d2.sqrt()
 }
 
@@ -121,7 +125,7 @@ pub fn min_distance_euclidean(points: &PointSet) -> f64 {
 /// difference Δ counts as min(|Δ|, 1 − |Δ|)), the distance a periodic energy sees;
 /// `f64::INFINITY` for a single point. Never larger than [`min_distance_euclidean`].
 pub fn min_distance_periodic(points: &PointSet) -> f64 {
-    let [d2] = pair_mins(points, |a, b| [periodic_sq(a, b)]);
+    let [_, d2] = pair_mins(points);
     d2.sqrt()
 }
 
@@ -131,14 +135,11 @@ pub fn min_distance_periodic(points: &PointSet) -> f64 {
 /// Returns `(star_l2, modified_l2)`, bit for bit equal to [`star_l2`] and
 /// [`modified_l2`].
 pub fn discrepancies(points: &PointSet) -> (f64, f64) {
-    let [star, modified] = pair_sums(points, |a, b| {
-        let (mut ps, mut pm) = (1.0, 1.0);
-        for (&x, &y) in a.iter().zip(b) {
-            ps *= star_pair(x, y);
-            pm *= modified_pair(x, y);
-        }
-        [ps, pm]
-    });
+    let [star, modified] = pair_sums(
+        points,
+        [DiscrepancyKind::StarL2, DiscrepancyKind::ModifiedL2],
+        [star_pair, modified_pair],
+    );
     let (n, s) = (points.n(), points.s());
     let star = assemble(
         power(1.0 / 3.0, s),
@@ -182,17 +183,17 @@ impl Metrics {
     /// Computes every figure: one pass over the pairs for the four discrepancies, one for
     /// the two distances. O(n² s) time, O(n) memory; the points must lie in [0, 1]^s.
     pub fn compute(points: &PointSet) -> Metrics {
-        let [star, modified, centered, wrap] = pair_sums(points, |a, b| {
-            let (mut ps, mut pm, mut pc, mut pw) = (1.0, 1.0, 1.0, 1.0);
-            for (&x, &y) in a.iter().zip(b) {
-                ps *= star_pair(x, y);
-                pm *= modified_pair(x, y);
-                pc *= centered_pair(x, y);
-                pw *= wrap_pair(x, y);
-            }
-            [ps, pm, pc, pw]
-        });
-        let [euclid, periodic] = pair_mins(points, |a, b| [euclidean_sq(a, b), periodic_sq(a, b)]);
+        let [star, modified, centered, wrap] = pair_sums(
+            points,
+            [
+                DiscrepancyKind::StarL2,
+                DiscrepancyKind::ModifiedL2,
+                DiscrepancyKind::CenteredL2,
+                DiscrepancyKind::WrapAroundL2,
+            ],
+            [star_pair, modified_pair, centered_pair, wrap_pair],
+        );
+        let [euclid, periodic] = pair_mins(points);
         let (n, s) = (points.n(), points.s());
         let root = |constant, single, pair| assemble(constant, single, pair, n).sqrt();
         Metrics {
@@ -256,35 +257,6 @@ fn wrap_pair(x: f64, y: f64) -> f64 {
     1.5 - d * (1.0 - d)
 }
 
-#[inline(always)]
-fn euclidean_sq(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(&x, &y)| (x - y) * (x - y)).sum()
-}
-
-#[inline(always)]
-fn periodic_sq(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(&x, &y)| {
-            let d = (x - y).abs();
-            let d = d.min(1.0 - d);
-            d * d
-        })
-        .sum()
-}
-
-/// Π_k f(a_k, b_k), multiplied in coordinate order from 1.0 (the same sequence of
-/// operations as the fused loops of [`discrepancies`] and [`Metrics::compute`], so all
-/// give the same bits).
-#[inline(always)]
-fn pair_product(a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64) -> f64 {
-    let mut p = 1.0;
-    for (&x, &y) in a.iter().zip(b) {
-        p *= f(x, y);
-    }
-    p
-}
-
 /// Σ_i Π_k f(x_ik), in index order. O(n s), so not worth parallelising.
 fn single_sum(points: &PointSet, f: impl Fn(f64) -> f64) -> f64 {
     points
@@ -307,65 +279,28 @@ fn assemble(constant: f64, single: f64, pair: f64, n: usize) -> f64 {
     (constant - 2.0 * single / n + pair / (n * n)).max(0.0)
 }
 
-/// Σ_{i,l} kernel(x_i, x_l) for M kernels at once, using symmetry: each row i adds its
-/// diagonal term and twice its terms with l > i, sequentially in l; the rows run in
-/// parallel and their partial sums are collected in index order and added sequentially,
-/// so the result does not depend on the number of threads.
+/// Σ_{i,l} Π_k K_m(x_ik, x_lk) for M kernels: Σ_i of the diagonal products (in index
+/// order, from the scalar factors `diag`, which are the kernels of `kinds`) plus twice the
+/// sum over pairs i < l from the vectorised pass.
 fn pair_sums<const M: usize>(
     points: &PointSet,
-    kernel: impl Fn(&[f64], &[f64]) -> [f64; M] + Sync,
+    kinds: [DiscrepancyKind; M],
+    diag: [fn(f64, f64) -> f64; M],
 ) -> [f64; M] {
-    let s = points.s();
-    let data = points.as_slice();
-    let rows: Vec<[f64; M]> = (0..points.n())
-        .into_par_iter()
-        .map(|i| {
-            let xi = &data[i * s..(i + 1) * s];
-            let diagonal = kernel(xi, xi);
-            let mut off = [0.0; M];
-            for xl in data[(i + 1) * s..].chunks_exact(s) {
-                let k = kernel(xi, xl);
-                for (acc, v) in off.iter_mut().zip(k) {
-                    *acc += v;
-                }
-            }
-            std::array::from_fn(|m| diagonal[m] + 2.0 * off[m])
-        })
-        .collect();
-    let mut total = [0.0; M];
-    for row in &rows {
-        for (acc, v) in total.iter_mut().zip(row) {
-            *acc += v;
-        }
-    }
-    total
+    let off = pair_product_sums(points, &kinds);
+    std::array::from_fn(|m| {
+        let d: f64 = points
+            .rows()
+            .map(|row| row.iter().fold(1.0, |p, &x| p * diag[m](x, x)))
+            .sum();
+        d + 2.0 * off[m]
+    })
 }
 
-/// min_{i<l} dist(x_i, x_l) for M squared distances at once; `f64::INFINITY` when there
-/// is no pair. A minimum does not depend on the order it is taken in, so any parallel
-/// reduction gives the same bits.
-fn pair_mins<const M: usize>(
-    points: &PointSet,
-    dist: impl Fn(&[f64], &[f64]) -> [f64; M] + Sync,
-) -> [f64; M] {
-    let s = points.s();
-    let data = points.as_slice();
-    (0..points.n())
-        .into_par_iter()
-        .map(|i| {
-            let xi = &data[i * s..(i + 1) * s];
-            let mut best = [f64::INFINITY; M];
-            for xl in data[(i + 1) * s..].chunks_exact(s) {
-                for (b, d) in best.iter_mut().zip(dist(xi, xl)) {
-                    *b = b.min(d);
-                }
-            }
-            best
-        })
-        .reduce(
-            || [f64::INFINITY; M],
-            |a, b| std::array::from_fn(|m| a[m].min(b[m])),
-        )
+/// min over pairs of the squared Euclidean and the squared torus distance; +∞ without a
+/// pair. A minimum does not depend on the order it is taken in.
+fn pair_mins(points: &PointSet) -> [f64; 2] {
+    min_squared_distances(points.as_slice(), points.n(), points.s())
 }
 
 #[cfg(test)]
