@@ -16,7 +16,7 @@ use stillpoint::energies::Domain;
 use stillpoint::energies::{paper_qp, Distance, Energy, Uqp};
 use stillpoint::metrics::Metrics;
 use stillpoint::regions::{
-    generate_in_region, RegionConfig, RegionEnergy, RegionInit, RegionReport,
+    generate_in_region_with, RegionConfig, RegionEnergy, RegionInit, RegionReport,
 };
 use stillpoint::run::{self, CubeEnergy, GenerateConfig, GenerateReport, Init, Solver};
 use stillpoint::sequences::Baseline;
@@ -38,116 +38,163 @@ struct Cli {
     command: Command,
 }
 
+/// The options of `stillpoint generate`.
+#[derive(clap::Args)]
+struct GenerateArgs {
+    /// Number of points n ≥ 1 (taken from --init FILE when omitted).
+    #[arg(short = 'n', value_name = "N")]
+    n: Option<usize>,
+    /// Dimension s ≥ 1 (taken from --init FILE when omitted).
+    #[arg(short = 's', value_name = "S")]
+    s: Option<usize>,
+    /// Output file: .csv (default), .tsv, .json or .npy by extension. Without it the
+    /// points go to standard output as CSV and the report to standard error.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    output: Option<PathBuf>,
+    /// The potential energy: `uqp` (U_{q,p}, the cube's default), `e-inf` (U_{E,∞},
+    /// maximin; with --q E in the closed cube, else on the torus), `e-inf-g`
+    /// (U_{E,∞,g} of eq. 56, a region's default), `e-p-g` (smooth U_{E,p,g} for a
+    /// region, p from --p, default 8).
+    #[arg(long, value_name = "NAME")]
+    energy: Option<String>,
+    /// A region {x : g(x) ≤ 0}: g as an expression in x1..xs (or x, y, z), e.g.
+    /// "|x| + 2*|y| - 5". Needs --box.
+    #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
+    region: Option<String>,
+    /// Bounding box of --region (or of a polytope): LO1,HI1,LO2,HI2,...
+    #[arg(long = "box", value_name = "LO1,HI1,...", allow_hyphen_values = true)]
+    bbox: Option<String>,
+    /// A built-in region: `ball:R[@C1,C2,..]`, `ellipsoid:A1,A2,..[@C1,..]`,
+    /// `box:LO1,HI1,LO2,HI2,..`, `simplex` (dimension from -s), or `polytope:FILE`
+    /// (rows a1 .. as b meaning a·x ≤ b; needs --box).
+    #[arg(long, value_name = "SHAPE", allow_hyphen_values = true)]
+    shape: Option<String>,
+    /// Draw the start beside the result, with the region's boundary (PNG or SVG by
+    /// extension; the first two coordinates).
+    #[arg(long, value_name = "FILE")]
+    plot: Option<PathBuf>,
+    /// q of U_{q,p}: a number > 0, `inf` (torus distance) or `E` (Euclidean).
+    /// Default: eq. 48 of the paper for (n, s).
+    #[arg(long, value_name = "Q", allow_hyphen_values = true)]
+    q: Option<String>,
+    /// p of U_{q,p}: a number > 0. Default: eq. 48 of the paper for (n, s).
+    #[arg(long, value_name = "P", allow_hyphen_values = true)]
+    p: Option<f64>,
+    /// The solver: `dem` (the paper's damped dynamics) or `lbfgs` (argmin's L-BFGS
+    /// with restarts; in the cube only).
+    #[arg(long, default_value = "dem", value_name = "dem|lbfgs")]
+    integrator: String,
+    /// Step budget of the DEM (default 1000 in the cube, as in the paper; 10 000 in a
+    /// region, where U_{E,∞,g} moves only its active elements at each step).
+    #[arg(long, value_name = "K")]
+    steps: Option<usize>,
+    /// Start: `halton` (plain, indices 1..n; the cube's default), `random` (a region's
+    /// default: uniform in the box, the first n inside), or a point file.
+    #[arg(long, value_name = "halton|random|FILE")]
+    init: Option<String>,
+    /// Seed for the random start.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// κ of eq. 39: `auto` (trial from 100, doubled while the energy fails to fall)
+    /// or a fixed number ≥ 1.
+    #[arg(
+        long,
+        default_value = "auto",
+        value_name = "auto|K",
+        allow_hyphen_values = true
+    )]
+    kappa: String,
+    /// Restart for unbiasedness (§4.3): `auto` (ε_p = 2/n), `off`, or ε_p > 0.
+    #[arg(
+        long,
+        default_value = "auto",
+        value_name = "auto|off|EPS",
+        allow_hyphen_values = true
+    )]
+    restart: String,
+    /// Polish the result with L-BFGS on a squared discrepancy: `md`, `l2star`, `cd`,
+    /// `periodic`, or `none`. The best points we know how to make: the DEM spreads the
+    /// points, the shift places them, the polish lowers the chosen discrepancy.
+    #[arg(long, default_value = "none", value_name = "KIND")]
+    polish: String,
+    /// Stop early when every coordinate step and every force step |G f|/A0 is below
+    /// this (0: always use the whole budget).
+    #[arg(
+        long,
+        default_value_t = 1e-12,
+        value_name = "TOL",
+        allow_hyphen_values = true
+    )]
+    tolerance: f64,
+    /// Periodic shifts tried after the DEM (0: none). The energy is unchanged by a
+    /// shift on the torus, the discrepancies are not: the shift with the smallest
+    /// modified L2 discrepancy is kept.
+    #[arg(long, default_value_t = 64, value_name = "K")]
+    shifts: usize,
+    /// Record D_L2* and D_MD every K steps in the trajectory (default 10 with
+    /// --trajectory, else never).
+    #[arg(long, value_name = "K")]
+    log_every: Option<usize>,
+    /// Write the trajectory (energy each step, discrepancies every --log-every steps)
+    /// as JSON to FILE.
+    #[arg(long, value_name = "FILE")]
+    trajectory: Option<PathBuf>,
+    /// Save the DEM's whole state to FILE every --checkpoint-every steps (atomically),
+    /// so that an interrupted run can be continued with --resume.
+    #[arg(long, value_name = "FILE")]
+    checkpoint: Option<PathBuf>,
+    /// Steps between two checkpoints.
+    #[arg(long, default_value_t = 100, value_name = "K")]
+    checkpoint_every: usize,
+    /// Continue from a checkpoint (FILE, or the --checkpoint file when no FILE is
+    /// given). Every other option must be as in the run that wrote it; the result is
+    /// the same bytes as an uninterrupted run.
+    #[arg(long, value_name = "FILE", num_args = 0..=1)]
+    resume: Option<Option<PathBuf>>,
+    /// Print the report as one JSON object instead of a table.
+    #[arg(long)]
+    json: bool,
+    /// No progress bar.
+    #[arg(long, short = 'q')]
+    quiet: bool,
+}
+
 // Parsed once per process, so the size of the largest variant does not matter.
 #[allow(clippy::large_enum_variant)]
 #[derive(Subcommand)]
 enum Command {
     /// Generate n points in [0,1)^s with the DEM and print their quality before and after.
-    Generate {
-        /// Number of points n ≥ 1 (taken from --init FILE when omitted).
-        #[arg(short = 'n', value_name = "N")]
-        n: Option<usize>,
-        /// Dimension s ≥ 1 (taken from --init FILE when omitted).
-        #[arg(short = 's', value_name = "S")]
-        s: Option<usize>,
-        /// Output file: .csv (default), .tsv, .json or .npy by extension. Without it the
-        /// points go to standard output as CSV and the report to standard error.
-        #[arg(short = 'o', long = "output", value_name = "FILE")]
-        output: Option<PathBuf>,
-        /// The potential energy: `uqp` (U_{q,p}, the cube's default), `e-inf` (U_{E,∞},
-        /// maximin; with --q E in the closed cube, else on the torus), `e-inf-g`
-        /// (U_{E,∞,g} of eq. 56, a region's default), `e-p-g` (smooth U_{E,p,g} for a
-        /// region, p from --p, default 8).
-        #[arg(long, value_name = "NAME")]
-        energy: Option<String>,
-        /// A region {x : g(x) ≤ 0}: g as an expression in x1..xs (or x, y, z), e.g.
-        /// "|x| + 2*|y| - 5". Needs --box.
+    Generate(Box<GenerateArgs>),
+    /// Draw a point file (a scatter plot for s = 2, a matrix of 2-D projections of the
+    /// first --dims coordinates for s > 2), or a run's trajectory (--trajectory), as PNG
+    /// or SVG.
+    Plot {
+        /// The point file (CSV, TSV, whitespace, JSON, .npy).
+        #[arg(value_name = "FILE", required_unless_present = "trajectory")]
+        file: Option<PathBuf>,
+        /// The picture: .png or .svg.
+        #[arg(short = 'o', long = "output", value_name = "OUT")]
+        output: PathBuf,
+        /// Coordinates drawn for s > 2: the first K, as a K × K matrix of projections
+        /// (histograms on the diagonal). Default min(s, 4).
+        #[arg(long, value_name = "K")]
+        dims: Option<usize>,
+        /// Draw the boundary of the region {x : g(x) ≤ 0} (with --box), as in generate.
         #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
         region: Option<String>,
-        /// Bounding box of --region (or of a polytope): LO1,HI1,LO2,HI2,...
+        /// The plotted box, and the bounding box of --region: LO1,HI1,LO2,HI2,...
         #[arg(long = "box", value_name = "LO1,HI1,...", allow_hyphen_values = true)]
         bbox: Option<String>,
-        /// A built-in region: `ball:R[@C1,C2,..]`, `ellipsoid:A1,A2,..[@C1,..]`,
-        /// `box:LO1,HI1,LO2,HI2,..`, `simplex` (dimension from -s), or `polytope:FILE`
-        /// (rows a1 .. as b meaning a·x ≤ b; needs --box).
+        /// Draw the boundary of a built-in region, as in generate.
         #[arg(long, value_name = "SHAPE", allow_hyphen_values = true)]
         shape: Option<String>,
-        /// Draw the start beside the result, with the region's boundary (PNG or SVG by
-        /// extension; the first two coordinates).
-        #[arg(long, value_name = "FILE")]
-        plot: Option<PathBuf>,
-        /// q of U_{q,p}: a number > 0, `inf` (torus distance) or `E` (Euclidean).
-        /// Default: eq. 48 of the paper for (n, s).
-        #[arg(long, value_name = "Q", allow_hyphen_values = true)]
-        q: Option<String>,
-        /// p of U_{q,p}: a number > 0. Default: eq. 48 of the paper for (n, s).
-        #[arg(long, value_name = "P", allow_hyphen_values = true)]
-        p: Option<f64>,
-        /// The solver: `dem` (the paper's damped dynamics) or `lbfgs` (argmin's L-BFGS
-        /// with restarts; in the cube only).
-        #[arg(long, default_value = "dem", value_name = "dem|lbfgs")]
-        integrator: String,
-        /// Step budget of the DEM (default 1000 in the cube, as in the paper; 10 000 in a
-        /// region, where U_{E,∞,g} moves only its active elements at each step).
-        #[arg(long, value_name = "K")]
-        steps: Option<usize>,
-        /// Start: `halton` (plain, indices 1..n; the cube's default), `random` (a region's
-        /// default: uniform in the box, the first n inside), or a point file.
-        #[arg(long, value_name = "halton|random|FILE")]
-        init: Option<String>,
-        /// Seed for the random start.
-        #[arg(long, default_value_t = 0)]
-        seed: u64,
-        /// κ of eq. 39: `auto` (trial from 100, doubled while the energy fails to fall)
-        /// or a fixed number ≥ 1.
-        #[arg(
-            long,
-            default_value = "auto",
-            value_name = "auto|K",
-            allow_hyphen_values = true
-        )]
-        kappa: String,
-        /// Restart for unbiasedness (§4.3): `auto` (ε_p = 2/n), `off`, or ε_p > 0.
-        #[arg(
-            long,
-            default_value = "auto",
-            value_name = "auto|off|EPS",
-            allow_hyphen_values = true
-        )]
-        restart: String,
-        /// Polish the result with L-BFGS on a squared discrepancy: `md`, `l2star`, `cd`,
-        /// `periodic`, or `none`. The best points we know how to make: the DEM spreads the
-        /// points, the shift places them, the polish lowers the chosen discrepancy.
-        #[arg(long, default_value = "none", value_name = "KIND")]
-        polish: String,
-        /// Stop early when every coordinate step and every force step |G f|/A0 is below
-        /// this (0: always use the whole budget).
-        #[arg(
-            long,
-            default_value_t = 1e-12,
-            value_name = "TOL",
-            allow_hyphen_values = true
-        )]
-        tolerance: f64,
-        /// Periodic shifts tried after the DEM (0: none). The energy is unchanged by a
-        /// shift on the torus, the discrepancies are not: the shift with the smallest
-        /// modified L2 discrepancy is kept.
-        #[arg(long, default_value_t = 64, value_name = "K")]
-        shifts: usize,
-        /// Record D_L2* and D_MD every K steps in the trajectory (default 10 with
-        /// --trajectory, else never).
-        #[arg(long, value_name = "K")]
-        log_every: Option<usize>,
-        /// Write the trajectory (energy each step, discrepancies every --log-every steps)
-        /// as JSON to FILE.
-        #[arg(long, value_name = "FILE")]
+        /// Draw a trajectory written by `generate --trajectory` instead: energy and
+        /// discrepancies against step and against time.
+        #[arg(long, value_name = "TRAJ", conflicts_with_all = ["file", "dims", "region", "shape", "bbox"])]
         trajectory: Option<PathBuf>,
-        /// Print the report as one JSON object instead of a table.
+        /// Title above the picture (default: the file name).
         #[arg(long)]
-        json: bool,
-        /// No progress bar.
-        #[arg(long, short = 'q')]
-        quiet: bool,
+        title: Option<String>,
     },
     /// Print the quality of any point file (CSV, TSV, whitespace, JSON, .npy).
     Eval {
@@ -197,6 +244,9 @@ enum Command {
         /// Describe every generator and exit.
         #[arg(long)]
         list: bool,
+        /// Print a JSON summary (with the points when there is no -o).
+        #[arg(long)]
+        json: bool,
     },
     /// Integrate the eight test functions F1–F8 of eq. 49 (exact integrals 0) with the
     /// points of a file and print each estimate, i.e. each integration error.
@@ -254,174 +304,7 @@ fn real_main(cli: Cli) -> Result<()> {
             .context("cannot start the thread pool")?;
     }
     match cli.command {
-        Command::Generate {
-            n,
-            s,
-            output,
-            energy,
-            region,
-            bbox,
-            shape,
-            plot,
-            integrator,
-            q,
-            p,
-            steps,
-            init,
-            seed,
-            kappa,
-            restart,
-            tolerance,
-            polish,
-            shifts,
-            log_every,
-            trajectory,
-            json,
-            quiet,
-        } => {
-            if let Some(out) = &output {
-                check_writable(out)?;
-            }
-            if let Some(out) = &plot {
-                check_writable(out)?;
-            }
-            if region.is_some() || shape.is_some() {
-                let domain =
-                    region_domain(region.as_deref(), bbox.as_deref(), shape.as_deref(), s)?;
-                let n = n.context("missing -n N: the number of points (at least 1)")?;
-                if integrator != "dem" {
-                    bail!("invalid --integrator = {integrator} for a region: expected dem");
-                }
-                let mut cfg = RegionConfig::new(domain, n);
-                cfg.energy = match energy.as_deref().unwrap_or("e-inf-g") {
-                    "e-inf-g" => RegionEnergy::EInfG,
-                    "e-inf" => RegionEnergy::EInf,
-                    "e-p-g" => RegionEnergy::EpG(p.unwrap_or(8.0)),
-                    other => bail!(
-                        "invalid --energy = {other} for a region: expected e-inf-g (eq. 56), \
-                         e-inf or e-p-g"
-                    ),
-                };
-                cfg.init = match init.as_deref().unwrap_or("random") {
-                    "random" => RegionInit::Random,
-                    "halton" => RegionInit::Halton,
-                    path => RegionInit::Points(
-                        io::read_points(std::path::Path::new(path)).context("--init")?,
-                    ),
-                };
-                cfg.seed = seed;
-                let steps = steps.unwrap_or(cfg.dem.steps);
-                cfg.dem.steps = steps;
-                cfg.dem.kappa = run::parse_kappa(&kappa)?;
-                if tolerance.is_nan() || tolerance < 0.0 {
-                    bail!("invalid --tolerance = {tolerance}: expected a number ≥ 0");
-                }
-                cfg.dem.tolerance = tolerance;
-                let bar = progress_bar(steps as u64, quiet);
-                let report = generate_in_region(&cfg, |r| bar.set_position(r.step as u64))?;
-                bar.finish_and_clear();
-                let meta = region_json(&report, &cfg, false);
-                if let Some(path) = &trajectory {
-                    write_trajectory(path, &report.energy_name, &report.output)?;
-                }
-                if let Some(path) = &plot {
-                    plot_start_result(
-                        path,
-                        &report.start,
-                        &report.output.points,
-                        cfg.domain.as_ref(),
-                    )?;
-                }
-                let summary = if json {
-                    region_json(&report, &cfg, true)
-                } else {
-                    Value::String(region_table(&report, &cfg, output.as_ref()))
-                };
-                emit(&report.output.points, &meta, output.as_ref(), summary)?;
-                return Ok(());
-            }
-            if bbox.is_some() {
-                bail!("--box needs --region EXPR or --shape polytope:FILE");
-            }
-            let init = match init.as_deref().unwrap_or("halton") {
-                "halton" => Init::Halton,
-                "random" => Init::Random,
-                path => {
-                    Init::Points(io::read_points(std::path::Path::new(path)).context("--init")?)
-                }
-            };
-            let (n, s) = match (&init, n, s) {
-                (Init::Points(p), n, s) => (n.unwrap_or(p.n()), s.unwrap_or(p.s())),
-                (_, Some(n), Some(s)) => (n, s),
-                (_, None, _) => bail!("missing -n N: the number of points (at least 1)"),
-                (_, _, None) => bail!("missing -s S: the dimension (at least 1)"),
-            };
-            let mut cfg = GenerateConfig::new(n, s);
-            cfg.energy = match energy.as_deref().unwrap_or("uqp") {
-                "uqp" => CubeEnergy::Uqp,
-                "e-inf" => CubeEnergy::EInf,
-                "e-inf-g" | "e-p-g" => bail!(
-                    "invalid --energy = {} in the cube: e-inf-g and e-p-g need --region or \
-                     --shape; the cube accepts uqp, e-inf, l2star, md, cd, periodic",
-                    energy.as_deref().unwrap_or_default()
-                ),
-                other => CubeEnergy::Discrepancy(DiscrepancyKind::parse(other).map_err(|_| {
-                    anyhow::anyhow!(
-                        "invalid --energy = {other} in the cube: expected uqp, e-inf, \
-                             l2star, md, cd or periodic"
-                    )
-                })?),
-            };
-            cfg.solver = match integrator.as_str() {
-                "dem" => Solver::Dem,
-                "lbfgs" => Solver::Lbfgs,
-                other => bail!("invalid --integrator = {other}: expected dem or lbfgs"),
-            };
-            cfg.q = q.as_deref().map(Distance::parse).transpose()?;
-            if let Some(p) = p {
-                if !(p > 0.0 && p.is_finite()) {
-                    bail!("invalid --p = {p}: expected a finite number > 0");
-                }
-            }
-            cfg.p = p;
-            cfg.init = init;
-            cfg.seed = seed;
-            let steps = steps.unwrap_or(1000);
-            cfg.dem.steps = steps;
-            cfg.dem.kappa = run::parse_kappa(&kappa)?;
-            cfg.dem.restart = run::parse_restart(&restart)?;
-            if tolerance.is_nan() || tolerance < 0.0 {
-                bail!("invalid --tolerance = {tolerance}: expected a number ≥ 0");
-            }
-            cfg.dem.tolerance = tolerance;
-            cfg.shifts = shifts;
-            cfg.polish = match polish.as_str() {
-                "none" => None,
-                other => Some(DiscrepancyKind::parse(other).map_err(|_| {
-                    anyhow::anyhow!(
-                        "invalid --polish = {other}: expected none, md, l2star, cd or periodic"
-                    )
-                })?),
-            };
-            cfg.log_every = log_every.unwrap_or(if trajectory.is_some() { 10 } else { 0 });
-            let bar = progress_bar(steps as u64, quiet);
-            let report = run::generate(&cfg, |r| bar.set_position(r.step as u64))?;
-            bar.finish_and_clear();
-            let meta = report_json(&report, &cfg, false);
-            if let Some(path) = &trajectory {
-                write_trajectory(path, &report.energy_name, &report.output)?;
-            }
-            if let Some(path) = &plot {
-                let cube = stillpoint::PeriodicCube::new(cfg.s)?;
-                plot_start_result(path, &report.start, &report.output.points, &cube)?;
-            }
-            let summary = if json {
-                report_json(&report, &cfg, true)
-            } else {
-                Value::String(report_table(&report, &cfg, output.as_ref()))
-            };
-            emit(&report.output.points, &meta, output.as_ref(), summary)?;
-        }
+        Command::Generate(args) => generate(*args)?,
         Command::Eval { file, json } => {
             let points = io::read_points(&file)?;
             points
@@ -463,6 +346,7 @@ fn real_main(cli: Cli) -> Result<()> {
             output,
             seed,
             list,
+            json,
         } => {
             if list {
                 for b in Baseline::all() {
@@ -474,26 +358,50 @@ fn real_main(cli: Cli) -> Result<()> {
                 bail!("missing NAME, -n N or -s S (see stillpoint baseline --help)");
             };
             if let Some(out) = &output {
-                check_writable(out)?;
+                check_writable(out, "-o")?;
             }
             let b = Baseline::parse(&name)?;
             let points = b.generate(n, s, seed)?;
+            let metrics = (n <= METRICS_LIMIT).then(|| Metrics::compute(&points));
             let meta = json!({
                 "generator": format!("stillpoint baseline {}", b.name()),
-                "n": n, "s": s, "seed": if b.is_randomized() { Some(seed) } else { None },
+                "version": env!("CARGO_PKG_VERSION"),
+                "seed": if b.is_randomized() { Some(seed) } else { None },
+                "parameters": {
+                    "baseline": b.name(),
+                    "label": b.label(),
+                    "n": n,
+                    "s": s,
+                    "randomized": b.is_randomized(),
+                },
+                "metrics": metrics.as_ref().map(metrics_json),
             });
+            if json {
+                let mut v = meta.clone();
+                match &output {
+                    Some(path) => {
+                        io::write_points(path, &points, &meta)?;
+                        v["output"] = json!(path);
+                    }
+                    None => v["points"] = points_json(&points),
+                }
+                println!("{}", serde_json::to_string_pretty(&v)?);
+                return Ok(());
+            }
             match &output {
                 Some(path) => {
                     io::write_points(path, &points, &meta)?;
-                    let m = Metrics::compute(&points);
+                    let quality = match metrics {
+                        Some(m) => format!(
+                            "D_MD {:.6}, D_L2* {:.6}, minimum distance {:.6}",
+                            m.modified_l2, m.star_l2, m.min_distance
+                        ),
+                        None => format!("metrics skipped above n = {METRICS_LIMIT}"),
+                    };
                     println!(
-                        "{} ({}), n = {n}, s = {s}: D_MD {:.6}, D_L2* {:.6}, minimum distance \
-                         {:.6}; written to {}",
+                        "{} ({}), n = {n}, s = {s}: {quality}; written to {}",
                         b.name(),
                         b.label(),
-                        m.modified_l2,
-                        m.star_l2,
-                        m.min_distance,
                         path.display()
                     );
                 }
@@ -589,43 +497,385 @@ fn real_main(cli: Cli) -> Result<()> {
                 );
             }
         }
+        Command::Plot {
+            file,
+            output,
+            dims,
+            region,
+            bbox,
+            shape,
+            trajectory,
+            title,
+        } => {
+            check_writable(&output, "-o")?;
+            check_picture_extension(&output, "-o")?;
+            match (trajectory, file) {
+                (Some(traj), _) => plot_trajectory(&traj, &output, title)?,
+                (None, Some(file)) => {
+                    let spec = RegionSpec {
+                        region: region.as_deref(),
+                        bbox: bbox.as_deref(),
+                        shape: shape.as_deref(),
+                    };
+                    plot_points(&file, &output, dims, spec, title)?
+                }
+                (None, None) => {
+                    bail!("missing FILE: the point file to draw (or --trajectory TRAJ)")
+                }
+            }
+        }
         Command::Bench { quick } => bench::run(quick, &mut std::io::stdout())?,
     }
     Ok(())
 }
 
-/// Refuses an output path whose directory does not exist before any work is done.
-fn check_writable(path: &std::path::Path) -> Result<()> {
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => std::path::Path::new("."),
+/// Largest n whose O(n² s) metrics a baseline file's header records (above it they would
+/// take longer than generating the points by far).
+const METRICS_LIMIT: usize = 20_000;
+
+/// `stillpoint generate`: a cube or region run with its outputs. Every argument and
+/// output path is checked before any work is done, and outputs are written only after
+/// the run succeeded.
+fn generate(a: GenerateArgs) -> Result<()> {
+    let GenerateArgs {
+        n,
+        s,
+        output,
+        energy,
+        region,
+        bbox,
+        shape,
+        plot,
+        integrator,
+        q,
+        p,
+        steps,
+        init,
+        seed,
+        kappa,
+        restart,
+        tolerance,
+        polish,
+        shifts,
+        log_every,
+        trajectory,
+        checkpoint,
+        checkpoint_every,
+        resume,
+        json,
+        quiet,
+    } = a;
+    if let Some(out) = &output {
+        check_writable(out, "-o")?;
+    }
+    if let Some(out) = &plot {
+        check_writable(out, "--plot")?;
+        check_picture_extension(out, "--plot")?;
+    }
+    if let Some(out) = &trajectory {
+        check_writable(out, "--trajectory")?;
+    }
+    if tolerance.is_nan() || tolerance < 0.0 {
+        bail!("invalid --tolerance = {tolerance}: expected a number ≥ 0");
+    }
+    if let Some(p) = p {
+        if !(p > 0.0 && p.is_finite()) {
+            bail!("invalid --p = {p}: expected a finite number > 0");
+        }
+    }
+    let region_extra = json!({"--region": region, "--box": bbox, "--shape": shape});
+    let region_extra_text = region_extra.clone();
+    let plan = checkpoint_plan(checkpoint, checkpoint_every, resume, region_extra, quiet)?;
+    let mut progress = Progress::new(quiet);
+    if region.is_some() || shape.is_some() {
+        let domain = region_domain(region.as_deref(), bbox.as_deref(), shape.as_deref(), s)?;
+        let n = n.context("missing -n N: the number of points (at least 1)")?;
+        if integrator != "dem" {
+            bail!("invalid --integrator = {integrator} for a region: expected dem");
+        }
+        let mut cfg = RegionConfig::new(domain, n);
+        cfg.energy = match energy.as_deref().unwrap_or("e-inf-g") {
+            "e-inf-g" => RegionEnergy::EInfG,
+            "e-inf" => RegionEnergy::EInf,
+            "e-p-g" => RegionEnergy::EpG(p.unwrap_or(8.0)),
+            other => bail!(
+                "invalid --energy = {other} for a region: expected e-inf-g (eq. 56), \
+                 e-inf or e-p-g"
+            ),
+        };
+        cfg.init = match init.as_deref().unwrap_or("random") {
+            "random" => RegionInit::Random,
+            "halton" => RegionInit::Halton,
+            path => {
+                RegionInit::Points(io::read_points(std::path::Path::new(path)).context("--init")?)
+            }
+        };
+        cfg.seed = seed;
+        if let Some(steps) = steps {
+            cfg.dem.steps = steps;
+        }
+        cfg.dem.kappa = run::parse_kappa(&kappa)?;
+        cfg.dem.tolerance = tolerance;
+        if plot.is_some() && cfg.domain.dim() < 2 {
+            bail!("invalid --plot: the region has dimension 1; plots need s ≥ 2");
+        }
+        let report = generate_in_region_with(&cfg, plan.as_ref(), |e| progress.event(e))?;
+        progress.finish();
+        let meta = region_meta(&report, &cfg, &region_extra_text);
+        if let Some(path) = &trajectory {
+            write_trajectory(path, &report.energy_name, &report.output)?;
+        }
+        if let Some(path) = &plot {
+            plot_start_result(
+                path,
+                &report.start,
+                &report.output.points,
+                cfg.domain.as_ref(),
+            )?;
+        }
+        let summary = if json {
+            region_json(&report, &cfg, true)
+        } else {
+            Value::String(region_table(&report, &cfg, output.as_ref()))
+        };
+        emit(&report.output.points, &meta, output.as_ref(), summary)?;
+        return Ok(());
+    }
+    if bbox.is_some() {
+        bail!("--box needs --region EXPR or --shape polytope:FILE");
+    }
+    let init = match init.as_deref().unwrap_or("halton") {
+        "halton" => Init::Halton,
+        "random" => Init::Random,
+        path => Init::Points(io::read_points(std::path::Path::new(path)).context("--init")?),
     };
-    if !dir.is_dir() {
-        bail!(
-            "invalid -o {}: the directory {} does not exist",
-            path.display(),
-            dir.display()
+    let (n, s) = match (&init, n, s) {
+        (Init::Points(p), n, s) => (n.unwrap_or(p.n()), s.unwrap_or(p.s())),
+        (_, Some(n), Some(s)) => (n, s),
+        (_, None, _) => bail!("missing -n N: the number of points (at least 1)"),
+        (_, _, None) => bail!("missing -s S: the dimension (at least 1)"),
+    };
+    if plot.is_some() && s < 2 {
+        bail!("invalid --plot with -s = {s}: plots need s ≥ 2");
+    }
+    let mut cfg = GenerateConfig::new(n, s);
+    cfg.energy = match energy.as_deref().unwrap_or("uqp") {
+        "uqp" => CubeEnergy::Uqp,
+        "e-inf" => CubeEnergy::EInf,
+        "e-inf-g" | "e-p-g" => bail!(
+            "invalid --energy = {} in the cube: e-inf-g and e-p-g need --region or \
+             --shape; the cube accepts uqp, e-inf, l2star, md, cd, periodic",
+            energy.as_deref().unwrap_or_default()
+        ),
+        other => CubeEnergy::Discrepancy(DiscrepancyKind::parse(other).map_err(|_| {
+            anyhow::anyhow!(
+                "invalid --energy = {other} in the cube: expected uqp, e-inf, \
+                     l2star, md, cd or periodic"
+            )
+        })?),
+    };
+    cfg.solver = match integrator.as_str() {
+        "dem" => Solver::Dem,
+        "lbfgs" => Solver::Lbfgs,
+        other => bail!("invalid --integrator = {other}: expected dem or lbfgs"),
+    };
+    cfg.q = q
+        .as_deref()
+        .map(Distance::parse)
+        .transpose()
+        .context("--q")?;
+    cfg.p = p;
+    cfg.init = init;
+    cfg.seed = seed;
+    cfg.dem.steps = steps.unwrap_or(1000);
+    cfg.dem.kappa = run::parse_kappa(&kappa)?;
+    cfg.dem.restart = run::parse_restart(&restart)?;
+    cfg.dem.tolerance = tolerance;
+    cfg.shifts = shifts;
+    cfg.polish = match polish.as_str() {
+        "none" => None,
+        other => Some(DiscrepancyKind::parse(other).map_err(|_| {
+            anyhow::anyhow!("invalid --polish = {other}: expected none, md, l2star, cd or periodic")
+        })?),
+    };
+    cfg.log_every = log_every.unwrap_or(if trajectory.is_some() { 10 } else { 0 });
+    let report = run::generate_with(&cfg, plan.as_ref(), |e| progress.event(e))?;
+    progress.finish();
+    let meta = generate_meta(&report, &cfg);
+    if let Some(path) = &trajectory {
+        write_trajectory(path, &report.energy_name, &report.output)?;
+    }
+    if let Some(path) = &plot {
+        let cube = stillpoint::PeriodicCube::new(cfg.s)?;
+        plot_start_result(path, &report.start, &report.output.points, &cube)?;
+    }
+    let summary = if json {
+        report_json(&report, &cfg, true)
+    } else {
+        Value::String(report_table(&report, &cfg, output.as_ref()))
+    };
+    emit(&report.output.points, &meta, output.as_ref(), summary)?;
+    Ok(())
+}
+
+/// The checkpoint plan of `--checkpoint FILE [--checkpoint-every K] [--resume [FILE]]`.
+fn checkpoint_plan(
+    checkpoint: Option<PathBuf>,
+    every: usize,
+    resume: Option<Option<PathBuf>>,
+    extra: Value,
+    quiet: bool,
+) -> Result<Option<run::CheckpointPlan>> {
+    // `--resume` without a value means "the --checkpoint file".
+    let resume_path = match (&resume, &checkpoint) {
+        (None, _) => None,
+        (Some(Some(r)), _) => Some(r.clone()),
+        (Some(None), Some(c)) => Some(c.clone()),
+        (Some(None), None) => {
+            bail!(
+                "invalid --resume without a FILE: give --resume FILE or --checkpoint FILE --resume"
+            )
+        }
+    };
+    if every == 0 {
+        bail!("invalid --checkpoint-every = 0: expected a number of steps ≥ 1");
+    }
+    if let Some(r) = &resume_path {
+        if !r.is_file() {
+            bail!(
+                "invalid --resume {}: no such checkpoint file (expected a file written by \
+                 generate --checkpoint)",
+                r.display()
+            );
+        }
+    }
+    let Some(path) = checkpoint.or_else(|| resume_path.clone()) else {
+        return Ok(None);
+    };
+    check_writable(&path, "--checkpoint")?;
+    if resume_path.is_none() && path.exists() && !quiet {
+        eprintln!(
+            "note: {} exists; this run starts afresh and replaces it (add --resume to \
+             continue from it)",
+            path.display()
         );
     }
-    if path.is_dir() {
+    Ok(Some(run::CheckpointPlan {
+        path,
+        every,
+        resume: resume_path,
+        extra,
+    }))
+}
+
+/// Refuses a picture path that is not `.png` or `.svg` before any work is done.
+fn check_picture_extension(path: &std::path::Path, option: &str) -> Result<()> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    if ext != "png" && ext != "svg" {
         bail!(
-            "invalid -o {}: it is a directory, expected a file name",
+            "invalid {option} {}: expected a file name ending in .png or .svg",
             path.display()
         );
     }
     Ok(())
 }
 
-fn progress_bar(len: u64, quiet: bool) -> ProgressBar {
-    if quiet || !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
+/// A progress bar on standard error with the stage, steps and ETA; hidden with --quiet or
+/// when standard error is not a terminal.
+struct Progress {
+    bar: ProgressBar,
+    visible: bool,
+    /// The first position of a stage may jump (a resumed run), which must not count
+    /// towards the rate the ETA is computed from.
+    fresh: bool,
+}
+
+impl Progress {
+    fn new(quiet: bool) -> Self {
+        let visible = !quiet && std::io::stderr().is_terminal();
+        let bar = if visible {
+            ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::stderr())
+        } else {
+            ProgressBar::hidden()
+        };
+        Progress {
+            bar,
+            visible,
+            fresh: true,
+        }
     }
-    let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::stderr());
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} steps  {elapsed} elapsed, ETA {eta}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    bar
+
+    fn event(&mut self, e: run::Event) {
+        if !self.visible {
+            return;
+        }
+        match e {
+            run::Event::Stage {
+                name,
+                steps: Some(len),
+            } => {
+                self.bar.disable_steady_tick();
+                self.bar.set_style(
+                    ProgressStyle::with_template(
+                        "{msg:>15} {bar:40} {pos}/{len} steps  {elapsed} elapsed, ETA {eta}",
+                    )
+                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
+                );
+                self.bar.set_message(name);
+                self.bar.set_length(len);
+                self.bar.set_position(0);
+                self.bar.reset_eta();
+                self.fresh = true;
+            }
+            run::Event::Stage { name, steps: None } => {
+                self.bar.set_style(
+                    ProgressStyle::with_template("{msg:>15} {spinner} {elapsed}")
+                        .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+                );
+                self.bar.set_message(name);
+                self.bar
+                    .enable_steady_tick(std::time::Duration::from_millis(120));
+            }
+            run::Event::Progress(p) => {
+                self.bar.set_position(p);
+                if self.fresh {
+                    self.bar.reset_eta();
+                    self.fresh = false;
+                }
+            }
+            run::Event::Record(_) => {}
+        }
+    }
+
+    fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+/// Refuses an output path (of `option`) whose directory does not exist, or that is a
+/// directory, before any work is done.
+fn check_writable(path: &std::path::Path, option: &str) -> Result<()> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => std::path::Path::new("."),
+    };
+    if !dir.is_dir() {
+        bail!(
+            "invalid {option} {}: the directory {} does not exist",
+            path.display(),
+            dir.display()
+        );
+    }
+    if path.is_dir() {
+        bail!(
+            "invalid {option} {}: it is a directory, expected a file name",
+            path.display()
+        );
+    }
+    Ok(())
 }
 
 fn metrics_json(m: &Metrics) -> Value {
@@ -680,6 +930,97 @@ fn report_json(r: &GenerateReport, cfg: &GenerateConfig, full: bool) -> Value {
         v["modified_l2"] = json!(r.metrics.1.modified_l2);
     }
     v
+}
+
+/// The settings of a DEM as the command line writes them.
+fn dem_settings(dem: &stillpoint::integrators::Dem) -> Value {
+    use stillpoint::integrators::{Kappa, Restart};
+    json!({
+        "steps": dem.steps,
+        "kappa": match dem.kappa {
+            Kappa::Fixed(k) => json!(k),
+            Kappa::Auto { .. } => json!("auto"),
+        },
+        "restart": match dem.restart {
+            Restart::Auto => json!("auto"),
+            Restart::Off => json!("off"),
+            Restart::Threshold(e) => json!(e),
+        },
+        "tolerance": dem.tolerance,
+    })
+}
+
+/// The header of a generated point file: what made it (generator, version, seed, every
+/// parameter) and what came out (run facts and the result's metrics). Nothing in it
+/// depends on the clock or the thread count, so the file is the same bytes every time.
+fn generate_meta(r: &GenerateReport, cfg: &GenerateConfig) -> Value {
+    let init = match &cfg.init {
+        Init::Halton => "halton".to_string(),
+        Init::Random => "random".to_string(),
+        Init::Points(p) => format!("file: {}", run::points_fingerprint(p)),
+    };
+    let mut parameters = json!({
+        "n": cfg.n,
+        "s": cfg.s,
+        "energy": r.energy_name,
+        "q": r.choice.q,
+        "p": finite_or_null(r.choice.p),
+        "pq_from_eq48": r.choice.from_eq48,
+        "init": init,
+        "integrator": match cfg.solver {
+            Solver::Dem => "dem",
+            Solver::Lbfgs => "lbfgs",
+        },
+        "shifts": cfg.shifts,
+        "polish": cfg.polish.map(|k| format!("{k:?}")),
+    });
+    if let (Value::Object(p), Value::Object(d)) = (&mut parameters, dem_settings(&cfg.dem)) {
+        p.extend(d);
+    }
+    json!({
+        "generator": "stillpoint generate",
+        "version": env!("CARGO_PKG_VERSION"),
+        "seed": cfg.seed,
+        "parameters": parameters,
+        "run": {
+            "steps": r.output.trajectory.iter().map(|t| t.step).max().unwrap_or(0),
+            "stop": r.output.stop,
+            "kappa": r.output.info("kappa").map(finite_or_null),
+            "restarts": r.output.info("restarts").map(finite_or_null),
+        },
+        "metrics": metrics_json(&r.metrics.1),
+    })
+}
+
+/// The header of a point file generated in a region (see [`generate_meta`]).
+fn region_meta(r: &RegionReport, cfg: &RegionConfig, region: &Value) -> Value {
+    let mut parameters = json!({
+        "n": cfg.n,
+        "s": cfg.domain.dim(),
+        "region": region,
+        "domain": format!("{:?}", cfg.domain),
+        "energy": r.energy_name,
+        "init": match &cfg.init {
+            RegionInit::Random => "random".to_string(),
+            RegionInit::Halton => "halton".to_string(),
+            RegionInit::Points(p) => format!("file: {}", run::points_fingerprint(p)),
+        },
+    });
+    if let (Value::Object(p), Value::Object(d)) = (&mut parameters, dem_settings(&cfg.dem)) {
+        p.extend(d);
+    }
+    json!({
+        "generator": "stillpoint generate",
+        "version": env!("CARGO_PKG_VERSION"),
+        "seed": cfg.seed,
+        "parameters": parameters,
+        "run": {
+            "steps": r.output.trajectory.iter().map(|t| t.step).max().unwrap_or(0),
+            "stop": r.output.stop,
+            "kappa": r.output.info("kappa").map(finite_or_null),
+        },
+        "metrics": serde_json::to_value(r.metrics.1).unwrap_or(Value::Null),
+    })
 }
 
 fn finite_or_null(v: f64) -> Value {
@@ -1009,6 +1350,210 @@ fn region_domain(
     };
     dim_check(domain.dim())?;
     Ok(domain)
+}
+
+/// `--region EXPR --box ..` / `--shape ..` as given on the command line.
+#[derive(Clone, Copy)]
+struct RegionSpec<'a> {
+    region: Option<&'a str>,
+    bbox: Option<&'a str>,
+    shape: Option<&'a str>,
+}
+
+/// `stillpoint plot FILE`: a scatter plot (s = 2, with the region's boundary when one is
+/// given) or a matrix of projections of the first `dims` coordinates.
+fn plot_points(
+    file: &std::path::Path,
+    output: &std::path::Path,
+    dims: Option<usize>,
+    spec: RegionSpec,
+    title: Option<String>,
+) -> Result<()> {
+    let points = io::read_points(file)?;
+    let s = points.s();
+    let k = dims.unwrap_or(s.min(4));
+    if k == 0 || k > s {
+        bail!("invalid --dims = {k}: expected 1 ≤ K ≤ s = {s} (the file's dimension)");
+    }
+    let title = title.unwrap_or_else(|| {
+        file.file_name()
+            .map(|f| f.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    });
+    let domain = if spec.region.is_some() || spec.shape.is_some() {
+        Some(region_domain(spec.region, spec.bbox, spec.shape, Some(s))?)
+    } else {
+        None
+    };
+    let (lo, hi) = match (&domain, spec.bbox) {
+        (Some(d), _) => d.bounding_box(),
+        (None, Some(b)) => {
+            let (lo, hi) = parse_box(b)?;
+            if lo.len() < k {
+                bail!(
+                    "invalid --box = {b}: it has {} dimensions, {k} are drawn (expected \
+                     LO1,HI1,..,LO{k},HI{k})",
+                    lo.len()
+                );
+            }
+            (lo, hi)
+        }
+        (None, None) => plot_box(&points),
+    };
+    if k == 2 && s == 2 {
+        let boundary = match &domain {
+            Some(d) if d.level(&[lo[0], lo[1]]).is_some() => stillpoint::plot::boundary_polylines(
+                &|x: &[f64]| d.level(x).unwrap_or(f64::NAN),
+                [lo[0], lo[1]],
+                [hi[0], hi[1]],
+                300,
+            ),
+            _ => Vec::new(),
+        };
+        let panel = stillpoint::plot::Panel {
+            title,
+            points: &points,
+            lo: [lo[0], lo[1]],
+            hi: [hi[0], hi[1]],
+            boundary,
+        };
+        stillpoint::plot::save_panels(output, &[panel], 1)?;
+    } else {
+        stillpoint::plot::save_projection_matrix(output, &title, &points, k, &lo, &hi)?;
+    }
+    Ok(())
+}
+
+/// The unit cube when the points lie in it, else their bounding box padded by 5 %.
+fn plot_box(points: &PointSet) -> (Vec<f64>, Vec<f64>) {
+    if points.check_unit_cube().is_ok() {
+        return (vec![0.0; points.s()], vec![1.0; points.s()]);
+    }
+    (0..points.s())
+        .map(|k| {
+            let (a, b) = points
+                .rows()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
+                    (a.min(r[k]), b.max(r[k]))
+                });
+            let pad = if b > a { 0.05 * (b - a) } else { 0.5 };
+            (a - pad, b + pad)
+        })
+        .unzip()
+}
+
+/// A trajectory file as `generate --trajectory` writes it.
+#[derive(serde::Deserialize)]
+struct TrajectoryFile {
+    #[serde(default)]
+    energy: Option<String>,
+    records: Vec<stillpoint::integrators::Record>,
+}
+
+/// `stillpoint plot --trajectory TRAJ`: energy (relative to the start) and the logged
+/// discrepancies against step and against wall time.
+fn plot_trajectory(
+    path: &std::path::Path,
+    output: &std::path::Path,
+    title: Option<String>,
+) -> Result<()> {
+    use stillpoint::plot::{LineChart, Series};
+    let refuse = |why: String| {
+        anyhow::anyhow!(
+            "invalid --trajectory {}: expected a trajectory written by generate --trajectory \
+             ({why})",
+            path.display()
+        )
+    };
+    let bytes = std::fs::read(path).map_err(|e| refuse(format!("cannot read it: {e}")))?;
+    let traj: TrajectoryFile =
+        serde_json::from_slice(&bytes).map_err(|e| refuse(format!("{e}")))?;
+    // A non-smooth run repeats its returned state at the end; the curves follow the steps.
+    let mut records = Vec::with_capacity(traj.records.len());
+    for r in &traj.records {
+        if records
+            .last()
+            .is_none_or(|l: &&stillpoint::integrators::Record| r.step > l.step)
+        {
+            records.push(r);
+        }
+    }
+    let Some(first) = records.first() else {
+        return Err(refuse("it has no records".into()));
+    };
+    let u0 = first.energy;
+    if !(u0.is_finite() && u0 != 0.0) {
+        return Err(refuse(format!("the start energy is {u0}")));
+    }
+    let title = title.unwrap_or_else(|| traj.energy.clone().unwrap_or_else(|| "energy".into()));
+    let mut names: Vec<&str> = Vec::new();
+    for r in &records {
+        for (k, _) in &r.metrics {
+            if !names.contains(&k.as_str()) {
+                names.push(k);
+            }
+        }
+    }
+    let energy = |x: &dyn Fn(&stillpoint::integrators::Record) -> f64| Series {
+        name: "U / U(start)".into(),
+        points: records.iter().map(|r| (x(r), r.energy / u0)).collect(),
+    };
+    let metric = |x: &dyn Fn(&stillpoint::integrators::Record) -> f64| -> Vec<Series> {
+        names
+            .iter()
+            .map(|name| Series {
+                name: (*name).to_string(),
+                points: records
+                    .iter()
+                    .filter_map(|r| {
+                        r.metrics
+                            .iter()
+                            .find(|(k, _)| k == name)
+                            .map(|(_, v)| (x(r), *v))
+                    })
+                    .collect(),
+            })
+            .collect()
+    };
+    let by_step = |r: &stillpoint::integrators::Record| r.step as f64;
+    let by_time = |r: &stillpoint::integrators::Record| r.seconds;
+    let chart = |t: String, x: &str, y: &str, series: Vec<Series>| LineChart {
+        title: t,
+        x_label: x.into(),
+        y_label: y.into(),
+        log_y: false,
+        series,
+    };
+    let mut charts = vec![
+        chart(
+            format!("{title}: energy"),
+            "step",
+            "U / U(start)",
+            vec![energy(&by_step)],
+        ),
+        chart(
+            format!("{title}: energy"),
+            "seconds",
+            "U / U(start)",
+            vec![energy(&by_time)],
+        ),
+    ];
+    if !names.is_empty() {
+        charts.push(chart(
+            "discrepancies (roots)".into(),
+            "step",
+            "discrepancy",
+            metric(&by_step),
+        ));
+        charts.push(chart(
+            "discrepancies (roots)".into(),
+            "seconds",
+            "discrepancy",
+            metric(&by_time),
+        ));
+    }
+    stillpoint::plot::save_line_chart_grid(output, &charts, 2)?;
+    Ok(())
 }
 
 /// Draws the start beside the result, with the boundary when the domain has one and s = 2.

@@ -1,5 +1,6 @@
 //! Pictures of point sets: square scatter plots of coordinates 1 and 2, side by side, with
-//! region boundaries traced as lines, saved as PNG or SVG.
+//! region boundaries traced as lines; matrices of 2-D projections for s > 2; line charts
+//! of trajectories; saved as PNG or SVG.
 //!
 //! Everything is drawn headless with the DejaVu Sans font compiled into the binary
 //! (registered with plotters on first use), so pictures come out the same on a machine
@@ -591,6 +592,16 @@ const LINE_COLOURS: [RGBColor; 6] = [
 
 /// Saves line charts side by side (`.png` or `.svg` by extension), written atomically.
 pub fn save_line_charts(path: &Path, charts: &[LineChart]) -> Result<(), PlotError> {
+    save_line_chart_grid(path, charts, charts.len())
+}
+
+/// Saves line charts in a grid `columns` wide (clamped to 1..=charts.len()), each 700 ×
+/// 520 pixels, `.png` or `.svg` by extension, written atomically.
+pub fn save_line_chart_grid(
+    path: &Path,
+    charts: &[LineChart],
+    columns: usize,
+) -> Result<(), PlotError> {
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().into_owned())
@@ -608,13 +619,18 @@ pub fn save_line_charts(path: &Path, charts: &[LineChart]) -> Result<(), PlotErr
     if charts.is_empty() {
         return Err(PlotError::NoPanels);
     }
+    let (rows, columns) = grid(charts.len(), columns);
+    let (width, height) = (700 * columns as u64, 520 * rows as u64);
+    if width > MAX_SIDE as u64 || height > MAX_SIDE as u64 || width * height > MAX_PIXELS {
+        return Err(PlotError::TooLarge { width, height });
+    }
     register_font()?;
-    let size = (700 * charts.len() as u32, 520);
+    let size = (width as u32, height as u32);
     let bytes = if png {
         let mut rgb = vec![0u8; size.0 as usize * size.1 as usize * 3];
         {
             let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
-            draw_charts(&root, charts)?;
+            draw_charts(&root, charts, (rows, columns))?;
             root.present().map_err(draw_error)?;
         }
         encode_png(&rgb, size)?
@@ -622,7 +638,7 @@ pub fn save_line_charts(path: &Path, charts: &[LineChart]) -> Result<(), PlotErr
         let mut svg = String::new();
         {
             let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-            draw_charts(&root, charts)?;
+            draw_charts(&root, charts, (rows, columns))?;
             root.present().map_err(draw_error)?;
         }
         svg.into_bytes()
@@ -634,9 +650,10 @@ pub fn save_line_charts(path: &Path, charts: &[LineChart]) -> Result<(), PlotErr
 fn draw_charts<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     charts: &[LineChart],
+    shape: (usize, usize),
 ) -> Result<(), PlotError> {
     root.fill(&WHITE).map_err(draw_error)?;
-    for (chart, cell) in charts.iter().zip(root.split_evenly((1, charts.len()))) {
+    for (chart, cell) in charts.iter().zip(root.split_evenly(shape)) {
         let finite =
             |p: &&(f64, f64)| p.0.is_finite() && p.1.is_finite() && (!chart.log_y || p.1 > 0.0);
         let all: Vec<(f64, f64)> = chart
@@ -715,6 +732,194 @@ fn draw_charts<DB: DrawingBackend>(
             body!(builder
                 .build_cartesian_2d(x0..x1, y0..y1)
                 .map_err(draw_error)?);
+        }
+    }
+    Ok(())
+}
+
+/// Side in pixels of one cell of [`save_projection_matrix`].
+pub const MATRIX_CELL: u32 = 300;
+
+/// Saves a `dims` × `dims` matrix of the first `dims` coordinates of `points` (`.png` or
+/// `.svg` by extension, written atomically): cell (i, j) off the diagonal is the scatter
+/// plot of x_j (across) against x_i (up) over the box [lo, hi]; a diagonal cell is the
+/// histogram of x_i over [lo_i, hi_i], with the count a uniform spread would put in each
+/// bin drawn as a line. Each cell is [`MATRIX_CELL`] pixels square, under a title strip.
+pub fn save_projection_matrix(
+    path: &Path,
+    title: &str,
+    points: &PointSet,
+    dims: usize,
+    lo: &[f64],
+    hi: &[f64],
+) -> Result<(), PlotError> {
+    let picture = picture_format(path)?;
+    let refuse = |message: String| PlotError::Panel {
+        index: 1,
+        title: title.to_string(),
+        message,
+    };
+    if dims == 0 || dims > points.s() {
+        return Err(refuse(format!(
+            "{dims} coordinates asked for, the points have {} (expected 1 ≤ dims ≤ s)",
+            points.s()
+        )));
+    }
+    if lo.len() < dims || hi.len() < dims {
+        return Err(refuse(format!(
+            "the box has {} dimensions, {dims} are drawn",
+            lo.len().min(hi.len())
+        )));
+    }
+    for k in 0..dims {
+        if !(lo[k].is_finite() && hi[k].is_finite() && lo[k] < hi[k]) {
+            return Err(refuse(format!(
+                "the box for x{} is [{}, {}]; it needs finite lo < hi",
+                k + 1,
+                lo[k],
+                hi[k]
+            )));
+        }
+    }
+    let side = dims as u64 * MATRIX_CELL as u64;
+    let (width, height) = (side, side + TITLE_HEIGHT as u64);
+    if width > MAX_SIDE as u64 || height > MAX_SIDE as u64 || width * height > MAX_PIXELS {
+        return Err(PlotError::TooLarge { width, height });
+    }
+    register_font()?;
+    let size = (width as u32, height as u32);
+    let bytes = match picture {
+        Picture::Png => {
+            let mut rgb = vec![0u8; size.0 as usize * size.1 as usize * 3];
+            {
+                let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
+                draw_matrix(&root, title, points, dims, lo, hi)?;
+                root.present().map_err(draw_error)?;
+            }
+            encode_png(&rgb, size)?
+        }
+        Picture::Svg => {
+            let mut svg = String::new();
+            {
+                let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+                draw_matrix(&root, title, points, dims, lo, hi)?;
+                root.present().map_err(draw_error)?;
+            }
+            svg.into_bytes()
+        }
+    };
+    crate::io::write_atomic(path, &bytes)?;
+    Ok(())
+}
+
+fn picture_format(path: &Path) -> Result<Picture, PlotError> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    match ext.to_ascii_lowercase().as_str() {
+        "png" => Ok(Picture::Png),
+        "svg" => Ok(Picture::Svg),
+        _ => Err(PlotError::UnsupportedFormat {
+            path: path.to_path_buf(),
+            ext,
+        }),
+    }
+}
+
+fn draw_matrix<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    points: &PointSet,
+    dims: usize,
+    lo: &[f64],
+    hi: &[f64],
+) -> Result<(), PlotError> {
+    root.fill(&WHITE).map_err(draw_error)?;
+    let (title_area, body) = root.split_vertically(TITLE_HEIGHT);
+    let (tw, th) = title_area.dim_in_pixel();
+    let title_style = TextStyle::from(("sans-serif", 22).into_font())
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Center, VPos::Center));
+    title_area
+        .draw_text(title, &title_style, (tw as i32 / 2, th as i32 / 2))
+        .map_err(draw_error)?;
+    let radius = if points.n() <= 200 { 2 } else { 1 };
+    for (cell_index, cell) in body.split_evenly((dims, dims)).into_iter().enumerate() {
+        // Row 0 is at the top; the row's coordinate is drawn upwards.
+        let (row, col) = (cell_index / dims, cell_index % dims);
+        let mut builder = ChartBuilder::on(&cell);
+        builder
+            .margin(6)
+            .x_label_area_size(30)
+            .y_label_area_size(42);
+        if row == col {
+            let k = row;
+            let bins = ((points.n() as f64).sqrt().round() as usize).clamp(1, 40);
+            let width = (hi[k] - lo[k]) / bins as f64;
+            let mut counts = vec![0usize; bins];
+            for p in points.rows() {
+                if lo[k] <= p[k] && p[k] <= hi[k] {
+                    let b = (((p[k] - lo[k]) / width) as usize).min(bins - 1);
+                    counts[b] += 1;
+                }
+            }
+            let expected = points.n() as f64 / bins as f64;
+            let top = counts.iter().copied().max().unwrap_or(0) as f64;
+            let top = top.max(expected).max(1.0) * 1.15;
+            let mut chart = builder
+                .build_cartesian_2d(lo[k]..hi[k], 0.0..top)
+                .map_err(draw_error)?;
+            chart
+                .configure_mesh()
+                .x_desc(format!("x{}", k + 1))
+                .y_desc("count")
+                .x_labels(4)
+                .y_labels(4)
+                .max_light_lines(0)
+                .label_style(("sans-serif", 11))
+                .axis_desc_style(("sans-serif", 13))
+                .draw()
+                .map_err(draw_error)?;
+            chart
+                .draw_series(counts.iter().enumerate().map(|(b, &c)| {
+                    let x0 = lo[k] + b as f64 * width;
+                    Rectangle::new([(x0, 0.0), (x0 + width, c as f64)], POINT_COLOUR.filled())
+                }))
+                .map_err(draw_error)?;
+            chart
+                .draw_series(LineSeries::new(
+                    [(lo[k], expected), (hi[k], expected)],
+                    BOUNDARY_COLOUR.stroke_width(1),
+                ))
+                .map_err(draw_error)?;
+        } else {
+            let (kx, ky) = (col, row);
+            let mut chart = builder
+                .build_cartesian_2d(lo[kx]..hi[kx], lo[ky]..hi[ky])
+                .map_err(draw_error)?;
+            chart
+                .configure_mesh()
+                .x_desc(format!("x{}", kx + 1))
+                .y_desc(format!("x{}", ky + 1))
+                .x_labels(4)
+                .y_labels(4)
+                .max_light_lines(0)
+                .label_style(("sans-serif", 11))
+                .axis_desc_style(("sans-serif", 13))
+                .draw()
+                .map_err(draw_error)?;
+            let inside = |p: &[f64]| {
+                lo[kx] <= p[kx] && p[kx] <= hi[kx] && lo[ky] <= p[ky] && p[ky] <= hi[ky]
+            };
+            chart
+                .draw_series(
+                    points
+                        .rows()
+                        .filter(|p| inside(p))
+                        .map(|p| Circle::new((p[kx], p[ky]), radius, POINT_COLOUR.filled())),
+                )
+                .map_err(draw_error)?;
         }
     }
     Ok(())

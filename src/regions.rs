@@ -5,12 +5,13 @@
 //! first n inside) or a Halton variant of it, runs the DEM under a boundary-aware energy,
 //! and reports U_{E,∞,g} before and after (the paper's measure of uniformity in a region,
 //! where no discrepancy formula applies), with the minimum point and boundary distances.
+//! Region runs checkpoint and resume like cube runs ([`generate_in_region_with`]).
 
 use crate::energies::boundary::{UEInfG, UEpG};
 use crate::energies::einf::UEInf;
 use crate::energies::{Distance, Domain, Energy, PointSet};
-use crate::integrators::{Dem, Integrator, Kappa, RunOutput};
-use crate::run::LoggingObserver;
+use crate::integrators::{Dem, Kappa, Record, RunOutput};
+use crate::run::{dem_json, points_fingerprint, run_dem, CheckpointPlan, Event, LoggingObserver};
 use crate::{sequences, Error};
 use std::sync::Arc;
 use std::time::Instant;
@@ -200,19 +201,61 @@ pub fn region_start(cfg: &RegionConfig) -> Result<PointSet, Error> {
 /// Runs the DEM in a region.
 pub fn generate_in_region(
     cfg: &RegionConfig,
-    on_record: impl FnMut(&crate::integrators::Record),
+    mut on_record: impl FnMut(&crate::integrators::Record),
+) -> Result<RegionReport, Error> {
+    generate_in_region_with(cfg, None, |e| {
+        if let Event::Record(r) = e {
+            on_record(r)
+        }
+    })
+}
+
+/// Runs the DEM in a region as [`generate_in_region`] does, with checkpoints written (and
+/// an earlier one resumed) as `checkpoint` says, and every [`Event`] passed to
+/// `on_event`. A region is only known to the checkpoint by its bounding box and kind:
+/// callers that build it from text should put that text into the plan's `extra`.
+pub fn generate_in_region_with(
+    cfg: &RegionConfig,
+    checkpoint: Option<&CheckpointPlan>,
+    mut on_event: impl FnMut(Event),
 ) -> Result<RegionReport, Error> {
     let clock = Instant::now();
     let start = region_start(cfg)?;
     let energy = cfg.energy.build(cfg.domain.clone())?;
+    let config = region_config_json(cfg);
+    let resume = match checkpoint {
+        Some(plan) => plan.load_state(&config)?,
+        None => None,
+    };
+    on_event(Event::Stage {
+        name: "metrics",
+        steps: None,
+    });
     let before = RegionMetrics::compute(&cfg.domain, &start)?;
-    let mut observer = LoggingObserver::new(0, on_record);
-    let output = cfg.dem.run(
-        energy.as_ref(),
-        cfg.domain.as_ref(),
-        start.clone(),
-        &mut observer,
-    )?;
+    on_event(Event::Stage {
+        name: "DEM",
+        steps: Some(cfg.dem.steps as u64),
+    });
+    let output = {
+        let mut observer = LoggingObserver::new(0, |r: &Record| {
+            on_event(Event::Record(r));
+            on_event(Event::Progress(r.step as u64));
+        });
+        run_dem(
+            &cfg.dem,
+            energy.as_ref(),
+            cfg.domain.as_ref(),
+            start.clone(),
+            resume,
+            &mut observer,
+            checkpoint,
+            &config,
+        )?
+    };
+    on_event(Event::Stage {
+        name: "metrics",
+        steps: None,
+    });
     let after = RegionMetrics::compute(&cfg.domain, &output.points)?;
     Ok(RegionReport {
         start,
@@ -221,4 +264,29 @@ pub fn generate_in_region(
         metrics: (before, after),
         seconds: clock.elapsed().as_secs_f64(),
     })
+}
+
+/// Everything in a region configuration that decides its output, under the command
+/// line's option names (the region itself by its kind and box; see
+/// [`generate_in_region_with`]).
+pub fn region_config_json(cfg: &RegionConfig) -> serde_json::Value {
+    let mut v = serde_json::json!({
+        "run": "region",
+        "region": format!("{:?}", cfg.domain),
+        "-n": cfg.n,
+        "-s": cfg.domain.dim(),
+        "--energy": format!("{:?}", cfg.energy),
+        "--init": match &cfg.init {
+            RegionInit::Random => "random".to_string(),
+            RegionInit::Halton => "halton".to_string(),
+            RegionInit::Points(p) => format!("file: {}", points_fingerprint(p)),
+        },
+        "--seed": cfg.seed,
+    });
+    if let (serde_json::Value::Object(map), serde_json::Value::Object(dem)) =
+        (&mut v, dem_json(&cfg.dem))
+    {
+        map.extend(dem);
+    }
+    v
 }

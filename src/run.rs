@@ -1,5 +1,10 @@
 //! The run driver: turns a [`GenerateConfig`] into a start set, an energy and a DEM run,
 //! and reports the quality of the start and the result side by side.
+//!
+//! A DEM run can be checkpointed and resumed ([`CheckpointPlan`], [`generate_with`]): the
+//! checkpoint file holds the run's configuration and the DEM's whole state, so a resumed
+//! run ends with exactly the bytes of an uninterrupted one, and a checkpoint of another
+//! configuration is refused with the settings that differ.
 
 use crate::energies::discrepancy::{DiscrepancyEnergy, DiscrepancyKind};
 use crate::energies::einf::UEInf;
@@ -7,13 +12,15 @@ use crate::energies::shapes::BoxRegion;
 use crate::energies::{paper_qp, Distance, Domain, Energy, PeriodicCube, PointSet, Uqp};
 use crate::integrators::lbfgs::Lbfgs;
 use crate::integrators::{
-    Control, Dem, Integrator, Kappa, NoObserver, Observer, Record, Restart, RunOutput,
+    Control, Dem, DemState, Integrator, Kappa, Observer, Record, Restart, RunOutput, Snapshots,
 };
 use crate::metrics::{self, Metrics};
 use crate::sequences;
 use crate::shift::{self, ShiftOutcome};
 use crate::Error;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Where the DEM starts.
@@ -220,10 +227,41 @@ impl<F: FnMut(&Record)> Observer for LoggingObserver<F> {
     }
 }
 
+/// What a run reports while it works, for progress displays.
+#[derive(Debug, Clone, Copy)]
+pub enum Event<'a> {
+    /// A record of the main run (DEM or L-BFGS), as it is stored in the trajectory.
+    Record(&'a Record),
+    /// A stage begins: its name and its length in steps when it has one.
+    Stage {
+        /// `DEM`, `L-BFGS`, `shift selection`, `polish` or `metrics`.
+        name: &'static str,
+        /// Steps or iterations the stage may take.
+        steps: Option<u64>,
+    },
+    /// The current stage reached this step.
+    Progress(u64),
+}
+
 /// Runs the DEM for a configuration, calling `on_record` with every trajectory record.
 pub fn generate(
     cfg: &GenerateConfig,
-    on_record: impl FnMut(&Record),
+    mut on_record: impl FnMut(&Record),
+) -> Result<GenerateReport, Error> {
+    generate_with(cfg, None, |e| {
+        if let Event::Record(r) = e {
+            on_record(r)
+        }
+    })
+}
+
+/// Runs a configuration as [`generate`] does, with checkpoints written (and an earlier one
+/// resumed) as `checkpoint` says, and every [`Event`] passed to `on_event`. The shift
+/// selection and the polish run after the DEM, also after a resume.
+pub fn generate_with(
+    cfg: &GenerateConfig,
+    checkpoint: Option<&CheckpointPlan>,
+    mut on_event: impl FnMut(Event),
 ) -> Result<GenerateReport, Error> {
     let clock = Instant::now();
     let start = start_set(cfg)?;
@@ -280,19 +318,61 @@ pub fn generate(
         // 1.0 is the same point as 0.0 on the torus.
         PeriodicCube::wrap_set(&mut start);
     }
-    let mut observer = LoggingObserver::new(cfg.log_every, on_record);
+    let config = config_json(cfg);
+    let resume = match checkpoint {
+        Some(plan) if cfg.solver != Solver::Dem => {
+            return Err(Error::invalid(
+                if plan.resume.is_some() {
+                    "--resume"
+                } else {
+                    "--checkpoint"
+                },
+                plan.path.display(),
+                "a DEM run (checkpoints hold the DEM's state; --integrator lbfgs has none)",
+            ))
+        }
+        Some(plan) => plan.load_state(&config)?,
+        None => None,
+    };
     let (e, d) = (energy.as_ref(), domain.as_ref());
-    let mut output = match cfg.solver {
-        Solver::Dem => cfg.dem.run(e, d, start.clone(), &mut observer)?,
-        Solver::Lbfgs => {
-            let lbfgs = Lbfgs {
-                iterations: cfg.dem.steps,
-                ..cfg.lbfgs.clone()
-            };
-            lbfgs.run(e, d, start.clone(), &mut observer)?
+    let mut output = {
+        let main = match cfg.solver {
+            Solver::Dem => "DEM",
+            Solver::Lbfgs => "L-BFGS",
+        };
+        on_event(Event::Stage {
+            name: main,
+            steps: Some(cfg.dem.steps as u64),
+        });
+        let mut observer = LoggingObserver::new(cfg.log_every, |r: &Record| {
+            on_event(Event::Record(r));
+            on_event(Event::Progress(r.step as u64));
+        });
+        match cfg.solver {
+            Solver::Dem => run_dem(
+                &cfg.dem,
+                e,
+                d,
+                start.clone(),
+                resume,
+                &mut observer,
+                checkpoint,
+                &config,
+            )?,
+            Solver::Lbfgs => {
+                let lbfgs = Lbfgs {
+                    iterations: cfg.dem.steps,
+                    ..cfg.lbfgs.clone()
+                };
+                lbfgs.run(e, d, start.clone(), &mut observer)?
+            }
         }
     };
     let shift = if cfg.shifts > 0 && domain.is_periodic() {
+        on_event(Event::Stage {
+            name: "shift selection",
+            steps: None,
+        });
         let (points, outcome) = shift::best_shift(&output.points, cfg.shifts);
         output.points = points;
         Some(outcome)
@@ -312,7 +392,14 @@ pub fn generate(
                 iterations: cfg.dem.steps,
                 ..cfg.lbfgs.clone()
             };
-            let out = lbfgs.run(&e, d.as_ref(), output.points.clone(), &mut NoObserver)?;
+            on_event(Event::Stage {
+                name: "polish",
+                steps: Some(cfg.dem.steps as u64),
+            });
+            let mut progress = LoggingObserver::new(0, |r: &Record| {
+                on_event(Event::Progress(r.step as u64));
+            });
+            let out = lbfgs.run(&e, d.as_ref(), output.points.clone(), &mut progress)?;
             let iterations = out.trajectory.iter().map(|r| r.step).max().unwrap_or(0);
             let after = e.value(&out.points);
             if after < before {
@@ -335,6 +422,10 @@ pub fn generate(
             .map(|r| r.energy)
             .unwrap_or(f64::NAN),
     );
+    on_event(Event::Stage {
+        name: "metrics",
+        steps: None,
+    });
     let metrics_pair = (Metrics::compute(&start), Metrics::compute(&output.points));
     Ok(GenerateReport {
         energy_name: energy.name(),
@@ -347,6 +438,292 @@ pub fn generate(
         polish,
         seconds: clock.elapsed().as_secs_f64(),
     })
+}
+
+/// The DEM, writing checkpoints as `plan` says (and continuing `resume`).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn run_dem(
+    dem: &Dem,
+    energy: &dyn Energy,
+    domain: &dyn Domain,
+    start: PointSet,
+    resume: Option<DemState>,
+    observer: &mut dyn Observer,
+    plan: Option<&CheckpointPlan>,
+    config: &Value,
+) -> Result<RunOutput, Error> {
+    let mut save = |state: &DemState| -> Result<(), Error> {
+        match plan {
+            Some(plan) => plan.save(config, state),
+            None => Ok(()),
+        }
+    };
+    let snapshots = Snapshots {
+        every: plan.map_or(0, |p| p.every),
+        save: &mut save,
+    };
+    dem.run_from(energy, domain, start, resume, observer, snapshots)
+}
+
+// ---------------------------------------------------------------------------------------
+// Checkpoints
+// ---------------------------------------------------------------------------------------
+
+/// The `format` field of every checkpoint file.
+pub const CHECKPOINT_FORMAT: &str = "stillpoint checkpoint";
+
+/// The layout version of checkpoint files this build reads and writes.
+pub const CHECKPOINT_VERSION: u32 = 1;
+
+/// Where a run writes its checkpoints, how often, and where it resumes from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CheckpointPlan {
+    /// The checkpoint file, replaced atomically every `every` steps.
+    pub path: PathBuf,
+    /// Steps between checkpoints (0: none are written; a resume still reads `resume`).
+    pub every: usize,
+    /// A checkpoint to continue from (often `path` itself).
+    pub resume: Option<PathBuf>,
+    /// More configuration to record and compare on resume, beyond what the run's own
+    /// configuration holds (for example the text of a region's expression).
+    pub extra: Value,
+}
+
+impl CheckpointPlan {
+    /// Checkpoints to `path` every `every` steps, no resume.
+    pub fn new(path: impl Into<PathBuf>, every: usize) -> Self {
+        CheckpointPlan {
+            path: path.into(),
+            every,
+            resume: None,
+            extra: Value::Null,
+        }
+    }
+
+    fn config(&self, config: &Value) -> Value {
+        let mut config = config.clone();
+        if let (Value::Object(map), Value::Object(extra)) = (&mut config, &self.extra) {
+            for (k, v) in extra {
+                map.insert(k.clone(), v.clone());
+            }
+        }
+        config
+    }
+
+    /// Writes `state` to [`CheckpointPlan::path`] atomically.
+    pub(crate) fn save(&self, config: &Value, state: &DemState) -> Result<(), Error> {
+        let bytes = encode_checkpoint(&self.config(config), state).map_err(|e| {
+            Error::invalid(
+                "--checkpoint",
+                self.path.display(),
+                format!("a state that can be written as JSON ({e})"),
+            )
+        })?;
+        crate::io::write_atomic(&self.path, &bytes).map_err(|e| {
+            Error::invalid(
+                "--checkpoint",
+                self.path.display(),
+                format!("a file that can be written ({e})"),
+            )
+        })
+    }
+
+    /// Reads [`CheckpointPlan::resume`], if set, and checks it against `config`.
+    pub(crate) fn load_state(&self, config: &Value) -> Result<Option<DemState>, Error> {
+        let Some(path) = &self.resume else {
+            return Ok(None);
+        };
+        let checkpoint = read_checkpoint(path)?;
+        let expected = self.config(config);
+        let differences = config_differences(&checkpoint.config, &expected);
+        if !differences.is_empty() {
+            return Err(Error::invalid(
+                "--resume",
+                path.display(),
+                format!(
+                    "a checkpoint of this configuration; it was made with {} (resume with the \
+                     same settings, or start afresh without --resume)",
+                    differences.join(", ")
+                ),
+            ));
+        }
+        Ok(Some(checkpoint.state))
+    }
+}
+
+/// A checkpoint file: what made it and the DEM's state.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Checkpoint {
+    /// Always [`CHECKPOINT_FORMAT`].
+    pub format: String,
+    /// The layout version, [`CHECKPOINT_VERSION`].
+    pub version: u32,
+    /// The stillpoint version that wrote it; a resume needs the same one, since another
+    /// version may step differently.
+    pub stillpoint: String,
+    /// The run's configuration, as [`config_json`] gives it (plus the plan's extra keys).
+    pub config: Value,
+    /// FNV-1a 64 of the compact JSON of `state`, in hex: detects an edited or damaged
+    /// state that still parses.
+    pub checksum: String,
+    /// The DEM's state.
+    pub state: DemState,
+}
+
+/// FNV-1a, 64 bits: a fixed, dependency-free fingerprint (not a cryptographic hash).
+pub fn fnv1a64(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325u64, |h, &b| {
+        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// The bytes of a checkpoint file for `state` under `config`.
+pub fn encode_checkpoint(config: &Value, state: &DemState) -> serde_json::Result<Vec<u8>> {
+    let checksum = format!("{:016x}", fnv1a64(&serde_json::to_vec(state)?));
+    serde_json::to_vec(&Checkpoint {
+        format: CHECKPOINT_FORMAT.to_string(),
+        version: CHECKPOINT_VERSION,
+        stillpoint: env!("CARGO_PKG_VERSION").to_string(),
+        config: config.clone(),
+        checksum,
+        state: state.clone(),
+    })
+}
+
+/// Reads and checks a checkpoint file: its format, version, checksum and the shape of
+/// its state. Every refusal names the file and says what is accepted.
+pub fn read_checkpoint(path: &Path) -> Result<Checkpoint, Error> {
+    let refuse = |why: String| {
+        Error::invalid(
+            "--resume",
+            path.display(),
+            format!("a stillpoint checkpoint file ({why})"),
+        )
+    };
+    let bytes = std::fs::read(path).map_err(|e| refuse(format!("cannot read it: {e}")))?;
+    let head: Value = serde_json::from_slice(&bytes).map_err(|e| {
+        refuse(format!(
+            "not valid JSON, the file is damaged or truncated: {e}"
+        ))
+    })?;
+    if head.get("format").and_then(Value::as_str) != Some(CHECKPOINT_FORMAT) {
+        return Err(refuse(format!(
+            "it has no \"format\": \"{CHECKPOINT_FORMAT}\" field"
+        )));
+    }
+    if head.get("version").and_then(Value::as_u64) != Some(CHECKPOINT_VERSION as u64) {
+        return Err(refuse(format!(
+            "layout version {}, this build reads version {CHECKPOINT_VERSION}",
+            head.get("version").unwrap_or(&Value::Null)
+        )));
+    }
+    let made_by = head
+        .get("stillpoint")
+        .and_then(Value::as_str)
+        .unwrap_or("?");
+    if made_by != env!("CARGO_PKG_VERSION") {
+        return Err(refuse(format!(
+            "made by stillpoint {made_by}, this is {}; another version may step differently",
+            env!("CARGO_PKG_VERSION")
+        )));
+    }
+    let checkpoint: Checkpoint =
+        serde_json::from_value(head).map_err(|e| refuse(format!("its fields are damaged: {e}")))?;
+    let state_json = serde_json::to_vec(&checkpoint.state)
+        .map_err(|e| refuse(format!("its state cannot be re-encoded: {e}")))?;
+    if format!("{:016x}", fnv1a64(&state_json)) != checkpoint.checksum {
+        return Err(refuse(
+            "its checksum does not match its state: the file was changed or damaged".into(),
+        ));
+    }
+    let st = &checkpoint.state;
+    if st.current.len() != st.n * st.s || st.previous.len() != st.n * st.s {
+        return Err(refuse(format!(
+            "its state holds {} and {} coordinates for {} points in {} dimensions",
+            st.current.len(),
+            st.previous.len(),
+            st.n,
+            st.s
+        )));
+    }
+    Ok(checkpoint)
+}
+
+/// The settings `expected` holds that `found` (a checkpoint's) does not, as
+/// `--key = found (this run: expected)`.
+fn config_differences(found: &Value, expected: &Value) -> Vec<String> {
+    let (Value::Object(f), Value::Object(e)) = (found, expected) else {
+        return vec![format!("configuration {found} (this run: {expected})")];
+    };
+    let mut keys: Vec<&String> = f.keys().chain(e.keys()).collect();
+    keys.sort();
+    keys.dedup();
+    keys.into_iter()
+        .filter(|k| f.get(*k) != e.get(*k))
+        .map(|k| {
+            let show = |v: Option<&Value>| match v {
+                None | Some(Value::Null) => "(none)".to_string(),
+                Some(Value::String(s)) => s.clone(),
+                Some(v) => v.to_string(),
+            };
+            format!("{k} = {} (this run: {})", show(f.get(k)), show(e.get(k)))
+        })
+        .collect()
+}
+
+/// A fingerprint of a point set: n, s and the FNV-1a hash of its coordinates' bits.
+pub fn points_fingerprint(points: &PointSet) -> String {
+    let bytes: Vec<u8> = points
+        .as_slice()
+        .iter()
+        .flat_map(|v| v.to_bits().to_le_bytes())
+        .collect();
+    format!(
+        "{} points in {} dimensions, fnv1a64 {:016x}",
+        points.n(),
+        points.s(),
+        fnv1a64(&bytes)
+    )
+}
+
+/// The DEM's settings under their option names.
+pub(crate) fn dem_json(dem: &Dem) -> Value {
+    json!({
+        "--steps": dem.steps,
+        "--kappa": format!("{:?}", dem.kappa),
+        "--restart": format!("{:?}", dem.restart),
+        "--tolerance": dem.tolerance,
+        "dt": dem.dt,
+        "G": dem.g,
+    })
+}
+
+/// Everything in a configuration that decides its output, under the command line's
+/// option names: what a checkpoint records and a resume compares.
+pub fn config_json(cfg: &GenerateConfig) -> Value {
+    let mut v = json!({
+        "run": "cube",
+        "-n": cfg.n,
+        "-s": cfg.s,
+        "--energy": format!("{:?}", cfg.energy),
+        "--q": cfg.q.map(|q| format!("{q:?}")),
+        "--p": cfg.p,
+        "--init": match &cfg.init {
+            Init::Halton => "halton".to_string(),
+            Init::Random => "random".to_string(),
+            Init::Points(p) => format!("file: {}", points_fingerprint(p)),
+        },
+        "--seed": cfg.seed,
+        "--integrator": format!("{:?}", cfg.solver),
+        "--log-every": cfg.log_every,
+        "--shifts": cfg.shifts,
+        "--polish": cfg.polish.map(|k| format!("{k:?}")),
+        "lbfgs": format!("{:?}", cfg.lbfgs),
+    });
+    if let (Value::Object(map), Value::Object(dem)) = (&mut v, dem_json(&cfg.dem)) {
+        map.extend(dem);
+    }
+    v
 }
 
 /// Parses a κ setting: `auto` (the trial from 100) or a number ≥ 1.

@@ -11,6 +11,7 @@
 //! 1/A0 = 4/(μ0 (1 + √κ)²): the scheme is heavy-ball gradient descent and Δt, G cancel.
 
 use crate::{Control, Integrator, Observer, Record, RunOutput, StopReason};
+use serde::{Deserialize, Serialize};
 use std::time::Instant;
 use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Result};
 
@@ -279,23 +280,155 @@ impl State {
     }
 }
 
-impl Integrator for Dem {
-    fn name(&self) -> String {
-        match self.kappa {
-            Kappa::Fixed(k) => format!("DEM(κ={k}, steps={})", self.steps),
-            Kappa::Auto { start, .. } => format!("DEM(κ auto from {start}, steps={})", self.steps),
-        }
-    }
+/// Everything the DEM needs to continue a run bit for bit where it was interrupted: the
+/// positions x^(j) and x^(j−1), the step j, the κ trial, the restart counters, the lowest
+/// state seen and the trajectory so far. The scheme is deterministic, so no random state
+/// is needed; the start and μ0 are recomputed from the run's inputs and μ0 is compared
+/// with [`DemState::mu0`] so that a state cannot be continued under another energy or
+/// start.
+///
+/// A state is handed out by [`Dem::run_from`] every [`Snapshots::every`] steps, before
+/// x^(j) is evaluated; [`Dem::run_from`] with `Some(state)` goes on from there.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct DemState {
+    /// Number of points.
+    pub n: usize,
+    /// Dimension.
+    pub s: usize,
+    /// Step index j of [`DemState::current`], the next state to be evaluated and recorded.
+    pub step: usize,
+    /// x^(j), row per point.
+    pub current: Vec<f64>,
+    /// x^(j−1), row per point (equal to x^(j) when the next step starts from rest).
+    pub previous: Vec<f64>,
+    /// Whether the next step is the Taylor start from rest (after the start or a restart).
+    pub from_rest: bool,
+    /// μ0 = U(X0)/X0ᵀX0 of eq. 39, from the start.
+    pub mu0: f64,
+    /// The κ in use.
+    pub kappa: f64,
+    /// κ trials begun so far (1 for the first).
+    pub kappa_trials: usize,
+    /// Whether the largest κ also failed its trial and is used anyway.
+    pub kappa_trial_failed: bool,
+    /// Restarts of §4.3 so far.
+    pub restarts: usize,
+    /// Whether x^(j) came from a restart.
+    pub restarted: bool,
+    /// Largest coordinate move of the step that produced x^(j).
+    pub last_move: f64,
+    /// The lowest state seen so far, kept for non-smooth energies.
+    pub best: Option<BestState>,
+    /// Records of x^(0) .. x^(j−1).
+    pub trajectory: Vec<Record>,
+    /// Wall time of the run so far in seconds (the records' clock goes on from it).
+    pub seconds: f64,
+}
 
-    fn run(
+/// The lowest state a DEM run has seen (for non-smooth energies, which it returns).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BestState {
+    /// Its energy.
+    pub energy: f64,
+    /// Its step.
+    pub step: usize,
+    /// Its points, row per point.
+    pub points: Vec<f64>,
+}
+
+impl DemState {
+    /// Refuses a state that cannot be continued with this start and these settings,
+    /// naming what disagrees.
+    fn check(&self, dem: &Dem, start: &PointSet, mu0: f64) -> Result<()> {
+        let len = start.len();
+        if self.n != start.n() || self.s != start.s() {
+            return Err(Error::invalid(
+                "checkpoint",
+                format!("{} points in {} dimensions", self.n, self.s),
+                format!(
+                    "a state of this run ({} points in {} dimensions)",
+                    start.n(),
+                    start.s()
+                ),
+            ));
+        }
+        if self.current.len() != len
+            || self.previous.len() != len
+            || self.best.as_ref().is_some_and(|b| b.points.len() != len)
+        {
+            return Err(Error::invalid(
+                "checkpoint",
+                "a point buffer of the wrong length",
+                format!("{len} coordinates per buffer"),
+            ));
+        }
+        if self.mu0.to_bits() != mu0.to_bits() {
+            return Err(Error::invalid(
+                "checkpoint",
+                format!("μ0 = {}", self.mu0),
+                format!("μ0 = {mu0} of this start and energy (the state belongs to another run)"),
+            ));
+        }
+        if self.step > dem.steps || self.step == 0 || self.trajectory.len() != self.step {
+            return Err(Error::invalid(
+                "checkpoint step",
+                self.step,
+                format!(
+                    "a step in 1..={} with one record per earlier step",
+                    dem.steps
+                ),
+            ));
+        }
+        let fixed_ok = match dem.kappa {
+            Kappa::Fixed(k) => k.to_bits() == self.kappa.to_bits(),
+            Kappa::Auto { start, max, .. } => self.kappa >= start && self.kappa <= max,
+        };
+        if !(fixed_ok && self.kappa.is_finite() && self.kappa >= 1.0) {
+            return Err(Error::invalid(
+                "checkpoint κ",
+                self.kappa,
+                "the κ setting of this run",
+            ));
+        }
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        if !finite(&self.current) || !finite(&self.previous) || !self.last_move.is_finite() {
+            return Err(Error::invalid(
+                "checkpoint",
+                "a non-finite coordinate",
+                "finite positions",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Where [`Dem::run_from`] hands out its state: `save` is called every `every` steps
+/// (0: never), before the state of that step is evaluated.
+pub struct Snapshots<'a> {
+    /// Steps between two snapshots; 0 turns them off.
+    pub every: usize,
+    /// Receives each snapshot (for example to write a checkpoint file); an error ends the
+    /// run with that error.
+    pub save: &'a mut dyn FnMut(&DemState) -> Result<()>,
+}
+
+impl Dem {
+    /// Runs from `start`, or continues `resume` (a state this run handed out earlier),
+    /// handing out its state as `snapshots` asks. A continued run
+    /// returns exactly the points, trajectory energies and info of the uninterrupted
+    /// run; only the records' wall times differ. `save` may refuse with an error, which
+    /// ends the run with that error.
+    pub fn run_from(
         &self,
         energy: &dyn Energy,
         domain: &dyn Domain,
         start: PointSet,
+        resume: Option<DemState>,
         observer: &mut dyn Observer,
+        snapshots: Snapshots<'_>,
     ) -> Result<RunOutput> {
+        let Snapshots { every, save } = snapshots;
         self.validate(domain, &start)?;
-        let clock = Instant::now();
         let u0 = energy.value(&start);
         if !u0.is_finite() {
             return Err(Error::Numerical(format!(
@@ -320,7 +453,7 @@ impl Integrator for Dem {
 
         // κ trial (§4.1): each of the first `trial_steps` steps must lower the energy, or κ
         // grows and the run begins again from the start. An accepted trial's steps are kept.
-        let (mut kappa, factor, trial_steps, kmax) = match self.kappa {
+        let (kappa0, factor, trial_steps, kmax) = match self.kappa {
             Kappa::Fixed(k) => (k, 1.0, 0, k),
             Kappa::Auto {
                 start,
@@ -329,9 +462,9 @@ impl Integrator for Dem {
                 max,
             } => (start, factor, trial_steps, max),
         };
+        let mut kappa = kappa0;
         let mut trials = 1usize;
         let mut trial_failed = false;
-        let mut co = Coefficients::new(mu0, kappa, self.dt, self.g);
         let mut state = State::new(&start);
         let mut trajectory: Vec<Record> = Vec::with_capacity(self.steps + 1);
         let mut stop = StopReason::StepBudget;
@@ -342,7 +475,62 @@ impl Integrator for Dem {
         // state seen and return it (for a smooth energy the last state is returned).
         let keep_best = !energy.is_smooth();
         let mut best: Option<(f64, usize, PointSet)> = None;
+        let mut clock_offset = 0.0;
+        // The state a run resumed from is already saved; saving it again is wasted work.
+        let mut saved_at = None;
+        if let Some(r) = resume {
+            r.check(self, &start, mu0)?;
+            let (n, s) = (r.n, r.s);
+            let points = |v: Vec<f64>| PointSet::new(n, s, v);
+            kappa = r.kappa;
+            trials = r.kappa_trials;
+            trial_failed = r.kappa_trial_failed;
+            state.cur = points(r.current)?;
+            state.prev = points(r.previous)?;
+            state.from_rest = r.from_rest;
+            trajectory = r.trajectory;
+            trajectory.reserve(self.steps + 1 - r.step);
+            restarts = r.restarts;
+            restarted = r.restarted;
+            last_move = r.last_move;
+            j = r.step;
+            best = match r.best {
+                Some(b) => Some((b.energy, b.step, points(b.points)?)),
+                None => None,
+            };
+            clock_offset = r.seconds;
+            saved_at = Some(j);
+        }
+        let clock = Instant::now();
+        let elapsed = |clock: &Instant| clock_offset + clock.elapsed().as_secs_f64();
+        let mut co = Coefficients::new(mu0, kappa, self.dt, self.g);
         loop {
+            if every > 0 && j > 0 && j.is_multiple_of(every) && saved_at != Some(j) {
+                let snapshot = DemState {
+                    n: start.n(),
+                    s: start.s(),
+                    step: j,
+                    current: state.cur.as_slice().to_vec(),
+                    previous: state.prev.as_slice().to_vec(),
+                    from_rest: state.from_rest,
+                    mu0,
+                    kappa,
+                    kappa_trials: trials,
+                    kappa_trial_failed: trial_failed,
+                    restarts,
+                    restarted,
+                    last_move,
+                    best: best.as_ref().map(|(u, step, p)| BestState {
+                        energy: *u,
+                        step: *step,
+                        points: p.as_slice().to_vec(),
+                    }),
+                    trajectory: trajectory.clone(),
+                    seconds: elapsed(&clock),
+                };
+                save(&snapshot)?;
+                saved_at = Some(j);
+            }
             let u = state.evaluate(energy);
             // A blow-up after the trial (the energy non-finite or four times its start)
             // means κ was still too small for a stiffer state reached later: treat it as a
@@ -376,6 +564,7 @@ impl Integrator for Dem {
                         co = Coefficients::new(mu0, kappa, self.dt, self.g);
                         state = State::new(&start);
                         trajectory.clear();
+                        best = None;
                         restarts = 0;
                         (restarted, last_move, j) = (false, 0.0, 0);
                         continue;
@@ -391,7 +580,7 @@ impl Integrator for Dem {
             let mut rec = Record {
                 step: j,
                 energy: u,
-                seconds: clock.elapsed().as_secs_f64(),
+                seconds: elapsed(&clock),
                 max_move: last_move,
                 restarted,
                 metrics: Vec::new(),
@@ -418,7 +607,7 @@ impl Integrator for Dem {
                 let mut rec = Record {
                     step: j,
                     energy: u,
-                    seconds: clock.elapsed().as_secs_f64(),
+                    seconds: elapsed(&clock),
                     max_move: mv,
                     restarted,
                     metrics: Vec::new(),
@@ -442,7 +631,7 @@ impl Integrator for Dem {
                 let mut rec = Record {
                     step,
                     energy: u,
-                    seconds: clock.elapsed().as_secs_f64(),
+                    seconds: elapsed(&clock),
                     max_move: 0.0,
                     restarted: false,
                     metrics: Vec::new(),
@@ -472,5 +661,29 @@ impl Integrator for Dem {
             stop,
             info,
         })
+    }
+}
+
+impl Integrator for Dem {
+    fn name(&self) -> String {
+        match self.kappa {
+            Kappa::Fixed(k) => format!("DEM(κ={k}, steps={})", self.steps),
+            Kappa::Auto { start, .. } => format!("DEM(κ auto from {start}, steps={})", self.steps),
+        }
+    }
+
+    fn run(
+        &self,
+        energy: &dyn Energy,
+        domain: &dyn Domain,
+        start: PointSet,
+        observer: &mut dyn Observer,
+    ) -> Result<RunOutput> {
+        let mut ignore = |_: &DemState| Ok(());
+        let snapshots = Snapshots {
+            every: 0,
+            save: &mut ignore,
+        };
+        self.run_from(energy, domain, start, None, observer, snapshots)
     }
 }

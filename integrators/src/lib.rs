@@ -4,31 +4,55 @@
 //! central-difference scheme of the paper (eqs. 21–26, parameters eqs. 39–41, periodic
 //! wrap eq. 42, restart for unbiasedness eqs. 43–45). Every integrator returns its
 //! trajectory as [`Record`]s so that runs can be compared side by side, and calls an
-//! [`Observer`] after each step (progress bars, discrepancy logging, early stop).
+//! [`Observer`] after each step (progress bars, discrepancy logging, early stop). The DEM
+//! can also hand out its whole state as a [`DemState`] every k steps and continue from
+//! one bit for bit ([`Dem::run_from`]), which is what checkpoints are made of.
 
 mod dem;
 pub mod lbfgs;
 
-pub use dem::{Dem, Kappa, Restart};
+pub use dem::{BestState, Dem, DemState, Kappa, Restart, Snapshots};
 
-use serde::Serialize;
+use serde::{Deserialize, Deserializer, Serialize};
 use stillpoint_energies::{Domain, Energy, PointSet, Result};
 
 /// One entry of a trajectory: the state x^(step) before the step is taken.
-#[derive(Debug, Clone, PartialEq, Serialize)]
+///
+/// Serialised as `{"step", "energy", "seconds", "max_move", "restarted", "metrics":
+/// [[name, value], ..]}`; a non-finite number is written as `null` by JSON writers and
+/// read back as NaN.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Record {
     /// Step index j of x^(j); 0 is the start.
     pub step: usize,
     /// Energy at x^(j).
+    #[serde(deserialize_with = "number_or_nan")]
     pub energy: f64,
     /// Wall time since the run began, in seconds (not part of any reproducible output).
+    #[serde(deserialize_with = "number_or_nan")]
     pub seconds: f64,
     /// Largest coordinate change of the step that produced x^(j) (0 at the start).
+    #[serde(deserialize_with = "number_or_nan")]
     pub max_move: f64,
     /// Whether x^(j) came from a restart (§4.3) rather than a dynamic step.
     pub restarted: bool,
     /// Extra named values an observer attached (for example discrepancies every k steps).
+    #[serde(deserialize_with = "metrics_or_nan")]
     pub metrics: Vec<(String, f64)>,
+}
+
+fn number_or_nan<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+fn metrics_or_nan<'de, D: Deserializer<'de>>(
+    d: D,
+) -> std::result::Result<Vec<(String, f64)>, D::Error> {
+    let raw = Vec::<(String, Option<f64>)>::deserialize(d)?;
+    Ok(raw
+        .into_iter()
+        .map(|(k, v)| (k, v.unwrap_or(f64::NAN)))
+        .collect())
 }
 
 /// What an observer asks the integrator to do next.
@@ -57,7 +81,7 @@ impl Observer for NoObserver {
 }
 
 /// Why a run ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum StopReason {
     /// The step budget was used up.

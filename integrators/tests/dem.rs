@@ -225,3 +225,180 @@ fn bad_settings_are_refused() {
         .unwrap_err();
     assert!(err.to_string().contains("coincide"), "{err}");
 }
+
+/// Runs `dem` once with a snapshot every `every` steps, then continues from each
+/// snapshot and checks that the points, energies and info are the same bits.
+fn resumes_bit_for_bit(
+    dem: &Dem,
+    e: &dyn stillpoint_energies::Energy,
+    domain: &dyn Domain,
+    start: &PointSet,
+    every: usize,
+) {
+    use stillpoint_integrators::{DemState, Snapshots};
+    let mut states: Vec<DemState> = Vec::new();
+    let mut keep = |s: &DemState| {
+        states.push(s.clone());
+        Ok(())
+    };
+    let full = dem
+        .run_from(
+            e,
+            domain,
+            start.clone(),
+            None,
+            &mut NoObserver,
+            Snapshots {
+                every,
+                save: &mut keep,
+            },
+        )
+        .unwrap();
+    let plain = dem.run(e, domain, start.clone(), &mut NoObserver).unwrap();
+    let bits = |p: &PointSet| p.as_slice().iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+    let energies = |o: &stillpoint_integrators::RunOutput| {
+        o.trajectory
+            .iter()
+            .map(|r| (r.step, r.energy.to_bits(), r.restarted))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(
+        bits(&full.points),
+        bits(&plain.points),
+        "snapshots changed the run"
+    );
+    assert!(!states.is_empty(), "no snapshot was taken");
+    for state in states {
+        let step = state.step;
+        // Through JSON, as a checkpoint file holds it.
+        let text = serde_json::to_string(&state).unwrap();
+        let state: DemState = serde_json::from_str(&text).unwrap();
+        let resumed = dem
+            .run_from(
+                e,
+                domain,
+                start.clone(),
+                Some(state),
+                &mut NoObserver,
+                Snapshots {
+                    every: 0,
+                    save: &mut |_| Ok(()),
+                },
+            )
+            .unwrap();
+        assert_eq!(
+            bits(&resumed.points),
+            bits(&full.points),
+            "from step {step}"
+        );
+        assert_eq!(energies(&resumed), energies(&full), "from step {step}");
+        assert_eq!(resumed.stop, full.stop);
+        let info = |o: &stillpoint_integrators::RunOutput| {
+            o.info
+                .iter()
+                .map(|(k, v)| (k.clone(), v.to_bits()))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(info(&resumed), info(&full), "from step {step}");
+    }
+}
+
+#[test]
+fn a_resumed_run_is_the_same_bits_as_an_uninterrupted_one() {
+    // Restarts (tight ε_p), the κ trial and convergence all cross snapshots.
+    let cube = PeriodicCube::new(2).unwrap();
+    let start = cube.sample(40, 4).unwrap();
+    let e = Uqp::new(Distance::Q(0.3), 0.8).unwrap();
+    let dem = Dem {
+        steps: 150,
+        restart: Restart::Threshold(0.002),
+        ..Dem::default()
+    };
+    resumes_bit_for_bit(&dem, &e, &cube, &start, 7);
+    // κ trial from 1: snapshots during failed trials are taken and continued too.
+    let dem = Dem {
+        steps: 60,
+        kappa: Kappa::Auto {
+            start: 1.0,
+            factor: 2.0,
+            trial_steps: 20,
+            max: 1e8,
+        },
+        ..Dem::default()
+    };
+    resumes_bit_for_bit(&dem, &e, &cube, &start, 3);
+    // A non-smooth energy: the lowest state is kept and returned.
+    let einf = stillpoint_energies::einf::UEInf::new(Distance::Torus).unwrap();
+    let dem = Dem {
+        steps: 80,
+        ..Dem::default()
+    };
+    resumes_bit_for_bit(&dem, &einf, &cube, &start, 10);
+}
+
+#[test]
+fn a_state_of_another_run_is_refused() {
+    use stillpoint_integrators::{DemState, Snapshots};
+    let cube = PeriodicCube::new(2).unwrap();
+    let start = cube.sample(30, 1).unwrap();
+    let e = Uqp::new(Distance::Q(0.3), 0.8).unwrap();
+    let dem = Dem {
+        steps: 40,
+        ..Dem::default()
+    };
+    let mut last: Option<DemState> = None;
+    let mut keep = |s: &DemState| {
+        last = Some(s.clone());
+        Ok(())
+    };
+    dem.run_from(
+        &e,
+        &cube,
+        start.clone(),
+        None,
+        &mut NoObserver,
+        Snapshots {
+            every: 10,
+            save: &mut keep,
+        },
+    )
+    .unwrap();
+    let state = last.unwrap();
+    let resume = |dem: &Dem, e: &dyn Energy, start: &PointSet, st: DemState| {
+        dem.run_from(
+            e,
+            &cube,
+            start.clone(),
+            Some(st),
+            &mut NoObserver,
+            Snapshots {
+                every: 0,
+                save: &mut |_| Ok(()),
+            },
+        )
+        .map(|_| ())
+        .unwrap_err()
+        .to_string()
+    };
+    // Another energy, another start, a shorter budget, a damaged buffer.
+    let other = Uqp::new(Distance::Q(0.4), 0.8).unwrap();
+    assert!(resume(&dem, &other, &start, state.clone()).contains("another run"));
+    let start2 = cube.sample(30, 2).unwrap();
+    assert!(resume(&dem, &e, &start2, state.clone()).contains("another run"));
+    let short = Dem {
+        steps: 20,
+        ..dem.clone()
+    };
+    assert!(resume(&short, &e, &start, state.clone()).contains("step"));
+    let mut cut = state.clone();
+    cut.current.pop();
+    assert!(resume(&dem, &e, &start, cut).contains("length"));
+    let mut nan = state.clone();
+    nan.previous[3] = f64::NAN;
+    assert!(resume(&dem, &e, &start, nan).contains("finite"));
+    let fixed = Dem {
+        kappa: Kappa::Fixed(300.0),
+        ..dem.clone()
+    };
+    assert!(resume(&fixed, &e, &start, state).contains("κ"));
+}
