@@ -93,7 +93,8 @@ pub fn naive_uqp_gradient(points: &PointSet, q: f64, p: f64, grad: &mut [f64]) -
 /// pairs (i, l), one thread: the baseline of the vectorised half loop.
 pub fn naive_discrepancy_squared(points: &PointSet, kind: DiscrepancyKind) -> f64 {
     let (n, s) = (points.n() as f64, points.s());
-    let (constant, single, pair): (f64, fn(f64) -> f64, fn(f64, f64) -> f64) = match kind {
+    type Factors = (f64, fn(f64) -> f64, fn(f64, f64) -> f64);
+    let (constant, single, pair): Factors = match kind {
         DiscrepancyKind::StarL2 => (
             (1.0f64 / 3.0).powi(s as i32),
             |x| 0.5 * (1.0 - x * x),
@@ -600,7 +601,8 @@ mod tests {
     #[test]
     fn naive_discrepancies_agree_with_the_metrics() {
         let x = sequences::random(60, 4, 2).unwrap();
-        let cases: [(DiscrepancyKind, fn(&PointSet) -> f64); 4] = [
+        type Squared = fn(&PointSet) -> f64;
+        let cases: [(DiscrepancyKind, Squared); 4] = [
             (DiscrepancyKind::StarL2, metrics::star_l2_squared),
             (DiscrepancyKind::ModifiedL2, metrics::modified_l2_squared),
             (DiscrepancyKind::CenteredL2, metrics::centered_l2_squared),
