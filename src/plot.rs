@@ -393,6 +393,8 @@ fn draw_error(e: impl std::fmt::Display) -> PlotError {
 
 const POINT_COLOUR: RGBColor = RGBColor(31, 70, 160);
 const BOUNDARY_COLOUR: RGBColor = RGBColor(200, 40, 40);
+/// Lighter than the points, so that a histogram's red reference line stands out on it.
+const BAR_COLOUR: RGBColor = RGBColor(150, 175, 225);
 
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
@@ -884,7 +886,7 @@ fn draw_matrix<DB: DrawingBackend>(
             chart
                 .draw_series(counts.iter().enumerate().map(|(b, &c)| {
                     let x0 = lo[k] + b as f64 * width;
-                    Rectangle::new([(x0, 0.0), (x0 + width, c as f64)], POINT_COLOUR.filled())
+                    Rectangle::new([(x0, 0.0), (x0 + width, c as f64)], BAR_COLOUR.filled())
                 }))
                 .map_err(draw_error)?;
             chart

@@ -424,3 +424,179 @@ fn line_charts_render_and_refuse_unknown_formats() {
     assert!(!bad.exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Width and height from a PNG's header.
+fn png_size(path: &std::path::Path) -> (u32, u32) {
+    let bytes = fs::read(path).unwrap();
+    assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "PNG signature");
+    let be = |k: usize| u32::from_be_bytes([bytes[k], bytes[k + 1], bytes[k + 2], bytes[k + 3]]);
+    (be(16), be(20))
+}
+
+fn blue_pixels(path: &std::path::Path) -> usize {
+    let bytes = fs::read(path).unwrap();
+    let mut reader = png::Decoder::new(std::io::Cursor::new(&bytes))
+        .read_info()
+        .unwrap();
+    let mut pixels = vec![0u8; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut pixels).unwrap();
+    pixels[..info.buffer_size()]
+        .chunks_exact(3)
+        .filter(|p| p[2] > 120 && p[0] < 80)
+        .count()
+}
+
+#[test]
+fn projection_matrix_has_one_cell_per_pair_and_refuses_bad_input() {
+    use stillpoint::plot::{save_projection_matrix, MATRIX_CELL};
+    let dir = TempDir::new("matrix");
+    let (_, result) = sample_sets();
+    let path = dir.path("m.png");
+    save_projection_matrix(&path, "three", &result, 3, &[0.0; 3], &[1.0; 3]).unwrap();
+    let (w, h) = png_size(&path);
+    assert_eq!(w, 3 * MATRIX_CELL);
+    assert!(h > w, "a title strip above the cells");
+    assert!(blue_pixels(&path) > 1000, "points and histograms drawn");
+    let svg = dir.path("m.svg");
+    save_projection_matrix(&svg, "three", &result, 2, &[0.0; 3], &[1.0; 3]).unwrap();
+    let text = fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("x1") && text.contains("x2") && text.contains("count"));
+    // One coordinate: a lone histogram.
+    save_projection_matrix(&dir.path("one.png"), "one", &result, 1, &[0.0], &[1.0]).unwrap();
+    let bad = [
+        (0, vec![0.0; 3], vec![1.0; 3], "1 ≤ dims ≤ s"),
+        (4, vec![0.0; 4], vec![1.0; 4], "1 ≤ dims ≤ s"),
+        (3, vec![0.0; 2], vec![1.0; 2], "box has 2 dimensions"),
+        (2, vec![0.0, 1.0], vec![1.0, 1.0], "finite lo < hi"),
+    ];
+    for (dims, lo, hi, needle) in bad {
+        let p = dir.path("bad.png");
+        let e = save_projection_matrix(&p, "bad", &result, dims, &lo, &hi).unwrap_err();
+        assert!(e.to_string().contains(needle), "{e}");
+        assert!(!p.exists());
+    }
+    let e = save_projection_matrix(&dir.path("m.jpg"), "t", &result, 2, &[0.0; 3], &[1.0; 3])
+        .unwrap_err();
+    assert!(matches!(e, PlotError::UnsupportedFormat { .. }), "{e}");
+    assert!(!dir.entries().iter().any(|n| n.contains("tmp")));
+}
+
+#[test]
+fn line_chart_grid_lays_charts_in_rows() {
+    use stillpoint::plot::{save_line_chart_grid, LineChart, Series};
+    let dir = TempDir::new("grid");
+    let chart = |t: &str| LineChart {
+        title: t.into(),
+        x_label: "step".into(),
+        y_label: "energy".into(),
+        log_y: false,
+        series: vec![Series {
+            name: "U".into(),
+            points: (0..50)
+                .map(|k| (k as f64, 1.0 / (1.0 + k as f64)))
+                .collect(),
+        }],
+    };
+    let path = dir.path("g.png");
+    save_line_chart_grid(&path, &[chart("a"), chart("b"), chart("c")], 2).unwrap();
+    assert_eq!(png_size(&path), (1400, 1040));
+}
+
+fn cli(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_stillpoint"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn plot_command_draws_scatter_matrix_region_and_trajectory() {
+    let dir = TempDir::new("cli");
+    let pts = dir.path("p.csv");
+    let traj = dir.path("t.json");
+    let o = cli(&[
+        "generate",
+        "-n",
+        "60",
+        "-s",
+        "5",
+        "--steps",
+        "30",
+        "-q",
+        "-o",
+        pts.to_str().unwrap(),
+        "--trajectory",
+        traj.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let f = pts.to_str().unwrap();
+    // s = 5: the first min(s, 4) = 4 coordinates by default, or --dims.
+    let m4 = dir.path("m4.png");
+    assert!(cli(&["plot", f, "-o", m4.to_str().unwrap()])
+        .status
+        .success());
+    assert_eq!(png_size(&m4).0, 4 * stillpoint::plot::MATRIX_CELL);
+    let m2 = dir.path("m2.svg");
+    assert!(cli(&["plot", f, "--dims", "2", "-o", m2.to_str().unwrap()])
+        .status
+        .success());
+    assert!(fs::read_to_string(&m2).unwrap().starts_with("<svg"));
+    // Energy and the logged discrepancies against step and time: a 2 × 2 grid.
+    let t = dir.path("t.png");
+    let o = cli(&[
+        "plot",
+        "--trajectory",
+        traj.to_str().unwrap(),
+        "-o",
+        t.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(png_size(&t), (1400, 1040));
+    // A region's points with its boundary.
+    let r = dir.path("r.json");
+    let o = cli(&[
+        "generate",
+        "--region",
+        "x^2 + y^2 - 1",
+        "--box",
+        "-1,1,-1,1",
+        "-n",
+        "30",
+        "--steps",
+        "40",
+        "-q",
+        "-o",
+        r.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let with = dir.path("with.png");
+    let without = dir.path("without.png");
+    let o = cli(&[
+        "plot",
+        r.to_str().unwrap(),
+        "--region",
+        "x^2 + y^2 - 1",
+        "--box",
+        "-1,1,-1,1",
+        "-o",
+        with.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = cli(&[
+        "plot",
+        r.to_str().unwrap(),
+        "--box",
+        "-1,1,-1,1",
+        "-o",
+        without.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(png_size(&with), (PANEL_WIDTH, PANEL_HEIGHT));
+    assert!(
+        red_pixels(&with) > 200 + red_pixels(&without),
+        "boundary drawn"
+    );
+    // Points outside the unit cube without a box: their own bounding box.
+    let o = cli(&["plot", r.to_str().unwrap(), "-o", without.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
