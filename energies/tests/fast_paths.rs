@@ -1,0 +1,332 @@
+//! The vectorised kernels against straightforward ones written here from the paper's
+//! formulas: the per-coordinate accuracy of the general-q fast path (the bound stated in
+//! `uqp.rs`), whole energies and gradients for many (q, p, s, n), the fused discrepancy
+//! pair sums, the minimum distances, and thread-count independence.
+//!
+//! The vector path in use is the processor's (AVX2 + FMA here); run the suite again with
+//! `STILLPOINT_PORTABLE=1` to check the portable one against the same bounds.
+
+use rand::{RngExt, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use stillpoint_energies::discrepancy::{pair_product_sums, DiscrepancyKind};
+use stillpoint_energies::pairs::min_squared_distances;
+use stillpoint_energies::{Distance, Energy, PointSet, Uqp};
+
+fn random_set(n: usize, s: usize, seed: u64) -> PointSet {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    PointSet::new(n, s, (0..n * s).map(|_| rng.random::<f64>()).collect()).unwrap()
+}
+
+/// The stated bound: each h² and each h·h' of the general-q fast path is within this of
+/// the exact value, relative to h² and to Δ·v² = h²/Δ.
+const BOUND: f64 = 1e-12;
+
+/// h(Δ)² and h·h' from eq. 11 and eq. 16 as printed, for Δ ∈ (0, 1), evaluated in the
+/// most accurate f64 form at hand: h = Δ·(1 + r^q)^{−1/q}, r = Δ/(1 − Δ), through ln_1p
+/// and exp, and h·h' = h²·((1 − Δ) − tΔ)/(Δ(1 − Δ)(1 + t)) (eq. 16 rearranged).
+fn reference_q(delta: f64, q: f64) -> (f64, f64, f64) {
+    let d = if delta > 0.5 { 1.0 - delta } else { delta };
+    let u = 1.0 - d;
+    let t = (q * (d / u).ln()).exp();
+    let h = d * (-(t.ln_1p()) / q).exp();
+    let hh = h * h * (u - t * d) / (d * u * (1.0 + t));
+    let scale = h * h / d;
+    (h * h, if delta > 0.5 { -hh } else { hh }, scale)
+}
+
+/// U and its gradient for two points in one dimension, with p = 1 (so d^{−p} is an exact
+/// 1/√d² and only the coordinate kernel is approximated): U = 1/h, ∂U/∂x₁ = −a/h³.
+fn two_points(q: f64, x1: f64) -> (f64, f64) {
+    let x = PointSet::new(2, 1, vec![x1, 0.0]).unwrap();
+    let e = Uqp::new(Distance::Q(q), 1.0).unwrap();
+    let mut g = [0.0; 2];
+    let u = e.value_and_gradient(&x, &mut g);
+    (u, g[0])
+}
+
+#[test]
+fn general_q_kernel_within_the_stated_bound() {
+    let qs = [
+        0.01, 0.05, 0.0551, 0.1, 0.173, 0.3, 0.5, 0.84, 0.999, 1.001, 1.7, 2.5, 3.7, 10.0, 100.0,
+    ];
+    // Δ from 1e-80 to 1 − 1e-16, log-spaced towards both ends, a uniform grid and a fine
+    // one around the kink-free middle Δ = ½ (where h·h' passes through 0). Below 1e-80 the
+    // kernel keeps the bound, but this two-point energy's pair weight d^{−p−2} overflows.
+    let mut deltas: Vec<f64> = (0..=80).map(|k| 10f64.powf(-(k as f64))).collect();
+    deltas.extend((1..=16).map(|k| 1.0 - 10f64.powf(-(k as f64))));
+    deltas.extend((1..2000).map(|k| k as f64 / 2000.0));
+    deltas.extend((1..2000).map(|k| 0.5 + (k as f64 - 1000.0) * 1e-9));
+    let mut worst: f64 = 0.0;
+    for &q in &qs {
+        for &delta in &deltas {
+            if delta <= 0.0 || delta >= 1.0 {
+                continue;
+            }
+            let (h2, hh, scale) = reference_q(delta, q);
+            if !(h2 >= f64::MIN_POSITIVE) || !scale.is_finite() {
+                continue; // h² below the normal range: flushed, as documented.
+            }
+            let (u, g) = two_points(q, delta);
+            let got_h2 = 1.0 / (u * u);
+            let got_hh = -g * got_h2 * got_h2.sqrt();
+            let e_h2 = (got_h2 - h2).abs() / h2;
+            let e_hh = (got_hh - hh).abs() / scale;
+            worst = worst.max(e_h2).max(e_hh);
+            assert!(
+                e_h2 <= BOUND && e_hh <= BOUND,
+                "q={q} Δ={delta:e}: h² {got_h2:e} vs {h2:e} ({e_h2:e}), h·h' {got_hh:e} vs {hh:e} ({e_hh:e})"
+            );
+        }
+    }
+    eprintln!("general-q kernel: worst relative error {worst:e} (bound {BOUND:e})");
+}
+
+/// Straightforward U_{q,p} with its gradient: every pair twice, the kernels as printed
+/// (eq. 11 and 16 for finite q, eq. 9 for ∞, eq. 8 for 'E'), `powf` for every power.
+fn reference_uqp(x: &PointSet, dist: Distance, p: f64) -> (f64, Vec<f64>) {
+    let (n, s) = (x.n(), x.s());
+    let mut sum = 0.0;
+    let mut grad = vec![0.0; n * s];
+    let mut a = vec![0.0; s];
+    for i in 0..n {
+        for j in 0..n {
+            if i == j {
+                continue;
+            }
+            let mut d2 = 0.0;
+            for k in 0..s {
+                let diff = x.point(i)[k] - x.point(j)[k];
+                let (h2, hh) = match dist {
+                    Distance::Euclidean => (diff * diff, diff),
+                    Distance::Torus => {
+                        let dl = diff.abs().fract();
+                        let sg = diff.signum();
+                        if dl <= 0.5 {
+                            (dl * dl, if dl == 0.5 { 0.0 } else { sg * dl })
+                        } else {
+                            ((1.0 - dl) * (1.0 - dl), -sg * (1.0 - dl))
+                        }
+                    }
+                    Distance::Q(q) => {
+                        let dl = diff.abs().fract();
+                        if dl == 0.0 {
+                            (0.0, 0.0)
+                        } else {
+                            let w = dl.powf(q) + (1.0 - dl).powf(q);
+                            let h2 = (dl * (1.0 - dl)).powi(2) / w.powf(2.0 / q);
+                            let hh =
+                                dl * (1.0 - dl) * ((1.0 - dl).powf(q + 1.0) - dl.powf(q + 1.0))
+                                    / w.powf(1.0 + 2.0 / q);
+                            (h2, diff.signum() * hh)
+                        }
+                    }
+                };
+                d2 += h2;
+                a[k] = hh;
+            }
+            let d = d2.sqrt();
+            if j > i {
+                sum += d.powf(-p);
+            }
+            for k in 0..s {
+                grad[i * s + k] += a[k] / d.powf(p + 2.0);
+            }
+        }
+    }
+    let scale = -sum.powf(1.0 / p - 1.0);
+    grad.iter_mut().for_each(|g| *g *= scale);
+    (sum.powf(1.0 / p), grad)
+}
+
+fn norm_err(a: &[f64], b: &[f64]) -> f64 {
+    let num: f64 = a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>();
+    let den: f64 = b.iter().map(|y| y * y).sum::<f64>();
+    (num / den).sqrt()
+}
+
+#[test]
+fn energies_and_gradients_match_the_straightforward_kernel() {
+    let dists = [
+        Distance::Q(0.05),
+        Distance::Q(0.0551),
+        Distance::Q(0.3),
+        Distance::Q(1.0),
+        Distance::Q(2.0),
+        Distance::Q(3.7),
+        Distance::Torus,
+        Distance::Euclidean,
+    ];
+    let sizes = [
+        (2usize, 1usize),
+        (3, 2),
+        (17, 3),
+        (33, 1),
+        (70, 7),
+        (129, 20),
+        (300, 2),
+    ];
+    let mut worst: (f64, f64) = (0.0, 0.0);
+    for (di, &dist) in dists.iter().enumerate() {
+        for &p in &[0.05, 0.5, 0.84, 1.0, 2.0, 3.3] {
+            for &(n, s) in &sizes {
+                let x = random_set(n, s, 7 + 13 * di as u64 + n as u64 * s as u64);
+                let e = Uqp::new(dist, p).unwrap();
+                let mut g = vec![0.0; x.len()];
+                let u = e.value_and_gradient(&x, &mut g);
+                assert_eq!(u.to_bits(), e.value(&x).to_bits(), "value paths differ");
+                let (u_ref, g_ref) = reference_uqp(&x, dist, p);
+                let eu = (u - u_ref).abs() / u_ref;
+                let eg = norm_err(&g, &g_ref);
+                worst = (worst.0.max(eu), worst.1.max(eg));
+                assert!(
+                    eu < 1e-11 && eg < 1e-10,
+                    "{dist:?} p={p} n={n} s={s}: value {eu:e}, gradient {eg:e}"
+                );
+            }
+        }
+    }
+    eprintln!(
+        "energy relative error ≤ {:e}, gradient ≤ {:e}",
+        worst.0, worst.1
+    );
+}
+
+#[test]
+fn saturation_is_as_documented() {
+    // Coincident points: +∞ energy, finite (zero) gradient; points far apart in 'E' with a
+    // large p: d^{−p} underflows to 0.
+    let x = PointSet::from_rows(&[[0.3, 0.3], [0.3, 0.3]]).unwrap();
+    for dist in [Distance::Q(0.2), Distance::Q(1.0), Distance::Torus] {
+        let e = Uqp::new(dist, 1.5).unwrap();
+        let mut g = [0.0; 4];
+        assert!(e.value_and_gradient(&x, &mut g).is_infinite());
+        assert!(g.iter().all(|v| v.is_finite()));
+    }
+    // Equal coordinates in some dimensions only: h = 0 there, no NaN.
+    let x = PointSet::from_rows(&[[0.3, 0.1], [0.3, 0.6], [0.2, 0.6]]).unwrap();
+    let e = Uqp::new(Distance::Q(0.07), 0.9).unwrap();
+    let mut g = [0.0; 6];
+    let u = e.value_and_gradient(&x, &mut g);
+    let (u_ref, g_ref) = reference_uqp(&x, Distance::Q(0.07), 0.9);
+    assert!((u - u_ref).abs() < 1e-12 * u_ref);
+    assert!(norm_err(&g, &g_ref) < 1e-10);
+}
+
+#[test]
+fn same_bits_for_one_and_two_threads_every_kernel() {
+    // Large enough for several blocks and the parallel schedule.
+    let x = random_set(700, 5, 99);
+    let run = |t: usize, e: &dyn Energy| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build()
+            .unwrap()
+            .install(|| {
+                let mut g = vec![0.0; x.len()];
+                let u = e.value_and_gradient(&x, &mut g);
+                let v = e.value(&x);
+                (
+                    u.to_bits(),
+                    v.to_bits(),
+                    g.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                )
+            })
+    };
+    for dist in [
+        Distance::Q(0.06),
+        Distance::Q(1.0),
+        Distance::Q(2.0),
+        Distance::Torus,
+        Distance::Euclidean,
+    ] {
+        let e = Uqp::new(dist, 0.7).unwrap();
+        assert_eq!(run(1, &e), run(2, &e), "{dist:?}");
+        assert_eq!(run(1, &e), run(3, &e), "{dist:?}");
+    }
+}
+
+/// Σ_{i<j} Π_k K(x_ik, x_jk) as a plain loop.
+fn reference_pair_sum(x: &PointSet, k: fn(f64, f64) -> f64) -> f64 {
+    let mut sum = 0.0;
+    for i in 0..x.n() {
+        for j in i + 1..x.n() {
+            sum += x
+                .point(i)
+                .iter()
+                .zip(x.point(j))
+                .map(|(&a, &b)| k(a, b))
+                .product::<f64>();
+        }
+    }
+    sum
+}
+
+#[test]
+fn fused_pair_sums_equal_single_ones_and_the_plain_loop() {
+    use DiscrepancyKind::*;
+    let all = [StarL2, ModifiedL2, CenteredL2, WrapAroundL2];
+    let kernels: [fn(f64, f64) -> f64; 4] = [
+        |x, y| 1.0 - x.max(y),
+        |x, y| 2.0 - x.max(y),
+        |x, y| 1.0 + 0.5 * (x - 0.5).abs() + 0.5 * (y - 0.5).abs() - 0.5 * (x - y).abs(),
+        |x, y| {
+            let d = (x - y).abs();
+            1.5 - d * (1.0 - d)
+        },
+    ];
+    for &(n, s) in &[(1usize, 3usize), (2, 1), (31, 4), (100, 12), (650, 3)] {
+        let x = random_set(n, s, 300 + n as u64);
+        let fused = pair_product_sums(&x, &all);
+        let pair = pair_product_sums(&x, &[StarL2, ModifiedL2]);
+        for (m, &kind) in all.iter().enumerate() {
+            let single = pair_product_sums(&x, &[kind])[0];
+            assert_eq!(fused[m].to_bits(), single.to_bits(), "{kind:?} n={n}");
+            if m < 2 {
+                assert_eq!(pair[m].to_bits(), single.to_bits(), "{kind:?} n={n}");
+            }
+            let want = reference_pair_sum(&x, kernels[m]);
+            assert!(
+                // Two summation orders of up to 2·10⁵ positive terms.
+                (single - want).abs() <= 1e-12 * want.abs().max(1.0),
+                "{kind:?} n={n} s={s}: {single} vs {want}"
+            );
+        }
+        // Other orders run kind by kind, with the same bits.
+        let rev = pair_product_sums(&x, &[WrapAroundL2, StarL2]);
+        assert_eq!(rev[0].to_bits(), fused[3].to_bits());
+        assert_eq!(rev[1].to_bits(), fused[0].to_bits());
+    }
+}
+
+#[test]
+fn minimum_distances_match_brute_force() {
+    for &(n, s) in &[(1usize, 2usize), (2, 1), (40, 3), (333, 2), (900, 6)] {
+        let mut x = random_set(n, s, 500 + n as u64);
+        if n > 10 {
+            // A near-duplicate pair and a pair close only across the periodic boundary.
+            let p = x.point(3).to_vec();
+            x.point_mut(7).copy_from_slice(&p);
+            x.point_mut(7)[0] += 1e-9;
+            x.point_mut(8)[0] = 0.999_999;
+            let q = x.point(8).to_vec();
+            x.point_mut(9).copy_from_slice(&q);
+            x.point_mut(9)[0] = 0.000_001;
+        }
+        let got = min_squared_distances(x.as_slice(), n, s);
+        let (mut e, mut t) = (f64::INFINITY, f64::INFINITY);
+        for i in 0..n {
+            for j in i + 1..n {
+                let (mut de, mut dt) = (0.0, 0.0);
+                for k in 0..s {
+                    let d = (x.point(i)[k] - x.point(j)[k]).abs();
+                    de += d * d;
+                    let w = if d > 0.5 { 1.0 - d } else { d };
+                    dt += w * w;
+                }
+                e = e.min(de);
+                t = t.min(dt);
+            }
+        }
+        assert_eq!(got, [e, t], "n={n} s={s}");
+    }
+}
