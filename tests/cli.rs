@@ -294,3 +294,170 @@ fn bad_input_is_refused_clearly_and_writes_nothing() {
         assert_eq!(files_in(&d), before, "{args:?} left a file behind");
     }
 }
+
+/// One point set written by `generate` in every format (chosen by extension).
+fn one_set_in_every_format(d: &Path) -> Vec<PathBuf> {
+    ["csv", "tsv", "json", "npy"]
+        .iter()
+        .map(|ext| {
+            let f = d.join(format!("p.{ext}"));
+            let o = run(&[
+                "generate",
+                "-n",
+                "40",
+                "-s",
+                "3",
+                "--steps",
+                "20",
+                "-o",
+                f.to_str().unwrap(),
+                "-q",
+            ]);
+            assert!(o.status.success(), "{ext}: {}", stderr(&o));
+            f
+        })
+        .collect()
+}
+
+#[test]
+fn eval_integrate_and_plot_read_every_format() {
+    let d = tmpdir("every-format");
+    let files = one_set_in_every_format(&d);
+    let mut evals = Vec::new();
+    let mut integrals = Vec::new();
+    let mut pictures = Vec::new();
+    for f in &files {
+        let name = f.to_str().unwrap();
+        let e = run(&["eval", name, "--json"]);
+        assert!(e.status.success(), "eval {name}: {}", stderr(&e));
+        let v: serde_json::Value = serde_json::from_slice(&e.stdout).unwrap();
+        assert_eq!((v["n"].as_u64(), v["s"].as_u64()), (Some(40), Some(3)));
+        evals.push(e.stdout);
+        let i = run(&["integrate", name, "--json"]);
+        assert!(i.status.success(), "integrate {name}: {}", stderr(&i));
+        let mut v: serde_json::Value = serde_json::from_slice(&i.stdout).unwrap();
+        v["file"] = serde_json::Value::Null;
+        assert_eq!(v["functions"].as_array().map(Vec::len), Some(8));
+        integrals.push(v);
+        let pic = f.with_extension(format!("{}.png", f.extension().unwrap().to_str().unwrap()));
+        let p = run(&["plot", name, "-o", pic.to_str().unwrap(), "--title", "same"]);
+        assert!(p.status.success(), "plot {name}: {}", stderr(&p));
+        pictures.push(std::fs::read(&pic).unwrap());
+    }
+    // The same points in every format: the same numbers and the same picture.
+    assert!(
+        evals.windows(2).all(|w| w[0] == w[1]),
+        "eval differs by format"
+    );
+    assert!(
+        integrals.windows(2).all(|w| w[0] == w[1]),
+        "integrate differs"
+    );
+    assert!(pictures.windows(2).all(|w| w[0] == w[1]), "plot differs");
+}
+
+#[test]
+fn point_files_record_generator_parameters_seed_version_and_metrics() {
+    let d = tmpdir("headers");
+    let files = one_set_in_every_format(&d);
+    let csv = std::fs::read_to_string(&files[0]).unwrap();
+    let tsv = std::fs::read_to_string(&files[1]).unwrap();
+    for (text, sep) in [(&csv, ","), (&tsv, "\t")] {
+        let header: Vec<&str> = text.lines().take_while(|l| l.starts_with('#')).collect();
+        for key in [
+            "# generator: \"stillpoint generate\"",
+            "# version: \"",
+            "# seed: 0",
+            "# parameters: {",
+            "\"steps\":20",
+            "\"energy\":\"U_{q,p}",
+            "# metrics: {",
+            "\"modified_l2\":",
+        ] {
+            assert!(
+                header.iter().any(|l| l.contains(key)),
+                "{key} missing from {header:?}"
+            );
+        }
+        let columns = text.lines().find(|l| !l.starts_with('#')).unwrap();
+        assert_eq!(columns, ["x1", "x2", "x3"].join(sep));
+    }
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&files[2]).unwrap()).unwrap();
+    assert_eq!(json["meta"]["generator"], "stillpoint generate");
+    assert_eq!(json["meta"]["parameters"]["n"], 40);
+    assert!(json["meta"]["metrics"]["star_l2"].as_f64().unwrap() > 0.0);
+    assert_eq!(json["points"].as_array().unwrap().len(), 40);
+    // A baseline says which generator and seed made it, in every format.
+    for ext in ["csv", "json"] {
+        let f = d.join(format!("sobol.{ext}"));
+        let o = run(&[
+            "baseline",
+            "sobol",
+            "-n",
+            "32",
+            "-s",
+            "2",
+            "--seed",
+            "9",
+            "-o",
+            f.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let text = std::fs::read_to_string(&f).unwrap();
+        assert!(text.contains("stillpoint baseline sobol"), "{text}");
+        assert!(
+            text.contains("\"baseline\":\"sobol\"") || text.contains("\"baseline\": \"sobol\"")
+        );
+        assert!(
+            text.contains("\"seed\":9") || text.contains("# seed: 9"),
+            "{text}"
+        );
+        assert!(text.contains("modified_l2"), "{text}");
+    }
+    // --json summaries of baseline: the points when there is no -o.
+    let o = run(&["baseline", "halton", "-n", "8", "-s", "2", "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["points"].as_array().unwrap().len(), 8);
+    assert_eq!(v["parameters"]["baseline"], "halton");
+}
+
+#[test]
+fn generate_writes_checkpoints_and_names_them_in_its_help() {
+    let d = tmpdir("ckpt");
+    let ck = d.join("run.ckpt");
+    let out = d.join("p.csv");
+    let o = run(&[
+        "generate",
+        "-n",
+        "30",
+        "-s",
+        "2",
+        "--steps",
+        "40",
+        "--tolerance",
+        "0",
+        "--checkpoint",
+        ck.to_str().unwrap(),
+        "--checkpoint-every",
+        "10",
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&ck).unwrap()).unwrap();
+    assert_eq!(v["format"], "stillpoint checkpoint");
+    assert_eq!(v["state"]["step"], 40);
+    assert_eq!(v["config"]["--steps"], 40);
+    assert_eq!(
+        files_in(&d),
+        vec!["p.csv".to_string(), "run.ckpt".to_string()]
+    );
+    let help = run(&["generate", "--help"]);
+    let text = String::from_utf8_lossy(&help.stdout);
+    for flag in ["--checkpoint", "--checkpoint-every", "--resume", "--quiet"] {
+        assert!(text.contains(flag), "{flag} missing from generate --help");
+    }
+}
