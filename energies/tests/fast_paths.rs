@@ -63,7 +63,7 @@ fn general_q_kernel_within_the_stated_bound() {
                 continue;
             }
             let (h2, hh, scale) = reference_q(delta, q);
-            if !(h2 >= f64::MIN_POSITIVE) || !scale.is_finite() {
+            if h2 < f64::MIN_POSITIVE || h2.is_nan() || !scale.is_finite() {
                 continue; // h² below the normal range: flushed, as documented.
             }
             let (u, g) = two_points(q, delta);
@@ -94,7 +94,7 @@ fn reference_uqp(x: &PointSet, dist: Distance, p: f64) -> (f64, Vec<f64>) {
                 continue;
             }
             let mut d2 = 0.0;
-            for k in 0..s {
+            for (k, ak) in a.iter_mut().enumerate() {
                 let diff = x.point(i)[k] - x.point(j)[k];
                 let (h2, hh) = match dist {
                     Distance::Euclidean => (diff * diff, diff),
@@ -122,7 +122,7 @@ fn reference_uqp(x: &PointSet, dist: Distance, p: f64) -> (f64, Vec<f64>) {
                     }
                 };
                 d2 += h2;
-                a[k] = hh;
+                *ak = hh;
             }
             let d = d2.sqrt();
             if j > i {
