@@ -1,0 +1,107 @@
+#!/usr/bin/env python3
+"""Side by side: SciPy's `qmc.discrepancy` and stillpoint on the same points.
+
+Times the squared centred L2 discrepancy (SciPy's 'CD', which SciPy returns squared) and
+the star L2 discrepancy (SciPy's 'L2-star', which SciPy returns as a root) with two
+threads on both sides (SciPy's workers=2, RAYON_NUM_THREADS=2), for n = 1500 and 10 000
+and s = 2, 6 and 20, prints the median times, their ratios, and checks that the values
+agree. SciPy's 'MD' is the mixture discrepancy, not the modified L2 of the paper, so it is
+not compared.
+
+Our side runs `stillpoint bench` in its points mode (environment variable
+STILLPOINT_BENCH_POINTS=<file.npy>; see src/bench.rs), which times only the two
+discrepancies on the file's points.
+
+Usage:
+    cargo build --release
+    python3 benches/scipy_discrepancy.py [--stillpoint target/release/stillpoint]
+        [--quick] [--reps 3]
+
+Skipped, with exit status 0 and a message, when NumPy or SciPy is not installed
+(`pip install scipy` installs both).
+"""
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+import warnings
+
+
+def main() -> int:
+    here = os.path.dirname(os.path.abspath(__file__))
+    root = os.path.dirname(here)
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--stillpoint", default=os.path.join(root, "target", "release", "stillpoint"),
+                    help="the stillpoint binary (default: target/release/stillpoint)")
+    ap.add_argument("--reps", type=int, default=3, help="runs per median (default 3)")
+    ap.add_argument("--quick", action="store_true", help="n = 1500 only")
+    args = ap.parse_args()
+
+    try:
+        import numpy as np
+        from scipy.stats import qmc
+        import scipy
+    except ImportError as e:
+        print(f"SKIPPED: SciPy is not installed ({e}); `pip install scipy` to run this comparison.")
+        return 0
+    if not os.access(args.stillpoint, os.X_OK):
+        print(f"error: {args.stillpoint} is not an executable; build it with `cargo build --release`"
+              " or pass --stillpoint", file=sys.stderr)
+        return 2
+
+    print(f"SciPy {scipy.__version__}, NumPy {np.__version__}; 2 threads on both sides; "
+          f"medians of {args.reps} runs\n")
+    print("| n | s | SciPy CD s | ours CD s | CD speed-up | SciPy L2-star s | ours L2-star s "
+          "| L2-star speed-up | CD² diff / C_s | L2-star² diff / C_s |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    ok = True
+    ns = [1500] if args.quick else [1500, 10_000]
+    with tempfile.TemporaryDirectory() as tmp:
+        for n in ns:
+            for s in (2, 6, 20):
+                # Scrambled Sobol' (n is not a power of 2, which only matters for its
+                # balance, not here).
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    x = qmc.Sobol(d=s, scramble=True, seed=12345).random(n)
+                path = os.path.join(tmp, f"points_{n}_{s}.npy")
+                np.save(path, x.astype(np.float64))
+
+                def scipy_time(method):
+                    times, value = [], None
+                    for _ in range(args.reps):
+                        t0 = time.perf_counter()
+                        value = qmc.discrepancy(x, method=method, workers=2)
+                        times.append(time.perf_counter() - t0)
+                    return statistics.median(times), value
+
+                t_cd, v_cd = scipy_time("CD")
+                t_l2, v_l2 = scipy_time("L2-star")
+
+                env = dict(os.environ, STILLPOINT_BENCH_POINTS=path,
+                           STILLPOINT_BENCH_REPS=str(args.reps), RAYON_NUM_THREADS="2")
+                out = subprocess.run([args.stillpoint, "bench"], env=env, check=True,
+                                     capture_output=True, text=True).stdout
+                ours = json.loads(out.strip().splitlines()[-1])
+                # SciPy: CD squared, L2-star a root; ours: the same conventions. The squares
+                # are differences of terms of size C_s = (13/12)^s and (1/3)^s that cancel
+                # to a small D², so they are compared relative to C_s.
+                d_cd = abs(ours["centered_l2_squared"] - v_cd) / (13 / 12) ** s
+                d_l2 = abs(ours["star_l2"] ** 2 - v_l2 ** 2) / (1 / 3) ** s
+                ok &= d_cd < 1e-12 and d_l2 < 1e-12
+                print(f"| {n} | {s} | {t_cd:.4f} | {ours['centered_seconds']:.4f} "
+                      f"| {t_cd / ours['centered_seconds']:.1f}× | {t_l2:.4f} "
+                      f"| {ours['star_seconds']:.4f} | {t_l2 / ours['star_seconds']:.1f}× "
+                      f"| {d_cd:.1e} | {d_l2:.1e} |", flush=True)
+    print("\nvalues agree (squares within 1e-12 of the constant term C_s)" if ok
+          else "\nVALUES DISAGREE (a square differs by 1e-12·C_s or more)")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
