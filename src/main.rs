@@ -647,7 +647,13 @@ fn generate(a: GenerateArgs) -> Result<()> {
     let init = match init.as_deref().unwrap_or("halton") {
         "halton" => Init::Halton,
         "random" => Init::Random,
-        path => Init::Points(io::read_points(std::path::Path::new(path)).context("--init")?),
+        path => {
+            let points = io::read_points(std::path::Path::new(path)).context("--init")?;
+            points
+                .check_unit_cube()
+                .with_context(|| format!("--init: {path}"))?;
+            Init::Points(points)
+        }
     };
     let (n, s) = match (&init, n, s) {
         (Init::Points(p), n, s) => (n.unwrap_or(p.n()), s.unwrap_or(p.s())),
@@ -679,11 +685,15 @@ fn generate(a: GenerateArgs) -> Result<()> {
         "lbfgs" => Solver::Lbfgs,
         other => bail!("invalid --integrator = {other}: expected dem or lbfgs"),
     };
-    cfg.q = q
-        .as_deref()
-        .map(Distance::parse)
-        .transpose()
-        .context("--q")?;
+    cfg.q = match q.as_deref() {
+        Some(text) => Some(Distance::parse(text).map_err(|_| {
+            anyhow::anyhow!(
+                "invalid --q = {text}: expected a number in (0, ∞), `inf` (the torus distance) \
+                 or `E` (Euclidean)"
+            )
+        })?),
+        None => None,
+    };
     cfg.p = p;
     cfg.init = init;
     cfg.seed = seed;

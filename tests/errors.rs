@@ -1,0 +1,709 @@
+//! Bad input, through the command and through the library: every refusal names the
+//! argument and what is accepted, ends with a non-zero exit status and no panic, and
+//! leaves every file as it was (an existing output file keeps its bytes, no new or
+//! temporary file appears).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::Arc;
+
+fn tmpdir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("stillpoint-errors-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Every file under `d` with its bytes.
+fn snapshot(d: &Path) -> Vec<(PathBuf, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut stack = vec![d.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for e in std::fs::read_dir(&dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                let bytes = std::fs::read(&p).unwrap();
+                out.push((p, bytes));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// The fixtures: an existing output file and one bad input file of each kind.
+struct Fixtures {
+    dir: PathBuf,
+}
+
+impl Fixtures {
+    fn new() -> Self {
+        let dir = tmpdir("cli");
+        let w = |name: &str, bytes: &[u8]| std::fs::write(dir.join(name), bytes).unwrap();
+        w(
+            "out.csv",
+            b"# an earlier result that must survive\n0.5,0.5\n",
+        );
+        w("nan.csv", b"0.1,0.2\n0.3,nan\n");
+        w("outside.csv", b"0.1,0.2\n0.3,1.5\n");
+        w("empty.csv", b"# nothing but a comment\n");
+        w("ragged.csv", b"0.1,0.2\n0.3\n");
+        w("words.csv", b"0.1,0.2\n0.3,abc\n");
+        w("two.csv", b"0.1,0.2\n0.3,0.4\n");
+        w("malformed.json", b"{\"points\": [[0.1, 0.2], [0.3, 0.4]\n");
+        w("shape.json", b"{\"points\": 3}");
+        // A valid .npy header for 4 x 2 float64 with only 3 values after it.
+        let mut npy = b"\x93NUMPY\x01\x00v\x00".to_vec();
+        npy.extend_from_slice(b"{'descr': '<f8', 'fortran_order': False, 'shape': (4, 2), }");
+        npy.resize(10 + 0x76 - 1, b' ');
+        npy.push(b'\n');
+        for v in [0.1f64, 0.2, 0.3] {
+            npy.extend_from_slice(&v.to_le_bytes());
+        }
+        w("truncated.npy", &npy);
+        w("bad-trajectory.json", b"{\"records\": 3}");
+        w("not-a-checkpoint.json", b"{\"points\": [[0.5, 0.5]]}");
+        Fixtures { dir }
+    }
+
+    fn p(&self, name: &str) -> String {
+        self.dir.join(name).to_str().unwrap().to_string()
+    }
+}
+
+/// A small checkpoint written by a real run, for the resume cases.
+fn write_checkpoint(f: &Fixtures) {
+    let o = Command::new(env!("CARGO_BIN_EXE_stillpoint"))
+        .args([
+            "generate",
+            "-n",
+            "20",
+            "-s",
+            "2",
+            "--steps",
+            "20",
+            "--checkpoint",
+            &f.p("run.ckpt"),
+            "--checkpoint-every",
+            "10",
+            "-o",
+            &f.p("first.csv"),
+            "-q",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let good = std::fs::read_to_string(f.dir.join("run.ckpt")).unwrap();
+    std::fs::write(
+        f.dir.join("truncated.ckpt"),
+        &good.as_bytes()[..good.len() / 3],
+    )
+    .unwrap();
+    let edited = good.replacen("\"step\":20", "\"step\":19", 1);
+    assert_ne!(edited, good);
+    std::fs::write(f.dir.join("edited.ckpt"), edited).unwrap();
+}
+
+#[test]
+fn cli_refuses_bad_input_clearly_and_touches_no_file() {
+    let f = Fixtures::new();
+    write_checkpoint(&f);
+    let out = f.p("out.csv");
+    let gen = |extra: &[&str]| -> Vec<String> {
+        let mut v: Vec<String> = vec!["generate".into()];
+        v.extend(extra.iter().map(|s| s.to_string()));
+        v.extend(["-o".into(), out.clone(), "-q".into()]);
+        v
+    };
+    let cmd = |args: &[&str]| -> Vec<String> { args.iter().map(|s| s.to_string()).collect() };
+    let ck = f.p("run.ckpt");
+    let cases: Vec<(&str, Vec<String>, &str)> = vec![
+        (
+            "n = 0",
+            gen(&["-n", "0", "-s", "2"]),
+            "invalid n = 0: expected at least 1",
+        ),
+        (
+            "s = 0",
+            gen(&["-n", "10", "-s", "0"]),
+            "invalid s = 0: expected at least 1",
+        ),
+        ("missing -s", gen(&["-n", "10"]), "missing -s S"),
+        (
+            "p = 0",
+            gen(&["-n", "10", "-s", "2", "--p", "0"]),
+            "invalid --p = 0: expected a finite number > 0",
+        ),
+        (
+            "p < 0",
+            gen(&["-n", "10", "-s", "2", "--p", "-1"]),
+            "invalid --p = -1",
+        ),
+        (
+            "p = NaN",
+            gen(&["-n", "10", "-s", "2", "--p", "nan"]),
+            "invalid --p = NaN",
+        ),
+        (
+            "q = 0",
+            gen(&["-n", "10", "-s", "2", "--q", "0"]),
+            "invalid --q = 0: expected a number in (0, ∞), `inf` (the torus distance) or `E`",
+        ),
+        (
+            "q = -2",
+            gen(&["-n", "10", "-s", "2", "--q", "-2"]),
+            "expected a number in (0, ∞)",
+        ),
+        (
+            "q = abc",
+            gen(&["-n", "10", "-s", "2", "--q", "abc"]),
+            "invalid --q = abc",
+        ),
+        (
+            "kappa < 1",
+            gen(&["-n", "10", "-s", "2", "--kappa", "0.5"]),
+            "invalid --kappa = 0.5: expected `auto` or a finite number ≥ 1",
+        ),
+        (
+            "restart < 0",
+            gen(&["-n", "10", "-s", "2", "--restart", "-1"]),
+            "invalid --restart = -1",
+        ),
+        (
+            "tolerance < 0",
+            gen(&["-n", "10", "-s", "2", "--tolerance", "-1"]),
+            "invalid --tolerance = -1: expected a number ≥ 0",
+        ),
+        (
+            "unknown energy",
+            gen(&["-n", "10", "-s", "2", "--energy", "foo"]),
+            "invalid --energy = foo in the cube: expected uqp, e-inf, l2star, md, cd or periodic",
+        ),
+        (
+            "region energy in the cube",
+            gen(&["-n", "10", "-s", "2", "--energy", "e-inf-g"]),
+            "e-inf-g and e-p-g need --region",
+        ),
+        (
+            "unknown integrator",
+            gen(&["-n", "10", "-s", "2", "--integrator", "foo"]),
+            "invalid --integrator = foo: expected dem or lbfgs",
+        ),
+        (
+            "unknown polish",
+            gen(&["-n", "10", "-s", "2", "--polish", "foo"]),
+            "invalid --polish = foo: expected none, md, l2star, cd or periodic",
+        ),
+        (
+            "NaN in --init file",
+            gen(&["--init", &f.p("nan.csv")]),
+            "expected a finite number",
+        ),
+        (
+            "point outside [0,1] in --init file",
+            gen(&["--init", &f.p("outside.csv")]),
+            "--init: ",
+        ),
+        (
+            "ragged rows in --init file",
+            gen(&["--init", &f.p("ragged.csv")]),
+            "line 2 has 1 coordinate, line 1 has 2",
+        ),
+        (
+            "word in --init file",
+            gen(&["--init", &f.p("words.csv")]),
+            "line 2, field 2: \"abc\" is not a number",
+        ),
+        (
+            "--init file of another n",
+            gen(&["-n", "3", "-s", "2", "--init", &f.p("two.csv")]),
+            "invalid init points = 2 points in 2 dimensions: expected 3 points in 2 dimensions (-n, -s)",
+        ),
+        (
+            "output directory missing",
+            cmd(&[
+                "generate",
+                "-n",
+                "10",
+                "-s",
+                "2",
+                "-o",
+                "/nonexistent-dir/x.csv",
+            ]),
+            "invalid -o /nonexistent-dir/x.csv: the directory /nonexistent-dir does not exist",
+        ),
+        (
+            "output is a directory",
+            cmd(&[
+                "generate",
+                "-n",
+                "10",
+                "-s",
+                "2",
+                "-o",
+                f.dir.to_str().unwrap(),
+            ]),
+            "it is a directory",
+        ),
+        (
+            "--plot with an unknown picture format",
+            gen(&["-n", "10", "-s", "2", "--plot", &f.p("pic.jpg")]),
+            "expected a file name ending in .png or .svg",
+        ),
+        (
+            "--plot with s = 1",
+            gen(&["-n", "10", "-s", "1", "--plot", &f.p("pic.png")]),
+            "plots need s ≥ 2",
+        ),
+        (
+            "--threads 0",
+            {
+                let mut v = cmd(&["--threads", "0"]);
+                v.extend(gen(&["-n", "10", "-s", "2"]));
+                v
+            },
+            "invalid --threads = 0: expected a number of threads ≥ 1",
+        ),
+        (
+            "region with no interior",
+            gen(&[
+                "--region",
+                "x^2 + y^2 + 1",
+                "--box",
+                "-1,1,-1,1",
+                "-n",
+                "10",
+            ]),
+            "holds no point with g ≤ 0",
+        ),
+        (
+            "malformed expression",
+            gen(&["--region", "x +* y", "--box", "-1,1,-1,1", "-n", "10"]),
+            "syntax error: expected a number, a variable, a function or '(' after \"+\"",
+        ),
+        (
+            "unknown variable",
+            gen(&["--region", "x + w - 1", "--box", "-1,1,-1,1", "-n", "10"]),
+            "unknown variable \"w\": with s = 2 the variables are x1, x2 (or x, y)",
+        ),
+        (
+            "--region without --box",
+            gen(&["--region", "x^2 + y^2 - 1", "-n", "10"]),
+            "--region needs --box",
+        ),
+        (
+            "--box with LO ≥ HI",
+            gen(&[
+                "--region",
+                "x^2 + y^2 - 1",
+                "--box",
+                "1,-1,-1,1",
+                "-n",
+                "10",
+            ]),
+            "dimension 1 has LO = 1 ≥ HI = -1",
+        ),
+        (
+            "unknown shape",
+            gen(&["--shape", "cube:3", "-n", "10"]),
+            "invalid --shape = cube:3: expected ball:R",
+        ),
+        (
+            "unknown region energy",
+            gen(&[
+                "--shape", "ball:1", "-s", "2", "-n", "10", "--energy", "uqp",
+            ]),
+            "invalid --energy = uqp for a region: expected e-inf-g",
+        ),
+        (
+            "--checkpoint-every 0",
+            gen(&[
+                "-n",
+                "10",
+                "-s",
+                "2",
+                "--checkpoint",
+                &f.p("new.ckpt"),
+                "--checkpoint-every",
+                "0",
+            ]),
+            "invalid --checkpoint-every = 0: expected a number of steps ≥ 1",
+        ),
+        (
+            "--resume without a file",
+            gen(&["-n", "10", "-s", "2", "--resume"]),
+            "give --resume FILE or --checkpoint FILE --resume",
+        ),
+        (
+            "--resume of a missing file",
+            gen(&["-n", "10", "-s", "2", "--resume", &f.p("missing.ckpt")]),
+            "no such checkpoint file",
+        ),
+        (
+            "resume with another configuration",
+            gen(&["-n", "20", "-s", "2", "--steps", "30", "--resume", &ck]),
+            "it was made with --steps = 20 (this run: 30)",
+        ),
+        (
+            "resume with another seed and start",
+            gen(&[
+                "-n", "20", "-s", "2", "--steps", "20", "--init", "random", "--seed", "4",
+                "--resume", &ck,
+            ]),
+            "--init = halton (this run: random)",
+        ),
+        (
+            "truncated checkpoint",
+            gen(&[
+                "-n",
+                "20",
+                "-s",
+                "2",
+                "--steps",
+                "20",
+                "--resume",
+                &f.p("truncated.ckpt"),
+            ]),
+            "not valid JSON, the file is damaged or truncated",
+        ),
+        (
+            "edited checkpoint",
+            gen(&[
+                "-n",
+                "20",
+                "-s",
+                "2",
+                "--steps",
+                "20",
+                "--resume",
+                &f.p("edited.ckpt"),
+            ]),
+            "its checksum does not match its state",
+        ),
+        (
+            "a point file as checkpoint",
+            gen(&[
+                "-n",
+                "20",
+                "-s",
+                "2",
+                "--resume",
+                &f.p("not-a-checkpoint.json"),
+            ]),
+            "no \"format\": \"stillpoint checkpoint\" field",
+        ),
+        (
+            "--checkpoint with L-BFGS",
+            gen(&[
+                "-n",
+                "10",
+                "-s",
+                "2",
+                "--integrator",
+                "lbfgs",
+                "--checkpoint",
+                &f.p("new.ckpt"),
+            ]),
+            "expected a DEM run",
+        ),
+        (
+            "eval: NaN",
+            cmd(&["eval", &f.p("nan.csv")]),
+            "expected a finite number",
+        ),
+        (
+            "eval: point outside [0,1]",
+            cmd(&["eval", &f.p("outside.csv")]),
+            "invalid point 2, coordinate 2 = 1.5: expected a coordinate in [0, 1]",
+        ),
+        (
+            "eval: empty file",
+            cmd(&["eval", &f.p("empty.csv")]),
+            "no points found",
+        ),
+        (
+            "eval: ragged rows",
+            cmd(&["eval", &f.p("ragged.csv")]),
+            "line 2 has 1 coordinate",
+        ),
+        (
+            "eval: malformed JSON",
+            cmd(&["eval", &f.p("malformed.json")]),
+            "not valid JSON",
+        ),
+        (
+            "eval: JSON of the wrong shape",
+            cmd(&["eval", &f.p("shape.json")]),
+            "\"points\" is the number 3",
+        ),
+        (
+            "eval: truncated .npy",
+            cmd(&["eval", &f.p("truncated.npy")]),
+            "truncated: shape [4, 2] needs 64 bytes of data, the file has 24",
+        ),
+        (
+            "eval: missing file",
+            cmd(&["eval", &f.p("missing.csv")]),
+            "missing.csv: cannot read",
+        ),
+        (
+            "integrate: point outside [0,1]",
+            cmd(&["integrate", &f.p("outside.csv")]),
+            "[0, 1]",
+        ),
+        (
+            "integrate: truncated .npy",
+            cmd(&["integrate", &f.p("truncated.npy")]),
+            "truncated",
+        ),
+        (
+            "unknown baseline",
+            cmd(&["baseline", "foo", "-n", "10", "-s", "2", "-o", &out]),
+            "invalid baseline = foo: expected one of: random, halton",
+        ),
+        (
+            "baseline n = 0",
+            cmd(&["baseline", "sobol", "-n", "0", "-s", "2", "-o", &out]),
+            "n = 0",
+        ),
+        (
+            "unknown study",
+            cmd(&["study", "foo", "--quick", "--out", &f.p("study")]),
+            "invalid study = foo: expected one of: correlation",
+        ),
+        (
+            "compare: bad case",
+            cmd(&["compare", "--cases", "2x0", "--out", &f.p("cmp")]),
+            "invalid --cases = 2x0: n \"0\" is not an integer ≥ 1",
+        ),
+        (
+            "compare: unknown energy",
+            cmd(&["compare", "--energy", "foo", "--out", &f.p("cmp")]),
+            "foo",
+        ),
+        (
+            "plot: unknown picture format",
+            cmd(&["plot", &f.p("out.csv"), "-o", &f.p("pic.jpg")]),
+            "invalid -o",
+        ),
+        (
+            "plot: --dims beyond s",
+            cmd(&[
+                "plot",
+                &f.p("out.csv"),
+                "--dims",
+                "3",
+                "-o",
+                &f.p("pic.png"),
+            ]),
+            "invalid --dims = 3: expected 1 ≤ K ≤ s = 2",
+        ),
+        (
+            "plot: NaN in the file",
+            cmd(&["plot", &f.p("nan.csv"), "-o", &f.p("pic.png")]),
+            "expected a finite number",
+        ),
+        (
+            "plot: malformed trajectory",
+            cmd(&[
+                "plot",
+                "--trajectory",
+                &f.p("bad-trajectory.json"),
+                "-o",
+                &f.p("pic.png"),
+            ]),
+            "expected a trajectory written by generate --trajectory",
+        ),
+        (
+            "plot: malformed region",
+            cmd(&[
+                "plot",
+                &f.p("out.csv"),
+                "--region",
+                "x^^2",
+                "--box",
+                "0,1,0,1",
+                "-o",
+                &f.p("pic.png"),
+            ]),
+            "invalid --region",
+        ),
+        (
+            "-n not a number",
+            gen(&["-n", "ten", "-s", "2"]),
+            "invalid value 'ten' for '-n <N>'",
+        ),
+    ];
+    let before = snapshot(&f.dir);
+    let mut table = String::from("| input | message |\n|---|---|\n");
+    for (what, args, needle) in &cases {
+        let o = Command::new(env!("CARGO_BIN_EXE_stillpoint"))
+            .args(args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{what}: {args:?} succeeded");
+        assert!(!err.contains("panicked"), "{what}: panicked: {err}");
+        assert!(
+            err.contains(needle),
+            "{what}: message {err:?} does not contain {needle:?}"
+        );
+        assert!(
+            snapshot(&f.dir) == before,
+            "{what}: a file was written, changed or left behind"
+        );
+        let first = err.lines().next().unwrap_or("").replace('|', "\\|");
+        table += &format!("| {what} | `{}` |\n", first.replace(&f.p(""), ""));
+    }
+    assert!(cases.len() >= 20);
+    // `cargo test --test errors -- --nocapture` prints the table.
+    println!("{table}");
+}
+
+#[test]
+fn library_refuses_bad_input_clearly() {
+    use stillpoint::energies::region::ImplicitRegion;
+    use stillpoint::integrators::{Dem, Integrator, Kappa, NoObserver};
+    use stillpoint::run::{generate, GenerateConfig, Init};
+    let d = tmpdir("lib");
+    let msg = |r: Result<(), String>| r.unwrap_err();
+    let gen = |cfg: GenerateConfig| {
+        generate(&cfg, |_| {})
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    };
+    let mut cases: Vec<(&str, String, &str)> = Vec::new();
+    cases.push((
+        "n = 0",
+        msg(gen(GenerateConfig::new(0, 2))),
+        "invalid n = 0",
+    ));
+    cases.push((
+        "s = 0",
+        msg(gen(GenerateConfig::new(5, 0))),
+        "invalid s = 0",
+    ));
+    let mut c = GenerateConfig::new(5, 2);
+    c.p = Some(-1.0);
+    cases.push(("p < 0", msg(gen(c)), "p"));
+    let mut c = GenerateConfig::new(2, 2);
+    c.init = Init::Points(stillpoint::PointSet::from_rows(&[[0.1, 0.2], [0.3, 1.5]]).unwrap());
+    cases.push(("start outside [0,1]", msg(gen(c)), "[0, 1]"));
+    let mut c = GenerateConfig::new(3, 2);
+    c.init = Init::Points(stillpoint::PointSet::from_rows(&[[0.1, 0.2], [0.3, 0.5]]).unwrap());
+    cases.push((
+        "start of another n",
+        msg(gen(c)),
+        "3 points in 2 dimensions (-n, -s)",
+    ));
+    let mut c = GenerateConfig::new(5, 2);
+    c.dem.kappa = Kappa::Fixed(0.5);
+    cases.push(("kappa < 1", msg(gen(c)), "kappa"));
+    let io_err = |r: Result<stillpoint::PointSet, stillpoint::io::IoError>| {
+        r.map(|_| ()).map_err(|e| e.to_string())
+    };
+    cases.push((
+        "empty text",
+        msg(io_err(stillpoint::io::parse_text("", "input"))),
+        "input: no points found",
+    ));
+    cases.push((
+        "NaN in text",
+        msg(io_err(stillpoint::io::parse_text("0.1 NaN\n", "input"))),
+        "finite",
+    ));
+    let expr = |t: &str, s: usize| {
+        stillpoint::expr::RegionExpr::parse(t, s)
+            .map(|_| ())
+            .map_err(|e| e.to_string())
+    };
+    cases.push(("malformed expression", msg(expr("x + ", 2)), "x + "));
+    cases.push((
+        "unknown variable",
+        msg(expr("x + q", 2)),
+        "unknown variable \"q\"",
+    ));
+    cases.push(("expression in s = 0", msg(expr("x", 0)), ""));
+    let empty = ImplicitRegion::new(
+        Arc::new(|x: &[f64]| x[0] * x[0] + 1.0),
+        vec![-1.0],
+        vec![1.0],
+    )
+    .unwrap();
+    cases.push((
+        "region with no interior",
+        msg(empty.check(1024, 0).map_err(|e| e.to_string())),
+        "no point",
+    ));
+    cases.push((
+        "unknown baseline",
+        msg(stillpoint::sequences::Baseline::parse("foo")
+            .map(|_| ())
+            .map_err(|e| e.to_string())),
+        "expected one of",
+    ));
+    cases.push((
+        "unknown study",
+        msg(stillpoint::studies::Study::parse("foo")
+            .map(|_| ())
+            .map_err(|e| e.to_string())),
+        "expected one of",
+    ));
+    let garbage = d.join("garbage.ckpt");
+    std::fs::write(&garbage, b"\x00\x01not json").unwrap();
+    cases.push((
+        "corrupted checkpoint",
+        msg(stillpoint::run::read_checkpoint(&garbage)
+            .map(|_| ())
+            .map_err(|e| e.to_string())),
+        "damaged or truncated",
+    ));
+    let pts = stillpoint::PointSet::from_rows(&[[0.1, 0.2], [0.3, 0.5]]).unwrap();
+    cases.push((
+        "write into a missing directory",
+        msg(
+            stillpoint::io::write_points(&d.join("missing/p.csv"), &pts, &serde_json::Value::Null)
+                .map_err(|e| e.to_string()),
+        ),
+        "missing/p.csv",
+    ));
+    cases.push((
+        "plot with too many dims",
+        msg(stillpoint::plot::save_projection_matrix(
+            &d.join("m.png"),
+            "t",
+            &pts,
+            3,
+            &[0.0; 3],
+            &[1.0; 3],
+        )
+        .map_err(|e| e.to_string())),
+        "1 ≤ dims ≤ s",
+    ));
+    let cube = stillpoint::PeriodicCube::new(2).unwrap();
+    let e = stillpoint::Uqp::new(stillpoint::energies::Distance::Q(0.3), 1.0).unwrap();
+    let coincident = stillpoint::PointSet::from_rows(&[[0.2, 0.3], [0.2, 0.3]]).unwrap();
+    cases.push((
+        "coincident start points",
+        msg(Dem::default()
+            .run(&e, &cube, coincident, &mut NoObserver)
+            .map(|_| ())
+            .map_err(|e| e.to_string())),
+        "coincide",
+    ));
+    for (what, message, needle) in &cases {
+        assert!(
+            message.contains(needle),
+            "{what}: {message:?} lacks {needle:?}"
+        );
+    }
+    assert!(cases.len() >= 15);
+    // Nothing was written by any refusal.
+    let names: Vec<_> = std::fs::read_dir(&d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names, vec![std::ffi::OsString::from("garbage.ckpt")]);
+}
