@@ -31,6 +31,9 @@ use std::ops::Range;
 /// rounds that their synchronisation stays negligible.
 const MAX_BLOCKS: usize = 64;
 
+/// Base vectors side by side in the kernels' [`Wide`] vectors.
+const WIDE: usize = 4;
+
 /// Blocks are a multiple of this many points, so that kernels can use vectors of up to 16
 /// lanes without a partial vector inside a block.
 pub(crate) const LANES: usize = 16;
@@ -440,7 +443,7 @@ fn run_sum_tile<K: SumTiles>(kernel: &K, a: usize, b: usize) -> K::Out {
         // SAFETY: the processor has AVX2 and FMA (checked by `use_avx2`).
         return unsafe { avx2::sum_tile(kernel, a, b) };
     }
-    kernel.tile::<Wide<Portable, 4>>(a, b)
+    kernel.tile::<Wide<Portable, WIDE>>(a, b)
 }
 
 fn run_grad_tile<K: GradTiles>(
@@ -455,7 +458,7 @@ fn run_grad_tile<K: GradTiles>(
         // SAFETY: the processor has AVX2 and FMA (checked by `use_avx2`).
         return unsafe { avx2::grad_tile(kernel, a, b, ga, gb) };
     }
-    kernel.tile::<Wide<Portable, 4>>(a, b, ga, gb)
+    kernel.tile::<Wide<Portable, WIDE>>(a, b, ga, gb)
 }
 
 /// A vector of `N` f64 lanes. Comparisons return masks (all bits set in a lane that holds), which
@@ -737,7 +740,7 @@ mod avx2 {
     //! The AVX2 + FMA implementation of [`Simd`] and the entry points compiled with those
     //! features. Only reached after `use_avx2()` has checked the processor.
 
-    use super::{GradTiles, Simd, SumTiles, Wide};
+    use super::{GradTiles, Simd, SumTiles, Wide, WIDE};
     use std::arch::x86_64::*;
 
     #[derive(Clone, Copy)]
@@ -864,7 +867,7 @@ mod avx2 {
 
     #[target_feature(enable = "avx2,fma")]
     pub(super) unsafe fn sum_tile<K: SumTiles>(k: &K, a: usize, b: usize) -> K::Out {
-        k.tile::<Wide<Avx2, 4>>(a, b)
+        k.tile::<Wide<Avx2, WIDE>>(a, b)
     }
 
     #[target_feature(enable = "avx2,fma")]
@@ -875,7 +878,7 @@ mod avx2 {
         ga: &mut [f64],
         gb: Option<&mut [f64]>,
     ) -> f64 {
-        k.tile::<Wide<Avx2, 4>>(a, b, ga, gb)
+        k.tile::<Wide<Avx2, WIDE>>(a, b, ga, gb)
     }
 }
 

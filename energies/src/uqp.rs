@@ -490,59 +490,71 @@ impl VecKernel for VecQ {
         self.parts(d).4
     }
 
-    /// The same operations as [`VecQ::parts`], in three passes over the buffers: each
-    /// pass is a short chain, so the processor overlaps many iterations of it, where one
-    /// chain through log₂, 2^y, log₂ and 2^y would leave it waiting on latency.
+    /// The same operations as [`VecQ::parts`], in passes over the buffers: δ row by row,
+    /// then three flat loops over all s·bs entries. Each pass is a short chain, so the
+    /// processor overlaps many iterations of it, where one chain through log₂, 2^y, log₂
+    /// and 2^y (~250 cycles of latency) would leave it waiting. The passes cover the whole
+    /// block, padding and the diagonal tile's lower part included (unused, finite), so that
+    /// the loops are flat.
     #[inline(always)]
     fn rows<V: Simd, const GRAD: bool>(&self, r: &mut Rows<'_>) {
         let one = V::splat(1.0);
         let zero = V::splat(0.0);
-        // δ into `force` (overwritten by h·h' in the last pass), 1/(1 − Δ) into `tmp2`,
-        // y₁ = q·log₂(Δ/(1 − Δ)) into `tmp1`.
+        let n = V::N;
+        let len = r.s * r.bs;
+        // δ into `force` (overwritten by h·h' in the last pass).
         for k in 0..r.s {
             let xi = V::splat(r.xi[k]);
-            for j in (r.jlo..r.jhi).step_by(V::N) {
-                let at = k * r.bs + j;
-                let d = diff::<Self, V>(xi, V::load(&r.xb[at..]));
-                let dl = d.abs();
-                let inv_u = one.div(one.sub(dl));
-                let y1 = log2(dl.mul(inv_u))
-                    .mul(V::splat(self.q))
-                    .max(V::splat(MIN_EXP));
-                d.store(&mut r.force[at..]);
-                inv_u.store(&mut r.tmp2[at..]);
-                y1.store(&mut r.tmp1[at..]);
+            let row = k * r.bs..(k + 1) * r.bs;
+            for (xj, f) in r.xb[row.clone()]
+                .chunks_exact(n)
+                .zip(r.force[row].chunks_exact_mut(n))
+            {
+                diff::<Self, V>(xi, V::load(xj)).store(f);
             }
+        }
+        // 1/(1 − Δ) into `tmp2`, y₁ = q·log₂(Δ/(1 − Δ)) into `tmp1`.
+        for ((d, t1), t2) in r.force[..len]
+            .chunks_exact(n)
+            .zip(r.tmp1[..len].chunks_exact_mut(n))
+            .zip(r.tmp2[..len].chunks_exact_mut(n))
+        {
+            let dl = V::load(d).abs();
+            let inv_u = one.div(one.sub(dl));
+            let y1 = log2(dl.mul(inv_u))
+                .mul(V::splat(self.q))
+                .max(V::splat(MIN_EXP));
+            inv_u.store(t2);
+            y1.store(t1);
         }
         // t = 2^{y₁}; σ = t/(1 + t) into `tmp1`, y₂ = −(2/q)·log₂(1 + t) into `h2`.
-        for k in 0..r.s {
-            for j in (r.jlo..r.jhi).step_by(V::N) {
-                let at = k * r.bs + j;
-                let (l, sigma) = log2_1p_sigma(exp2(V::load(&r.tmp1[at..])));
-                sigma.store(&mut r.tmp1[at..]);
-                l.mul(V::splat(self.minus_two_over_q))
-                    .store(&mut r.h2[at..]);
-            }
+        for (t1, h2) in r.tmp1[..len]
+            .chunks_exact_mut(n)
+            .zip(r.h2[..len].chunks_exact_mut(n))
+        {
+            let (l, sigma) = log2_1p_sigma(exp2(V::load(t1)));
+            sigma.store(t1);
+            l.mul(V::splat(self.minus_two_over_q)).store(h2);
         }
         // v² = 2^{y₂}, h² and h·h'.
-        for k in 0..r.s {
-            for j in (r.jlo..r.jhi).step_by(V::N) {
-                let at = k * r.bs + j;
-                let y2 = V::load(&r.h2[at..]);
-                let d = V::load(&r.force[at..]);
-                let dl = d.abs();
-                let under = y2.lt(V::splat(MIN_EXP));
-                let v2 = under.select(zero, exp2(y2.max(V::splat(MIN_EXP))));
-                let coincide = dl.lt(V::splat(f64::MIN_POSITIVE));
-                coincide
-                    .select(zero, dl.mul(dl).mul(v2))
-                    .store(&mut r.h2[at..]);
-                if GRAD {
-                    let sigma = V::load(&r.tmp1[at..]);
-                    let inv_u = V::load(&r.tmp2[at..]);
-                    let a = d.mul(v2).mul(one.sub(sigma.mul(inv_u)));
-                    coincide.select(zero, a).store(&mut r.force[at..]);
-                }
+        for (((h2, f), t1), t2) in r.h2[..len]
+            .chunks_exact_mut(n)
+            .zip(r.force[..len].chunks_exact_mut(n))
+            .zip(r.tmp1[..len].chunks_exact(n))
+            .zip(r.tmp2[..len].chunks_exact(n))
+        {
+            let y2 = V::load(h2);
+            let d = V::load(f);
+            let dl = d.abs();
+            let under = y2.lt(V::splat(MIN_EXP));
+            let v2 = under.select(zero, exp2(y2.max(V::splat(MIN_EXP))));
+            let coincide = dl.lt(V::splat(f64::MIN_POSITIVE));
+            coincide.select(zero, dl.mul(dl).mul(v2)).store(h2);
+            if GRAD {
+                let sigma = V::load(t1);
+                let inv_u = V::load(t2);
+                let a = d.mul(v2).mul(one.sub(sigma.mul(inv_u)));
+                coincide.select(zero, a).store(f);
             }
         }
     }
