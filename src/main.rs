@@ -583,7 +583,12 @@ fn generate(a: GenerateArgs) -> Result<()> {
             bail!("invalid --p = {p}: expected a finite number > 0");
         }
     }
-    let region_extra = json!({"--region": region, "--box": bbox, "--shape": shape});
+    // A region built from text is known to the checkpoint by that text.
+    let region_extra = if region.is_some() || shape.is_some() {
+        json!({"--region": region, "--box": bbox, "--shape": shape})
+    } else {
+        Value::Null
+    };
     let region_extra_text = region_extra.clone();
     let plan = checkpoint_plan(checkpoint, checkpoint_every, resume, region_extra, quiet)?;
     let mut progress = Progress::new(quiet);
@@ -634,7 +639,7 @@ fn generate(a: GenerateArgs) -> Result<()> {
             )?;
         }
         let summary = if json {
-            region_json(&report, &cfg, true)
+            region_json(&report, &cfg)
         } else {
             Value::String(region_table(&report, &cfg, output.as_ref()))
         };
@@ -720,7 +725,7 @@ fn generate(a: GenerateArgs) -> Result<()> {
         plot_start_result(path, &report.start, &report.output.points, &cube)?;
     }
     let summary = if json {
-        report_json(&report, &cfg, true)
+        report_json(&report, &cfg)
     } else {
         Value::String(report_table(&report, &cfg, output.as_ref()))
     };
@@ -806,11 +811,8 @@ struct Progress {
 impl Progress {
     fn new(quiet: bool) -> Self {
         let visible = !quiet && std::io::stderr().is_terminal();
-        let bar = if visible {
-            ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::stderr())
-        } else {
-            ProgressBar::hidden()
-        };
+        // Drawn from the first stage on, so that no empty bar flashes up before it.
+        let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::hidden());
         Progress {
             bar,
             visible,
@@ -828,17 +830,19 @@ impl Progress {
                 steps: Some(len),
             } => {
                 self.bar.disable_steady_tick();
+                self.bar.set_length(len);
+                self.bar.set_position(0);
                 self.bar.set_style(
                     ProgressStyle::with_template(
-                        "{msg:>15} {bar:40} {pos}/{len} steps  {elapsed} elapsed, ETA {eta}",
+                        "{msg:>15} {wide_bar} {pos}/{len} steps, {elapsed} elapsed, ETA {eta}",
                     )
                     .unwrap_or_else(|_| ProgressStyle::default_bar()),
                 );
                 self.bar.set_message(name);
-                self.bar.set_length(len);
-                self.bar.set_position(0);
+                self.bar.reset_elapsed();
                 self.bar.reset_eta();
                 self.fresh = true;
+                self.show();
             }
             run::Event::Stage { name, steps: None } => {
                 self.bar.set_style(
@@ -846,6 +850,8 @@ impl Progress {
                         .unwrap_or_else(|_| ProgressStyle::default_spinner()),
                 );
                 self.bar.set_message(name);
+                self.bar.reset_elapsed();
+                self.show();
                 self.bar
                     .enable_steady_tick(std::time::Duration::from_millis(120));
             }
@@ -857,6 +863,12 @@ impl Progress {
                 }
             }
             run::Event::Record(_) => {}
+        }
+    }
+
+    fn show(&self) {
+        if self.bar.is_hidden() {
+            self.bar.set_draw_target(ProgressDrawTarget::stderr());
         }
     }
 
@@ -892,7 +904,9 @@ fn metrics_json(m: &Metrics) -> Value {
     serde_json::to_value(m).unwrap_or(Value::Null)
 }
 
-fn report_json(r: &GenerateReport, cfg: &GenerateConfig, full: bool) -> Value {
+/// The `--json` report of a cube run: settings, run facts, energies and metrics of the
+/// start and the result, the shift and polish, and the wall time.
+fn report_json(r: &GenerateReport, cfg: &GenerateConfig) -> Value {
     let info: serde_json::Map<String, Value> = r
         .output
         .info
@@ -918,27 +932,22 @@ fn report_json(r: &GenerateReport, cfg: &GenerateConfig, full: bool) -> Value {
         "kappa": r.output.info("kappa"),
         "restarts": r.output.info("restarts"),
     });
-    if full {
-        v["eq48"] = json!({
-            "used": r.choice.from_eq48,
-            "in_fitted_range": r.choice.eq48_in_fitted_range,
-            "clamped": r.choice.eq48_clamped,
-        });
-        v["run"] = Value::Object(info);
-        v["energy_start"] = finite_or_null(r.energy.0);
-        v["energy_result"] = finite_or_null(r.energy.1);
-        v["metrics_start"] = metrics_json(&r.metrics.0);
-        v["metrics_result"] = metrics_json(&r.metrics.1);
-        v["shift"] = serde_json::to_value(&r.shift).unwrap_or(Value::Null);
-        v["polish"] = match r.polish {
-            Some((a, b, it)) => json!({"before": a, "after": b, "iterations": it}),
-            None => Value::Null,
-        };
-        v["seconds"] = json!(r.seconds);
-    } else {
-        v["star_l2"] = json!(r.metrics.1.star_l2);
-        v["modified_l2"] = json!(r.metrics.1.modified_l2);
-    }
+    v["eq48"] = json!({
+        "used": r.choice.from_eq48,
+        "in_fitted_range": r.choice.eq48_in_fitted_range,
+        "clamped": r.choice.eq48_clamped,
+    });
+    v["run"] = Value::Object(info);
+    v["energy_start"] = finite_or_null(r.energy.0);
+    v["energy_result"] = finite_or_null(r.energy.1);
+    v["metrics_start"] = metrics_json(&r.metrics.0);
+    v["metrics_result"] = metrics_json(&r.metrics.1);
+    v["shift"] = serde_json::to_value(&r.shift).unwrap_or(Value::Null);
+    v["polish"] = match r.polish {
+        Some((a, b, it)) => json!({"before": a, "after": b, "iterations": it}),
+        None => Value::Null,
+    };
+    v["seconds"] = json!(r.seconds);
     v
 }
 
@@ -1608,7 +1617,8 @@ fn plot_start_result(
     Ok(())
 }
 
-fn region_json(r: &RegionReport, cfg: &RegionConfig, full: bool) -> Value {
+/// The `--json` report of a region run.
+fn region_json(r: &RegionReport, cfg: &RegionConfig) -> Value {
     let mut v = json!({
         "generator": format!("stillpoint {}", env!("CARGO_PKG_VERSION")),
         "n": cfg.n,
@@ -1621,18 +1631,16 @@ fn region_json(r: &RegionReport, cfg: &RegionConfig, full: bool) -> Value {
         "kappa": r.output.info("kappa"),
         "energy_e_inf_g_reduction": finite_or_null(r.reduction()),
     });
-    if full {
-        let info: serde_json::Map<String, Value> = r
-            .output
-            .info
-            .iter()
-            .map(|(k, v)| (k.clone(), finite_or_null(*v)))
-            .collect();
-        v["run"] = Value::Object(info);
-        v["metrics_start"] = serde_json::to_value(r.metrics.0).unwrap_or(Value::Null);
-        v["metrics_result"] = serde_json::to_value(r.metrics.1).unwrap_or(Value::Null);
-        v["seconds"] = json!(r.seconds);
-    }
+    let info: serde_json::Map<String, Value> = r
+        .output
+        .info
+        .iter()
+        .map(|(k, v)| (k.clone(), finite_or_null(*v)))
+        .collect();
+    v["run"] = Value::Object(info);
+    v["metrics_start"] = serde_json::to_value(r.metrics.0).unwrap_or(Value::Null);
+    v["metrics_result"] = serde_json::to_value(r.metrics.1).unwrap_or(Value::Null);
+    v["seconds"] = json!(r.seconds);
     v
 }
 

@@ -651,15 +651,17 @@ pub fn read_checkpoint(path: &Path) -> Result<Checkpoint, Error> {
 
 /// The settings `expected` holds that `found` (a checkpoint's) does not, as
 /// `--key = found (this run: expected)`.
-fn config_differences(found: &Value, expected: &Value) -> Vec<String> {
+fn config_differences<'a>(found: &'a Value, expected: &'a Value) -> Vec<String> {
     let (Value::Object(f), Value::Object(e)) = (found, expected) else {
         return vec![format!("configuration {found} (this run: {expected})")];
     };
     let mut keys: Vec<&String> = f.keys().chain(e.keys()).collect();
     keys.sort();
     keys.dedup();
+    // A key that is absent and a key that is null both mean "not set".
+    let get = |m: &'a serde_json::Map<String, Value>, k: &str| m.get(k).filter(|v| !v.is_null());
     keys.into_iter()
-        .filter(|k| f.get(*k) != e.get(*k))
+        .filter(|k| get(f, k) != get(e, k))
         .map(|k| {
             let show = |v: Option<&Value>| match v {
                 None | Some(Value::Null) => "(none)".to_string(),
