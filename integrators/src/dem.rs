@@ -545,6 +545,7 @@ impl Dem {
                 trajectory.clear();
                 restarts = 0;
                 (restarted, last_move, j) = (false, 0.0, 0);
+                saved_at = None;
                 continue;
             }
             if j < trial_steps && !trial_failed {
@@ -564,9 +565,9 @@ impl Dem {
                         co = Coefficients::new(mu0, kappa, self.dt, self.g);
                         state = State::new(&start);
                         trajectory.clear();
-                        best = None;
                         restarts = 0;
                         (restarted, last_move, j) = (false, 0.0, 0);
+                        saved_at = None;
                         continue;
                     }
                     trial_failed = true;
