@@ -589,8 +589,13 @@ fn generate(a: GenerateArgs) -> Result<()> {
     } else {
         Value::Null
     };
-    let region_extra_text = region_extra.clone();
-    let plan = checkpoint_plan(checkpoint, checkpoint_every, resume, region_extra, quiet)?;
+    let plan = checkpoint_plan(
+        checkpoint,
+        checkpoint_every,
+        resume,
+        region_extra.clone(),
+        quiet,
+    )?;
     let mut progress = Progress::new(quiet);
     if region.is_some() || shape.is_some() {
         let domain = region_domain(region.as_deref(), bbox.as_deref(), shape.as_deref(), s)?;
@@ -626,7 +631,7 @@ fn generate(a: GenerateArgs) -> Result<()> {
         }
         let report = generate_in_region_with(&cfg, plan.as_ref(), |e| progress.event(e))?;
         progress.finish();
-        let meta = region_meta(&report, &cfg, &region_extra_text);
+        let meta = region_meta(&report, &cfg, &region_extra);
         if let Some(path) = &trajectory {
             write_trajectory(path, &report.energy_name, &report.output)?;
         }
