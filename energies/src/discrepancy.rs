@@ -178,6 +178,8 @@ trait Kernel: Sync + Send + 'static {
     const CONSTANT_SIGN: f64;
     /// Whether the closed form has the middle term −(2/n) Σ_i Π_k g(x_ik).
     const HAS_SINGLE: bool;
+    /// Whether the pair factor uses ½|x − ½| (the centred L2; see [`Kinds::HALF_GAP`]).
+    const HALF_GAP: bool = false;
 
     /// g(x) and g'(x) (with the averaged one-sided derivative at a kink).
     fn single(x: f64) -> (f64, f64);
@@ -300,6 +302,7 @@ impl Kernel for Centered {
     const CONSTANT_BASE: f64 = 13.0 / 12.0;
     const CONSTANT_SIGN: f64 = 1.0;
     const HAS_SINGLE: bool = true;
+    const HALF_GAP: bool = true;
 
     #[inline(always)]
     fn single(x: f64) -> (f64, f64) {
@@ -446,17 +449,34 @@ fn evaluate<K: Kernel>(points: &PointSet, grad: Option<&mut [f64]>) -> f64 {
 
 /// The kinds of [`pair_product_sums`]: `M` kernels whose pair products one pass forms.
 trait Kinds<const M: usize>: Sync {
-    /// Multiplies each product `p[m]` by kernel m's factor K_m(x, y).
-    fn mul_factors<V: Simd>(x: V, y: V, p: &mut [V; M]);
+    /// Whether a kernel needs ½|x − ½| of each coordinate (the centred L2), which the
+    /// loop then reads from a precomputed copy instead of forming it for every pair.
+    const HALF_GAP: bool;
+    /// Multiplies each product `p[m]` by kernel m's factor K_m(x, y); with
+    /// [`Kinds::HALF_GAP`], `cx` = 1 + ½|x − ½| and `gy` = ½|y − ½| (else unused).
+    fn mul_factors<V: Simd>(x: V, y: V, cx: V, gy: V, p: &mut [V; M]);
+}
+
+/// The centred L2 factor from `cx` = 1 + ½|x − ½| and `gy` = ½|y − ½|: the same
+/// operations, in the same order, as [`Centered::vpair`], so the same bits.
+#[inline(always)]
+fn centered_factor<V: Simd>(x: V, y: V, cx: V, gy: V) -> V {
+    cx.add(gy).sub(V::splat(0.5).mul(x.sub(y).abs()))
 }
 
 /// One kernel.
 struct Single<K>(PhantomData<K>);
 
 impl<K: Kernel> Kinds<1> for Single<K> {
+    const HALF_GAP: bool = K::HALF_GAP;
     #[inline(always)]
-    fn mul_factors<V: Simd>(x: V, y: V, p: &mut [V; 1]) {
-        p[0] = p[0].mul(K::vpair(x, y));
+    fn mul_factors<V: Simd>(x: V, y: V, cx: V, gy: V, p: &mut [V; 1]) {
+        let f = if K::HALF_GAP {
+            centered_factor(x, y, cx, gy)
+        } else {
+            K::vpair(x, y)
+        };
+        p[0] = p[0].mul(f);
     }
 }
 
@@ -464,8 +484,9 @@ impl<K: Kernel> Kinds<1> for Single<K> {
 struct StarModified;
 
 impl Kinds<2> for StarModified {
+    const HALF_GAP: bool = false;
     #[inline(always)]
-    fn mul_factors<V: Simd>(x: V, y: V, p: &mut [V; 2]) {
+    fn mul_factors<V: Simd>(x: V, y: V, _: V, _: V, p: &mut [V; 2]) {
         p[0] = p[0].mul(Star::vpair(x, y));
         p[1] = p[1].mul(Modified::vpair(x, y));
     }
@@ -475,11 +496,12 @@ impl Kinds<2> for StarModified {
 struct AllFour;
 
 impl Kinds<4> for AllFour {
+    const HALF_GAP: bool = true;
     #[inline(always)]
-    fn mul_factors<V: Simd>(x: V, y: V, p: &mut [V; 4]) {
+    fn mul_factors<V: Simd>(x: V, y: V, cx: V, gy: V, p: &mut [V; 4]) {
         p[0] = p[0].mul(Star::vpair(x, y));
         p[1] = p[1].mul(Modified::vpair(x, y));
-        p[2] = p[2].mul(Centered::vpair(x, y));
+        p[2] = p[2].mul(centered_factor(x, y, cx, gy));
         p[3] = p[3].mul(Wrap::vpair(x, y));
     }
 }
@@ -520,9 +542,15 @@ fn products<P: Kinds<M>, const M: usize>(points: &PointSet) -> [f64; M] {
     }
     let blocks = Blocks::new(n, s);
     let xt = blocks.transpose(points.as_slice(), |v| v);
+    let gap = if P::HALF_GAP {
+        blocks.transpose(points.as_slice(), |v| 0.5 * (v - 0.5).abs())
+    } else {
+        Vec::new()
+    };
     let tiles = SumPairs::<P, M> {
         blocks: &blocks,
         xt: &xt,
+        gap: &gap,
         kinds: PhantomData,
     };
     sum_tiles(
@@ -538,6 +566,8 @@ fn products<P: Kinds<M>, const M: usize>(points: &PointSet) -> [f64; M] {
 struct SumPairs<'a, P, const M: usize> {
     blocks: &'a Blocks,
     xt: &'a [f64],
+    /// ½|x − ½|, block-transposed, when `P::HALF_GAP`.
+    gap: &'a [f64],
     kinds: PhantomData<P>,
 }
 
@@ -551,12 +581,24 @@ impl<P: Kinds<M>, const M: usize> SumTiles for SumPairs<'_, P, M> {
         let (xa, xb) = (bl.chunk(self.xt, a), bl.chunk(self.xt, b));
         let zero = V::splat(0.0);
         let mut acc = [zero; M];
+        let (one, zero_gap) = (V::splat(1.0), V::splat(0.0));
+        let (ga, gb) = if P::HALF_GAP {
+            (bl.chunk(self.gap, a), bl.chunk(self.gap, b))
+        } else {
+            (&[][..], &[][..])
+        };
         for ii in 0..bl.len(a) {
             for (jj, mask) in bl.lanes::<V>(a, b, ii) {
                 let mut p = [V::splat(1.0); M];
                 for k in 0..s {
                     let x = V::splat(xa[k * bs + ii]);
-                    P::mul_factors(x, V::load(&xb[k * bs + jj..]), &mut p);
+                    let y = V::load(&xb[k * bs + jj..]);
+                    if P::HALF_GAP {
+                        let cx = one.add(V::splat(ga[k * bs + ii]));
+                        P::mul_factors(x, y, cx, V::load(&gb[k * bs + jj..]), &mut p);
+                    } else {
+                        P::mul_factors(x, y, zero_gap, zero_gap, &mut p);
+                    }
                 }
                 for m in 0..M {
                     acc[m] = acc[m].add(mask.select(p[m], zero));

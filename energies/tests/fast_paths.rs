@@ -299,6 +299,21 @@ fn fused_pair_sums_equal_single_ones_and_the_plain_loop() {
 }
 
 #[test]
+fn discrepancy_energy_value_paths_have_the_same_bits() {
+    use stillpoint_energies::discrepancy::DiscrepancyEnergy;
+    use DiscrepancyKind::*;
+    for &(n, s) in &[(5usize, 2usize), (77, 9), (400, 3)] {
+        let x = random_set(n, s, 800 + n as u64);
+        for kind in [StarL2, ModifiedL2, CenteredL2, WrapAroundL2] {
+            let e = DiscrepancyEnergy::new(kind);
+            let mut g = vec![0.0; x.len()];
+            let v = e.value_and_gradient(&x, &mut g);
+            assert_eq!(v.to_bits(), e.value(&x).to_bits(), "{kind:?} n={n} s={s}");
+        }
+    }
+}
+
+#[test]
 fn minimum_distances_match_brute_force() {
     for &(n, s) in &[(1usize, 2usize), (2, 1), (40, 3), (333, 2), (900, 6)] {
         let mut x = random_set(n, s, 500 + n as u64);
