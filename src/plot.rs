@@ -583,13 +583,18 @@ pub struct LineChart {
     pub series: Vec<Series>,
 }
 
-const LINE_COLOURS: [RGBColor; 6] = [
+// Ten distinct colours, so a chart of every baseline and the DEM never repeats one.
+const LINE_COLOURS: [RGBColor; 10] = [
     RGBColor(31, 70, 160),
     RGBColor(200, 40, 40),
     RGBColor(30, 140, 60),
     RGBColor(150, 60, 170),
     RGBColor(220, 130, 20),
     RGBColor(40, 160, 170),
+    RGBColor(120, 120, 120),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(188, 189, 34),
 ];
 
 /// Saves line charts side by side (`.png` or `.svg` by extension), written atomically.
@@ -705,6 +710,8 @@ fn draw_charts<DB: DrawingBackend>(
                 ctx.configure_mesh()
                     .x_desc(chart.x_label.as_str())
                     .y_desc(chart.y_label.as_str())
+                    .x_label_formatter(&tick_label)
+                    .y_label_formatter(&tick_label)
                     .label_style(("sans-serif", 14))
                     .draw()
                     .map_err(draw_error)?;
@@ -737,6 +744,25 @@ fn draw_charts<DB: DrawingBackend>(
         }
     }
     Ok(())
+}
+
+/// A short axis label: 4 significant digits, scientific outside [1e-3, 1e5), so a log
+/// axis never prints binary rounding such as 0.30000000000000004.
+fn tick_label(v: &f64) -> String {
+    let a = v.abs();
+    if *v == 0.0 {
+        "0".into()
+    } else if !(1e-3..1e5).contains(&a) {
+        format!("{v:.1e}")
+    } else {
+        let digits = (3 - a.log10().floor() as i32).max(0) as usize;
+        let s = format!("{v:.digits$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    }
 }
 
 /// Side in pixels of one cell of [`save_projection_matrix`].

@@ -183,10 +183,7 @@ pub fn ensure(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<(Manifes
     // Small sets cannot keep two threads busy on their own: run them side by side. Each
     // set's bits do not depend on how many threads work on it, so this changes no output.
     let (small, large): (Vec<_>, Vec<_>) = todo.iter().partition(|&&(_, n)| n <= 200);
-    small
-        .par_iter()
-        .map(|c| make(c))
-        .collect::<Result<Vec<()>>>()?;
+    small.par_iter().map(&make).collect::<Result<Vec<()>>>()?;
     flush(&shared, log)?;
     for c in &large {
         make(c)?;

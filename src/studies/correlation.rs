@@ -317,7 +317,9 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
                 series,
             })
             .collect();
-        save_charts(&opts.out.join(fig), &charts, &mut files)?;
+        let path = opts.out.join(fig);
+        crate::plot::save_line_chart_grid(&path, &charts, 2)?;
+        files.push(path);
         md += &format!(
             "Final sets against the classic sequences (Fig. {}): [{fig}]({fig}). D_MD of each:\n\n",
             if by_n { 4 } else { 5 }
