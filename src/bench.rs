@@ -5,7 +5,7 @@
 //! - **Roofline.** A tiny kernel of independent fused multiply-adds (AVX2 + FMA when the
 //!   processor has them, else separate multiplies and adds) gives the f64 peak on 1 and on
 //!   2 threads. Each pair kernel is reported as a fraction of it, from the floating-point
-//!   operations per pair-coordinate counted in [`Flops`] (an FMA counts 2; add, subtract,
+//!   operations per pair-coordinate counted in `Flops` (an FMA counts 2; add, subtract,
 //!   multiply, divide, min, max and square root 1; bitwise operations, comparisons and
 //!   selections 0).
 //! - **Baselines.** For U_{q,p} with its gradient, [`naive_uqp_gradient`]: eqs. 11, 16

@@ -1,5 +1,5 @@
-//! Deterministic parallel loops over unordered pairs of points, and the four-lane vector
-//! type their kernels are written in.
+//! Deterministic parallel loops over unordered pairs of points, and the vector types
+//! their kernels are written in.
 //!
 //! The points are cut into blocks whose number depends on n only (never on the thread
 //! count), and the block pairs are scheduled in rounds by the circle method so that the
@@ -10,18 +10,18 @@
 //! tiles' partial sums in the same fixed order, so they have the same bits as the sums of
 //! the gradient loops.
 //!
-//! **Vector kernels.** [`Simd`] is a vector of f64 lanes with two base implementations of
+//! **Vector kernels.** `Simd` is a vector of f64 lanes with two base implementations of
 //! four lanes: AVX2 + FMA intrinsics, chosen at run time when the processor has them, and
-//! plain arrays for any other x86-64 or architecture. The kernels run on [`Wide`], four
+//! plain arrays for any other x86-64 or architecture. The kernels run on `Wide`, four
 //! such vectors side by side (16 lanes): the powers of U_{q,p} are long chains of
 //! dependent operations, and four independent chains in one instruction stream keep the
 //! pipelines full where one chain would wait on latency. A kernel is written once, generic
 //! over the trait, and compiled twice (see `run_sum_tile`). Both do the same IEEE
-//! operations in the same order except [`Simd::mul_add`], which is fused on AVX2 and a
+//! operations in the same order except `Simd::mul_add`, which is fused on AVX2 and a
 //! rounded product plus a sum otherwise; so a kernel that avoids `mul_add` gives the same
 //! bits on every machine, and one that uses it may differ in the last bits between
 //! machines, never between thread counts. The kernels read block-transposed copies of the
-//! coordinates ([`Blocks`]: per block, coordinate k of its points is contiguous), so the
+//! coordinates (`Blocks`: per block, coordinate k of its points is contiguous), so the
 //! lanes are consecutive points j and one load fetches them.
 
 use rayon::prelude::*;
@@ -36,7 +36,7 @@ const WIDE: usize = 4;
 
 /// Blocks are a multiple of this many points, so that kernels can use vectors of up to 16
 /// lanes without a partial vector inside a block.
-pub(crate) const LANES: usize = 16;
+const LANES: usize = 16;
 
 /// Smallest block of the vector kernels: a round's barrier costs a few microseconds, so a
 /// tile should hold at least 32 × 32 pairs.
@@ -410,7 +410,7 @@ pub(crate) fn give_scratch(v: Vec<f64>) {
     SCRATCH.set(v);
 }
 
-/// Which implementation of [`Simd`] the kernels use: `"avx2+fma"` or `"portable"`.
+/// Which implementation of `Simd` the kernels use: `"avx2+fma"` or `"portable"`.
 /// The environment variable `STILLPOINT_PORTABLE=1` (read once) forces the portable one,
 /// so that it can be tested and timed on a machine that has AVX2.
 pub fn vector_path() -> &'static str {

@@ -24,7 +24,7 @@
 //!   below 3.0e-16 relative).
 //!
 //! Each point i runs these in three passes over all its partners j in a block (see
-//! [`VecQ`]'s `rows`): one chain through log₂, 2^y, log₂ and 2^y is ~250 cycles of
+//! `VecQ`'s `rows`): one chain through log₂, 2^y, log₂ and 2^y is ~250 cycles of
 //! latency, and short passes let the processor overlap many coordinates.
 //!
 //! With rounding, each h² and each a = h·h' of the general-q kernel is within 1e-12 of the
