@@ -746,8 +746,9 @@ fn draw_charts<DB: DrawingBackend>(
     Ok(())
 }
 
-/// A short axis label: 4 significant digits, scientific outside [1e-3, 1e5), so a log
-/// axis never prints binary rounding such as 0.30000000000000004.
+/// A short axis label: 6 significant digits with trailing zeros dropped (enough for an
+/// energy that moves by 1e-4 of itself), scientific outside [1e-3, 1e5), so an axis never
+/// prints binary rounding such as 0.30000000000000004.
 fn tick_label(v: &f64) -> String {
     let a = v.abs();
     if *v == 0.0 {
@@ -755,7 +756,7 @@ fn tick_label(v: &f64) -> String {
     } else if !(1e-3..1e5).contains(&a) {
         format!("{v:.1e}")
     } else {
-        let digits = (3 - a.log10().floor() as i32).max(0) as usize;
+        let digits = (5 - a.log10().floor() as i32).max(0) as usize;
         let s = format!("{v:.digits$}");
         if s.contains('.') {
             s.trim_end_matches('0').trim_end_matches('.').to_string()
