@@ -8,8 +8,8 @@ and s = 2, 6 and 20, prints the median times, their ratios, and checks that the 
 agree. SciPy's 'MD' is the mixture discrepancy, not the modified L2 of the paper, so it is
 not compared.
 
-Our side runs `stillpoint bench` in its points mode (environment variable
-STILLPOINT_BENCH_POINTS=<file.npy>; see src/bench.rs), which times only the two
+Our side runs `stillpoint --threads 2 bench --points FILE` (see src/bench.rs), which
+times only the two
 discrepancies on the file's points.
 
 Usage:
@@ -83,10 +83,9 @@ def main() -> int:
                 t_cd, v_cd = scipy_time("CD")
                 t_l2, v_l2 = scipy_time("L2-star")
 
-                env = dict(os.environ, STILLPOINT_BENCH_POINTS=path,
-                           STILLPOINT_BENCH_REPS=str(args.reps), RAYON_NUM_THREADS="2")
-                out = subprocess.run([args.stillpoint, "bench"], env=env, check=True,
-                                     capture_output=True, text=True).stdout
+                out = subprocess.run([args.stillpoint, "--threads", "2", "bench",
+                                      "--points", path, "--reps", str(args.reps)],
+                                     check=True, capture_output=True, text=True).stdout
                 ours = json.loads(out.strip().splitlines()[-1])
                 # SciPy: CD squared, L2-star a root; ours: the same conventions. The squares
                 # are differences of terms of size C_s = (13/12)^s and (1/3)^s that cancel

@@ -21,10 +21,9 @@
 //!
 //! Timings are wall-clock medians of repeated runs after one warm-up run.
 //!
-//! **Points mode.** With the environment variable `STILLPOINT_BENCH_POINTS` set to a
-//! point file (any format `stillpoint eval` reads), `stillpoint bench` instead times the
-//! squared centred L2 and the star L2 discrepancy of those points on the current rayon
-//! pool (`RAYON_NUM_THREADS`), median of `STILLPOINT_BENCH_REPS` runs (default 5), and
+//! **Points mode.** `stillpoint bench --points FILE [--reps K]` (any format `stillpoint
+//! eval` reads) instead times the squared centred L2 and the star L2 discrepancy of those
+//! points on the current thread pool (`--threads`), median of K runs (default 5), and
 //! prints one JSON object; `benches/scipy_discrepancy.py` uses it to compare with SciPy on
 //! the same points.
 
@@ -314,9 +313,6 @@ fn both(reps: usize, f: impl Fn() + Sync) -> (f64, f64) {
 
 /// Runs the benchmark and writes Markdown tables to `out`.
 pub fn run(quick: bool, out: &mut dyn Write) -> std::io::Result<()> {
-    if let Ok(path) = std::env::var("STILLPOINT_BENCH_POINTS") {
-        return points_mode(std::path::Path::new(&path), out);
-    }
     let reps = if quick { 3 } else { 7 };
     writeln!(
         out,
@@ -556,13 +552,12 @@ fn cpu_model() -> String {
 
 /// Times the squared centred L2 and the star L2 discrepancy of a point file (see the
 /// module documentation) and prints one JSON object.
-fn points_mode(path: &std::path::Path, out: &mut dyn Write) -> std::io::Result<()> {
+/// Points mode: the centred and star L2 discrepancies of a point file, timed (median of
+/// `reps` runs after one warm-up), as one JSON object.
+pub fn run_points(path: &std::path::Path, reps: usize, out: &mut dyn Write) -> std::io::Result<()> {
     let points = crate::io::read_points(path)
         .map_err(|e| std::io::Error::other(format!("{}: {e}", path.display())))?;
-    let reps = std::env::var("STILLPOINT_BENCH_REPS")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(5usize);
+    let reps = reps.max(1);
     // A first call outside the timing starts the thread pool.
     let mut cd = metrics::centered_l2_squared(&points);
     let t_cd = median_time(reps, || cd = metrics::centered_l2_squared(&points));

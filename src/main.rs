@@ -282,6 +282,13 @@ enum Command {
         /// Smaller sizes and fewer repetitions.
         #[arg(long)]
         quick: bool,
+        /// Time only the centred and star L2 discrepancies of this point file and print
+        /// one JSON object (used by benches/scipy_discrepancy.py).
+        #[arg(long, value_name = "FILE")]
+        points: Option<PathBuf>,
+        /// Repetitions for --points (the median is reported).
+        #[arg(long, default_value_t = 5, value_name = "K")]
+        reps: usize,
     },
 }
 
@@ -524,7 +531,19 @@ fn real_main(cli: Cli) -> Result<()> {
                 }
             }
         }
-        Command::Bench { quick } => bench::run(quick, &mut std::io::stdout())?,
+        Command::Bench {
+            quick,
+            points,
+            reps,
+        } => match points {
+            Some(path) => {
+                if reps == 0 {
+                    bail!("invalid --reps = 0: expected at least 1 repetition");
+                }
+                bench::run_points(&path, reps, &mut std::io::stdout())?
+            }
+            None => bench::run(quick, &mut std::io::stdout())?,
+        },
     }
     Ok(())
 }
