@@ -299,55 +299,21 @@ enum Picture {
 /// `.png` or `.svg` (any case); anything else is refused before anything is drawn or
 /// written. The file is replaced atomically.
 pub fn save_panels(path: &Path, panels: &[Panel], columns: usize) -> Result<(), PlotError> {
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let picture = match ext.to_ascii_lowercase().as_str() {
-        "png" => Picture::Png,
-        "svg" => Picture::Svg,
-        _ => {
-            return Err(PlotError::UnsupportedFormat {
-                path: path.to_path_buf(),
-                ext,
-            })
-        }
-    };
+    let picture = picture_format(path)?;
     if panels.is_empty() {
         return Err(PlotError::NoPanels);
     }
     for (k, panel) in panels.iter().enumerate() {
         check_panel(k + 1, panel)?;
     }
-    let (width, height) = layout(panels.len(), columns);
-    if width > MAX_SIDE as u64 || height > MAX_SIDE as u64 || width * height > MAX_PIXELS {
-        return Err(PlotError::TooLarge { width, height });
-    }
-    let size = (width as u32, height as u32);
-    register_font()?;
-
-    let bytes = match picture {
-        Picture::Png => {
-            let mut rgb = vec![0u8; size.0 as usize * size.1 as usize * 3];
-            {
-                let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
-                draw(&root, panels, columns)?;
-                root.present().map_err(draw_error)?;
-            }
-            encode_png(&rgb, size)?
-        }
-        Picture::Svg => {
-            let mut svg = String::new();
-            {
-                let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-                draw(&root, panels, columns)?;
-                root.present().map_err(draw_error)?;
-            }
-            svg.into_bytes()
-        }
-    };
-    crate::io::write_atomic(path, &bytes)?;
-    Ok(())
+    let size = layout(panels.len(), columns);
+    save_scene(
+        path,
+        picture,
+        size,
+        |root| draw(root, panels, columns),
+        |root| draw(root, panels, columns),
+    )
 }
 
 fn check_panel(index: usize, panel: &Panel) -> Result<(), PlotError> {
@@ -609,49 +575,20 @@ pub fn save_line_chart_grid(
     charts: &[LineChart],
     columns: usize,
 ) -> Result<(), PlotError> {
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let png = match ext.to_ascii_lowercase().as_str() {
-        "png" => true,
-        "svg" => false,
-        _ => {
-            return Err(PlotError::UnsupportedFormat {
-                path: path.to_path_buf(),
-                ext,
-            })
-        }
-    };
+    let picture = picture_format(path)?;
     if charts.is_empty() {
         return Err(PlotError::NoPanels);
     }
     let (rows, columns) = grid(charts.len(), columns);
-    let (width, height) = (700 * columns as u64, 520 * rows as u64);
-    if width > MAX_SIDE as u64 || height > MAX_SIDE as u64 || width * height > MAX_PIXELS {
-        return Err(PlotError::TooLarge { width, height });
-    }
-    register_font()?;
-    let size = (width as u32, height as u32);
-    let bytes = if png {
-        let mut rgb = vec![0u8; size.0 as usize * size.1 as usize * 3];
-        {
-            let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
-            draw_charts(&root, charts, (rows, columns))?;
-            root.present().map_err(draw_error)?;
-        }
-        encode_png(&rgb, size)?
-    } else {
-        let mut svg = String::new();
-        {
-            let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-            draw_charts(&root, charts, (rows, columns))?;
-            root.present().map_err(draw_error)?;
-        }
-        svg.into_bytes()
-    };
-    crate::io::write_atomic(path, &bytes)?;
-    Ok(())
+    let size = (700 * columns as u64, 520 * rows as u64);
+    let shape = (rows, columns);
+    save_scene(
+        path,
+        picture,
+        size,
+        |root| draw_charts(root, charts, shape),
+        |root| draw_charts(root, charts, shape),
+    )
 }
 
 fn draw_charts<DB: DrawingBackend>(
@@ -811,7 +748,25 @@ pub fn save_projection_matrix(
         }
     }
     let side = dims as u64 * MATRIX_CELL as u64;
-    let (width, height) = (side, side + TITLE_HEIGHT as u64);
+    let size = (side, side + TITLE_HEIGHT as u64);
+    save_scene(
+        path,
+        picture,
+        size,
+        |root| draw_matrix(root, title, points, dims, lo, hi),
+        |root| draw_matrix(root, title, points, dims, lo, hi),
+    )
+}
+
+/// Checks the picture size, draws it with the backend of its format (one closure per
+/// backend type, as plotters' backends are distinct types) and writes it atomically.
+fn save_scene(
+    path: &Path,
+    picture: Picture,
+    (width, height): (u64, u64),
+    draw_png: impl FnOnce(&DrawingArea<BitMapBackend, Shift>) -> Result<(), PlotError>,
+    draw_svg: impl FnOnce(&DrawingArea<SVGBackend, Shift>) -> Result<(), PlotError>,
+) -> Result<(), PlotError> {
     if width > MAX_SIDE as u64 || height > MAX_SIDE as u64 || width * height > MAX_PIXELS {
         return Err(PlotError::TooLarge { width, height });
     }
@@ -822,7 +777,7 @@ pub fn save_projection_matrix(
             let mut rgb = vec![0u8; size.0 as usize * size.1 as usize * 3];
             {
                 let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
-                draw_matrix(&root, title, points, dims, lo, hi)?;
+                draw_png(&root)?;
                 root.present().map_err(draw_error)?;
             }
             encode_png(&rgb, size)?
@@ -831,7 +786,7 @@ pub fn save_projection_matrix(
             let mut svg = String::new();
             {
                 let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
-                draw_matrix(&root, title, points, dims, lo, hi)?;
+                draw_svg(&root)?;
                 root.present().map_err(draw_error)?;
             }
             svg.into_bytes()
