@@ -23,7 +23,7 @@ mod uqp;
 pub use domain::{Domain, PeriodicCube};
 pub use error::{Error, Result};
 pub use pointset::PointSet;
-pub use uqp::{paper_qp, Distance, PaperQp, Uqp};
+pub use uqp::{paper_qp, Distance, PaperQp, Precision, Uqp};
 
 /// A potential energy over a whole point set.
 ///

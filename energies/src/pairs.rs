@@ -469,6 +469,10 @@ pub(crate) trait Simd: Copy + Send + Sync + 'static {
     const N: usize;
     /// The all-true mask.
     const TRUE: Self;
+    /// The single vector this one is made of (itself, or the part of a [`Wide`]): for
+    /// kernels with short dependency chains and many live values, where side-by-side
+    /// vectors would only run out of registers.
+    type Base: Simd;
     fn splat(x: f64) -> Self;
     /// The first `N` values of `s`.
     fn load(s: &[f64]) -> Self;
@@ -496,10 +500,15 @@ pub(crate) trait Simd: Copy + Send + Sync + 'static {
     fn or(self, o: Self) -> Self;
     /// Lanes of `a` where the mask `self` is set, else of `b`.
     fn select(self, a: Self, b: Self) -> Self;
-    /// Lane-wise u64 shift right / left by 52 bits and u64 addition of the bit patterns.
+    /// Lane-wise u64 shift right / left by 52 bits (47 for `shr47`) and u64 addition of the
+    /// bit patterns.
     fn shr52(self) -> Self;
+    fn shr47(self) -> Self;
     fn shl52(self) -> Self;
     fn add_bits(self, o: Self) -> Self;
+    /// The vectors (c₀, c₁, c₂, c₃) with lane l of c_k = `table[idx[l] & 1023][at + k]`
+    /// (`at` 0 or 4): four table coefficients per lane, fetched as rows and transposed.
+    fn rows4(table: &[[f64; 8]; 1024], idx: &[u64], at: usize) -> [Self; 4];
     #[inline(always)]
     fn abs(self) -> Self {
         self.and(Self::splat(f64::from_bits(!SIGN)))
@@ -535,6 +544,7 @@ impl Portable {
 impl Simd for Portable {
     const N: usize = 4;
     const TRUE: Self = Portable([f64::from_bits(u64::MAX); 4]);
+    type Base = Self;
     #[inline(always)]
     fn splat(x: f64) -> Self {
         Portable([x; 4])
@@ -627,8 +637,17 @@ impl Simd for Portable {
         self.map(|a| f64::from_bits(a.to_bits() >> 52))
     }
     #[inline(always)]
+    fn shr47(self) -> Self {
+        self.map(|a| f64::from_bits(a.to_bits() >> 47))
+    }
+    #[inline(always)]
     fn shl52(self) -> Self {
         self.map(|a| f64::from_bits(a.to_bits() << 52))
+    }
+    #[inline(always)]
+    fn rows4(table: &[[f64; 8]; 1024], idx: &[u64], at: usize) -> [Self; 4] {
+        let r: [&[f64; 8]; 4] = std::array::from_fn(|l| &table[(idx[l] & 1023) as usize]);
+        std::array::from_fn(|k| Portable(std::array::from_fn(|l| r[l][(at + k) & 7])))
     }
     #[inline(always)]
     fn add_bits(self, o: Self) -> Self {
@@ -671,6 +690,7 @@ macro_rules! wide_binary {
 impl<V: Simd, const U: usize> Simd for Wide<V, U> {
     const N: usize = V::N * U;
     const TRUE: Self = Wide([V::TRUE; U]);
+    type Base = V::Base;
     #[inline(always)]
     fn splat(x: f64) -> Self {
         Wide([V::splat(x); U])
@@ -731,7 +751,18 @@ impl<V: Simd, const U: usize> Simd for Wide<V, U> {
         }
         r
     }
-    wide_unary!(sqrt, shr52, shl52);
+    #[inline(always)]
+    fn rows4(table: &[[f64; 8]; 1024], idx: &[u64], at: usize) -> [Self; 4] {
+        let mut r = [Wide([V::splat(0.0); U]); 4];
+        for u in 0..U {
+            let c = V::rows4(table, &idx[u * V::N..], at);
+            for k in 0..4 {
+                r[k].0[u] = c[k];
+            }
+        }
+        r
+    }
+    wide_unary!(sqrt, shr52, shr47, shl52);
     wide_binary!(add, sub, mul, div, min, max, lt, gt, eq, and, or, add_bits);
 }
 
@@ -752,6 +783,7 @@ mod avx2 {
     impl Simd for Avx2 {
         const N: usize = 4;
         const TRUE: Self = Avx2(unsafe { std::mem::transmute::<[u64; 4], __m256d>([u64::MAX; 4]) });
+        type Base = Self;
         #[inline(always)]
         fn splat(x: f64) -> Self {
             unsafe { Avx2(_mm256_set1_pd(x)) }
@@ -847,11 +879,38 @@ mod avx2 {
             }
         }
         #[inline(always)]
+        fn shr47(self) -> Self {
+            unsafe {
+                Avx2(_mm256_castsi256_pd(_mm256_srli_epi64::<47>(
+                    _mm256_castpd_si256(self.0),
+                )))
+            }
+        }
+        #[inline(always)]
         fn shl52(self) -> Self {
             unsafe {
                 Avx2(_mm256_castsi256_pd(_mm256_slli_epi64::<52>(
                     _mm256_castpd_si256(self.0),
                 )))
+            }
+        }
+        #[inline(always)]
+        fn rows4(table: &[[f64; 8]; 1024], idx: &[u64], at: usize) -> [Self; 4] {
+            let at = at & 4;
+            let r: [&[f64]; 4] =
+                std::array::from_fn(|l| &table[(idx[l] & 1023) as usize][at..at + 4]);
+            unsafe {
+                let [r0, r1, r2, r3] = r.map(|row| _mm256_loadu_pd(row.as_ptr()));
+                let t0 = _mm256_unpacklo_pd(r0, r1);
+                let t1 = _mm256_unpackhi_pd(r0, r1);
+                let t2 = _mm256_unpacklo_pd(r2, r3);
+                let t3 = _mm256_unpackhi_pd(r2, r3);
+                [
+                    Avx2(_mm256_permute2f128_pd::<0x20>(t0, t2)),
+                    Avx2(_mm256_permute2f128_pd::<0x20>(t1, t3)),
+                    Avx2(_mm256_permute2f128_pd::<0x31>(t0, t2)),
+                    Avx2(_mm256_permute2f128_pd::<0x31>(t1, t3)),
+                ]
             }
         }
         #[inline(always)]

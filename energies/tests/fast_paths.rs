@@ -5,12 +5,15 @@
 //!
 //! The vector path in use is the processor's (AVX2 + FMA here); run the suite again with
 //! `STILLPOINT_PORTABLE=1` to check the portable one against the same bounds.
+//!
+//! The same checks for [`Precision::Fast`] (the interpolation table) against its own
+//! bound, [`Precision::FAST_BOUND`].
 
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use stillpoint_energies::discrepancy::{pair_product_sums, DiscrepancyKind};
 use stillpoint_energies::pairs::min_squared_distances;
-use stillpoint_energies::{Distance, Energy, PointSet, Uqp};
+use stillpoint_energies::{Distance, Energy, PointSet, Precision, Uqp};
 
 fn random_set(n: usize, s: usize, seed: u64) -> PointSet {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
@@ -36,28 +39,33 @@ fn reference_q(delta: f64, q: f64) -> (f64, f64, f64) {
 
 /// U and its gradient for two points in one dimension, with p = 1 (so d^{−p} is an exact
 /// 1/√d² and only the coordinate kernel is approximated): U = 1/h, ∂U/∂x₁ = −a/h³.
-fn two_points(q: f64, x1: f64) -> (f64, f64) {
+fn two_points_with(q: f64, x1: f64, precision: Precision) -> (f64, f64) {
     let x = PointSet::new(2, 1, vec![x1, 0.0]).unwrap();
-    let e = Uqp::new(Distance::Q(q), 1.0).unwrap();
+    let e = Uqp::new(Distance::Q(q), 1.0)
+        .unwrap()
+        .with_precision(precision);
     let mut g = [0.0; 2];
     let u = e.value_and_gradient(&x, &mut g);
     (u, g[0])
 }
 
-#[test]
-fn general_q_kernel_within_the_stated_bound() {
-    let qs = [
-        0.01, 0.05, 0.0551, 0.1, 0.173, 0.3, 0.5, 0.84, 0.999, 1.001, 1.7, 2.5, 3.7, 10.0, 100.0,
-    ];
-    // Δ from 1e-80 to 1 − 1e-16, log-spaced towards both ends, a uniform grid and a fine
-    // one around the kink-free middle Δ = ½ (where h·h' passes through 0). Below 1e-80 the
-    // kernel keeps the bound, but this two-point energy's pair weight d^{−p−2} overflows.
+/// Δ from 1e-80 to 1 − 1e-16, log-spaced towards both ends, a uniform grid and a fine one
+/// around the kink-free middle Δ = ½ (where h·h' passes through 0). Below 1e-80 the
+/// kernels keep their bounds, but the two-point energy's pair weight d^{−p−2} overflows.
+fn test_deltas() -> Vec<f64> {
     let mut deltas: Vec<f64> = (0..=80).map(|k| 10f64.powf(-(k as f64))).collect();
     deltas.extend((1..=16).map(|k| 1.0 - 10f64.powf(-(k as f64))));
     deltas.extend((1..2000).map(|k| k as f64 / 2000.0));
     deltas.extend((1..2000).map(|k| 0.5 + (k as f64 - 1000.0) * 1e-9));
+    deltas
+}
+
+/// The worst errors of h² (relative to h²) and h·h' (relative to Δ·v²) of one precision's
+/// two-point energies over [`test_deltas`], asserting `bound` on each.
+fn kernel_errors(qs: &[f64], precision: Precision, bound: f64) -> f64 {
+    let deltas = test_deltas();
     let mut worst: f64 = 0.0;
-    for &q in &qs {
+    for &q in qs {
         for &delta in &deltas {
             if delta <= 0.0 || delta >= 1.0 {
                 continue;
@@ -66,19 +74,86 @@ fn general_q_kernel_within_the_stated_bound() {
             if h2 < f64::MIN_POSITIVE || h2.is_nan() || !scale.is_finite() {
                 continue; // h² below the normal range: flushed, as documented.
             }
-            let (u, g) = two_points(q, delta);
+            let (u, g) = two_points_with(q, delta, precision);
             let got_h2 = 1.0 / (u * u);
             let got_hh = -g * got_h2 * got_h2.sqrt();
             let e_h2 = (got_h2 - h2).abs() / h2;
             let e_hh = (got_hh - hh).abs() / scale;
             worst = worst.max(e_h2).max(e_hh);
             assert!(
-                e_h2 <= BOUND && e_hh <= BOUND,
-                "q={q} Δ={delta:e}: h² {got_h2:e} vs {h2:e} ({e_h2:e}), h·h' {got_hh:e} vs {hh:e} ({e_hh:e})"
+                e_h2 <= bound && e_hh <= bound,
+                "{precision:?} q={q} Δ={delta:e}: h² {got_h2:e} vs {h2:e} ({e_h2:e}), h·h' {got_hh:e} vs {hh:e} ({e_hh:e})"
             );
         }
     }
+    worst
+}
+
+#[test]
+fn general_q_kernel_within_the_stated_bound() {
+    let qs = [
+        0.01, 0.05, 0.0551, 0.1, 0.173, 0.3, 0.5, 0.84, 0.999, 1.001, 1.7, 2.5, 3.7, 10.0, 100.0,
+    ];
+    let worst = kernel_errors(&qs, Precision::Full, BOUND);
     eprintln!("general-q kernel: worst relative error {worst:e} (bound {BOUND:e})");
+}
+
+#[test]
+fn fast_kernel_within_its_stated_bound() {
+    // The table's range [0.01, 2] and its ends, plus q outside it (the full kernels).
+    let qs = [
+        0.01, 0.0173, 0.05, 0.0551, 0.1, 0.173, 0.3, 0.5, 0.84, 0.999, 1.001, 1.7, 1.99, 2.0, 3.7,
+    ];
+    let bound = Precision::FAST_BOUND;
+    let worst = kernel_errors(&qs, Precision::Fast, bound);
+    eprintln!("fast kernel: worst relative error {worst:e} (bound {bound:e})");
+    // The bound is not loose by orders of magnitude: the table is a real approximation.
+    assert!(worst > 1e-10, "{worst:e}");
+}
+
+#[test]
+fn fast_precision_only_changes_the_table_range() {
+    let x = random_set(90, 4, 5);
+    for (dist, changes) in [
+        (Distance::Q(0.3), true),
+        (Distance::Q(0.01), true),
+        (Distance::Q(2.0), false),
+        (Distance::Q(1.0), false),
+        (Distance::Q(0.009), false),
+        (Distance::Q(2.5), false),
+        (Distance::Torus, false),
+        (Distance::Euclidean, false),
+    ] {
+        let full = Uqp::new(dist, 0.8).unwrap();
+        let fast = full.clone().with_precision(Precision::Fast);
+        let (a, b) = (full.value(&x), fast.value(&x));
+        assert_eq!(a.to_bits() != b.to_bits(), changes, "{dist:?}: {a} vs {b}");
+        assert!((a - b).abs() <= Precision::FAST_BOUND * a, "{dist:?}");
+    }
+}
+
+#[test]
+fn fast_precision_handles_tiny_and_zero_differences() {
+    // Differences of 0, 1e-30 and 1e-9 (below the table's 2^-24) and of 0.3: the first
+    // three go to the f64 formulas, so the energy and gradient are as accurate as those.
+    let x = PointSet::from_rows(&[
+        [0.2, 0.7, 0.4],
+        [0.2, 0.7 + 1e-30, 0.4 + 1e-9],
+        [0.5, 0.1, 0.4],
+        [0.9, 0.7, 0.1],
+    ])
+    .unwrap();
+    for q in [0.03, 0.3, 1.5] {
+        let fast = Uqp::new(Distance::Q(q), 0.9)
+            .unwrap()
+            .with_precision(Precision::Fast);
+        let mut g = vec![0.0; x.len()];
+        let u = fast.value_and_gradient(&x, &mut g);
+        let (u_ref, g_ref) = reference_uqp(&x, Distance::Q(q), 0.9);
+        assert!((u - u_ref).abs() <= 1e-7 * u_ref, "q={q}: {u} vs {u_ref}");
+        assert!(norm_err(&g, &g_ref) <= 1e-7, "q={q}");
+        assert!(g.iter().all(|v| v.is_finite()));
+    }
 }
 
 /// Straightforward U_{q,p} with its gradient: every pair twice, the kernels as printed
@@ -192,6 +267,38 @@ fn energies_and_gradients_match_the_straightforward_kernel() {
 }
 
 #[test]
+fn fast_energies_and_gradients_match_the_straightforward_kernel() {
+    let sizes = [(2usize, 1usize), (17, 3), (70, 7), (129, 20), (300, 2)];
+    let mut worst: (f64, f64) = (0.0, 0.0);
+    for (qi, &q) in [0.0551, 0.17, 0.3, 0.7, 1.3, 1.9].iter().enumerate() {
+        for &p in &[0.05, 0.84, 1.0, 3.3] {
+            for &(n, s) in &sizes {
+                let x = random_set(n, s, 3 + 11 * qi as u64 + n as u64 * s as u64);
+                let e = Uqp::new(Distance::Q(q), p)
+                    .unwrap()
+                    .with_precision(Precision::Fast);
+                let mut g = vec![0.0; x.len()];
+                let u = e.value_and_gradient(&x, &mut g);
+                assert_eq!(u.to_bits(), e.value(&x).to_bits(), "value paths differ");
+                let (u_ref, g_ref) = reference_uqp(&x, Distance::Q(q), p);
+                let eu = (u - u_ref).abs() / u_ref;
+                let eg = norm_err(&g, &g_ref);
+                worst = (worst.0.max(eu), worst.1.max(eg));
+                // Per coordinate within FAST_BOUND; d² and the pair sums inherit it.
+                assert!(
+                    eu < Precision::FAST_BOUND && eg < Precision::FAST_BOUND,
+                    "q={q} p={p} n={n} s={s}: value {eu:e}, gradient {eg:e}"
+                );
+            }
+        }
+    }
+    eprintln!(
+        "fast: energy relative error ≤ {:e}, gradient ≤ {:e}",
+        worst.0, worst.1
+    );
+}
+
+#[test]
 fn saturation_is_as_documented() {
     // Coincident points: +∞ energy, finite (zero) gradient; points far apart in 'E' with a
     // large p: d^{−p} underflows to 0.
@@ -242,6 +349,9 @@ fn same_bits_for_one_and_two_threads_every_kernel() {
         let e = Uqp::new(dist, 0.7).unwrap();
         assert_eq!(run(1, &e), run(2, &e), "{dist:?}");
         assert_eq!(run(1, &e), run(3, &e), "{dist:?}");
+        let e = e.with_precision(Precision::Fast);
+        assert_eq!(run(1, &e), run(2, &e), "{dist:?} fast");
+        assert_eq!(run(1, &e), run(3, &e), "{dist:?} fast");
     }
 }
 
