@@ -29,7 +29,7 @@
 
 use crate::energies::discrepancy::{DiscrepancyEnergy, DiscrepancyKind};
 use crate::energies::pairs::vector_path;
-use crate::energies::{Distance, Energy, PointSet, Uqp};
+use crate::energies::{Distance, Energy, PointSet, Precision, Uqp};
 use crate::metrics::{self, Metrics};
 use crate::sequences;
 use std::io::Write;
@@ -148,6 +148,13 @@ impl Flops {
     /// force scatter (3); per pair d^{−p} (48), its sum (1) and d^{−p}/d² (1).
     const UQP_GENERAL_GRAD: Flops = Flops {
         per_coord: 115.0,
+        per_pair: 50.0,
+    };
+    /// U_{q,p} value and gradient, general q with the fast table: reduction (4), the
+    /// local variable (2), two cubics (12), h² (2) and h·h' (1), d² (1), scatter (3);
+    /// the interval index and the row transposes are bit operations and shuffles.
+    const UQP_FAST_GRAD: Flops = Flops {
+        per_coord: 25.0,
         per_pair: 50.0,
     };
     /// U_{q,p} value only, general q: the above without h·h' and the scatter.
@@ -339,6 +346,7 @@ pub fn run(quick: bool, out: &mut dyn Write) -> std::io::Result<()> {
 
     let n_uqp = if quick { 500 } else { 1500 };
     let (q, p) = (0.3, 0.8);
+    let mut full_two = Vec::new();
     for s in [2, 20] {
         let x = sequences::halton(n_uqp, s).expect("halton");
         let e = Uqp::new(Distance::Q(q), p).expect("energy");
@@ -350,6 +358,7 @@ pub fn run(quick: bool, out: &mut dyn Write) -> std::io::Result<()> {
             let mut g = vec![0.0; x.len()];
             std::hint::black_box(e.value_and_gradient(&x, &mut g));
         });
+        full_two.push(two);
         let t = Timing {
             baseline: Some(base),
             one,
@@ -364,6 +373,31 @@ pub fn run(quick: bool, out: &mut dyn Write) -> std::io::Result<()> {
             "eqs. 11/16 as printed, 1 thread",
             &t,
             Flops::UQP_GENERAL_GRAD,
+            peak,
+        )?;
+    }
+    for (s, full) in [2, 20].into_iter().zip(full_two) {
+        let x = sequences::halton(n_uqp, s).expect("halton");
+        let e = Uqp::new(Distance::Q(q), p)
+            .expect("energy")
+            .with_precision(Precision::Fast);
+        let (one, two) = both(reps, || {
+            let mut g = vec![0.0; x.len()];
+            std::hint::black_box(e.value_and_gradient(&x, &mut g));
+        });
+        let t = Timing {
+            baseline: Some(full),
+            one,
+            two,
+        };
+        row(
+            out,
+            "U_{q,p} value+gradient, q=0.3, p=0.8, fast (table, 1e-7)",
+            n_uqp,
+            s,
+            "the full kernel above (1e-12), 2 threads",
+            &t,
+            Flops::UQP_FAST_GRAD,
             peak,
         )?;
     }
@@ -508,20 +542,31 @@ pub fn run(quick: bool, out: &mut dyn Write) -> std::io::Result<()> {
     writeln!(out)?;
     writeln!(out, "|---|---|{}", "---|".repeat(ns.len()))?;
     let uqp_s = 5;
-    write!(out, "| U_{{q,p}} value+gradient, q=0.3, p=0.8 | {uqp_s} |")?;
-    let e = Uqp::new(Distance::Q(q), p).expect("energy");
-    for &n in ns {
-        let x = sequences::halton(n, uqp_s).expect("halton");
-        let r = if n > 5000 { 3 } else { reps };
-        let t = on_threads(2, || {
-            median_time(r, || {
-                let mut g = vec![0.0; x.len()];
-                std::hint::black_box(e.value_and_gradient(&x, &mut g));
-            })
-        });
-        write!(out, " {:.3} |", t * 1e9 / (pairs(n) * uqp_s as f64))?;
+    for precision in [Precision::Full, Precision::Fast] {
+        let label = match precision {
+            Precision::Full => "",
+            Precision::Fast => ", fast",
+        };
+        write!(
+            out,
+            "| U_{{q,p}} value+gradient, q=0.3, p=0.8{label} | {uqp_s} |"
+        )?;
+        let e = Uqp::new(Distance::Q(q), p)
+            .expect("energy")
+            .with_precision(precision);
+        for &n in ns {
+            let x = sequences::halton(n, uqp_s).expect("halton");
+            let r = if n > 5000 { 3 } else { reps };
+            let t = on_threads(2, || {
+                median_time(r, || {
+                    let mut g = vec![0.0; x.len()];
+                    std::hint::black_box(e.value_and_gradient(&x, &mut g));
+                })
+            });
+            write!(out, " {:.3} |", t * 1e9 / (pairs(n) * uqp_s as f64))?;
+        }
+        writeln!(out)?;
     }
-    writeln!(out)?;
     write!(out, "| star L2 discrepancy² | 20 |")?;
     for &n in ns {
         let x = sequences::halton(n, 20).expect("halton");

@@ -9,7 +9,7 @@
 use crate::energies::discrepancy::{DiscrepancyEnergy, DiscrepancyKind};
 use crate::energies::einf::UEInf;
 use crate::energies::shapes::BoxRegion;
-use crate::energies::{paper_qp, Distance, Domain, Energy, PeriodicCube, PointSet, Uqp};
+use crate::energies::{paper_qp, Distance, Domain, Energy, PeriodicCube, PointSet, Precision, Uqp};
 use crate::integrators::lbfgs::Lbfgs;
 use crate::integrators::{
     Control, Dem, DemState, Integrator, Kappa, Observer, Record, Restart, RunOutput, Snapshots,
@@ -71,6 +71,10 @@ pub struct GenerateConfig {
     pub q: Option<Distance>,
     /// The exponent p; `None` takes p from eq. 48.
     pub p: Option<f64>,
+    /// How U_{q,p}'s general-q distance is evaluated during the run: [`Precision::Fast`]
+    /// by default (the forces only steer the dynamics); the reported energies of the start
+    /// and the result are always evaluated with [`Precision::Full`].
+    pub precision: Precision,
     /// The start.
     pub init: Init,
     /// Seed for every random choice (the random start).
@@ -101,6 +105,7 @@ impl GenerateConfig {
             energy: CubeEnergy::Uqp,
             q: None,
             p: None,
+            precision: Precision::Fast,
             init: Init::Halton,
             seed: 0,
             solver: Solver::Dem,
@@ -269,7 +274,11 @@ pub fn generate_with(
         match cfg.energy {
             CubeEnergy::Uqp => {
                 let (e, choice) = choose_energy(cfg.n, cfg.s, cfg.q, cfg.p)?;
-                (Box::new(e), Box::new(PeriodicCube::new(cfg.s)?), choice)
+                (
+                    Box::new(e.with_precision(cfg.precision)),
+                    Box::new(PeriodicCube::new(cfg.s)?),
+                    choice,
+                )
             }
             CubeEnergy::EInf => {
                 let euclid = cfg.q == Some(Distance::Euclidean);
@@ -368,6 +377,15 @@ pub fn generate_with(
             }
         }
     };
+    // The energies reported for the start and the DEM's result, at full precision when
+    // the run used the fast table.
+    let full_energies = match cfg.energy {
+        CubeEnergy::Uqp if cfg.precision != Precision::Full => {
+            let (e, _) = choose_energy(cfg.n, cfg.s, cfg.q, cfg.p)?;
+            Some((e.value(&start), e.value(&output.points)))
+        }
+        _ => None,
+    };
     let shift = if cfg.shifts > 0 && domain.is_periodic() {
         on_event(Event::Stage {
             name: "shift selection",
@@ -410,7 +428,7 @@ pub fn generate_with(
         None => None,
     };
     debug_assert!(output.points.rows().all(|r| domain.contains(r)));
-    let energy_pair = (
+    let energy_pair = full_energies.unwrap_or((
         output
             .trajectory
             .first()
@@ -421,7 +439,7 @@ pub fn generate_with(
             .last()
             .map(|r| r.energy)
             .unwrap_or(f64::NAN),
-    );
+    ));
     on_event(Event::Stage {
         name: "metrics",
         steps: None,
@@ -710,6 +728,7 @@ pub fn config_json(cfg: &GenerateConfig) -> Value {
         "--energy": format!("{:?}", cfg.energy),
         "--q": cfg.q.map(|q| format!("{q:?}")),
         "--p": cfg.p,
+        "--precision": cfg.precision.label(),
         "--init": match &cfg.init {
             Init::Halton => "halton".to_string(),
             Init::Random => "random".to_string(),

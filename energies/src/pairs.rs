@@ -506,9 +506,10 @@ pub(crate) trait Simd: Copy + Send + Sync + 'static {
     fn shr47(self) -> Self;
     fn shl52(self) -> Self;
     fn add_bits(self, o: Self) -> Self;
-    /// The vectors (c₀, c₁, c₂, c₃) with lane l of c_k = `table[idx[l] & 1023][at + k]`
-    /// (`at` 0 or 4): four table coefficients per lane, fetched as rows and transposed.
-    fn rows4(table: &[[f64; 8]; 1024], idx: &[u64], at: usize) -> [Self; 4];
+    /// The vectors (c₀, c₁, c₂, c₃) with lane l of c_k = `table[i & 1023][at + k]`, i the
+    /// bits of `idx[l]` read as an integer (`at` 0 or 4): four table coefficients per
+    /// lane, fetched as rows and transposed.
+    fn rows4(table: &[[f64; 8]; 1024], idx: &[f64], at: usize) -> [Self; 4];
     #[inline(always)]
     fn abs(self) -> Self {
         self.and(Self::splat(f64::from_bits(!SIGN)))
@@ -645,8 +646,8 @@ impl Simd for Portable {
         self.map(|a| f64::from_bits(a.to_bits() << 52))
     }
     #[inline(always)]
-    fn rows4(table: &[[f64; 8]; 1024], idx: &[u64], at: usize) -> [Self; 4] {
-        let r: [&[f64; 8]; 4] = std::array::from_fn(|l| &table[(idx[l] & 1023) as usize]);
+    fn rows4(table: &[[f64; 8]; 1024], idx: &[f64], at: usize) -> [Self; 4] {
+        let r: [&[f64; 8]; 4] = std::array::from_fn(|l| &table[(idx[l].to_bits() & 1023) as usize]);
         std::array::from_fn(|k| Portable(std::array::from_fn(|l| r[l][(at + k) & 7])))
     }
     #[inline(always)]
@@ -752,7 +753,7 @@ impl<V: Simd, const U: usize> Simd for Wide<V, U> {
         r
     }
     #[inline(always)]
-    fn rows4(table: &[[f64; 8]; 1024], idx: &[u64], at: usize) -> [Self; 4] {
+    fn rows4(table: &[[f64; 8]; 1024], idx: &[f64], at: usize) -> [Self; 4] {
         let mut r = [Wide([V::splat(0.0); U]); 4];
         for u in 0..U {
             let c = V::rows4(table, &idx[u * V::N..], at);
@@ -895,10 +896,10 @@ mod avx2 {
             }
         }
         #[inline(always)]
-        fn rows4(table: &[[f64; 8]; 1024], idx: &[u64], at: usize) -> [Self; 4] {
+        fn rows4(table: &[[f64; 8]; 1024], idx: &[f64], at: usize) -> [Self; 4] {
             let at = at & 4;
             let r: [&[f64]; 4] =
-                std::array::from_fn(|l| &table[(idx[l] & 1023) as usize][at..at + 4]);
+                std::array::from_fn(|l| &table[(idx[l].to_bits() & 1023) as usize][at..at + 4]);
             unsafe {
                 let [r0, r1, r2, r3] = r.map(|row| _mm256_loadu_pd(row.as_ptr()));
                 let t0 = _mm256_unpacklo_pd(r0, r1);

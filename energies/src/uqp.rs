@@ -764,10 +764,9 @@ impl VecKernel for VecQFast<'_> {
         let mant = V::<W>::splat(f64::from_bits((1u64 << 47) - 1));
         let one = V::<W>::splat(1.0);
         let scale = V::<W>::splat(2.0 * FAST_SPLIT as f64);
-        let shift = V::<W>::splat(2.0 * FAST_SPLIT as f64 + 1.0);
+        let shift = V::<W>::splat(-(2.0 * FAST_SPLIT as f64 + 1.0));
         let mut small = zero;
-        let mut at = [0.0f64; MAX_LANES];
-        let mut idx = [0u64; MAX_LANES];
+        let mut idx = [0.0f64; MAX_LANES];
         let rows = &*self.table.rows;
         for k in 0..r.s {
             let xi = V::<W>::splat(r.xi[k]);
@@ -780,14 +779,11 @@ impl VecKernel for VecQFast<'_> {
                 let d = diff::<Self, V<W>>(xi, V::<W>::load(xj));
                 let dl = d.abs();
                 small = small.or(dl.lt(lo).and(dl.gt(zero)));
-                let c = dl.max(lo);
-                // In 0 … 767 (Δ ∈ [2^{−24}, ½]); `rows4` masks it to the table.
-                c.shr47().add_bits(base).store(&mut at);
-                for (i, a) in idx[..n].iter_mut().zip(&at) {
-                    *i = a.to_bits();
-                }
+                // In 0 … 767 for Δ ∈ [2^{−24}, ½]; `rows4` masks it to the table. Smaller Δ
+                // read some other row, which `tiny_rows` overwrites (Δ = 0 gives 0 anyway).
+                dl.shr47().add_bits(base).store(&mut idx);
                 // x ∈ [−1, 1): the mantissa bits below the top 5, scaled (exact).
-                let x = c.and(mant).or(one).mul(scale).sub(shift);
+                let x = dl.and(mant).or(one).mul_add(scale, shift);
                 let [p0, p1, p2, p3] = V::<W>::rows4(rows, &idx, 0);
                 let v2 = p3.mul_add(x, p2).mul_add(x, p1).mul_add(x, p0);
                 dl.mul(dl).mul(v2).store(h2);
