@@ -500,16 +500,16 @@ pub(crate) trait Simd: Copy + Send + Sync + 'static {
     fn or(self, o: Self) -> Self;
     /// Lanes of `a` where the mask `self` is set, else of `b`.
     fn select(self, a: Self, b: Self) -> Self;
-    /// Lane-wise u64 shift right / left by 52 bits (47 for `shr47`) and u64 addition of the
+    /// Lane-wise u64 shift right / left by 52 bits (46 for `shr46`) and u64 addition of the
     /// bit patterns.
     fn shr52(self) -> Self;
-    fn shr47(self) -> Self;
+    fn shr46(self) -> Self;
     fn shl52(self) -> Self;
     fn add_bits(self, o: Self) -> Self;
-    /// The vectors (c₀, c₁, c₂, c₃) with lane l of c_k = `table[i & 1023][at + k]`, i the
-    /// bits of `idx[l]` read as an integer (`at` 0 or 4): four table coefficients per
-    /// lane, fetched as rows and transposed.
-    fn rows4(table: &[[f64; 8]; 1024], idx: &[f64], at: usize) -> [Self; 4];
+    /// The vectors (c₀, c₁, c₂, c₃) with lane l of c_k = `table[i & 2047][k]`, i the bits
+    /// of `idx[l]` read as an integer: four table coefficients per lane, fetched as rows
+    /// and transposed.
+    fn rows4(table: &[[f64; 4]; 2048], idx: &[f64]) -> [Self; 4];
     #[inline(always)]
     fn abs(self) -> Self {
         self.and(Self::splat(f64::from_bits(!SIGN)))
@@ -638,17 +638,17 @@ impl Simd for Portable {
         self.map(|a| f64::from_bits(a.to_bits() >> 52))
     }
     #[inline(always)]
-    fn shr47(self) -> Self {
-        self.map(|a| f64::from_bits(a.to_bits() >> 47))
+    fn shr46(self) -> Self {
+        self.map(|a| f64::from_bits(a.to_bits() >> 46))
     }
     #[inline(always)]
     fn shl52(self) -> Self {
         self.map(|a| f64::from_bits(a.to_bits() << 52))
     }
     #[inline(always)]
-    fn rows4(table: &[[f64; 8]; 1024], idx: &[f64], at: usize) -> [Self; 4] {
-        let r: [&[f64; 8]; 4] = std::array::from_fn(|l| &table[(idx[l].to_bits() & 1023) as usize]);
-        std::array::from_fn(|k| Portable(std::array::from_fn(|l| r[l][(at + k) & 7])))
+    fn rows4(table: &[[f64; 4]; 2048], idx: &[f64]) -> [Self; 4] {
+        let r: [&[f64; 4]; 4] = std::array::from_fn(|l| &table[(idx[l].to_bits() & 2047) as usize]);
+        std::array::from_fn(|k| Portable(std::array::from_fn(|l| r[l][k])))
     }
     #[inline(always)]
     fn add_bits(self, o: Self) -> Self {
@@ -753,17 +753,17 @@ impl<V: Simd, const U: usize> Simd for Wide<V, U> {
         r
     }
     #[inline(always)]
-    fn rows4(table: &[[f64; 8]; 1024], idx: &[f64], at: usize) -> [Self; 4] {
+    fn rows4(table: &[[f64; 4]; 2048], idx: &[f64]) -> [Self; 4] {
         let mut r = [Wide([V::splat(0.0); U]); 4];
         for u in 0..U {
-            let c = V::rows4(table, &idx[u * V::N..], at);
+            let c = V::rows4(table, &idx[u * V::N..]);
             for k in 0..4 {
                 r[k].0[u] = c[k];
             }
         }
         r
     }
-    wide_unary!(sqrt, shr52, shr47, shl52);
+    wide_unary!(sqrt, shr52, shr46, shl52);
     wide_binary!(add, sub, mul, div, min, max, lt, gt, eq, and, or, add_bits);
 }
 
@@ -880,9 +880,9 @@ mod avx2 {
             }
         }
         #[inline(always)]
-        fn shr47(self) -> Self {
+        fn shr46(self) -> Self {
             unsafe {
-                Avx2(_mm256_castsi256_pd(_mm256_srli_epi64::<47>(
+                Avx2(_mm256_castsi256_pd(_mm256_srli_epi64::<46>(
                     _mm256_castpd_si256(self.0),
                 )))
             }
@@ -896,10 +896,9 @@ mod avx2 {
             }
         }
         #[inline(always)]
-        fn rows4(table: &[[f64; 8]; 1024], idx: &[f64], at: usize) -> [Self; 4] {
-            let at = at & 4;
-            let r: [&[f64]; 4] =
-                std::array::from_fn(|l| &table[(idx[l].to_bits() & 1023) as usize][at..at + 4]);
+        fn rows4(table: &[[f64; 4]; 2048], idx: &[f64]) -> [Self; 4] {
+            let r: [&[f64; 4]; 4] =
+                std::array::from_fn(|l| &table[(idx[l].to_bits() & 2047) as usize]);
             unsafe {
                 let [r0, r1, r2, r3] = r.map(|row| _mm256_loadu_pd(row.as_ptr()));
                 let t0 = _mm256_unpacklo_pd(r0, r1);

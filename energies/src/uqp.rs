@@ -213,21 +213,24 @@ pub enum Precision {
     /// Each h² and h·h' within 1e-12 of eqs. 11/16 (see the module documentation).
     #[default]
     Full,
-    /// For q ∈ [0.01, 2] other than 1 (which has a closed form): h²/Δ² and h·h'/Δ from a
-    /// table of cubics on 768 intervals that follow the bits of Δ (built once per q from
-    /// the f64 formulas), each h² and h·h' within [`Precision::FAST_BOUND`] of eqs. 11/16.
-    /// About twice as fast as [`Precision::Full`]; for the DEM's dynamics, where the forces
-    /// only need to point the right way. Other q use the full kernels.
+    /// For q ∈ [0.01, 2] other than 1 (which has a closed form): h²/Δ² from a table of
+    /// cubics on 1536 intervals that follow the bits of Δ (built once per q from the f64
+    /// formulas), and h·h' = ½ d(h²)/dΔ of that same h², so the forces are the exact
+    /// gradient of the energy evaluated. h² is within [`Precision::FAST_BOUND_H2`] of
+    /// eq. 11, h·h' within [`Precision::FAST_BOUND`] of eq. 16. About twice as fast as
+    /// [`Precision::Full`]; for the DEM's dynamics. Other q use the full kernels.
     Fast,
 }
 
 impl Precision {
-    /// The stated bound of [`Precision::Fast`]: the error of h² relative to h², and of
-    /// h·h' relative to Δ·v² (the scale of h·h', which passes through 0 at Δ = ½).
-    /// Interpolating a cubic on intervals 1/64 of their distance from 0 wide gives at most
-    /// 1.4e-8 for q ≤ 1.5 and 4e-8 at q = 2; `tests/fast_paths.rs` checks the bound on
-    /// 4 400 values of Δ for 12 values of q.
-    pub const FAST_BOUND: f64 = 1e-7;
+    /// The stated bound of [`Precision::Fast`] on h·h', relative to Δ·v² (its scale; it
+    /// passes through 0 at Δ = ½): the derivative of the interpolating cubic, at most
+    /// 9e-7 over 0.01 ≤ q ≤ 2. `tests/fast_paths.rs` checks both bounds on 4 400 values of
+    /// Δ for 14 values of q.
+    pub const FAST_BOUND: f64 = 2e-6;
+    /// The stated bound of [`Precision::Fast`] on h², relative to h²: a cubic on intervals
+    /// 1/128 of their distance from 0 wide interpolates v² within 9e-10.
+    pub const FAST_BOUND_H2: f64 = 4e-9;
 
     /// Whether [`Precision::Fast`] changes the kernel for this q.
     pub fn fast_applies(q: f64) -> bool {
@@ -660,12 +663,13 @@ impl VecKernel for VecQ {
     }
 }
 
-/// The general-q kernel of [`Precision::Fast`]: h²/Δ² = v² and h·h'/Δ as cubic
-/// polynomials on a table of intervals, evaluated in f64. The intervals follow the bits of
-/// Δ: each binade [2^e, 2^{e+1}), e = −24 … −1, is cut into 32 equal parts, so an
-/// interval's index is the exponent and the top 5 mantissa bits of Δ, its local variable
-/// the remaining bits, and no interval comes closer to the singularity of t = Δ^q·… at 0
-/// than 64 half-widths. Δ below 2^{−24} (other than 0) is recomputed with the f64 formulas.
+/// The general-q kernel of [`Precision::Fast`]: v² = h²/Δ² as cubics on a table of
+/// intervals, evaluated in f64, and h·h' = ½ d(h²)/dΔ from the same cubic, so the forces are
+/// the exact gradient of the energy the table defines. The intervals follow the bits of Δ:
+/// each binade [2^e, 2^{e+1}), e = −24 … −1, is cut into 64 equal parts, so an interval's
+/// index is the exponent and the top 6 mantissa bits of Δ, its local variable the remaining
+/// bits, and no interval comes closer to the singularity of t = Δ^q·… at 0 than 128
+/// half-widths. Δ below 2^{−24} (other than 0) is recomputed with the f64 formulas.
 #[derive(Clone, Copy)]
 struct VecQFast<'a> {
     full: VecQ,
@@ -676,16 +680,18 @@ struct VecQFast<'a> {
 const FAST_LO: f64 = 5.960464477539063e-8;
 /// Binades in the table: 2^{−24} … 2^{−1}.
 const FAST_BINADES: usize = 24;
-/// Intervals per binade (2^5: the top 5 mantissa bits).
-const FAST_SPLIT: usize = 32;
+/// log₂ of the intervals per binade (the top 6 mantissa bits).
+const FAST_BITS: u32 = 6;
+/// Intervals per binade.
+const FAST_SPLIT: usize = 1 << FAST_BITS;
 
 /// The interpolation table of [`Precision::Fast`] for one q.
 #[derive(Clone, PartialEq)]
 pub(crate) struct FastTable {
     q: f64,
-    /// Per interval, the monomial coefficients (in the local variable x ∈ [−1, 1)) of v²,
-    /// then of h·h'/Δ; padded to 1024 rows so that an index masked to 10 bits is in range.
-    rows: Box<[[f64; 8]; 1024]>,
+    /// Per interval, the monomial coefficients of v² in the local variable x ∈ [−1, 1);
+    /// padded to 2048 rows so that an index masked to 11 bits is in range.
+    rows: Box<[[f64; 4]; 2048]>,
 }
 
 impl std::fmt::Debug for FastTable {
@@ -695,28 +701,23 @@ impl std::fmt::Debug for FastTable {
 }
 
 impl FastTable {
-    /// Interpolates v² and h·h'/Δ at the four Chebyshev points of each interval, with the
-    /// f64 formulas of eqs. 11/16 (`powf`).
+    /// Interpolates v² at the four Chebyshev points of each interval, with the f64
+    /// formulas of eq. 11 (`powf`).
     pub(crate) fn new(q: f64) -> Self {
         let kern = Kernel::Q { q, inv_q: 1.0 / q };
         let nodes: [f64; 4] =
             std::array::from_fn(|k| (std::f64::consts::PI * (k as f64 + 0.5) / 4.0).cos());
-        let mut rows = Box::new([[0.0; 8]; 1024]);
+        let mut rows = Box::new([[0.0; 4]; 2048]);
         for b in 0..FAST_BINADES {
             let base = FAST_LO * (1u64 << b) as f64;
             let width = base / FAST_SPLIT as f64;
             for j in 0..FAST_SPLIT {
                 let (mid, half) = (base + width * (j as f64 + 0.5), 0.5 * width);
-                let mut f = [[0.0; 4]; 2];
-                for (k, &x) in nodes.iter().enumerate() {
-                    let d = mid + half * x;
-                    let (h2, a) = kern.eval(d);
-                    f[0][k] = h2 / (d * d);
-                    f[1][k] = a / d;
-                }
-                let row = &mut rows[b * FAST_SPLIT + j];
-                row[..4].copy_from_slice(&cheb_to_monomial(&f[0], &nodes));
-                row[4..].copy_from_slice(&cheb_to_monomial(&f[1], &nodes));
+                let f: [f64; 4] = std::array::from_fn(|k| {
+                    let d = mid + half * nodes[k];
+                    kern.eval(d).0 / (d * d)
+                });
+                rows[b * FAST_SPLIT + j] = cheb_to_monomial(&f, &nodes);
             }
         }
         FastTable { q, rows }
@@ -757,14 +758,18 @@ impl VecKernel for VecQFast<'_> {
         let n = V::<W>::N;
         let zero = V::<W>::splat(0.0);
         let lo = V::<W>::splat(FAST_LO);
-        // (bits of Δ) >> 47 is (biased exponent)·32 + top 5 mantissa bits.
+        // (bits of Δ) >> 46 is (biased exponent)·64 + top 6 mantissa bits.
         let base = V::<W>::splat(f64::from_bits(
             (((1023 - FAST_BINADES as u64) * FAST_SPLIT as u64) as i64).wrapping_neg() as u64,
         ));
-        let mant = V::<W>::splat(f64::from_bits((1u64 << 47) - 1));
+        let low = V::<W>::splat(f64::from_bits((1u64 << (52 - FAST_BITS)) - 1));
+        let mant = V::<W>::splat(f64::from_bits((1u64 << 52) - 1));
         let one = V::<W>::splat(1.0);
+        let two = V::<W>::splat(2.0);
+        let three = V::<W>::splat(3.0);
         let scale = V::<W>::splat(2.0 * FAST_SPLIT as f64);
         let shift = V::<W>::splat(-(2.0 * FAST_SPLIT as f64 + 1.0));
+        let half_scale = V::<W>::splat(FAST_SPLIT as f64);
         let mut small = zero;
         let mut idx = [0.0f64; MAX_LANES];
         let rows = &*self.table.rows;
@@ -779,18 +784,20 @@ impl VecKernel for VecQFast<'_> {
                 let d = diff::<Self, V<W>>(xi, V::<W>::load(xj));
                 let dl = d.abs();
                 small = small.or(dl.lt(lo).and(dl.gt(zero)));
-                // In 0 … 767 for Δ ∈ [2^{−24}, ½]; `rows4` masks it to the table. Smaller Δ
+                // In 0 … 1535 for Δ ∈ [2^{−24}, ½]; `rows4` masks it to the table. Smaller Δ
                 // read some other row, which `tiny_rows` overwrites (Δ = 0 gives 0 anyway).
-                dl.shr47().add_bits(base).store(&mut idx);
-                // x ∈ [−1, 1): the mantissa bits below the top 5, scaled (exact).
-                let x = dl.and(mant).or(one).mul_add(scale, shift);
-                let [p0, p1, p2, p3] = V::<W>::rows4(rows, &idx, 0);
+                dl.shr46().add_bits(base).store(&mut idx);
+                // x ∈ [−1, 1): the mantissa bits below the top 6, scaled (exact).
+                let x = dl.and(low).or(one).mul_add(scale, shift);
+                let [p0, p1, p2, p3] = V::<W>::rows4(rows, &idx);
                 let v2 = p3.mul_add(x, p2).mul_add(x, p1).mul_add(x, p0);
                 dl.mul(dl).mul(v2).store(h2);
                 if GRAD {
-                    let [q0, q1, q2, q3] = V::<W>::rows4(rows, &idx, 4);
-                    let w = q3.mul_add(x, q2).mul_add(x, q1).mul_add(x, q0);
-                    d.mul(w).store(f);
+                    // h·h'/Δ = v² + ½Δ·dv²/dΔ, and ½Δ·dx/dΔ = 64·m with m the mantissa
+                    // of Δ in [1, 2).
+                    let dv = p3.mul(three).mul_add(x, p2.mul(two)).mul_add(x, p1);
+                    let m = dl.and(mant).or(one);
+                    d.mul(m.mul(half_scale).mul_add(dv, v2)).store(f);
                 }
             }
         }
