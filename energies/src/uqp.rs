@@ -757,7 +757,6 @@ impl VecKernel for VecQFast<'_> {
         type V<W> = W;
         let n = V::<W>::N;
         let zero = V::<W>::splat(0.0);
-        let lo = V::<W>::splat(FAST_LO);
         // (bits of Δ) >> 46 is (biased exponent)·64 + top 6 mantissa bits.
         let base = V::<W>::splat(f64::from_bits(
             (((1023 - FAST_BINADES as u64) * FAST_SPLIT as u64) as i64).wrapping_neg() as u64,
@@ -765,8 +764,6 @@ impl VecKernel for VecQFast<'_> {
         let low = V::<W>::splat(f64::from_bits((1u64 << (52 - FAST_BITS)) - 1));
         let mant = V::<W>::splat(f64::from_bits((1u64 << 52) - 1));
         let one = V::<W>::splat(1.0);
-        let two = V::<W>::splat(2.0);
-        let three = V::<W>::splat(3.0);
         let scale = V::<W>::splat(2.0 * FAST_SPLIT as f64);
         let shift = V::<W>::splat(-(2.0 * FAST_SPLIT as f64 + 1.0));
         let half_scale = V::<W>::splat(FAST_SPLIT as f64);
@@ -783,25 +780,31 @@ impl VecKernel for VecQFast<'_> {
             {
                 let d = diff::<Self, V<W>>(xi, V::<W>::load(xj));
                 let dl = d.abs();
-                small = small.or(dl.lt(lo).and(dl.gt(zero)));
                 // In 0 … 1535 for Δ ∈ [2^{−24}, ½]; `rows4` masks it to the table. Smaller Δ
-                // read some other row, which `tiny_rows` overwrites (Δ = 0 gives 0 anyway).
-                dl.shr46().add_bits(base).store(&mut idx);
+                // (0 included) make it negative: its sign bit flags the row for `tiny_rows`,
+                // which redoes them (Δ = 0 gives 0 on either path).
+                let i = dl.shr46().add_bits(base);
+                small = small.or(i);
+                i.store(&mut idx);
                 // x ∈ [−1, 1): the mantissa bits below the top 6, scaled (exact).
                 let x = dl.and(low).or(one).mul_add(scale, shift);
                 let [p0, p1, p2, p3] = V::<W>::rows4(rows, &idx);
-                let v2 = p3.mul_add(x, p2).mul_add(x, p1).mul_add(x, p0);
+                // The cubic and its derivative in one Horner pass.
+                let b = p3.mul_add(x, p2);
+                let db = b.add(p3.mul(x));
+                let b = b.mul_add(x, p1);
+                let dv = db.mul_add(x, b);
+                let v2 = b.mul_add(x, p0);
                 dl.mul(dl).mul(v2).store(h2);
                 if GRAD {
                     // h·h'/Δ = v² + ½Δ·dv²/dΔ, and ½Δ·dx/dΔ = 64·m with m the mantissa
                     // of Δ in [1, 2).
-                    let dv = p3.mul(three).mul_add(x, p2.mul(two)).mul_add(x, p1);
                     let m = dl.and(mant).or(one);
                     d.mul(m.mul(half_scale).mul_add(dv, v2)).store(f);
                 }
             }
         }
-        if small.and(one).hsum() > 0.0 {
+        if small.select(one, zero).hsum() > 0.0 {
             self.tiny_rows::<GRAD>(r);
         }
     }
