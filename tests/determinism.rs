@@ -129,11 +129,24 @@ fn owned(args: &[&str]) -> Vec<String> {
 
 #[test]
 fn generate_in_every_mode_gives_the_same_bytes() {
-    let modes: [(&str, &[&str]); 6] = [
+    let modes: [(&str, &[&str]); 7] = [
         (
             "cube",
             &[
                 "-n", "90", "-s", "3", "--steps", "60", "--init", "random", "--seed", "4",
+            ],
+        ),
+        (
+            "cube, full precision",
+            &[
+                "-n",
+                "90",
+                "-s",
+                "3",
+                "--steps",
+                "60",
+                "--precision",
+                "full",
             ],
         ),
         (

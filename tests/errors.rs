@@ -162,6 +162,16 @@ fn cli_refuses_bad_input_clearly_and_touches_no_file() {
             "invalid --q = abc",
         ),
         (
+            "unknown precision",
+            gen(&["-n", "10", "-s", "2", "--precision", "half"]),
+            "invalid --precision = half: expected fast or full",
+        ),
+        (
+            "precision in a region",
+            gen(&["-n", "10", "-s", "2", "--shape", "ball:1", "--precision", "fast"]),
+            "invalid --precision = fast for a region",
+        ),
+        (
             "kappa < 1",
             gen(&["-n", "10", "-s", "2", "--kappa", "0.5"]),
             "invalid --kappa = 0.5: expected `auto` or a finite number ≥ 1",

@@ -41,13 +41,15 @@
 //! 1e-100, as in any f64 evaluation.
 //!
 //! **Fast precision.** [`Precision::Fast`] replaces the two powers of the general-q kernel
-//! (0.01 ≤ q ≤ 2) by a table: v² = h²/Δ² and h·h'/Δ are smooth in Δ away from 0, so each
-//! binade [2^e, 2^{e+1}) of Δ (e = −24 … −1) is cut into 32 intervals on which both are
-//! cubics, interpolated at Chebyshev points from the f64 formulas when the energy is
-//! built. The interval is read off the bits of Δ and each lane fetches its interval's
-//! coefficients as two rows, transposed in registers (the processor's gathers are slower).
-//! Interpolation error: below 1.4e-8 for q ≤ 1.5, 4e-8 near q = 2 (stated bound 1e-7,
-//! [`Precision::FAST_BOUND`]); Δ below 2^{−24} uses the f64 formulas.
+//! (0.01 ≤ q ≤ 2) by a table: v² = h²/Δ² is smooth in Δ away from 0, so each binade
+//! [2^e, 2^{e+1}) of Δ (e = −24 … −1) is cut into 64 intervals on which v² is a cubic,
+//! interpolated at Chebyshev points from the f64 formulas when the energy is built; h·h'
+//! is ½ d(h²)/dΔ of that cubic, so the forces are the exact gradient of the energy the run
+//! evaluates. The interval is read off the bits of Δ and each lane fetches its interval's
+//! four coefficients as one row, transposed in registers (the processor's gathers are
+//! slower). Errors: h² within 9e-10, h·h' within 9e-7 of its scale (stated bounds 4e-9 and
+//! 2e-6, [`Precision::FAST_BOUND_H2`], [`Precision::FAST_BOUND`]); Δ below 2^{−24} uses the
+//! f64 formulas.
 //!
 //! **Determinism.** The sums and every gradient row are accumulated in an order fixed by n
 //! alone, so the result has the same bits for any number of threads. On processors with
