@@ -392,7 +392,7 @@ pub fn run(quick: bool, out: &mut dyn Write) -> std::io::Result<()> {
         };
         row(
             out,
-            "U_{q,p} value+gradient, q=0.3, p=0.8, fast (table, 1e-7)",
+            "U_{q,p} value+gradient, q=0.3, p=0.8, fast (table)",
             n_uqp,
             s,
             "the full kernel above (1e-12), 2 threads",

@@ -81,7 +81,7 @@ struct GenerateArgs {
     #[arg(long, value_name = "P", allow_hyphen_values = true)]
     p: Option<f64>,
     /// How U_{q,p}'s distance is evaluated during the run for 0.01 ≤ q ≤ 2: `fast` (a
-    /// table of cubics, each coordinate's term within 1e-7; about twice as fast) or `full`
+    /// table of cubics, each coordinate's h² within 4e-9; about twice as fast) or `full`
     /// (within 1e-12). Reported energies are always full. Default: fast.
     #[arg(long, value_name = "fast|full")]
     precision: Option<String>,
