@@ -13,10 +13,10 @@ use crate::metrics::Metrics;
 use crate::run::{generate, GenerateConfig};
 use crate::PointSet;
 use anyhow::{bail, Context, Result};
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 /// The sizes of the paper's catalog.
@@ -180,14 +180,46 @@ pub fn ensure(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<(Manifes
         io::write_atomic(&manifest_path, &serde_json::to_vec_pretty(m)?)?;
         Ok(())
     };
-    // Small sets cannot keep two threads busy on their own: run them side by side. Each
-    // set's bits do not depend on how many threads work on it, so this changes no output.
-    let (small, large): (Vec<_>, Vec<_>) = todo.iter().partition(|&&(_, n)| n <= 200);
-    small.par_iter().map(&make).collect::<Result<Vec<()>>>()?;
+    // Sets run side by side, as many at a time as there are worker threads, largest
+    // first (n²·s orders their cost): a set alone cannot keep every thread busy, and its
+    // kernels use the threads the other sets leave idle. Each set's bits do not depend on
+    // how many threads work on it, so this changes no output.
+    let mut order = todo.clone();
+    order.sort_by_key(|&(s, n)| std::cmp::Reverse(n * n * s));
+    let next = AtomicUsize::new(0);
+    let failed: Mutex<Option<anyhow::Error>> = Mutex::new(None);
+    let running = AtomicUsize::new(rayon::current_num_threads().clamp(1, order.len().max(1)));
+    std::thread::scope(|scope| -> Result<()> {
+        for _ in 0..running.load(Ordering::SeqCst) {
+            scope.spawn(|| {
+                loop {
+                    let i = next.fetch_add(1, Ordering::SeqCst);
+                    let stop = failed.lock().map_or(true, |f| f.is_some());
+                    if i >= order.len() || stop {
+                        break;
+                    }
+                    if let Err(e) = make(&order[i]) {
+                        if let Ok(mut f) = failed.lock() {
+                            f.get_or_insert(e);
+                        }
+                    }
+                }
+                running.fetch_sub(1, Ordering::SeqCst);
+            });
+        }
+        // Progress lines as the sets finish.
+        while running.load(Ordering::SeqCst) > 0 {
+            std::thread::sleep(std::time::Duration::from_millis(200));
+            flush(&shared, log)?;
+        }
+        Ok(())
+    })?;
     flush(&shared, log)?;
-    for c in &large {
-        make(c)?;
-        flush(&shared, log)?;
+    if let Some(e) = failed
+        .into_inner()
+        .map_err(|_| anyhow::anyhow!("catalog lock poisoned"))?
+    {
+        return Err(e);
     }
     let (manifest, _) = shared
         .into_inner()
