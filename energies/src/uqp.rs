@@ -693,8 +693,14 @@ pub(crate) struct FastTable {
     q: f64,
     /// Per interval, the monomial coefficients of v² in the local variable x ∈ [−1, 1);
     /// padded to 2048 rows so that an index masked to 11 bits is in range.
-    rows: Box<[[f64; 4]; 2048]>,
+    rows: Box<FastRows>,
 }
+
+/// The rows of a [`FastTable`], aligned to cache lines so that no 32-byte row straddles
+/// two of them.
+#[derive(Clone, PartialEq)]
+#[repr(C, align(64))]
+struct FastRows([[f64; 4]; 2048]);
 
 impl std::fmt::Debug for FastTable {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -709,7 +715,7 @@ impl FastTable {
         let kern = Kernel::Q { q, inv_q: 1.0 / q };
         let nodes: [f64; 4] =
             std::array::from_fn(|k| (std::f64::consts::PI * (k as f64 + 0.5) / 4.0).cos());
-        let mut rows = Box::new([[0.0; 4]; 2048]);
+        let mut rows = Box::new(FastRows([[0.0; 4]; 2048]));
         for b in 0..FAST_BINADES {
             let base = FAST_LO * (1u64 << b) as f64;
             let width = base / FAST_SPLIT as f64;
@@ -719,7 +725,7 @@ impl FastTable {
                     let d = mid + half * nodes[k];
                     kern.eval(d).0 / (d * d)
                 });
-                rows[b * FAST_SPLIT + j] = cheb_to_monomial(&f, &nodes);
+                rows.0[b * FAST_SPLIT + j] = cheb_to_monomial(&f, &nodes);
             }
         }
         FastTable { q, rows }
@@ -771,7 +777,7 @@ impl VecKernel for VecQFast<'_> {
         let half_scale = V::<W>::splat(FAST_SPLIT as f64);
         let mut small = zero;
         let mut idx = [0.0f64; MAX_LANES];
-        let rows = &*self.table.rows;
+        let rows = &self.table.rows.0;
         for k in 0..r.s {
             let xi = V::<W>::splat(r.xi[k]);
             let row = k * r.bs..(k + 1) * r.bs;
