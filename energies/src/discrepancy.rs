@@ -63,7 +63,8 @@
 //! pair sums of several kinds in one pass, for the metrics of the root crate.
 
 use crate::pairs::{
-    give_scratch, grad_tiles, sum_tiles, take_scratch, Blocks, GradTiles, Simd, SumTiles,
+    give_scratch, grad_tiles, sum_tiles, take_scratch, AlignedBuf, Blocks, GradTiles, Simd,
+    SumTiles,
 };
 use crate::{Energy, Error, PointSet, Result};
 use std::marker::PhantomData;
@@ -399,11 +400,11 @@ fn evaluate<K: Kernel>(points: &PointSet, grad: Option<&mut [f64]>) -> f64 {
             } else {
                 let tiles = GradPairs::<K> {
                     blocks: Blocks::new(n, s),
-                    xt: Vec::new(),
+                    xt: AlignedBuf::default(),
                     kernel: PhantomData,
                 }
                 .with_points(points);
-                let mut gt = vec![0.0; tiles.blocks.total_len()];
+                let mut gt = AlignedBuf::zeros(tiles.blocks.total_len());
                 let off = grad_tiles(&tiles.blocks, &tiles, &mut gt);
                 tiles.blocks.untranspose(&gt, grad, 1.0);
                 off
@@ -545,7 +546,7 @@ fn products<P: Kinds<M>, const M: usize>(points: &PointSet) -> [f64; M] {
     let gap = if P::HALF_GAP {
         blocks.transpose(points.as_slice(), |v| 0.5 * (v - 0.5).abs())
     } else {
-        Vec::new()
+        AlignedBuf::default()
     };
     let tiles = SumPairs::<P, M> {
         blocks: &blocks,
@@ -614,7 +615,7 @@ impl<P: Kinds<M>, const M: usize> SumTiles for SumPairs<'_, P, M> {
 /// (∂₁) and row j (∂₂).
 struct GradPairs<K> {
     blocks: Blocks,
-    xt: Vec<f64>,
+    xt: AlignedBuf,
     kernel: PhantomData<K>,
 }
 

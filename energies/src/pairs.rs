@@ -281,9 +281,9 @@ impl Blocks {
     }
 
     /// The block-transposed copy of the row-major `x`, with `f` applied to every value.
-    pub fn transpose(&self, x: &[f64], f: impl Fn(f64) -> f64) -> Vec<f64> {
+    pub(crate) fn transpose(&self, x: &[f64], f: impl Fn(f64) -> f64) -> AlignedBuf {
         let (bs, s) = (self.bs, self.s);
-        let mut t = vec![0.0; self.total_len()];
+        let mut t = AlignedBuf::zeros(self.total_len());
         for (i, row) in x.chunks_exact(s).enumerate() {
             let base = (i / bs) * bs * s + i % bs;
             for (k, &v) in row.iter().enumerate() {
@@ -390,23 +390,69 @@ pub(crate) fn grad_tiles<K: GradTiles>(blocks: &Blocks, kernel: &K, gt: &mut [f6
     )
 }
 
+/// 64 bytes of f64: the unit of [`AlignedBuf`].
+#[derive(Clone, Copy, Default)]
+#[repr(C, align(64))]
+struct Line([f64; 8]);
+
+/// An f64 buffer that starts on a cache line, so that the kernels' 32-byte vector loads
+/// at multiples of 4 never straddle two lines (the allocator only promises 16 bytes).
+#[derive(Clone, Default)]
+pub(crate) struct AlignedBuf {
+    lines: Vec<Line>,
+    len: usize,
+}
+
+impl AlignedBuf {
+    /// `len` zeros.
+    pub(crate) fn zeros(len: usize) -> Self {
+        AlignedBuf {
+            lines: vec![Line::default(); len.div_ceil(8)],
+            len,
+        }
+    }
+
+    /// At least `len` values, keeping the buffer when it is long enough.
+    fn grow(&mut self, len: usize) {
+        if self.len < len {
+            *self = AlignedBuf::zeros(len);
+        }
+    }
+}
+
+impl std::ops::Deref for AlignedBuf {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        // SAFETY: `lines` holds `len.div_ceil(8)` lines of 8 f64 each, contiguous
+        // (`repr(C)`, size 64), so its first `len` f64 are initialised and in bounds.
+        unsafe { std::slice::from_raw_parts(self.lines.as_ptr().cast::<f64>(), self.len) }
+    }
+}
+
+impl std::ops::DerefMut for AlignedBuf {
+    fn deref_mut(&mut self) -> &mut [f64] {
+        // SAFETY: as in `deref`, borrowed mutably through `self`.
+        unsafe { std::slice::from_raw_parts_mut(self.lines.as_mut_ptr().cast::<f64>(), self.len) }
+    }
+}
+
 thread_local! {
     /// Each worker's scratch buffer, reused across tiles and calls.
-    static SCRATCH: std::cell::Cell<Vec<f64>> = const { std::cell::Cell::new(Vec::new()) };
+    static SCRATCH: std::cell::Cell<AlignedBuf> = const {
+        std::cell::Cell::new(AlignedBuf { lines: Vec::new(), len: 0 })
+    };
 }
 
 /// This thread's scratch buffer with at least `len` values (contents unspecified; the
 /// kernels write before they read). Allocates only when a larger buffer is first needed.
-pub(crate) fn take_scratch(len: usize) -> Vec<f64> {
+pub(crate) fn take_scratch(len: usize) -> AlignedBuf {
     let mut v = SCRATCH.take();
-    if v.len() < len {
-        v.resize(len, 0.0);
-    }
+    v.grow(len);
     v
 }
 
 /// Returns a buffer from [`take_scratch`] for the next tile on this thread.
-pub(crate) fn give_scratch(v: Vec<f64>) {
+pub(crate) fn give_scratch(v: AlignedBuf) {
     SCRATCH.set(v);
 }
 

@@ -58,7 +58,8 @@
 //! the last bits (well within the bound above), never between thread counts.
 
 use crate::pairs::{
-    give_scratch, grad_tiles, sum_tiles, take_scratch, Blocks, GradTiles, Simd, SumTiles,
+    give_scratch, grad_tiles, sum_tiles, take_scratch, AlignedBuf, Blocks, GradTiles, Simd,
+    SumTiles,
 };
 use crate::{Energy, Error, PointSet, Result};
 
@@ -356,10 +357,10 @@ impl Energy for Uqp {
         // common factor −S^{1/p−1} is applied when the rows are copied out.
         struct Grad<'a>(&'a PointSet, f64);
         impl WithKernel for Grad<'_> {
-            type Out = (f64, Blocks, Vec<f64>);
+            type Out = (f64, Blocks, AlignedBuf);
             fn run<K: VecKernel>(self, kern: K) -> Self::Out {
                 let tiles = UqpTiles::new(self.0, kern, self.1);
-                let mut gt = vec![0.0; tiles.blocks.total_len()];
+                let mut gt = AlignedBuf::zeros(tiles.blocks.total_len());
                 let sum = grad_tiles(&tiles.blocks, &tiles, &mut gt);
                 (sum, tiles.blocks, gt)
             }
@@ -978,7 +979,7 @@ impl PairPow {
 /// periodic distances, whose h has period 1).
 struct UqpTiles<K> {
     blocks: Blocks,
-    xt: Vec<f64>,
+    xt: AlignedBuf,
     kern: K,
     pow: PairPow,
 }
