@@ -10,7 +10,8 @@
 //!   selections 0).
 //! - **Baselines.** For U_{q,p} with its gradient, [`naive_uqp_gradient`]: eqs. 11, 16
 //!   and 18 as printed, every power through `powf`, both halves of the pair loop, one
-//!   thread. For the discrepancies, [`naive_discrepancy_squared`]: the closed form as a
+//!   thread; for U_{q,p} with the fast table (`Precision::Fast`), the full kernel timed
+//!   in the same run. For the discrepancies, [`naive_discrepancy_squared`]: the closed form as a
 //!   plain double loop over all ordered pairs, one thread (what a direct transcription,
 //!   or SciPy's `qmc.discrepancy` with one worker, does). For the metrics, the same code
 //!   on one thread.
