@@ -382,7 +382,12 @@ pub fn generate_with(
     let full_energies = match cfg.energy {
         CubeEnergy::Uqp if cfg.precision != Precision::Full => {
             let (e, _) = choose_energy(cfg.n, cfg.s, cfg.q, cfg.p)?;
-            Some((e.value(&start), e.value(&output.points)))
+            match e.distance() {
+                Distance::Q(q) if Precision::fast_applies(q) => {
+                    Some((e.value(&start), e.value(&output.points)))
+                }
+                _ => None,
+            }
         }
         _ => None,
     };
