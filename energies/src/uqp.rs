@@ -129,7 +129,7 @@ impl Distance {
 
 /// Per-coordinate kernel: for the signed difference δ = x_ik − x_jk returns
 /// (h(Δ)², sgn(δ)·h(Δ)·h'(Δ)), so that d² = Σ_k h² and ∂d/∂x_ik = (second) / d.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, PartialEq)]
 enum Kernel {
     Euclidean,
     Torus,
@@ -692,6 +692,8 @@ const FAST_SPLIT: usize = 1 << FAST_BITS;
 #[derive(Clone, PartialEq)]
 pub(crate) struct FastTable {
     q: f64,
+    /// The f64 formulas, for the table's nodes and for Δ below its range.
+    kern: Kernel,
     /// Per interval, the monomial coefficients of v² in the local variable x ∈ [−1, 1);
     /// padded to 2048 rows so that an index masked to 11 bits is in range.
     rows: Box<FastRows>,
@@ -729,7 +731,7 @@ impl FastTable {
                 rows.0[b * FAST_SPLIT + j] = cheb_to_monomial(&f, &nodes);
             }
         }
-        FastTable { q, rows }
+        FastTable { q, kern, rows }
     }
 }
 
@@ -827,10 +829,7 @@ impl VecQFast<'_> {
     /// [`diff`] does.
     #[cold]
     fn tiny_rows<const GRAD: bool>(&self, r: &mut Rows<'_>) {
-        let kern = Kernel::Q {
-            q: self.full.q,
-            inv_q: 1.0 / self.full.q,
-        };
+        let kern = self.table.kern;
         for k in 0..r.s {
             for j in 0..r.bs {
                 let at = k * r.bs + j;
