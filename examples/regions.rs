@@ -32,7 +32,7 @@ fn main() -> anyhow::Result<()> {
         let mut last = None;
         for steps in [1000, 10_000] {
             let mut cfg = RegionConfig::new(domain.clone(), 100);
-            cfg.dem.steps = steps;
+            cfg.steps = steps;
             let r = generate_in_region(&cfg, |_| {})?;
             assert!(r.output.points.rows().all(|x| domain.contains(x)));
             if steps == 1000 {

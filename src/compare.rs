@@ -94,7 +94,7 @@ pub fn run(
                 let mut cfg = GenerateConfig::new(n, s);
                 cfg.energy = energy;
                 cfg.solver = solver;
-                cfg.dem.steps = settings.steps;
+                cfg.steps = settings.steps;
                 cfg.log_every = settings.log_every;
                 let r = generate(&cfg, |_| {})?;
                 let e0 = r.energy.0;
@@ -269,36 +269,29 @@ fn polish_row(
     seconds_before: f64,
 ) -> Result<CompareRow> {
     use crate::energies::discrepancy::DiscrepancyEnergy;
-    use crate::energies::shapes::BoxRegion;
-    use crate::energies::{Domain, Energy, PeriodicCube};
-    use crate::integrators::lbfgs::Lbfgs;
-    use crate::integrators::{Integrator, NoObserver};
+    use crate::energies::Energy;
     let clock = std::time::Instant::now();
-    let kind = settings.discrepancy;
-    let e = DiscrepancyEnergy::new(kind);
-    let d: Box<dyn Domain> = if kind.is_periodic() {
-        Box::new(PeriodicCube::new(s)?)
-    } else {
-        Box::new(BoxRegion::new(vec![0.0; s], vec![1.0; s])?)
-    };
-    let lbfgs = Lbfgs {
-        iterations: settings.steps,
-        ..Lbfgs::default()
-    };
-    let out = lbfgs.run(&e, d.as_ref(), points.clone(), &mut NoObserver)?;
+    let e = DiscrepancyEnergy::new(settings.discrepancy);
+    let p = crate::run::polish(
+        points,
+        settings.discrepancy,
+        settings.steps,
+        &crate::integrators::lbfgs::Lbfgs::default(),
+        |_| {},
+    )?;
     let seconds = seconds_before + clock.elapsed().as_secs_f64();
     Ok(CompareRow {
         s,
         n,
         solver: "DEM + L-BFGS polish".into(),
         energy: e.name(),
-        final_energy: e.value(&out.points),
-        modified_l2: metrics::modified_l2(&out.points),
-        star_l2: metrics::star_l2(&out.points),
-        min_distance: metrics::min_distance_euclidean(&out.points),
-        steps: out.trajectory.iter().map(|t| t.step).max().unwrap_or(0),
+        final_energy: e.value(&p.points),
+        modified_l2: metrics::modified_l2(&p.points),
+        star_l2: metrics::star_l2(&p.points),
+        min_distance: metrics::min_distance_euclidean(&p.points),
+        steps: p.iterations,
         seconds,
-        curve: out
+        curve: p
             .trajectory
             .iter()
             .map(|rec| (seconds_before + rec.seconds, f64::NAN, None))

@@ -625,9 +625,6 @@ fn generate(a: GenerateArgs) -> Result<()> {
     if region.is_some() || shape.is_some() {
         let domain = region_domain(region.as_deref(), bbox.as_deref(), shape.as_deref(), s)?;
         let n = n.context("missing -n N: the number of points (at least 1)")?;
-        if integrator != "dem" {
-            bail!("invalid --integrator = {integrator} for a region: expected dem");
-        }
         if let Some(text) = &precision {
             bail!(
                 "invalid --precision = {text} for a region: it sets U_{{q,p}}'s distance,                  which region energies do not use"
@@ -651,8 +648,9 @@ fn generate(a: GenerateArgs) -> Result<()> {
             }
         };
         cfg.seed = seed;
+        cfg.solver = parse_solver(&integrator)?;
         if let Some(steps) = steps {
-            cfg.dem.steps = steps;
+            cfg.steps = steps;
         }
         cfg.dem.kappa = run::parse_kappa(&kappa)?;
         cfg.dem.tolerance = tolerance;
@@ -720,11 +718,7 @@ fn generate(a: GenerateArgs) -> Result<()> {
             )
         })?),
     };
-    cfg.solver = match integrator.as_str() {
-        "dem" => Solver::Dem,
-        "lbfgs" => Solver::Lbfgs,
-        other => bail!("invalid --integrator = {other}: expected dem or lbfgs"),
-    };
+    cfg.solver = parse_solver(&integrator)?;
     cfg.q = match q.as_deref() {
         Some(text) => Some(Distance::parse(text).map_err(|_| {
             anyhow::anyhow!(
@@ -741,7 +735,7 @@ fn generate(a: GenerateArgs) -> Result<()> {
     }
     cfg.init = init;
     cfg.seed = seed;
-    cfg.dem.steps = steps.unwrap_or(1000);
+    cfg.steps = steps.unwrap_or(1000);
     cfg.dem.kappa = run::parse_kappa(&kappa)?;
     cfg.dem.restart = run::parse_restart(&restart)?;
     cfg.dem.tolerance = tolerance;
@@ -770,6 +764,15 @@ fn generate(a: GenerateArgs) -> Result<()> {
     };
     emit(&report.output.points, &meta, output.as_ref(), summary)?;
     Ok(())
+}
+
+/// `--integrator dem|lbfgs`.
+fn parse_solver(text: &str) -> Result<Solver> {
+    match text {
+        "dem" => Ok(Solver::Dem),
+        "lbfgs" => Ok(Solver::Lbfgs),
+        other => bail!("invalid --integrator = {other}: expected dem or lbfgs"),
+    }
 }
 
 /// The checkpoint plan of `--checkpoint FILE [--checkpoint-every K] [--resume [FILE]]`.
@@ -992,10 +995,10 @@ fn report_json(r: &GenerateReport, cfg: &GenerateConfig) -> Value {
 }
 
 /// The settings of a DEM as the command line writes them.
-fn dem_settings(dem: &stillpoint::integrators::Dem) -> Value {
+fn dem_settings(dem: &stillpoint::integrators::Dem, steps: usize) -> Value {
     use stillpoint::integrators::{Kappa, Restart};
     json!({
-        "steps": dem.steps,
+        "steps": steps,
         "kappa": match dem.kappa {
             Kappa::Fixed(k) => json!(k),
             Kappa::Auto { .. } => json!("auto"),
@@ -1034,7 +1037,7 @@ fn generate_meta(r: &GenerateReport, cfg: &GenerateConfig) -> Value {
         "shifts": cfg.shifts,
         "polish": cfg.polish.map(|k| format!("{k:?}")),
     });
-    if let (Value::Object(p), Value::Object(d)) = (&mut parameters, dem_settings(&cfg.dem)) {
+    if let (Value::Object(p), Value::Object(d)) = (&mut parameters, dem_settings(&cfg.dem, cfg.steps)) {
         p.extend(d);
     }
     json!({
@@ -1066,7 +1069,7 @@ fn region_meta(r: &RegionReport, cfg: &RegionConfig, region: &Value) -> Value {
             RegionInit::Points(p) => format!("file: {}", run::points_fingerprint(p)),
         },
     });
-    if let (Value::Object(p), Value::Object(d)) = (&mut parameters, dem_settings(&cfg.dem)) {
+    if let (Value::Object(p), Value::Object(d)) = (&mut parameters, dem_settings(&cfg.dem, cfg.steps)) {
         p.extend(d);
     }
     json!({

@@ -10,8 +10,11 @@
 use crate::energies::boundary::{UEInfG, UEpG};
 use crate::energies::einf::UEInf;
 use crate::energies::{Distance, Domain, Energy, PointSet};
-use crate::integrators::{Dem, Kappa, Record, RunOutput};
-use crate::run::{dem_json, points_fingerprint, run_dem, CheckpointPlan, Event, LoggingObserver};
+use crate::integrators::lbfgs::Lbfgs;
+use crate::integrators::{Dem, Kappa, Problem, Record, RunOutput};
+use crate::run::{
+    dem_json, points_fingerprint, CheckpointPlan, Event, LoggingObserver, Run, Solver,
+};
 use crate::{sequences, Error};
 use std::sync::Arc;
 use std::time::Instant;
@@ -63,8 +66,14 @@ pub struct RegionConfig {
     pub init: RegionInit,
     /// Seed of the random start.
     pub seed: u64,
-    /// The integrator.
+    /// The solver.
+    pub solver: Solver,
+    /// The step budget.
+    pub steps: usize,
+    /// The DEM's settings.
     pub dem: Dem,
+    /// L-BFGS settings.
+    pub lbfgs: Lbfgs,
 }
 
 impl RegionConfig {
@@ -79,11 +88,13 @@ impl RegionConfig {
             energy: RegionEnergy::EInfG,
             init: RegionInit::Random,
             seed: 0,
+            solver: Solver::Dem,
+            steps: 10_000,
             dem: Dem {
-                steps: 10_000,
                 kappa: Kappa::default(),
                 ..Dem::default()
             },
+            lbfgs: Lbfgs::default(),
         }
     }
 }
@@ -223,34 +234,31 @@ pub fn generate_in_region_with(
     let start = region_start(cfg)?;
     let energy = cfg.energy.build(cfg.domain.clone())?;
     let config = region_config_json(cfg);
-    let resume = match checkpoint {
-        Some(plan) => plan.load_state(&config)?,
-        None => None,
-    };
+    let problem = Problem::shared(Arc::from(energy), cfg.domain.clone())?;
     on_event(Event::Stage {
         name: "metrics",
         steps: None,
     });
     let before = RegionMetrics::compute(&cfg.domain, &start)?;
     on_event(Event::Stage {
-        name: "DEM",
-        steps: Some(cfg.dem.steps as u64),
+        name: match cfg.solver {
+            Solver::Dem => "DEM",
+            Solver::Lbfgs => "L-BFGS",
+        },
+        steps: Some(cfg.steps as u64),
     });
     let output = {
         let mut observer = LoggingObserver::new(0, |r: &Record| {
             on_event(Event::Record(r));
             on_event(Event::Progress(r.step as u64));
         });
-        run_dem(
-            &cfg.dem,
-            energy.as_ref(),
-            cfg.domain.as_ref(),
-            start.clone(),
-            resume,
-            &mut observer,
+        let run = Run {
+            problem: &problem,
+            steps: cfg.steps,
             checkpoint,
-            &config,
-        )?
+            config: &config,
+        };
+        run.solve(cfg.solver, &cfg.dem, &cfg.lbfgs, start.clone(), &mut observer)?
     };
     on_event(Event::Stage {
         name: "metrics",
@@ -260,7 +268,7 @@ pub fn generate_in_region_with(
     Ok(RegionReport {
         start,
         output,
-        energy_name: energy.name(),
+        energy_name: problem.energy().name(),
         metrics: (before, after),
         seconds: clock.elapsed().as_secs_f64(),
     })
@@ -282,9 +290,10 @@ pub fn region_config_json(cfg: &RegionConfig) -> serde_json::Value {
             RegionInit::Points(p) => format!("file: {}", points_fingerprint(p)),
         },
         "--seed": cfg.seed,
+        "--integrator": format!("{:?}", cfg.solver),
     });
     if let (serde_json::Value::Object(map), serde_json::Value::Object(dem)) =
-        (&mut v, dem_json(&cfg.dem))
+        (&mut v, dem_json(&cfg.dem, cfg.steps))
     {
         map.extend(dem);
     }

@@ -12,14 +12,17 @@ use crate::energies::shapes::BoxRegion;
 use crate::energies::{paper_qp, Distance, Domain, Energy, PeriodicCube, PointSet, Precision, Uqp};
 use crate::integrators::lbfgs::Lbfgs;
 use crate::integrators::{
-    Control, Dem, DemState, Integrator, Kappa, Observer, Record, Restart, RunOutput, Snapshots,
+    Control, Dem, Executor, Integrator, Kappa, Observer, Problem, Record, Restart, RunOutput,
+    Snapshot,
 };
 use crate::metrics::{self, Metrics};
 use crate::sequences;
 use crate::shift::{self, ShiftOutcome};
 use crate::Error;
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
+use std::sync::Arc;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -81,9 +84,11 @@ pub struct GenerateConfig {
     pub seed: u64,
     /// The solver.
     pub solver: Solver,
-    /// The DEM's settings (its `steps` is the budget of either solver).
+    /// The step budget of the solver (and of the polish).
+    pub steps: usize,
+    /// The DEM's settings.
     pub dem: Dem,
-    /// L-BFGS settings; its iteration budget is taken from `dem.steps`.
+    /// L-BFGS settings.
     pub lbfgs: Lbfgs,
     /// Compute D_L2* and D_MD every this many steps into the trajectory (0: never).
     pub log_every: usize,
@@ -109,6 +114,7 @@ impl GenerateConfig {
             init: Init::Halton,
             seed: 0,
             solver: Solver::Dem,
+            steps: 1000,
             dem: Dem::default(),
             lbfgs: Lbfgs::default(),
             log_every: 0,
@@ -328,22 +334,7 @@ pub fn generate_with(
         PeriodicCube::wrap_set(&mut start);
     }
     let config = config_json(cfg);
-    let resume = match checkpoint {
-        Some(plan) if cfg.solver != Solver::Dem => {
-            return Err(Error::invalid(
-                if plan.resume.is_some() {
-                    "--resume"
-                } else {
-                    "--checkpoint"
-                },
-                plan.path.display(),
-                "a DEM run (checkpoints hold the DEM's state; --integrator lbfgs has none)",
-            ))
-        }
-        Some(plan) => plan.load_state(&config)?,
-        None => None,
-    };
-    let (e, d) = (energy.as_ref(), domain.as_ref());
+    let problem = Problem::shared(Arc::from(energy), Arc::from(domain))?;
     let mut output = {
         let main = match cfg.solver {
             Solver::Dem => "DEM",
@@ -351,32 +342,21 @@ pub fn generate_with(
         };
         on_event(Event::Stage {
             name: main,
-            steps: Some(cfg.dem.steps as u64),
+            steps: Some(cfg.steps as u64),
         });
         let mut observer = LoggingObserver::new(cfg.log_every, |r: &Record| {
             on_event(Event::Record(r));
             on_event(Event::Progress(r.step as u64));
         });
-        match cfg.solver {
-            Solver::Dem => run_dem(
-                &cfg.dem,
-                e,
-                d,
-                start.clone(),
-                resume,
-                &mut observer,
-                checkpoint,
-                &config,
-            )?,
-            Solver::Lbfgs => {
-                let lbfgs = Lbfgs {
-                    iterations: cfg.dem.steps,
-                    ..cfg.lbfgs.clone()
-                };
-                lbfgs.run(e, d, start.clone(), &mut observer)?
-            }
-        }
+        let run = Run {
+            problem: &problem,
+            steps: cfg.steps,
+            checkpoint,
+            config: &config,
+        };
+        run.solve(cfg.solver, &cfg.dem, &cfg.lbfgs, start.clone(), &mut observer)?
     };
+    let (energy, domain) = (problem.energy(), problem.domain());
     // The energies reported for the start and the DEM's result, at full precision when
     // the run used the fast table.
     let full_energies = match cfg.energy {
@@ -404,31 +384,15 @@ pub fn generate_with(
     };
     let polish = match cfg.polish {
         Some(kind) => {
-            let e = DiscrepancyEnergy::new(kind);
-            let d: Box<dyn Domain> = if kind.is_periodic() {
-                Box::new(PeriodicCube::new(cfg.s)?)
-            } else {
-                Box::new(BoxRegion::new(vec![0.0; cfg.s], vec![1.0; cfg.s])?)
-            };
-            let before = e.value(&output.points);
-            let lbfgs = Lbfgs {
-                iterations: cfg.dem.steps,
-                ..cfg.lbfgs.clone()
-            };
             on_event(Event::Stage {
                 name: "polish",
-                steps: Some(cfg.dem.steps as u64),
+                steps: Some(cfg.steps as u64),
             });
-            let mut progress = LoggingObserver::new(0, |r: &Record| {
-                on_event(Event::Progress(r.step as u64));
-            });
-            let out = lbfgs.run(&e, d.as_ref(), output.points.clone(), &mut progress)?;
-            let iterations = out.trajectory.iter().map(|r| r.step).max().unwrap_or(0);
-            let after = e.value(&out.points);
-            if after < before {
-                output.points = out.points;
-            }
-            Some((before, after.min(before), iterations))
+            let p = polish(&output.points, kind, cfg.steps, &cfg.lbfgs, |step| {
+                on_event(Event::Progress(step))
+            })?;
+            output.points = p.points;
+            Some((p.before, p.after, p.iterations))
         }
         None => None,
     };
@@ -463,29 +427,115 @@ pub fn generate_with(
     })
 }
 
-/// The DEM, writing checkpoints as `plan` says (and continuing `resume`).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn run_dem(
-    dem: &Dem,
-    energy: &dyn Energy,
-    domain: &dyn Domain,
-    start: PointSet,
-    resume: Option<DemState>,
-    observer: &mut dyn Observer,
-    plan: Option<&CheckpointPlan>,
-    config: &Value,
-) -> Result<RunOutput, Error> {
-    let mut save = |state: &DemState| -> Result<(), Error> {
-        match plan {
-            Some(plan) => plan.save(config, state),
-            None => Ok(()),
+/// One run of a solver on a problem: the budget and where checkpoints go. Every solver
+/// of the crate is run through [`Run::solve`] (and so through the one executor).
+pub(crate) struct Run<'a> {
+    pub(crate) problem: &'a Problem,
+    pub(crate) steps: usize,
+    pub(crate) checkpoint: Option<&'a CheckpointPlan>,
+    /// The run's configuration, recorded in checkpoints and compared on resume.
+    pub(crate) config: &'a Value,
+}
+
+impl Run<'_> {
+    /// Runs `solver` from `start` (or from the plan's checkpoint) through the executor.
+    pub(crate) fn solve(
+        &self,
+        solver: Solver,
+        dem: &Dem,
+        lbfgs: &Lbfgs,
+        start: PointSet,
+        observer: &mut dyn Observer,
+    ) -> Result<RunOutput, Error> {
+        match solver {
+            Solver::Dem => self.execute(dem.clone(), start, observer),
+            Solver::Lbfgs => self.execute(lbfgs.clone(), start, observer),
         }
+    }
+
+    fn execute<I: Integrator>(
+        &self,
+        integrator: I,
+        start: PointSet,
+        observer: &mut dyn Observer,
+    ) -> Result<RunOutput, Error> {
+        let resume = match self.checkpoint {
+            Some(plan) => plan.load_state::<I::State>(self.config)?,
+            None => None,
+        };
+        let mut save = |snap: &Snapshot<I::State>| -> Result<(), Error> {
+            match self.checkpoint {
+                Some(plan) => plan.save(self.config, snap),
+                None => Ok(()),
+            }
+        };
+        let every = self.checkpoint.map_or(0, |p| p.every);
+        Executor::new(self.problem, integrator)
+            .max_steps(self.steps)
+            .observe(observer)
+            .checkpoint(every, &mut save)
+            .resume(resume)
+            .run(start)
+    }
+}
+
+/// What the polish did.
+#[derive(Debug, Clone)]
+pub struct Polished {
+    /// The polished points, or the given points if the polish did not lower the
+    /// discrepancy.
+    pub points: PointSet,
+    /// The squared discrepancy before.
+    pub before: f64,
+    /// The squared discrepancy of the kept points.
+    pub after: f64,
+    /// L-BFGS iterations taken.
+    pub iterations: usize,
+    /// The L-BFGS run's records.
+    pub trajectory: Vec<Record>,
+}
+
+/// The polish: L-BFGS on a squared discrepancy from `points` (on the torus for the
+/// wrap-around L2, in the closed cube for the others), keeping the result only if it is
+/// lower. `on_step` sees every iteration (for progress displays).
+pub fn polish(
+    points: &PointSet,
+    kind: DiscrepancyKind,
+    steps: usize,
+    lbfgs: &Lbfgs,
+    mut on_step: impl FnMut(u64),
+) -> Result<Polished, Error> {
+    let s = points.s();
+    let domain: Arc<dyn Domain> = if kind.is_periodic() {
+        Arc::new(PeriodicCube::new(s)?)
+    } else {
+        Arc::new(BoxRegion::new(vec![0.0; s], vec![1.0; s])?)
     };
-    let snapshots = Snapshots {
-        every: plan.map_or(0, |p| p.every),
-        save: &mut save,
+    let problem = Problem::shared(Arc::new(DiscrepancyEnergy::new(kind)), domain)?;
+    let e = problem.energy();
+    let before = e.value(points);
+    let mut progress = LoggingObserver::new(0, |r: &Record| on_step(r.step as u64));
+    let run = Run {
+        problem: &problem,
+        steps,
+        checkpoint: None,
+        config: &Value::Null,
     };
-    dem.run_from(energy, domain, start, resume, observer, snapshots)
+    let out = run.execute(lbfgs.clone(), points.clone(), &mut progress)?;
+    let iterations = out.trajectory.iter().map(|r| r.step).max().unwrap_or(0);
+    let after = e.value(&out.points);
+    let kept = if after < before {
+        out.points
+    } else {
+        points.clone()
+    };
+    Ok(Polished {
+        points: kept,
+        before,
+        after: after.min(before),
+        iterations,
+        trajectory: out.trajectory,
+    })
 }
 
 // ---------------------------------------------------------------------------------------
@@ -496,7 +546,7 @@ pub(crate) fn run_dem(
 pub const CHECKPOINT_FORMAT: &str = "stillpoint checkpoint";
 
 /// The layout version of checkpoint files this build reads and writes.
-pub const CHECKPOINT_VERSION: u32 = 1;
+pub const CHECKPOINT_VERSION: u32 = 2;
 
 /// Where a run writes its checkpoints, how often, and where it resumes from.
 #[derive(Debug, Clone, PartialEq)]
@@ -534,7 +584,11 @@ impl CheckpointPlan {
     }
 
     /// Writes `state` to [`CheckpointPlan::path`] atomically.
-    pub(crate) fn save(&self, config: &Value, state: &DemState) -> Result<(), Error> {
+    pub(crate) fn save<S: Serialize>(
+        &self,
+        config: &Value,
+        state: &Snapshot<S>,
+    ) -> Result<(), Error> {
         let bytes = encode_checkpoint(&self.config(config), state).map_err(|e| {
             Error::invalid(
                 "--checkpoint",
@@ -552,7 +606,10 @@ impl CheckpointPlan {
     }
 
     /// Reads [`CheckpointPlan::resume`], if set, and checks it against `config`.
-    pub(crate) fn load_state(&self, config: &Value) -> Result<Option<DemState>, Error> {
+    pub(crate) fn load_state<S: DeserializeOwned>(
+        &self,
+        config: &Value,
+    ) -> Result<Option<Snapshot<S>>, Error> {
         let Some(path) = &self.resume else {
             return Ok(None);
         };
@@ -570,11 +627,18 @@ impl CheckpointPlan {
                 ),
             ));
         }
-        Ok(Some(checkpoint.state))
+        serde_json::from_value(checkpoint.state).map(Some).map_err(|e| {
+            Error::invalid(
+                "--resume",
+                path.display(),
+                format!("a checkpoint of this run's solver ({e})"),
+            )
+        })
     }
 }
 
-/// A checkpoint file: what made it and the DEM's state.
+/// A checkpoint file: what made it and the executor's [`Snapshot`] (kept as JSON here,
+/// read into the solver's state type when resumed).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Checkpoint {
     /// Always [`CHECKPOINT_FORMAT`].
@@ -589,8 +653,8 @@ pub struct Checkpoint {
     /// FNV-1a 64 of the compact JSON of `state`, in hex: detects an edited or damaged
     /// state that still parses.
     pub checksum: String,
-    /// The DEM's state.
-    pub state: DemState,
+    /// The snapshot of the run.
+    pub state: Value,
 }
 
 /// FNV-1a, 64 bits: a fixed, dependency-free fingerprint (not a cryptographic hash).
@@ -601,15 +665,19 @@ pub fn fnv1a64(bytes: &[u8]) -> u64 {
 }
 
 /// The bytes of a checkpoint file for `state` under `config`.
-pub fn encode_checkpoint(config: &Value, state: &DemState) -> serde_json::Result<Vec<u8>> {
-    let checksum = format!("{:016x}", fnv1a64(&serde_json::to_vec(state)?));
+pub fn encode_checkpoint<S: Serialize>(
+    config: &Value,
+    state: &Snapshot<S>,
+) -> serde_json::Result<Vec<u8>> {
+    let state = serde_json::to_value(state)?;
+    let checksum = format!("{:016x}", fnv1a64(&serde_json::to_vec(&state)?));
     serde_json::to_vec(&Checkpoint {
         format: CHECKPOINT_FORMAT.to_string(),
         version: CHECKPOINT_VERSION,
         stillpoint: env!("CARGO_PKG_VERSION").to_string(),
         config: config.clone(),
         checksum,
-        state: state.clone(),
+        state,
     })
 }
 
@@ -659,16 +727,6 @@ pub fn read_checkpoint(path: &Path) -> Result<Checkpoint, Error> {
             "its checksum does not match its state: the file was changed or damaged".into(),
         ));
     }
-    let st = &checkpoint.state;
-    if st.current.len() != st.n * st.s || st.previous.len() != st.n * st.s {
-        return Err(refuse(format!(
-            "its state holds {} and {} coordinates for {} points in {} dimensions",
-            st.current.len(),
-            st.previous.len(),
-            st.n,
-            st.s
-        )));
-    }
     Ok(checkpoint)
 }
 
@@ -712,9 +770,9 @@ pub fn points_fingerprint(points: &PointSet) -> String {
 }
 
 /// The DEM's settings under their option names.
-pub(crate) fn dem_json(dem: &Dem) -> Value {
+pub(crate) fn dem_json(dem: &Dem, steps: usize) -> Value {
     json!({
-        "--steps": dem.steps,
+        "--steps": steps,
         "--kappa": format!("{:?}", dem.kappa),
         "--restart": format!("{:?}", dem.restart),
         "--tolerance": dem.tolerance,
@@ -746,7 +804,7 @@ pub fn config_json(cfg: &GenerateConfig) -> Value {
         "--polish": cfg.polish.map(|k| format!("{k:?}")),
         "lbfgs": format!("{:?}", cfg.lbfgs),
     });
-    if let (Value::Object(map), Value::Object(dem)) = (&mut v, dem_json(&cfg.dem)) {
+    if let (Value::Object(map), Value::Object(dem)) = (&mut v, dem_json(&cfg.dem, cfg.steps)) {
         map.extend(dem);
     }
     v

@@ -7,7 +7,7 @@ use stillpoint::run::{choose_energy, generate, GenerateConfig};
 #[test]
 fn a_fast_run_reports_full_precision_energies() {
     let mut cfg = GenerateConfig::new(120, 4);
-    cfg.dem.steps = 60;
+    cfg.steps = 60;
     assert_eq!(cfg.precision, Precision::Fast);
     let r = generate(&cfg, |_| {}).unwrap();
     let (full, _) = choose_energy(120, 4, None, None).unwrap();
@@ -32,7 +32,7 @@ fn a_fast_run_reports_full_precision_energies() {
 #[test]
 fn full_precision_runs_the_formulas_and_differs_from_fast() {
     let mut cfg = GenerateConfig::new(120, 4);
-    cfg.dem.steps = 60;
+    cfg.steps = 60;
     let fast = generate(&cfg, |_| {}).unwrap();
     cfg.precision = Precision::Full;
     let full = generate(&cfg, |_| {}).unwrap();

@@ -18,7 +18,7 @@ fn g4(x: &[f64]) -> f64 {
 fn paper_region_points_stay_inside_and_the_energy_falls() {
     let domain: Arc<dyn Domain> = Arc::new(paper_region(4).unwrap());
     let mut cfg = RegionConfig::new(domain.clone(), 40);
-    cfg.dem.steps = 3000;
+    cfg.steps = 3000;
     let r = generate_in_region(&cfg, |_| {}).unwrap();
     assert!(r.output.points.rows().all(|x| g4(x) <= 0.0));
     assert!(r.start.rows().all(|x| g4(x) <= 0.0));
@@ -38,7 +38,7 @@ fn ball_in_three_dimensions_and_the_smooth_energy() {
     let mut cfg = RegionConfig::new(ball.clone(), 30);
     cfg.energy = RegionEnergy::EpG(6.0);
     cfg.init = RegionInit::Halton;
-    cfg.dem.steps = 1500;
+    cfg.steps = 1500;
     let r = generate_in_region(&cfg, |_| {}).unwrap();
     assert!(r.output.points.rows().all(|x| ball.contains(x)));
     let e = UEpG::new(ball, 6.0).unwrap();
@@ -49,7 +49,7 @@ fn ball_in_three_dimensions_and_the_smooth_energy() {
 fn same_bits_for_one_and_two_threads() {
     let domain: Arc<dyn Domain> = Arc::new(paper_region(1).unwrap());
     let mut cfg = RegionConfig::new(domain, 25);
-    cfg.dem.steps = 400;
+    cfg.steps = 400;
     let run = |t: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(t)

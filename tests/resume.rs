@@ -40,7 +40,7 @@ fn cube_config() -> GenerateConfig {
     let mut cfg = GenerateConfig::new(60, 3);
     cfg.init = Init::Random;
     cfg.seed = 5;
-    cfg.dem.steps = 120;
+    cfg.steps = 120;
     cfg.dem.tolerance = 0.0;
     cfg.log_every = 10;
     cfg.shifts = 16;
@@ -118,7 +118,7 @@ fn library_resume_of_a_region_run_is_bit_identical() {
     let d = tmpdir("lib-region");
     let ball = Ball::new(vec![0.0, 0.0], 1.0).unwrap();
     let mut cfg = RegionConfig::new(Arc::new(ball), 40);
-    cfg.dem.steps = 300;
+    cfg.steps = 300;
     cfg.dem.tolerance = 0.0;
     let reference = generate_in_region(&cfg, |_| {}).unwrap();
     let ck = d.join("region.ckpt");
@@ -150,7 +150,7 @@ fn library_resume_of_a_region_run_is_bit_identical() {
 fn library_refuses_other_configurations_and_damaged_checkpoints() {
     let d = tmpdir("lib-refuse");
     let mut cfg = cube_config();
-    cfg.dem.steps = 40;
+    cfg.steps = 40;
     cfg.polish = None;
     let ck = d.join("run.ckpt");
     generate_with(&cfg, Some(&CheckpointPlan::new(&ck, 10)), |_| {}).unwrap();
@@ -166,7 +166,7 @@ fn library_refuses_other_configurations_and_damaged_checkpoints() {
     // Another configuration: each difference is named with both values.
     let mut other = cfg.clone();
     other.seed = 6;
-    other.dem.steps = 50;
+    other.steps = 50;
     let msg = resume_err(&other, &ck);
     assert!(msg.contains("--seed = 5 (this run: 6)"), "{msg}");
     assert!(msg.contains("--steps = 40 (this run: 50)"), "{msg}");

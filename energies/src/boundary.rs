@@ -179,6 +179,10 @@ impl UEInfG {
 }
 
 impl Energy for UEInfG {
+    fn domain(&self) -> Option<Arc<dyn Domain>> {
+        Some(self.domain.clone())
+    }
+
     fn name(&self) -> String {
         "U_{E,∞,g}".to_string()
     }
@@ -406,6 +410,10 @@ impl UEpG {
 }
 
 impl Energy for UEpG {
+    fn domain(&self) -> Option<Arc<dyn Domain>> {
+        Some(self.domain.clone())
+    }
+
     fn name(&self) -> String {
         format!("U_{{E,p,g}}(p={})", self.p)
     }

@@ -25,6 +25,45 @@ pub trait Domain: Send + Sync + std::fmt::Debug {
     /// periodic cube shifts it by the same integer vector, so the velocity is unchanged).
     fn bring_back(&self, x: &mut [f64], prev: &mut [f64]);
 
+    /// The one rule every integrator follows when a step moves a point from `from`
+    /// (inside) to `to`: afterwards `to` is inside. `prev` is the point's previous
+    /// position, which a two-step scheme keeps consistent. Returns true when the point
+    /// must lose its velocity (the caller sets `prev` to the new position).
+    ///
+    /// The default, for a bounded domain, keeps a step that stays inside; otherwise it
+    /// takes the largest of the halved steps (1/2, 1/4, … 2^-40) that stays inside, or
+    /// no step at all, and stops the point there. Projecting onto the boundary instead
+    /// would put the point at distance 0 from it, where the boundary-aware energies are
+    /// infinite. The periodic cube wraps instead (see [`PeriodicCube`]).
+    fn keep_inside(&self, from: &[f64], to: &mut [f64], _prev: &mut [f64]) -> bool {
+        if self.contains(to) {
+            return false;
+        }
+        let mut t = 0.5;
+        let mut trial = vec![0.0; to.len()];
+        for _ in 0..40 {
+            for ((y, a), b) in trial.iter_mut().zip(from).zip(to.iter()) {
+                *y = a + t * (b - a);
+            }
+            if self.contains(&trial) {
+                to.copy_from_slice(&trial);
+                return true;
+            }
+            t *= 0.5;
+        }
+        to.copy_from_slice(from);
+        true
+    }
+
+    /// The DEM's restart for unbiasedness (eqs. 44–45): if the mean of the set is more
+    /// than `eps` from the domain's centre in some coordinate, move the set back to mean
+    /// exactly the centre by a motion the energy does not see, and return true. Only a
+    /// domain with such a motion (the torus: a periodic shift) does anything; the default
+    /// returns false.
+    fn recentre(&self, _points: &mut PointSet, _eps: f64) -> bool {
+        false
+    }
+
     /// True for a domain without boundary whose translates tile space (the torus).
     fn is_periodic(&self) -> bool {
         false
@@ -156,6 +195,24 @@ impl Domain for PeriodicCube {
                 *p -= f;
             }
         }
+    }
+
+    fn keep_inside(&self, _from: &[f64], to: &mut [f64], prev: &mut [f64]) -> bool {
+        self.bring_back(to, prev);
+        false
+    }
+
+    fn recentre(&self, points: &mut PointSet, eps: f64) -> bool {
+        let gap = points
+            .mean()
+            .iter()
+            .map(|m| (m - 0.5).abs())
+            .fold(0.0, f64::max);
+        if gap <= eps {
+            return false;
+        }
+        PeriodicCube::centre_mean(points);
+        true
     }
 
     fn is_periodic(&self) -> bool {

@@ -48,6 +48,13 @@ pub trait Energy: Send + Sync {
     fn is_smooth(&self) -> bool {
         true
     }
+
+    /// The domain this energy is defined on, for an energy that holds its own (the
+    /// boundary-aware energies measure distances to that domain's boundary). A
+    /// `Problem` built from such an energy must use this domain.
+    fn domain(&self) -> Option<std::sync::Arc<dyn Domain>> {
+        None
+    }
 }
 
 impl<E: Energy + ?Sized> Energy for &E {
@@ -63,6 +70,9 @@ impl<E: Energy + ?Sized> Energy for &E {
     fn is_smooth(&self) -> bool {
         (**self).is_smooth()
     }
+    fn domain(&self) -> Option<std::sync::Arc<dyn Domain>> {
+        (**self).domain()
+    }
 }
 
 impl<E: Energy + ?Sized> Energy for Box<E> {
@@ -77,5 +87,8 @@ impl<E: Energy + ?Sized> Energy for Box<E> {
     }
     fn is_smooth(&self) -> bool {
         (**self).is_smooth()
+    }
+    fn domain(&self) -> Option<std::sync::Arc<dyn Domain>> {
+        (**self).domain()
     }
 }

@@ -4,12 +4,30 @@
 use crate::{Error, Result};
 
 /// n points in s dimensions, stored row per point (`data[i * s + k]` is coordinate k of
-/// point i). Always n ≥ 1, s ≥ 1 and every coordinate finite.
-#[derive(Clone, Debug, PartialEq)]
+/// point i). Always n ≥ 1, s ≥ 1 and every coordinate finite; a deserialised set is
+/// checked by [`PointSet::new`] like any other, so a damaged checkpoint cannot make an
+/// invalid one.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "RawPointSet")]
 pub struct PointSet {
     n: usize,
     s: usize,
     data: Vec<f64>,
+}
+
+/// The serialised form of a [`PointSet`], validated on the way in.
+#[derive(serde::Deserialize)]
+struct RawPointSet {
+    n: usize,
+    s: usize,
+    data: Vec<f64>,
+}
+
+impl TryFrom<RawPointSet> for PointSet {
+    type Error = Error;
+    fn try_from(raw: RawPointSet) -> Result<Self> {
+        PointSet::new(raw.n, raw.s, raw.data)
+    }
 }
 
 impl PointSet {

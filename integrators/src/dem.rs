@@ -10,10 +10,9 @@
 //! μ0 = U(X0)/X0ᵀX0 and κ, so that A2/A0 = ((√κ − 1)/(√κ + 1))² and
 //! 1/A0 = 4/(μ0 (1 + √κ)²): the scheme is heavy-ball gradient descent and Δt, G cancel.
 
-use crate::{Control, Integrator, Observer, Record, RunOutput, StopReason};
+use crate::{Integrator, Move, Problem, Step};
 use serde::{Deserialize, Serialize};
-use std::time::Instant;
-use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Result};
+use stillpoint_energies::{Error, PointSet, Result};
 
 /// How κ of eq. 39 (μ1 ≈ κ μ0) is chosen.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -48,8 +47,8 @@ impl Default for Kappa {
 
 /// The restart of §4.3: when the mean leaves 0.5 by more than ε_p in some coordinate
 /// (eq. 44), the set is shifted on the torus to mean exactly 0.5 (eq. 45, made exact by
-/// [`PeriodicCube::centre_mean`]) and the dynamics restart from rest. Only periodic
-/// domains are restarted (a shift is what the torus allows).
+/// `PeriodicCube::centre_mean`) and the dynamics restart from rest. The motion is the
+/// domain's ([`stillpoint_energies::Domain::recentre`]); only periodic domains have one.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Restart {
     /// No restarts.
@@ -71,11 +70,10 @@ impl Restart {
     }
 }
 
-/// The damped central-difference DEM integrator.
+/// The damped central-difference DEM integrator. Its step budget is the executor's
+/// (the paper uses 1000).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Dem {
-    /// Step budget (the paper uses 1000).
-    pub steps: usize,
     /// κ of eq. 39.
     pub kappa: Kappa,
     /// Δt (0.1 in the paper; it cancels from the scheme).
@@ -92,7 +90,6 @@ pub struct Dem {
 impl Default for Dem {
     fn default() -> Self {
         Dem {
-            steps: 1000,
             kappa: Kappa::default(),
             dt: 0.1,
             g: 1.0,
@@ -103,8 +100,7 @@ impl Default for Dem {
 }
 
 impl Dem {
-    fn validate(&self, domain: &dyn Domain, start: &PointSet) -> Result<()> {
-        crate::check_start(domain, start)?;
+    fn validate(&self) -> Result<()> {
         let pos = |name: &str, v: f64| {
             if v > 0.0 && v.is_finite() {
                 Ok(())
@@ -172,138 +168,23 @@ impl Coefficients {
     }
 }
 
-/// The evolving state: x^(j), x^(j−1), the gradient at x^(j) and whether the next step
-/// starts from rest.
-struct State {
-    cur: PointSet,
-    prev: PointSet,
-    grad: Vec<f64>,
-    from_rest: bool,
-}
-
-impl State {
-    fn new(start: &PointSet) -> Self {
-        State {
-            cur: start.clone(),
-            prev: start.clone(),
-            grad: vec![0.0; start.len()],
-            from_rest: true,
-        }
-    }
-
-    /// U(x^(j)), leaving the gradient for [`State::advance`].
-    fn evaluate(&mut self, energy: &dyn Energy) -> f64 {
-        energy.value_and_gradient(&self.cur, &mut self.grad)
-    }
-
-    /// Moves to x^(j+1) with eq. 25 (or the Taylor start). On the torus a point that
-    /// leaves is wrapped back (eq. 42, with x^(j) shifted by the same integer). In a region
-    /// a point whose step would leave takes the largest of the halved steps (1/2, 1/4, …)
-    /// that stays inside and loses its velocity: projecting it onto the boundary would put
-    /// it at distance 0, where the boundary-aware energies are infinite. Returns (largest coordinate move, largest force step |G f|/A0).
-    fn advance(&mut self, domain: &dyn Domain, co: &Coefficients) -> (f64, f64) {
-        let s = self.cur.s();
-        let periodic = domain.is_periodic();
-        let mut max_move: f64 = 0.0;
-        let mut max_force: f64 = 0.0;
-        let mut next = vec![0.0; s];
-        let cur = self.cur.as_mut_slice();
-        let prev = self.prev.as_mut_slice();
-        for ((xc, xp), gr) in cur
-            .chunks_exact_mut(s)
-            .zip(prev.chunks_exact_mut(s))
-            .zip(self.grad.chunks_exact(s))
-        {
-            let mut mv: f64 = 0.0;
-            for k in 0..s {
-                let f = co.g * gr[k];
-                next[k] = if self.from_rest {
-                    xc[k] - f / co.a1
-                } else {
-                    (co.a1 * xc[k] - co.a2 * xp[k] - f) / co.a0
-                };
-                mv = mv.max((next[k] - xc[k]).abs());
-                max_force = max_force.max((f / co.a0).abs());
-            }
-            if periodic {
-                xp.copy_from_slice(xc);
-                xc.copy_from_slice(&next);
-                domain.bring_back(xc, xp);
-            } else if domain.contains(&next) {
-                xp.copy_from_slice(xc);
-                xc.copy_from_slice(&next);
-            } else {
-                // Halve the step until it stays inside, then stop the point there.
-                xp.copy_from_slice(xc);
-                let mut t = 0.5;
-                mv = 0.0;
-                for _ in 0..40 {
-                    let trial: Vec<f64> =
-                        xc.iter().zip(&next).map(|(a, b)| a + t * (b - a)).collect();
-                    if domain.contains(&trial) {
-                        mv = xc
-                            .iter()
-                            .zip(&trial)
-                            .fold(0.0, |m: f64, (a, b)| m.max((a - b).abs()));
-                        xc.copy_from_slice(&trial);
-                        break;
-                    }
-                    t *= 0.5;
-                }
-                xp.copy_from_slice(xc);
-            }
-            max_move = max_move.max(mv);
-        }
-        self.from_rest = false;
-        (max_move, max_force)
-    }
-
-    /// Eqs. 44–45: if the mean is more than `eps` from 0.5 in some coordinate, shift the
-    /// set periodically back to mean exactly 0.5 and restart from rest. Returns whether it
-    /// did.
-    fn maybe_recentre(&mut self, eps: f64) -> bool {
-        let dp = self
-            .cur
-            .mean()
-            .iter()
-            .map(|m| (m - 0.5).abs())
-            .fold(0.0, f64::max);
-        if dp <= eps {
-            return false;
-        }
-        PeriodicCube::centre_mean(&mut self.cur);
-        self.prev
-            .as_mut_slice()
-            .copy_from_slice(self.cur.as_slice());
-        self.from_rest = true;
-        true
-    }
-}
-
-/// Everything the DEM needs to continue a run bit for bit where it was interrupted: the
-/// positions x^(j) and x^(j−1), the step j, the κ trial, the restart counters, the lowest
-/// state seen and the trajectory so far. The scheme is deterministic, so no random state
-/// is needed; the start and μ0 are recomputed from the run's inputs and μ0 is compared
-/// with [`DemState::mu0`] so that a state cannot be continued under another energy or
-/// start.
-///
-/// A state is handed out by [`Dem::run_from`] every [`Snapshots::every`] steps, before
-/// x^(j) is evaluated; [`Dem::run_from`] with `Some(state)` goes on from there.
+/// Everything the DEM needs to continue a run bit for bit: the start (a failed κ trial
+/// begins again from it), x^(j) and x^(j−1), the step j, the κ trial, the restart
+/// counters, and the energies the trial compares with. The gradient at x^(j) is not
+/// saved: it is recomputed, with the same bits, when a resumed run takes its next step.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DemState {
-    /// Number of points.
-    pub n: usize,
-    /// Dimension.
-    pub s: usize,
-    /// Step index j of [`DemState::current`], the next state to be evaluated and recorded.
-    pub step: usize,
-    /// x^(j), row per point.
-    pub current: Vec<f64>,
-    /// x^(j−1), row per point (equal to x^(j) when the next step starts from rest).
-    pub previous: Vec<f64>,
+    /// The start X0.
+    pub start: PointSet,
+    /// x^(j).
+    pub current: PointSet,
+    /// x^(j−1) (equal to x^(j) when the next step starts from rest).
+    pub previous: PointSet,
     /// Whether the next step is the Taylor start from rest (after the start or a restart).
     pub from_rest: bool,
-    /// μ0 = U(X0)/X0ᵀX0 of eq. 39, from the start.
+    /// The step j of x^(j), counted from the start of the accepted κ trial.
+    pub step: usize,
+    /// μ0 = U(X0)/X0ᵀX0 of eq. 39.
     pub mu0: f64,
     /// The κ in use.
     pub kappa: f64,
@@ -313,122 +194,189 @@ pub struct DemState {
     pub kappa_trial_failed: bool,
     /// Restarts of §4.3 so far.
     pub restarts: usize,
-    /// Whether x^(j) came from a restart.
-    pub restarted: bool,
-    /// Largest coordinate move of the step that produced x^(j).
-    pub last_move: f64,
-    /// The lowest state seen so far, kept for non-smooth energies.
-    pub best: Option<BestState>,
-    /// Records of x^(0) .. x^(j−1).
-    pub trajectory: Vec<Record>,
-    /// Wall time of the run so far in seconds (the records' clock goes on from it).
-    pub seconds: f64,
-}
-
-/// The lowest state a DEM run has seen (for non-smooth energies, which it returns).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct BestState {
-    /// Its energy.
-    pub energy: f64,
-    /// Its step.
-    pub step: usize,
-    /// Its points, row per point.
-    pub points: Vec<f64>,
+    /// ε_p of the restart, when the domain has one (the torus).
+    pub restart_threshold: Option<f64>,
+    /// The energy of the start as recorded (None before it is evaluated).
+    pub start_energy: Option<f64>,
+    /// The energy of the last recorded state (None before the start is recorded).
+    pub last_energy: Option<f64>,
+    #[serde(skip)]
+    grad: Vec<f64>,
 }
 
 impl DemState {
-    /// Refuses a state that cannot be continued with this start and these settings,
-    /// naming what disagrees.
-    fn check(&self, dem: &Dem, start: &PointSet, mu0: f64) -> Result<()> {
-        let len = start.len();
-        if self.n != start.n() || self.s != start.s() {
-            return Err(Error::invalid(
-                "checkpoint",
-                format!("{} points in {} dimensions", self.n, self.s),
-                format!(
-                    "a state of this run ({} points in {} dimensions)",
-                    start.n(),
-                    start.s()
-                ),
-            ));
+    fn new(start: PointSet, mu0: f64, kappa: f64, restart_threshold: Option<f64>) -> Self {
+        DemState {
+            current: start.clone(),
+            previous: start.clone(),
+            grad: vec![0.0; start.len()],
+            start,
+            from_rest: true,
+            step: 0,
+            mu0,
+            kappa,
+            kappa_trials: 1,
+            kappa_trial_failed: false,
+            restarts: 0,
+            restart_threshold,
+            start_energy: None,
+            last_energy: None,
         }
-        if self.current.len() != len
-            || self.previous.len() != len
-            || self.best.as_ref().is_some_and(|b| b.points.len() != len)
-        {
-            return Err(Error::invalid(
-                "checkpoint",
-                "a point buffer of the wrong length",
-                format!("{len} coordinates per buffer"),
-            ));
-        }
-        if self.mu0.to_bits() != mu0.to_bits() {
-            return Err(Error::invalid(
-                "checkpoint",
-                format!("μ0 = {}", self.mu0),
-                format!("μ0 = {mu0} of this start and energy (the state belongs to another run)"),
-            ));
-        }
-        if self.step > dem.steps || self.step == 0 || self.trajectory.len() != self.step {
-            return Err(Error::invalid(
-                "checkpoint step",
-                self.step,
-                format!(
-                    "a step in 1..={} with one record per earlier step",
-                    dem.steps
-                ),
-            ));
-        }
-        let fixed_ok = match dem.kappa {
-            Kappa::Fixed(k) => k.to_bits() == self.kappa.to_bits(),
-            Kappa::Auto { start, max, .. } => self.kappa >= start && self.kappa <= max,
-        };
-        if !(fixed_ok && self.kappa.is_finite() && self.kappa >= 1.0) {
-            return Err(Error::invalid(
-                "checkpoint κ",
-                self.kappa,
-                "the κ setting of this run",
-            ));
-        }
-        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
-        if !finite(&self.current) || !finite(&self.previous) || !self.last_move.is_finite() {
-            return Err(Error::invalid(
-                "checkpoint",
-                "a non-finite coordinate",
-                "finite positions",
-            ));
-        }
-        Ok(())
+    }
+
+    /// A failed κ trial: a larger κ, and everything else as at the start.
+    fn begin_again(&mut self, factor: f64) {
+        self.kappa *= factor;
+        self.kappa_trials += 1;
+        self.current = self.start.clone();
+        self.previous = self.start.clone();
+        self.grad.fill(0.0);
+        self.from_rest = true;
+        self.restarts = 0;
+        self.step = 0;
+        self.start_energy = None;
+        self.last_energy = None;
     }
 }
 
-/// Where [`Dem::run_from`] hands out its state: `save` is called every `every` steps
-/// (0: never), before the state of that step is evaluated.
-pub struct Snapshots<'a> {
-    /// Steps between two snapshots; 0 turns them off.
-    pub every: usize,
-    /// Receives each snapshot (for example to write a checkpoint file); an error ends the
-    /// run with that error.
-    pub save: &'a mut dyn FnMut(&DemState) -> Result<()>,
+impl Dem {
+    /// (κ start, factor, trial steps, κ max) of the trial; a fixed κ has no trial.
+    fn trial(&self) -> (f64, f64, usize, f64) {
+        match self.kappa {
+            Kappa::Fixed(k) => (k, 1.0, 0, k),
+            Kappa::Auto {
+                start,
+                factor,
+                trial_steps,
+                max,
+            } => (start, factor, trial_steps, max),
+        }
+    }
+
+    fn threshold(&self, problem: &Problem, n: usize) -> Option<f64> {
+        if problem.domain().is_periodic() {
+            self.restart.threshold(n)
+        } else {
+            None
+        }
+    }
+
+    /// Evaluates x^(j) and applies the κ trial (§4.1): each of the first `trial_steps`
+    /// steps of a smooth energy must lower it, or κ grows and the run begins again from
+    /// the start (`None`). A max-type energy moves only its active pairs and may stall
+    /// or rise a little while stable, so it must only stay below its start and end the
+    /// trial lower. A blow-up after the trial (non-finite, or four times the start)
+    /// means κ was still too small for a stiffer state reached later: a failed trial too.
+    fn evaluate(&self, problem: &Problem, st: &mut DemState) -> Result<Option<f64>> {
+        let energy = problem.energy();
+        let (_, factor, trial_steps, kmax) = self.trial();
+        let u = energy.value_and_gradient(&st.current, &mut st.grad);
+        let j = st.step;
+        let diverged =
+            j >= trial_steps && (!u.is_finite() || st.start_energy.is_some_and(|u0| u > 4.0 * u0));
+        if diverged && factor > 1.0 && st.kappa * factor <= kmax {
+            st.begin_again(factor);
+            return Ok(None);
+        }
+        if j < trial_steps && !st.kappa_trial_failed {
+            let rising = if energy.is_smooth() {
+                st.last_energy.is_some_and(|last| u >= last)
+            } else {
+                let u0 = st.start_energy.unwrap_or(u);
+                u > u0 || (j + 1 == trial_steps && u >= u0)
+            };
+            if !u.is_finite() || rising {
+                if st.kappa * factor <= kmax {
+                    st.begin_again(factor);
+                    return Ok(None);
+                }
+                st.kappa_trial_failed = true;
+            }
+        }
+        if !u.is_finite() {
+            return Err(Error::Numerical(format!(
+                "the energy became {u} at step {j} with κ = {}; fix a larger κ",
+                st.kappa
+            )));
+        }
+        if j == 0 {
+            st.start_energy = Some(u);
+        }
+        st.last_energy = Some(u);
+        Ok(Some(u))
+    }
+
+    /// Evaluates the start after beginning again, as often as the trial asks.
+    fn evaluate_start(&self, problem: &Problem, st: &mut DemState) -> Result<f64> {
+        loop {
+            if let Some(u) = self.evaluate(problem, st)? {
+                return Ok(u);
+            }
+        }
+    }
+
+    /// Moves to x^(j+1) with eq. 25 (or the Taylor start). A point that leaves the domain
+    /// is brought back by the domain's rule ([`stillpoint_energies::Domain::keep_inside`]:
+    /// the torus wraps it with x^(j) shifted by the same integer, eq. 42; a bounded region
+    /// shortens the step and stops the point). Returns (largest coordinate move, largest
+    /// force step |G f|/A0).
+    fn advance(&self, problem: &Problem, st: &mut DemState, co: &Coefficients) -> (f64, f64) {
+        let domain = problem.domain();
+        let s = st.current.s();
+        let mut max_move: f64 = 0.0;
+        let mut max_force: f64 = 0.0;
+        let mut next = vec![0.0; s];
+        let mut old = vec![0.0; s];
+        let from_rest = st.from_rest;
+        let cur = st.current.as_mut_slice();
+        let prev = st.previous.as_mut_slice();
+        for ((xc, xp), gr) in cur
+            .chunks_exact_mut(s)
+            .zip(prev.chunks_exact_mut(s))
+            .zip(st.grad.chunks_exact(s))
+        {
+            let mut mv: f64 = 0.0;
+            for k in 0..s {
+                let f = co.g * gr[k];
+                next[k] = if from_rest {
+                    xc[k] - f / co.a1
+                } else {
+                    (co.a1 * xc[k] - co.a2 * xp[k] - f) / co.a0
+                };
+                mv = mv.max((next[k] - xc[k]).abs());
+                max_force = max_force.max((f / co.a0).abs());
+            }
+            old.copy_from_slice(xc);
+            xp.copy_from_slice(xc);
+            if domain.keep_inside(&old, &mut next, xp) {
+                mv = old
+                    .iter()
+                    .zip(&next)
+                    .fold(0.0, |m: f64, (a, b)| m.max((a - b).abs()));
+                xp.copy_from_slice(&next);
+            }
+            xc.copy_from_slice(&next);
+            max_move = max_move.max(mv);
+        }
+        st.from_rest = false;
+        (max_move, max_force)
+    }
 }
 
-impl Dem {
-    /// Runs from `start`, or continues `resume` (a state this run handed out earlier),
-    /// handing out its state as `snapshots` asks. A continued run
-    /// returns exactly the points, trajectory energies and info of the uninterrupted
-    /// run; only the records' wall times differ. `save` may refuse with an error, which
-    /// ends the run with that error.
-    pub fn run_from(
-        &self,
-        energy: &dyn Energy,
-        domain: &dyn Domain,
-        start: PointSet,
-        resume: Option<DemState>,
-        observer: &mut dyn Observer,
-        snapshots: Snapshots<'_>,
-    ) -> Result<RunOutput> {
-        let Snapshots { every, save } = snapshots;
-        self.validate(domain, &start)?;
+impl Integrator for Dem {
+    type State = DemState;
+
+    fn name(&self) -> String {
+        match self.kappa {
+            Kappa::Fixed(k) => format!("DEM(κ={k})"),
+            Kappa::Auto { start, .. } => format!("DEM(κ auto from {start})"),
+        }
+    }
+
+    fn init(&self, problem: &Problem, start: PointSet) -> Result<(DemState, f64)> {
+        self.validate()?;
+        problem.check_inside("start point", &start)?;
+        let energy = problem.energy();
         let u0 = energy.value(&start);
         if !u0.is_finite() {
             return Err(Error::Numerical(format!(
@@ -445,246 +393,130 @@ impl Dem {
                  finite value)"
             )));
         }
-        let eps = if domain.is_periodic() {
-            self.restart.threshold(start.n())
-        } else {
-            None
-        };
+        let eps = self.threshold(problem, start.n());
+        let mut st = DemState::new(start, mu0, self.trial().0, eps);
+        let u = self.evaluate_start(problem, &mut st)?;
+        Ok((st, u))
+    }
 
-        // κ trial (§4.1): each of the first `trial_steps` steps must lower the energy, or κ
-        // grows and the run begins again from the start. An accepted trial's steps are kept.
-        let (kappa0, factor, trial_steps, kmax) = match self.kappa {
-            Kappa::Fixed(k) => (k, 1.0, 0, k),
-            Kappa::Auto {
-                start,
-                factor,
-                trial_steps,
-                max,
-            } => (start, factor, trial_steps, max),
-        };
-        let mut kappa = kappa0;
-        let mut trials = 1usize;
-        let mut trial_failed = false;
-        let mut state = State::new(&start);
-        let mut trajectory: Vec<Record> = Vec::with_capacity(self.steps + 1);
-        let mut stop = StopReason::StepBudget;
-        let mut restarts = 0usize;
-        let (mut restarted, mut last_move) = (false, 0.0);
-        let mut j = 0usize;
-        // A max-type or kinked energy is not a descent method's friend: keep the lowest
-        // state seen and return it (for a smooth energy the last state is returned).
-        let keep_best = !energy.is_smooth();
-        let mut best: Option<(f64, usize, PointSet)> = None;
-        let mut clock_offset = 0.0;
-        // The state a run resumed from is already saved; saving it again is wasted work.
-        let mut saved_at = None;
-        if let Some(r) = resume {
-            r.check(self, &start, mu0)?;
-            let (n, s) = (r.n, r.s);
-            let points = |v: Vec<f64>| PointSet::new(n, s, v);
-            kappa = r.kappa;
-            trials = r.kappa_trials;
-            trial_failed = r.kappa_trial_failed;
-            state.cur = points(r.current)?;
-            state.prev = points(r.previous)?;
-            state.from_rest = r.from_rest;
-            trajectory = r.trajectory;
-            trajectory.reserve(self.steps + 1 - r.step);
-            restarts = r.restarts;
-            restarted = r.restarted;
-            last_move = r.last_move;
-            j = r.step;
-            best = match r.best {
-                Some(b) => Some((b.energy, b.step, points(b.points)?)),
-                None => None,
-            };
-            clock_offset = r.seconds;
-            saved_at = Some(j);
+    fn step(&self, problem: &Problem, st: &mut DemState) -> Result<Step> {
+        if st.grad.len() != st.current.len() {
+            // A resumed state: the gradient at x^(j), with the bits it had.
+            st.grad = vec![0.0; st.current.len()];
+            problem
+                .energy()
+                .value_and_gradient(&st.current, &mut st.grad);
         }
-        let clock = Instant::now();
-        let elapsed = |clock: &Instant| clock_offset + clock.elapsed().as_secs_f64();
-        let mut co = Coefficients::new(mu0, kappa, self.dt, self.g);
-        loop {
-            if every > 0 && j > 0 && j.is_multiple_of(every) && saved_at != Some(j) {
-                let snapshot = DemState {
-                    n: start.n(),
-                    s: start.s(),
-                    step: j,
-                    current: state.cur.as_slice().to_vec(),
-                    previous: state.prev.as_slice().to_vec(),
-                    from_rest: state.from_rest,
-                    mu0,
-                    kappa,
-                    kappa_trials: trials,
-                    kappa_trial_failed: trial_failed,
-                    restarts,
-                    restarted,
-                    last_move,
-                    best: best.as_ref().map(|(u, step, p)| BestState {
-                        energy: *u,
-                        step: *step,
-                        points: p.as_slice().to_vec(),
-                    }),
-                    trajectory: trajectory.clone(),
-                    seconds: elapsed(&clock),
-                };
-                save(&snapshot)?;
-                saved_at = Some(j);
-            }
-            let u = state.evaluate(energy);
-            // A blow-up after the trial (the energy non-finite or four times its start)
-            // means κ was still too small for a stiffer state reached later: treat it as a
-            // failed trial.
-            let diverged = j >= trial_steps
-                && (!u.is_finite() || trajectory.first().is_some_and(|r| u > 4.0 * r.energy));
-            if diverged && factor > 1.0 && kappa * factor <= kmax {
-                kappa *= factor;
-                trials += 1;
-                co = Coefficients::new(mu0, kappa, self.dt, self.g);
-                state = State::new(&start);
-                trajectory.clear();
-                restarts = 0;
-                (restarted, last_move, j) = (false, 0.0, 0);
-                saved_at = None;
-                continue;
-            }
-            if j < trial_steps && !trial_failed {
-                // A smooth energy must fall at every trial step (§4.1). A max-type energy
-                // moves only its active pairs and may stall or rise a little while stable,
-                // so it must only stay below its start and end the trial lower.
-                let rising = if energy.is_smooth() {
-                    trajectory.last().is_some_and(|r| u >= r.energy)
-                } else {
-                    let u0 = trajectory.first().map_or(u, |r| r.energy);
-                    u > u0 || (j + 1 == trial_steps && u >= u0)
-                };
-                if !u.is_finite() || rising {
-                    if kappa * factor <= kmax {
-                        kappa *= factor;
-                        trials += 1;
-                        co = Coefficients::new(mu0, kappa, self.dt, self.g);
-                        state = State::new(&start);
-                        trajectory.clear();
-                        restarts = 0;
-                        (restarted, last_move, j) = (false, 0.0, 0);
-                        saved_at = None;
-                        continue;
-                    }
-                    trial_failed = true;
-                }
-            }
-            if !u.is_finite() {
-                return Err(Error::Numerical(format!(
-                    "the energy became {u} at step {j} with κ = {kappa}; fix a larger κ"
-                )));
-            }
-            let mut rec = Record {
-                step: j,
+        let co = Coefficients::new(st.mu0, st.kappa, self.dt, self.g);
+        let (mv, mf) = self.advance(problem, st, &co);
+        st.step += 1;
+        if self.tolerance > 0.0 && mv < self.tolerance && mf < self.tolerance {
+            let u = problem
+                .energy()
+                .value_and_gradient(&st.current, &mut st.grad);
+            st.last_energy = Some(u);
+            return Ok(Step::Converged(Move {
                 energy: u,
-                seconds: elapsed(&clock),
-                max_move: last_move,
+                max_move: mv,
+                restarted: false,
+            }));
+        }
+        let mut restarted = false;
+        if let Some(eps) = st.restart_threshold {
+            if problem.domain().recentre(&mut st.current, eps) {
+                st.previous = st.current.clone();
+                st.from_rest = true;
+                st.restarts += 1;
+                restarted = true;
+            }
+        }
+        Ok(match self.evaluate(problem, st)? {
+            Some(u) => Step::Moved(Move {
+                energy: u,
+                max_move: mv,
                 restarted,
-                metrics: Vec::new(),
-            };
-            let ctl = observer.observe(&mut rec, &state.cur);
-            trajectory.push(rec);
-            if keep_best && best.as_ref().is_none_or(|b| u < b.0) {
-                best = Some((u, j, state.cur.clone()));
-            }
-            if j == self.steps {
-                break;
-            }
-            if ctl == Control::Stop {
-                stop = StopReason::Observer;
-                break;
-            }
-            let (mv, mf) = state.advance(domain, &co);
-            last_move = mv;
-            restarted = false;
-            j += 1;
-            if self.tolerance > 0.0 && mv < self.tolerance && mf < self.tolerance {
-                stop = StopReason::Converged;
-                let u = state.evaluate(energy);
-                let mut rec = Record {
-                    step: j,
-                    energy: u,
-                    seconds: elapsed(&clock),
-                    max_move: mv,
-                    restarted,
-                    metrics: Vec::new(),
-                };
-                observer.observe(&mut rec, &state.cur);
-                trajectory.push(rec);
-                break;
-            }
-            if let Some(e) = eps {
-                if state.maybe_recentre(e) {
-                    restarts += 1;
-                    restarted = true;
-                }
-            }
-        }
-        let mut returned_step = trajectory.last().map_or(0, |r| r.step);
-        if let Some((u, step, points)) = best {
-            if trajectory.last().is_some_and(|r| u < r.energy) {
-                state.cur = points;
-                returned_step = step;
-                let mut rec = Record {
-                    step,
-                    energy: u,
-                    seconds: elapsed(&clock),
-                    max_move: 0.0,
-                    restarted: false,
-                    metrics: Vec::new(),
-                };
-                observer.observe(&mut rec, &state.cur);
-                trajectory.push(rec);
-            }
-        }
-        let info = vec![
-            ("returned_step".to_string(), returned_step as f64),
-            ("mu0".to_string(), mu0),
-            ("kappa".to_string(), kappa),
-            ("kappa_trials".to_string(), trials as f64),
-            (
-                "kappa_trial_failed".to_string(),
-                if trial_failed { 1.0 } else { 0.0 },
-            ),
-            ("restarts".to_string(), restarts as f64),
-            (
-                "restart_threshold".to_string(),
-                eps.unwrap_or(f64::INFINITY),
-            ),
-        ];
-        Ok(RunOutput {
-            points: state.cur,
-            trajectory,
-            stop,
-            info,
+            }),
+            None => Step::BeganAgain(self.evaluate_start(problem, st)?),
         })
     }
-}
 
-impl Integrator for Dem {
-    fn name(&self) -> String {
-        match self.kappa {
-            Kappa::Fixed(k) => format!("DEM(κ={k}, steps={})", self.steps),
-            Kappa::Auto { start, .. } => format!("DEM(κ auto from {start}, steps={})", self.steps),
-        }
+    fn points<'s>(&self, state: &'s DemState) -> &'s PointSet {
+        &state.current
     }
 
-    fn run(
-        &self,
-        energy: &dyn Energy,
-        domain: &dyn Domain,
-        start: PointSet,
-        observer: &mut dyn Observer,
-    ) -> Result<RunOutput> {
-        let mut ignore = |_: &DemState| Ok(());
-        let snapshots = Snapshots {
-            every: 0,
-            save: &mut ignore,
+    fn info(&self, st: &DemState) -> Vec<(String, f64)> {
+        vec![
+            ("mu0".to_string(), st.mu0),
+            ("kappa".to_string(), st.kappa),
+            ("kappa_trials".to_string(), st.kappa_trials as f64),
+            (
+                "kappa_trial_failed".to_string(),
+                if st.kappa_trial_failed { 1.0 } else { 0.0 },
+            ),
+            ("restarts".to_string(), st.restarts as f64),
+            (
+                "restart_threshold".to_string(),
+                st.restart_threshold.unwrap_or(f64::INFINITY),
+            ),
+        ]
+    }
+
+    fn check_state(&self, problem: &Problem, start: &PointSet, st: &DemState) -> Result<()> {
+        self.validate()?;
+        let refuse = |what: &str, got: String, expected: String| {
+            Err(Error::invalid(format!("checkpoint {what}"), got, expected))
         };
-        self.run_from(energy, domain, start, None, observer, snapshots)
+        if st.start != *start {
+            return refuse(
+                "start",
+                format!("{} points in {} dimensions", st.start.n(), st.start.s()),
+                "the start of this run (the state belongs to another run)".into(),
+            );
+        }
+        for (what, p) in [("current", &st.current), ("previous", &st.previous)] {
+            if p.n() != start.n() || p.s() != start.s() {
+                return refuse(
+                    what,
+                    format!("{} points in {} dimensions", p.n(), p.s()),
+                    format!("{} points in {} dimensions", start.n(), start.s()),
+                );
+            }
+        }
+        problem.check_inside("checkpoint point", &st.current)?;
+        let eps = self.threshold(problem, start.n());
+        if st.restart_threshold.map(f64::to_bits) != eps.map(f64::to_bits) {
+            return refuse(
+                "restart threshold",
+                format!("{:?}", st.restart_threshold),
+                format!("{eps:?}, the restart setting of this run"),
+            );
+        }
+        let u0 = problem.energy().value(start);
+        let xtx: f64 = start.as_slice().iter().map(|v| v * v).sum();
+        let mu0 = if xtx > 0.0 { u0 / xtx } else { u0 };
+        if st.mu0.to_bits() != mu0.to_bits() {
+            return refuse(
+                "μ0",
+                format!("{}", st.mu0),
+                format!("μ0 = {mu0} of this start and energy (the state belongs to another run)"),
+            );
+        }
+        let (k0, _, _, kmax) = self.trial();
+        let kappa_ok = match self.kappa {
+            Kappa::Fixed(k) => k.to_bits() == st.kappa.to_bits(),
+            Kappa::Auto { .. } => st.kappa >= k0 && st.kappa <= kmax,
+        };
+        if !(kappa_ok && st.kappa.is_finite() && st.kappa_trials >= 1) {
+            return refuse("κ", format!("{}", st.kappa), "the κ setting of this run".into());
+        }
+        let finite = |v: Option<f64>| v.is_none_or(f64::is_finite);
+        if !finite(st.start_energy) || !finite(st.last_energy) || st.start_energy.is_none() {
+            return refuse(
+                "energies",
+                format!("{:?}, {:?}", st.start_energy, st.last_energy),
+                "finite energies of recorded states".into(),
+            );
+        }
+        Ok(())
     }
 }

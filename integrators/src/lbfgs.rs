@@ -87,7 +87,7 @@
 //! The run is sequential apart from the energy, whose evaluations are deterministic, so
 //! the result has the same bits for any number of rayon threads.
 
-use crate::{Control, Integrator, Observer, Record, RunOutput, StopReason};
+use crate::{Integrator, Move, Problem, Step, StopReason};
 use argmin::core::{
     CostFunction, Error as ArgminError, Executor, Gradient, IterState, OptimizationResult, State,
     TerminationReason, TerminationStatus,
@@ -97,7 +97,7 @@ use argmin::solver::quasinewton::LBFGS;
 use nalgebra::DVector;
 use std::cell::RefCell;
 use std::fmt;
-use std::time::Instant;
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use stillpoint_energies::{Domain, Energy, Error, PointSet, Result};
 
 /// The first trial step of the first chunk moves the fastest coordinate by this fraction
@@ -120,12 +120,10 @@ pub const PROJECTION_CHUNK: usize = 20;
 pub const MAX_EVALUATIONS_PER_ITERATION: usize = 64;
 
 /// L-BFGS (argmin, More–Thuente line search) with projection and restarts; see the
-/// module documentation for the treatment of domains and kinks.
+/// module documentation for the treatment of domains and kinks. Its budget of accepted
+/// iterations over all restarts is the executor's step budget.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Lbfgs {
-    /// Budget of accepted L-BFGS iterations over all restarts (the trajectory has at most
-    /// this many records after the start).
-    pub iterations: usize,
     /// Number m of curvature pairs kept (≥ 1).
     pub memory: usize,
     /// Converged when the max-norm of the gradient falls to `tol_grad` times its value at
@@ -143,7 +141,6 @@ pub struct Lbfgs {
 impl Default for Lbfgs {
     fn default() -> Self {
         Lbfgs {
-            iterations: 1000,
             memory: 10,
             tol_grad: 1e-10,
             // About 50 ulps: a smaller relative decrease is rounding, not progress.
@@ -154,8 +151,7 @@ impl Default for Lbfgs {
 }
 
 impl Lbfgs {
-    fn validate(&self, domain: &dyn Domain, start: &PointSet) -> Result<()> {
-        crate::check_start(domain, start)?;
+    fn validate(&self) -> Result<()> {
         if self.memory == 0 {
             return Err(Error::invalid(
                 "L-BFGS memory",
@@ -204,12 +200,11 @@ impl fmt::Display for Failure {
     }
 }
 
-/// Evaluates f(P(x)) and its gradient, keeping the last argument so that argmin's cost
-/// and gradient calls at one point (More–Thuente asks for both) cost one evaluation.
-struct Evaluator<'a> {
-    energy: &'a dyn Energy,
-    domain: &'a dyn Domain,
-    periodic: bool,
+/// What the evaluator keeps between calls: the last argument and what it gave, the
+/// evaluation counters and the best trial of the current iteration. Part of the L-BFGS
+/// state, so that a resumed run counts and caches exactly as the uninterrupted one.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+struct EvalCache {
     /// The last argument x, valid when `valid`.
     param: Vec<f64>,
     valid: bool,
@@ -218,34 +213,30 @@ struct Evaluator<'a> {
     /// The gradient handed to argmin (unscaled).
     grad: Vec<f64>,
     /// f(P(x)).
+    #[serde(with = "crate::json_f64")]
     value: f64,
     /// Whether P moved some point (x had a point outside).
     moved: bool,
-    /// The `prev` argument of `bring_back`, which nothing here reads back.
-    scratch: Vec<f64>,
     evaluations: usize,
     /// Evaluations left to the current iteration.
     calls_left: usize,
     /// The lowest energy evaluated in the current iteration, if below its start, and
     /// where.
+    #[serde(with = "crate::json_f64")]
     trial_value: f64,
     trial_param: Vec<f64>,
     has_trial: bool,
 }
 
-impl<'a> Evaluator<'a> {
-    fn new(energy: &'a dyn Energy, domain: &'a dyn Domain, start: &PointSet) -> Self {
-        Evaluator {
-            energy,
-            domain,
-            periodic: domain.is_periodic(),
+impl EvalCache {
+    fn new(start: &PointSet) -> Self {
+        EvalCache {
             param: start.as_slice().to_vec(),
             valid: false,
             points: start.clone(),
             grad: vec![0.0; start.len()],
             value: f64::NAN,
             moved: false,
-            scratch: vec![0.0; start.s()],
             evaluations: 0,
             calls_left: 0,
             trial_value: f64::NEG_INFINITY,
@@ -253,48 +244,72 @@ impl<'a> Evaluator<'a> {
             has_trial: false,
         }
     }
+}
+
+/// Evaluates f(P(x)) and its gradient, keeping the last argument so that argmin's cost
+/// and gradient calls at one point (More–Thuente asks for both) cost one evaluation.
+struct Evaluator<'a> {
+    energy: &'a dyn Energy,
+    domain: &'a dyn Domain,
+    periodic: bool,
+    /// The `prev` argument of `bring_back`, which nothing here reads back.
+    scratch: Vec<f64>,
+    c: EvalCache,
+}
+
+impl<'a> Evaluator<'a> {
+    fn new(problem: &'a Problem, c: EvalCache) -> Self {
+        let domain = problem.domain();
+        Evaluator {
+            energy: problem.energy(),
+            domain,
+            periodic: domain.is_periodic(),
+            scratch: vec![0.0; c.points.s()],
+            c,
+        }
+    }
 
     /// Resets the per-iteration evaluation cap and the best trial, which must beat `u`.
     fn begin_iteration(&mut self, u: f64) {
-        self.calls_left = MAX_EVALUATIONS_PER_ITERATION;
-        self.trial_value = u;
-        self.has_trial = false;
+        self.c.calls_left = MAX_EVALUATIONS_PER_ITERATION;
+        self.c.trial_value = u;
+        self.c.has_trial = false;
     }
 
     /// The argument of the lowest energy evaluated in this iteration, if it beat the start.
     /// Allows the one evaluation needed to bring the cache back to it.
     fn take_best_trial(&mut self) -> Option<Vec<f64>> {
-        if !self.has_trial {
+        if !self.c.has_trial {
             return None;
         }
-        self.has_trial = false;
-        self.calls_left = self.calls_left.max(1);
-        Some(self.trial_param.clone())
+        self.c.has_trial = false;
+        self.c.calls_left = self.c.calls_left.max(1);
+        Some(self.c.trial_param.clone())
     }
 
     /// Makes the cache describe x.
     fn evaluate(&mut self, x: &[f64]) -> std::result::Result<(), Failure> {
-        if self.valid
-            && x.len() == self.param.len()
+        if self.c.valid
+            && x.len() == self.c.param.len()
             && x.iter()
-                .zip(&self.param)
+                .zip(&self.c.param)
                 .all(|(a, b)| a.to_bits() == b.to_bits())
         {
             return Ok(());
         }
-        self.valid = false;
-        if self.calls_left == 0 {
+        self.c.valid = false;
+        if self.c.calls_left == 0 {
             return Err(Failure::TooManyEvaluations);
         }
-        self.calls_left -= 1;
+        self.c.calls_left -= 1;
         if x.iter().any(|v| !v.is_finite()) {
             return Err(Failure::NonFiniteArgument);
         }
-        self.param.copy_from_slice(x);
-        self.points.as_mut_slice().copy_from_slice(x);
-        let s = self.points.s();
-        self.moved = false;
-        for (i, row) in self.points.as_mut_slice().chunks_exact_mut(s).enumerate() {
+        self.c.param.copy_from_slice(x);
+        self.c.points.as_mut_slice().copy_from_slice(x);
+        let s = self.c.points.s();
+        self.c.moved = false;
+        for (i, row) in self.c.points.as_mut_slice().chunks_exact_mut(s).enumerate() {
             if self.domain.contains(row) {
                 continue;
             }
@@ -303,27 +318,27 @@ impl<'a> Evaluator<'a> {
             if !(self.domain.contains(row) && row.iter().all(|v| v.is_finite())) {
                 return Err(Failure::NotBroughtBack(i));
             }
-            self.moved = true;
+            self.c.moved = true;
         }
-        self.evaluations += 1;
+        self.c.evaluations += 1;
         // The trait says the gradient is written, not added; zeroing first keeps an
         // energy that accumulates into its buffer from carrying one trial into the next.
-        self.grad.fill(0.0);
-        self.value = self.energy.value_and_gradient(&self.points, &mut self.grad);
-        if !self.value.is_finite() {
-            return Err(Failure::NonFiniteEnergy(self.value));
+        self.c.grad.fill(0.0);
+        self.c.value = self.energy.value_and_gradient(&self.c.points, &mut self.c.grad);
+        if !self.c.value.is_finite() {
+            return Err(Failure::NonFiniteEnergy(self.c.value));
         }
-        if self.grad.iter().any(|g| !g.is_finite()) {
+        if self.c.grad.iter().any(|g| !g.is_finite()) {
             return Err(Failure::NonFiniteGradient);
         }
-        if self.moved && !self.periodic {
+        if self.c.moved && !self.periodic {
             self.drop_normal_components();
         }
-        self.valid = true;
-        if self.value < self.trial_value {
-            self.trial_value = self.value;
-            self.trial_param.copy_from_slice(x);
-            self.has_trial = true;
+        self.c.valid = true;
+        if self.c.value < self.c.trial_value {
+            self.c.trial_value = self.c.value;
+            self.c.trial_param.copy_from_slice(x);
+            self.c.has_trial = true;
         }
         Ok(())
     }
@@ -331,12 +346,13 @@ impl<'a> Evaluator<'a> {
     /// Removes from each projected point's gradient its component along x_i − P(x_i),
     /// the direction in which f∘P is flat.
     fn drop_normal_components(&mut self) {
-        let s = self.points.s();
-        let pts = self.points.as_slice();
+        let s = self.c.points.s();
+        let pts = self.c.points.as_slice();
         for ((g, x), p) in self
+            .c
             .grad
             .chunks_exact_mut(s)
-            .zip(self.param.chunks_exact(s))
+            .zip(self.c.param.chunks_exact(s))
             .zip(pts.chunks_exact(s))
         {
             let norm2: f64 = x.iter().zip(p).map(|(a, b)| (a - b) * (a - b)).sum();
@@ -369,7 +385,7 @@ impl CostFunction for Composite<'_, '_> {
     fn cost(&self, x: &Self::Param) -> std::result::Result<f64, ArgminError> {
         let mut w = self.work.borrow_mut();
         w.evaluate(x.as_slice()).map_err(argmin_error)?;
-        Ok(w.value * self.scale)
+        Ok(w.c.value * self.scale)
     }
 }
 
@@ -381,8 +397,8 @@ impl Gradient for Composite<'_, '_> {
         let mut w = self.work.borrow_mut();
         w.evaluate(x.as_slice()).map_err(argmin_error)?;
         Ok(DVector::from_iterator(
-            w.grad.len(),
-            w.grad.iter().map(|g| g * self.scale),
+            w.c.grad.len(),
+            w.c.grad.iter().map(|g| g * self.scale),
         ))
     }
 }
@@ -423,253 +439,431 @@ fn typical_spacing(domain: &dyn Domain, n: usize) -> f64 {
     }
 }
 
+
+/// argmin's solver and iterate between two iterations of a chunk. They hold ±∞ (the best
+/// cost before any), which JSON cannot, so they are kept as the hexadecimal digits of
+/// their postcard encoding, which keeps every f64 bit.
+#[derive(Clone)]
+struct Carry {
+    solver: Solver,
+    iterate: Iterate,
+}
+
+impl Serialize for Carry {
+    fn serialize<S: Serializer>(&self, ser: S) -> std::result::Result<S::Ok, S::Error> {
+        let bytes = postcard::to_allocvec(&(&self.solver, &self.iterate))
+            .map_err(serde::ser::Error::custom)?;
+        let hex: String = bytes.iter().map(|b| format!("{b:02x}")).collect();
+        ser.serialize_str(&hex)
+    }
+}
+
+impl<'de> Deserialize<'de> for Carry {
+    fn deserialize<D: Deserializer<'de>>(de: D) -> std::result::Result<Self, D::Error> {
+        let hex = String::deserialize(de)?;
+        if hex.len() % 2 != 0 || !hex.bytes().all(|b| b.is_ascii_hexdigit()) {
+            return Err(serde::de::Error::custom("argmin state: not hexadecimal digits"));
+        }
+        let bytes: Vec<u8> = (0..hex.len() / 2)
+            .map(|i| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).unwrap_or(0))
+            .collect();
+        let (solver, iterate): (Solver, Iterate) =
+            postcard::from_bytes(&bytes).map_err(serde::de::Error::custom)?;
+        Ok(Carry { solver, iterate })
+    }
+}
+
+/// A chunk: L-BFGS with an empty memory from the state it began at.
+#[derive(Clone, Serialize, Deserialize)]
+struct Chunk {
+    /// The constant the cost is scaled by (see "Step scale").
+    scale: f64,
+    /// The energy where the chunk began.
+    u_start: f64,
+    /// The energy of the last accepted state.
+    u_prev: f64,
+    /// The last accepted argument, before any wrap.
+    prev_raw: Vec<f64>,
+    /// Accepted iterations of the chunk.
+    len: usize,
+    /// argmin's solver and iterate, when the last iteration can be continued.
+    carry: Option<Carry>,
+    /// Whether the last accepted state had points outside a bounded region.
+    left_region: bool,
+    /// Whether the last accepted state still awaits the checks that decide how the
+    /// chunk goes on (made when the next step is asked for, so that a run that ends at
+    /// that state counts nothing more).
+    pending: bool,
+}
+
+/// Everything L-BFGS needs to continue bit for bit: the accepted state, the counters, the
+/// current chunk with argmin's solver and iterate, and the evaluator's cache.
+#[derive(Clone, Serialize, Deserialize)]
+pub struct LbfgsState {
+    current: PointSet,
+    gnorm0: f64,
+    gnorm: f64,
+    gtol: f64,
+    spacing: f64,
+    first_move: f64,
+    total: usize,
+    projection_restarts: usize,
+    stall_restarts: usize,
+    failures: usize,
+    pending_restart: bool,
+    fresh: bool,
+    chunk: Option<Chunk>,
+    cache: EvalCache,
+}
+
+impl std::fmt::Debug for LbfgsState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LbfgsState")
+            .field("iterations", &self.total)
+            .field("evaluations", &self.cache.evaluations)
+            .finish_non_exhaustive()
+    }
+}
+
+/// How a chunk ended: the run goes on with a restart, or ends.
+enum AfterChunk {
+    Restart,
+    End(StopReason),
+}
+
+impl Lbfgs {
+    /// The checks after an accepted state that the original loop made before its next
+    /// iteration: stop the chunk at a small decrease, at a lost carry, or after
+    /// [`PROJECTION_CHUNK`] iterations with points outside.
+    fn settle(&self, st: &mut LbfgsState) -> Option<ChunkEnd> {
+        let chunk = st.chunk.as_mut()?;
+        if !chunk.pending {
+            return None;
+        }
+        chunk.pending = false;
+        let u = st.cache.value;
+        let small = chunk.u_prev - u <= self.tol_cost * chunk.u_prev.abs();
+        chunk.u_prev = u;
+        if chunk.carry.is_none() || small {
+            return Some(ChunkEnd::Stalled);
+        }
+        chunk.len += 1;
+        if chunk.left_region && chunk.len >= PROJECTION_CHUNK {
+            return Some(ChunkEnd::Projected);
+        }
+        None
+    }
+
+    fn end_chunk(&self, st: &mut LbfgsState, end: ChunkEnd) -> AfterChunk {
+        let Some(chunk) = st.chunk.take() else {
+            return AfterChunk::Restart;
+        };
+        match end {
+            ChunkEnd::Projected => st.projection_restarts += 1,
+            ChunkEnd::Stalled => {
+                if chunk.u_start - chunk.u_prev <= self.tol_cost * chunk.u_start.abs() {
+                    return AfterChunk::End(StopReason::Converged);
+                }
+                if st.stall_restarts == self.max_restarts {
+                    return AfterChunk::End(StopReason::StepBudget);
+                }
+                st.stall_restarts += 1;
+            }
+        }
+        st.pending_restart = true;
+        AfterChunk::Restart
+    }
+
+    /// Begins a chunk at the current state.
+    fn begin_chunk(&self, problem: &Problem, st: &mut LbfgsState) -> Result<()> {
+        let x0 = st.current.as_slice().to_vec();
+        let mut w = Evaluator::new(problem, std::mem::replace(&mut st.cache, EvalCache::empty()));
+        w.c.calls_left = 1;
+        let evaluated = w.evaluate(&x0);
+        let g = max_abs(&w.c.grad);
+        let scale = if g > 0.0 { st.first_move / g } else { 1.0 };
+        let gv = DVector::from_iterator(w.c.grad.len(), w.c.grad.iter().map(|v| v * scale));
+        let u_start = w.c.value;
+        st.cache = w.c;
+        evaluated.map_err(|e| {
+            Error::Numerical(format!(
+                "cannot restart L-BFGS at a state it has already visited: {e}"
+            ))
+        })?;
+        let solver = LBFGS::new(MoreThuenteLineSearch::new(), self.memory)
+            .with_tolerance_grad(0.0)
+            .and_then(|l| l.with_tolerance_cost(0.0))
+            .map_err(|e| Error::Numerical(format!("argmin L-BFGS: {e}")))?;
+        let iterate: Iterate = IterState::new()
+            .param(DVector::from_vec(x0.clone()))
+            .cost(u_start * scale)
+            .gradient(gv)
+            .max_iters(1);
+        st.chunk = Some(Chunk {
+            scale,
+            u_start,
+            u_prev: u_start,
+            prev_raw: x0,
+            len: 0,
+            carry: Some(Carry { solver, iterate }),
+            left_region: false,
+            pending: false,
+        });
+        Ok(())
+    }
+
+    /// One argmin iteration of the current chunk: the accepted state, or `None` when the
+    /// chunk stalled.
+    fn iterate(&self, problem: &Problem, st: &mut LbfgsState) -> Option<Move> {
+        let periodic = problem.domain().is_periodic();
+        let chunk = st.chunk.as_mut()?;
+        let Carry { solver, iterate } = chunk.carry.take()?;
+        let work = RefCell::new(Evaluator::new(
+            problem,
+            std::mem::replace(&mut st.cache, EvalCache::empty()),
+        ));
+        work.borrow_mut().begin_iteration(chunk.u_prev);
+        // One iteration per executor run: the observer and the stopping rules act
+        // between iterations.
+        let result = Executor::new(
+            Composite {
+                work: &work,
+                scale: chunk.scale,
+            },
+            solver,
+        )
+        .configure(|_| iterate)
+        .ctrlc(false)
+        .run();
+        let mut proposal = None;
+        match result {
+            Ok(OptimizationResult {
+                solver: sv,
+                state: it,
+                ..
+            }) => {
+                if let TerminationStatus::Terminated(TerminationReason::SolverExit(_)) =
+                    it.get_termination_status()
+                {
+                    st.failures += 1;
+                } else if let Some(x) = it.get_param() {
+                    proposal = Some((x.as_slice().to_vec(), sv, it));
+                }
+            }
+            Err(_) => st.failures += 1,
+        }
+        let mut w = work.into_inner();
+        let mut next = None;
+        w.c.calls_left = w.c.calls_left.max(1);
+        if let Some((x, sv, it)) = proposal {
+            if w.evaluate(&x).is_ok() && w.c.value <= chunk.u_prev {
+                next = Some(x);
+                let iter = it.get_iter();
+                let mut it = it;
+                it.termination_status = TerminationStatus::NotTerminated;
+                chunk.carry = Some(Carry {
+                    solver: sv,
+                    iterate: it.max_iters(iter + 1),
+                });
+            }
+        }
+        if next.is_none() {
+            // The line search failed or ended on a worse point, but it may have seen a
+            // lower one on the way: take that, then restart.
+            if let Some(t) = w.take_best_trial() {
+                if w.evaluate(&t).is_ok() {
+                    next = Some(t);
+                }
+            }
+        }
+        let result = next.and_then(|x| {
+            let u = w.c.value;
+            let max_move = if periodic {
+                x.iter()
+                    .zip(&chunk.prev_raw)
+                    .fold(0.0, |m: f64, (a, b)| m.max((a - b).abs()))
+            } else {
+                w.c.points
+                    .as_slice()
+                    .iter()
+                    .zip(st.current.as_slice())
+                    .fold(0.0, |m: f64, (a, b)| m.max((a - b).abs()))
+            };
+            if max_move == 0.0 {
+                return None;
+            }
+            st.total += 1;
+            st.first_move = (2.0 * max_move).min(FIRST_STEP * st.spacing);
+            st.current
+                .as_mut_slice()
+                .copy_from_slice(w.c.points.as_slice());
+            st.gnorm = max_abs(&w.c.grad);
+            chunk.left_region = w.c.moved && !periodic;
+            chunk.prev_raw.copy_from_slice(&x);
+            chunk.pending = true;
+            let restarted = st.pending_restart;
+            st.pending_restart = false;
+            Some(Move {
+                energy: u,
+                max_move,
+                restarted,
+            })
+        });
+        st.cache = w.c;
+        result
+    }
+}
+
+impl EvalCache {
+    /// A placeholder while the cache is lent to an [`Evaluator`].
+    fn empty() -> Self {
+        EvalCache {
+            param: Vec::new(),
+            valid: false,
+            points: PointSet::new(1, 1, vec![0.0]).expect("one finite coordinate"),
+            grad: Vec::new(),
+            value: f64::NAN,
+            moved: false,
+            evaluations: 0,
+            calls_left: 0,
+            trial_value: f64::NEG_INFINITY,
+            trial_param: Vec::new(),
+            has_trial: false,
+        }
+    }
+}
+
 impl Integrator for Lbfgs {
+    type State = LbfgsState;
+
     fn name(&self) -> String {
         format!("L-BFGS(m={})", self.memory)
     }
 
-    fn run(
-        &self,
-        energy: &dyn Energy,
-        domain: &dyn Domain,
-        start: PointSet,
-        observer: &mut dyn Observer,
-    ) -> Result<RunOutput> {
-        self.validate(domain, &start)?;
-        let clock = Instant::now();
-        let periodic = domain.is_periodic();
-        let work = RefCell::new(Evaluator::new(energy, domain, &start));
-        let (u0, gnorm0) = {
-            let mut w = work.borrow_mut();
-            w.calls_left = 1;
-            match w.evaluate(start.as_slice()) {
-                Ok(()) => (w.value, max_abs(&w.grad)),
-                Err(Failure::NonFiniteEnergy(u)) => {
-                    return Err(Error::Numerical(format!(
-                        "the energy {} of the start is not finite ({u}): two points coincide, \
-                         a point is on the boundary, or p is too small for this n (the \
-                         energy overflows)",
-                        energy.name()
-                    )))
-                }
-                Err(e) => {
-                    return Err(Error::Numerical(format!(
-                        "cannot start L-BFGS with the energy {}: {e}",
-                        energy.name()
-                    )))
-                }
+    fn init(&self, problem: &Problem, start: PointSet) -> Result<(LbfgsState, f64)> {
+        self.validate()?;
+        problem.check_inside("start point", &start)?;
+        let energy = problem.energy();
+        let mut w = Evaluator::new(problem, EvalCache::new(&start));
+        w.c.calls_left = 1;
+        let (u0, gnorm0) = match w.evaluate(start.as_slice()) {
+            Ok(()) => (w.c.value, max_abs(&w.c.grad)),
+            Err(Failure::NonFiniteEnergy(u)) => {
+                return Err(Error::Numerical(format!(
+                    "the energy {} of the start is not finite ({u}): two points coincide, \
+                     a point is on the boundary, or p is too small for this n (the \
+                     energy overflows)",
+                    energy.name()
+                )))
+            }
+            Err(e) => {
+                return Err(Error::Numerical(format!(
+                    "cannot start L-BFGS with the energy {}: {e}",
+                    energy.name()
+                )))
             }
         };
-        let spacing = typical_spacing(domain, start.n());
-        let gtol = self.tol_grad * gnorm0;
-
-        let mut cur = start;
-        let mut trajectory: Vec<Record> = Vec::with_capacity(self.iterations.min(100_000) + 1);
-        let mut rec = Record {
-            step: 0,
-            energy: u0,
-            seconds: clock.elapsed().as_secs_f64(),
-            max_move: 0.0,
-            restarted: false,
-            metrics: Vec::new(),
+        let spacing = typical_spacing(problem.domain(), start.n());
+        let state = LbfgsState {
+            current: start,
+            gnorm0,
+            gnorm: gnorm0,
+            gtol: self.tol_grad * gnorm0,
+            spacing,
+            first_move: FIRST_STEP * spacing,
+            total: 0,
+            projection_restarts: 0,
+            stall_restarts: 0,
+            failures: 0,
+            pending_restart: false,
+            fresh: true,
+            chunk: None,
+            cache: w.c,
         };
-        let ctl = observer.observe(&mut rec, &cur);
-        trajectory.push(rec);
+        Ok((state, u0))
+    }
 
-        let mut gnorm = gnorm0;
-        let mut total = 0usize;
-        let (mut projection_restarts, mut stall_restarts, mut failures) = (0usize, 0usize, 0usize);
-        let mut pending_restart = false;
-        // Largest coordinate move of a chunk's first trial (see "Step scale").
-        let mut first_move = FIRST_STEP * spacing;
-        let stop = if self.iterations == 0 {
-            StopReason::StepBudget
-        } else if ctl == Control::Stop {
-            StopReason::Observer
-        } else if gnorm <= gtol {
-            StopReason::Converged
-        } else {
-            'run: loop {
-                // A chunk: L-BFGS with an empty memory from `cur`, which is inside.
-                let x0 = cur.as_slice().to_vec();
-                let (u_start, scale, g_start) = {
-                    let mut w = work.borrow_mut();
-                    w.calls_left = 1;
-                    w.evaluate(&x0).map_err(|e| {
-                        Error::Numerical(format!(
-                            "cannot restart L-BFGS at a state it has already visited: {e}"
-                        ))
-                    })?;
-                    let g = max_abs(&w.grad);
-                    let scale = if g > 0.0 { first_move / g } else { 1.0 };
-                    let gv = DVector::from_iterator(w.grad.len(), w.grad.iter().map(|v| v * scale));
-                    (w.value, scale, gv)
-                };
-                let mut solver: Option<Solver> = Some(
-                    LBFGS::new(MoreThuenteLineSearch::new(), self.memory)
-                        .with_tolerance_grad(0.0)
-                        .and_then(|l| l.with_tolerance_cost(0.0))
-                        .map_err(|e| Error::Numerical(format!("argmin L-BFGS: {e}")))?,
-                );
-                let mut problem = Some(Composite { work: &work, scale });
-                let mut state: Option<Iterate> = Some(
-                    IterState::new()
-                        .param(DVector::from_vec(x0.clone()))
-                        .cost(u_start * scale)
-                        .gradient(g_start)
-                        .max_iters(1),
-                );
-                let mut prev_raw = x0;
-                let mut u_prev = u_start;
-                let mut chunk_len = 0usize;
-                let end = loop {
-                    // One iteration per executor run: the observer and the stopping rules
-                    // act between iterations with full access to the caller's observer,
-                    // which argmin's own observers (held as 'static) could not borrow.
-                    let (Some(p), Some(sv), Some(st)) =
-                        (problem.take(), solver.take(), state.take())
-                    else {
-                        break ChunkEnd::Stalled;
-                    };
-                    work.borrow_mut().begin_iteration(u_prev);
-                    let result = Executor::new(p, sv).configure(|_| st).ctrlc(false).run();
-                    // L-BFGS's new iterate, with what it needs to go on from there.
-                    let mut proposal = None;
-                    match result {
-                        Ok(OptimizationResult {
-                            problem: p,
-                            solver: sv,
-                            state: st,
-                        }) => {
-                            if let TerminationStatus::Terminated(TerminationReason::SolverExit(_)) =
-                                st.get_termination_status()
-                            {
-                                failures += 1;
-                            } else if let Some(x) = st.get_param() {
-                                proposal = Some((x.as_slice().to_vec(), p, sv, st));
-                            }
-                        }
-                        Err(_) => failures += 1,
-                    }
-                    let mut w = work.borrow_mut();
-                    let mut carry = None;
-                    let mut next = None;
-                    w.calls_left = w.calls_left.max(1);
-                    if let Some((x, p, sv, st)) = proposal {
-                        if w.evaluate(&x).is_ok() && w.value <= u_prev {
-                            next = Some(x);
-                            carry = Some((p, sv, st));
-                        }
-                    }
-                    if next.is_none() {
-                        // The line search failed or ended on a worse point, but it may have
-                        // seen a lower one on the way: take that, then restart.
-                        if let Some(t) = w.take_best_trial() {
-                            if w.evaluate(&t).is_ok() {
-                                next = Some(t);
-                            }
-                        }
-                    }
-                    let Some(x) = next else {
-                        break ChunkEnd::Stalled;
-                    };
-                    let u = w.value;
-                    let max_move = if periodic {
-                        x.iter()
-                            .zip(&prev_raw)
-                            .fold(0.0, |m: f64, (a, b)| m.max((a - b).abs()))
-                    } else {
-                        w.points
-                            .as_slice()
-                            .iter()
-                            .zip(cur.as_slice())
-                            .fold(0.0, |m: f64, (a, b)| m.max((a - b).abs()))
-                    };
-                    if max_move == 0.0 {
-                        break ChunkEnd::Stalled;
-                    }
-                    total += 1;
-                    first_move = (2.0 * max_move).min(FIRST_STEP * spacing);
-                    cur.as_mut_slice().copy_from_slice(w.points.as_slice());
-                    gnorm = max_abs(&w.grad);
-                    let left_region = w.moved && !periodic;
-                    drop(w);
-                    let mut rec = Record {
-                        step: total,
-                        energy: u,
-                        seconds: clock.elapsed().as_secs_f64(),
-                        max_move,
-                        restarted: pending_restart,
-                        metrics: Vec::new(),
-                    };
-                    pending_restart = false;
-                    let ctl = observer.observe(&mut rec, &cur);
-                    trajectory.push(rec);
-                    if ctl == Control::Stop {
-                        break 'run StopReason::Observer;
-                    }
-                    if gnorm <= gtol {
-                        break 'run StopReason::Converged;
-                    }
-                    if total == self.iterations {
-                        break 'run StopReason::StepBudget;
-                    }
-                    let small = u_prev - u <= self.tol_cost * u_prev.abs();
-                    u_prev = u;
-                    let Some((mut p, sv, mut st)) = carry else {
-                        break ChunkEnd::Stalled;
-                    };
-                    if small {
-                        break ChunkEnd::Stalled;
-                    }
-                    chunk_len += 1;
-                    if left_region && chunk_len >= PROJECTION_CHUNK {
-                        break ChunkEnd::Projected;
-                    }
-                    prev_raw.copy_from_slice(&x);
-                    let iter = st.get_iter();
-                    st.termination_status = TerminationStatus::NotTerminated;
-                    problem = p.take_problem();
-                    solver = Some(sv);
-                    state = Some(st.max_iters(iter + 1));
-                };
-                match end {
-                    ChunkEnd::Projected => projection_restarts += 1,
-                    ChunkEnd::Stalled => {
-                        if u_start - u_prev <= self.tol_cost * u_start.abs() {
-                            break 'run StopReason::Converged;
-                        }
-                        if stall_restarts == self.max_restarts {
-                            break 'run StopReason::StepBudget;
-                        }
-                        stall_restarts += 1;
+    fn step(&self, problem: &Problem, st: &mut LbfgsState) -> Result<Step> {
+        if std::mem::take(&mut st.fresh) && st.gnorm <= st.gtol {
+            return Ok(Step::Ended(StopReason::Converged));
+        }
+        if let Some(end) = self.settle(st) {
+            if let AfterChunk::End(reason) = self.end_chunk(st, end) {
+                return Ok(Step::Ended(reason));
+            }
+        }
+        loop {
+            if st.chunk.is_none() {
+                self.begin_chunk(problem, st)?;
+            }
+            match self.iterate(problem, st) {
+                Some(mv) if st.gnorm <= st.gtol => return Ok(Step::Converged(mv)),
+                Some(mv) => return Ok(Step::Moved(mv)),
+                None => {
+                    if let AfterChunk::End(reason) = self.end_chunk(st, ChunkEnd::Stalled) {
+                        return Ok(Step::Ended(reason));
                     }
                 }
-                pending_restart = true;
             }
-        };
-        let evaluations = work.borrow().evaluations;
-        let info = vec![
-            ("iterations".to_string(), total as f64),
+        }
+    }
+
+    fn points<'s>(&self, st: &'s LbfgsState) -> &'s PointSet {
+        &st.current
+    }
+
+    fn info(&self, st: &LbfgsState) -> Vec<(String, f64)> {
+        vec![
+            ("iterations".to_string(), st.total as f64),
             (
                 "restarts".to_string(),
-                (projection_restarts + stall_restarts) as f64,
+                (st.projection_restarts + st.stall_restarts) as f64,
             ),
             (
                 "projection_restarts".to_string(),
-                projection_restarts as f64,
+                st.projection_restarts as f64,
             ),
-            ("stall_restarts".to_string(), stall_restarts as f64),
-            ("line_search_failures".to_string(), failures as f64),
-            ("evaluations".to_string(), evaluations as f64),
-            ("start_grad_norm".to_string(), gnorm0),
-            ("final_grad_norm".to_string(), gnorm),
-        ];
-        Ok(RunOutput {
-            points: cur,
-            trajectory,
-            stop,
-            info,
-        })
+            ("stall_restarts".to_string(), st.stall_restarts as f64),
+            ("line_search_failures".to_string(), st.failures as f64),
+            ("evaluations".to_string(), st.cache.evaluations as f64),
+            ("start_grad_norm".to_string(), st.gnorm0),
+            ("final_grad_norm".to_string(), st.gnorm),
+        ]
+    }
+
+    fn check_state(&self, problem: &Problem, start: &PointSet, st: &LbfgsState) -> Result<()> {
+        self.validate()?;
+        let c = &st.current;
+        if c.n() != start.n() || c.s() != start.s() || st.cache.points.n() != c.n() {
+            return Err(Error::invalid(
+                "checkpoint",
+                format!("{} points in {} dimensions", c.n(), c.s()),
+                format!("a state of this run ({} points in {} dimensions)", start.n(), start.s()),
+            ));
+        }
+        problem.check_inside("checkpoint point", c)?;
+        let len = c.len();
+        let lens_ok = st.cache.param.len() == len
+            && st.cache.grad.len() == len
+            && st.cache.trial_param.len() == len
+            && st.chunk.as_ref().is_none_or(|k| k.prev_raw.len() == len);
+        let finite = [st.gnorm0, st.gnorm, st.gtol, st.spacing, st.first_move]
+            .iter()
+            .all(|v| v.is_finite())
+            && st.cache.param.iter().chain(&st.cache.grad).all(|v| v.is_finite())
+            && st.chunk.as_ref().is_none_or(|k| {
+                k.scale.is_finite() && k.u_start.is_finite() && k.u_prev.is_finite()
+            });
+        let carry_ok = st.chunk.as_ref().and_then(|k| k.carry.as_ref()).is_none_or(|k| {
+            k.iterate.get_param().is_some_and(|p| p.len() == len)
+        });
+        if !(lens_ok && finite && carry_ok) {
+            return Err(Error::invalid(
+                "checkpoint",
+                "an L-BFGS state with buffers of the wrong length or non-finite numbers",
+                format!("a state of this run ({len} finite coordinates per buffer)"),
+            ));
+        }
+        Ok(())
     }
 }

@@ -1,20 +1,28 @@
-//! Integrators that drive a point set to rest under an energy in a domain.
+//! Integrators that drive a point set to rest under an energy in a domain, and the one
+//! executor that runs them.
 //!
-//! The [`Integrator`] trait is what the run driver calls; [`Dem`] is the damped
-//! central-difference scheme of the paper (eqs. 21–26, parameters eqs. 39–41, periodic
-//! wrap eq. 42, restart for unbiasedness eqs. 43–45). Every integrator returns its
-//! trajectory as [`Record`]s so that runs can be compared side by side, and calls an
-//! [`Observer`] after each step (progress bars, discrepancy logging, early stop). The DEM
-//! can also hand out its whole state as a [`DemState`] every k steps and continue from
-//! one bit for bit ([`Dem::run_from`]), which is what checkpoints are made of.
+//! A [`Problem`] holds an energy and its domain, checked to agree. An [`Integrator`] says
+//! how to start and how to take one step from its serialisable state; the [`Executor`]
+//! owns the loop, the budget, the stop rules, the records, the [`Observer`] (progress
+//! bars, discrepancy logging, early stop) and checkpoints ([`Snapshot`]), so every
+//! integrator can be observed, checkpointed and resumed bit for bit. [`Dem`] is the
+//! damped central-difference scheme of the paper (eqs. 21–26, parameters eqs. 39–41,
+//! periodic wrap eq. 42, restart for unbiasedness eqs. 43–45); [`lbfgs::Lbfgs`] is
+//! argmin's L-BFGS over the same problems. Every run returns its trajectory as
+//! [`Record`]s so that runs can be compared side by side.
+#![deny(missing_docs)]
 
 mod dem;
+mod executor;
 pub mod lbfgs;
+mod problem;
 
-pub use dem::{BestState, Dem, DemState, Kappa, Restart, Snapshots};
+pub use dem::{Dem, DemState, Kappa, Restart};
+pub use executor::{Best, Executor, Integrator, Move, SaveSnapshot, Snapshot, Step};
+pub use problem::Problem;
 
 use serde::{Deserialize, Deserializer, Serialize};
-use stillpoint_energies::{Domain, Energy, PointSet, Result};
+use stillpoint_energies::PointSet;
 
 /// One entry of a trajectory: the state x^(step) before the step is taken.
 ///
@@ -39,6 +47,43 @@ pub struct Record {
     /// Extra named values an observer attached (for example discrepancies every k steps).
     #[serde(deserialize_with = "metrics_or_nan")]
     pub metrics: Vec<(String, f64)>,
+}
+
+/// f64 in JSON that may be ±∞ or NaN: finite values as numbers, the others as the
+/// strings `"inf"`, `"-inf"` and `"NaN"`, so that a checkpoint keeps every bit.
+mod json_f64 {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(v: &f64, s: S) -> Result<S::Ok, S::Error> {
+        if v.is_finite() {
+            s.serialize_f64(*v)
+        } else if v.is_nan() {
+            s.serialize_str("NaN")
+        } else if *v > 0.0 {
+            s.serialize_str("inf")
+        } else {
+            s.serialize_str("-inf")
+        }
+    }
+
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum Raw {
+        Number(f64),
+        Text(String),
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        match Raw::deserialize(d)? {
+            Raw::Number(v) => Ok(v),
+            Raw::Text(t) => match t.as_str() {
+                "inf" => Ok(f64::INFINITY),
+                "-inf" => Ok(f64::NEG_INFINITY),
+                "NaN" => Ok(f64::NAN),
+                _ => Err(serde::de::Error::custom(format!("not a number: {t}"))),
+            },
+        }
+    }
 }
 
 fn number_or_nan<'de, D: Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
@@ -114,38 +159,3 @@ impl RunOutput {
     }
 }
 
-/// Drives a point set to rest under an energy in a domain.
-pub trait Integrator {
-    /// Short name with parameters.
-    fn name(&self) -> String;
-
-    /// Runs from `start` (which must lie in `domain`) and returns the final state with its
-    /// trajectory.
-    fn run(
-        &self,
-        energy: &dyn Energy,
-        domain: &dyn Domain,
-        start: PointSet,
-        observer: &mut dyn Observer,
-    ) -> Result<RunOutput>;
-}
-
-/// Refuses a start whose dimension differs from the domain's or with a point outside it,
-/// naming the first offending point.
-pub fn check_start(domain: &dyn Domain, start: &PointSet) -> Result<()> {
-    if start.s() != domain.dim() {
-        return Err(stillpoint_energies::Error::invalid(
-            "start dimension",
-            start.s(),
-            format!("the domain's dimension {}", domain.dim()),
-        ));
-    }
-    if let Some(i) = (0..start.n()).find(|&i| !domain.contains(start.point(i))) {
-        return Err(stillpoint_energies::Error::invalid(
-            format!("start point {}", i + 1),
-            format!("{:?}", start.point(i)),
-            "a point inside the domain",
-        ));
-    }
-    Ok(())
-}

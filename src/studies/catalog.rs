@@ -239,7 +239,7 @@ fn flush(shared: &Mutex<(Manifest, Vec<String>)>, log: &mut dyn FnMut(&str)) -> 
 
 fn make_set(dir: &Path, s: usize, n: usize, steps: usize) -> Result<Entry> {
     let mut cfg = GenerateConfig::new(n, s);
-    cfg.dem.steps = steps;
+    cfg.steps = steps;
     let r = generate(&cfg, |_| {})?;
     let (m0, m1): (Metrics, Metrics) = r.metrics;
     let file = file_name(s, n);

@@ -44,7 +44,7 @@ fn trajectory(n: usize, s: usize, einf: bool, steps: usize, seed: u64) -> Result
     let mut cfg = GenerateConfig::new(n, s);
     cfg.init = Init::Random;
     cfg.seed = seed;
-    cfg.dem.steps = steps;
+    cfg.steps = steps;
     cfg.log_every = 1;
     // The trajectory itself is studied: no shift selection after it.
     cfg.shifts = 0;
@@ -221,7 +221,7 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
                 crate::shift::best_shift(&t1.points, 64).0,
             ));
             let mut cfg = GenerateConfig::new(n, s);
-            cfg.dem.steps = steps;
+            cfg.steps = steps;
             sets.push((
                 "stillpoint default".into(),
                 generate(&cfg, |_| {})?.output.points,

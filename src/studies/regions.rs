@@ -62,7 +62,7 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
         let mut results = vec![];
         for steps in budgets {
             let mut cfg = RegionConfig::new(domain.clone(), n);
-            cfg.dem.steps = steps;
+            cfg.steps = steps;
             cfg.seed = opts.seed;
             let r = generate_in_region(&cfg, |_| {})?;
             let inside = r.output.points.rows().all(|x| domain.contains(x));

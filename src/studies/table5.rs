@@ -145,7 +145,7 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
         .collect();
     for &s in &dims {
         let mut cfg = GenerateConfig::new(n, s);
-        cfg.dem.steps = steps;
+        cfg.steps = steps;
         cfg.seed = opts.seed;
         let dem = generate(&cfg, |_| {})?;
         let (dl2, dmd) = (dem.metrics.1.star_l2, dem.metrics.1.modified_l2);

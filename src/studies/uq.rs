@@ -64,7 +64,7 @@ fn sets(
     log: &mut dyn FnMut(&str),
 ) -> Result<Vec<(String, PointSet)>> {
     let mut cfg = GenerateConfig::new(n, s);
-    cfg.dem.steps = steps;
+    cfg.steps = steps;
     cfg.seed = seed;
     let r = generate(&cfg, |_| {})?;
     log(&format!(
