@@ -430,7 +430,7 @@ pub fn generate_with(
 /// One run of a solver on a problem: the budget and where checkpoints go. Every solver
 /// of the crate is run through [`Run::solve`] (and so through the one executor).
 pub(crate) struct Run<'a> {
-    pub(crate) problem: &'a Problem,
+    pub(crate) problem: &'a Problem<'a>,
     pub(crate) steps: usize,
     pub(crate) checkpoint: Option<&'a CheckpointPlan>,
     /// The run's configuration, recorded in checkpoints and compared on resume.

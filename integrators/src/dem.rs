@@ -253,7 +253,7 @@ impl Dem {
         }
     }
 
-    fn threshold(&self, problem: &Problem, n: usize) -> Option<f64> {
+    fn threshold(&self, problem: &Problem<'_>, n: usize) -> Option<f64> {
         if problem.domain().is_periodic() {
             self.restart.threshold(n)
         } else {
@@ -267,7 +267,7 @@ impl Dem {
     /// or rise a little while stable, so it must only stay below its start and end the
     /// trial lower. A blow-up after the trial (non-finite, or four times the start)
     /// means κ was still too small for a stiffer state reached later: a failed trial too.
-    fn evaluate(&self, problem: &Problem, st: &mut DemState) -> Result<Option<f64>> {
+    fn evaluate(&self, problem: &Problem<'_>, st: &mut DemState) -> Result<Option<f64>> {
         let energy = problem.energy();
         let (_, factor, trial_steps, kmax) = self.trial();
         let u = energy.value_and_gradient(&st.current, &mut st.grad);
@@ -307,7 +307,7 @@ impl Dem {
     }
 
     /// Evaluates the start after beginning again, as often as the trial asks.
-    fn evaluate_start(&self, problem: &Problem, st: &mut DemState) -> Result<f64> {
+    fn evaluate_start(&self, problem: &Problem<'_>, st: &mut DemState) -> Result<f64> {
         loop {
             if let Some(u) = self.evaluate(problem, st)? {
                 return Ok(u);
@@ -320,7 +320,7 @@ impl Dem {
     /// the torus wraps it with x^(j) shifted by the same integer, eq. 42; a bounded region
     /// shortens the step and stops the point). Returns (largest coordinate move, largest
     /// force step |G f|/A0).
-    fn advance(&self, problem: &Problem, st: &mut DemState, co: &Coefficients) -> (f64, f64) {
+    fn advance(&self, problem: &Problem<'_>, st: &mut DemState, co: &Coefficients) -> (f64, f64) {
         let domain = problem.domain();
         let s = st.current.s();
         let mut max_move: f64 = 0.0;
@@ -373,7 +373,7 @@ impl Integrator for Dem {
         }
     }
 
-    fn init(&self, problem: &Problem, start: PointSet) -> Result<(DemState, f64)> {
+    fn init(&self, problem: &Problem<'_>, start: PointSet) -> Result<(DemState, f64)> {
         self.validate()?;
         problem.check_inside("start point", &start)?;
         let energy = problem.energy();
@@ -399,7 +399,7 @@ impl Integrator for Dem {
         Ok((st, u))
     }
 
-    fn step(&self, problem: &Problem, st: &mut DemState) -> Result<Step> {
+    fn step(&self, problem: &Problem<'_>, st: &mut DemState) -> Result<Step> {
         if st.grad.len() != st.current.len() {
             // A resumed state: the gradient at x^(j), with the bits it had.
             st.grad = vec![0.0; st.current.len()];
@@ -461,7 +461,7 @@ impl Integrator for Dem {
         ]
     }
 
-    fn check_state(&self, problem: &Problem, start: &PointSet, st: &DemState) -> Result<()> {
+    fn check_state(&self, problem: &Problem<'_>, start: &PointSet, st: &DemState) -> Result<()> {
         self.validate()?;
         let refuse = |what: &str, got: String, expected: String| {
             Err(Error::invalid(format!("checkpoint {what}"), got, expected))

@@ -52,10 +52,10 @@ pub trait Integrator {
 
     /// Checks the settings and the start (inside the domain) and evaluates the start:
     /// returns the state at step 0 and its energy.
-    fn init(&self, problem: &Problem, start: PointSet) -> Result<(Self::State, f64)>;
+    fn init(&self, problem: &Problem<'_>, start: PointSet) -> Result<(Self::State, f64)>;
 
     /// Takes one step.
-    fn step(&self, problem: &Problem, state: &mut Self::State) -> Result<Step>;
+    fn step(&self, problem: &Problem<'_>, state: &mut Self::State) -> Result<Step>;
 
     /// The points of the current state.
     fn points<'s>(&self, state: &'s Self::State) -> &'s PointSet;
@@ -66,7 +66,7 @@ pub trait Integrator {
     /// Refuses a state read from a checkpoint that this integrator cannot continue under
     /// this problem (other settings, sizes, non-finite numbers, points outside the
     /// domain), naming what disagrees. A checkpoint is untrusted input.
-    fn check_state(&self, problem: &Problem, start: &PointSet, state: &Self::State)
+    fn check_state(&self, problem: &Problem<'_>, start: &PointSet, state: &Self::State)
         -> Result<()>;
 }
 
@@ -106,7 +106,7 @@ pub type SaveSnapshot<'a, S> = &'a mut dyn FnMut(&Snapshot<S>) -> Result<()>;
 
 /// Runs an [`Integrator`] on a [`Problem`]; see the module documentation.
 pub struct Executor<'a, I: Integrator> {
-    problem: &'a Problem,
+    problem: &'a Problem<'a>,
     integrator: I,
     max_steps: usize,
     observer: Option<&'a mut dyn Observer>,
@@ -117,7 +117,7 @@ pub struct Executor<'a, I: Integrator> {
 
 impl<'a, I: Integrator> Executor<'a, I> {
     /// An executor with a budget of 1000 steps, no observer and no checkpoints.
-    pub fn new(problem: &'a Problem, integrator: I) -> Self {
+    pub fn new(problem: &'a Problem<'a>, integrator: I) -> Self {
         Executor {
             problem,
             integrator,

@@ -258,7 +258,7 @@ struct Evaluator<'a> {
 }
 
 impl<'a> Evaluator<'a> {
-    fn new(problem: &'a Problem, c: EvalCache) -> Self {
+    fn new(problem: &'a Problem<'a>, c: EvalCache) -> Self {
         let domain = problem.domain();
         Evaluator {
             energy: problem.energy(),
@@ -575,7 +575,7 @@ impl Lbfgs {
     }
 
     /// Begins a chunk at the current state.
-    fn begin_chunk(&self, problem: &Problem, st: &mut LbfgsState) -> Result<()> {
+    fn begin_chunk(&self, problem: &Problem<'_>, st: &mut LbfgsState) -> Result<()> {
         let x0 = st.current.as_slice().to_vec();
         let mut w = Evaluator::new(problem, std::mem::replace(&mut st.cache, EvalCache::empty()));
         w.c.calls_left = 1;
@@ -614,7 +614,7 @@ impl Lbfgs {
 
     /// One argmin iteration of the current chunk: the accepted state, or `None` when the
     /// chunk stalled.
-    fn iterate(&self, problem: &Problem, st: &mut LbfgsState) -> Option<Move> {
+    fn iterate(&self, problem: &Problem<'_>, st: &mut LbfgsState) -> Option<Move> {
         let periodic = problem.domain().is_periodic();
         let chunk = st.chunk.as_mut()?;
         let Carry { solver, iterate } = chunk.carry.take()?;
@@ -740,7 +740,7 @@ impl Integrator for Lbfgs {
         format!("L-BFGS(m={})", self.memory)
     }
 
-    fn init(&self, problem: &Problem, start: PointSet) -> Result<(LbfgsState, f64)> {
+    fn init(&self, problem: &Problem<'_>, start: PointSet) -> Result<(LbfgsState, f64)> {
         self.validate()?;
         problem.check_inside("start point", &start)?;
         let energy = problem.energy();
@@ -783,7 +783,7 @@ impl Integrator for Lbfgs {
         Ok((state, u0))
     }
 
-    fn step(&self, problem: &Problem, st: &mut LbfgsState) -> Result<Step> {
+    fn step(&self, problem: &Problem<'_>, st: &mut LbfgsState) -> Result<Step> {
         if std::mem::take(&mut st.fresh) && st.gnorm <= st.gtol {
             return Ok(Step::Ended(StopReason::Converged));
         }
@@ -831,7 +831,7 @@ impl Integrator for Lbfgs {
         ]
     }
 
-    fn check_state(&self, problem: &Problem, start: &PointSet, st: &LbfgsState) -> Result<()> {
+    fn check_state(&self, problem: &Problem<'_>, start: &PointSet, st: &LbfgsState) -> Result<()> {
         self.validate()?;
         let c = &st.current;
         if c.n() != start.n() || c.s() != start.s() || st.cache.points.n() != c.n() {

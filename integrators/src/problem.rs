@@ -5,24 +5,50 @@ use std::sync::Arc;
 use stillpoint_energies::{Domain, Energy, Error, PointSet, Result};
 
 /// An energy and its domain. Build it with [`Problem::new`] (any energy in a given
-/// domain) or [`Problem::tied`] (an energy that holds its own domain, such as the
-/// boundary-aware U_{E,∞,g}).
+/// domain, owned), [`Problem::shared`] (shared), [`Problem::borrowed`] (borrowed for the
+/// problem's lifetime) or [`Problem::tied`] (an energy that holds its own domain, such
+/// as the boundary-aware U_{E,∞,g}).
 #[derive(Clone)]
-pub struct Problem {
-    energy: Arc<dyn Energy>,
-    domain: Arc<dyn Domain>,
+pub struct Problem<'a> {
+    energy: Held<'a, dyn Energy + 'a>,
+    domain: Held<'a, dyn Domain + 'a>,
 }
 
-impl std::fmt::Debug for Problem {
+/// A part of a problem, owned (shared) or borrowed.
+enum Held<'a, T: ?Sized> {
+    Shared(Arc<T>),
+    Borrowed(&'a T),
+}
+
+impl<T: ?Sized> Clone for Held<'_, T> {
+    fn clone(&self) -> Self {
+        match self {
+            Held::Shared(a) => Held::Shared(a.clone()),
+            Held::Borrowed(r) => Held::Borrowed(r),
+        }
+    }
+}
+
+impl<T: ?Sized> std::ops::Deref for Held<'_, T> {
+    type Target = T;
+    fn deref(&self) -> &T {
+        match self {
+            Held::Shared(a) => a,
+            Held::Borrowed(r) => r,
+        }
+    }
+}
+
+impl std::fmt::Debug for Problem<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Problem")
             .field("energy", &self.energy.name())
-            .field("domain", &self.domain)
+            .field("domain", &&*self.domain)
             .finish()
     }
 }
 
-impl Problem {
+impl<'a> Problem<'a> {
     /// `energy` over `domain`, both owned by the problem:
     /// `Problem::new(Uqp::new(..)?, PeriodicCube::new(s)?)`.
     pub fn new(energy: impl Energy + 'static, domain: impl Domain + 'static) -> Result<Self> {
@@ -30,14 +56,23 @@ impl Problem {
     }
 
     /// `energy` over `domain`, shared. An energy that holds its own domain
-    /// ([`Energy::domain`]) must be given that very domain (the same `Arc`): an energy
-    /// measuring distances to one boundary cannot run in another region.
+    /// ([`Energy::domain`]) must be given that domain (the same object, or one equal to
+    /// it): an energy measuring distances to one boundary cannot run in another region.
     pub fn shared(energy: Arc<dyn Energy>, domain: Arc<dyn Domain>) -> Result<Self> {
+        Problem::checked(Held::Shared(energy), Held::Shared(domain))
+    }
+
+    /// `energy` over `domain`, borrowed (for callers that keep both).
+    pub fn borrowed(energy: &'a dyn Energy, domain: &'a dyn Domain) -> Result<Self> {
+        Problem::checked(Held::Borrowed(energy), Held::Borrowed(domain))
+    }
+
+    fn checked(energy: Held<'a, dyn Energy + 'a>, domain: Held<'a, dyn Domain + 'a>) -> Result<Self> {
         if let Some(own) = energy.domain() {
-            if !same_domain(&own, &domain) {
+            if !same_domain(own.as_ref(), &*domain) {
                 return Err(Error::invalid(
                     "domain",
-                    format!("{domain:?}"),
+                    format!("{:?}", &*domain),
                     format!(
                         "the domain the energy {} was built for ({own:?})",
                         energy.name()
@@ -52,7 +87,7 @@ impl Problem {
     }
 
     /// An energy that holds its own domain, run in that domain.
-    pub fn tied(energy: Arc<dyn Energy>) -> Result<Self> {
+    pub fn tied(energy: Arc<dyn Energy>) -> Result<Problem<'static>> {
         let domain = energy.domain().ok_or_else(|| {
             Error::invalid(
                 "energy",
@@ -60,27 +95,20 @@ impl Problem {
                 "an energy that holds its own domain (otherwise give the domain)",
             )
         })?;
-        Ok(Problem { energy, domain })
+        Ok(Problem {
+            energy: Held::Shared(energy),
+            domain: Held::Shared(domain),
+        })
     }
 
     /// The energy.
     pub fn energy(&self) -> &dyn Energy {
-        self.energy.as_ref()
+        &*self.energy
     }
 
     /// The domain.
     pub fn domain(&self) -> &dyn Domain {
-        self.domain.as_ref()
-    }
-
-    /// The domain, shared.
-    pub fn domain_arc(&self) -> &Arc<dyn Domain> {
-        &self.domain
-    }
-
-    /// The energy, shared.
-    pub fn energy_arc(&self) -> &Arc<dyn Energy> {
-        &self.energy
+        &*self.domain
     }
 
     /// The dimension s of the domain.
@@ -110,8 +138,16 @@ impl Problem {
     }
 }
 
-/// The same domain object (data pointers compared; the vtables of one type may differ
-/// between codegen units, so `Arc::ptr_eq` on trait objects is not reliable).
-fn same_domain(a: &Arc<dyn Domain>, b: &Arc<dyn Domain>) -> bool {
-    std::ptr::addr_eq(Arc::as_ptr(a), Arc::as_ptr(b))
+/// The same domain: the same object (data pointers compared; the vtables of one type
+/// may differ between codegen units, so `Arc::ptr_eq` on trait objects is not reliable),
+/// or an equal one — two domains whose complete descriptions agree (their `Debug` text
+/// names the type and every parameter; a description that leaves fields out, `..`, is
+/// not taken as proof).
+fn same_domain(a: &dyn Domain, b: &dyn Domain) -> bool {
+    if std::ptr::addr_eq(a as *const dyn Domain, b as *const dyn Domain) {
+        return true;
+    }
+    let (da, db) = (format!("{a:?}"), format!("{b:?}"));
+    da == db && !da.contains("..")
 }
+

@@ -1,8 +1,10 @@
 //! Properties of the damped central-difference DEM.
 
+mod common;
+use common::Budget;
 use stillpoint_energies::{Distance, Domain, Energy, PeriodicCube, PointSet, Uqp};
 use stillpoint_integrators::{
-    Control, Dem, Integrator, Kappa, NoObserver, Observer, Record, Restart, StopReason,
+    Control, Dem, DemState, Kappa, NoObserver, Observer, Record, Restart, StopReason,
 };
 
 /// Calls a closure on every observed state.
@@ -24,10 +26,9 @@ fn energy_falls_from_a_random_start() {
     let cube = PeriodicCube::new(2).unwrap();
     let start = cube.sample(64, 3).unwrap();
     let e = Uqp::new(Distance::Q(0.3), 1.0).unwrap();
-    let dem = Dem {
-        steps: 300,
+    let dem = Budget(300, Dem {
         ..Dem::default()
-    };
+    });
     let out = dem.run(&e, &cube, start.clone(), &mut NoObserver).unwrap();
     let u0 = e.value(&start);
     let u1 = e.value(&out.points);
@@ -68,11 +69,10 @@ fn restart_keeps_the_mean_within_eps() {
     let start = cube.sample(40, 11).unwrap();
     let eps = 0.004;
     let e = Uqp::new(Distance::Q(0.5), 0.8).unwrap();
-    let dem = Dem {
-        steps: 200,
+    let dem = Budget(200, Dem {
         restart: Restart::Threshold(eps),
         ..Dem::default()
-    };
+    });
     let mut worst: f64 = 0.0;
     let mut seen = 0;
     let out = dem
@@ -101,11 +101,10 @@ fn wrap_keeps_points_in_the_unit_cube_and_uses_the_torus() {
     let cube = PeriodicCube::new(1).unwrap();
     let start = PointSet::from_rows(&[[0.97], [0.99]]).unwrap();
     let e = Uqp::new(Distance::Torus, 1.0).unwrap();
-    let dem = Dem {
-        steps: 3000,
+    let dem = Budget(3000, Dem {
         restart: Restart::Off,
         ..Dem::default()
-    };
+    });
     let mut inside = true;
     let out = dem
         .run(
@@ -132,10 +131,9 @@ fn evenly_spaced_circle_is_reached() {
     let start = cube.sample(n, 5).unwrap();
     for q in [Distance::Torus, Distance::Q(1.0), Distance::Q(0.3)] {
         let e = Uqp::new(q, 1.0).unwrap();
-        let dem = Dem {
-            steps: 5000,
+        let dem = Budget(5000, Dem {
             ..Dem::default()
-        };
+        });
         let out = dem.run(&e, &cube, start.clone(), &mut NoObserver).unwrap();
         let mut v = out.points.as_slice().to_vec();
         v.sort_by(f64::total_cmp);
@@ -152,8 +150,7 @@ fn kappa_trial_enlarges_an_unstable_kappa() {
     let cube = PeriodicCube::new(2).unwrap();
     let start = cube.sample(50, 1).unwrap();
     let e = Uqp::new(Distance::Q(0.3), 1.0).unwrap();
-    let dem = Dem {
-        steps: 60,
+    let dem = Budget(60, Dem {
         kappa: Kappa::Auto {
             start: 1.0,
             factor: 2.0,
@@ -161,7 +158,7 @@ fn kappa_trial_enlarges_an_unstable_kappa() {
             max: 1e8,
         },
         ..Dem::default()
-    };
+    });
     let out = dem.run(&e, &cube, start, &mut NoObserver).unwrap();
     let kappa = out.info("kappa").unwrap();
     assert!(kappa > 1.0, "κ stayed at {kappa}");
@@ -178,10 +175,9 @@ fn same_bits_for_one_and_two_threads() {
     let cube = PeriodicCube::new(3).unwrap();
     let start = cube.sample(150, 2).unwrap();
     let e = Uqp::new(Distance::Q(0.2), 0.7).unwrap();
-    let dem = Dem {
-        steps: 60,
+    let dem = Budget(60, Dem {
         ..Dem::default()
-    };
+    });
     let run = |t: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(t)
@@ -204,12 +200,12 @@ fn bad_settings_are_refused() {
     let cube = PeriodicCube::new(2).unwrap();
     let e = Uqp::new(Distance::Q(0.3), 1.0).unwrap();
     let outside = PointSet::from_rows(&[[0.2, 0.3], [1.2, 0.5]]).unwrap();
-    let err = Dem::default()
+    let err = Budget(1000, Dem::default())
         .run(&e, &cube, outside, &mut NoObserver)
         .unwrap_err();
     assert!(err.to_string().contains("start point 2"), "{err}");
     let wrong_dim = PointSet::from_rows(&[[0.2], [0.4]]).unwrap();
-    assert!(Dem::default()
+    assert!(Budget(1000, Dem::default())
         .run(&e, &cube, wrong_dim, &mut NoObserver)
         .is_err());
     let ok = cube.sample(5, 1).unwrap();
@@ -217,10 +213,12 @@ fn bad_settings_are_refused() {
         kappa: Kappa::Fixed(0.5),
         ..Dem::default()
     };
-    let err = bad.run(&e, &cube, ok.clone(), &mut NoObserver).unwrap_err();
+    let err = Budget(1000, bad)
+        .run(&e, &cube, ok.clone(), &mut NoObserver)
+        .unwrap_err();
     assert!(err.to_string().contains("kappa"), "{err}");
     let coincident = PointSet::from_rows(&[[0.2, 0.3], [0.2, 0.3]]).unwrap();
-    let err = Dem::default()
+    let err = Budget(1000, Dem::default())
         .run(&e, &cube, coincident, &mut NoObserver)
         .unwrap_err();
     assert!(err.to_string().contains("coincide"), "{err}");
@@ -229,77 +227,28 @@ fn bad_settings_are_refused() {
 /// Runs `dem` once with a snapshot every `every` steps, then continues from each
 /// snapshot and checks that the points, energies and info are the same bits.
 fn resumes_bit_for_bit(
-    dem: &Dem,
+    dem: &Budget<Dem>,
     e: &dyn stillpoint_energies::Energy,
     domain: &dyn Domain,
     start: &PointSet,
     every: usize,
 ) {
-    use stillpoint_integrators::{DemState, Snapshots};
-    let mut states: Vec<DemState> = Vec::new();
-    let mut keep = |s: &DemState| {
-        states.push(s.clone());
-        Ok(())
-    };
-    let full = dem
-        .run_from(
-            e,
-            domain,
-            start.clone(),
-            None,
-            &mut NoObserver,
-            Snapshots {
-                every,
-                save: &mut keep,
-            },
-        )
-        .unwrap();
+    let (full, states) = common::run_with_snapshots(dem, e, domain, start, every);
     let plain = dem.run(e, domain, start.clone(), &mut NoObserver).unwrap();
-    let bits = |p: &PointSet| p.as_slice().iter().map(|v| v.to_bits()).collect::<Vec<_>>();
-    let energies = |o: &stillpoint_integrators::RunOutput| {
-        o.trajectory
-            .iter()
-            .map(|r| (r.step, r.energy.to_bits(), r.restarted))
-            .collect::<Vec<_>>()
-    };
     assert_eq!(
-        bits(&full.points),
-        bits(&plain.points),
+        common::run_bits(&full),
+        common::run_bits(&plain),
         "snapshots changed the run"
     );
     assert!(!states.is_empty(), "no snapshot was taken");
     for state in states {
         let step = state.step;
-        // Through JSON, as a checkpoint file holds it.
-        let text = serde_json::to_string(&state).unwrap();
-        let state: DemState = serde_json::from_str(&text).unwrap();
-        let resumed = dem
-            .run_from(
-                e,
-                domain,
-                start.clone(),
-                Some(state),
-                &mut NoObserver,
-                Snapshots {
-                    every: 0,
-                    save: &mut |_| Ok(()),
-                },
-            )
-            .unwrap();
+        let resumed = common::resume(dem, e, domain, start, state).unwrap();
         assert_eq!(
-            bits(&resumed.points),
-            bits(&full.points),
+            common::run_bits(&resumed),
+            common::run_bits(&full),
             "from step {step}"
         );
-        assert_eq!(energies(&resumed), energies(&full), "from step {step}");
-        assert_eq!(resumed.stop, full.stop);
-        let info = |o: &stillpoint_integrators::RunOutput| {
-            o.info
-                .iter()
-                .map(|(k, v)| (k.clone(), v.to_bits()))
-                .collect::<Vec<_>>()
-        };
-        assert_eq!(info(&resumed), info(&full), "from step {step}");
     }
 }
 
@@ -309,15 +258,13 @@ fn a_resumed_run_is_the_same_bits_as_an_uninterrupted_one() {
     let cube = PeriodicCube::new(2).unwrap();
     let start = cube.sample(40, 4).unwrap();
     let e = Uqp::new(Distance::Q(0.3), 0.8).unwrap();
-    let dem = Dem {
-        steps: 150,
+    let dem = Budget(150, Dem {
         restart: Restart::Threshold(0.002),
         ..Dem::default()
-    };
+    });
     resumes_bit_for_bit(&dem, &e, &cube, &start, 7);
     // κ trial from 1: snapshots during failed trials are taken and continued too.
-    let dem = Dem {
-        steps: 60,
+    let dem = Budget(60, Dem {
         kappa: Kappa::Auto {
             start: 1.0,
             factor: 2.0,
@@ -325,80 +272,57 @@ fn a_resumed_run_is_the_same_bits_as_an_uninterrupted_one() {
             max: 1e8,
         },
         ..Dem::default()
-    };
+    });
     resumes_bit_for_bit(&dem, &e, &cube, &start, 3);
     // A non-smooth energy: the lowest state is kept and returned.
     let einf = stillpoint_energies::einf::UEInf::new(Distance::Torus).unwrap();
-    let dem = Dem {
-        steps: 80,
+    let dem = Budget(80, Dem {
         ..Dem::default()
-    };
+    });
     resumes_bit_for_bit(&dem, &einf, &cube, &start, 10);
 }
 
 #[test]
 fn a_state_of_another_run_is_refused() {
-    use stillpoint_integrators::{DemState, Snapshots};
     let cube = PeriodicCube::new(2).unwrap();
     let start = cube.sample(30, 1).unwrap();
     let e = Uqp::new(Distance::Q(0.3), 0.8).unwrap();
-    let dem = Dem {
-        steps: 40,
-        ..Dem::default()
-    };
-    let mut last: Option<DemState> = None;
-    let mut keep = |s: &DemState| {
-        last = Some(s.clone());
-        Ok(())
-    };
-    dem.run_from(
-        &e,
-        &cube,
-        start.clone(),
-        None,
-        &mut NoObserver,
-        Snapshots {
-            every: 10,
-            save: &mut keep,
-        },
-    )
-    .unwrap();
-    let state = last.unwrap();
-    let resume = |dem: &Dem, e: &dyn Energy, start: &PointSet, st: DemState| {
-        dem.run_from(
-            e,
-            &cube,
-            start.clone(),
-            Some(st),
-            &mut NoObserver,
-            Snapshots {
-                every: 0,
-                save: &mut |_| Ok(()),
-            },
-        )
-        .map(|_| ())
-        .unwrap_err()
-        .to_string()
+    let dem = Budget(40, Dem::default());
+    let (_, snaps) = common::run_with_snapshots(&dem, &e, &cube, &start, 10);
+    let state = snaps.last().unwrap().clone();
+    let resume = |dem: &Budget<Dem>, e: &dyn Energy, start: &PointSet, st| {
+        common::resume(dem, e, &cube, start, st)
+            .map(|_| ())
+            .unwrap_err()
+            .to_string()
     };
     // Another energy, another start, a shorter budget, a damaged buffer.
     let other = Uqp::new(Distance::Q(0.4), 0.8).unwrap();
     assert!(resume(&dem, &other, &start, state.clone()).contains("another run"));
     let start2 = cube.sample(30, 2).unwrap();
     assert!(resume(&dem, &e, &start2, state.clone()).contains("another run"));
-    let short = Dem {
-        steps: 20,
-        ..dem.clone()
-    };
+    let short = Budget(20, dem.1.clone());
     assert!(resume(&short, &e, &start, state.clone()).contains("step"));
-    let mut cut = state.clone();
-    cut.current.pop();
-    assert!(resume(&dem, &e, &start, cut).contains("length"));
-    let mut nan = state.clone();
-    nan.previous[3] = f64::NAN;
-    assert!(resume(&dem, &e, &start, nan).contains("finite"));
-    let fixed = Dem {
-        kappa: Kappa::Fixed(300.0),
-        ..dem.clone()
-    };
+    // A buffer cut short, or a coordinate that is not a finite number, does not even
+    // read back: a point set is checked whenever it is made.
+    let mut v = serde_json::to_value(&state).unwrap();
+    v["state"]["current"]["data"].as_array_mut().unwrap().pop();
+    let cut = serde_json::from_value::<stillpoint_integrators::Snapshot<DemState>>(v);
+    assert!(cut.unwrap_err().to_string().contains("length"));
+    let mut v = serde_json::to_value(&state).unwrap();
+    v["state"]["previous"]["data"][3] = serde_json::Value::Null;
+    assert!(serde_json::from_value::<stillpoint_integrators::Snapshot<DemState>>(v).is_err());
+    // A forged coordinate far outside the torus is refused by the domain.
+    let mut v = serde_json::to_value(&state).unwrap();
+    v["state"]["current"]["data"][3] = serde_json::json!(1e300);
+    let forged: stillpoint_integrators::Snapshot<DemState> = serde_json::from_value(v).unwrap();
+    assert!(resume(&dem, &e, &start, forged).contains("inside the domain"));
+    let fixed = Budget(
+        40,
+        Dem {
+            kappa: Kappa::Fixed(300.0),
+            ..dem.1.clone()
+        },
+    );
     assert!(resume(&fixed, &e, &start, state).contains("κ"));
 }

@@ -1,6 +1,8 @@
 //! Properties of the L-BFGS integrator: gradients it reaches, known optima, regions,
 //! kinks, the trajectory it reports, determinism and refusals.
 
+mod common;
+use common::Budget;
 use std::sync::Arc;
 use stillpoint_energies::boundary::UEpG;
 use stillpoint_energies::einf::UEInf;
@@ -62,7 +64,7 @@ fn smooth_uqp_on_the_torus_reaches_a_small_gradient() {
     for q in [1.0, 0.5] {
         let e = Uqp::new(Distance::Q(q), 1.0).unwrap();
         let g0 = grad_max_norm(&e, &start);
-        let out = Lbfgs::default()
+        let out = Budget(1000, Lbfgs::default())
             .run(&e, &cube, start.clone(), &mut NoObserver)
             .unwrap();
         let g1 = grad_max_norm(&e, &out.points);
@@ -117,7 +119,7 @@ fn nine_points_on_the_circle_reach_the_even_spacing() {
         let even = PointSet::new(n, 1, (0..n).map(|i| i as f64 / n as f64).collect()).unwrap();
         assert!(close(e.value(&even), exact, 1e-13));
 
-        let out = Lbfgs::default()
+        let out = Budget(1000, Lbfgs::default())
             .run(&e, &circle, start.clone(), &mut NoObserver)
             .unwrap();
         let gaps = sorted_gaps(&out.points);
@@ -127,10 +129,9 @@ fn nine_points_on_the_circle_reach_the_even_spacing() {
             .fold(0.0, f64::max);
         let u = e.value(&out.points);
 
-        let dem = Dem {
-            steps: 10_000,
+        let dem = Budget(10_000, Dem {
             ..Dem::default()
-        }
+        })
         .run(&e, &circle, start.clone(), &mut NoObserver)
         .unwrap();
         let u_dem = e.value(&dem.points);
@@ -157,10 +158,9 @@ fn nine_points_on_the_circle_reach_the_even_spacing() {
 fn run_in_ball(e: &dyn Energy, ball: &Ball, start: &PointSet) -> (RunOutput, usize, usize) {
     let mut outside = 0usize;
     let mut records = 0usize;
-    let out = Lbfgs {
-        iterations: 300,
+    let out = Budget(300, Lbfgs {
         ..Lbfgs::default()
-    }
+    })
     .run(
         e,
         ball,
@@ -240,7 +240,7 @@ fn a_max_type_energy_ends_without_error_after_restarts() {
     let cube = PeriodicCube::new(2).unwrap();
     let start = cube.sample(20, 4).unwrap();
     let e = UEInf::new(Distance::Torus).unwrap();
-    let out = Lbfgs::default()
+    let out = Budget(1000, Lbfgs::default())
         .run(&e, &cube, start.clone(), &mut NoObserver)
         .unwrap();
     let (d0, d1) = (torus_min_distance(&start), torus_min_distance(&out.points));
@@ -268,7 +268,7 @@ fn the_observer_sees_every_record_and_can_stop_the_run() {
     let e = Uqp::new(Distance::Q(0.5), 1.0).unwrap();
     let u0 = e.value(&start);
     let mut seen: Vec<(usize, f64)> = Vec::new();
-    let out = Lbfgs::default()
+    let out = Budget(1000, Lbfgs::default())
         .run(
             &e,
             &cube,
@@ -296,17 +296,16 @@ fn the_observer_sees_every_record_and_can_stop_the_run() {
     check_trajectory(&e, &out);
 
     // Without a stop the run goes on past five records; a zero budget records the start.
-    let full = Lbfgs::default()
+    let full = Budget(1000, Lbfgs::default())
         .run(&e, &cube, start.clone(), &mut NoObserver)
         .unwrap();
     assert!(full.trajectory.len() > 5);
     for (a, b) in full.trajectory.iter().zip(&out.trajectory) {
         assert_eq!((a.step, a.energy.to_bits()), (b.step, b.energy.to_bits()));
     }
-    let none = Lbfgs {
-        iterations: 0,
+    let none = Budget(0, Lbfgs {
         ..Lbfgs::default()
-    }
+    })
     .run(&e, &cube, start.clone(), &mut NoObserver)
     .unwrap();
     assert_eq!(none.trajectory.len(), 1);
@@ -325,10 +324,9 @@ fn same_bits_for_one_and_two_threads() {
             .build()
             .unwrap()
             .install(|| {
-                Lbfgs {
-                    iterations: 200,
+                Budget(200, Lbfgs {
                     ..Lbfgs::default()
-                }
+                })
                 .run(&e, &cube, start.clone(), &mut NoObserver)
                 .unwrap()
             })
@@ -350,7 +348,7 @@ fn bad_settings_are_refused() {
     let cube = PeriodicCube::new(2).unwrap();
     let start = cube.sample(8, 1).unwrap();
     let e = Uqp::new(Distance::Q(1.0), 1.0).unwrap();
-    let refuse = |l: Lbfgs, x: PointSet, name: &str| match l.run(&e, &cube, x, &mut NoObserver) {
+    let refuse = |l: Lbfgs, x: PointSet, name: &str| match Budget(1000, l).run(&e, &cube, x, &mut NoObserver) {
         Err(Error::InvalidArgument { name: got, .. }) => {
             assert!(got.contains(name), "{got} does not name {name}")
         }
@@ -389,7 +387,7 @@ fn bad_settings_are_refused() {
     let mut twins = start.clone();
     let p0 = twins.point(0).to_vec();
     twins.point_mut(1).copy_from_slice(&p0);
-    match Lbfgs::default().run(&e, &cube, twins, &mut NoObserver) {
+    match Budget(1000, Lbfgs::default()).run(&e, &cube, twins, &mut NoObserver) {
         Err(Error::Numerical(msg)) => assert!(msg.contains("not finite"), "{msg}"),
         other => panic!("expected a numerical error, got {other:?}"),
     }
@@ -399,5 +397,5 @@ fn bad_settings_are_refused() {
 fn name_shows_the_memory() {
     assert_eq!(Lbfgs::default().name(), "L-BFGS(m=10)");
     let l = Lbfgs::default();
-    assert_eq!((l.iterations, l.memory, l.max_restarts), (1000, 10, 20));
+    assert_eq!((l.memory, l.max_restarts), (10, 20));
 }
