@@ -575,7 +575,7 @@ fn cli_refuses_bad_input_clearly_and_touches_no_file() {
 #[test]
 fn library_refuses_bad_input_clearly() {
     use stillpoint::energies::region::ImplicitRegion;
-    use stillpoint::integrators::{Dem, Integrator, Kappa, NoObserver};
+    use stillpoint::integrators::{Dem, Kappa};
     use stillpoint::run::{generate, GenerateConfig, Init};
     let d = tmpdir("lib");
     let msg = |r: Result<(), String>| r.unwrap_err();
@@ -697,8 +697,10 @@ fn library_refuses_bad_input_clearly() {
     let coincident = stillpoint::PointSet::from_rows(&[[0.2, 0.3], [0.2, 0.3]]).unwrap();
     cases.push((
         "coincident start points",
-        msg(Dem::default()
-            .run(&e, &cube, coincident, &mut NoObserver)
+        msg(stillpoint::integrators::Problem::borrowed(&e, &cube)
+            .and_then(|p| {
+                stillpoint::integrators::Executor::new(&p, Dem::default()).run(coincident)
+            })
             .map(|_| ())
             .map_err(|e| e.to_string())),
         "coincide",

@@ -4,7 +4,7 @@
 
 use proptest::prelude::*;
 use stillpoint::energies::{Distance, Energy, PeriodicCube, PointSet, Uqp};
-use stillpoint::integrators::{Dem, DemState, Integrator, NoObserver, Restart, Snapshots};
+use stillpoint::integrators::{Dem, DemState, Executor, Problem, Restart, Snapshot};
 use stillpoint::io::{self, Format};
 use stillpoint::{metrics, shift};
 
@@ -255,23 +255,33 @@ proptest! {
         prop_assume!(metrics::min_distance_periodic(&start) > 1e-6);
         let e = Uqp::new(Distance::Q(0.3), 0.8).unwrap();
         let dem = Dem {
-            steps,
             restart: if eps > 0.0 { Restart::Threshold(eps) } else { Restart::Off },
             ..Dem::default()
         };
-        let reference = dem.run(&e, &cube, start.clone(), &mut NoObserver).unwrap();
-        let mut states: Vec<DemState> = Vec::new();
-        let mut keep = |st: &DemState| {
+        let problem = Problem::borrowed(&e, &cube).unwrap();
+        let reference = Executor::new(&problem, dem.clone())
+            .max_steps(steps)
+            .run(start.clone())
+            .unwrap();
+        let mut states: Vec<Snapshot<DemState>> = Vec::new();
+        let mut keep = |st: &Snapshot<DemState>| {
             states.push(st.clone());
             Ok(())
         };
-        dem.run_from(&e, &cube, start.clone(), None, &mut NoObserver,
-            Snapshots { every, save: &mut keep }).unwrap();
+        Executor::new(&problem, dem.clone())
+            .max_steps(steps)
+            .checkpoint(every, &mut keep)
+            .run(start.clone())
+            .unwrap();
         for st in states {
-            let st: DemState = serde_json::from_str(&serde_json::to_string(&st).unwrap()).unwrap();
+            let st: Snapshot<DemState> =
+                serde_json::from_str(&serde_json::to_string(&st).unwrap()).unwrap();
             let step = st.step;
-            let out = dem.run_from(&e, &cube, start.clone(), Some(st), &mut NoObserver,
-                Snapshots { every: 0, save: &mut |_| Ok(()) }).unwrap();
+            let out = Executor::new(&problem, dem.clone())
+                .max_steps(steps)
+                .resume(Some(st))
+                .run(start.clone())
+                .unwrap();
             prop_assert_eq!(bits(&out.points), bits(&reference.points), "from step {}", step);
             prop_assert_eq!(out.trajectory.len(), reference.trajectory.len());
         }

@@ -83,16 +83,22 @@ pub struct Best {
 
 /// Everything needed to continue a run bit for bit where it was saved: the step, the
 /// integrator's state, the trajectory so far, the lowest state seen and the wall time
-/// spent. Handed out by [`Executor::checkpoint`]; taken back by [`Executor::resume`].
+/// spent. Handed out by [`Executor::checkpoint`] when the integrator has reached the
+/// state of `step` and before that state is recorded; taken back by
+/// [`Executor::resume`], which records it first.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Snapshot<S> {
-    /// The step of the last recorded state.
+    /// The step of the state the integrator has reached.
     pub step: usize,
     /// The integrator's name with its parameters.
     pub integrator: String,
     /// The integrator's state.
     pub state: S,
-    /// Records of steps 0..=step.
+    /// The record of that state, not yet in the trajectory.
+    pub record: Record,
+    /// Whether the integrator's convergence rule holds at that state.
+    pub converged: bool,
+    /// Records of steps 0..step.
     pub trajectory: Vec<Record>,
     /// The lowest state seen, when the energy is not smooth.
     pub best: Option<Best>,
@@ -105,19 +111,19 @@ pub struct Snapshot<S> {
 pub type SaveSnapshot<'a, S> = &'a mut dyn FnMut(&Snapshot<S>) -> Result<()>;
 
 /// Runs an [`Integrator`] on a [`Problem`]; see the module documentation.
-pub struct Executor<'a, I: Integrator> {
-    problem: &'a Problem<'a>,
+pub struct Executor<'p, 'o, I: Integrator> {
+    problem: &'p Problem<'p>,
     integrator: I,
     max_steps: usize,
-    observer: Option<&'a mut dyn Observer>,
+    observer: Option<&'o mut dyn Observer>,
     every: usize,
-    save: Option<SaveSnapshot<'a, I::State>>,
+    save: Option<SaveSnapshot<'o, I::State>>,
     resume: Option<Snapshot<I::State>>,
 }
 
-impl<'a, I: Integrator> Executor<'a, I> {
+impl<'p, 'o, I: Integrator> Executor<'p, 'o, I> {
     /// An executor with a budget of 1000 steps, no observer and no checkpoints.
-    pub fn new(problem: &'a Problem<'a>, integrator: I) -> Self {
+    pub fn new(problem: &'p Problem<'p>, integrator: I) -> Self {
         Executor {
             problem,
             integrator,
@@ -137,14 +143,14 @@ impl<'a, I: Integrator> Executor<'a, I> {
     }
 
     /// Shows every record to `observer`, which may attach metrics or stop the run.
-    pub fn observe(mut self, observer: &'a mut dyn Observer) -> Self {
+    pub fn observe(mut self, observer: &'o mut dyn Observer) -> Self {
         self.observer = Some(observer);
         self
     }
 
-    /// Hands a [`Snapshot`] to `save` every `every` steps (0: never), after the state of
-    /// that step is recorded.
-    pub fn checkpoint(mut self, every: usize, save: SaveSnapshot<'a, I::State>) -> Self {
+    /// Hands a [`Snapshot`] to `save` every `every` steps (0: never), when the state of
+    /// that step is reached and before it is recorded.
+    pub fn checkpoint(mut self, every: usize, save: SaveSnapshot<'o, I::State>) -> Self {
         self.every = every;
         self.save = Some(save);
         self
@@ -178,7 +184,9 @@ impl<'a, I: Integrator> Executor<'a, I> {
         };
         let clock = Instant::now();
         let mut offset = 0.0;
-        let (mut state, mut trajectory, mut best, mut step, mut ctl, mut saved_at);
+        let (mut state, mut trajectory, mut best, mut step, mut ctl);
+        // A run that resumes records the snapshot's state first.
+        let mut pending: Option<(Record, bool)> = None;
         match resume {
             Some(snap) => {
                 if snap.integrator != integrator.name() {
@@ -189,17 +197,22 @@ impl<'a, I: Integrator> Executor<'a, I> {
                     ));
                 }
                 integrator.check_state(problem, &start, &snap.state)?;
-                if snap.step > max_steps || snap.trajectory.len() != snap.step + 1 {
+                if snap.step == 0
+                    || snap.step > max_steps
+                    || snap.trajectory.len() != snap.step
+                    || snap.record.step != snap.step
+                {
                     return Err(Error::invalid(
                         "checkpoint step",
                         snap.step,
-                        format!("a step in 0..={max_steps} with one record per step"),
+                        format!("a step in 1..={max_steps} with one record per earlier step"),
                     ));
                 }
                 if let Some(b) = &snap.best {
                     problem.check_inside("checkpoint best point", &b.points)?;
                 }
-                if !(snap.seconds >= 0.0 && snap.seconds.is_finite()) {
+                let times = [snap.seconds, snap.record.seconds];
+                if !times.iter().all(|t| *t >= 0.0 && t.is_finite()) {
                     return Err(Error::invalid(
                         "checkpoint seconds",
                         snap.seconds,
@@ -212,7 +225,7 @@ impl<'a, I: Integrator> Executor<'a, I> {
                 best = snap.best;
                 step = snap.step;
                 ctl = Control::Continue;
-                saved_at = Some(step);
+                pending = Some((snap.record, snap.converged));
             }
             None => {
                 let (s, u) = integrator.init(problem, start)?;
@@ -220,7 +233,6 @@ impl<'a, I: Integrator> Executor<'a, I> {
                 trajectory = Vec::new();
                 best = None;
                 step = 0;
-                saved_at = None;
                 let mut rec = record(0, u, 0.0, false, offset, &clock);
                 ctl = observe(&mut rec, integrator.points(&state));
                 note_best(keep_best, &mut best, &rec, integrator.points(&state));
@@ -228,44 +240,50 @@ impl<'a, I: Integrator> Executor<'a, I> {
             }
         }
         let stop = loop {
-            if every > 0 && step > 0 && step.is_multiple_of(every) && saved_at != Some(step) {
-                if let Some(save) = save.as_mut() {
-                    save(&Snapshot {
-                        step,
-                        integrator: integrator.name(),
-                        state: state.clone(),
-                        trajectory: trajectory.clone(),
-                        best: best.clone(),
-                        seconds: offset + clock.elapsed().as_secs_f64(),
-                    })?;
+            let (mut rec, converged) = match pending.take() {
+                Some(p) => p,
+                None => {
+                    if step >= max_steps {
+                        break StopReason::StepBudget;
+                    }
+                    if ctl == Control::Stop {
+                        break StopReason::Observer;
+                    }
+                    let (mv, converged) = match integrator.step(problem, &mut state)? {
+                        Step::Ended(reason) => break reason,
+                        Step::BeganAgain(u) => {
+                            // The lowest state seen is kept across beginnings: it is a
+                            // state the energy was evaluated at, whatever trial reached it.
+                            trajectory.clear();
+                            step = 0;
+                            let mut rec = record(0, u, 0.0, false, offset, &clock);
+                            ctl = observe(&mut rec, integrator.points(&state));
+                            note_best(keep_best, &mut best, &rec, integrator.points(&state));
+                            trajectory.push(rec);
+                            continue;
+                        }
+                        Step::Moved(mv) => (mv, false),
+                        Step::Converged(mv) => (mv, true),
+                    };
+                    step += 1;
+                    let rec = record(step, mv.energy, mv.max_move, mv.restarted, offset, &clock);
+                    if every > 0 && step.is_multiple_of(every) {
+                        if let Some(save) = save.as_mut() {
+                            save(&Snapshot {
+                                step,
+                                integrator: integrator.name(),
+                                state: state.clone(),
+                                record: rec.clone(),
+                                converged,
+                                trajectory: trajectory.clone(),
+                                best: best.clone(),
+                                seconds: offset + clock.elapsed().as_secs_f64(),
+                            })?;
+                        }
+                    }
+                    (rec, converged)
                 }
-                saved_at = Some(step);
-            }
-            if step >= max_steps {
-                break StopReason::StepBudget;
-            }
-            if ctl == Control::Stop {
-                break StopReason::Observer;
-            }
-            let (mv, converged) = match integrator.step(problem, &mut state)? {
-                Step::Ended(reason) => break reason,
-                Step::BeganAgain(u) => {
-                    // The lowest state seen is kept across beginnings: it is a state the
-                    // energy was evaluated at, whatever trial reached it.
-                    trajectory.clear();
-                    step = 0;
-                    saved_at = None;
-                    let mut rec = record(0, u, 0.0, false, offset, &clock);
-                    ctl = observe(&mut rec, integrator.points(&state));
-                    note_best(keep_best, &mut best, &rec, integrator.points(&state));
-                    trajectory.push(rec);
-                    continue;
-                }
-                Step::Moved(mv) => (mv, false),
-                Step::Converged(mv) => (mv, true),
             };
-            step += 1;
-            let mut rec = record(step, mv.energy, mv.max_move, mv.restarted, offset, &clock);
             ctl = observe(&mut rec, integrator.points(&state));
             note_best(keep_best, &mut best, &rec, integrator.points(&state));
             trajectory.push(rec);
