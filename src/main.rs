@@ -1037,7 +1037,9 @@ fn generate_meta(r: &GenerateReport, cfg: &GenerateConfig) -> Value {
         "shifts": cfg.shifts,
         "polish": cfg.polish.map(|k| format!("{k:?}")),
     });
-    if let (Value::Object(p), Value::Object(d)) = (&mut parameters, dem_settings(&cfg.dem, cfg.steps)) {
+    if let (Value::Object(p), Value::Object(d)) =
+        (&mut parameters, dem_settings(&cfg.dem, cfg.steps))
+    {
         p.extend(d);
     }
     json!({
@@ -1069,7 +1071,9 @@ fn region_meta(r: &RegionReport, cfg: &RegionConfig, region: &Value) -> Value {
             RegionInit::Points(p) => format!("file: {}", run::points_fingerprint(p)),
         },
     });
-    if let (Value::Object(p), Value::Object(d)) = (&mut parameters, dem_settings(&cfg.dem, cfg.steps)) {
+    if let (Value::Object(p), Value::Object(d)) =
+        (&mut parameters, dem_settings(&cfg.dem, cfg.steps))
+    {
         p.extend(d);
     }
     json!({

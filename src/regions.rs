@@ -258,7 +258,13 @@ pub fn generate_in_region_with(
             checkpoint,
             config: &config,
         };
-        run.solve(cfg.solver, &cfg.dem, &cfg.lbfgs, start.clone(), &mut observer)?
+        run.solve(
+            cfg.solver,
+            &cfg.dem,
+            &cfg.lbfgs,
+            start.clone(),
+            &mut observer,
+        )?
     };
     on_event(Event::Stage {
         name: "metrics",

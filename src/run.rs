@@ -22,8 +22,8 @@ use crate::Error;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
-use std::sync::Arc;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 /// Where the DEM starts.
@@ -354,7 +354,13 @@ pub fn generate_with(
             checkpoint,
             config: &config,
         };
-        run.solve(cfg.solver, &cfg.dem, &cfg.lbfgs, start.clone(), &mut observer)?
+        run.solve(
+            cfg.solver,
+            &cfg.dem,
+            &cfg.lbfgs,
+            start.clone(),
+            &mut observer,
+        )?
     };
     let (energy, domain) = (problem.energy(), problem.domain());
     // The energies reported for the start and the DEM's result, at full precision when
@@ -627,13 +633,15 @@ impl CheckpointPlan {
                 ),
             ));
         }
-        serde_json::from_value(checkpoint.state).map(Some).map_err(|e| {
-            Error::invalid(
-                "--resume",
-                path.display(),
-                format!("a checkpoint of this run's solver ({e})"),
-            )
-        })
+        serde_json::from_value(checkpoint.state)
+            .map(Some)
+            .map_err(|e| {
+                Error::invalid(
+                    "--resume",
+                    path.display(),
+                    format!("a checkpoint of this run's solver ({e})"),
+                )
+            })
     }
 }
 

@@ -358,3 +358,105 @@ fn killed_cli_region_run_resumes_to_the_same_bytes() {
         "resumed from step {step}"
     );
 }
+
+/// Runs `common` once to the end, once killed after its first checkpoint and resumed,
+/// and checks that both outputs are the same bytes.
+fn killed_and_resumed_gives_the_same_bytes(name: &str, common: &[&str], every: &str) {
+    let d = tmpdir(name);
+    let reference = d.join("reference.csv");
+    let resumed = d.join("resumed.csv");
+    let ck = d.join("run.ckpt");
+    let (r, o, c) = (
+        reference.to_str().unwrap(),
+        resumed.to_str().unwrap(),
+        ck.to_str().unwrap(),
+    );
+    let with = |extra: &[&str]| -> Vec<String> {
+        common.iter().chain(extra).map(|s| s.to_string()).collect()
+    };
+    run_ok(&args(&with(&["-o", r])));
+    let interrupted = with(&["-o", o, "--checkpoint", c, "--checkpoint-every", every]);
+    let step = kill_after_first_checkpoint(&args(&interrupted), &ck);
+    assert!(!resumed.exists(), "{name}: a killed run wrote its output");
+    run_ok(&args(&with(&[
+        "-o",
+        o,
+        "--checkpoint",
+        c,
+        "--checkpoint-every",
+        every,
+        "--resume",
+    ])));
+    assert_eq!(
+        std::fs::read(&resumed).unwrap(),
+        std::fs::read(&reference).unwrap(),
+        "{name}: resumed from step {step}"
+    );
+}
+
+#[test]
+fn killed_cli_lbfgs_run_resumes_to_the_same_bytes() {
+    killed_and_resumed_gives_the_same_bytes(
+        "cli-lbfgs",
+        &[
+            "generate",
+            "-n",
+            "400",
+            "-s",
+            "3",
+            "--integrator",
+            "lbfgs",
+            "--steps",
+            "300",
+            "--init",
+            "random",
+            "--seed",
+            "3",
+            "-q",
+        ],
+        "2",
+    );
+    // A discrepancy energy in the closed cube: kinks, stalls and restarts.
+    killed_and_resumed_gives_the_same_bytes(
+        "cli-lbfgs-md",
+        &[
+            "generate",
+            "-n",
+            "300",
+            "-s",
+            "2",
+            "--energy",
+            "md",
+            "--integrator",
+            "lbfgs",
+            "--steps",
+            "300",
+            "-q",
+        ],
+        "2",
+    );
+}
+
+#[test]
+fn killed_cli_region_lbfgs_run_resumes_to_the_same_bytes() {
+    killed_and_resumed_gives_the_same_bytes(
+        "cli-region-lbfgs",
+        &[
+            "generate",
+            "--shape",
+            "ball:1",
+            "-s",
+            "2",
+            "-n",
+            "200",
+            "--energy",
+            "e-p-g",
+            "--integrator",
+            "lbfgs",
+            "--steps",
+            "300",
+            "-q",
+        ],
+        "2",
+    );
+}

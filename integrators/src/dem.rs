@@ -507,7 +507,11 @@ impl Integrator for Dem {
             Kappa::Auto { .. } => st.kappa >= k0 && st.kappa <= kmax,
         };
         if !(kappa_ok && st.kappa.is_finite() && st.kappa_trials >= 1) {
-            return refuse("κ", format!("{}", st.kappa), "the κ setting of this run".into());
+            return refuse(
+                "κ",
+                format!("{}", st.kappa),
+                "the κ setting of this run".into(),
+            );
         }
         let finite = |v: Option<f64>| v.is_none_or(f64::is_finite);
         if !finite(st.start_energy) || !finite(st.last_energy) || st.start_energy.is_none() {

@@ -66,8 +66,12 @@ pub trait Integrator {
     /// Refuses a state read from a checkpoint that this integrator cannot continue under
     /// this problem (other settings, sizes, non-finite numbers, points outside the
     /// domain), naming what disagrees. A checkpoint is untrusted input.
-    fn check_state(&self, problem: &Problem<'_>, start: &PointSet, state: &Self::State)
-        -> Result<()>;
+    fn check_state(
+        &self,
+        problem: &Problem<'_>,
+        start: &PointSet,
+        state: &Self::State,
+    ) -> Result<()>;
 }
 
 /// The lowest state a run has seen (kept for non-smooth energies, which it returns).
@@ -312,7 +316,14 @@ impl<'p, 'o, I: Integrator> Executor<'p, 'o, I> {
     }
 }
 
-fn record(step: usize, energy: f64, max_move: f64, restarted: bool, offset: f64, clock: &Instant) -> Record {
+fn record(
+    step: usize,
+    energy: f64,
+    max_move: f64,
+    restarted: bool,
+    offset: f64,
+    clock: &Instant,
+) -> Record {
     Record {
         step,
         energy,

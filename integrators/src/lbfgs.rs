@@ -95,9 +95,9 @@ use argmin::core::{
 use argmin::solver::linesearch::MoreThuenteLineSearch;
 use argmin::solver::quasinewton::LBFGS;
 use nalgebra::DVector;
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use std::cell::RefCell;
 use std::fmt;
-use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use stillpoint_energies::{Domain, Energy, Error, PointSet, Result};
 
 /// The first trial step of the first chunk moves the fastest coordinate by this fraction
@@ -324,7 +324,9 @@ impl<'a> Evaluator<'a> {
         // The trait says the gradient is written, not added; zeroing first keeps an
         // energy that accumulates into its buffer from carrying one trial into the next.
         self.c.grad.fill(0.0);
-        self.c.value = self.energy.value_and_gradient(&self.c.points, &mut self.c.grad);
+        self.c.value = self
+            .energy
+            .value_and_gradient(&self.c.points, &mut self.c.grad);
         if !self.c.value.is_finite() {
             return Err(Failure::NonFiniteEnergy(self.c.value));
         }
@@ -439,7 +441,6 @@ fn typical_spacing(domain: &dyn Domain, n: usize) -> f64 {
     }
 }
 
-
 /// argmin's solver and iterate between two iterations of a chunk. They hold ±∞ (the best
 /// cost before any), which JSON cannot, so they are kept as the hexadecimal digits of
 /// their postcard encoding, which keeps every f64 bit.
@@ -462,7 +463,9 @@ impl<'de> Deserialize<'de> for Carry {
     fn deserialize<D: Deserializer<'de>>(de: D) -> std::result::Result<Self, D::Error> {
         let hex = String::deserialize(de)?;
         if hex.len() % 2 != 0 || !hex.bytes().all(|b| b.is_ascii_hexdigit()) {
-            return Err(serde::de::Error::custom("argmin state: not hexadecimal digits"));
+            return Err(serde::de::Error::custom(
+                "argmin state: not hexadecimal digits",
+            ));
         }
         let bytes: Vec<u8> = (0..hex.len() / 2)
             .map(|i| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).unwrap_or(0))
@@ -577,7 +580,10 @@ impl Lbfgs {
     /// Begins a chunk at the current state.
     fn begin_chunk(&self, problem: &Problem<'_>, st: &mut LbfgsState) -> Result<()> {
         let x0 = st.current.as_slice().to_vec();
-        let mut w = Evaluator::new(problem, std::mem::replace(&mut st.cache, EvalCache::empty()));
+        let mut w = Evaluator::new(
+            problem,
+            std::mem::replace(&mut st.cache, EvalCache::empty()),
+        );
         w.c.calls_left = 1;
         let evaluated = w.evaluate(&x0);
         let g = max_abs(&w.c.grad);
@@ -838,7 +844,11 @@ impl Integrator for Lbfgs {
             return Err(Error::invalid(
                 "checkpoint",
                 format!("{} points in {} dimensions", c.n(), c.s()),
-                format!("a state of this run ({} points in {} dimensions)", start.n(), start.s()),
+                format!(
+                    "a state of this run ({} points in {} dimensions)",
+                    start.n(),
+                    start.s()
+                ),
             ));
         }
         problem.check_inside("checkpoint point", c)?;
@@ -850,13 +860,20 @@ impl Integrator for Lbfgs {
         let finite = [st.gnorm0, st.gnorm, st.gtol, st.spacing, st.first_move]
             .iter()
             .all(|v| v.is_finite())
-            && st.cache.param.iter().chain(&st.cache.grad).all(|v| v.is_finite())
+            && st
+                .cache
+                .param
+                .iter()
+                .chain(&st.cache.grad)
+                .all(|v| v.is_finite())
             && st.chunk.as_ref().is_none_or(|k| {
                 k.scale.is_finite() && k.u_start.is_finite() && k.u_prev.is_finite()
             });
-        let carry_ok = st.chunk.as_ref().and_then(|k| k.carry.as_ref()).is_none_or(|k| {
-            k.iterate.get_param().is_some_and(|p| p.len() == len)
-        });
+        let carry_ok = st
+            .chunk
+            .as_ref()
+            .and_then(|k| k.carry.as_ref())
+            .is_none_or(|k| k.iterate.get_param().is_some_and(|p| p.len() == len));
         if !(lens_ok && finite && carry_ok) {
             return Err(Error::invalid(
                 "checkpoint",

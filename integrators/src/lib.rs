@@ -158,4 +158,3 @@ impl RunOutput {
         self.info.iter().find(|(k, _)| k == key).map(|(_, v)| *v)
     }
 }
-

@@ -67,7 +67,10 @@ impl<'a> Problem<'a> {
         Problem::checked(Held::Borrowed(energy), Held::Borrowed(domain))
     }
 
-    fn checked(energy: Held<'a, dyn Energy + 'a>, domain: Held<'a, dyn Domain + 'a>) -> Result<Self> {
+    fn checked(
+        energy: Held<'a, dyn Energy + 'a>,
+        domain: Held<'a, dyn Domain + 'a>,
+    ) -> Result<Self> {
         if let Some(own) = energy.domain() {
             if !same_domain(own.as_ref(), &*domain) {
                 return Err(Error::invalid(
@@ -150,4 +153,3 @@ fn same_domain(a: &dyn Domain, b: &dyn Domain) -> bool {
     let (da, db) = (format!("{a:?}"), format!("{b:?}"));
     da == db && !da.contains("..")
 }
-

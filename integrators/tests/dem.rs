@@ -26,9 +26,7 @@ fn energy_falls_from_a_random_start() {
     let cube = PeriodicCube::new(2).unwrap();
     let start = cube.sample(64, 3).unwrap();
     let e = Uqp::new(Distance::Q(0.3), 1.0).unwrap();
-    let dem = Budget(300, Dem {
-        ..Dem::default()
-    });
+    let dem = Budget(300, Dem { ..Dem::default() });
     let out = dem.run(&e, &cube, start.clone(), &mut NoObserver).unwrap();
     let u0 = e.value(&start);
     let u1 = e.value(&out.points);
@@ -69,10 +67,13 @@ fn restart_keeps_the_mean_within_eps() {
     let start = cube.sample(40, 11).unwrap();
     let eps = 0.004;
     let e = Uqp::new(Distance::Q(0.5), 0.8).unwrap();
-    let dem = Budget(200, Dem {
-        restart: Restart::Threshold(eps),
-        ..Dem::default()
-    });
+    let dem = Budget(
+        200,
+        Dem {
+            restart: Restart::Threshold(eps),
+            ..Dem::default()
+        },
+    );
     let mut worst: f64 = 0.0;
     let mut seen = 0;
     let out = dem
@@ -101,10 +102,13 @@ fn wrap_keeps_points_in_the_unit_cube_and_uses_the_torus() {
     let cube = PeriodicCube::new(1).unwrap();
     let start = PointSet::from_rows(&[[0.97], [0.99]]).unwrap();
     let e = Uqp::new(Distance::Torus, 1.0).unwrap();
-    let dem = Budget(3000, Dem {
-        restart: Restart::Off,
-        ..Dem::default()
-    });
+    let dem = Budget(
+        3000,
+        Dem {
+            restart: Restart::Off,
+            ..Dem::default()
+        },
+    );
     let mut inside = true;
     let out = dem
         .run(
@@ -131,9 +135,7 @@ fn evenly_spaced_circle_is_reached() {
     let start = cube.sample(n, 5).unwrap();
     for q in [Distance::Torus, Distance::Q(1.0), Distance::Q(0.3)] {
         let e = Uqp::new(q, 1.0).unwrap();
-        let dem = Budget(5000, Dem {
-            ..Dem::default()
-        });
+        let dem = Budget(5000, Dem { ..Dem::default() });
         let out = dem.run(&e, &cube, start.clone(), &mut NoObserver).unwrap();
         let mut v = out.points.as_slice().to_vec();
         v.sort_by(f64::total_cmp);
@@ -150,15 +152,18 @@ fn kappa_trial_enlarges_an_unstable_kappa() {
     let cube = PeriodicCube::new(2).unwrap();
     let start = cube.sample(50, 1).unwrap();
     let e = Uqp::new(Distance::Q(0.3), 1.0).unwrap();
-    let dem = Budget(60, Dem {
-        kappa: Kappa::Auto {
-            start: 1.0,
-            factor: 2.0,
-            trial_steps: 20,
-            max: 1e8,
+    let dem = Budget(
+        60,
+        Dem {
+            kappa: Kappa::Auto {
+                start: 1.0,
+                factor: 2.0,
+                trial_steps: 20,
+                max: 1e8,
+            },
+            ..Dem::default()
         },
-        ..Dem::default()
-    });
+    );
     let out = dem.run(&e, &cube, start, &mut NoObserver).unwrap();
     let kappa = out.info("kappa").unwrap();
     assert!(kappa > 1.0, "κ stayed at {kappa}");
@@ -175,9 +180,7 @@ fn same_bits_for_one_and_two_threads() {
     let cube = PeriodicCube::new(3).unwrap();
     let start = cube.sample(150, 2).unwrap();
     let e = Uqp::new(Distance::Q(0.2), 0.7).unwrap();
-    let dem = Budget(60, Dem {
-        ..Dem::default()
-    });
+    let dem = Budget(60, Dem { ..Dem::default() });
     let run = |t: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(t)
@@ -258,27 +261,31 @@ fn a_resumed_run_is_the_same_bits_as_an_uninterrupted_one() {
     let cube = PeriodicCube::new(2).unwrap();
     let start = cube.sample(40, 4).unwrap();
     let e = Uqp::new(Distance::Q(0.3), 0.8).unwrap();
-    let dem = Budget(150, Dem {
-        restart: Restart::Threshold(0.002),
-        ..Dem::default()
-    });
+    let dem = Budget(
+        150,
+        Dem {
+            restart: Restart::Threshold(0.002),
+            ..Dem::default()
+        },
+    );
     resumes_bit_for_bit(&dem, &e, &cube, &start, 7);
     // κ trial from 1: snapshots during failed trials are taken and continued too.
-    let dem = Budget(60, Dem {
-        kappa: Kappa::Auto {
-            start: 1.0,
-            factor: 2.0,
-            trial_steps: 20,
-            max: 1e8,
+    let dem = Budget(
+        60,
+        Dem {
+            kappa: Kappa::Auto {
+                start: 1.0,
+                factor: 2.0,
+                trial_steps: 20,
+                max: 1e8,
+            },
+            ..Dem::default()
         },
-        ..Dem::default()
-    });
+    );
     resumes_bit_for_bit(&dem, &e, &cube, &start, 3);
     // A non-smooth energy: the lowest state is kept and returned.
     let einf = stillpoint_energies::einf::UEInf::new(Distance::Torus).unwrap();
-    let dem = Budget(80, Dem {
-        ..Dem::default()
-    });
+    let dem = Budget(80, Dem { ..Dem::default() });
     resumes_bit_for_bit(&dem, &einf, &cube, &start, 10);
 }
 

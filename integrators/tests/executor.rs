@@ -11,8 +11,7 @@ use stillpoint_energies::shapes::{Ball, BoxRegion};
 use stillpoint_energies::{Distance, Domain, Energy, Error, PeriodicCube, PointSet, Result, Uqp};
 use stillpoint_integrators::lbfgs::Lbfgs;
 use stillpoint_integrators::{
-    Control, Dem, Executor, Integrator, Move, Observer, Problem, Record, Snapshot, Step,
-    StopReason,
+    Control, Dem, Executor, Integrator, Move, Observer, Problem, Record, Snapshot, Step, StopReason,
 };
 
 /// Gradient descent x ← x − h ∇U(x), each point kept inside by the domain's rule.
@@ -104,9 +103,7 @@ struct Counter {
 
 impl Observer for Counter {
     fn observe(&mut self, record: &mut Record, points: &PointSet) -> Control {
-        record
-            .metrics
-            .push(("n".into(), points.n() as f64));
+        record.metrics.push(("n".into(), points.n() as f64));
         self.seen.push(record.step);
         if self.seen.len() >= self.stop_at {
             Control::Stop
@@ -140,7 +137,10 @@ fn a_new_integrator_gets_records_observers_and_checkpoints() {
     assert_eq!(out.stop, StopReason::StepBudget);
     assert_eq!(out.trajectory.len(), 26);
     assert_eq!(obs.seen, (0..=25).collect::<Vec<_>>());
-    assert!(out.trajectory.iter().all(|r| r.metrics == [("n".into(), 30.0)]));
+    assert!(out
+        .trajectory
+        .iter()
+        .all(|r| r.metrics == [("n".into(), 30.0)]));
     assert!(out.trajectory.last().unwrap().energy < out.trajectory[0].energy);
     assert!(out.points.rows().all(|r| cube.contains(r)));
     assert_eq!(out.info[0], ("returned_step".to_string(), 25.0));
@@ -189,7 +189,12 @@ fn lbfgs_resumes_bit_for_bit_from_every_snapshot() {
         let b = Budget(60, Lbfgs::default());
         let (full, snaps) = run_with_snapshots(&b, energy, domain, x0, 3);
         let plain = b
-            .run(energy, domain, x0.clone(), &mut stillpoint_integrators::NoObserver)
+            .run(
+                energy,
+                domain,
+                x0.clone(),
+                &mut stillpoint_integrators::NoObserver,
+            )
             .unwrap();
         assert_eq!(run_bits(&full), run_bits(&plain), "case {k}");
         assert!(!snaps.is_empty(), "case {k}: no snapshot");
@@ -249,14 +254,14 @@ fn forged_snapshots_are_refused_without_a_panic() {
                         resume(&Budget(30, Dem::default()), &e, &cube, &start, s)
                             .map_err(|e| e.to_string())
                     }),
-                _ => serde_json::from_value::<
-                    Snapshot<stillpoint_integrators::lbfgs::LbfgsState>,
-                >(v)
-                .map_err(|e| e.to_string())
-                .and_then(|s| {
-                    resume(&Budget(30, Lbfgs::default()), &e, &cube, &start, s)
+                _ => {
+                    serde_json::from_value::<Snapshot<stillpoint_integrators::lbfgs::LbfgsState>>(v)
                         .map_err(|e| e.to_string())
-                }),
+                        .and_then(|s| {
+                            resume(&Budget(30, Lbfgs::default()), &e, &cube, &start, s)
+                                .map_err(|e| e.to_string())
+                        })
+                }
             };
             assert!(err.is_err(), "{which} forgery {i} was accepted");
         }

@@ -129,11 +129,9 @@ fn nine_points_on_the_circle_reach_the_even_spacing() {
             .fold(0.0, f64::max);
         let u = e.value(&out.points);
 
-        let dem = Budget(10_000, Dem {
-            ..Dem::default()
-        })
-        .run(&e, &circle, start.clone(), &mut NoObserver)
-        .unwrap();
+        let dem = Budget(10_000, Dem { ..Dem::default() })
+            .run(&e, &circle, start.clone(), &mut NoObserver)
+            .unwrap();
         let u_dem = e.value(&dem.points);
         eprintln!(
             "circle n=9, q={}: worst gap error {worst:.2e}, U_lbfgs {u:.15}, U_dem {u_dem:.15}, \
@@ -158,20 +156,18 @@ fn nine_points_on_the_circle_reach_the_even_spacing() {
 fn run_in_ball(e: &dyn Energy, ball: &Ball, start: &PointSet) -> (RunOutput, usize, usize) {
     let mut outside = 0usize;
     let mut records = 0usize;
-    let out = Budget(300, Lbfgs {
-        ..Lbfgs::default()
-    })
-    .run(
-        e,
-        ball,
-        start.clone(),
-        &mut Check(|_: &Record, x: &PointSet| {
-            records += 1;
-            outside += x.rows().filter(|r| !ball.contains(r)).count();
-            Control::Continue
-        }),
-    )
-    .unwrap();
+    let out = Budget(300, Lbfgs { ..Lbfgs::default() })
+        .run(
+            e,
+            ball,
+            start.clone(),
+            &mut Check(|_: &Record, x: &PointSet| {
+                records += 1;
+                outside += x.rows().filter(|r| !ball.contains(r)).count();
+                Control::Continue
+            }),
+        )
+        .unwrap();
     (out, outside, records)
 }
 
@@ -303,11 +299,9 @@ fn the_observer_sees_every_record_and_can_stop_the_run() {
     for (a, b) in full.trajectory.iter().zip(&out.trajectory) {
         assert_eq!((a.step, a.energy.to_bits()), (b.step, b.energy.to_bits()));
     }
-    let none = Budget(0, Lbfgs {
-        ..Lbfgs::default()
-    })
-    .run(&e, &cube, start.clone(), &mut NoObserver)
-    .unwrap();
+    let none = Budget(0, Lbfgs { ..Lbfgs::default() })
+        .run(&e, &cube, start.clone(), &mut NoObserver)
+        .unwrap();
     assert_eq!(none.trajectory.len(), 1);
     assert_eq!(none.stop, StopReason::StepBudget);
     assert_eq!(none.points, start);
@@ -324,11 +318,9 @@ fn same_bits_for_one_and_two_threads() {
             .build()
             .unwrap()
             .install(|| {
-                Budget(200, Lbfgs {
-                    ..Lbfgs::default()
-                })
-                .run(&e, &cube, start.clone(), &mut NoObserver)
-                .unwrap()
+                Budget(200, Lbfgs { ..Lbfgs::default() })
+                    .run(&e, &cube, start.clone(), &mut NoObserver)
+                    .unwrap()
             })
     };
     let (a, b) = (run(1), run(2));
@@ -348,7 +340,12 @@ fn bad_settings_are_refused() {
     let cube = PeriodicCube::new(2).unwrap();
     let start = cube.sample(8, 1).unwrap();
     let e = Uqp::new(Distance::Q(1.0), 1.0).unwrap();
-    let refuse = |l: Lbfgs, x: PointSet, name: &str| match Budget(1000, l).run(&e, &cube, x, &mut NoObserver) {
+    let refuse = |l: Lbfgs, x: PointSet, name: &str| match Budget(1000, l).run(
+        &e,
+        &cube,
+        x,
+        &mut NoObserver,
+    ) {
         Err(Error::InvalidArgument { name: got, .. }) => {
             assert!(got.contains(name), "{got} does not name {name}")
         }

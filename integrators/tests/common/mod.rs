@@ -66,7 +66,14 @@ pub fn resume<I: Integrator + Clone>(
 }
 
 /// The bits of a run: points, (step, energy, restarted) of every record, stop, info.
-pub fn run_bits(o: &RunOutput) -> (Vec<u64>, Vec<(usize, u64, bool)>, String, Vec<(String, u64)>) {
+pub fn run_bits(
+    o: &RunOutput,
+) -> (
+    Vec<u64>,
+    Vec<(usize, u64, bool)>,
+    String,
+    Vec<(String, u64)>,
+) {
     (
         o.points.as_slice().iter().map(|v| v.to_bits()).collect(),
         o.trajectory
@@ -74,6 +81,9 @@ pub fn run_bits(o: &RunOutput) -> (Vec<u64>, Vec<(usize, u64, bool)>, String, Ve
             .map(|r| (r.step, r.energy.to_bits(), r.restarted))
             .collect(),
         format!("{:?}", o.stop),
-        o.info.iter().map(|(k, v)| (k.clone(), v.to_bits())).collect(),
+        o.info
+            .iter()
+            .map(|(k, v)| (k.clone(), v.to_bits()))
+            .collect(),
     )
 }
