@@ -12,6 +12,8 @@ pub use stillpoint_integrators as integrators;
 pub use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Uqp};
 
 pub mod bench;
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod compare;
 pub mod expr;
 pub mod io;

@@ -1,0 +1,277 @@
+//! The command line's arguments: one clap struct per subcommand.
+
+use super::*;
+
+#[derive(Parser)]
+#[command(
+    name = "stillpoint",
+    version,
+    about = "Evenly spread point sets in [0,1]^s from the static solution of a damped \
+             many-body problem (the DEM), with the numbers that prove their quality."
+)]
+pub(crate) struct Cli {
+    /// Worker threads (default: all cores). Results are the same bytes for any count.
+    #[arg(long, global = true, value_name = "T")]
+    pub(crate) threads: Option<usize>,
+    #[command(subcommand)]
+    pub(crate) command: Command,
+}
+
+/// The options of `stillpoint generate`.
+#[derive(clap::Args)]
+pub(crate) struct GenerateArgs {
+    /// Number of points n ≥ 1 (taken from --init FILE when omitted).
+    #[arg(short = 'n', value_name = "N")]
+    pub(crate) n: Option<usize>,
+    /// Dimension s ≥ 1 (taken from --init FILE when omitted).
+    #[arg(short = 's', value_name = "S")]
+    pub(crate) s: Option<usize>,
+    /// Output file: .csv (default), .tsv, .json or .npy by extension. Without it the
+    /// points go to standard output as CSV and the report to standard error.
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub(crate) output: Option<PathBuf>,
+    /// The potential energy: `uqp` (U_{q,p}, the cube's default), `e-inf` (U_{E,∞},
+    /// maximin; with --q E in the closed cube, else on the torus), `e-inf-g`
+    /// (U_{E,∞,g} of eq. 56, a region's default), `e-p-g` (smooth U_{E,p,g} for a
+    /// region, p from --p, default 8).
+    #[arg(long, value_name = "NAME")]
+    pub(crate) energy: Option<String>,
+    /// A region {x : g(x) ≤ 0}: g as an expression in x1..xs (or x, y, z), e.g.
+    /// "|x| + 2*|y| - 5". Needs --box.
+    #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
+    pub(crate) region: Option<String>,
+    /// Bounding box of --region (or of a polytope): LO1,HI1,LO2,HI2,...
+    #[arg(long = "box", value_name = "LO1,HI1,...", allow_hyphen_values = true)]
+    pub(crate) bbox: Option<String>,
+    /// A built-in region: `ball:R[@C1,C2,..]`, `ellipsoid:A1,A2,..[@C1,..]`,
+    /// `box:LO1,HI1,LO2,HI2,..`, `simplex` (dimension from -s), or `polytope:FILE`
+    /// (rows a1 .. as b meaning a·x ≤ b; needs --box).
+    #[arg(long, value_name = "SHAPE", allow_hyphen_values = true)]
+    pub(crate) shape: Option<String>,
+    /// Draw the start beside the result, with the region's boundary (PNG or SVG by
+    /// extension; the first two coordinates).
+    #[arg(long, value_name = "FILE")]
+    pub(crate) plot: Option<PathBuf>,
+    /// q of U_{q,p}: a number > 0, `inf` (torus distance) or `E` (Euclidean).
+    /// Default: eq. 48 of the paper for (n, s).
+    #[arg(long, value_name = "Q", allow_hyphen_values = true)]
+    pub(crate) q: Option<String>,
+    /// p of U_{q,p}: a number > 0. Default: eq. 48 of the paper for (n, s).
+    #[arg(long, value_name = "P", allow_hyphen_values = true)]
+    pub(crate) p: Option<f64>,
+    /// How U_{q,p}'s distance is evaluated during the run for 0.01 ≤ q ≤ 2: `fast` (a
+    /// table of cubics, each coordinate's h² within 4e-9; about twice as fast) or `full`
+    /// (within 1e-12). Reported energies are always full. Default: fast.
+    #[arg(long, value_name = "fast|full")]
+    pub(crate) precision: Option<String>,
+    /// The solver: `dem` (the paper's damped dynamics) or `lbfgs` (argmin's L-BFGS
+    /// with restarts; in the cube only).
+    #[arg(long, default_value = "dem", value_name = "dem|lbfgs")]
+    pub(crate) integrator: String,
+    /// Step budget of the DEM (default 1000 in the cube, as in the paper; 10 000 in a
+    /// region, where U_{E,∞,g} moves only its active elements at each step).
+    #[arg(long, value_name = "K")]
+    pub(crate) steps: Option<usize>,
+    /// Start: `halton` (plain, indices 1..n; the cube's default), `random` (a region's
+    /// default: uniform in the box, the first n inside), or a point file.
+    #[arg(long, value_name = "halton|random|FILE")]
+    pub(crate) init: Option<String>,
+    /// Seed for the random start.
+    #[arg(long, default_value_t = 0)]
+    pub(crate) seed: u64,
+    /// κ of eq. 39: `auto` (trial from 100, doubled while the energy fails to fall)
+    /// or a fixed number ≥ 1.
+    #[arg(
+        long,
+        default_value = "auto",
+        value_name = "auto|K",
+        allow_hyphen_values = true
+    )]
+    pub(crate) kappa: String,
+    /// Restart for unbiasedness (§4.3): `auto` (ε_p = 2/n), `off`, or ε_p > 0.
+    #[arg(
+        long,
+        default_value = "auto",
+        value_name = "auto|off|EPS",
+        allow_hyphen_values = true
+    )]
+    pub(crate) restart: String,
+    /// Polish the result with L-BFGS on a squared discrepancy: `md`, `l2star`, `cd`,
+    /// `periodic`, or `none`. The best points we know how to make: the DEM spreads the
+    /// points, the shift places them, the polish lowers the chosen discrepancy.
+    #[arg(long, default_value = "none", value_name = "KIND")]
+    pub(crate) polish: String,
+    /// Stop early when every coordinate step and every force step |G f|/A0 is below
+    /// this (0: always use the whole budget).
+    #[arg(
+        long,
+        default_value_t = 1e-12,
+        value_name = "TOL",
+        allow_hyphen_values = true
+    )]
+    pub(crate) tolerance: f64,
+    /// Periodic shifts tried after the DEM (0: none). The energy is unchanged by a
+    /// shift on the torus, the discrepancies are not: the shift with the smallest
+    /// modified L2 discrepancy is kept.
+    #[arg(long, default_value_t = 64, value_name = "K")]
+    pub(crate) shifts: usize,
+    /// Record D_L2* and D_MD every K steps in the trajectory (default 10 with
+    /// --trajectory, else never).
+    #[arg(long, value_name = "K")]
+    pub(crate) log_every: Option<usize>,
+    /// Write the trajectory (energy each step, discrepancies every --log-every steps)
+    /// as JSON to FILE.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) trajectory: Option<PathBuf>,
+    /// Save the DEM's whole state to FILE every --checkpoint-every steps (atomically),
+    /// so that an interrupted run can be continued with --resume.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) checkpoint: Option<PathBuf>,
+    /// Steps between two checkpoints.
+    #[arg(long, default_value_t = 100, value_name = "K")]
+    pub(crate) checkpoint_every: usize,
+    /// Continue from a checkpoint (FILE, or the --checkpoint file when no FILE is
+    /// given). Every other option must be as in the run that wrote it; the result is
+    /// the same bytes as an uninterrupted run.
+    #[arg(long, value_name = "FILE", num_args = 0..=1)]
+    pub(crate) resume: Option<Option<PathBuf>>,
+    /// Print the report as one JSON object instead of a table.
+    #[arg(long)]
+    pub(crate) json: bool,
+    /// No progress bar.
+    #[arg(long, short = 'q')]
+    pub(crate) quiet: bool,
+}
+
+// Parsed once per process, so the size of the largest variant does not matter.
+#[allow(clippy::large_enum_variant)]
+#[derive(Subcommand)]
+pub(crate) enum Command {
+    /// Generate n points in [0,1)^s with the DEM and print their quality before and after.
+    Generate(Box<GenerateArgs>),
+    /// Draw a point file (a scatter plot for s = 2, a matrix of 2-D projections of the
+    /// first --dims coordinates for s > 2), or a run's trajectory (--trajectory), as PNG
+    /// or SVG.
+    Plot {
+        /// The point file (CSV, TSV, whitespace, JSON, .npy).
+        #[arg(value_name = "FILE", required_unless_present = "trajectory")]
+        file: Option<PathBuf>,
+        /// The picture: .png or .svg.
+        #[arg(short = 'o', long = "output", value_name = "OUT")]
+        output: PathBuf,
+        /// Coordinates drawn for s > 2: the first K, as a K × K matrix of projections
+        /// (histograms on the diagonal). Default min(s, 4).
+        #[arg(long, value_name = "K")]
+        dims: Option<usize>,
+        /// Draw the boundary of the region {x : g(x) ≤ 0} (with --box), as in generate.
+        #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
+        region: Option<String>,
+        /// The plotted box, and the bounding box of --region: LO1,HI1,LO2,HI2,...
+        #[arg(long = "box", value_name = "LO1,HI1,...", allow_hyphen_values = true)]
+        bbox: Option<String>,
+        /// Draw the boundary of a built-in region, as in generate.
+        #[arg(long, value_name = "SHAPE", allow_hyphen_values = true)]
+        shape: Option<String>,
+        /// Draw a trajectory written by `generate --trajectory` instead: energy and
+        /// discrepancies against step and against time.
+        #[arg(long, value_name = "TRAJ", conflicts_with_all = ["file", "dims", "region", "shape", "bbox"])]
+        trajectory: Option<PathBuf>,
+        /// Title above the picture (default: the file name).
+        #[arg(long)]
+        title: Option<String>,
+    },
+    /// Print the quality of any point file (CSV, TSV, whitespace, JSON, .npy).
+    Eval {
+        /// The point file; coordinates must lie in [0, 1].
+        file: PathBuf,
+        /// Print one JSON object (keys documented in the README).
+        #[arg(long)]
+        json: bool,
+    },
+    /// Compare the DEM and L-BFGS on U_{q,p} and on a discrepancy energy, for a list of
+    /// (s, n); writes comparison.md, comparison.json and convergence pictures.
+    Compare {
+        /// Cases as SxN, comma-separated (default: 2x1500,3x1500,5x1500,6x1500,5x200,10x400).
+        #[arg(long, value_name = "SxN,...")]
+        cases: Option<String>,
+        /// Step or iteration budget per run.
+        #[arg(long, default_value_t = 1000)]
+        steps: usize,
+        /// The discrepancy energy: l2star, md, cd or periodic.
+        #[arg(long, default_value = "md")]
+        energy: String,
+        /// Output directory.
+        #[arg(long, default_value = "comparison")]
+        out: PathBuf,
+        /// Small cases (2x200, 3x200) and 200 steps.
+        #[arg(long)]
+        quick: bool,
+    },
+    /// Write a classic point set (a baseline to compare with): random, halton,
+    /// halton-scrambled, sobol, hua-wang, lattice, lhs, lhs-maximin.
+    Baseline {
+        /// The generator; `stillpoint baseline --list` describes each exactly.
+        #[arg(value_name = "NAME", required_unless_present = "list")]
+        name: Option<String>,
+        /// Number of points n ≥ 1.
+        #[arg(short = 'n', value_name = "N", required_unless_present = "list")]
+        n: Option<usize>,
+        /// Dimension s ≥ 1.
+        #[arg(short = 's', value_name = "S", required_unless_present = "list")]
+        s: Option<usize>,
+        /// Output file (.csv, .tsv, .json, .npy); standard output as CSV without it.
+        #[arg(short = 'o', long = "output", value_name = "FILE")]
+        output: Option<PathBuf>,
+        /// Seed of the randomized generators (scrambles, random, LHS).
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Describe every generator and exit.
+        #[arg(long)]
+        list: bool,
+        /// Print a JSON summary (with the points when there is no -o).
+        #[arg(long)]
+        json: bool,
+    },
+    /// Integrate the eight test functions F1–F8 of eq. 49 (exact integrals 0) with the
+    /// points of a file and print each estimate, i.e. each integration error.
+    Integrate {
+        /// The point file (CSV, TSV, whitespace, JSON, .npy); coordinates in [0, 1].
+        file: PathBuf,
+        /// Print one JSON object.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Reproduce one of the paper's studies: correlation (Tables 1–2, Figs. 3–5), table5,
+    /// catalog (the 127 sets, resumable), table6 (Figs. 6–7), kraichnan-orszag (Table 7,
+    /// Fig. 8), shear-frame (Table 8), regions (Fig. 9), or `all`.
+    Study {
+        /// The study name, or `all`.
+        #[arg(value_name = "NAME")]
+        name: String,
+        /// A small, fast version (what CI runs).
+        #[arg(long)]
+        quick: bool,
+        /// Output directory (default: results/, or results/quick/ with --quick).
+        #[arg(long, value_name = "DIR")]
+        out: Option<PathBuf>,
+        /// Seed of every random choice.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// No progress lines.
+        #[arg(long, short = 'q')]
+        quiet: bool,
+    },
+    /// Time the kernels against their baselines in one run and print the ratios.
+    Bench {
+        /// Smaller sizes and fewer repetitions.
+        #[arg(long)]
+        quick: bool,
+        /// Time only the centred and star L2 discrepancies of this point file and print
+        /// one JSON object (used by benches/scipy_discrepancy.py).
+        #[arg(long, value_name = "FILE")]
+        points: Option<PathBuf>,
+        /// Repetitions for --points (the median is reported).
+        #[arg(long, default_value_t = 5, value_name = "K")]
+        reps: usize,
+    },
+}

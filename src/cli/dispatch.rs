@@ -1,0 +1,251 @@
+//! Runs a parsed command line: one arm per subcommand.
+
+use super::*;
+
+pub(crate) fn real_main(cli: Cli) -> Result<()> {
+    if let Some(t) = cli.threads {
+        if t == 0 {
+            bail!("invalid --threads = 0: expected a number of threads ≥ 1");
+        }
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build_global()
+            .context("cannot start the thread pool")?;
+    }
+    match cli.command {
+        Command::Generate(args) => generate(*args)?,
+        Command::Eval { file, json } => {
+            let points = io::read_points(&file)?;
+            points
+                .check_unit_cube()
+                .with_context(|| format!("{}", file.display()))?;
+            let v = eval_json(&points);
+            if json {
+                println!("{}", serde_json::to_string_pretty(&v)?);
+            } else {
+                print!("{}", eval_table(&file, &points, &v));
+            }
+        }
+        Command::Compare {
+            cases,
+            steps,
+            energy,
+            out,
+            quick,
+        } => {
+            let mut settings = crate::compare::CompareSettings {
+                steps,
+                discrepancy: DiscrepancyKind::parse(&energy)?,
+                ..Default::default()
+            };
+            if quick {
+                settings.cases = vec![(2, 200), (3, 200)];
+                settings.steps = steps.min(200);
+            }
+            if let Some(c) = cases {
+                settings.cases = parse_cases(&c)?;
+            }
+            let table = crate::compare::run_and_write(&settings, &out, true)?;
+            print!("{table}");
+        }
+        Command::Baseline {
+            name,
+            n,
+            s,
+            output,
+            seed,
+            list,
+            json,
+        } => {
+            if list {
+                for b in Baseline::all() {
+                    println!("{} ({}):\n  {}\n", b.name(), b.label(), b.describe());
+                }
+                return Ok(());
+            }
+            let (Some(name), Some(n), Some(s)) = (name, n, s) else {
+                bail!("missing NAME, -n N or -s S (see stillpoint baseline --help)");
+            };
+            if let Some(out) = &output {
+                check_writable(out, "-o")?;
+            }
+            let b = Baseline::parse(&name)?;
+            let points = b.generate(n, s, seed)?;
+            let metrics = (n <= METRICS_LIMIT).then(|| Metrics::compute(&points));
+            let meta = json!({
+                "generator": format!("stillpoint baseline {}", b.name()),
+                "version": env!("CARGO_PKG_VERSION"),
+                "seed": if b.is_randomized() { Some(seed) } else { None },
+                "parameters": {
+                    "baseline": b.name(),
+                    "label": b.label(),
+                    "n": n,
+                    "s": s,
+                    "randomized": b.is_randomized(),
+                },
+                "metrics": metrics.as_ref().map(metrics_json),
+            });
+            if json {
+                let mut v = meta.clone();
+                match &output {
+                    Some(path) => {
+                        io::write_points(path, &points, &meta)?;
+                        v["output"] = json!(path);
+                    }
+                    None => v["points"] = points_json(&points),
+                }
+                println!("{}", serde_json::to_string_pretty(&v)?);
+                return Ok(());
+            }
+            match &output {
+                Some(path) => {
+                    io::write_points(path, &points, &meta)?;
+                    let quality = match metrics {
+                        Some(m) => format!(
+                            "D_MD {:.6}, D_L2* {:.6}, minimum distance {:.6}",
+                            m.modified_l2, m.star_l2, m.min_distance
+                        ),
+                        None => format!("metrics skipped above n = {METRICS_LIMIT}"),
+                    };
+                    println!(
+                        "{} ({}), n = {n}, s = {s}: {quality}; written to {}",
+                        b.name(),
+                        b.label(),
+                        path.display()
+                    );
+                }
+                None => print!("{}", io::to_csv_string(&points, &meta)),
+            }
+        }
+        Command::Integrate { file, json } => {
+            let points = io::read_points(&file)?;
+            points
+                .check_unit_cube()
+                .with_context(|| format!("{}", file.display()))?;
+            let report = crate::testfns::integrate(&points)?;
+            let fns = crate::testfns::TestFunction::all();
+            if json {
+                let rows: Vec<Value> = fns
+                    .iter()
+                    .zip(report.estimates)
+                    .map(|(f, e)| {
+                        json!({"function": f.name(), "formula": f.formula(),
+                               "estimate": e, "error": e.map(f64::abs)})
+                    })
+                    .collect();
+                let v = json!({"file": file, "n": points.n(), "s": points.s(),
+                               "exact": 0.0, "functions": rows});
+                println!("{}", serde_json::to_string_pretty(&v)?);
+            } else {
+                println!(
+                    "{}: n = {}, s = {}; every exact integral is 0, so |estimate| is the error\n",
+                    file.display(),
+                    points.n(),
+                    points.s()
+                );
+                println!(
+                    "  {:<4} {:>14} {:>12}   integrand",
+                    "", "estimate", "|error|"
+                );
+                for (f, e) in fns.iter().zip(report.estimates) {
+                    match e {
+                        Some(v) => println!(
+                            "  {:<4} {:>14.6e} {:>12.3e}   {}",
+                            f.name(),
+                            v,
+                            v.abs(),
+                            f.formula()
+                        ),
+                        None => println!(
+                            "  {:<4} {:>14} {:>12}   {} (needs s ≥ 2)",
+                            f.name(),
+                            "—",
+                            "—",
+                            f.formula()
+                        ),
+                    }
+                }
+            }
+        }
+        Command::Study {
+            name,
+            quick,
+            out,
+            seed,
+            quiet,
+        } => {
+            let studies: Vec<Study> = if name.trim().eq_ignore_ascii_case("all") {
+                Study::all().to_vec()
+            } else {
+                vec![Study::parse(&name)?]
+            };
+            let out = out.unwrap_or_else(|| {
+                if quick {
+                    PathBuf::from("results/quick")
+                } else {
+                    PathBuf::from("results")
+                }
+            });
+            for study in studies {
+                let mut opts = StudyOptions::new(quick, out.join(study.name()));
+                opts.catalog_dir = out.join("catalog");
+                opts.seed = seed;
+                let mut log = |line: &str| {
+                    if !quiet {
+                        eprintln!("{line}");
+                    }
+                };
+                let result = studies::run(study, &opts, &mut log)?;
+                print!("{}", result.markdown);
+                eprintln!(
+                    "{}: {} file(s) in {} ({})",
+                    study.name(),
+                    result.files.len(),
+                    opts.out.display(),
+                    studies::human_seconds(result.seconds)
+                );
+            }
+        }
+        Command::Plot {
+            file,
+            output,
+            dims,
+            region,
+            bbox,
+            shape,
+            trajectory,
+            title,
+        } => {
+            check_writable(&output, "-o")?;
+            check_picture_extension(&output, "-o")?;
+            match (trajectory, file) {
+                (Some(traj), _) => plot_trajectory(&traj, &output, title)?,
+                (None, Some(file)) => {
+                    let spec = RegionSpec {
+                        region: region.as_deref(),
+                        bbox: bbox.as_deref(),
+                        shape: shape.as_deref(),
+                    };
+                    plot_points(&file, &output, dims, spec, title)?
+                }
+                (None, None) => {
+                    bail!("missing FILE: the point file to draw (or --trajectory TRAJ)")
+                }
+            }
+        }
+        Command::Bench {
+            quick,
+            points,
+            reps,
+        } => match points {
+            Some(path) => {
+                if reps == 0 {
+                    bail!("invalid --reps = 0: expected at least 1 repetition");
+                }
+                bench::run_points(&path, reps, &mut std::io::stdout())?
+            }
+            None => bench::run(quick, &mut std::io::stdout())?,
+        },
+    }
+    Ok(())
+}

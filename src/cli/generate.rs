@@ -1,0 +1,275 @@
+//! `stillpoint generate`: arguments to a run configuration, the run, its outputs.
+
+use super::*;
+
+/// Largest n whose O(n² s) metrics a baseline file's header records (above it they would
+/// take longer than generating the points by far).
+pub(crate) const METRICS_LIMIT: usize = 20_000;
+
+/// `stillpoint generate`: a cube or region run with its outputs. Every argument and
+/// output path is checked before any work is done, and outputs are written only after
+/// the run succeeded.
+pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
+    let GenerateArgs {
+        n,
+        s,
+        output,
+        energy,
+        region,
+        bbox,
+        shape,
+        plot,
+        integrator,
+        q,
+        p,
+        precision,
+        steps,
+        init,
+        seed,
+        kappa,
+        restart,
+        tolerance,
+        polish,
+        shifts,
+        log_every,
+        trajectory,
+        checkpoint,
+        checkpoint_every,
+        resume,
+        json,
+        quiet,
+    } = a;
+    if let Some(out) = &output {
+        check_writable(out, "-o")?;
+    }
+    if let Some(out) = &plot {
+        check_writable(out, "--plot")?;
+        check_picture_extension(out, "--plot")?;
+    }
+    if let Some(out) = &trajectory {
+        check_writable(out, "--trajectory")?;
+    }
+    if tolerance.is_nan() || tolerance < 0.0 {
+        bail!("invalid --tolerance = {tolerance}: expected a number ≥ 0");
+    }
+    if let Some(p) = p {
+        if !(p > 0.0 && p.is_finite()) {
+            bail!("invalid --p = {p}: expected a finite number > 0");
+        }
+    }
+    // A region built from text is known to the checkpoint by that text.
+    let region_extra = if region.is_some() || shape.is_some() {
+        json!({"--region": region, "--box": bbox, "--shape": shape})
+    } else {
+        Value::Null
+    };
+    let plan = checkpoint_plan(
+        checkpoint,
+        checkpoint_every,
+        resume,
+        region_extra.clone(),
+        quiet,
+    )?;
+    let mut progress = Progress::new(quiet);
+    if region.is_some() || shape.is_some() {
+        let domain = region_domain(region.as_deref(), bbox.as_deref(), shape.as_deref(), s)?;
+        let n = n.context("missing -n N: the number of points (at least 1)")?;
+        if let Some(text) = &precision {
+            bail!(
+                "invalid --precision = {text} for a region: it sets U_{{q,p}}'s distance,                  which region energies do not use"
+            );
+        }
+        let mut cfg = RegionConfig::new(domain, n);
+        cfg.energy = match energy.as_deref().unwrap_or("e-inf-g") {
+            "e-inf-g" => RegionEnergy::EInfG,
+            "e-inf" => RegionEnergy::EInf,
+            "e-p-g" => RegionEnergy::EpG(p.unwrap_or(8.0)),
+            other => bail!(
+                "invalid --energy = {other} for a region: expected e-inf-g (eq. 56), \
+                 e-inf or e-p-g"
+            ),
+        };
+        cfg.init = match init.as_deref().unwrap_or("random") {
+            "random" => RegionInit::Random,
+            "halton" => RegionInit::Halton,
+            path => {
+                RegionInit::Points(io::read_points(std::path::Path::new(path)).context("--init")?)
+            }
+        };
+        cfg.seed = seed;
+        cfg.solver = parse_solver(&integrator)?;
+        if let Some(steps) = steps {
+            cfg.steps = steps;
+        }
+        cfg.dem.kappa = run::parse_kappa(&kappa)?;
+        cfg.dem.tolerance = tolerance;
+        if plot.is_some() && cfg.domain.dim() < 2 {
+            bail!("invalid --plot: the region has dimension 1; plots need s ≥ 2");
+        }
+        let report = generate_in_region_with(&cfg, plan.as_ref(), |e| progress.event(e))?;
+        progress.finish();
+        let meta = region_meta(&report, &cfg, &region_extra);
+        if let Some(path) = &trajectory {
+            write_trajectory(path, &report.energy_name, &report.output)?;
+        }
+        if let Some(path) = &plot {
+            plot_start_result(
+                path,
+                &report.start,
+                &report.output.points,
+                cfg.domain.as_ref(),
+            )?;
+        }
+        let summary = if json {
+            region_json(&report, &cfg)
+        } else {
+            Value::String(region_table(&report, &cfg, output.as_ref()))
+        };
+        emit(&report.output.points, &meta, output.as_ref(), summary)?;
+        return Ok(());
+    }
+    if bbox.is_some() {
+        bail!("--box needs --region EXPR or --shape polytope:FILE");
+    }
+    let init = match init.as_deref().unwrap_or("halton") {
+        "halton" => Init::Halton,
+        "random" => Init::Random,
+        path => {
+            let points = io::read_points(std::path::Path::new(path)).context("--init")?;
+            points
+                .check_unit_cube()
+                .with_context(|| format!("--init: {path}"))?;
+            Init::Points(points)
+        }
+    };
+    let (n, s) = match (&init, n, s) {
+        (Init::Points(p), n, s) => (n.unwrap_or(p.n()), s.unwrap_or(p.s())),
+        (_, Some(n), Some(s)) => (n, s),
+        (_, None, _) => bail!("missing -n N: the number of points (at least 1)"),
+        (_, _, None) => bail!("missing -s S: the dimension (at least 1)"),
+    };
+    if plot.is_some() && s < 2 {
+        bail!("invalid --plot with -s = {s}: plots need s ≥ 2");
+    }
+    let mut cfg = GenerateConfig::new(n, s);
+    cfg.energy = match energy.as_deref().unwrap_or("uqp") {
+        "uqp" => CubeEnergy::Uqp,
+        "e-inf" => CubeEnergy::EInf,
+        "e-inf-g" | "e-p-g" => bail!(
+            "invalid --energy = {} in the cube: e-inf-g and e-p-g need --region or \
+             --shape; the cube accepts uqp, e-inf, l2star, md, cd, periodic",
+            energy.as_deref().unwrap_or_default()
+        ),
+        other => CubeEnergy::Discrepancy(DiscrepancyKind::parse(other).map_err(|_| {
+            anyhow::anyhow!(
+                "invalid --energy = {other} in the cube: expected uqp, e-inf, \
+                     l2star, md, cd or periodic"
+            )
+        })?),
+    };
+    cfg.solver = parse_solver(&integrator)?;
+    cfg.q = match q.as_deref() {
+        Some(text) => Some(Distance::parse(text).map_err(|_| {
+            anyhow::anyhow!(
+                "invalid --q = {text}: expected a number in (0, ∞), `inf` (the torus distance) \
+                 or `E` (Euclidean)"
+            )
+        })?),
+        None => None,
+    };
+    cfg.p = p;
+    if let Some(text) = &precision {
+        cfg.precision = Precision::parse(text)
+            .map_err(|_| anyhow::anyhow!("invalid --precision = {text}: expected fast or full"))?;
+    }
+    cfg.init = init;
+    cfg.seed = seed;
+    cfg.steps = steps.unwrap_or(1000);
+    cfg.dem.kappa = run::parse_kappa(&kappa)?;
+    cfg.dem.restart = run::parse_restart(&restart)?;
+    cfg.dem.tolerance = tolerance;
+    cfg.shifts = shifts;
+    cfg.polish = match polish.as_str() {
+        "none" => None,
+        other => Some(DiscrepancyKind::parse(other).map_err(|_| {
+            anyhow::anyhow!("invalid --polish = {other}: expected none, md, l2star, cd or periodic")
+        })?),
+    };
+    cfg.log_every = log_every.unwrap_or(if trajectory.is_some() { 10 } else { 0 });
+    let report = run::generate_with(&cfg, plan.as_ref(), |e| progress.event(e))?;
+    progress.finish();
+    let meta = generate_meta(&report, &cfg);
+    if let Some(path) = &trajectory {
+        write_trajectory(path, &report.energy_name, &report.output)?;
+    }
+    if let Some(path) = &plot {
+        let cube = crate::PeriodicCube::new(cfg.s)?;
+        plot_start_result(path, &report.start, &report.output.points, &cube)?;
+    }
+    let summary = if json {
+        report_json(&report, &cfg)
+    } else {
+        Value::String(report_table(&report, &cfg, output.as_ref()))
+    };
+    emit(&report.output.points, &meta, output.as_ref(), summary)?;
+    Ok(())
+}
+
+/// `--integrator dem|lbfgs`.
+pub(crate) fn parse_solver(text: &str) -> Result<Solver> {
+    match text {
+        "dem" => Ok(Solver::Dem),
+        "lbfgs" => Ok(Solver::Lbfgs),
+        other => bail!("invalid --integrator = {other}: expected dem or lbfgs"),
+    }
+}
+
+/// The checkpoint plan of `--checkpoint FILE [--checkpoint-every K] [--resume [FILE]]`.
+pub(crate) fn checkpoint_plan(
+    checkpoint: Option<PathBuf>,
+    every: usize,
+    resume: Option<Option<PathBuf>>,
+    extra: Value,
+    quiet: bool,
+) -> Result<Option<run::CheckpointPlan>> {
+    // `--resume` without a value means "the --checkpoint file".
+    let resume_path = match (&resume, &checkpoint) {
+        (None, _) => None,
+        (Some(Some(r)), _) => Some(r.clone()),
+        (Some(None), Some(c)) => Some(c.clone()),
+        (Some(None), None) => {
+            bail!(
+                "invalid --resume without a FILE: give --resume FILE or --checkpoint FILE --resume"
+            )
+        }
+    };
+    if every == 0 {
+        bail!("invalid --checkpoint-every = 0: expected a number of steps ≥ 1");
+    }
+    if let Some(r) = &resume_path {
+        if !r.is_file() {
+            bail!(
+                "invalid --resume {}: no such checkpoint file (expected a file written by \
+                 generate --checkpoint)",
+                r.display()
+            );
+        }
+    }
+    let Some(path) = checkpoint.or_else(|| resume_path.clone()) else {
+        return Ok(None);
+    };
+    check_writable(&path, "--checkpoint")?;
+    if resume_path.is_none() && path.exists() && !quiet {
+        eprintln!(
+            "note: {} exists; this run starts afresh and replaces it (add --resume to \
+             continue from it)",
+            path.display()
+        );
+    }
+    Ok(Some(run::CheckpointPlan {
+        path,
+        every,
+        resume: resume_path,
+        extra,
+    }))
+}

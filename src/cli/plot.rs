@@ -1,0 +1,241 @@
+//! `stillpoint plot` and `generate --plot`: point files, trajectories, start beside result.
+
+use super::*;
+
+/// `stillpoint plot FILE`: a scatter plot (s = 2, with the region's boundary when one is
+/// given) or a matrix of projections of the first `dims` coordinates.
+pub(crate) fn plot_points(
+    file: &std::path::Path,
+    output: &std::path::Path,
+    dims: Option<usize>,
+    spec: RegionSpec,
+    title: Option<String>,
+) -> Result<()> {
+    let points = io::read_points(file)?;
+    let s = points.s();
+    let k = dims.unwrap_or(s.min(4));
+    if k == 0 || k > s {
+        bail!("invalid --dims = {k}: expected 1 ≤ K ≤ s = {s} (the file's dimension)");
+    }
+    let title = title.unwrap_or_else(|| {
+        file.file_name()
+            .map(|f| f.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    });
+    let domain = if spec.region.is_some() || spec.shape.is_some() {
+        Some(region_domain(spec.region, spec.bbox, spec.shape, Some(s))?)
+    } else {
+        None
+    };
+    let (lo, hi) = match (&domain, spec.bbox) {
+        (Some(d), _) => d.bounding_box(),
+        (None, Some(b)) => {
+            let (lo, hi) = parse_box(b)?;
+            if lo.len() < k {
+                bail!(
+                    "invalid --box = {b}: it has {} dimensions, {k} are drawn (expected \
+                     LO1,HI1,..,LO{k},HI{k})",
+                    lo.len()
+                );
+            }
+            (lo, hi)
+        }
+        (None, None) => plot_box(&points),
+    };
+    if k == 2 && s == 2 {
+        let boundary = match &domain {
+            Some(d) if d.level(&[lo[0], lo[1]]).is_some() => crate::plot::boundary_polylines(
+                &|x: &[f64]| d.level(x).unwrap_or(f64::NAN),
+                [lo[0], lo[1]],
+                [hi[0], hi[1]],
+                300,
+            ),
+            _ => Vec::new(),
+        };
+        let panel = crate::plot::Panel {
+            title,
+            points: &points,
+            lo: [lo[0], lo[1]],
+            hi: [hi[0], hi[1]],
+            boundary,
+        };
+        crate::plot::save_panels(output, &[panel], 1)?;
+    } else {
+        crate::plot::save_projection_matrix(output, &title, &points, k, &lo, &hi)?;
+    }
+    Ok(())
+}
+
+/// The unit cube when the points lie in it, else their bounding box padded by 5 %.
+pub(crate) fn plot_box(points: &PointSet) -> (Vec<f64>, Vec<f64>) {
+    if points.check_unit_cube().is_ok() {
+        return (vec![0.0; points.s()], vec![1.0; points.s()]);
+    }
+    (0..points.s())
+        .map(|k| {
+            let (a, b) = points
+                .rows()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
+                    (a.min(r[k]), b.max(r[k]))
+                });
+            let pad = if b > a { 0.05 * (b - a) } else { 0.5 };
+            (a - pad, b + pad)
+        })
+        .unzip()
+}
+
+/// A trajectory file as `generate --trajectory` writes it.
+#[derive(serde::Deserialize)]
+pub(crate) struct TrajectoryFile {
+    #[serde(default)]
+    pub(crate) energy: Option<String>,
+    pub(crate) records: Vec<crate::integrators::Record>,
+}
+
+/// `stillpoint plot --trajectory TRAJ`: energy (relative to the start) and the logged
+/// discrepancies against step and against wall time.
+pub(crate) fn plot_trajectory(
+    path: &std::path::Path,
+    output: &std::path::Path,
+    title: Option<String>,
+) -> Result<()> {
+    use crate::plot::{LineChart, Series};
+    let refuse = |why: String| {
+        anyhow::anyhow!(
+            "invalid --trajectory {}: expected a trajectory written by generate --trajectory \
+             ({why})",
+            path.display()
+        )
+    };
+    let bytes = std::fs::read(path).map_err(|e| refuse(format!("cannot read it: {e}")))?;
+    let traj: TrajectoryFile =
+        serde_json::from_slice(&bytes).map_err(|e| refuse(format!("{e}")))?;
+    // A non-smooth run repeats its returned state at the end; the curves follow the steps.
+    let mut records = Vec::with_capacity(traj.records.len());
+    for r in &traj.records {
+        if records
+            .last()
+            .is_none_or(|l: &&crate::integrators::Record| r.step > l.step)
+        {
+            records.push(r);
+        }
+    }
+    let Some(first) = records.first() else {
+        return Err(refuse("it has no records".into()));
+    };
+    let u0 = first.energy;
+    if !(u0.is_finite() && u0 != 0.0) {
+        return Err(refuse(format!("the start energy is {u0}")));
+    }
+    let title = title.unwrap_or_else(|| traj.energy.clone().unwrap_or_else(|| "energy".into()));
+    let mut names: Vec<&str> = Vec::new();
+    for r in &records {
+        for (k, _) in &r.metrics {
+            if !names.contains(&k.as_str()) {
+                names.push(k);
+            }
+        }
+    }
+    let energy = |x: &dyn Fn(&crate::integrators::Record) -> f64| Series {
+        name: "U / U(start)".into(),
+        points: records.iter().map(|r| (x(r), r.energy / u0)).collect(),
+    };
+    let metric = |x: &dyn Fn(&crate::integrators::Record) -> f64| -> Vec<Series> {
+        names
+            .iter()
+            .map(|name| Series {
+                name: (*name).to_string(),
+                points: records
+                    .iter()
+                    .filter_map(|r| {
+                        r.metrics
+                            .iter()
+                            .find(|(k, _)| k == name)
+                            .map(|(_, v)| (x(r), *v))
+                    })
+                    .collect(),
+            })
+            .collect()
+    };
+    let by_step = |r: &crate::integrators::Record| r.step as f64;
+    let by_time = |r: &crate::integrators::Record| r.seconds;
+    let chart = |t: String, x: &str, y: &str, series: Vec<Series>| LineChart {
+        title: t,
+        x_label: x.into(),
+        y_label: y.into(),
+        log_y: false,
+        series,
+    };
+    let mut charts = vec![
+        chart(
+            format!("{title}: energy"),
+            "step",
+            "U / U(start)",
+            vec![energy(&by_step)],
+        ),
+        chart(
+            format!("{title}: energy"),
+            "seconds",
+            "U / U(start)",
+            vec![energy(&by_time)],
+        ),
+    ];
+    if !names.is_empty() {
+        charts.push(chart(
+            "discrepancies (roots)".into(),
+            "step",
+            "discrepancy",
+            metric(&by_step),
+        ));
+        charts.push(chart(
+            "discrepancies (roots)".into(),
+            "seconds",
+            "discrepancy",
+            metric(&by_time),
+        ));
+    }
+    crate::plot::save_line_chart_grid(output, &charts, 2)?;
+    Ok(())
+}
+
+/// Draws the start beside the result, with the boundary when the domain has one and s = 2.
+pub(crate) fn plot_start_result(
+    path: &std::path::Path,
+    start: &PointSet,
+    result: &PointSet,
+    domain: &dyn Domain,
+) -> Result<()> {
+    if start.s() < 2 {
+        bail!("invalid --plot: the points have s = 1; plots need s ≥ 2");
+    }
+    let (lo, hi) = domain.bounding_box();
+    let (lo2, hi2) = ([lo[0], lo[1]], [hi[0], hi[1]]);
+    let boundary = if start.s() == 2 && domain.level(&[lo[0], lo[1]]).is_some() {
+        crate::plot::boundary_polylines(
+            &|x: &[f64]| domain.level(x).unwrap_or(f64::NAN),
+            lo2,
+            hi2,
+            300,
+        )
+    } else {
+        Vec::new()
+    };
+    let panels = [
+        crate::plot::Panel {
+            title: "start".into(),
+            points: start,
+            lo: lo2,
+            hi: hi2,
+            boundary: boundary.clone(),
+        },
+        crate::plot::Panel {
+            title: "result".into(),
+            points: result,
+            lo: lo2,
+            hi: hi2,
+            boundary,
+        },
+    ];
+    crate::plot::save_panels(path, &panels, 2)?;
+    Ok(())
+}

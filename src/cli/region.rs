@@ -1,0 +1,124 @@
+//! Regions from the command line: `--region EXPR --box ...` and `--shape ...`.
+
+use super::*;
+
+/// Parses a comma-separated list of numbers for the option `name`.
+pub(crate) fn number_list(name: &str, text: &str) -> Result<Vec<f64>> {
+    text.split(',')
+        .map(|t| {
+            t.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .with_context(|| {
+                    format!("invalid {name} = {text}: {t:?} is not a finite number (expected comma-separated numbers)")
+                })
+        })
+        .collect()
+}
+
+/// `--box LO1,HI1,LO2,HI2,...` as (lo, hi).
+pub(crate) fn parse_box(text: &str) -> Result<(Vec<f64>, Vec<f64>)> {
+    let v = number_list("--box", text)?;
+    if v.is_empty() || v.len() % 2 != 0 {
+        bail!("invalid --box = {text}: expected LO1,HI1,LO2,HI2,... (two numbers per dimension)");
+    }
+    let lo: Vec<f64> = v.iter().step_by(2).copied().collect();
+    let hi: Vec<f64> = v.iter().skip(1).step_by(2).copied().collect();
+    if let Some(k) = (0..lo.len()).find(|&k| lo[k] >= hi[k]) {
+        bail!(
+            "invalid --box = {text}: dimension {} has LO = {} ≥ HI = {} (expected LO < HI)",
+            k + 1,
+            lo[k],
+            hi[k]
+        );
+    }
+    Ok((lo, hi))
+}
+
+/// The domain of `--region EXPR --box ..` or `--shape SPEC`.
+pub(crate) fn region_domain(
+    region: Option<&str>,
+    bbox: Option<&str>,
+    shape: Option<&str>,
+    s: Option<usize>,
+) -> Result<Arc<dyn Domain>> {
+    let dim_check = |got: usize| -> Result<()> {
+        match s {
+            Some(s) if s != got => {
+                bail!("invalid -s = {s}: the region has dimension {got}")
+            }
+            _ => Ok(()),
+        }
+    };
+    if region.is_some() && shape.is_some() {
+        bail!("give either --region EXPR or --shape SHAPE, not both");
+    }
+    if let Some(expr) = region {
+        let (lo, hi) = parse_box(bbox.context("--region needs --box LO1,HI1,LO2,HI2,...")?)?;
+        dim_check(lo.len())?;
+        let g = crate::expr::RegionExpr::parse(expr, lo.len())
+            .with_context(|| "invalid --region".to_string())?;
+        let r = ImplicitRegion::new(g.into_fn(), lo, hi)?;
+        r.check(4096, 0).context("--region")?;
+        return Ok(Arc::new(r));
+    }
+    let spec = shape.unwrap_or_default();
+    let (kind, rest) = spec.split_once(':').unwrap_or((spec, ""));
+    let need_s = || s.context("this --shape needs -s S (the dimension)");
+    let split_at = |text: &str| -> Result<(Vec<f64>, Option<Vec<f64>>)> {
+        match text.split_once('@') {
+            Some((a, c)) => Ok((number_list("--shape", a)?, Some(number_list("--shape", c)?))),
+            None => Ok((number_list("--shape", text)?, None)),
+        }
+    };
+    let domain: Arc<dyn Domain> = match kind {
+        "ball" => {
+            let (r, c) = split_at(rest)?;
+            if r.len() != 1 {
+                bail!("invalid --shape = {spec}: expected ball:R or ball:R@C1,C2,...");
+            }
+            let c = match c {
+                Some(c) => c,
+                None => vec![0.0; need_s()?],
+            };
+            Arc::new(Ball::new(c, r[0])?)
+        }
+        "ellipsoid" => {
+            let (a, c) = split_at(rest)?;
+            let c = c.unwrap_or_else(|| vec![0.0; a.len()]);
+            Arc::new(Ellipsoid::new(c, a)?)
+        }
+        "box" => {
+            let (lo, hi) =
+                parse_box(rest).map_err(|e| anyhow::anyhow!("invalid --shape = {spec}: {e}"))?;
+            Arc::new(BoxRegion::new(lo, hi)?)
+        }
+        "simplex" => Arc::new(Simplex::new(need_s()?)?),
+        "polytope" => {
+            let rows =
+                io::read_points(std::path::Path::new(rest)).context("--shape polytope:FILE")?;
+            if rows.s() < 2 {
+                bail!("invalid --shape = {spec}: each row needs a1 .. as b (at least 2 numbers)");
+            }
+            let a: Vec<Vec<f64>> = rows.rows().map(|r| r[..r.len() - 1].to_vec()).collect();
+            let b: Vec<f64> = rows.rows().map(|r| r[r.len() - 1]).collect();
+            let (lo, hi) = parse_box(bbox.context("--shape polytope:FILE needs --box")?)?;
+            Arc::new(Polytope::new(a, b, lo, hi)?)
+        }
+        _ => bail!(
+            "invalid --shape = {spec}: expected ball:R[@C..], ellipsoid:A1,..[@C..], \
+             box:LO1,HI1,.., simplex or polytope:FILE"
+        ),
+    };
+    dim_check(domain.dim())?;
+    Ok(domain)
+}
+
+/// `--region EXPR --box ..` / `--shape ..` as given on the command line.
+#[derive(Clone, Copy)]
+pub(crate) struct RegionSpec<'a> {
+    pub(crate) region: Option<&'a str>,
+    pub(crate) bbox: Option<&'a str>,
+    pub(crate) shape: Option<&'a str>,
+}

@@ -1,0 +1,451 @@
+//! Reports: the tables and JSON a run or `eval` prints, and the point-file headers.
+
+use super::*;
+
+pub(crate) fn metrics_json(m: &Metrics) -> Value {
+    serde_json::to_value(m).unwrap_or(Value::Null)
+}
+
+/// The `--json` report of a cube run: settings, run facts, energies and metrics of the
+/// start and the result, the shift and polish, and the wall time.
+pub(crate) fn report_json(r: &GenerateReport, cfg: &GenerateConfig) -> Value {
+    let info: serde_json::Map<String, Value> = r
+        .output
+        .info
+        .iter()
+        .map(|(k, v)| (k.clone(), finite_or_null(*v)))
+        .collect();
+    let init = match &cfg.init {
+        Init::Halton => "halton".to_string(),
+        Init::Random => "random".to_string(),
+        Init::Points(_) => "file".to_string(),
+    };
+    let mut v = json!({
+        "generator": format!("stillpoint {}", env!("CARGO_PKG_VERSION")),
+        "n": cfg.n,
+        "s": cfg.s,
+        "energy": r.energy_name,
+        "q": r.choice.q,
+        "p": r.choice.p,
+        "precision": cfg.precision.label(),
+        "init": init,
+        "seed": cfg.seed,
+        "steps": r.output.trajectory.iter().map(|t| t.step).max().unwrap_or(0),
+        "stop": r.output.stop,
+        "kappa": r.output.info("kappa"),
+        "restarts": r.output.info("restarts"),
+    });
+    v["eq48"] = json!({
+        "used": r.choice.from_eq48,
+        "in_fitted_range": r.choice.eq48_in_fitted_range,
+        "clamped": r.choice.eq48_clamped,
+    });
+    v["run"] = Value::Object(info);
+    v["energy_start"] = finite_or_null(r.energy.0);
+    v["energy_result"] = finite_or_null(r.energy.1);
+    v["metrics_start"] = metrics_json(&r.metrics.0);
+    v["metrics_result"] = metrics_json(&r.metrics.1);
+    v["shift"] = serde_json::to_value(&r.shift).unwrap_or(Value::Null);
+    v["polish"] = match r.polish {
+        Some((a, b, it)) => json!({"before": a, "after": b, "iterations": it}),
+        None => Value::Null,
+    };
+    v["seconds"] = json!(r.seconds);
+    v
+}
+
+/// The settings of a DEM as the command line writes them.
+pub(crate) fn dem_settings(dem: &crate::integrators::Dem, steps: usize) -> Value {
+    use crate::integrators::{Kappa, Restart};
+    json!({
+        "steps": steps,
+        "kappa": match dem.kappa {
+            Kappa::Fixed(k) => json!(k),
+            Kappa::Auto { .. } => json!("auto"),
+        },
+        "restart": match dem.restart {
+            Restart::Auto => json!("auto"),
+            Restart::Off => json!("off"),
+            Restart::Threshold(e) => json!(e),
+        },
+        "tolerance": dem.tolerance,
+    })
+}
+
+/// The header of a generated point file: what made it (generator, version, seed, every
+/// parameter) and what came out (run facts and the result's metrics). Nothing in it
+/// depends on the clock or the thread count, so the file is the same bytes every time.
+pub(crate) fn generate_meta(r: &GenerateReport, cfg: &GenerateConfig) -> Value {
+    let init = match &cfg.init {
+        Init::Halton => "halton".to_string(),
+        Init::Random => "random".to_string(),
+        Init::Points(p) => format!("file: {}", run::points_fingerprint(p)),
+    };
+    let mut parameters = json!({
+        "n": cfg.n,
+        "s": cfg.s,
+        "energy": r.energy_name,
+        "q": r.choice.q,
+        "p": finite_or_null(r.choice.p),
+        "precision": cfg.precision.label(),
+        "pq_from_eq48": r.choice.from_eq48,
+        "init": init,
+        "integrator": match cfg.solver {
+            Solver::Dem => "dem",
+            Solver::Lbfgs => "lbfgs",
+        },
+        "shifts": cfg.shifts,
+        "polish": cfg.polish.map(|k| format!("{k:?}")),
+    });
+    if let (Value::Object(p), Value::Object(d)) =
+        (&mut parameters, dem_settings(&cfg.dem, cfg.steps))
+    {
+        p.extend(d);
+    }
+    json!({
+        "generator": "stillpoint generate",
+        "version": env!("CARGO_PKG_VERSION"),
+        "seed": cfg.seed,
+        "parameters": parameters,
+        "run": {
+            "steps": r.output.trajectory.iter().map(|t| t.step).max().unwrap_or(0),
+            "stop": r.output.stop,
+            "kappa": r.output.info("kappa").map(finite_or_null),
+            "restarts": r.output.info("restarts").map(finite_or_null),
+        },
+        "metrics": metrics_json(&r.metrics.1),
+    })
+}
+
+/// The header of a point file generated in a region (see [`generate_meta`]).
+pub(crate) fn region_meta(r: &RegionReport, cfg: &RegionConfig, region: &Value) -> Value {
+    let mut parameters = json!({
+        "n": cfg.n,
+        "s": cfg.domain.dim(),
+        "region": region,
+        "domain": format!("{:?}", cfg.domain),
+        "energy": r.energy_name,
+        "init": match &cfg.init {
+            RegionInit::Random => "random".to_string(),
+            RegionInit::Halton => "halton".to_string(),
+            RegionInit::Points(p) => format!("file: {}", run::points_fingerprint(p)),
+        },
+    });
+    if let (Value::Object(p), Value::Object(d)) =
+        (&mut parameters, dem_settings(&cfg.dem, cfg.steps))
+    {
+        p.extend(d);
+    }
+    json!({
+        "generator": "stillpoint generate",
+        "version": env!("CARGO_PKG_VERSION"),
+        "seed": cfg.seed,
+        "parameters": parameters,
+        "run": {
+            "steps": r.output.trajectory.iter().map(|t| t.step).max().unwrap_or(0),
+            "stop": r.output.stop,
+            "kappa": r.output.info("kappa").map(finite_or_null),
+        },
+        "metrics": serde_json::to_value(r.metrics.1).unwrap_or(Value::Null),
+    })
+}
+
+pub(crate) fn finite_or_null(v: f64) -> Value {
+    if v.is_finite() {
+        json!(v)
+    } else {
+        Value::Null
+    }
+}
+
+pub(crate) fn report_table(
+    r: &GenerateReport,
+    cfg: &GenerateConfig,
+    out: Option<&PathBuf>,
+) -> String {
+    let (m0, m1) = (&r.metrics.0, &r.metrics.1);
+    let init = match &cfg.init {
+        Init::Halton => "plain Halton (indices 1..n)".to_string(),
+        Init::Random => format!("random (seed {})", cfg.seed),
+        Init::Points(_) => "points from file".to_string(),
+    };
+    let mut t = String::new();
+    t += &format!(
+        "stillpoint: n = {}, s = {}, {} from {}\n",
+        cfg.n, cfg.s, r.energy_name, init
+    );
+    if r.choice.from_eq48 {
+        t += &format!(
+            "  (q, p) from eq. 48{}{}\n",
+            if r.choice.eq48_in_fitted_range {
+                ""
+            } else {
+                "; (n, s) is outside the fitted range 1 ≤ s ≤ 20, s ≤ n ≤ 1500"
+            },
+            if r.choice.eq48_clamped {
+                "; clamped into [0.05, 1]"
+            } else {
+                ""
+            }
+        );
+    }
+    let steps = r
+        .output
+        .trajectory
+        .iter()
+        .map(|x| x.step)
+        .max()
+        .unwrap_or(0);
+    t += &match r.output.info("kappa") {
+        Some(kappa) => format!(
+            "  DEM: {} steps ({:?}), κ = {} after {} trial(s){}, {} restart(s)\n\n",
+            steps,
+            r.output.stop,
+            kappa,
+            r.output.info("kappa_trials").unwrap_or(0.0),
+            if r.output.info("kappa_trial_failed") == Some(1.0) {
+                " (the energy never fell steadily: κ capped)"
+            } else {
+                ""
+            },
+            r.output.info("restarts").unwrap_or(0.0),
+        ),
+        None => format!(
+            "  L-BFGS: {} iterations ({:?}), {} restart(s)\n\n",
+            steps,
+            r.output.stop,
+            r.output.info("restarts").unwrap_or(0.0),
+        ),
+    };
+    t += &format!(
+        "  {:<36} {:>14} {:>14} {:>9}\n",
+        "", "start", "result", "change"
+    );
+    let mut row = |name: &str, a: f64, b: f64, sci: bool| {
+        let f = |v: f64| {
+            if sci {
+                format!("{v:.6e}")
+            } else {
+                format!("{v:.6}")
+            }
+        };
+        let change = if a != 0.0 && a.is_finite() && b.is_finite() {
+            format!("{:+.1}%", 100.0 * (b - a) / a)
+        } else {
+            "-".to_string()
+        };
+        t += &format!("  {:<36} {:>14} {:>14} {:>9}\n", name, f(a), f(b), change);
+    };
+    let energy_label = format!("energy {}", r.energy_name.split('(').next().unwrap_or(""));
+    row(&energy_label, r.energy.0, r.energy.1, true);
+    row(
+        "star L2 discrepancy D_L2* (root)",
+        m0.star_l2,
+        m1.star_l2,
+        false,
+    );
+    row(
+        "modified L2 discrepancy D_MD (root)",
+        m0.modified_l2,
+        m1.modified_l2,
+        false,
+    );
+    row(
+        "centred L2 discrepancy (root)",
+        m0.centered_l2,
+        m1.centered_l2,
+        false,
+    );
+    row(
+        "wrap-around L2 discrepancy (root)",
+        m0.wrap_around_l2,
+        m1.wrap_around_l2,
+        false,
+    );
+    row(
+        "minimum distance (Euclidean)",
+        m0.min_distance,
+        m1.min_distance,
+        false,
+    );
+    row(
+        "minimum distance (periodic)",
+        m0.min_distance_periodic,
+        m1.min_distance_periodic,
+        false,
+    );
+    let gap = |p: &PointSet| p.mean().iter().map(|v| (v - 0.5).abs()).fold(0.0, f64::max);
+    row(
+        "mean gap max_k |mean_k − 0.5|",
+        gap(&r.start),
+        gap(&r.output.points),
+        false,
+    );
+    if let Some(sh) = &r.shift {
+        t += &format!(
+            "\n  shift selection: D_MD {:.6} after the DEM → {:.6} with shift ({}) ({} evaluations)\n",
+            sh.modified_l2_before,
+            sh.modified_l2_after,
+            sh.shift.iter().map(|c| format!("{c:.4}")).collect::<Vec<_>>().join(", "),
+            sh.evaluations
+        );
+    }
+    if let Some((a, b, it)) = r.polish {
+        t +=
+            &format!("  polish: squared discrepancy {a:.6e} → {b:.6e} in {it} L-BFGS iterations\n");
+    }
+    t += &format!(
+        "\n  time {:.2} s; points written to {}\n",
+        r.seconds,
+        out.map(|p| p.display().to_string())
+            .unwrap_or_else(|| "standard output".into())
+    );
+    t
+}
+
+pub(crate) fn eval_json(points: &PointSet) -> Value {
+    let m = Metrics::compute(points);
+    let fit = paper_qp(points.n(), points.s());
+    let uqp = Uqp::new(Distance::Q(fit.q), fit.p)
+        .map(|e| e.value(points))
+        .ok();
+    let mean_gap = points
+        .mean()
+        .iter()
+        .map(|v| (v - 0.5).abs())
+        .fold(0.0, f64::max);
+    json!({
+        "n": points.n(),
+        "s": points.s(),
+        "star_l2": m.star_l2,
+        "modified_l2": m.modified_l2,
+        "centered_l2": m.centered_l2,
+        "wrap_around_l2": m.wrap_around_l2,
+        "min_distance": finite_or_null(m.min_distance),
+        "min_distance_periodic": finite_or_null(m.min_distance_periodic),
+        "energy_uqp": uqp.map(finite_or_null),
+        "energy_uqp_q": fit.q,
+        "energy_uqp_p": fit.p,
+        "energy_e_inf": finite_or_null(1.0 / m.min_distance),
+        "mean_gap": mean_gap,
+    })
+}
+
+pub(crate) fn eval_table(file: &std::path::Path, points: &PointSet, v: &Value) -> String {
+    let num = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
+    let mut t = format!(
+        "{}: n = {}, s = {}\n",
+        file.display(),
+        points.n(),
+        points.s()
+    );
+    let rows = [
+        ("star L2 discrepancy D_L2* (root)", num("star_l2")),
+        ("modified L2 discrepancy D_MD (root)", num("modified_l2")),
+        ("centred L2 discrepancy (root)", num("centered_l2")),
+        ("wrap-around L2 discrepancy (root)", num("wrap_around_l2")),
+        ("minimum distance (Euclidean)", num("min_distance")),
+        ("minimum distance (periodic)", num("min_distance_periodic")),
+        ("mean gap max_k |mean_k − 0.5|", num("mean_gap")),
+    ];
+    for (name, val) in rows {
+        t += &format!("  {name:<40} {val:.6}\n");
+    }
+    t += &format!(
+        "  {:<40} {:.6e}   (q = {:.4}, p = {:.4} from eq. 48)\n",
+        "energy U_{q,p}",
+        num("energy_uqp"),
+        num("energy_uqp_q"),
+        num("energy_uqp_p")
+    );
+    t += &format!(
+        "  {:<40} {:.6}\n",
+        "energy U_{E,∞} = 1/d_min",
+        num("energy_e_inf")
+    );
+    t
+}
+
+pub(crate) fn points_json(points: &PointSet) -> Value {
+    json!(points.rows().map(|r| r.to_vec()).collect::<Vec<_>>())
+}
+
+/// The `--json` report of a region run.
+pub(crate) fn region_json(r: &RegionReport, cfg: &RegionConfig) -> Value {
+    let mut v = json!({
+        "generator": format!("stillpoint {}", env!("CARGO_PKG_VERSION")),
+        "n": cfg.n,
+        "s": cfg.domain.dim(),
+        "region": format!("{:?}", cfg.domain),
+        "energy": r.energy_name,
+        "seed": cfg.seed,
+        "steps": r.output.trajectory.iter().map(|t| t.step).max().unwrap_or(0),
+        "stop": r.output.stop,
+        "kappa": r.output.info("kappa"),
+        "energy_e_inf_g_reduction": finite_or_null(r.reduction()),
+    });
+    let info: serde_json::Map<String, Value> = r
+        .output
+        .info
+        .iter()
+        .map(|(k, v)| (k.clone(), finite_or_null(*v)))
+        .collect();
+    v["run"] = Value::Object(info);
+    v["metrics_start"] = serde_json::to_value(r.metrics.0).unwrap_or(Value::Null);
+    v["metrics_result"] = serde_json::to_value(r.metrics.1).unwrap_or(Value::Null);
+    v["seconds"] = json!(r.seconds);
+    v
+}
+
+pub(crate) fn region_table(r: &RegionReport, cfg: &RegionConfig, out: Option<&PathBuf>) -> String {
+    let (a, b) = (&r.metrics.0, &r.metrics.1);
+    let mut t = format!(
+        "stillpoint: n = {}, s = {} in {:?}\n  {} from {}, DEM: {} steps ({:?}), κ = {} after {} trial(s)\n\n",
+        cfg.n,
+        cfg.domain.dim(),
+        cfg.domain,
+        r.energy_name,
+        match &cfg.init {
+            RegionInit::Random => format!("random start (seed {}, first n inside the box)", cfg.seed),
+            RegionInit::Halton => "Halton start (first n inside the box)".into(),
+            RegionInit::Points(_) => "points from file".into(),
+        },
+        r.output.trajectory.iter().map(|x| x.step).max().unwrap_or(0),
+        r.output.stop,
+        r.output.info("kappa").unwrap_or(f64::NAN),
+        r.output.info("kappa_trials").unwrap_or(0.0),
+    );
+    t += &format!(
+        "  {:<36} {:>14} {:>14} {:>9}\n",
+        "", "start", "result", "change"
+    );
+    for (name, x, y) in [
+        (
+            "energy U_{E,∞,g} (eq. 56)",
+            a.energy_e_inf_g,
+            b.energy_e_inf_g,
+        ),
+        ("minimum distance", a.min_distance, b.min_distance),
+        (
+            "minimum distance to the boundary",
+            a.min_boundary_distance,
+            b.min_boundary_distance,
+        ),
+    ] {
+        t += &format!(
+            "  {:<36} {:>14.6} {:>14.6} {:>+8.1}%\n",
+            name,
+            x,
+            y,
+            100.0 * (y - x) / x
+        );
+    }
+    t += &format!(
+        "\n  U_{{E,∞,g}} reduction {:.1}%; time {:.2} s; points written to {}\n",
+        100.0 * r.reduction(),
+        r.seconds,
+        out.map(|p| p.display().to_string())
+            .unwrap_or_else(|| "standard output".into())
+    );
+    t
+}
