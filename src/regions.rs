@@ -280,23 +280,23 @@ pub fn generate_in_region_with(
     })
 }
 
-/// Everything in a region configuration that decides its output, under the command
-/// line's option names (the region itself by its kind and box; see
+/// Everything in a region configuration that decides its output, under the
+/// parameters' names (the region itself by its kind and box; see
 /// [`generate_in_region_with`]).
 pub fn region_config_json(cfg: &RegionConfig) -> serde_json::Value {
     let mut v = serde_json::json!({
         "run": "region",
         "region": format!("{:?}", cfg.domain),
-        "-n": cfg.n,
-        "-s": cfg.domain.dim(),
-        "--energy": format!("{:?}", cfg.energy),
-        "--init": match &cfg.init {
+        "n": cfg.n,
+        "s": cfg.domain.dim(),
+        "energy": format!("{:?}", cfg.energy),
+        "init": match &cfg.init {
             RegionInit::Random => "random".to_string(),
             RegionInit::Halton => "halton".to_string(),
             RegionInit::Points(p) => format!("file: {}", points_fingerprint(p)),
         },
-        "--seed": cfg.seed,
-        "--integrator": format!("{:?}", cfg.solver),
+        "seed": cfg.seed,
+        "integrator": format!("{:?}", cfg.solver),
     });
     if let (serde_json::Value::Object(map), serde_json::Value::Object(dem)) =
         (&mut v, dem_json(&cfg.dem, cfg.steps))

@@ -12,8 +12,7 @@ use crate::energies::shapes::BoxRegion;
 use crate::energies::{paper_qp, Distance, Domain, Energy, PeriodicCube, PointSet, Precision, Uqp};
 use crate::integrators::lbfgs::Lbfgs;
 use crate::integrators::{
-    Control, Dem, Executor, Integrator, Kappa, Observer, Problem, Record, Restart, RunOutput,
-    Snapshot,
+    Control, Dem, Executor, Integrator, Observer, Problem, Record, RunOutput, Snapshot,
 };
 use crate::metrics::{self, Metrics};
 use crate::sequences;
@@ -555,7 +554,7 @@ pub const CHECKPOINT_FORMAT: &str = "stillpoint checkpoint";
 pub const CHECKPOINT_VERSION: u32 = 2;
 
 /// Where a run writes its checkpoints, how often, and where it resumes from.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct CheckpointPlan {
     /// The checkpoint file, replaced atomically every `every` steps.
     pub path: PathBuf,
@@ -566,6 +565,9 @@ pub struct CheckpointPlan {
     /// More configuration to record and compare on resume, beyond what the run's own
     /// configuration holds (for example the text of a region's expression).
     pub extra: Value,
+    /// How the caller names a setting when a resume is refused for a difference (the
+    /// command line shows its flags); the parameter's own name by default.
+    pub names: fn(&str) -> String,
 }
 
 impl CheckpointPlan {
@@ -576,6 +578,7 @@ impl CheckpointPlan {
             every,
             resume: None,
             extra: Value::Null,
+            names: str::to_string,
         }
     }
 
@@ -597,14 +600,14 @@ impl CheckpointPlan {
     ) -> Result<(), Error> {
         let bytes = encode_checkpoint(&self.config(config), state).map_err(|e| {
             Error::invalid(
-                "--checkpoint",
+                "checkpoint",
                 self.path.display(),
                 format!("a state that can be written as JSON ({e})"),
             )
         })?;
         crate::io::write_atomic(&self.path, &bytes).map_err(|e| {
             Error::invalid(
-                "--checkpoint",
+                "checkpoint",
                 self.path.display(),
                 format!("a file that can be written ({e})"),
             )
@@ -621,14 +624,14 @@ impl CheckpointPlan {
         };
         let checkpoint = read_checkpoint(path)?;
         let expected = self.config(config);
-        let differences = config_differences(&checkpoint.config, &expected);
+        let differences = config_differences(&checkpoint.config, &expected, self.names);
         if !differences.is_empty() {
             return Err(Error::invalid(
-                "--resume",
+                "resume checkpoint",
                 path.display(),
                 format!(
                     "a checkpoint of this configuration; it was made with {} (resume with the \
-                     same settings, or start afresh without --resume)",
+                     same settings, or start afresh)",
                     differences.join(", ")
                 ),
             ));
@@ -637,7 +640,7 @@ impl CheckpointPlan {
             .map(Some)
             .map_err(|e| {
                 Error::invalid(
-                    "--resume",
+                    "resume checkpoint",
                     path.display(),
                     format!("a checkpoint of this run's solver ({e})"),
                 )
@@ -694,7 +697,7 @@ pub fn encode_checkpoint<S: Serialize>(
 pub fn read_checkpoint(path: &Path) -> Result<Checkpoint, Error> {
     let refuse = |why: String| {
         Error::invalid(
-            "--resume",
+            "resume checkpoint",
             path.display(),
             format!("a stillpoint checkpoint file ({why})"),
         )
@@ -740,7 +743,11 @@ pub fn read_checkpoint(path: &Path) -> Result<Checkpoint, Error> {
 
 /// The settings `expected` holds that `found` (a checkpoint's) does not, as
 /// `--key = found (this run: expected)`.
-fn config_differences<'a>(found: &'a Value, expected: &'a Value) -> Vec<String> {
+fn config_differences<'a>(
+    found: &'a Value,
+    expected: &'a Value,
+    names: fn(&str) -> String,
+) -> Vec<String> {
     let (Value::Object(f), Value::Object(e)) = (found, expected) else {
         return vec![format!("configuration {found} (this run: {expected})")];
     };
@@ -757,7 +764,12 @@ fn config_differences<'a>(found: &'a Value, expected: &'a Value) -> Vec<String> 
                 Some(Value::String(s)) => s.clone(),
                 Some(v) => v.to_string(),
             };
-            format!("{k} = {} (this run: {})", show(f.get(k)), show(e.get(k)))
+            format!(
+                "{} = {} (this run: {})",
+                names(k),
+                show(f.get(k)),
+                show(e.get(k))
+            )
         })
         .collect()
 }
@@ -777,74 +789,43 @@ pub fn points_fingerprint(points: &PointSet) -> String {
     )
 }
 
-/// The DEM's settings under their option names.
+/// The DEM's settings under their parameter names.
 pub(crate) fn dem_json(dem: &Dem, steps: usize) -> Value {
     json!({
-        "--steps": steps,
-        "--kappa": format!("{:?}", dem.kappa),
-        "--restart": format!("{:?}", dem.restart),
-        "--tolerance": dem.tolerance,
+        "steps": steps,
+        "kappa": format!("{:?}", dem.kappa),
+        "restart": format!("{:?}", dem.restart),
+        "tolerance": dem.tolerance,
         "dt": dem.dt,
         "G": dem.g,
     })
 }
 
-/// Everything in a configuration that decides its output, under the command line's
-/// option names: what a checkpoint records and a resume compares.
+/// Everything in a configuration that decides its output, under the parameters' names:
+/// what a checkpoint records and a resume compares.
 pub fn config_json(cfg: &GenerateConfig) -> Value {
     let mut v = json!({
         "run": "cube",
-        "-n": cfg.n,
-        "-s": cfg.s,
-        "--energy": format!("{:?}", cfg.energy),
-        "--q": cfg.q.map(|q| format!("{q:?}")),
-        "--p": cfg.p,
-        "--precision": cfg.precision.label(),
-        "--init": match &cfg.init {
+        "n": cfg.n,
+        "s": cfg.s,
+        "energy": format!("{:?}", cfg.energy),
+        "q": cfg.q.map(|q| format!("{q:?}")),
+        "p": cfg.p,
+        "precision": cfg.precision.label(),
+        "init": match &cfg.init {
             Init::Halton => "halton".to_string(),
             Init::Random => "random".to_string(),
             Init::Points(p) => format!("file: {}", points_fingerprint(p)),
         },
-        "--seed": cfg.seed,
-        "--integrator": format!("{:?}", cfg.solver),
-        "--log-every": cfg.log_every,
-        "--shifts": cfg.shifts,
-        "--polish": cfg.polish.map(|k| format!("{k:?}")),
+        "seed": cfg.seed,
+        "integrator": format!("{:?}", cfg.solver),
+        "log_every": cfg.log_every,
+        "shifts": cfg.shifts,
+        "polish": cfg.polish.map(|k| format!("{k:?}")),
         "lbfgs": format!("{:?}", cfg.lbfgs),
     });
     if let (Value::Object(map), Value::Object(dem)) = (&mut v, dem_json(&cfg.dem, cfg.steps)) {
         map.extend(dem);
     }
     v
-}
-
-/// Parses a κ setting: `auto` (the trial from 100) or a number ≥ 1.
-pub fn parse_kappa(text: &str) -> Result<Kappa, Error> {
-    if text.trim().eq_ignore_ascii_case("auto") {
-        return Ok(Kappa::default());
-    }
-    match text.trim().parse::<f64>() {
-        Ok(k) if k >= 1.0 && k.is_finite() => Ok(Kappa::Fixed(k)),
-        _ => Err(Error::invalid(
-            "--kappa",
-            text,
-            "`auto` or a finite number ≥ 1",
-        )),
-    }
-}
-
-/// Parses a restart setting: `auto` (ε_p = 2/n), `off`, or ε_p > 0.
-pub fn parse_restart(text: &str) -> Result<Restart, Error> {
-    match text.trim().to_ascii_lowercase().as_str() {
-        "auto" => Ok(Restart::Auto),
-        "off" | "none" => Ok(Restart::Off),
-        t => match t.parse::<f64>() {
-            Ok(e) if e > 0.0 && !e.is_nan() => Ok(Restart::Threshold(e)),
-            _ => Err(Error::invalid(
-                "--restart",
-                text,
-                "`auto` (ε_p = 2/n), `off`, or a number ε_p > 0",
-            )),
-        },
-    }
 }

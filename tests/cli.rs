@@ -450,7 +450,7 @@ fn generate_writes_checkpoints_and_names_them_in_its_help() {
     let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&ck).unwrap()).unwrap();
     assert_eq!(v["format"], "stillpoint checkpoint");
     assert_eq!(v["state"]["step"], 40);
-    assert_eq!(v["config"]["--steps"], 40);
+    assert_eq!(v["config"]["steps"], 40);
     assert_eq!(
         files_in(&d),
         vec!["p.csv".to_string(), "run.ckpt".to_string()]

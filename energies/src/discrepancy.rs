@@ -95,7 +95,7 @@ impl DiscrepancyKind {
             "md" => Ok(DiscrepancyKind::ModifiedL2),
             "cd" => Ok(DiscrepancyKind::CenteredL2),
             "periodic" | "wd" => Ok(DiscrepancyKind::WrapAroundL2),
-            _ => Err(Error::invalid("--energy", format!("`{name}`"), ACCEPTED)),
+            _ => Err(Error::invalid("discrepancy", format!("`{name}`"), ACCEPTED)),
         }
     }
 

@@ -35,7 +35,8 @@ pub(crate) struct GenerateArgs {
     /// (U_{E,∞,g} of eq. 56, a region's default), `e-p-g` (smooth U_{E,p,g} for a
     /// region, p from --p, default 8).
     #[arg(long, value_name = "NAME")]
-    pub(crate) energy: Option<String>,
+    #[arg(value_parser = energy_arg)]
+    pub(crate) energy: Option<EnergyArg>,
     /// A region {x : g(x) ≤ 0}: g as an expression in x1..xs (or x, y, z), e.g.
     /// "|x| + 2*|y| - 5". Needs --box.
     #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
@@ -62,12 +63,12 @@ pub(crate) struct GenerateArgs {
     /// How U_{q,p}'s distance is evaluated during the run for 0.01 ≤ q ≤ 2: `fast` (a
     /// table of cubics, each coordinate's h² within 4e-9; about twice as fast) or `full`
     /// (within 1e-12). Reported energies are always full. Default: fast.
-    #[arg(long, value_name = "fast|full")]
-    pub(crate) precision: Option<String>,
+    #[arg(long, value_name = "fast|full", value_parser = precision_arg)]
+    pub(crate) precision: Option<Precision>,
     /// The solver: `dem` (the paper's damped dynamics) or `lbfgs` (argmin's L-BFGS
-    /// with restarts; in the cube only).
-    #[arg(long, default_value = "dem", value_name = "dem|lbfgs")]
-    pub(crate) integrator: String,
+    /// with restarts), in the cube or a region.
+    #[arg(long, default_value = "dem", value_name = "dem|lbfgs", value_parser = integrator_arg)]
+    pub(crate) integrator: Solver,
     /// Step budget of the DEM (default 1000 in the cube, as in the paper; 10 000 in a
     /// region, where U_{E,∞,g} moves only its active elements at each step).
     #[arg(long, value_name = "K")]
@@ -85,22 +86,24 @@ pub(crate) struct GenerateArgs {
         long,
         default_value = "auto",
         value_name = "auto|K",
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = kappa_arg
     )]
-    pub(crate) kappa: String,
+    pub(crate) kappa: Kappa,
     /// Restart for unbiasedness (§4.3): `auto` (ε_p = 2/n), `off`, or ε_p > 0.
     #[arg(
         long,
         default_value = "auto",
         value_name = "auto|off|EPS",
-        allow_hyphen_values = true
+        allow_hyphen_values = true,
+        value_parser = restart_arg
     )]
-    pub(crate) restart: String,
+    pub(crate) restart: Restart,
     /// Polish the result with L-BFGS on a squared discrepancy: `md`, `l2star`, `cd`,
     /// `periodic`, or `none`. The best points we know how to make: the DEM spreads the
     /// points, the shift places them, the polish lowers the chosen discrepancy.
-    #[arg(long, default_value = "none", value_name = "KIND")]
-    pub(crate) polish: String,
+    #[arg(long, default_value = "none", value_name = "KIND", value_parser = polish_arg)]
+    pub(crate) polish: PolishChoice,
     /// Stop early when every coordinate step and every force step |G f|/A0 is below
     /// this (0: always use the whole budget).
     #[arg(

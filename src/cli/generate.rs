@@ -59,7 +59,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     }
     // A region built from text is known to the checkpoint by that text.
     let region_extra = if region.is_some() || shape.is_some() {
-        json!({"--region": region, "--box": bbox, "--shape": shape})
+        json!({"expression": region, "box": bbox, "shape": shape})
     } else {
         Value::Null
     };
@@ -74,19 +74,22 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     if region.is_some() || shape.is_some() {
         let domain = region_domain(region.as_deref(), bbox.as_deref(), shape.as_deref(), s)?;
         let n = n.context("missing -n N: the number of points (at least 1)")?;
-        if let Some(text) = &precision {
+        if let Some(precision) = precision {
             bail!(
-                "invalid --precision = {text} for a region: it sets U_{{q,p}}'s distance,                  which region energies do not use"
+                "invalid --precision = {} for a region: it sets U_{{q,p}}'s distance, which \
+                 region energies do not use",
+                precision.label()
             );
         }
         let mut cfg = RegionConfig::new(domain, n);
-        cfg.energy = match energy.as_deref().unwrap_or("e-inf-g") {
-            "e-inf-g" => RegionEnergy::EInfG,
-            "e-inf" => RegionEnergy::EInf,
-            "e-p-g" => RegionEnergy::EpG(p.unwrap_or(8.0)),
+        cfg.energy = match energy.unwrap_or(EnergyArg::EInfG) {
+            EnergyArg::EInfG => RegionEnergy::EInfG,
+            EnergyArg::EInf => RegionEnergy::EInf,
+            EnergyArg::EpG => RegionEnergy::EpG(p.unwrap_or(8.0)),
             other => bail!(
-                "invalid --energy = {other} for a region: expected e-inf-g (eq. 56), \
-                 e-inf or e-p-g"
+                "invalid --energy = {} for a region: expected e-inf-g (eq. 56), \
+                 e-inf or e-p-g",
+                other.name()
             ),
         };
         cfg.init = match init.as_deref().unwrap_or("random") {
@@ -97,18 +100,20 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
             }
         };
         cfg.seed = seed;
-        cfg.solver = parse_solver(&integrator)?;
+        cfg.solver = integrator;
         if let Some(steps) = steps {
             cfg.steps = steps;
         }
-        cfg.dem.kappa = run::parse_kappa(&kappa)?;
+        cfg.dem.kappa = kappa;
         cfg.dem.tolerance = tolerance;
         if plot.is_some() && cfg.domain.dim() < 2 {
             bail!("invalid --plot: the region has dimension 1; plots need s ≥ 2");
         }
         let report = generate_in_region_with(&cfg, plan.as_ref(), |e| progress.event(e))?;
         progress.finish();
-        let meta = region_meta(&report, &cfg, &region_extra);
+        // The file header names the region by the options that gave it.
+        let given = json!({"--region": region, "--box": bbox, "--shape": shape});
+        let meta = region_meta(&report, &cfg, &given);
         if let Some(path) = &trajectory {
             write_trajectory(path, &report.energy_name, &report.output)?;
         }
@@ -152,22 +157,20 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         bail!("invalid --plot with -s = {s}: plots need s ≥ 2");
     }
     let mut cfg = GenerateConfig::new(n, s);
-    cfg.energy = match energy.as_deref().unwrap_or("uqp") {
-        "uqp" => CubeEnergy::Uqp,
-        "e-inf" => CubeEnergy::EInf,
-        "e-inf-g" | "e-p-g" => bail!(
+    cfg.energy = match energy.unwrap_or(EnergyArg::Uqp) {
+        EnergyArg::Uqp => CubeEnergy::Uqp,
+        EnergyArg::EInf => CubeEnergy::EInf,
+        e @ (EnergyArg::EInfG | EnergyArg::EpG) => bail!(
             "invalid --energy = {} in the cube: e-inf-g and e-p-g need --region or \
              --shape; the cube accepts uqp, e-inf, l2star, md, cd, periodic",
-            energy.as_deref().unwrap_or_default()
+            e.name()
         ),
-        other => CubeEnergy::Discrepancy(DiscrepancyKind::parse(other).map_err(|_| {
-            anyhow::anyhow!(
-                "invalid --energy = {other} in the cube: expected uqp, e-inf, \
-                     l2star, md, cd or periodic"
-            )
-        })?),
+        EnergyArg::L2star => CubeEnergy::Discrepancy(DiscrepancyKind::StarL2),
+        EnergyArg::Md => CubeEnergy::Discrepancy(DiscrepancyKind::ModifiedL2),
+        EnergyArg::Cd => CubeEnergy::Discrepancy(DiscrepancyKind::CenteredL2),
+        EnergyArg::Periodic => CubeEnergy::Discrepancy(DiscrepancyKind::WrapAroundL2),
     };
-    cfg.solver = parse_solver(&integrator)?;
+    cfg.solver = integrator;
     cfg.q = match q.as_deref() {
         Some(text) => Some(Distance::parse(text).map_err(|_| {
             anyhow::anyhow!(
@@ -178,23 +181,17 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         None => None,
     };
     cfg.p = p;
-    if let Some(text) = &precision {
-        cfg.precision = Precision::parse(text)
-            .map_err(|_| anyhow::anyhow!("invalid --precision = {text}: expected fast or full"))?;
+    if let Some(precision) = precision {
+        cfg.precision = precision;
     }
     cfg.init = init;
     cfg.seed = seed;
     cfg.steps = steps.unwrap_or(1000);
-    cfg.dem.kappa = run::parse_kappa(&kappa)?;
-    cfg.dem.restart = run::parse_restart(&restart)?;
+    cfg.dem.kappa = kappa;
+    cfg.dem.restart = restart;
     cfg.dem.tolerance = tolerance;
     cfg.shifts = shifts;
-    cfg.polish = match polish.as_str() {
-        "none" => None,
-        other => Some(DiscrepancyKind::parse(other).map_err(|_| {
-            anyhow::anyhow!("invalid --polish = {other}: expected none, md, l2star, cd or periodic")
-        })?),
-    };
+    cfg.polish = polish.0;
     cfg.log_every = log_every.unwrap_or(if trajectory.is_some() { 10 } else { 0 });
     let report = run::generate_with(&cfg, plan.as_ref(), |e| progress.event(e))?;
     progress.finish();
@@ -213,15 +210,6 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     };
     emit(&report.output.points, &meta, output.as_ref(), summary)?;
     Ok(())
-}
-
-/// `--integrator dem|lbfgs`.
-pub(crate) fn parse_solver(text: &str) -> Result<Solver> {
-    match text {
-        "dem" => Ok(Solver::Dem),
-        "lbfgs" => Ok(Solver::Lbfgs),
-        other => bail!("invalid --integrator = {other}: expected dem or lbfgs"),
-    }
 }
 
 /// The checkpoint plan of `--checkpoint FILE [--checkpoint-every K] [--resume [FILE]]`.
@@ -271,5 +259,6 @@ pub(crate) fn checkpoint_plan(
         every,
         resume: resume_path,
         extra,
+        names: flag_name,
     }))
 }

@@ -11,54 +11,42 @@ mod plot;
 mod progress;
 mod region;
 mod report;
+mod values;
 
+// The submodules share one set of names (`use super::*`): the command line is one
+// program split by subcommand, not separate libraries.
 #[allow(unused_imports)]
-use self::{
-    args::*, dispatch::*, generate::*, output::*, plot::*, progress::*, region::*, report::*,
+use {
+    self::{
+        args::*, dispatch::*, generate::*, output::*, plot::*, progress::*, region::*, report::*,
+        values::*,
+    },
+    crate::energies::discrepancy::DiscrepancyKind,
+    crate::energies::region::ImplicitRegion,
+    crate::energies::shapes::{Ball, BoxRegion, Ellipsoid, Polytope, Simplex},
+    crate::energies::{paper_qp, Distance, Domain, Energy, Precision, Uqp},
+    crate::integrators::{Kappa, Restart},
+    crate::metrics::Metrics,
+    crate::regions::{
+        generate_in_region_with, RegionConfig, RegionEnergy, RegionInit, RegionReport,
+    },
+    crate::run::{self, CubeEnergy, GenerateConfig, GenerateReport, Init, Solver},
+    crate::sequences::Baseline,
+    crate::studies::{self, Study, StudyOptions},
+    crate::{bench, io, PointSet},
+    anyhow::{bail, Context, Result},
+    clap::{Parser, Subcommand},
+    indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle},
+    serde_json::{json, Value},
+    std::io::IsTerminal,
+    std::path::PathBuf,
+    std::sync::Arc,
 };
-#[allow(unused_imports)]
-use crate::energies::discrepancy::DiscrepancyKind;
-#[allow(unused_imports)]
-use crate::energies::region::ImplicitRegion;
-#[allow(unused_imports)]
-use crate::energies::shapes::{Ball, BoxRegion, Ellipsoid, Polytope, Simplex};
-#[allow(unused_imports)]
-use crate::energies::Domain;
-#[allow(unused_imports)]
-use crate::energies::{paper_qp, Distance, Energy, Precision, Uqp};
-#[allow(unused_imports)]
-use crate::metrics::Metrics;
-#[allow(unused_imports)]
-use crate::regions::{
-    generate_in_region_with, RegionConfig, RegionEnergy, RegionInit, RegionReport,
-};
-#[allow(unused_imports)]
-use crate::run::{self, CubeEnergy, GenerateConfig, GenerateReport, Init, Solver};
-#[allow(unused_imports)]
-use crate::sequences::Baseline;
-#[allow(unused_imports)]
-use crate::studies::{self, Study, StudyOptions};
-#[allow(unused_imports)]
-use crate::{bench, io, PointSet};
-#[allow(unused_imports)]
-use anyhow::{bail, Context, Result};
-#[allow(unused_imports)]
-use clap::{Parser, Subcommand};
-#[allow(unused_imports)]
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-#[allow(unused_imports)]
-use serde_json::{json, Value};
-#[allow(unused_imports)]
-use std::io::IsTerminal;
-#[allow(unused_imports)]
-use std::path::PathBuf;
-#[allow(unused_imports)]
-use std::sync::Arc;
 
 /// Parses the command line, runs it, and exits with status 1 and the error on failure.
 pub fn main() {
     let cli = Cli::parse();
-    if let Err(e) = real_main(cli) {
+    if let Err(e) = real_main(cli).map_err(with_flag_names) {
         eprintln!("error: {e:#}");
         std::process::exit(1);
     }

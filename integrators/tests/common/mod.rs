@@ -66,7 +66,12 @@ pub fn resume<I: Integrator + Clone>(
 }
 
 /// The bits of a run: points, (step, energy, restarted) of every record, stop, info.
-pub type RunBits = (Vec<u64>, Vec<(usize, u64, bool)>, String, Vec<(String, u64)>);
+pub type RunBits = (
+    Vec<u64>,
+    Vec<(usize, u64, bool)>,
+    String,
+    Vec<(String, u64)>,
+);
 
 /// The [`RunBits`] of an output.
 pub fn run_bits(o: &RunOutput) -> RunBits {
