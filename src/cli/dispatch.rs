@@ -35,7 +35,11 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
         } => {
             let mut settings = crate::compare::CompareSettings {
                 steps,
-                discrepancy: DiscrepancyKind::parse(&energy)?,
+                discrepancy: DiscrepancyKind::parse(&energy).map_err(|_| {
+                    anyhow::anyhow!(
+                        "invalid --energy = {energy}: expected l2star, md, cd or periodic"
+                    )
+                })?,
                 ..Default::default()
             };
             if quick {
