@@ -6,6 +6,8 @@
 //! set's quality, the classic sequences it starts from or is compared with, file I/O and
 //! the run driver behind the `stillpoint` command.
 
+#![deny(missing_docs)]
+
 pub use stillpoint_energies as energies;
 pub use stillpoint_integrators as integrators;
 

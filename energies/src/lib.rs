@@ -1,3 +1,4 @@
+#![deny(missing_docs)]
 //! Point sets, domains and potential energies for the stillpoint many-body model.
 //!
 //! A [`PointSet`] is n points × s coordinates stored row per point in one contiguous

@@ -74,12 +74,12 @@
 //!
 //! # Trajectory
 //!
-//! One [`Record`] per accepted L-BFGS iteration: `step` counts accepted iterations over
+//! One [`Record`](crate::Record) per accepted L-BFGS iteration: `step` counts accepted iterations over
 //! all chunks, `max_move` is the largest coordinate change from the previous state (on the
 //! torus measured before wrapping, so a wrap is not a move of one box length) and
 //! `restarted` marks the first record of a chunk after a restart. The first record is the
 //! start (step 0); accepted energies never rise, so the last record is the lowest state
-//! seen, and it is the one returned. [`RunOutput::info`] reports `iterations`, `restarts`
+//! seen, and it is the one returned. [`RunOutput::info`](crate::RunOutput::info) reports `iterations`, `restarts`
 //! (with `projection_restarts` and `stall_restarts`), `line_search_failures`,
 //! `evaluations` (energy evaluations, each value and gradient), `start_grad_norm` and
 //! `final_grad_norm` (max-norms of the gradient L-BFGS sees).
