@@ -1,5 +1,7 @@
 //! The paper's four regions (§5.4, eq. 58): n = 100 points by the DEM under U_{E,∞,g}
-//! from the paper's random start, with the paper's 1000 steps and with 10 000.
+//! from the paper's random start, with the paper's 1000 steps and with 10 000. Each
+//! region is a `Problem` (the boundary-aware energy tied to its domain) run through the
+//! executor.
 //!
 //! Run with `cargo run --release --example regions [-- OUTDIR]` (default `regions-output`).
 //! For each region it writes the points (CSV) and a picture of the start beside the result
@@ -9,9 +11,10 @@
 use serde_json::json;
 use std::path::PathBuf;
 use std::sync::Arc;
+use stillpoint::energies::boundary::UEInfG;
 use stillpoint::energies::region::paper_region;
 use stillpoint::energies::Domain;
-use stillpoint::regions::{generate_in_region, RegionConfig};
+use stillpoint::integrators::{Dem, Executor, Problem};
 use stillpoint::{io, plot};
 
 fn main() -> anyhow::Result<()> {
@@ -27,35 +30,33 @@ fn main() -> anyhow::Result<()> {
     );
     println!("|---|---|---|---|---|---|---|");
     for i in 1..=4 {
+        // The region and the energy that measures distances to its boundary.
         let domain: Arc<dyn Domain> = Arc::new(paper_region(i)?);
-        let mut row = format!("| g{i} ");
+        let problem = Problem::tied(Arc::new(UEInfG::new(domain.clone())?))?;
+        // The paper's start: uniform in the bounding box, the first 100 inside.
+        let start = domain.sample(100, 0)?;
+        let u0 = problem.energy().value(&start);
+        let mut row = format!("| g{i} | {u0:.4} ");
         let mut last = None;
         for steps in [1000, 10_000] {
-            let mut cfg = RegionConfig::new(domain.clone(), 100);
-            cfg.steps = steps;
-            let r = generate_in_region(&cfg, |_| {})?;
-            assert!(r.output.points.rows().all(|x| domain.contains(x)));
-            if steps == 1000 {
-                row += &format!("| {:.4} ", r.metrics.0.energy_e_inf_g);
-            }
-            row += &format!(
-                "| {:.4} | {:.1} % ",
-                r.metrics.1.energy_e_inf_g,
-                100.0 * r.reduction()
-            );
+            let out_run = Executor::new(&problem, Dem::default())
+                .max_steps(steps)
+                .run(start.clone())?;
+            assert!(out_run.points.rows().all(|x| domain.contains(x)));
+            let u = problem.energy().value(&out_run.points);
+            row += &format!("| {u:.4} | {:.1} % ", 100.0 * (1.0 - u / u0));
             let meta = json!({"region": format!("g{i} of eq. 58"), "steps": steps,
-                "energy_e_inf_g_start": r.metrics.0.energy_e_inf_g,
-                "energy_e_inf_g_result": r.metrics.1.energy_e_inf_g});
+                "energy_e_inf_g_start": u0, "energy_e_inf_g_result": u});
             io::write_points(
                 &out.join(format!("g{i}_{steps}.csv")),
-                &r.output.points,
+                &out_run.points,
                 &meta,
             )?;
-            last = Some(r);
+            last = Some(out_run.points);
         }
         row += &format!("| {} |", paper[i - 1]);
         println!("{row}");
-        let r = last.expect("two runs");
+        let result = last.expect("two runs");
         let (lo, hi) = domain.bounding_box();
         let (lo, hi) = ([lo[0], lo[1]], [hi[0], hi[1]]);
         let level = |x: &[f64]| domain.level(x).unwrap_or(f64::NAN);
@@ -63,14 +64,14 @@ fn main() -> anyhow::Result<()> {
         let panels = [
             plot::Panel {
                 title: format!("g{i}: random start"),
-                points: &r.start,
+                points: &start,
                 lo,
                 hi,
                 boundary: boundary.clone(),
             },
             plot::Panel {
                 title: format!("g{i}: DEM, U_{{E,∞,g}}, 10 000 steps"),
-                points: &r.output.points,
+                points: &result,
                 lo,
                 hi,
                 boundary,

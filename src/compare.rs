@@ -5,7 +5,7 @@
 use crate::energies::discrepancy::DiscrepancyKind;
 use crate::metrics;
 use crate::plot::{self, LineChart, Series};
-use crate::run::{generate, CubeEnergy, GenerateConfig, Solver};
+use crate::run::{generate, EnergyKind, GenerateConfig, Solver};
 use anyhow::Result;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -87,8 +87,8 @@ pub fn run(
     let mut rows = Vec::new();
     for &(s, n) in &settings.cases {
         for energy in [
-            CubeEnergy::Uqp,
-            CubeEnergy::Discrepancy(settings.discrepancy),
+            EnergyKind::Uqp,
+            EnergyKind::Discrepancy(settings.discrepancy),
         ] {
             for solver in [Solver::Dem, Solver::Lbfgs] {
                 let mut cfg = GenerateConfig::new(n, s);
@@ -135,7 +135,7 @@ pub fn run(
                 };
                 on_row(&row);
                 rows.push(row);
-                if energy == CubeEnergy::Uqp && solver == Solver::Dem {
+                if energy == EnergyKind::Uqp && solver == Solver::Dem {
                     // The DEM result (after its shift selection) polished by L-BFGS on the
                     // discrepancy: the best points the library makes.
                     let row = polish_row(settings, s, n, &r.output.points, r.seconds)?;

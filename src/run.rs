@@ -1,11 +1,15 @@
-//! The run driver: turns a [`GenerateConfig`] into a start set, an energy and a DEM run,
-//! and reports the quality of the start and the result side by side.
+//! The pipeline of every `generate` run, in the cube or in a region: a
+//! [`GenerateConfig`] becomes a start set and a [`Problem`] (energy + domain), the solver
+//! runs through the one executor ([`Run::solve`]), the post-steps follow (periodic shift
+//! selection, polish), and a [`GenerateReport`] gives the quality of the start and the
+//! result side by side.
 //!
-//! A DEM run can be checkpointed and resumed ([`CheckpointPlan`], [`generate_with`]): the
-//! checkpoint file holds the run's configuration and the DEM's whole state, so a resumed
-//! run ends with exactly the bytes of an uninterrupted one, and a checkpoint of another
-//! configuration is refused with the settings that differ.
+//! Any run can be checkpointed and resumed ([`CheckpointPlan`], [`generate_with`]): the
+//! checkpoint file holds the run's configuration and the executor's snapshot, so a
+//! resumed run ends with exactly the bytes of an uninterrupted one, and a checkpoint of
+//! another configuration is refused with the settings that differ.
 
+use crate::energies::boundary::{UEInfG, UEpG};
 use crate::energies::discrepancy::{DiscrepancyEnergy, DiscrepancyKind};
 use crate::energies::einf::UEInf;
 use crate::energies::shapes::BoxRegion;
@@ -15,6 +19,7 @@ use crate::integrators::{
     Control, Dem, Executor, Integrator, Observer, Problem, Record, RunOutput, Snapshot,
 };
 use crate::metrics::{self, Metrics};
+use crate::regions::RegionMetrics;
 use crate::sequences;
 use crate::shift::{self, ShiftOutcome};
 use crate::Error;
@@ -25,32 +30,75 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
-/// Where the DEM starts.
+/// Where the points live.
+#[derive(Debug, Clone)]
+pub enum Space {
+    /// The unit cube [0, 1)^s (periodic or closed, as the energy needs).
+    Cube,
+    /// A region {x : g(x) ≤ 0} or a built-in shape, with the text that described it
+    /// (recorded in checkpoints, so that a resume in another region is refused).
+    Region {
+        /// The region.
+        domain: Arc<dyn Domain>,
+        /// How it was given (an expression and box, a shape), for records.
+        description: Value,
+    },
+}
+
+impl PartialEq for Space {
+    fn eq(&self, other: &Self) -> bool {
+        match (self, other) {
+            (Space::Cube, Space::Cube) => true,
+            (
+                Space::Region {
+                    domain: a,
+                    description: da,
+                },
+                Space::Region {
+                    domain: b,
+                    description: db,
+                },
+            ) => format!("{a:?}") == format!("{b:?}") && da == db,
+            _ => false,
+        }
+    }
+}
+
+/// Where the run starts.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Init {
-    /// Plain Halton, indices 1..n (the paper's start).
+    /// Plain Halton, indices 1..n (the paper's start in the cube); in a region, Halton
+    /// points scaled to the bounding box, the first n inside.
     Halton,
-    /// Uniform random points from the seed.
+    /// Uniform random points from the seed; in a region, uniform in the bounding box,
+    /// the first n inside (the paper's start in a region, §5.4).
     Random,
-    /// A given set (from a file), in [0, 1]^s.
+    /// A given set (from a file), inside the space.
     Points(PointSet),
 }
 
-/// The energy of a cube run.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum CubeEnergy {
+/// The energy of a run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum EnergyKind {
     /// U_{q,p} (eqs. 5, 12) on the periodic cube.
     Uqp,
-    /// U_{E,∞} = 1/d_min (eq. 3) with its active-pair subgradient: with the torus distance
-    /// on the periodic cube, or (q = 'E') with the Euclidean distance in the closed cube
-    /// [0, 1]^s, where it gives a maximin design.
+    /// U_{E,∞} = 1/d_min (eq. 3) with its active-pair subgradient: in the cube with the
+    /// torus distance, or (q = 'E') with the Euclidean distance in the closed cube
+    /// [0, 1]^s, where it gives a maximin design; in a region with the Euclidean distance
+    /// and no boundary term.
     EInf,
     /// A squared L2 discrepancy as the energy: on the torus for the wrap-around L2, in
     /// the closed cube for the others.
     Discrepancy(DiscrepancyKind),
+    /// U_{E,∞,g} of eq. 56 in a region (the paper's choice): 1 / min(point distances,
+    /// 2 × boundary distances), with the active-element subgradient of eq. 57.
+    EInfG,
+    /// U_{E,p,g} in a region: the smooth finite-p version,
+    /// (Σ d_ij^{−p} + Σ (2 d_ig)^{−p})^{1/p}.
+    EpG(f64),
 }
 
-/// The solver of a cube run.
+/// The solver of a run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Solver {
     /// The damped central-difference DEM of the paper.
@@ -59,17 +107,20 @@ pub enum Solver {
     Lbfgs,
 }
 
-/// Everything a `generate` run needs. [`GenerateConfig::new`] gives the defaults.
+/// Everything a `generate` run needs, in the cube or in a region.
+/// [`GenerateConfig::new`] and [`GenerateConfig::in_region`] give the defaults.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GenerateConfig {
     /// Number of points n ≥ 1.
     pub n: usize,
-    /// Dimension s ≥ 1.
+    /// Dimension s ≥ 1 (a region's own dimension).
     pub s: usize,
+    /// Where the points live.
+    pub space: Space,
     /// The energy.
-    pub energy: CubeEnergy,
-    /// The distance of U_{q,p}; `None` takes q from eq. 48. For U_{E,∞}: `Euclidean`
-    /// selects the closed cube, anything else the torus.
+    pub energy: EnergyKind,
+    /// The distance of U_{q,p}; `None` takes q from eq. 48. For U_{E,∞} in the cube:
+    /// `Euclidean` selects the closed cube, anything else the torus.
     pub q: Option<Distance>,
     /// The exponent p; `None` takes p from eq. 48.
     pub p: Option<f64>,
@@ -89,24 +140,28 @@ pub struct GenerateConfig {
     pub dem: Dem,
     /// L-BFGS settings.
     pub lbfgs: Lbfgs,
-    /// Compute D_L2* and D_MD every this many steps into the trajectory (0: never).
+    /// Compute D_L2* and D_MD every this many steps into the trajectory (0: never; the
+    /// cube only).
     pub log_every: usize,
-    /// Candidate periodic shifts tried after the DEM (0: none); see [`crate::shift`].
-    /// Only used with a periodic distance (q ≠ 'E').
+    /// Candidate periodic shifts tried after a periodic energy (0: none); see
+    /// [`crate::shift`].
     pub shifts: usize,
     /// A last L-BFGS run on this squared discrepancy, from the result (after the shift
-    /// selection), in the closed cube for the non-periodic kinds. `None`: no polish.
+    /// selection), in the closed cube for the non-periodic kinds. `None`: no polish. The
+    /// cube only.
     pub polish: Option<DiscrepancyKind>,
 }
 
 impl GenerateConfig {
-    /// Defaults: (q, p) from eq. 48, plain Halton start, the paper's DEM with 1000 steps,
-    /// κ trial from 100, restart threshold 2/n, then the best of 64 periodic shifts.
+    /// The cube's defaults: (q, p) from eq. 48, plain Halton start, the paper's DEM with
+    /// 1000 steps, κ trial from 100, restart threshold 2/n, then the best of 64 periodic
+    /// shifts.
     pub fn new(n: usize, s: usize) -> Self {
         GenerateConfig {
             n,
             s,
-            energy: CubeEnergy::Uqp,
+            space: Space::Cube,
+            energy: EnergyKind::Uqp,
             q: None,
             p: None,
             precision: Precision::Fast,
@@ -119,6 +174,33 @@ impl GenerateConfig {
             log_every: 0,
             shifts: 64,
             polish: None,
+        }
+    }
+
+    /// A region's defaults: U_{E,∞,g}, the paper's random start with seed 0, the DEM with
+    /// the κ trial and 10 000 steps. The paper's 1000 steps separate the closest pairs
+    /// (U_{E,∞,g} already falls by 80–90 %) but leave most points where they started;
+    /// 10 000 spread them.
+    pub fn in_region(domain: Arc<dyn Domain>, n: usize) -> Self {
+        GenerateConfig {
+            s: domain.dim(),
+            space: Space::Region {
+                domain,
+                description: Value::Null,
+            },
+            energy: EnergyKind::EInfG,
+            init: Init::Random,
+            steps: 10_000,
+            shifts: 0,
+            ..GenerateConfig::new(n, 1)
+        }
+    }
+
+    /// The region, when the run is in one.
+    pub fn region(&self) -> Option<&Arc<dyn Domain>> {
+        match &self.space {
+            Space::Cube => None,
+            Space::Region { domain, .. } => Some(domain),
         }
     }
 }
@@ -138,6 +220,15 @@ pub struct EnergyChoice {
     pub eq48_clamped: bool,
 }
 
+/// The quality of a set, as fits its space.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Quality {
+    /// Discrepancies, distances and energies in the unit cube.
+    Cube(Metrics),
+    /// U_{E,∞,g}, the minimum point distance and boundary distance in a region.
+    Region(RegionMetrics),
+}
+
 /// The outcome of a `generate` run.
 #[derive(Debug, Clone)]
 pub struct GenerateReport {
@@ -149,8 +240,8 @@ pub struct GenerateReport {
     pub energy: (f64, f64),
     /// The energy's name with its parameters.
     pub energy_name: String,
-    /// Metrics of the start and of the result.
-    pub metrics: (Metrics, Metrics),
+    /// Quality of the start and of the result.
+    pub quality: (Quality, Quality),
     /// How the energy was chosen.
     pub choice: EnergyChoice,
     /// The shift selection after the DEM, when it ran.
@@ -159,6 +250,40 @@ pub struct GenerateReport {
     pub polish: Option<(f64, f64, usize)>,
     /// Wall time of the whole run in seconds.
     pub seconds: f64,
+}
+
+impl GenerateReport {
+    /// The cube metrics of the start and the result; an error for a region run, whose
+    /// quality is measured by [`GenerateReport::region_metrics`].
+    pub fn cube_metrics(&self) -> Result<(&Metrics, &Metrics), Error> {
+        match &self.quality {
+            (Quality::Cube(a), Quality::Cube(b)) => Ok((a, b)),
+            _ => Err(Error::invalid(
+                "metrics",
+                "a region run",
+                "a cube run (a region's figures are its region metrics)",
+            )),
+        }
+    }
+
+    /// The region figures of the start and the result; an error for a cube run.
+    pub fn region_metrics(&self) -> Result<(&RegionMetrics, &RegionMetrics), Error> {
+        match &self.quality {
+            (Quality::Region(a), Quality::Region(b)) => Ok((a, b)),
+            _ => Err(Error::invalid(
+                "region metrics",
+                "a cube run",
+                "a region run (a cube's figures are its metrics)",
+            )),
+        }
+    }
+
+    /// 1 − U_{E,∞,g}(result) / U_{E,∞,g}(start): the paper's "optimization ratio" in a
+    /// region.
+    pub fn reduction(&self) -> Result<f64, Error> {
+        self.region_metrics()
+            .map(|(a, b)| 1.0 - b.energy_e_inf_g / a.energy_e_inf_g)
+    }
 }
 
 /// U_{q,p} for (n, s) with the user's q and p where given, eq. 48 otherwise.
@@ -186,13 +311,16 @@ pub fn choose_energy(
     ))
 }
 
-/// Builds the start set of a configuration, checked against n and s.
+/// Builds the start set of a configuration, checked against n, s and the space.
 pub fn start_set(cfg: &GenerateConfig) -> Result<PointSet, Error> {
     if cfg.n == 0 {
         return Err(Error::invalid("n", cfg.n, "at least 1 point"));
     }
     if cfg.s == 0 {
         return Err(Error::invalid("s", cfg.s, "at least 1 dimension"));
+    }
+    if let Some(domain) = cfg.region() {
+        return crate::regions::start_in_region(domain.as_ref(), cfg.n, &cfg.init, cfg.seed);
     }
     match &cfg.init {
         Init::Halton => sequences::halton(cfg.n, cfg.s),
@@ -209,6 +337,98 @@ pub fn start_set(cfg: &GenerateConfig) -> Result<PointSet, Error> {
             Ok(p.clone())
         }
     }
+}
+
+/// The energy and domain of a configuration, with how (q, p) were chosen.
+fn build_problem(cfg: &GenerateConfig) -> Result<(Problem<'static>, EnergyChoice), Error> {
+    let no_choice = |q: &str, p: f64| EnergyChoice {
+        q: q.to_string(),
+        p,
+        from_eq48: false,
+        eq48_in_fitted_range: false,
+        eq48_clamped: false,
+    };
+    let closed_cube = || -> Result<Arc<dyn Domain>, Error> {
+        Ok(Arc::new(BoxRegion::new(
+            vec![0.0; cfg.s],
+            vec![1.0; cfg.s],
+        )?))
+    };
+    let torus = || -> Result<Arc<dyn Domain>, Error> { Ok(Arc::new(PeriodicCube::new(cfg.s)?)) };
+    let (energy, domain, choice): (Arc<dyn Energy>, Arc<dyn Domain>, EnergyChoice) =
+        match (&cfg.space, cfg.energy) {
+            (Space::Cube, EnergyKind::Uqp) => {
+                let (e, choice) = choose_energy(cfg.n, cfg.s, cfg.q, cfg.p)?;
+                (Arc::new(e.with_precision(cfg.precision)), torus()?, choice)
+            }
+            (Space::Cube, EnergyKind::EInf) => {
+                if cfg.q == Some(Distance::Euclidean) {
+                    (
+                        Arc::new(UEInf::new(Distance::Euclidean)?),
+                        closed_cube()?,
+                        no_choice("E", f64::INFINITY),
+                    )
+                } else {
+                    (
+                        Arc::new(UEInf::new(Distance::Torus)?),
+                        torus()?,
+                        no_choice("inf", f64::INFINITY),
+                    )
+                }
+            }
+            (Space::Cube, EnergyKind::Discrepancy(kind)) => {
+                // Only the wrap-around L2 is periodic; the others live in the closed cube.
+                let domain = if kind.is_periodic() {
+                    torus()?
+                } else {
+                    closed_cube()?
+                };
+                (
+                    Arc::new(DiscrepancyEnergy::new(kind)),
+                    domain,
+                    no_choice("-", f64::NAN),
+                )
+            }
+            (Space::Region { domain, .. }, EnergyKind::EInfG) => (
+                Arc::new(UEInfG::new(domain.clone())?),
+                domain.clone(),
+                no_choice("E", f64::INFINITY),
+            ),
+            (Space::Region { domain, .. }, EnergyKind::EpG(p)) => (
+                Arc::new(UEpG::new(domain.clone(), p)?),
+                domain.clone(),
+                no_choice("E", p),
+            ),
+            (Space::Region { domain, .. }, EnergyKind::EInf) => (
+                Arc::new(UEInf::new(Distance::Euclidean)?),
+                domain.clone(),
+                no_choice("E", f64::INFINITY),
+            ),
+            (Space::Cube, other) => {
+                return Err(Error::invalid(
+                    "energy",
+                    format!("{other:?}"),
+                    "an energy of the cube (U_{q,p}, U_{E,∞} or a discrepancy); the \
+                     boundary-aware energies need a region",
+                ))
+            }
+            (Space::Region { .. }, other) => {
+                return Err(Error::invalid(
+                    "energy",
+                    format!("{other:?}"),
+                    "an energy of a region (U_{E,∞,g}, U_{E,p,g} or U_{E,∞})",
+                ))
+            }
+        };
+    Ok((Problem::shared(energy, domain)?, choice))
+}
+
+/// The quality figures of a set in the configuration's space.
+fn quality(cfg: &GenerateConfig, points: &PointSet) -> Result<Quality, Error> {
+    Ok(match cfg.region() {
+        Some(domain) => Quality::Region(RegionMetrics::compute(domain, points)?),
+        None => Quality::Cube(Metrics::compute(points)),
+    })
 }
 
 /// Attaches discrepancies every k steps and forwards each record to a callback (used for
@@ -253,7 +473,7 @@ pub enum Event<'a> {
     Progress(u64),
 }
 
-/// Runs the DEM for a configuration, calling `on_record` with every trajectory record.
+/// Runs a configuration, calling `on_record` with every trajectory record.
 pub fn generate(
     cfg: &GenerateConfig,
     mut on_record: impl FnMut(&Record),
@@ -266,74 +486,40 @@ pub fn generate(
 }
 
 /// Runs a configuration as [`generate`] does, with checkpoints written (and an earlier one
-/// resumed) as `checkpoint` says, and every [`Event`] passed to `on_event`. The shift
-/// selection and the polish run after the DEM, also after a resume.
+/// resumed) as `checkpoint` says, and every [`Event`] passed to `on_event`: the start,
+/// the solver through the executor, then the post-steps (shift selection after a
+/// periodic energy, the polish), then the report. The post-steps run after a resume too.
 pub fn generate_with(
     cfg: &GenerateConfig,
     checkpoint: Option<&CheckpointPlan>,
     mut on_event: impl FnMut(Event),
 ) -> Result<GenerateReport, Error> {
     let clock = Instant::now();
-    let start = start_set(cfg)?;
-    let (energy, domain, choice): (Box<dyn Energy>, Box<dyn Domain>, EnergyChoice) =
-        match cfg.energy {
-            CubeEnergy::Uqp => {
-                let (e, choice) = choose_energy(cfg.n, cfg.s, cfg.q, cfg.p)?;
-                (
-                    Box::new(e.with_precision(cfg.precision)),
-                    Box::new(PeriodicCube::new(cfg.s)?),
-                    choice,
-                )
-            }
-            CubeEnergy::EInf => {
-                let euclid = cfg.q == Some(Distance::Euclidean);
-                let choice = EnergyChoice {
-                    q: if euclid { "E" } else { "inf" }.to_string(),
-                    p: f64::INFINITY,
-                    from_eq48: false,
-                    eq48_in_fitted_range: false,
-                    eq48_clamped: false,
-                };
-                if euclid {
-                    let cube = BoxRegion::new(vec![0.0; cfg.s], vec![1.0; cfg.s])?;
-                    (
-                        Box::new(UEInf::new(Distance::Euclidean)?),
-                        Box::new(cube),
-                        choice,
-                    )
-                } else {
-                    let cube = PeriodicCube::new(cfg.s)?;
-                    (
-                        Box::new(UEInf::new(Distance::Torus)?),
-                        Box::new(cube),
-                        choice,
-                    )
-                }
-            }
-            CubeEnergy::Discrepancy(kind) => {
-                let choice = EnergyChoice {
-                    q: "-".to_string(),
-                    p: f64::NAN,
-                    from_eq48: false,
-                    eq48_in_fitted_range: false,
-                    eq48_clamped: false,
-                };
-                // Only the wrap-around L2 is periodic; the others live in the closed cube.
-                let domain: Box<dyn Domain> = if kind.is_periodic() {
-                    Box::new(PeriodicCube::new(cfg.s)?)
-                } else {
-                    Box::new(BoxRegion::new(vec![0.0; cfg.s], vec![1.0; cfg.s])?)
-                };
-                (Box::new(DiscrepancyEnergy::new(kind)), domain, choice)
-            }
-        };
-    let mut start = start;
+    let mut start = start_set(cfg)?;
+    let (problem, choice) = build_problem(cfg)?;
+    if cfg.polish.is_some() && cfg.region().is_some() {
+        return Err(Error::invalid(
+            "polish",
+            format!("{:?}", cfg.polish),
+            "no polish in a region (the discrepancies live in the unit cube)",
+        ));
+    }
+    let (energy, domain) = (problem.energy(), problem.domain());
     if domain.is_periodic() {
         // 1.0 is the same point as 0.0 on the torus.
         PeriodicCube::wrap_set(&mut start);
     }
     let config = config_json(cfg);
-    let problem = Problem::shared(Arc::from(energy), Arc::from(domain))?;
+    let region_start_quality = match cfg.region() {
+        Some(_) => {
+            on_event(Event::Stage {
+                name: "metrics",
+                steps: None,
+            });
+            Some(quality(cfg, &start)?)
+        }
+        None => None,
+    };
     let mut output = {
         let main = match cfg.solver {
             Solver::Dem => "DEM",
@@ -343,7 +529,12 @@ pub fn generate_with(
             name: main,
             steps: Some(cfg.steps as u64),
         });
-        let mut observer = LoggingObserver::new(cfg.log_every, |r: &Record| {
+        let log_every = if cfg.region().is_some() {
+            0
+        } else {
+            cfg.log_every
+        };
+        let mut observer = LoggingObserver::new(log_every, |r: &Record| {
             on_event(Event::Record(r));
             on_event(Event::Progress(r.step as u64));
         });
@@ -361,11 +552,10 @@ pub fn generate_with(
             &mut observer,
         )?
     };
-    let (energy, domain) = (problem.energy(), problem.domain());
     // The energies reported for the start and the DEM's result, at full precision when
     // the run used the fast table.
-    let full_energies = match cfg.energy {
-        CubeEnergy::Uqp if cfg.precision != Precision::Full => {
+    let full_energies = match (&cfg.space, cfg.energy) {
+        (Space::Cube, EnergyKind::Uqp) if cfg.precision != Precision::Full => {
             let (e, _) = choose_energy(cfg.n, cfg.s, cfg.q, cfg.p)?;
             match e.distance() {
                 Distance::Q(q) if Precision::fast_applies(q) => {
@@ -418,13 +608,19 @@ pub fn generate_with(
         name: "metrics",
         steps: None,
     });
-    let metrics_pair = (Metrics::compute(&start), Metrics::compute(&output.points));
+    let quality_pair = (
+        match region_start_quality {
+            Some(q) => q,
+            None => quality(cfg, &start)?,
+        },
+        quality(cfg, &output.points)?,
+    );
     Ok(GenerateReport {
         energy_name: energy.name(),
         start,
         output,
         energy: energy_pair,
-        metrics: metrics_pair,
+        quality: quality_pair,
         choice,
         shift,
         polish,
@@ -804,8 +1000,16 @@ pub(crate) fn dem_json(dem: &Dem, steps: usize) -> Value {
 /// Everything in a configuration that decides its output, under the parameters' names:
 /// what a checkpoint records and a resume compares.
 pub fn config_json(cfg: &GenerateConfig) -> Value {
+    let (run, region, description) = match &cfg.space {
+        Space::Cube => ("cube", Value::Null, Value::Null),
+        Space::Region {
+            domain,
+            description,
+        } => ("region", json!(format!("{domain:?}")), description.clone()),
+    };
     let mut v = json!({
-        "run": "cube",
+        "run": run,
+        "region": region,
         "n": cfg.n,
         "s": cfg.s,
         "energy": format!("{:?}", cfg.energy),
@@ -826,6 +1030,10 @@ pub fn config_json(cfg: &GenerateConfig) -> Value {
     });
     if let (Value::Object(map), Value::Object(dem)) = (&mut v, dem_json(&cfg.dem, cfg.steps)) {
         map.extend(dem);
+    }
+    // How the region was described (an expression and box, a shape), key by key.
+    if let (Value::Object(map), Value::Object(d)) = (&mut v, description) {
+        map.extend(d);
     }
     v
 }

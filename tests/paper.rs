@@ -23,7 +23,10 @@ fn run(n: usize, s: usize) -> Outcome {
         .as_ref()
         .expect("the default runs a shift selection");
     Outcome {
-        start: (r.metrics.0.modified_l2, r.metrics.0.star_l2),
+        start: (
+            r.cube_metrics().unwrap().0.modified_l2,
+            r.cube_metrics().unwrap().0.star_l2,
+        ),
         dem: sh.modified_l2_before,
         result: (
             metrics::modified_l2(&r.output.points),

@@ -8,7 +8,7 @@ use stillpoint::energies::boundary::UEpG;
 use stillpoint::energies::region::paper_region;
 use stillpoint::energies::shapes::Ball;
 use stillpoint::energies::{Domain, Energy};
-use stillpoint::regions::{generate_in_region, RegionConfig, RegionEnergy, RegionInit};
+use stillpoint::run::{generate, EnergyKind, GenerateConfig, Init};
 
 fn g4(x: &[f64]) -> f64 {
     x[0].abs() + 2.0 * x[1].abs() - 5.0
@@ -17,29 +17,35 @@ fn g4(x: &[f64]) -> f64 {
 #[test]
 fn paper_region_points_stay_inside_and_the_energy_falls() {
     let domain: Arc<dyn Domain> = Arc::new(paper_region(4).unwrap());
-    let mut cfg = RegionConfig::new(domain.clone(), 40);
+    let mut cfg = GenerateConfig::in_region(domain.clone(), 40);
     cfg.steps = 3000;
-    let r = generate_in_region(&cfg, |_| {}).unwrap();
+    let r = generate(&cfg, |_| {}).unwrap();
     assert!(r.output.points.rows().all(|x| g4(x) <= 0.0));
     assert!(r.start.rows().all(|x| g4(x) <= 0.0));
     assert!(
-        r.reduction() > 0.5,
+        r.reduction().unwrap() > 0.5,
         "U_E,inf,g {} -> {}",
-        r.metrics.0.energy_e_inf_g,
-        r.metrics.1.energy_e_inf_g
+        r.region_metrics().unwrap().0.energy_e_inf_g,
+        r.region_metrics().unwrap().1.energy_e_inf_g
     );
-    assert!(r.metrics.1.min_distance > 2.0 * r.metrics.0.min_distance);
-    assert!(r.metrics.1.min_boundary_distance > r.metrics.0.min_boundary_distance);
+    assert!(
+        r.region_metrics().unwrap().1.min_distance
+            > 2.0 * r.region_metrics().unwrap().0.min_distance
+    );
+    assert!(
+        r.region_metrics().unwrap().1.min_boundary_distance
+            > r.region_metrics().unwrap().0.min_boundary_distance
+    );
 }
 
 #[test]
 fn ball_in_three_dimensions_and_the_smooth_energy() {
     let ball: Arc<dyn Domain> = Arc::new(Ball::new(vec![0.5, -1.0, 2.0], 1.5).unwrap());
-    let mut cfg = RegionConfig::new(ball.clone(), 30);
-    cfg.energy = RegionEnergy::EpG(6.0);
-    cfg.init = RegionInit::Halton;
+    let mut cfg = GenerateConfig::in_region(ball.clone(), 30);
+    cfg.energy = EnergyKind::EpG(6.0);
+    cfg.init = Init::Halton;
     cfg.steps = 1500;
-    let r = generate_in_region(&cfg, |_| {}).unwrap();
+    let r = generate(&cfg, |_| {}).unwrap();
     assert!(r.output.points.rows().all(|x| ball.contains(x)));
     let e = UEpG::new(ball, 6.0).unwrap();
     assert!(e.value(&r.output.points) < e.value(&r.start));
@@ -48,14 +54,14 @@ fn ball_in_three_dimensions_and_the_smooth_energy() {
 #[test]
 fn same_bits_for_one_and_two_threads() {
     let domain: Arc<dyn Domain> = Arc::new(paper_region(1).unwrap());
-    let mut cfg = RegionConfig::new(domain, 25);
+    let mut cfg = GenerateConfig::in_region(domain, 25);
     cfg.steps = 400;
     let run = |t: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(t)
             .build()
             .unwrap()
-            .install(|| generate_in_region(&cfg, |_| {}).unwrap().output.points)
+            .install(|| generate(&cfg, |_| {}).unwrap().output.points)
     };
     let (a, b) = (run(1), run(2));
     let bits =

@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use stillpoint::energies::shapes::Ball;
 use stillpoint::io::{encode, Format};
-use stillpoint::regions::{generate_in_region, generate_in_region_with, RegionConfig};
+
 use stillpoint::run::{
     generate, generate_with, read_checkpoint, CheckpointPlan, Event, GenerateConfig, Init,
 };
@@ -96,7 +96,7 @@ fn library_resume_of_a_cube_run_is_bit_identical() {
         energies(&resumed.output.trajectory),
         energies(&reference.output.trajectory)
     );
-    assert_eq!(resumed.metrics, reference.metrics);
+    assert_eq!(resumed.quality, reference.quality);
     assert_eq!(resumed.polish, reference.polish);
     assert_eq!(
         resumed.shift.as_ref().map(|s| s.shift.clone()),
@@ -117,14 +117,14 @@ fn library_resume_of_a_cube_run_is_bit_identical() {
 fn library_resume_of_a_region_run_is_bit_identical() {
     let d = tmpdir("lib-region");
     let ball = Ball::new(vec![0.0, 0.0], 1.0).unwrap();
-    let mut cfg = RegionConfig::new(Arc::new(ball), 40);
+    let mut cfg = GenerateConfig::in_region(Arc::new(ball), 40);
     cfg.steps = 300;
     cfg.dem.tolerance = 0.0;
-    let reference = generate_in_region(&cfg, |_| {}).unwrap();
+    let reference = generate(&cfg, |_| {}).unwrap();
     let ck = d.join("region.ckpt");
     let mid = d.join("mid.ckpt");
     let plan = CheckpointPlan::new(&ck, 50);
-    generate_in_region_with(&cfg, Some(&plan), |e| {
+    generate_with(&cfg, Some(&plan), |e| {
         if let Event::Record(r) = e {
             if r.step == 150 {
                 std::fs::copy(&ck, &mid).unwrap();
@@ -134,7 +134,7 @@ fn library_resume_of_a_region_run_is_bit_identical() {
     .unwrap();
     let mut resume = CheckpointPlan::new(&ck, 50);
     resume.resume = Some(mid);
-    let resumed = generate_in_region_with(&cfg, Some(&resume), |_| {}).unwrap();
+    let resumed = generate_with(&cfg, Some(&resume), |_| {}).unwrap();
     assert_eq!(
         bytes(&resumed.output.points),
         bytes(&reference.output.points)
@@ -143,7 +143,7 @@ fn library_resume_of_a_region_run_is_bit_identical() {
         energies(&resumed.output.trajectory),
         energies(&reference.output.trajectory)
     );
-    assert_eq!(resumed.metrics, reference.metrics);
+    assert_eq!(resumed.quality, reference.quality);
 }
 
 #[test]

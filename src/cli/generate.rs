@@ -57,21 +57,12 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
             bail!("invalid --p = {p}: expected a finite number > 0");
         }
     }
-    // A region built from text is known to the checkpoint by that text.
-    let region_extra = if region.is_some() || shape.is_some() {
-        json!({"expression": region, "box": bbox, "shape": shape})
-    } else {
-        Value::Null
-    };
-    let plan = checkpoint_plan(
-        checkpoint,
-        checkpoint_every,
-        resume,
-        region_extra.clone(),
-        quiet,
-    )?;
+    let plan = checkpoint_plan(checkpoint, checkpoint_every, resume, Value::Null, quiet)?;
     let mut progress = Progress::new(quiet);
-    if region.is_some() || shape.is_some() {
+    // How the command line named the region: recorded in checkpoints (a resume in
+    // another region is refused) and in the file header.
+    let given = json!({"--region": region, "--box": bbox, "--shape": shape});
+    let cfg = if region.is_some() || shape.is_some() {
         let domain = region_domain(region.as_deref(), bbox.as_deref(), shape.as_deref(), s)?;
         let n = n.context("missing -n N: the number of points (at least 1)")?;
         if let Some(precision) = precision {
@@ -81,11 +72,15 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
                 precision.label()
             );
         }
-        let mut cfg = RegionConfig::new(domain, n);
+        let mut cfg = GenerateConfig::in_region(domain, n);
+        cfg.space = run::Space::Region {
+            domain: cfg.region().cloned().context("a region")?,
+            description: json!({"expression": region, "box": bbox, "shape": shape}),
+        };
         cfg.energy = match energy.unwrap_or(EnergyArg::EInfG) {
-            EnergyArg::EInfG => RegionEnergy::EInfG,
-            EnergyArg::EInf => RegionEnergy::EInf,
-            EnergyArg::EpG => RegionEnergy::EpG(p.unwrap_or(8.0)),
+            EnergyArg::EInfG => EnergyKind::EInfG,
+            EnergyArg::EInf => EnergyKind::EInf,
+            EnergyArg::EpG => EnergyKind::EpG(p.unwrap_or(8.0)),
             other => bail!(
                 "invalid --energy = {} for a region: expected e-inf-g (eq. 56), \
                  e-inf or e-p-g",
@@ -93,11 +88,9 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
             ),
         };
         cfg.init = match init.as_deref().unwrap_or("random") {
-            "random" => RegionInit::Random,
-            "halton" => RegionInit::Halton,
-            path => {
-                RegionInit::Points(io::read_points(std::path::Path::new(path)).context("--init")?)
-            }
+            "random" => Init::Random,
+            "halton" => Init::Halton,
+            path => Init::Points(io::read_points(std::path::Path::new(path)).context("--init")?),
         };
         cfg.seed = seed;
         cfg.solver = integrator;
@@ -106,107 +99,91 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         }
         cfg.dem.kappa = kappa;
         cfg.dem.tolerance = tolerance;
-        if plot.is_some() && cfg.domain.dim() < 2 {
+        if plot.is_some() && cfg.s < 2 {
             bail!("invalid --plot: the region has dimension 1; plots need s ≥ 2");
         }
-        let report = generate_in_region_with(&cfg, plan.as_ref(), |e| progress.event(e))?;
-        progress.finish();
-        // The file header names the region by the options that gave it.
-        let given = json!({"--region": region, "--box": bbox, "--shape": shape});
-        let meta = region_meta(&report, &cfg, &given);
-        if let Some(path) = &trajectory {
-            write_trajectory(path, &report.energy_name, &report.output)?;
+        cfg
+    } else {
+        if bbox.is_some() {
+            bail!("--box needs --region EXPR or --shape polytope:FILE");
         }
-        if let Some(path) = &plot {
-            plot_start_result(
-                path,
-                &report.start,
-                &report.output.points,
-                cfg.domain.as_ref(),
-            )?;
-        }
-        let summary = if json {
-            region_json(&report, &cfg)
-        } else {
-            Value::String(region_table(&report, &cfg, output.as_ref()))
+        let init = match init.as_deref().unwrap_or("halton") {
+            "halton" => Init::Halton,
+            "random" => Init::Random,
+            path => {
+                let points = io::read_points(std::path::Path::new(path)).context("--init")?;
+                points
+                    .check_unit_cube()
+                    .with_context(|| format!("--init: {path}"))?;
+                Init::Points(points)
+            }
         };
-        emit(&report.output.points, &meta, output.as_ref(), summary)?;
-        return Ok(());
-    }
-    if bbox.is_some() {
-        bail!("--box needs --region EXPR or --shape polytope:FILE");
-    }
-    let init = match init.as_deref().unwrap_or("halton") {
-        "halton" => Init::Halton,
-        "random" => Init::Random,
-        path => {
-            let points = io::read_points(std::path::Path::new(path)).context("--init")?;
-            points
-                .check_unit_cube()
-                .with_context(|| format!("--init: {path}"))?;
-            Init::Points(points)
+        let (n, s) = match (&init, n, s) {
+            (Init::Points(p), n, s) => (n.unwrap_or(p.n()), s.unwrap_or(p.s())),
+            (_, Some(n), Some(s)) => (n, s),
+            (_, None, _) => bail!("missing -n N: the number of points (at least 1)"),
+            (_, _, None) => bail!("missing -s S: the dimension (at least 1)"),
+        };
+        if plot.is_some() && s < 2 {
+            bail!("invalid --plot with -s = {s}: plots need s ≥ 2");
         }
+        let mut cfg = GenerateConfig::new(n, s);
+        cfg.energy = match energy.unwrap_or(EnergyArg::Uqp) {
+            EnergyArg::Uqp => EnergyKind::Uqp,
+            EnergyArg::EInf => EnergyKind::EInf,
+            e @ (EnergyArg::EInfG | EnergyArg::EpG) => bail!(
+                "invalid --energy = {} in the cube: e-inf-g and e-p-g need --region or \
+                 --shape; the cube accepts uqp, e-inf, l2star, md, cd, periodic",
+                e.name()
+            ),
+            EnergyArg::L2star => EnergyKind::Discrepancy(DiscrepancyKind::StarL2),
+            EnergyArg::Md => EnergyKind::Discrepancy(DiscrepancyKind::ModifiedL2),
+            EnergyArg::Cd => EnergyKind::Discrepancy(DiscrepancyKind::CenteredL2),
+            EnergyArg::Periodic => EnergyKind::Discrepancy(DiscrepancyKind::WrapAroundL2),
+        };
+        cfg.solver = integrator;
+        cfg.q = match q.as_deref() {
+            Some(text) => Some(Distance::parse(text).map_err(|_| {
+                anyhow::anyhow!(
+                    "invalid --q = {text}: expected a number in (0, ∞), `inf` (the torus \
+                     distance) or `E` (Euclidean)"
+                )
+            })?),
+            None => None,
+        };
+        cfg.p = p;
+        if let Some(precision) = precision {
+            cfg.precision = precision;
+        }
+        cfg.init = init;
+        cfg.seed = seed;
+        cfg.steps = steps.unwrap_or(1000);
+        cfg.dem.kappa = kappa;
+        cfg.dem.restart = restart;
+        cfg.dem.tolerance = tolerance;
+        cfg.shifts = shifts;
+        cfg.polish = polish.0;
+        cfg.log_every = log_every.unwrap_or(if trajectory.is_some() { 10 } else { 0 });
+        cfg
     };
-    let (n, s) = match (&init, n, s) {
-        (Init::Points(p), n, s) => (n.unwrap_or(p.n()), s.unwrap_or(p.s())),
-        (_, Some(n), Some(s)) => (n, s),
-        (_, None, _) => bail!("missing -n N: the number of points (at least 1)"),
-        (_, _, None) => bail!("missing -s S: the dimension (at least 1)"),
-    };
-    if plot.is_some() && s < 2 {
-        bail!("invalid --plot with -s = {s}: plots need s ≥ 2");
-    }
-    let mut cfg = GenerateConfig::new(n, s);
-    cfg.energy = match energy.unwrap_or(EnergyArg::Uqp) {
-        EnergyArg::Uqp => CubeEnergy::Uqp,
-        EnergyArg::EInf => CubeEnergy::EInf,
-        e @ (EnergyArg::EInfG | EnergyArg::EpG) => bail!(
-            "invalid --energy = {} in the cube: e-inf-g and e-p-g need --region or \
-             --shape; the cube accepts uqp, e-inf, l2star, md, cd, periodic",
-            e.name()
-        ),
-        EnergyArg::L2star => CubeEnergy::Discrepancy(DiscrepancyKind::StarL2),
-        EnergyArg::Md => CubeEnergy::Discrepancy(DiscrepancyKind::ModifiedL2),
-        EnergyArg::Cd => CubeEnergy::Discrepancy(DiscrepancyKind::CenteredL2),
-        EnergyArg::Periodic => CubeEnergy::Discrepancy(DiscrepancyKind::WrapAroundL2),
-    };
-    cfg.solver = integrator;
-    cfg.q = match q.as_deref() {
-        Some(text) => Some(Distance::parse(text).map_err(|_| {
-            anyhow::anyhow!(
-                "invalid --q = {text}: expected a number in (0, ∞), `inf` (the torus distance) \
-                 or `E` (Euclidean)"
-            )
-        })?),
-        None => None,
-    };
-    cfg.p = p;
-    if let Some(precision) = precision {
-        cfg.precision = precision;
-    }
-    cfg.init = init;
-    cfg.seed = seed;
-    cfg.steps = steps.unwrap_or(1000);
-    cfg.dem.kappa = kappa;
-    cfg.dem.restart = restart;
-    cfg.dem.tolerance = tolerance;
-    cfg.shifts = shifts;
-    cfg.polish = polish.0;
-    cfg.log_every = log_every.unwrap_or(if trajectory.is_some() { 10 } else { 0 });
     let report = run::generate_with(&cfg, plan.as_ref(), |e| progress.event(e))?;
     progress.finish();
-    let meta = generate_meta(&report, &cfg);
+    let meta = file_header(&report, &cfg, &given)?;
     if let Some(path) = &trajectory {
         write_trajectory(path, &report.energy_name, &report.output)?;
     }
     if let Some(path) = &plot {
-        let cube = crate::PeriodicCube::new(cfg.s)?;
-        plot_start_result(path, &report.start, &report.output.points, &cube)?;
+        let domain: Arc<dyn Domain> = match cfg.region() {
+            Some(d) => d.clone(),
+            None => Arc::new(crate::PeriodicCube::new(cfg.s)?),
+        };
+        plot_start_result(path, &report.start, &report.output.points, domain.as_ref())?;
     }
-    let summary = if json {
-        report_json(&report, &cfg)
-    } else {
-        Value::String(report_table(&report, &cfg, output.as_ref()))
+    let summary = match (json, cfg.region().is_some()) {
+        (true, false) => report_json(&report, &cfg)?,
+        (true, true) => region_json(&report, &cfg)?,
+        (false, false) => Value::String(report_table(&report, &cfg, output.as_ref())?),
+        (false, true) => Value::String(region_table(&report, &cfg, output.as_ref())?),
     };
     emit(&report.output.points, &meta, output.as_ref(), summary)?;
     Ok(())

@@ -27,10 +27,7 @@ use {
     crate::energies::{paper_qp, Distance, Domain, Energy, Precision, Uqp},
     crate::integrators::{Kappa, Restart},
     crate::metrics::Metrics,
-    crate::regions::{
-        generate_in_region_with, RegionConfig, RegionEnergy, RegionInit, RegionReport,
-    },
-    crate::run::{self, CubeEnergy, GenerateConfig, GenerateReport, Init, Solver},
+    crate::run::{self, EnergyKind, GenerateConfig, GenerateReport, Init, Solver},
     crate::sequences::Baseline,
     crate::studies::{self, Study, StudyOptions},
     crate::{bench, io, PointSet},

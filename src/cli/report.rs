@@ -8,7 +8,8 @@ pub(crate) fn metrics_json(m: &Metrics) -> Value {
 
 /// The `--json` report of a cube run: settings, run facts, energies and metrics of the
 /// start and the result, the shift and polish, and the wall time.
-pub(crate) fn report_json(r: &GenerateReport, cfg: &GenerateConfig) -> Value {
+pub(crate) fn report_json(r: &GenerateReport, cfg: &GenerateConfig) -> Result<Value> {
+    let (m0, m1) = r.cube_metrics()?;
     let info: serde_json::Map<String, Value> = r
         .output
         .info
@@ -43,15 +44,15 @@ pub(crate) fn report_json(r: &GenerateReport, cfg: &GenerateConfig) -> Value {
     v["run"] = Value::Object(info);
     v["energy_start"] = finite_or_null(r.energy.0);
     v["energy_result"] = finite_or_null(r.energy.1);
-    v["metrics_start"] = metrics_json(&r.metrics.0);
-    v["metrics_result"] = metrics_json(&r.metrics.1);
+    v["metrics_start"] = metrics_json(m0);
+    v["metrics_result"] = metrics_json(m1);
     v["shift"] = serde_json::to_value(&r.shift).unwrap_or(Value::Null);
     v["polish"] = match r.polish {
         Some((a, b, it)) => json!({"before": a, "after": b, "iterations": it}),
         None => Value::Null,
     };
     v["seconds"] = json!(r.seconds);
-    v
+    Ok(v)
 }
 
 /// The settings of a DEM as the command line writes them.
@@ -72,82 +73,85 @@ pub(crate) fn dem_settings(dem: &crate::integrators::Dem, steps: usize) -> Value
     })
 }
 
-/// The header of a generated point file: what made it (generator, version, seed, every
-/// parameter) and what came out (run facts and the result's metrics). Nothing in it
-/// depends on the clock or the thread count, so the file is the same bytes every time.
-pub(crate) fn generate_meta(r: &GenerateReport, cfg: &GenerateConfig) -> Value {
+/// The header of a generated point file, in the cube or a region: what made it
+/// (generator, version, seed, every parameter) and what came out (run facts and the
+/// result's quality). Nothing in it depends on the clock or the thread count, so the file
+/// is the same bytes every time. `given` is how the command line named the region.
+pub(crate) fn file_header(
+    r: &GenerateReport,
+    cfg: &GenerateConfig,
+    given: &Value,
+) -> Result<Value> {
     let init = match &cfg.init {
         Init::Halton => "halton".to_string(),
         Init::Random => "random".to_string(),
         Init::Points(p) => format!("file: {}", run::points_fingerprint(p)),
     };
-    let mut parameters = json!({
-        "n": cfg.n,
-        "s": cfg.s,
-        "energy": r.energy_name,
-        "q": r.choice.q,
-        "p": finite_or_null(r.choice.p),
-        "precision": cfg.precision.label(),
-        "pq_from_eq48": r.choice.from_eq48,
-        "init": init,
-        "integrator": match cfg.solver {
-            Solver::Dem => "dem",
-            Solver::Lbfgs => "lbfgs",
-        },
-        "shifts": cfg.shifts,
-        "polish": cfg.polish.map(|k| format!("{k:?}")),
-    });
+    let integrator = match cfg.solver {
+        Solver::Dem => "dem",
+        Solver::Lbfgs => "lbfgs",
+    };
+    let steps = r
+        .output
+        .trajectory
+        .iter()
+        .map(|t| t.step)
+        .max()
+        .unwrap_or(0);
+    let (mut parameters, run, metrics) = match cfg.region() {
+        None => (
+            json!({
+                "n": cfg.n,
+                "s": cfg.s,
+                "energy": r.energy_name,
+                "q": r.choice.q,
+                "p": finite_or_null(r.choice.p),
+                "precision": cfg.precision.label(),
+                "pq_from_eq48": r.choice.from_eq48,
+                "init": init,
+                "integrator": integrator,
+                "shifts": cfg.shifts,
+                "polish": cfg.polish.map(|k| format!("{k:?}")),
+            }),
+            json!({
+                "steps": steps,
+                "stop": r.output.stop,
+                "kappa": r.output.info("kappa").map(finite_or_null),
+                "restarts": r.output.info("restarts").map(finite_or_null),
+            }),
+            metrics_json(r.cube_metrics()?.1),
+        ),
+        Some(domain) => (
+            json!({
+                "n": cfg.n,
+                "s": cfg.s,
+                "region": given,
+                "domain": format!("{domain:?}"),
+                "energy": r.energy_name,
+                "init": init,
+                "integrator": integrator,
+            }),
+            json!({
+                "steps": steps,
+                "stop": r.output.stop,
+                "kappa": r.output.info("kappa").map(finite_or_null),
+            }),
+            serde_json::to_value(r.region_metrics()?.1).unwrap_or(Value::Null),
+        ),
+    };
     if let (Value::Object(p), Value::Object(d)) =
         (&mut parameters, dem_settings(&cfg.dem, cfg.steps))
     {
         p.extend(d);
     }
-    json!({
+    Ok(json!({
         "generator": "stillpoint generate",
         "version": env!("CARGO_PKG_VERSION"),
         "seed": cfg.seed,
         "parameters": parameters,
-        "run": {
-            "steps": r.output.trajectory.iter().map(|t| t.step).max().unwrap_or(0),
-            "stop": r.output.stop,
-            "kappa": r.output.info("kappa").map(finite_or_null),
-            "restarts": r.output.info("restarts").map(finite_or_null),
-        },
-        "metrics": metrics_json(&r.metrics.1),
-    })
-}
-
-/// The header of a point file generated in a region (see [`generate_meta`]).
-pub(crate) fn region_meta(r: &RegionReport, cfg: &RegionConfig, region: &Value) -> Value {
-    let mut parameters = json!({
-        "n": cfg.n,
-        "s": cfg.domain.dim(),
-        "region": region,
-        "domain": format!("{:?}", cfg.domain),
-        "energy": r.energy_name,
-        "init": match &cfg.init {
-            RegionInit::Random => "random".to_string(),
-            RegionInit::Halton => "halton".to_string(),
-            RegionInit::Points(p) => format!("file: {}", run::points_fingerprint(p)),
-        },
-    });
-    if let (Value::Object(p), Value::Object(d)) =
-        (&mut parameters, dem_settings(&cfg.dem, cfg.steps))
-    {
-        p.extend(d);
-    }
-    json!({
-        "generator": "stillpoint generate",
-        "version": env!("CARGO_PKG_VERSION"),
-        "seed": cfg.seed,
-        "parameters": parameters,
-        "run": {
-            "steps": r.output.trajectory.iter().map(|t| t.step).max().unwrap_or(0),
-            "stop": r.output.stop,
-            "kappa": r.output.info("kappa").map(finite_or_null),
-        },
-        "metrics": serde_json::to_value(r.metrics.1).unwrap_or(Value::Null),
-    })
+        "run": run,
+        "metrics": metrics,
+    }))
 }
 
 pub(crate) fn finite_or_null(v: f64) -> Value {
@@ -162,8 +166,8 @@ pub(crate) fn report_table(
     r: &GenerateReport,
     cfg: &GenerateConfig,
     out: Option<&PathBuf>,
-) -> String {
-    let (m0, m1) = (&r.metrics.0, &r.metrics.1);
+) -> Result<String> {
+    let (m0, m1) = r.cube_metrics()?;
     let init = match &cfg.init {
         Init::Halton => "plain Halton (indices 1..n)".to_string(),
         Init::Random => format!("random (seed {})", cfg.seed),
@@ -300,7 +304,7 @@ pub(crate) fn report_table(
         out.map(|p| p.display().to_string())
             .unwrap_or_else(|| "standard output".into())
     );
-    t
+    Ok(t)
 }
 
 pub(crate) fn eval_json(points: &PointSet) -> Value {
@@ -371,18 +375,19 @@ pub(crate) fn points_json(points: &PointSet) -> Value {
 }
 
 /// The `--json` report of a region run.
-pub(crate) fn region_json(r: &RegionReport, cfg: &RegionConfig) -> Value {
+pub(crate) fn region_json(r: &GenerateReport, cfg: &GenerateConfig) -> Result<Value> {
+    let (m0, m1) = r.region_metrics()?;
     let mut v = json!({
         "generator": format!("stillpoint {}", env!("CARGO_PKG_VERSION")),
         "n": cfg.n,
-        "s": cfg.domain.dim(),
-        "region": format!("{:?}", cfg.domain),
+        "s": cfg.s,
+        "region": cfg.region().map(|d| format!("{d:?}")),
         "energy": r.energy_name,
         "seed": cfg.seed,
         "steps": r.output.trajectory.iter().map(|t| t.step).max().unwrap_or(0),
         "stop": r.output.stop,
         "kappa": r.output.info("kappa"),
-        "energy_e_inf_g_reduction": finite_or_null(r.reduction()),
+        "energy_e_inf_g_reduction": finite_or_null(r.reduction()?),
     });
     let info: serde_json::Map<String, Value> = r
         .output
@@ -391,24 +396,29 @@ pub(crate) fn region_json(r: &RegionReport, cfg: &RegionConfig) -> Value {
         .map(|(k, v)| (k.clone(), finite_or_null(*v)))
         .collect();
     v["run"] = Value::Object(info);
-    v["metrics_start"] = serde_json::to_value(r.metrics.0).unwrap_or(Value::Null);
-    v["metrics_result"] = serde_json::to_value(r.metrics.1).unwrap_or(Value::Null);
+    v["metrics_start"] = serde_json::to_value(m0).unwrap_or(Value::Null);
+    v["metrics_result"] = serde_json::to_value(m1).unwrap_or(Value::Null);
     v["seconds"] = json!(r.seconds);
-    v
+    Ok(v)
 }
 
-pub(crate) fn region_table(r: &RegionReport, cfg: &RegionConfig, out: Option<&PathBuf>) -> String {
-    let (a, b) = (&r.metrics.0, &r.metrics.1);
+pub(crate) fn region_table(
+    r: &GenerateReport,
+    cfg: &GenerateConfig,
+    out: Option<&PathBuf>,
+) -> Result<String> {
+    let (a, b) = r.region_metrics()?;
+    let domain = cfg.region().map(|d| format!("{d:?}")).unwrap_or_default();
     let mut t = format!(
-        "stillpoint: n = {}, s = {} in {:?}\n  {} from {}, DEM: {} steps ({:?}), κ = {} after {} trial(s)\n\n",
+        "stillpoint: n = {}, s = {} in {}\n  {} from {}, DEM: {} steps ({:?}), κ = {} after {} trial(s)\n\n",
         cfg.n,
-        cfg.domain.dim(),
-        cfg.domain,
+        cfg.s,
+        domain,
         r.energy_name,
         match &cfg.init {
-            RegionInit::Random => format!("random start (seed {}, first n inside the box)", cfg.seed),
-            RegionInit::Halton => "Halton start (first n inside the box)".into(),
-            RegionInit::Points(_) => "points from file".into(),
+            Init::Random => format!("random start (seed {}, first n inside the box)", cfg.seed),
+            Init::Halton => "Halton start (first n inside the box)".into(),
+            Init::Points(_) => "points from file".into(),
         },
         r.output.trajectory.iter().map(|x| x.step).max().unwrap_or(0),
         r.output.stop,
@@ -442,10 +452,10 @@ pub(crate) fn region_table(r: &RegionReport, cfg: &RegionConfig, out: Option<&Pa
     }
     t += &format!(
         "\n  U_{{E,∞,g}} reduction {:.1}%; time {:.2} s; points written to {}\n",
-        100.0 * r.reduction(),
+        100.0 * r.reduction()?,
         r.seconds,
         out.map(|p| p.display().to_string())
             .unwrap_or_else(|| "standard output".into())
     );
-    t
+    Ok(t)
 }

@@ -241,7 +241,8 @@ fn make_set(dir: &Path, s: usize, n: usize, steps: usize) -> Result<Entry> {
     let mut cfg = GenerateConfig::new(n, s);
     cfg.steps = steps;
     let r = generate(&cfg, |_| {})?;
-    let (m0, m1): (Metrics, Metrics) = r.metrics;
+    let (m0, m1) = r.cube_metrics()?;
+    let (m0, m1): (Metrics, Metrics) = (*m0, *m1);
     let file = file_name(s, n);
     let meta = json!({
         "generator": "stillpoint study catalog",

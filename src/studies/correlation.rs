@@ -7,7 +7,7 @@ use crate::energies::einf::UEInf;
 use crate::energies::{Distance, Energy, PointSet, Uqp};
 use crate::metrics;
 use crate::plot::{LineChart, Series};
-use crate::run::{generate, CubeEnergy, GenerateConfig, Init};
+use crate::run::{generate, EnergyKind, GenerateConfig, Init};
 use crate::sequences::Baseline;
 use anyhow::Result;
 use serde_json::json;
@@ -49,10 +49,10 @@ fn trajectory(n: usize, s: usize, einf: bool, steps: usize, seed: u64) -> Result
     // The trajectory itself is studied: no shift selection after it.
     cfg.shifts = 0;
     if einf {
-        cfg.energy = CubeEnergy::EInf;
+        cfg.energy = EnergyKind::EInf;
         cfg.q = Some(Distance::Euclidean);
     } else {
-        cfg.energy = CubeEnergy::Uqp;
+        cfg.energy = EnergyKind::Uqp;
         cfg.q = Some(Distance::Q(1.0));
         cfg.p = Some(1.0);
     }

@@ -4,7 +4,7 @@
 use super::{markdown_table, Body, StudyOptions};
 use crate::energies::region::paper_region;
 use crate::energies::Domain;
-use crate::regions::{generate_in_region, RegionConfig};
+use crate::run::{generate, GenerateConfig};
 use crate::{io, plot, PointSet};
 use anyhow::Result;
 use rand::{RngExt, SeedableRng};
@@ -61,10 +61,10 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
         let domain: Arc<dyn Domain> = Arc::new(paper_region(i)?);
         let mut results = vec![];
         for steps in budgets {
-            let mut cfg = RegionConfig::new(domain.clone(), n);
+            let mut cfg = GenerateConfig::in_region(domain.clone(), n);
             cfg.steps = steps;
             cfg.seed = opts.seed;
-            let r = generate_in_region(&cfg, |_| {})?;
+            let r = generate(&cfg, |_| {})?;
             let inside = r.output.points.rows().all(|x| domain.contains(x));
             anyhow::ensure!(inside, "a point of g{i} left the region");
             let file = opts.out.join(format!("g{i}_{steps}.csv"));
@@ -76,9 +76,9 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
             files.push(file);
             log(&format!(
                 "regions g{i}, {steps} steps: U_E,inf,g {:.4} -> {:.4} ({:.1} %)",
-                r.metrics.0.energy_e_inf_g,
-                r.metrics.1.energy_e_inf_g,
-                100.0 * r.reduction()
+                r.region_metrics()?.0.energy_e_inf_g,
+                r.region_metrics()?.1.energy_e_inf_g,
+                100.0 * r.reduction()?
             ));
             results.push(r);
         }
@@ -89,11 +89,11 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
             .collect();
         rows.push(vec![
             format!("g{i}"),
-            format!("{:.4}", results[0].metrics.0.energy_e_inf_g),
-            format!("{:.4}", results[0].metrics.1.energy_e_inf_g),
-            format!("{:.1}%", 100.0 * results[0].reduction()),
-            format!("{:.4}", results[1].metrics.1.energy_e_inf_g),
-            format!("{:.1}%", 100.0 * results[1].reduction()),
+            format!("{:.4}", results[0].region_metrics()?.0.energy_e_inf_g),
+            format!("{:.4}", results[0].region_metrics()?.1.energy_e_inf_g),
+            format!("{:.1}%", 100.0 * results[0].reduction()?),
+            format!("{:.4}", results[1].region_metrics()?.1.energy_e_inf_g),
+            format!("{:.1}%", 100.0 * results[1].reduction()?),
             PAPER_REDUCTION[i - 1].map_or("—".into(), |v| format!("{:.1}%", 100.0 * v)),
             format!("{fill_start:.3}"),
             format!("{:.3}", fills[0]),
@@ -101,9 +101,9 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
         ]);
         json_rows.push(json!({
             "region": format!("g{i}"), "n": n, "steps": budgets,
-            "energy_start": results[0].metrics.0.energy_e_inf_g,
-            "energy_result": results.iter().map(|r| r.metrics.1.energy_e_inf_g).collect::<Vec<_>>(),
-            "reduction": results.iter().map(|r| r.reduction()).collect::<Vec<_>>(),
+            "energy_start": results[0].region_metrics()?.0.energy_e_inf_g,
+            "energy_result": results.iter().map(|r| r.region_metrics().map(|m| m.1.energy_e_inf_g)).collect::<Result<Vec<_>, _>>()?,
+            "reduction": results.iter().map(|r| r.reduction()).collect::<Result<Vec<_>, _>>()?,
             "paper_reduction": PAPER_REDUCTION[i - 1],
             "fill_distance_start": fill_start, "fill_distance_result": fills,
         }));

@@ -148,10 +148,16 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
         cfg.steps = steps;
         cfg.seed = opts.seed;
         let dem = generate(&cfg, |_| {})?;
-        let (dl2, dmd) = (dem.metrics.1.star_l2, dem.metrics.1.modified_l2);
+        let (dl2, dmd) = (
+            dem.cube_metrics()?.1.star_l2,
+            dem.cube_metrics()?.1.modified_l2,
+        );
         cfg.polish = Some(DiscrepancyKind::ModifiedL2);
         let pol = generate(&cfg, |_| {})?;
-        let (pl2, pmd) = (pol.metrics.1.star_l2, pol.metrics.1.modified_l2);
+        let (pl2, pmd) = (
+            pol.cube_metrics()?.1.star_l2,
+            pol.cube_metrics()?.1.modified_l2,
+        );
         ours[0].push(format!("{dmd:.6}"));
         ours[0].push(format!("{dl2:.6}"));
         ours[1].push(format!("{pmd:.6}"));

@@ -69,7 +69,8 @@ fn sets(
     let r = generate(&cfg, |_| {})?;
     log(&format!(
         "DEM P_{{{s},{n}}}: D_MD {:.6} in {:.1} s",
-        r.metrics.1.modified_l2, r.seconds
+        r.cube_metrics()?.1.modified_l2,
+        r.seconds
     ));
     let mut out = vec![("DEM U_{q,p}".to_string(), r.output.points)];
     for b in Baseline::all() {
