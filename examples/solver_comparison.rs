@@ -24,19 +24,25 @@ fn main() -> anyhow::Result<()> {
 
     // One problem, two solvers.
     let fit = paper_qp(n, s);
-    let uqp = Problem::new(
-        Uqp::new(Distance::Q(fit.q), fit.p)?,
-        PeriodicCube::new(s)?,
-    )?;
-    report("DEM on U_{q,p}", &solve(&uqp, Dem::default(), steps, &start)?);
-    report("L-BFGS on U_{q,p}", &solve(&uqp, Lbfgs::default(), steps, &start)?);
+    let uqp = Problem::new(Uqp::new(Distance::Q(fit.q), fit.p)?, PeriodicCube::new(s)?)?;
+    report(
+        "DEM on U_{q,p}",
+        &solve(&uqp, Dem::default(), steps, &start)?,
+    );
+    report(
+        "L-BFGS on U_{q,p}",
+        &solve(&uqp, Lbfgs::default(), steps, &start)?,
+    );
 
     // A discrepancy is an energy too; it lives in the closed cube.
     let md = Problem::new(
         DiscrepancyEnergy::new(DiscrepancyKind::ModifiedL2),
         BoxRegion::new(vec![0.0; s], vec![1.0; s])?,
     )?;
-    report("L-BFGS on D²_MD", &solve(&md, Lbfgs::default(), steps, &start)?);
+    report(
+        "L-BFGS on D²_MD",
+        &solve(&md, Lbfgs::default(), steps, &start)?,
+    );
     println!(
         "{:<20} D_MD {:.6}  D_L2* {:.6}",
         "Halton start",

@@ -245,55 +245,29 @@ fn run_ok(args: &[&str]) {
 
 #[test]
 fn killed_cli_run_resumes_to_the_same_bytes() {
-    let d = tmpdir("cli-cube");
-    let reference = d.join("reference.csv");
-    let resumed = d.join("resumed.csv");
-    let ck = d.join("run.ckpt");
-    let (r, o, c) = (
-        reference.to_str().unwrap(),
-        resumed.to_str().unwrap(),
-        ck.to_str().unwrap(),
+    let step = killed_and_resumed_gives_the_same_bytes(
+        "cli-cube",
+        &[
+            "generate",
+            "-n",
+            "400",
+            "-s",
+            "3",
+            "--steps",
+            "400",
+            "--tolerance",
+            "0",
+            "--init",
+            "random",
+            "--seed",
+            "3",
+            "-q",
+        ],
+        "5",
     );
-    let common = [
-        "generate",
-        "-n",
-        "400",
-        "-s",
-        "3",
-        "--steps",
-        "400",
-        "--tolerance",
-        "0",
-        "--init",
-        "random",
-        "--seed",
-        "3",
-        "-q",
-    ];
-    let with = |extra: &[&str]| -> Vec<String> {
-        common.iter().chain(extra).map(|s| s.to_string()).collect()
-    };
-    run_ok(&args(&with(&["-o", r])));
-    let interrupted = with(&["-o", o, "--checkpoint", c, "--checkpoint-every", "5"]);
-    let step = kill_after_first_checkpoint(&args(&interrupted), &ck);
     assert!(
         step < 400,
         "the run was not interrupted (checkpoint at step {step})"
-    );
-    assert!(!resumed.exists(), "a killed run wrote its output");
-    run_ok(&args(&with(&[
-        "-o",
-        o,
-        "--checkpoint",
-        c,
-        "--checkpoint-every",
-        "5",
-        "--resume",
-    ])));
-    assert_eq!(
-        std::fs::read(&resumed).unwrap(),
-        std::fs::read(&reference).unwrap(),
-        "resumed from step {step}"
     );
 }
 
@@ -360,8 +334,8 @@ fn killed_cli_region_run_resumes_to_the_same_bytes() {
 }
 
 /// Runs `common` once to the end, once killed after its first checkpoint and resumed,
-/// and checks that both outputs are the same bytes.
-fn killed_and_resumed_gives_the_same_bytes(name: &str, common: &[&str], every: &str) {
+/// and checks that both outputs are the same bytes; returns the step it was killed at.
+fn killed_and_resumed_gives_the_same_bytes(name: &str, common: &[&str], every: &str) -> usize {
     let d = tmpdir(name);
     let reference = d.join("reference.csv");
     let resumed = d.join("resumed.csv");
@@ -392,6 +366,7 @@ fn killed_and_resumed_gives_the_same_bytes(name: &str, common: &[&str], every: &
         std::fs::read(&reference).unwrap(),
         "{name}: resumed from step {step}"
     );
+    step
 }
 
 #[test]

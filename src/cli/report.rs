@@ -10,12 +10,6 @@ pub(crate) fn metrics_json(m: &Metrics) -> Value {
 /// start and the result, the shift and polish, and the wall time.
 pub(crate) fn report_json(r: &GenerateReport, cfg: &GenerateConfig) -> Result<Value> {
     let (m0, m1) = r.cube_metrics()?;
-    let info: serde_json::Map<String, Value> = r
-        .output
-        .info
-        .iter()
-        .map(|(k, v)| (k.clone(), finite_or_null(*v)))
-        .collect();
     let init = match &cfg.init {
         Init::Halton => "halton".to_string(),
         Init::Random => "random".to_string(),
@@ -41,7 +35,7 @@ pub(crate) fn report_json(r: &GenerateReport, cfg: &GenerateConfig) -> Result<Va
         "in_fitted_range": r.choice.eq48_in_fitted_range,
         "clamped": r.choice.eq48_clamped,
     });
-    v["run"] = Value::Object(info);
+    v["run"] = info_json(r);
     v["energy_start"] = finite_or_null(r.energy.0);
     v["energy_result"] = finite_or_null(r.energy.1);
     v["metrics_start"] = metrics_json(m0);
@@ -152,6 +146,17 @@ pub(crate) fn file_header(
         "run": run,
         "metrics": metrics,
     }))
+}
+
+/// The facts the solver reported (κ, restarts, evaluations …), by name.
+fn info_json(r: &GenerateReport) -> Value {
+    Value::Object(
+        r.output
+            .info
+            .iter()
+            .map(|(k, v)| (k.clone(), finite_or_null(*v)))
+            .collect(),
+    )
 }
 
 pub(crate) fn finite_or_null(v: f64) -> Value {
@@ -389,13 +394,7 @@ pub(crate) fn region_json(r: &GenerateReport, cfg: &GenerateConfig) -> Result<Va
         "kappa": r.output.info("kappa"),
         "energy_e_inf_g_reduction": finite_or_null(r.reduction()?),
     });
-    let info: serde_json::Map<String, Value> = r
-        .output
-        .info
-        .iter()
-        .map(|(k, v)| (k.clone(), finite_or_null(*v)))
-        .collect();
-    v["run"] = Value::Object(info);
+    v["run"] = info_json(r);
     v["metrics_start"] = serde_json::to_value(m0).unwrap_or(Value::Null);
     v["metrics_result"] = serde_json::to_value(m1).unwrap_or(Value::Null);
     v["seconds"] = json!(r.seconds);
