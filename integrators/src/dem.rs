@@ -387,6 +387,13 @@ impl Integrator for Dem {
         }
         let xtx: f64 = start.as_slice().iter().map(|v| v * v).sum();
         let mu0 = if xtx > 0.0 { u0 / xtx } else { u0 };
+        if u0 == 0.0 && start.n() == 1 {
+            // One star feels no force: the start is already at rest.
+            let mut st = DemState::new(start, 0.0, self.trial().0, None);
+            st.start_energy = Some(0.0);
+            st.last_energy = Some(0.0);
+            return Ok((st, 0.0));
+        }
         if !(mu0 > 0.0 && mu0.is_finite()) {
             return Err(Error::Numerical(format!(
                 "cannot set the DEM parameters: U(X0)/X0ᵀX0 = {mu0} (eq. 39 needs a positive, \
@@ -400,6 +407,10 @@ impl Integrator for Dem {
     }
 
     fn step(&self, problem: &Problem<'_>, st: &mut DemState) -> Result<Step> {
+        if st.mu0 == 0.0 {
+            // The state of a single star without force (see `init`).
+            return Ok(Step::Ended(crate::StopReason::Converged));
+        }
         if st.grad.len() != st.current.len() {
             // A resumed state: the gradient at x^(j), with the bits it had.
             st.grad = vec![0.0; st.current.len()];
@@ -483,7 +494,7 @@ impl Integrator for Dem {
             }
         }
         problem.check_inside("checkpoint point", &st.current)?;
-        let eps = self.threshold(problem, start.n());
+        let eps = self.threshold(problem, start.n()).filter(|_| st.mu0 != 0.0);
         if st.restart_threshold.map(f64::to_bits) != eps.map(f64::to_bits) {
             return refuse(
                 "restart threshold",

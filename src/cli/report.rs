@@ -408,8 +408,23 @@ pub(crate) fn region_table(
 ) -> Result<String> {
     let (a, b) = r.region_metrics()?;
     let domain = cfg.region().map(|d| format!("{d:?}")).unwrap_or_default();
+    let steps = r
+        .output
+        .trajectory
+        .iter()
+        .map(|x| x.step)
+        .max()
+        .unwrap_or(0);
+    let solver = match r.output.info("kappa") {
+        Some(kappa) => format!(
+            "DEM: {steps} steps ({:?}), κ = {kappa} after {} trial(s)",
+            r.output.stop,
+            r.output.info("kappa_trials").unwrap_or(0.0),
+        ),
+        None => format!("L-BFGS: {steps} iterations ({:?})", r.output.stop),
+    };
     let mut t = format!(
-        "stillpoint: n = {}, s = {} in {}\n  {} from {}, DEM: {} steps ({:?}), κ = {} after {} trial(s)\n\n",
+        "stillpoint: n = {}, s = {} in {}\n  {} from {}, {solver}\n\n",
         cfg.n,
         cfg.s,
         domain,
@@ -419,10 +434,6 @@ pub(crate) fn region_table(
             Init::Halton => "Halton start (first n inside the box)".into(),
             Init::Points(_) => "points from file".into(),
         },
-        r.output.trajectory.iter().map(|x| x.step).max().unwrap_or(0),
-        r.output.stop,
-        r.output.info("kappa").unwrap_or(f64::NAN),
-        r.output.info("kappa_trials").unwrap_or(0.0),
     );
     t += &format!(
         "  {:<36} {:>14} {:>14} {:>9}\n",
@@ -441,13 +452,14 @@ pub(crate) fn region_table(
             b.min_boundary_distance,
         ),
     ] {
-        t += &format!(
-            "  {:<36} {:>14.6} {:>14.6} {:>+8.1}%\n",
-            name,
-            x,
-            y,
-            100.0 * (y - x) / x
-        );
+        // A single point has no pair: its distances are infinite and have no change.
+        let change = 100.0 * (y - x) / x;
+        let change = if change.is_finite() {
+            format!("{change:>+8.1}%")
+        } else {
+            format!("{:>9}", "-")
+        };
+        t += &format!("  {name:<36} {x:>14.6} {y:>14.6} {change}\n");
     }
     t += &format!(
         "\n  U_{{E,∞,g}} reduction {:.1}%; time {:.2} s; points written to {}\n",
