@@ -311,13 +311,19 @@ pub fn choose_energy(
     ))
 }
 
+/// The most candidate shifts the shift selection tries (each costs one discrepancy
+/// evaluation; beyond this the selection gains nothing measurable).
+pub const MAX_SHIFTS: usize = 1 << 20;
+
 /// Builds the start set of a configuration, checked against n, s and the space.
 pub fn start_set(cfg: &GenerateConfig) -> Result<PointSet, Error> {
-    if cfg.n == 0 {
-        return Err(Error::invalid("n", cfg.n, "at least 1 point"));
-    }
-    if cfg.s == 0 {
-        return Err(Error::invalid("s", cfg.s, "at least 1 dimension"));
+    sequences::check_size(cfg.n, cfg.s)?;
+    if cfg.shifts > MAX_SHIFTS {
+        return Err(Error::invalid(
+            "shifts",
+            cfg.shifts,
+            format!("at most {MAX_SHIFTS} candidate shifts"),
+        ));
     }
     if let Some(domain) = cfg.region() {
         return crate::regions::start_in_region(domain.as_ref(), cfg.n, &cfg.init, cfg.seed);

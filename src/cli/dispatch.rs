@@ -243,8 +243,8 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
             reps,
         } => match points {
             Some(path) => {
-                if reps == 0 {
-                    bail!("invalid --reps = 0: expected at least 1 repetition");
+                if !(1..=MAX_REPS).contains(&reps) {
+                    bail!("invalid --reps = {reps}: expected 1 to {MAX_REPS} repetitions");
                 }
                 bench::run_points(&path, reps, &mut std::io::stdout())?
             }
@@ -253,3 +253,6 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
     }
     Ok(())
 }
+
+/// The most repetitions `bench --points` times (each is one evaluation of every kernel).
+const MAX_REPS: usize = 100_000;

@@ -15,7 +15,10 @@ pub(crate) fn parse_cases(text: &str) -> Result<Vec<(usize, usize)>> {
                     _ => bail!("invalid --cases = {text}: {what} {v:?} is not an integer ≥ 1"),
                 }
             };
-            Ok((parse(s, "s")?, parse(n, "n")?))
+            let (s, n) = (parse(s, "s")?, parse(n, "n")?);
+            crate::sequences::check_size(n, s)
+                .with_context(|| format!("invalid --cases = {text}: case {c}"))?;
+            Ok((s, n))
         })
         .collect()
 }

@@ -141,11 +141,10 @@ pub(crate) fn restart_arg(text: &str) -> std::result::Result<Restart, String> {
 }
 
 /// The flag that sets a library parameter (as the library names it in its settings and
-/// errors), or the name itself when no flag sets it.
+/// errors), or the name itself when no flag sets it (n and s are written as the library
+/// writes them: `n = 0`).
 pub(crate) fn flag_name(parameter: &str) -> String {
     let flag = match parameter {
-        "n" => "-n",
-        "s" => "-s",
         "expression" => "--region",
         "log_every" => "--log-every",
         "resume checkpoint" => "--resume",
@@ -170,9 +169,7 @@ pub(crate) fn with_flag_names(e: anyhow::Error) -> anyhow::Error {
             name,
             value,
             expected,
-        }) if name == "resume checkpoint" || name == "checkpoint" => {
-            crate::Error::invalid(flag_name(&name), value, expected).into()
-        }
+        }) => crate::Error::invalid(flag_name(&name), value, expected).into(),
         Ok(other) => other.into(),
         Err(e) => e,
     }

@@ -108,14 +108,49 @@ pub(crate) fn check_shape(n: usize, s: usize) -> Result<(), Error> {
     if s == 0 {
         return Err(Error::invalid("s", s, "at least 1 dimension"));
     }
-    if n.checked_mul(s).is_none() {
+    let most = max_coordinates();
+    if n.checked_mul(s).is_none_or(|len| len > most) {
         return Err(Error::invalid(
-            "n·s",
-            format!("{n}·{s}"),
-            format!("at most {}", usize::MAX),
+            "n",
+            n,
+            format!(
+                "at most {} points in {s} dimensions: a run holds about {COPIES} sets of n·s \
+                 coordinates of 8 bytes, which must fit in this machine's memory ({:.1} GiB)",
+                most / s,
+                memory_bytes() as f64 / (1u64 << 30) as f64
+            ),
         ));
     }
     Ok(())
+}
+
+/// Sets of n·s coordinates a run holds at once (start, current and previous state,
+/// gradient, lowest state, a result and scratch), with room to spare.
+const COPIES: usize = 8;
+
+/// The machine's memory in bytes (`MemTotal` of /proc/meminfo), or 16 GiB where it cannot
+/// be read.
+fn memory_bytes() -> u64 {
+    let total = std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|text| {
+            let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
+            let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+            kib.checked_mul(1024)
+        });
+    total.unwrap_or(16 << 30)
+}
+
+/// The most coordinates (n·s) one set of a run may have on this machine; see
+/// [`check_size`].
+pub fn max_coordinates() -> usize {
+    (memory_bytes() / (8 * COPIES as u64)).min(usize::MAX as u64) as usize
+}
+
+/// Refuses n = 0, s = 0, or a set too large for this machine's memory, naming n and the
+/// bound, before anything is allocated.
+pub fn check_size(n: usize, s: usize) -> Result<(), Error> {
+    check_shape(n, s)
 }
 
 /// A 64-bit mixing function (the SplitMix64 finaliser, Stafford's "variant 13"
