@@ -11,14 +11,16 @@
 //! `'CD'`, `'WD'`, `'MD'`), and its `'MD'` is the *mixture* discrepancy, not the modified
 //! L2 discrepancy of the paper; each function below says which SciPy value it matches.
 //!
-//! The pair sums run in the vectorised, tiled half loop of
+//! The closed forms are those of the discrepancy energies: each squared value is
+//! [`stillpoint_energies::discrepancy::squared_discrepancies`] clamped at 0. Their pair
+//! sums run in the vectorised, tiled half loop of
 //! [`stillpoint_energies::discrepancy::pair_product_sums`] (the minimum distances in
 //! [`stillpoint_energies::pairs::min_squared_distances`]): each pair once, 16 pairs per
 //! vector, on all rayon threads. The results are the same bits whatever the number of
 //! threads (the tiles and the order their sums are added in depend on n only), and the
 //! same bits with or without AVX2 (no fused multiply-add). O(n² s) time, O(n s) memory.
 
-use crate::energies::discrepancy::{pair_product_sums, DiscrepancyKind};
+use crate::energies::discrepancy::{squared_discrepancies, DiscrepancyKind};
 use crate::energies::pairs::min_squared_distances;
 use crate::PointSet;
 
@@ -30,13 +32,8 @@ use crate::PointSet;
 /// #{x_i ∈ [0, t)}/n − Π_k t_k, so it weighs only boxes anchored at the origin. Its root
 /// is SciPy's `qmc.discrepancy(method='L2-star')`. Clamped at 0 against rounding.
 pub fn star_l2_squared(points: &PointSet) -> f64 {
-    let [pair] = pair_sums(points, [DiscrepancyKind::StarL2], [star_pair]);
-    assemble(
-        power(1.0 / 3.0, points.s()),
-        single_sum(points, star_single),
-        pair,
-        points.n(),
-    )
+    let [star] = squared(points, [DiscrepancyKind::StarL2]);
+    star
 }
 
 /// Star L2 discrepancy, the root of [`star_l2_squared`]: the paper's D_L2 (Table 5) and
@@ -54,13 +51,8 @@ pub fn star_l2(points: &PointSet) -> f64 {
 /// grows. This is *not* SciPy's `method='MD'`, which is the mixture discrepancy; SciPy
 /// has no equivalent. Clamped at 0 against rounding.
 pub fn modified_l2_squared(points: &PointSet) -> f64 {
-    let [pair] = pair_sums(points, [DiscrepancyKind::ModifiedL2], [modified_pair]);
-    assemble(
-        power(4.0 / 3.0, points.s()),
-        single_sum(points, modified_single),
-        pair,
-        points.n(),
-    )
+    let [modified] = squared(points, [DiscrepancyKind::ModifiedL2]);
+    modified
 }
 
 /// Modified L2 discrepancy, the root of [`modified_l2_squared`]: the paper's D_MD
@@ -79,13 +71,8 @@ pub fn modified_l2(points: &PointSet) -> f64 {
 /// (x_k → 1 − x_k). Equals SciPy's `qmc.discrepancy(method='CD')`, which returns this
 /// squared value. Clamped at 0 against rounding.
 pub fn centered_l2_squared(points: &PointSet) -> f64 {
-    let [pair] = pair_sums(points, [DiscrepancyKind::CenteredL2], [centered_pair]);
-    assemble(
-        power(13.0 / 12.0, points.s()),
-        single_sum(points, centered_single),
-        pair,
-        points.n(),
-    )
+    let [centered] = squared(points, [DiscrepancyKind::CenteredL2]);
+    centered
 }
 
 /// Centred L2 discrepancy, the root of [`centered_l2_squared`]; its square is SciPy's
@@ -103,9 +90,8 @@ pub fn centered_l2(points: &PointSet) -> f64 {
 /// Equals SciPy's `qmc.discrepancy(method='WD')`, which returns this squared value.
 /// Clamped at 0 against rounding.
 pub fn wrap_around_l2_squared(points: &PointSet) -> f64 {
-    let [pair] = pair_sums(points, [DiscrepancyKind::WrapAroundL2], [wrap_pair]);
-    // ∫ K(x, y) dy is (4/3)^s for every x, so the middle term merges with the first.
-    assemble(-power(4.0 / 3.0, points.s()), 0.0, pair, points.n())
+    let [wrap] = squared(points, [DiscrepancyKind::WrapAroundL2]);
+    wrap
 }
 
 /// Wrap-around L2 discrepancy, the root of [`wrap_around_l2_squared`]; its square is
@@ -135,23 +121,9 @@ pub fn min_distance_periodic(points: &PointSet) -> f64 {
 /// Returns `(star_l2, modified_l2)`, bit for bit equal to [`star_l2`] and
 /// [`modified_l2`].
 pub fn discrepancies(points: &PointSet) -> (f64, f64) {
-    let [star, modified] = pair_sums(
+    let [star, modified] = squared(
         points,
         [DiscrepancyKind::StarL2, DiscrepancyKind::ModifiedL2],
-        [star_pair, modified_pair],
-    );
-    let (n, s) = (points.n(), points.s());
-    let star = assemble(
-        power(1.0 / 3.0, s),
-        single_sum(points, star_single),
-        star,
-        n,
-    );
-    let modified = assemble(
-        power(4.0 / 3.0, s),
-        single_sum(points, modified_single),
-        modified,
-        n,
     );
     (star.sqrt(), modified.sqrt())
 }
@@ -183,7 +155,7 @@ impl Metrics {
     /// Computes every figure: one pass over the pairs for the four discrepancies, one for
     /// the two distances. O(n² s) time, O(n) memory; the points must lie in [0, 1]^s.
     pub fn compute(points: &PointSet) -> Metrics {
-        let [star, modified, centered, wrap] = pair_sums(
+        let [star, modified, centered, wrap] = squared(
             points,
             [
                 DiscrepancyKind::StarL2,
@@ -191,110 +163,26 @@ impl Metrics {
                 DiscrepancyKind::CenteredL2,
                 DiscrepancyKind::WrapAroundL2,
             ],
-            [star_pair, modified_pair, centered_pair, wrap_pair],
         );
         let [euclid, periodic] = pair_mins(points);
-        let (n, s) = (points.n(), points.s());
-        let root = |constant, single, pair| assemble(constant, single, pair, n).sqrt();
         Metrics {
-            star_l2: root(power(1.0 / 3.0, s), single_sum(points, star_single), star),
-            modified_l2: root(
-                power(4.0 / 3.0, s),
-                single_sum(points, modified_single),
-                modified,
-            ),
-            centered_l2: root(
-                power(13.0 / 12.0, s),
-                single_sum(points, centered_single),
-                centered,
-            ),
-            wrap_around_l2: root(-power(4.0 / 3.0, s), 0.0, wrap),
+            star_l2: star.sqrt(),
+            modified_l2: modified.sqrt(),
+            centered_l2: centered.sqrt(),
+            wrap_around_l2: wrap.sqrt(),
             min_distance: euclid.sqrt(),
             min_distance_periodic: periodic.sqrt(),
         }
     }
 }
 
-// One-dimensional factors of each discrepancy's kernel. The pair factor is the kernel
-// K_k(x, y); the single factor is ∫ K_k(x, y) dy, the middle term of the closed form.
-
-#[inline(always)]
-fn star_pair(x: f64, y: f64) -> f64 {
-    1.0 - x.max(y)
-}
-
-#[inline(always)]
-fn star_single(x: f64) -> f64 {
-    0.5 * (1.0 - x * x)
-}
-
-#[inline(always)]
-fn modified_pair(x: f64, y: f64) -> f64 {
-    2.0 - x.max(y)
-}
-
-// 2^(1−s) Π (3 − x²) of eq. 47, with the 2^(−s) spread over the factors and the 2 moved
-// into `assemble` like the other discrepancies.
-#[inline(always)]
-fn modified_single(x: f64) -> f64 {
-    0.5 * (3.0 - x * x)
-}
-
-#[inline(always)]
-fn centered_pair(x: f64, y: f64) -> f64 {
-    1.0 + 0.5 * (x - 0.5).abs() + 0.5 * (y - 0.5).abs() - 0.5 * (x - y).abs()
-}
-
-#[inline(always)]
-fn centered_single(x: f64) -> f64 {
-    let a = (x - 0.5).abs();
-    1.0 + 0.5 * a - 0.5 * a * a
-}
-
-#[inline(always)]
-fn wrap_pair(x: f64, y: f64) -> f64 {
-    let d = (x - y).abs();
-    1.5 - d * (1.0 - d)
-}
-
-/// Σ_i Π_k f(x_ik), in index order. O(n s), so not worth parallelising.
-fn single_sum(points: &PointSet, f: impl Fn(f64) -> f64) -> f64 {
-    points
-        .rows()
-        .map(|row| row.iter().fold(1.0, |p, &x| p * f(x)))
-        .sum()
-}
-
-/// base^s by repeated multiplication, so the constant is the same bits on every platform
-/// (`powi` is left to the backend).
-fn power(base: f64, s: usize) -> f64 {
-    (0..s).fold(1.0, |p, _| p * base)
-}
-
-/// The closed form constant − (2/n) single + (1/n²) pair, clamped at 0: when the set is
-/// nearly perfect the terms cancel to within rounding and could leave a tiny negative
+/// The squared discrepancies of `kinds` (one fused pass over the pairs for the lists
+/// [`squared_discrepancies`] fuses), each clamped at 0: when the set is nearly perfect the
+/// terms of the closed form cancel to within rounding and could leave a tiny negative
 /// square, whose root would be NaN.
-fn assemble(constant: f64, single: f64, pair: f64, n: usize) -> f64 {
-    let n = n as f64;
-    (constant - 2.0 * single / n + pair / (n * n)).max(0.0)
-}
-
-/// Σ_{i,l} Π_k K_m(x_ik, x_lk) for M kernels: Σ_i of the diagonal products (in index
-/// order, from the scalar factors `diag`, which are the kernels of `kinds`) plus twice the
-/// sum over pairs i < l from the vectorised pass.
-fn pair_sums<const M: usize>(
-    points: &PointSet,
-    kinds: [DiscrepancyKind; M],
-    diag: [fn(f64, f64) -> f64; M],
-) -> [f64; M] {
-    let off = pair_product_sums(points, &kinds);
-    std::array::from_fn(|m| {
-        let d: f64 = points
-            .rows()
-            .map(|row| row.iter().fold(1.0, |p, &x| p * diag[m](x, x)))
-            .sum();
-        d + 2.0 * off[m]
-    })
+fn squared<const M: usize>(points: &PointSet, kinds: [DiscrepancyKind; M]) -> [f64; M] {
+    let values = squared_discrepancies(points, &kinds);
+    std::array::from_fn(|m| values[m].max(0.0))
 }
 
 /// min over pairs of the squared Euclidean and the squared torus distance; +∞ without a

@@ -9,9 +9,8 @@ use stillpoint::sequences::{
 };
 use stillpoint::{Error, PointSet};
 
-fn bits(p: &PointSet) -> Vec<u64> {
-    p.as_slice().iter().map(|v| v.to_bits()).collect()
-}
+mod common;
+use common::bits;
 
 fn column(p: &PointSet, j: usize) -> Vec<f64> {
     p.rows().map(|r| r[j]).collect()

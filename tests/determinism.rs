@@ -7,15 +7,8 @@ use std::process::{Command, Output};
 
 use serde_json::Value;
 
-fn tmpdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "stillpoint-determinism-{}-{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+mod common;
+use common::tmpdir;
 
 /// Runs the command with `threads` worker threads and insists on success.
 fn run(threads: usize, args: &[&str]) -> Output {

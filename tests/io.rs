@@ -2,7 +2,7 @@
 //! messages users see, and atomic writes that never leave partial or temporary files.
 
 use std::fs;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use npyz::WriterBuilder;
 use serde_json::json;
@@ -11,30 +11,10 @@ use stillpoint::io::{
 };
 use stillpoint::PointSet;
 
-/// A fresh directory per test, removed on drop so that failures do not pile up.
-struct TempDir(PathBuf);
+mod common;
+use common::TempDir;
 
 impl TempDir {
-    fn new(test: &str) -> TempDir {
-        let dir = std::env::temp_dir().join(format!("stillpoint-io-{}-{test}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
-        TempDir(dir)
-    }
-
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-
-    fn entries(&self) -> Vec<String> {
-        let mut names: Vec<String> = fs::read_dir(&self.0)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        names.sort();
-        names
-    }
-
     fn assert_no_temp_files(&self) {
         let temps: Vec<String> = self
             .entries()
@@ -42,12 +22,6 @@ impl TempDir {
             .filter(|n| n.contains(".tmp"))
             .collect();
         assert!(temps.is_empty(), "temporary files left behind: {temps:?}");
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = fs::remove_dir_all(&self.0);
     }
 }
 

@@ -3,44 +3,14 @@
 
 use std::f64::consts::PI;
 use std::fs;
-use std::path::PathBuf;
 
 use stillpoint::plot::{
     boundary_polylines, canvas_size, save_panels, Panel, PlotError, PANEL_HEIGHT, PANEL_WIDTH,
 };
 use stillpoint::PointSet;
 
-/// A fresh directory per test, removed on drop so that failures do not pile up.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(test: &str) -> TempDir {
-        let dir =
-            std::env::temp_dir().join(format!("stillpoint-plot-{}-{test}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
-        TempDir(dir)
-    }
-
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-
-    fn entries(&self) -> Vec<String> {
-        let mut names: Vec<String> = fs::read_dir(&self.0)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        names.sort();
-        names
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = fs::remove_dir_all(&self.0);
-    }
-}
+mod common;
+use common::TempDir;
 
 fn length(line: &[[f64; 2]]) -> f64 {
     line.windows(2)

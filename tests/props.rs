@@ -8,6 +8,9 @@ use stillpoint::integrators::{Dem, DemState, Executor, Problem, Restart, Snapsho
 use stillpoint::io::{self, Format};
 use stillpoint::{metrics, shift};
 
+mod common;
+use common::bits;
+
 /// Relative closeness for sums taken in another order.
 fn close(a: f64, b: f64, rel: f64) -> bool {
     a == b || (a - b).abs() <= rel * a.abs().max(b.abs())
@@ -143,10 +146,6 @@ fn any_sets() -> impl Strategy<Value = PointSet> {
             )
         })
         .prop_map(|(n, s, data)| PointSet::new(n, s, data).unwrap())
-}
-
-fn bits(p: &PointSet) -> Vec<u64> {
-    p.as_slice().iter().map(|v| v.to_bits()).collect()
 }
 
 proptest! {

@@ -1,14 +1,15 @@
 //! Point sets in regions: every point inside, the boundary-aware energy falls, runs are
 //! reproducible, and bad regions are refused.
 
-use std::path::PathBuf;
-use std::process::Command;
 use std::sync::Arc;
 use stillpoint::energies::boundary::UEpG;
 use stillpoint::energies::region::paper_region;
 use stillpoint::energies::shapes::Ball;
 use stillpoint::energies::{Domain, Energy};
 use stillpoint::run::{generate, EnergyKind, GenerateConfig, Init};
+
+mod common;
+use common::{bin, tmpdir};
 
 fn g4(x: &[f64]) -> f64 {
     x[0].abs() + 2.0 * x[1].abs() - 5.0
@@ -67,17 +68,6 @@ fn same_bits_for_one_and_two_threads() {
     let bits =
         |p: &stillpoint::PointSet| p.as_slice().iter().map(|v| v.to_bits()).collect::<Vec<_>>();
     assert_eq!(bits(&a), bits(&b));
-}
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_stillpoint"))
-}
-
-fn tmpdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("stillpoint-regions-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
 }
 
 #[test]

@@ -3,8 +3,8 @@
 //! part-way), in the cube and in a region; checkpoints of another configuration, damaged
 //! or foreign files are refused with a clear message.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::path::Path;
+use std::process::Stdio;
 use std::sync::Arc;
 
 use stillpoint::energies::shapes::Ball;
@@ -14,16 +14,8 @@ use stillpoint::run::{
     generate, generate_with, read_checkpoint, CheckpointPlan, Event, GenerateConfig, Init,
 };
 
-fn tmpdir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("stillpoint-resume-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_stillpoint"))
-}
+mod common;
+use common::{bin, tmpdir};
 
 /// The bytes a point set is written as: the strictest comparison there is.
 fn bytes(points: &stillpoint::PointSet) -> Vec<u8> {

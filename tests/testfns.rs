@@ -1,16 +1,12 @@
 //! The eight test integrands of eq. 49: zero integrals, unit second moments, the midpoint
 //! rule's convergence on the smooth ones, F8 by hand, and the integration report.
 
-use rand::{RngExt, SeedableRng};
-use rand_xoshiro::Xoshiro256PlusPlus;
 use stillpoint::testfns::{f8_step, integrate, TestFunction};
 use stillpoint::uq::gauss_legendre;
 use stillpoint::PointSet;
 
-fn random_set(n: usize, s: usize, seed: u64) -> PointSet {
-    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-    PointSet::new(n, s, (0..n * s).map(|_| rng.random::<f64>()).collect()).unwrap()
-}
+mod common;
+use common::random_set;
 
 /// ∫_a^b g by `panels` Gauss–Legendre panels of 20 nodes.
 fn quad(g: impl Fn(f64) -> f64, a: f64, b: f64, panels: usize) -> f64 {

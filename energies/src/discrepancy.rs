@@ -18,10 +18,10 @@
 //! where a = |x − ½| and d = |x − y|.
 //!
 //! The value is the *square* of the discrepancy: the closed forms give the square, and
-//! its gradient needs no division by the root, which vanishes for a perfect set. It equals
-//! the square of the matching metric of the root crate to rounding. Unlike the metric it
-//! is not clamped at 0: a clamp would make the value disagree with the gradient for
-//! nearly perfect sets.
+//! its gradient needs no division by the root, which vanishes for a perfect set. The
+//! metrics of the root crate take the same value ([`squared_discrepancies`]), clamp it at
+//! 0 and take the root. The energy is not clamped: a clamp would make the value disagree
+//! with the gradient for nearly perfect sets.
 //!
 //! **Gradient.**
 //!
@@ -59,8 +59,9 @@
 //! bits). No fused multiply-add is used, so the results are also the same bits with and
 //! without AVX2. O(n² s) time, O(n s) memory (block-transposed copies of the points and
 //! the gradient); the pair loop does not allocate (one reused scratch buffer per worker
-//! thread). The value-only path skips the derivatives. [`pair_product_sums`] gives the
-//! pair sums of several kinds in one pass, for the metrics of the root crate.
+//! thread). The value-only path skips the derivatives. [`squared_discrepancies`] gives
+//! the values of several kinds from one pass over the pairs ([`pair_product_sums`]), for
+//! the metrics of the root crate.
 
 use crate::pairs::{
     give_scratch, grad_tiles, sum_tiles, take_scratch, AlignedBuf, Blocks, GradTiles, Simd,
@@ -185,8 +186,7 @@ trait Kernel: Sync + Send + 'static {
     /// g(x) and g'(x) (with the averaged one-sided derivative at a kink).
     fn single(x: f64) -> (f64, f64);
 
-    /// K(x, y), ∂K/∂x and ∂K/∂y (averaged one-sided derivatives at a kink). The value must
-    /// be the same expression as the root crate's metric so that the two agree closely.
+    /// K(x, y), ∂K/∂x and ∂K/∂y (averaged one-sided derivatives at a kink).
     fn pair(x: f64, y: f64) -> (f64, f64, f64);
 
     /// K(x, y) lane by lane: the same operations as `pair`'s value.
@@ -378,20 +378,9 @@ impl Kernel for Wrap {
 fn evaluate<K: Kernel>(points: &PointSet, grad: Option<&mut [f64]>) -> f64 {
     let (n, s) = (points.n(), points.s());
     let nf = n as f64;
-    let constant = K::CONSTANT_SIGN * (0..s).fold(1.0, |p, _| p * K::CONSTANT_BASE);
 
     match grad {
-        None => {
-            let [off] = products::<Single<K>, 1>(points);
-            let (mut single, mut diag) = (0.0, 0.0);
-            for xi in points.rows() {
-                if K::HAS_SINGLE {
-                    single += xi.iter().fold(1.0, |p, &a| p * K::single(a).0);
-                }
-                diag += xi.iter().fold(1.0, |p, &a| p * K::pair(a, a).0);
-            }
-            assemble(constant, single, diag, off, nf)
-        }
+        None => closed_form::<K>(points, products::<Single<K>, 1>(points)[0]),
         Some(grad) => {
             // Raw Σ_{l≠i, unordered} ∂₁K Π_{m≠k} K into every row; scaled below.
             let off = if n < 2 {
@@ -443,9 +432,56 @@ fn evaluate<K: Kernel>(points: &PointSet, grad: Option<&mut [f64]>) -> f64 {
                     gr[k] = g;
                 }
             }
-            assemble(constant, single, diag, off, nf)
+            assemble(constant::<K>(s), single, diag, off, nf)
         }
     }
+}
+
+/// C_s = ±CONSTANT_BASE^s, by repeated multiplication so that it is the same bits on
+/// every platform (`powi` is left to the backend).
+fn constant<K: Kernel>(s: usize) -> f64 {
+    K::CONSTANT_SIGN * (0..s).fold(1.0, |p, _| p * K::CONSTANT_BASE)
+}
+
+/// D² from the pair sum `off` = Σ_{i<l} Π_k K(x_ik, x_lk): the per-point sums
+/// Σ_i Π_k g(x_ik) and Σ_i Π_k K(x_ik, x_ik), each in index order from 1, then
+/// [`assemble`]. O(n s).
+fn closed_form<K: Kernel>(points: &PointSet, off: f64) -> f64 {
+    let (mut single, mut diag) = (0.0, 0.0);
+    for xi in points.rows() {
+        if K::HAS_SINGLE {
+            single += xi.iter().fold(1.0, |p, &a| p * K::single(a).0);
+        }
+        diag += xi.iter().fold(1.0, |p, &a| p * K::pair(a, a).0);
+    }
+    assemble(
+        constant::<K>(points.s()),
+        single,
+        diag,
+        off,
+        points.n() as f64,
+    )
+}
+
+/// The squared discrepancy of each kind of `kinds`, in the same order: the closed form of
+/// the module documentation, not clamped, with the pair sums of [`pair_product_sums`]
+/// (one fused pass for the lists it fuses).
+///
+/// Each value is the same bits as [`DiscrepancyEnergy`]'s value of that kind, whichever
+/// list it is computed in, for any number of threads and with or without AVX2. The
+/// metrics of the root crate clamp it at 0 and take the root. The points must lie in
+/// [0, 1]^s (not checked). O(n² s) time.
+pub fn squared_discrepancies(points: &PointSet, kinds: &[DiscrepancyKind]) -> Vec<f64> {
+    pair_product_sums(points, kinds)
+        .into_iter()
+        .zip(kinds)
+        .map(|(off, kind)| match kind {
+            DiscrepancyKind::StarL2 => closed_form::<Star>(points, off),
+            DiscrepancyKind::ModifiedL2 => closed_form::<Modified>(points, off),
+            DiscrepancyKind::CenteredL2 => closed_form::<Centered>(points, off),
+            DiscrepancyKind::WrapAroundL2 => closed_form::<Wrap>(points, off),
+        })
+        .collect()
 }
 
 /// The kinds of [`pair_product_sums`]: `M` kernels whose pair products one pass forms.
@@ -676,8 +712,8 @@ impl<K: Kernel> GradTiles for GradPairs<K> {
     }
 }
 
-/// C − (2/n) Σ g + (1/n²) (Σ_i K(x_i, x_i) + 2 Σ_{i<l} K(x_i, x_l)), as the metric
-/// assembles it, but without its clamp at 0 (see the module documentation).
+/// C − (2/n) Σ g + (1/n²) (Σ_i K(x_i, x_i) + 2 Σ_{i<l} K(x_i, x_l)), without the metric's
+/// clamp at 0 (see the module documentation).
 fn assemble(constant: f64, single: f64, diag: f64, off: f64, n: f64) -> f64 {
     constant - 2.0 * single / n + (diag + 2.0 * off) / (n * n)
 }

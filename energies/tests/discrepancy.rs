@@ -7,17 +7,15 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use stillpoint_energies::discrepancy::{DiscrepancyEnergy, DiscrepancyKind};
 use stillpoint_energies::{Energy, PointSet};
 
+mod common;
+use common::{fd_gradient, random_set, rel_err};
+
 const KINDS: [DiscrepancyKind; 4] = [
     DiscrepancyKind::StarL2,
     DiscrepancyKind::ModifiedL2,
     DiscrepancyKind::CenteredL2,
     DiscrepancyKind::WrapAroundL2,
 ];
-
-fn random_set(n: usize, s: usize, seed: u64) -> PointSet {
-    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-    PointSet::new(n, s, (0..n * s).map(|_| rng.random::<f64>()).collect()).unwrap()
-}
 
 /// A random set whose coordinates are at least `gap` apart from each other (per
 /// coordinate) and from ½, so that a finite-difference step of less than `gap` crosses no
@@ -49,38 +47,6 @@ fn gradient(e: &dyn Energy, x: &PointSet) -> (f64, Vec<f64>) {
     let mut g = vec![f64::NAN; x.len()];
     let v = e.value_and_gradient(x, &mut g);
     (v, g)
-}
-
-fn fd_gradient(e: &dyn Energy, x: &PointSet, h: f64) -> Vec<f64> {
-    let mut g = vec![0.0; x.len()];
-    let mut y = x.clone();
-    for (idx, gi) in g.iter_mut().enumerate() {
-        let v = x.as_slice()[idx];
-        y.as_mut_slice()[idx] = v + h;
-        let up = e.value(&y);
-        y.as_mut_slice()[idx] = v - h;
-        let down = e.value(&y);
-        y.as_mut_slice()[idx] = v;
-        *gi = (up - down) / (2.0 * h);
-    }
-    g
-}
-
-fn rel_err(a: &[f64], b: &[f64]) -> f64 {
-    let num: f64 = a
-        .iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).powi(2))
-        .sum::<f64>()
-        .sqrt();
-    let den: f64 = b.iter().map(|y| y * y).sum::<f64>().sqrt();
-    // A zero reference (one point of the wrap-around L2 feels no force) needs an
-    // absolute comparison.
-    if den == 0.0 {
-        num
-    } else {
-        num / den
-    }
 }
 
 fn rel(a: f64, b: f64) -> f64 {

@@ -12,6 +12,9 @@ use stillpoint_energies::boundary::{UEInfG, UEpG};
 use stillpoint_energies::einf::UEInf;
 use stillpoint_energies::{Distance, Domain, Energy, PeriodicCube, PointSet, Result};
 
+mod common;
+use common::{fd_gradient, rel_err};
+
 /// The disc |x − c| ≤ R; the closest boundary point is c + R (x − c)/|x − c|.
 #[derive(Debug)]
 struct Disc {
@@ -166,32 +169,6 @@ fn interior_points(domain: &dyn Domain, ok: AwayFromAxis, n: usize, seed: u64) -
         }
     }
     PointSet::from_rows(&rows).unwrap()
-}
-
-fn fd_gradient(e: &dyn Energy, x: &PointSet, h: f64) -> Vec<f64> {
-    let mut g = vec![0.0; x.len()];
-    let mut y = x.clone();
-    for (idx, gi) in g.iter_mut().enumerate() {
-        let v = x.as_slice()[idx];
-        y.as_mut_slice()[idx] = v + h;
-        let up = e.value(&y);
-        y.as_mut_slice()[idx] = v - h;
-        let down = e.value(&y);
-        y.as_mut_slice()[idx] = v;
-        *gi = (up - down) / (2.0 * h);
-    }
-    g
-}
-
-fn rel_err(a: &[f64], b: &[f64]) -> f64 {
-    let num: f64 = a
-        .iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).powi(2))
-        .sum::<f64>()
-        .sqrt();
-    let den: f64 = b.iter().map(|y| y * y).sum::<f64>().sqrt();
-    num / den
 }
 
 fn grad_of(e: &dyn Energy, x: &PointSet) -> (f64, Vec<f64>) {

@@ -9,16 +9,12 @@
 //! The same checks for [`Precision::Fast`] (the interpolation table) against its own
 //! bound, [`Precision::FAST_BOUND`].
 
-use rand::{RngExt, SeedableRng};
-use rand_xoshiro::Xoshiro256PlusPlus;
 use stillpoint_energies::discrepancy::{pair_product_sums, DiscrepancyKind};
 use stillpoint_energies::pairs::min_squared_distances;
 use stillpoint_energies::{Distance, Energy, PointSet, Precision, Uqp};
 
-fn random_set(n: usize, s: usize, seed: u64) -> PointSet {
-    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-    PointSet::new(n, s, (0..n * s).map(|_| rng.random::<f64>()).collect()).unwrap()
-}
+mod common;
+use common::random_set;
 
 /// The stated bound: each h² and each h·h' of the general-q fast path is within this of
 /// the exact value, relative to h² and to Δ·v² = h²/Δ.

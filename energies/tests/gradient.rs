@@ -1,39 +1,9 @@
 //! Finite-difference checks of the U_{q,p} gradient (eqs. 14–18) and its properties.
 
-use rand::{RngExt, SeedableRng};
-use rand_xoshiro::Xoshiro256PlusPlus;
 use stillpoint_energies::{Distance, Energy, PointSet, Uqp};
 
-fn random_set(n: usize, s: usize, seed: u64) -> PointSet {
-    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-    PointSet::new(n, s, (0..n * s).map(|_| rng.random::<f64>()).collect()).unwrap()
-}
-
-fn fd_gradient(e: &dyn Energy, x: &PointSet, h: f64) -> Vec<f64> {
-    let mut g = vec![0.0; x.len()];
-    let mut y = x.clone();
-    for (idx, gi) in g.iter_mut().enumerate() {
-        let v = x.as_slice()[idx];
-        y.as_mut_slice()[idx] = v + h;
-        let up = e.value(&y);
-        y.as_mut_slice()[idx] = v - h;
-        let down = e.value(&y);
-        y.as_mut_slice()[idx] = v;
-        *gi = (up - down) / (2.0 * h);
-    }
-    g
-}
-
-fn rel_err(a: &[f64], b: &[f64]) -> f64 {
-    let num: f64 = a
-        .iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).powi(2))
-        .sum::<f64>()
-        .sqrt();
-    let den: f64 = b.iter().map(|y| y * y).sum::<f64>().sqrt();
-    num / den
-}
+mod common;
+use common::{fd_gradient, random_set, rel_err};
 
 #[test]
 fn gradient_matches_finite_differences() {

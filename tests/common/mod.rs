@@ -1,0 +1,71 @@
+//! Helpers shared by the test files: the command, scratch directories, random sets and
+//! bit patterns.
+
+#![allow(dead_code)]
+
+use std::fs;
+use std::path::PathBuf;
+use std::process::Command;
+
+use rand::{RngExt, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use stillpoint::PointSet;
+
+/// The `stillpoint` command built for these tests.
+pub fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_stillpoint"))
+}
+
+/// A fresh, empty directory `stillpoint-<test file>-<pid>-<name>` in the temporary
+/// directory (left in place afterwards).
+pub fn tmpdir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!(
+        "stillpoint-{}-{}-{name}",
+        env!("CARGO_CRATE_NAME"),
+        std::process::id()
+    ));
+    let _ = fs::remove_dir_all(&d);
+    fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A fresh directory per test, named like [`tmpdir`]'s, removed on drop so that failures
+/// do not pile up.
+pub struct TempDir(pub PathBuf);
+
+impl TempDir {
+    pub fn new(test: &str) -> TempDir {
+        TempDir(tmpdir(test))
+    }
+
+    pub fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+
+    /// The names of the files in the directory, sorted.
+    pub fn entries(&self) -> Vec<String> {
+        let mut names: Vec<String> = fs::read_dir(&self.0)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        names
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = fs::remove_dir_all(&self.0);
+    }
+}
+
+/// n points uniform in [0, 1)^s from a seeded generator.
+pub fn random_set(n: usize, s: usize, seed: u64) -> PointSet {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    PointSet::new(n, s, (0..n * s).map(|_| rng.random::<f64>()).collect()).unwrap()
+}
+
+/// The bit patterns of the coordinates, for exact comparisons.
+pub fn bits(p: &PointSet) -> Vec<u64> {
+    p.as_slice().iter().map(|v| v.to_bits()).collect()
+}
