@@ -677,12 +677,32 @@ impl Run<'_> {
             }
         };
         let every = self.checkpoint.map_or(0, |p| p.every);
+        let resumed = self.checkpoint.and_then(|p| p.resume.as_ref());
         Executor::new(self.problem, integrator)
             .max_steps(self.steps)
             .observe(observer)
             .checkpoint(every, &mut save)
             .resume(resume)
             .run(start)
+            .map_err(|e| match (e, resumed) {
+                // The executor refused the snapshot: say which file it came from.
+                (
+                    Error::InvalidArgument {
+                        name,
+                        value,
+                        expected,
+                    },
+                    Some(path),
+                ) if name.starts_with("checkpoint") => Error::invalid(
+                    "resume checkpoint",
+                    path.display(),
+                    format!(
+                        "a checkpoint that can be continued (its {name} = {value}: \
+                             expected {expected})"
+                    ),
+                ),
+                (e, _) => e,
+            })
     }
 }
 
@@ -1033,6 +1053,9 @@ pub fn config_json(cfg: &GenerateConfig) -> Value {
         "shifts": cfg.shifts,
         "polish": cfg.polish.map(|k| format!("{k:?}")),
         "lbfgs": format!("{:?}", cfg.lbfgs),
+        // The vector code path: the bytes of a run are the same for any thread count on
+        // one path, and may differ in the last bits between paths.
+        "kernel": crate::energies::pairs::vector_path(),
     });
     if let (Value::Object(map), Value::Object(dem)) = (&mut v, dem_json(&cfg.dem, cfg.steps)) {
         map.extend(dem);

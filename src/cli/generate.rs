@@ -49,6 +49,32 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     if let Some(out) = &trajectory {
         check_writable(out, "--trajectory")?;
     }
+    let init_file = init
+        .as_deref()
+        .filter(|i| !["halton", "random"].contains(i))
+        .map(std::path::Path::new);
+    let resume_file = match &resume {
+        Some(Some(r)) => Some(r.as_path()),
+        Some(None) => checkpoint.as_deref(),
+        None => None,
+    };
+    let polytope = shape
+        .as_deref()
+        .and_then(|t| t.strip_prefix("polytope:"))
+        .map(std::path::Path::new);
+    check_distinct(
+        &[
+            ("-o", output.as_deref()),
+            ("--plot", plot.as_deref()),
+            ("--trajectory", trajectory.as_deref()),
+            ("--checkpoint", checkpoint.as_deref()),
+        ],
+        &[
+            ("--init", init_file),
+            ("--resume", resume_file),
+            ("--shape polytope", polytope),
+        ],
+    )?;
     if tolerance.is_nan() || tolerance < 0.0 {
         bail!("invalid --tolerance = {tolerance}: expected a number ≥ 0");
     }

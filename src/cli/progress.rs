@@ -118,3 +118,55 @@ pub(crate) fn check_writable(path: &std::path::Path, option: &str) -> Result<()>
     }
     Ok(())
 }
+
+/// The file a path names: links followed and relative parts resolved; a file that does
+/// not exist yet is named by its resolved directory and its own name.
+fn resolved(path: &std::path::Path) -> PathBuf {
+    if let Ok(p) = std::fs::canonicalize(path) {
+        return p;
+    }
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => std::path::Path::new("."),
+    };
+    match (std::fs::canonicalize(dir), path.file_name()) {
+        (Ok(d), Some(name)) => d.join(name),
+        _ => path.to_path_buf(),
+    }
+}
+
+/// Refuses one file in two roles before any work is done: the outputs must be distinct
+/// files, and no input may be an output, except the checkpoint a run resumes from (the
+/// `--checkpoint` file, which the run goes on writing).
+pub(crate) fn check_distinct(
+    outputs: &[(&str, Option<&std::path::Path>)],
+    inputs: &[(&str, Option<&std::path::Path>)],
+) -> Result<()> {
+    let outs: Vec<(&str, PathBuf)> = outputs
+        .iter()
+        .filter_map(|(o, p)| p.map(|p| (*o, resolved(p))))
+        .collect();
+    for (i, (a, pa)) in outs.iter().enumerate() {
+        if let Some((b, _)) = outs[..i].iter().find(|(_, pb)| pb == pa) {
+            bail!(
+                "invalid {a} {}: it is also the {b} file; give each output its own file",
+                pa.display()
+            );
+        }
+    }
+    for (input, path) in inputs {
+        let Some(path) = path else { continue };
+        let p = resolved(path);
+        for (o, po) in &outs {
+            let resumed_checkpoint = *input == "--resume" && *o == "--checkpoint";
+            if *po == p && !resumed_checkpoint {
+                bail!(
+                    "invalid {o} {}: it is also the {input} file, which the run reads; \
+                     write the output to another file",
+                    po.display()
+                );
+            }
+        }
+    }
+    Ok(())
+}
