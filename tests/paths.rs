@@ -85,6 +85,9 @@ fn one_file_in_two_roles_is_refused_before_the_run() {
     }
 }
 
+/// A change to a checkpoint's state.
+type Edit = Box<dyn Fn(&mut serde_json::Value)>;
+
 /// A checkpoint whose state was edited and whose checksum was recomputed to match.
 fn forge(file: &Path, edit: impl Fn(&mut serde_json::Value)) {
     let mut v: serde_json::Value = serde_json::from_slice(&std::fs::read(file).unwrap()).unwrap();
@@ -123,7 +126,7 @@ fn forged_checkpoints_are_refused_without_a_panic() {
         let o = bin().current_dir(&d.0).args(run(&[])).output().unwrap();
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let good = std::fs::read(d.path("run.ckpt")).unwrap();
-        let edits: Vec<(&str, Box<dyn Fn(&mut serde_json::Value)>)> = vec![
+        let edits: Vec<(&str, Edit)> = vec![
             (
                 "a point far outside",
                 Box::new(|s| s["state"]["current"]["data"][1] = 1e300.into()),
