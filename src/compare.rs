@@ -272,7 +272,7 @@ fn polish_row(
     use crate::energies::Energy;
     let clock = std::time::Instant::now();
     let e = DiscrepancyEnergy::new(settings.discrepancy);
-    let p = crate::run::polish(
+    let p = crate::polish::polish(
         points,
         settings.discrepancy,
         settings.steps,

@@ -21,6 +21,7 @@ pub mod expr;
 pub mod io;
 pub mod metrics;
 pub mod plot;
+pub mod polish;
 pub mod regions;
 pub mod run;
 pub mod sequences;

@@ -220,6 +220,30 @@ pub struct EnergyChoice {
     pub eq48_clamped: bool,
 }
 
+/// A step after the solver. Each is one function in a module of its own; a new one is
+/// one more arm here and in [`generate_with`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PostStep {
+    /// The best of this many periodic shifts ([`crate::shift`]), after a periodic energy.
+    Shift(usize),
+    /// L-BFGS on a squared discrepancy ([`crate::polish`]).
+    Polish(DiscrepancyKind),
+}
+
+impl GenerateConfig {
+    /// The post-steps this configuration asks for, in the order they run.
+    pub fn post_steps(&self) -> Vec<PostStep> {
+        let mut steps = Vec::new();
+        if self.shifts > 0 {
+            steps.push(PostStep::Shift(self.shifts));
+        }
+        if let Some(kind) = self.polish {
+            steps.push(PostStep::Polish(kind));
+        }
+        steps
+    }
+}
+
 /// The quality of a set, as fits its space.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Quality {
@@ -572,31 +596,34 @@ pub fn generate_with(
         }
         _ => None,
     };
-    let shift = if cfg.shifts > 0 && domain.is_periodic() {
-        on_event(Event::Stage {
-            name: "shift selection",
-            steps: None,
-        });
-        let (points, outcome) = shift::best_shift(&output.points, cfg.shifts);
-        output.points = points;
-        Some(outcome)
-    } else {
-        None
-    };
-    let polish = match cfg.polish {
-        Some(kind) => {
-            on_event(Event::Stage {
-                name: "polish",
-                steps: Some(cfg.steps as u64),
-            });
-            let p = polish(&output.points, kind, cfg.steps, &cfg.lbfgs, |step| {
-                on_event(Event::Progress(step))
-            })?;
-            output.points = p.points;
-            Some((p.before, p.after, p.iterations))
+    let (mut shift, mut polish) = (None, None);
+    for step in cfg.post_steps() {
+        match step {
+            // A shift is a motion the energy does not see only on the torus.
+            PostStep::Shift(candidates) if domain.is_periodic() => {
+                on_event(Event::Stage {
+                    name: "shift selection",
+                    steps: None,
+                });
+                let (points, outcome) = shift::best_shift(&output.points, candidates);
+                output.points = points;
+                shift = Some(outcome);
+            }
+            PostStep::Shift(_) => {}
+            PostStep::Polish(kind) => {
+                on_event(Event::Stage {
+                    name: "polish",
+                    steps: Some(cfg.steps as u64),
+                });
+                let p =
+                    crate::polish::polish(&output.points, kind, cfg.steps, &cfg.lbfgs, |step| {
+                        on_event(Event::Progress(step))
+                    })?;
+                output.points = p.points;
+                polish = Some((p.before, p.after, p.iterations));
+            }
         }
-        None => None,
-    };
+    }
     debug_assert!(output.points.rows().all(|r| domain.contains(r)));
     let energy_pair = full_energies.unwrap_or((
         output
@@ -660,7 +687,7 @@ impl Run<'_> {
         }
     }
 
-    fn execute<I: Integrator>(
+    pub(crate) fn execute<I: Integrator>(
         &self,
         integrator: I,
         start: PointSet,
@@ -704,65 +731,6 @@ impl Run<'_> {
                 (e, _) => e,
             })
     }
-}
-
-/// What the polish did.
-#[derive(Debug, Clone)]
-pub struct Polished {
-    /// The polished points, or the given points if the polish did not lower the
-    /// discrepancy.
-    pub points: PointSet,
-    /// The squared discrepancy before.
-    pub before: f64,
-    /// The squared discrepancy of the kept points.
-    pub after: f64,
-    /// L-BFGS iterations taken.
-    pub iterations: usize,
-    /// The L-BFGS run's records.
-    pub trajectory: Vec<Record>,
-}
-
-/// The polish: L-BFGS on a squared discrepancy from `points` (on the torus for the
-/// wrap-around L2, in the closed cube for the others), keeping the result only if it is
-/// lower. `on_step` sees every iteration (for progress displays).
-pub fn polish(
-    points: &PointSet,
-    kind: DiscrepancyKind,
-    steps: usize,
-    lbfgs: &Lbfgs,
-    mut on_step: impl FnMut(u64),
-) -> Result<Polished, Error> {
-    let s = points.s();
-    let domain: Arc<dyn Domain> = if kind.is_periodic() {
-        Arc::new(PeriodicCube::new(s)?)
-    } else {
-        Arc::new(BoxRegion::new(vec![0.0; s], vec![1.0; s])?)
-    };
-    let problem = Problem::shared(Arc::new(DiscrepancyEnergy::new(kind)), domain)?;
-    let e = problem.energy();
-    let before = e.value(points);
-    let mut progress = LoggingObserver::new(0, |r: &Record| on_step(r.step as u64));
-    let run = Run {
-        problem: &problem,
-        steps,
-        checkpoint: None,
-        config: &Value::Null,
-    };
-    let out = run.execute(lbfgs.clone(), points.clone(), &mut progress)?;
-    let iterations = out.trajectory.iter().map(|r| r.step).max().unwrap_or(0);
-    let after = e.value(&out.points);
-    let kept = if after < before {
-        out.points
-    } else {
-        points.clone()
-    };
-    Ok(Polished {
-        points: kept,
-        before,
-        after: after.min(before),
-        iterations,
-        trajectory: out.trajectory,
-    })
 }
 
 // ---------------------------------------------------------------------------------------
