@@ -1,6 +1,6 @@
 //! The pipeline of every `generate` run, in the cube or in a region: a
 //! [`GenerateConfig`] becomes a start set and a [`Problem`] (energy + domain), the solver
-//! runs through the one executor ([`Run::solve`]), the post-steps follow (periodic shift
+//! runs through the one executor (`Run::solve`), the post-steps follow (periodic shift
 //! selection, polish), and a [`GenerateReport`] gives the quality of the start and the
 //! result side by side.
 //!
