@@ -339,11 +339,60 @@ pub(crate) fn eval_json(points: &PointSet) -> Value {
         "energy_uqp_p": fit.p,
         "energy_e_inf": finite_or_null(1.0 / m.min_distance),
         "mean_gap": mean_gap,
+        "notes": value_notes(points.n(), &m, uqp),
     })
+}
+
+/// What a value that JSON cannot hold (null) stands for: a single point has no pair
+/// (no distance, energies 0), coinciding points have distance 0 and infinite energies
+/// (on the torus, 0 and 1 are the same coordinate). Only the keys concerned appear.
+fn value_notes(n: usize, m: &Metrics, uqp: Option<f64>) -> Value {
+    let mut notes = serde_json::Map::new();
+    let mut note = |k: &str, text: &str| {
+        notes.insert(k.to_string(), json!(text));
+    };
+    if n == 1 {
+        note("min_distance", "none: a single point has no pair");
+        note("min_distance_periodic", "none: a single point has no pair");
+    } else {
+        if m.min_distance == 0.0 {
+            note("energy_e_inf", "infinite: two points coincide");
+        }
+        if m.min_distance_periodic == 0.0 && uqp.is_some_and(|u| !u.is_finite()) {
+            note(
+                "energy_uqp",
+                if m.min_distance == 0.0 {
+                    "infinite: two points coincide"
+                } else {
+                    "infinite: two points coincide on the torus (0 and 1 are one coordinate)"
+                },
+            );
+        }
+    }
+    for (k, v) in [
+        ("star_l2", m.star_l2),
+        ("modified_l2", m.modified_l2),
+        ("centered_l2", m.centered_l2),
+        ("wrap_around_l2", m.wrap_around_l2),
+    ] {
+        if !v.is_finite() {
+            note(k, "not representable in f64 at this dimension");
+        }
+    }
+    Value::Object(notes)
 }
 
 pub(crate) fn eval_table(file: &std::path::Path, points: &PointSet, v: &Value) -> String {
     let num = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
+    // A value JSON holds as null is shown by its note, never as NaN.
+    let show = |k: &str, digits: usize, sci: bool| -> String {
+        match (v[k].as_f64(), v["notes"][k].as_str()) {
+            (Some(x), _) if sci => format!("{x:.digits$e}"),
+            (Some(x), _) => format!("{x:.digits$}"),
+            (None, Some(note)) => note.to_string(),
+            (None, None) => "-".to_string(),
+        }
+    };
     let mut t = format!(
         "{}: n = {}, s = {}\n",
         file.display(),
@@ -351,28 +400,28 @@ pub(crate) fn eval_table(file: &std::path::Path, points: &PointSet, v: &Value) -
         points.s()
     );
     let rows = [
-        ("star L2 discrepancy D_L2* (root)", num("star_l2")),
-        ("modified L2 discrepancy D_MD (root)", num("modified_l2")),
-        ("centred L2 discrepancy (root)", num("centered_l2")),
-        ("wrap-around L2 discrepancy (root)", num("wrap_around_l2")),
-        ("minimum distance (Euclidean)", num("min_distance")),
-        ("minimum distance (periodic)", num("min_distance_periodic")),
-        ("mean gap max_k |mean_k − 0.5|", num("mean_gap")),
+        ("star L2 discrepancy D_L2* (root)", "star_l2"),
+        ("modified L2 discrepancy D_MD (root)", "modified_l2"),
+        ("centred L2 discrepancy (root)", "centered_l2"),
+        ("wrap-around L2 discrepancy (root)", "wrap_around_l2"),
+        ("minimum distance (Euclidean)", "min_distance"),
+        ("minimum distance (periodic)", "min_distance_periodic"),
+        ("mean gap max_k |mean_k − 0.5|", "mean_gap"),
     ];
-    for (name, val) in rows {
-        t += &format!("  {name:<40} {val:.6}\n");
+    for (name, key) in rows {
+        t += &format!("  {name:<40} {}\n", show(key, 6, false));
     }
     t += &format!(
-        "  {:<40} {:.6e}   (q = {:.4}, p = {:.4} from eq. 48)\n",
+        "  {:<40} {}   (q = {:.4}, p = {:.4} from eq. 48)\n",
         "energy U_{q,p}",
-        num("energy_uqp"),
+        show("energy_uqp", 6, true),
         num("energy_uqp_q"),
         num("energy_uqp_p")
     );
     t += &format!(
-        "  {:<40} {:.6}\n",
+        "  {:<40} {}\n",
         "energy U_{E,∞} = 1/d_min",
-        num("energy_e_inf")
+        show("energy_e_inf", 6, false)
     );
     t
 }
