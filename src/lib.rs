@@ -1,13 +1,15 @@
 //! stillpoint: point sets that fill a domain as evenly as possible, as the static solution
 //! of a damped many-body problem (the dynamical evolutionary model, DEM).
 //!
-//! This crate composes the workspace: [`energies`] (point sets, domains, potentials),
+//! This crate composes the workspace: [`domains`] (geometry: point sets, the periodic
+//! cube, implicit regions, shapes), [`energies`] (potentials, re-exporting the geometry),
 //! [`integrators`] (the damped central-difference DEM), and here the metrics that prove a
 //! set's quality, the classic sequences it starts from or is compared with, file I/O and
 //! the run driver behind the `stillpoint` command.
 
 #![deny(missing_docs)]
 
+pub use stillpoint_domains as domains;
 pub use stillpoint_energies as energies;
 pub use stillpoint_integrators as integrators;
 

@@ -7,6 +7,7 @@
 //! modified L2 discrepancy and then refine it by a compass search. The set keeps its
 //! energy and its minimum periodic distance; only its placement in the cube changes.
 
+use crate::domains::wrap_unit;
 use crate::energies::PointSet;
 use crate::metrics;
 use crate::sequences;
@@ -31,15 +32,7 @@ pub fn shifted(points: &PointSet, c: &[f64]) -> PointSet {
         .as_slice()
         .iter()
         .enumerate()
-        .map(|(idx, v)| {
-            let w = v + c[idx % s];
-            let r = w - w.floor();
-            if r >= 1.0 {
-                0.0
-            } else {
-                r
-            }
-        })
+        .map(|(idx, v)| wrap_unit(v + c[idx % s]).0)
         .collect();
     PointSet::new(points.n(), s, data).expect("a shift keeps a valid set valid")
 }

@@ -1,29 +1,24 @@
-#![deny(missing_docs)]
-//! Point sets, domains and potential energies for the stillpoint many-body model.
+//! Potential energies for the stillpoint many-body model.
 //!
-//! A [`PointSet`] is n points × s coordinates stored row per point in one contiguous
-//! buffer; every crate of the workspace uses it. A [`Domain`] says where the points live
-//! (the periodic unit cube here; implicit regions plug into the same trait). An [`Energy`]
-//! is a potential over the whole set with its gradient; the integrators drive a set to a
-//! minimum of one.
+//! An [`Energy`] is a potential over a whole [`PointSet`] with its gradient; the
+//! integrators drive a set to a minimum of one. The geometry (point sets, the periodic
+//! cube, implicit regions, shapes, the error type) lives in `stillpoint-domains` and is
+//! re-exported here under its old paths ([`PointSet`], [`Domain`], [`PeriodicCube`],
+//! [`Error`], [`Result`], [`region`], [`shapes`]).
 //!
 //! Equation numbers refer to Wu, Zhao, Zhao and Zhong (2021), *Relationship between
 //! low-discrepancy sequence and static solution to multi-bodies problem*.
 
+#![deny(missing_docs)]
+
 pub mod boundary;
 pub mod discrepancy;
-mod domain;
 pub mod einf;
-mod error;
 pub mod pairs;
-mod pointset;
-pub mod region;
-pub mod shapes;
 mod uqp;
 
-pub use domain::{Domain, PeriodicCube};
-pub use error::{Error, Result};
-pub use pointset::PointSet;
+pub use stillpoint_domains::{region, shapes};
+pub use stillpoint_domains::{Domain, Error, PeriodicCube, PointSet, Result};
 pub use uqp::{paper_qp, Distance, PaperQp, Precision, Uqp};
 
 /// A potential energy over a whole point set.

@@ -15,6 +15,7 @@
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
+use crate::domains::halton::radical_inverse;
 use crate::{Error, PointSet};
 
 mod baseline;
@@ -47,23 +48,6 @@ pub fn first_primes(k: usize) -> Vec<u64> {
         candidate += if candidate == 2 { 1 } else { 2 };
     }
     primes
-}
-
-/// Radical inverse of `index` in base `base`: its base-b digits mirrored about the point.
-///
-/// The digits are gathered into one integer numerator over b^m and divided once, so the
-/// result is the correctly rounded value whenever b^m ≤ 2^53 (every realistic n and s);
-/// summing digit × b^(−j) term by term would round at every digit instead.
-fn radical_inverse(mut index: u64, base: u64) -> f64 {
-    let b = u128::from(base);
-    let mut numerator: u128 = 0;
-    let mut denominator: u128 = 1;
-    while index > 0 {
-        numerator = numerator * b + u128::from(index % base);
-        denominator *= b;
-        index /= base;
-    }
-    numerator as f64 / denominator as f64
 }
 
 /// Plain (unscrambled) Halton points with indices 1..=n, in s dimensions.

@@ -5,9 +5,9 @@ use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
-use stillpoint_energies::region::{paper_region, ImplicitRegion, RegionFn};
-use stillpoint_energies::shapes::{Ball, BoxRegion, Ellipsoid, Polytope, Simplex};
-use stillpoint_energies::{Domain, Error};
+use stillpoint_domains::region::{paper_region, ImplicitRegion, RegionFn};
+use stillpoint_domains::shapes::{Ball, BoxRegion, Ellipsoid, Polytope, Simplex};
+use stillpoint_domains::{Domain, Error};
 
 fn paper_g(i: usize) -> fn(&[f64]) -> f64 {
     match i {

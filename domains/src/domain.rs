@@ -156,10 +156,13 @@ impl PeriodicCube {
     }
 }
 
-/// `(v - floor(v), floor(v))`, with the rounding case `v - floor(v) == 1` sent to 0 so the
-/// result is always in [0, 1).
+/// Wraps a coordinate onto the unit circle: returns `(v - floor(v), floor(v))`, the
+/// fractional part and the whole turns removed, with the rounding case
+/// `v - floor(v) == 1` (tiny negative v) sent to `(0, floor(v) + 1)` so the first value is
+/// always in [0, 1). This is the periodic cube's wrap; use it wherever a coordinate is
+/// taken mod 1.
 #[inline]
-pub(crate) fn wrap_unit(v: f64) -> (f64, f64) {
+pub fn wrap_unit(v: f64) -> (f64, f64) {
     let f = v.floor();
     let r = v - f;
     if r >= 1.0 {

@@ -60,6 +60,8 @@
 //! (diameter/128) *and* narrower than the direction spacing can be missed by the scan.
 //! Such a region needs a tighter box (the step scales with the box diameter).
 
+use crate::halton::radical_inverse as halton;
+use crate::projection::{dist, dot, norm, normalise, project_halfspaces};
 use crate::{Domain, Error, PointSet, Result};
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -1016,9 +1018,7 @@ impl Search<'_> {
                 offsets.push(-reg.lo[k]);
             }
             for _ in 0..CUT_ROUNDS * s {
-                let Some(y) =
-                    crate::shapes::project_halfspaces(&normals, &offsets, x, 0.0, reg.diam)
-                else {
+                let Some(y) = project_halfspaces(&normals, &offsets, x, 0.0, reg.diam) else {
                     return;
                 };
                 if dist(&y, x) >= *r - self.tol {
@@ -1051,7 +1051,7 @@ impl Search<'_> {
             if planes > 1 {
                 let nn: Vec<f64> = normals.iter().map(|v| -v).collect();
                 let cc: Vec<f64> = offsets.iter().map(|v| -v).collect();
-                if let Some(y) = crate::shapes::project_halfspaces(&nn, &cc, x, 0.0, reg.diam) {
+                if let Some(y) = project_halfspaces(&nn, &cc, x, 0.0, reg.diam) {
                     proposals.push(y);
                 }
             }
@@ -1267,45 +1267,6 @@ pub(crate) fn primes(m: usize) -> Vec<u64> {
         c += 1;
     }
     p
-}
-
-/// The radical inverse of i in base b (the Halton coordinate), in (0, 1) for i ≥ 1.
-pub(crate) fn halton(mut i: u64, b: u64) -> f64 {
-    let mut f = 1.0;
-    let mut r = 0.0;
-    while i > 0 {
-        f /= b as f64;
-        r += f * (i % b) as f64;
-        i /= b;
-    }
-    r
-}
-
-pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
-pub(crate) fn norm(a: &[f64]) -> f64 {
-    dot(a, a).sqrt()
-}
-
-pub(crate) fn dist(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y) * (x - y))
-        .sum::<f64>()
-        .sqrt()
-}
-
-/// Scales v to unit length; false (v untouched) when its length is zero or not finite.
-pub(crate) fn normalise(v: &mut [f64]) -> bool {
-    let n = norm(v);
-    if n > 0.0 && n.is_finite() {
-        v.iter_mut().for_each(|x| *x /= n);
-        true
-    } else {
-        false
-    }
 }
 
 /// `(1.5, -2)` for error messages.
