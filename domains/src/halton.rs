@@ -1,4 +1,5 @@
-//! The radical inverse, the coordinate function of the Halton sequence.
+//! The radical inverse, the coordinate function of the Halton sequence, and its prime
+//! bases.
 //!
 //! One implementation for the whole workspace: the plain Halton start of the periodic cube
 //! (`stillpoint::sequences::halton`) and the Halton-spread candidates of the implicit
@@ -23,6 +24,26 @@ pub fn radical_inverse(mut index: u64, base: u64) -> f64 {
         index /= base;
     }
     numerator as f64 / denominator as f64
+}
+
+/// The first `k` primes in increasing order (2, 3, 5, 7, ...); empty for `k = 0`.
+///
+/// These are the Halton bases: dimension k (counting from 1) uses the k-th prime.
+pub fn first_primes(k: usize) -> Vec<u64> {
+    let mut primes: Vec<u64> = Vec::with_capacity(k);
+    let mut candidate = 2u64;
+    while primes.len() < k {
+        // Trial division by the primes found so far suffices up to √candidate.
+        if primes
+            .iter()
+            .take_while(|&&p| p * p <= candidate)
+            .all(|&p| !candidate.is_multiple_of(p))
+        {
+            primes.push(candidate);
+        }
+        candidate += if candidate == 2 { 1 } else { 2 };
+    }
+    primes
 }
 
 #[cfg(test)]

@@ -254,7 +254,7 @@ impl ImplicitRegion {
         self.anchor
             .get_or_init(|| {
                 let s = self.lo.len();
-                let bases = primes(s);
+                let bases = crate::halton::first_primes(s);
                 let mut x = vec![0.0; s];
                 let mut best: Option<(f64, Vec<f64>)> = None;
                 for i in 1..=(256 * s).max(1024) as u64 {
@@ -292,7 +292,7 @@ impl ImplicitRegion {
         let mut dirs: Cow<[f64]> = if box_gap < 0.5 * self.diam {
             Cow::Borrowed(self.dirs.as_slice())
         } else {
-            let bases = primes(s);
+            let bases = crate::halton::first_primes(s);
             let mut d = Vec::with_capacity(DIRS_PER_DIM * s * s + s);
             let mut t = vec![0.0; s];
             for i in 0..=(DIRS_PER_DIM * s) as u64 {
@@ -1209,7 +1209,7 @@ fn sphere_directions(s: usize) -> (Vec<f64>, f64) {
             // Halton points mapped to Gaussians by Box–Muller, normalised: quasi-uniform
             // on the sphere; each with its antipode.
             let pairs = s.div_ceil(2);
-            let bases = primes(2 * pairs);
+            let bases = crate::halton::first_primes(2 * pairs);
             let m = (DIRS_PER_DIM * s - 2 * s) / 2;
             let mut z = vec![0.0; 2 * pairs];
             let mut i = 1u64;
@@ -1251,22 +1251,6 @@ fn gamma_half(s: usize) -> f64 {
         a += 1.0;
     }
     g
-}
-
-/// The first m primes (Halton bases).
-pub(crate) fn primes(m: usize) -> Vec<u64> {
-    let mut p = Vec::with_capacity(m);
-    let mut c = 2u64;
-    while p.len() < m {
-        if p.iter()
-            .take_while(|&&q| q * q <= c)
-            .all(|&q| !c.is_multiple_of(q))
-        {
-            p.push(c);
-        }
-        c += 1;
-    }
-    p
 }
 
 /// `(1.5, -2)` for error messages.

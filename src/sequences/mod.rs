@@ -30,25 +30,7 @@ pub use lattices::{hua_wang, korobov_p2, lattice, lattice_generator, rank1_latti
 pub use scrambled_halton::{halton_scrambled, HALTON_SCRAMBLED_MAX_S};
 pub use sobol_owen::{sobol_plain, sobol_scrambled, SOBOL_MAX_N, SOBOL_MAX_S};
 
-/// The first `k` primes in increasing order (2, 3, 5, 7, ...); empty for `k = 0`.
-///
-/// These are the Halton bases: dimension k (counting from 1) uses the k-th prime.
-pub fn first_primes(k: usize) -> Vec<u64> {
-    let mut primes: Vec<u64> = Vec::with_capacity(k);
-    let mut candidate = 2u64;
-    while primes.len() < k {
-        // Trial division by the primes found so far suffices up to √candidate.
-        if primes
-            .iter()
-            .take_while(|&&p| p * p <= candidate)
-            .all(|&p| !candidate.is_multiple_of(p))
-        {
-            primes.push(candidate);
-        }
-        candidate += if candidate == 2 { 1 } else { 2 };
-    }
-    primes
-}
+pub use crate::domains::halton::first_primes;
 
 /// Plain (unscrambled) Halton points with indices 1..=n, in s dimensions.
 ///
