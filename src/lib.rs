@@ -16,6 +16,7 @@ pub use stillpoint_integrators as integrators;
 pub use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Uqp};
 
 pub mod bench;
+pub mod checkpoint;
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod compare;
