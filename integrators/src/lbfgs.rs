@@ -37,6 +37,13 @@
 //!   curvature factor of the boundary (r/|x − c| for a ball, close to 1 at the wall),
 //!   and the line search is not told that moving further out helps.
 //!
+//! P is [`Domain::bring_back`], a projection of any point of R^s, not the
+//! [`Domain::keep_inside`] rule the DEM steps with (shorten a step that leaves, from the
+//! point it left): the halving rule depends on where a point came from, so f∘P would be a
+//! different function at every iterate and L-BFGS's curvature pairs would compare values
+//! of different functions; a projection is one fixed map for the whole line search. On the
+//! torus the two are the same wrap.
+//!
 //! # Kinks, stalls and restarts
 //!
 //! Max-type energies (U_{E,∞}, U_{E,∞,g}) and the discrepancies (kinks where two points
