@@ -35,7 +35,7 @@ impl Format {
 
     /// `None` for an extension that names no format, which reading treats as "look at the
     /// content" rather than assuming CSV.
-    fn from_extension(path: &Path) -> Option<Format> {
+    pub fn from_extension(path: &Path) -> Option<Format> {
         let ext = path.extension()?.to_str()?.to_ascii_lowercase();
         match ext.as_str() {
             "csv" => Some(Format::Csv),
@@ -154,6 +154,133 @@ fn format_error(file: &str, message: impl Into<String>) -> IoError {
 
 const NPY_MAGIC: &[u8] = b"\x93NUMPY";
 
+/// The largest input file the readers take: 1 GiB, about 25 million points in 2-D as
+/// CSV or 6 million in 20-D as `.npy` — far more than any set this tool optimises.
+pub const MAX_INPUT_BYTES: u64 = 1 << 30;
+
+/// The deepest nesting of arrays and objects a JSON point file may have (a point file
+/// needs 2 or 3 levels, its provenance a few more).
+pub const MAX_JSON_DEPTH: usize = 64;
+
+/// The whole of a file, refused beyond [`MAX_INPUT_BYTES`] — also a device or a pipe that
+/// never ends, which is read only up to the bound.
+fn read_bounded(path: &Path) -> Result<Vec<u8>, IoError> {
+    use std::io::Read;
+    let too_large = || {
+        format_error(
+            &path.display().to_string(),
+            format!(
+                "larger than {} MiB, the most a point file may hold",
+                MAX_INPUT_BYTES >> 20
+            ),
+        )
+    };
+    let file = fs::File::open(path).map_err(|e| io_error(path, "cannot read", e))?;
+    if let Ok(meta) = file.metadata() {
+        if meta.is_dir() {
+            return Err(format_error(
+                &path.display().to_string(),
+                "a directory, expected a point file",
+            ));
+        }
+        if meta.is_file() && meta.len() > MAX_INPUT_BYTES {
+            return Err(too_large());
+        }
+    }
+    let mut bytes = Vec::new();
+    file.take(MAX_INPUT_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| io_error(path, "cannot read", e))?;
+    if bytes.len() as u64 > MAX_INPUT_BYTES {
+        return Err(too_large());
+    }
+    Ok(bytes)
+}
+
+/// The deepest nesting of `[` and `{` outside strings, stopping as soon as it passes
+/// `limit` (so that no recursive parser is handed a deeper text).
+fn json_depth_exceeds(text: &str, limit: usize) -> bool {
+    let (mut depth, mut in_string, mut escaped) = (0usize, false, false);
+    for b in text.bytes() {
+        if in_string {
+            match (escaped, b) {
+                (true, _) => escaped = false,
+                (false, b'\\') => escaped = true,
+                (false, b'"') => in_string = false,
+                _ => {}
+            }
+            continue;
+        }
+        match b {
+            b'"' => in_string = true,
+            b'[' | b'{' => {
+                depth += 1;
+                if depth > limit {
+                    return true;
+                }
+            }
+            b']' | b'}' => depth = depth.saturating_sub(1),
+            _ => {}
+        }
+    }
+    false
+}
+
+/// Checks a `.npy` header before any other code parses it: the version, a length the
+/// format allows, printable ASCII, and one flat dictionary with exactly the keys
+/// `descr`, `fortran_order` and `shape` (the header grammar is a Python literal; a
+/// general parser of it can take exponential time on nested braces).
+fn check_npy_header(bytes: &[u8], file: &str) -> Result<(), IoError> {
+    let bad = |why: &str| format_error(file, format!("not a valid .npy file ({why})"));
+    let major = *bytes.get(6).ok_or_else(|| bad("too short"))?;
+    let (len, start) = match major {
+        1 => (
+            u16::from_le_bytes([
+                *bytes.get(8).ok_or_else(|| bad("too short"))?,
+                *bytes.get(9).ok_or_else(|| bad("too short"))?,
+            ]) as usize,
+            10,
+        ),
+        2 | 3 => {
+            let b = bytes.get(8..12).ok_or_else(|| bad("too short"))?;
+            (u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize, 12)
+        }
+        v => return Err(bad(&format!("format version {v}, expected 1, 2 or 3"))),
+    };
+    if len > 1 << 16 {
+        return Err(bad(&format!(
+            "a header of {len} bytes, at most 65536 accepted"
+        )));
+    }
+    let header = bytes
+        .get(start..start + len)
+        .ok_or_else(|| bad("the header is cut short"))?;
+    if !header
+        .iter()
+        .all(|&b| (0x20..0x7f).contains(&b) || b == b'\n')
+    {
+        return Err(bad("the header is not printable ASCII"));
+    }
+    let text = std::str::from_utf8(header).map_err(|_| bad("the header is not ASCII"))?;
+    let body = text.trim_end_matches([' ', '\n']);
+    let opens = body.matches('{').count();
+    let closes = body.matches('}').count();
+    if !(body.starts_with('{') && body.ends_with('}') && opens == 1 && closes == 1) {
+        return Err(bad("the header is not one flat dictionary"));
+    }
+    for key in ["descr", "fortran_order", "shape"] {
+        if !(body.contains(&format!("'{key}'")) || body.contains(&format!("\"{key}\""))) {
+            return Err(bad(&format!("the header has no '{key}'")));
+        }
+    }
+    if body.matches(':').count() != 3 {
+        return Err(bad(
+            "the header has keys other than 'descr', 'fortran_order' and 'shape'",
+        ));
+    }
+    Ok(())
+}
+
 /// Reads a point set from `path`.
 ///
 /// The NumPy magic bytes select `.npy` whatever the extension. Otherwise `.npy` and
@@ -161,7 +288,7 @@ const NPY_MAGIC: &[u8] = b"\x93NUMPY";
 /// extension by content: JSON if it starts with `{` or `[`, text otherwise. The [0, 1]
 /// range is not checked here.
 pub fn read_points(path: &Path) -> Result<PointSet, IoError> {
-    let bytes = fs::read(path).map_err(|e| io_error(path, "cannot read", e))?;
+    let bytes = read_bounded(path)?;
     let file = path.display().to_string();
     if bytes.starts_with(NPY_MAGIC) {
         return parse_npy(&bytes, &file);
@@ -492,6 +619,12 @@ impl<'a> Scanner<'a> {
 const JSON_SHAPE: &str = r#"expected {"points": [[x1, x2, ...], ...]} or [[x1, x2, ...], ...]"#;
 
 fn parse_json(text: &str, file: &str) -> Result<PointSet, IoError> {
+    if json_depth_exceeds(text, MAX_JSON_DEPTH) {
+        return Err(format_error(
+            file,
+            format!("JSON nested more than {MAX_JSON_DEPTH} levels deep; {JSON_SHAPE}"),
+        ));
+    }
     serde_json::from_str::<serde::de::IgnoredAny>(text)
         .map_err(|e| format_error(file, format!("not valid JSON ({e})")))?;
     let root = Scanner { text, pos: 0 }
@@ -614,6 +747,7 @@ fn parse_json(text: &str, file: &str) -> Result<PointSet, IoError> {
 
 fn parse_npy(bytes: &[u8], file: &str) -> Result<PointSet, IoError> {
     const EXPECTED: &str = "expected a 2-D array of float64 or float32";
+    check_npy_header(bytes, file)?;
     let mut rest = bytes;
     let header = npyz::NpyHeader::from_reader(&mut rest)
         .map_err(|e| format_error(file, format!("not a valid .npy file ({e})")))?;
@@ -843,10 +977,81 @@ pub fn write_points(
 
 static TEMP_COUNTER: AtomicUsize = AtomicUsize::new(0);
 
+/// The longest file name an output may have: its temporary name `.{name}.tmp-{pid}-{k}`
+/// must still fit the usual 255-byte limit of a directory entry.
+pub const MAX_OUTPUT_NAME: usize = 255 - 32;
+
+/// Checks, before any work is done, that `path` can take an output: its directory
+/// exists, its name is not too long, and what is there (links followed) is a regular
+/// file, a FIFO or a character device, or nothing yet. `what` names the option.
+pub fn check_output(path: &Path) -> Result<(), IoError> {
+    let refuse = |why: &str| io_error(path, "cannot write", std::io::Error::other(why.to_string()));
+    let name = path
+        .file_name()
+        .ok_or_else(|| refuse("it names a directory; expected a file name"))?;
+    if name.len() > MAX_OUTPUT_NAME {
+        return Err(refuse(&format!(
+            "a file name of {} bytes; at most {MAX_OUTPUT_NAME} are accepted",
+            name.len()
+        )));
+    }
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        return Err(refuse(&format!(
+            "the directory {} does not exist",
+            dir.display()
+        )));
+    }
+    #[cfg(unix)]
+    if let Ok(meta) = fs::metadata(path) {
+        use std::os::unix::fs::FileTypeExt;
+        let kind = meta.file_type();
+        if !(kind.is_file() || kind.is_fifo() || kind.is_char_device()) {
+            return Err(refuse(
+                "it is a directory, socket or block device; expected a file name",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Removes `.{name}.tmp-{pid}-{k}` files in `dir` whose process no longer runs: what a
+/// killed write of this output left behind. Best effort: a file that cannot be removed
+/// is left.
+fn remove_stale_temporaries(dir: &Path, name: &std::ffi::OsStr) {
+    let prefix = format!(".{}.tmp-", name.to_string_lossy());
+    let Ok(entries) = fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let file_name = entry.file_name();
+        let file_name = file_name.to_string_lossy();
+        let Some(rest) = file_name.strip_prefix(&prefix) else {
+            continue;
+        };
+        let Some(pid) = rest.split('-').next().and_then(|p| p.parse::<u32>().ok()) else {
+            continue;
+        };
+        let alive = pid == std::process::id() || Path::new(&format!("/proc/{pid}")).exists();
+        if !alive && entry.file_type().is_ok_and(|t| t.is_file()) {
+            let _ = fs::remove_file(entry.path());
+        }
+    }
+}
+
 /// Replaces `path` with `bytes` so that readers see either the old file or the complete
 /// new one: the bytes go to `.{name}.tmp-{pid}-{k}` in the same directory, are synced to
 /// disk and renamed over `path`. On any failure the temporary file is removed and `path`
 /// is left as it was. An existing file's permissions are kept.
+///
+/// What is at `path` decides how: a symbolic link is written through (its final target is
+/// replaced atomically, the link stays); a FIFO or a character device (`/dev/stdout`) is
+/// streamed to directly, since it cannot be replaced; a directory, socket or block device
+/// is refused. Temporaries that an earlier run of a killed process left for this output
+/// are removed.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
     let name = path.file_name().ok_or_else(|| {
         io_error(
@@ -855,11 +1060,59 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
             std::io::Error::new(std::io::ErrorKind::InvalidInput, "not a file name"),
         )
     })?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        // What the path leads to (links followed) decides whether it can be replaced.
+        if let Ok(meta) = fs::metadata(path) {
+            let kind = meta.file_type();
+            if kind.is_fifo() || kind.is_char_device() {
+                let mut f = fs::OpenOptions::new()
+                    .write(true)
+                    .open(path)
+                    .map_err(|e| io_error(path, "cannot open", e))?;
+                return f
+                    .write_all(bytes)
+                    .and_then(|()| f.flush())
+                    .map_err(|e| io_error(path, "cannot write", e));
+            }
+            if !kind.is_file() {
+                return Err(io_error(
+                    path,
+                    "cannot write",
+                    std::io::Error::other(
+                        "it is a directory, socket or block device; expected a file name",
+                    ),
+                ));
+            }
+        }
+        if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+            // Replace the file the link leads to, next to it, and keep the link; a
+            // dangling link is followed by hand to where the file will be.
+            let target = match fs::canonicalize(path) {
+                Ok(t) => t,
+                Err(_) => {
+                    let link = fs::read_link(path)
+                        .map_err(|e| io_error(path, "cannot read the link", e))?;
+                    path.parent().unwrap_or(Path::new(".")).join(link)
+                }
+            };
+            if fs::symlink_metadata(&target).is_ok_and(|m| m.file_type().is_symlink()) {
+                return Err(io_error(
+                    path,
+                    "cannot write",
+                    std::io::Error::other("a chain of links that does not end in a file"),
+                ));
+            }
+            return write_atomic(&target, bytes);
+        }
+    }
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
 
+    remove_stale_temporaries(dir, name);
     let (tmp, mut file) = loop {
         let k = TEMP_COUNTER.fetch_add(1, Ordering::Relaxed);
         let mut tmp_name = std::ffi::OsString::from(".");

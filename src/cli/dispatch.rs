@@ -72,6 +72,7 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
             };
             if let Some(out) = &output {
                 check_writable(out, "-o")?;
+                check_points_extension(out, "-o")?;
             }
             let b = Baseline::parse(&name)?;
             let points = b.generate(n, s, seed)?;

@@ -41,6 +41,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     } = a;
     if let Some(out) = &output {
         check_writable(out, "-o")?;
+        check_points_extension(out, "-o")?;
     }
     if let Some(out) = &plot {
         check_writable(out, "--plot")?;

@@ -116,6 +116,20 @@ pub(crate) fn check_writable(path: &std::path::Path, option: &str) -> Result<()>
             path.display()
         );
     }
+    io::check_output(path).map_err(|e| anyhow::anyhow!("invalid {option}: {e}"))?;
+    Ok(())
+}
+
+/// Refuses an output file name whose extension names no point format (it would be
+/// written as CSV under a misleading name); no extension at all means CSV.
+pub(crate) fn check_points_extension(path: &std::path::Path, option: &str) -> Result<()> {
+    if path.extension().is_some() && io::Format::from_extension(path).is_none() {
+        bail!(
+            "invalid {option} {}: expected a file name ending in .csv, .tsv, .json or .npy \
+             (or no extension for CSV)",
+            path.display()
+        );
+    }
     Ok(())
 }
 
