@@ -88,7 +88,7 @@ fn refused_by_every_reader(dir: &Path, file: &str, needle: &str) -> usize {
 /// A .npy file: magic, version 1.0, the header padded to 16 bytes, and the data.
 fn npy(header: &str, data: &[u8]) -> Vec<u8> {
     let mut h = header.to_string();
-    while (10 + h.len() + 1) % 16 != 0 {
+    while !(10 + h.len() + 1).is_multiple_of(16) {
         h.push(' ');
     }
     h.push('\n');
