@@ -241,7 +241,12 @@ pub fn save_pictures(dir: &Path, rows: &[CompareRow]) -> Result<()> {
 /// Runs a comparison and writes `comparison.md`, `comparison.json` and the pictures into
 /// `dir`; returns the Markdown table.
 pub fn run_and_write(settings: &CompareSettings, dir: &Path, verbose: bool) -> Result<String> {
-    std::fs::create_dir_all(dir)?;
+    std::fs::create_dir_all(dir).map_err(|e| {
+        anyhow::anyhow!(
+            "invalid output folder {}: cannot create it ({e}); expected a folder or a new name",
+            dir.display()
+        )
+    })?;
     let rows = run(settings, |r| {
         if verbose {
             eprintln!(

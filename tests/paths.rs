@@ -224,3 +224,85 @@ fn the_kernel_path_is_recorded_and_a_resume_on_another_path_is_refused() {
         assert_eq!(snapshot(&d.0), before);
     }
 }
+
+#[test]
+fn counts_and_ranges_are_checked_before_anything_is_allocated_or_written() {
+    let d = TempDir::new("ranges");
+    let ok = bin()
+        .current_dir(&d.0)
+        .args(["baseline", "halton", "-n", "20", "-s", "2", "-o", "a.csv"])
+        .output()
+        .unwrap();
+    assert!(ok.status.success());
+    std::fs::write(d.path("existing"), "a file").unwrap();
+    let huge = "1000000000000000000";
+    let huge_case = format!("2x{huge}");
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["generate", "-n", huge, "-s", "2", "-q"],
+            "invalid n = ",
+        ),
+        (
+            vec!["generate", "-n", "400000000", "-s", "20", "-q"],
+            "memory",
+        ),
+        (
+            vec!["generate", "--shape", "ball:1", "-s", "2", "-n", huge, "-q"],
+            "invalid n = ",
+        ),
+        (
+            vec!["baseline", "random", "-n", huge, "-s", "2"],
+            "invalid n = ",
+        ),
+        (
+            vec!["baseline", "sobol", "-n", "100000000000", "-s", "3"],
+            "invalid n = ",
+        ),
+        (
+            vec!["compare", "--cases", &huge_case, "--out", "cmp"],
+            "--cases",
+        ),
+        (
+            vec![
+                "generate",
+                "-n",
+                "20",
+                "-s",
+                "2",
+                "--shifts",
+                "100000000000",
+                "-q",
+            ],
+            "--shifts",
+        ),
+        (vec!["--threads", "10000", "eval", "a.csv"], "--threads"),
+        (
+            vec!["plot", "a.csv", "--box", "-1e308,1e308,0,1", "-o", "p.png"],
+            "--box",
+        ),
+        (
+            vec!["plot", "a.csv", "--box", "0,1e-300,0,1", "-o", "p.png"],
+            "--box",
+        ),
+        (
+            vec![
+                "generate",
+                "--region",
+                "x^2+y^2-1",
+                "--box",
+                "-1e-300,1e-300,0,1",
+                "-n",
+                "3",
+            ],
+            "--box",
+        ),
+        (vec!["compare", "--quick", "--out", "existing"], "existing"),
+    ];
+    for (args, needle) in cases {
+        refused(&d.0, &args, needle);
+    }
+    assert!(
+        !d.path("cmp").exists(),
+        "a refused comparison made its folder"
+    );
+}

@@ -7,6 +7,9 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
         if t == 0 {
             bail!("invalid --threads = 0: expected a number of threads ≥ 1");
         }
+        if t > MAX_THREADS {
+            bail!("invalid --threads = {t}: expected at most {MAX_THREADS} threads");
+        }
         rayon::ThreadPoolBuilder::new()
             .num_threads(t)
             .build_global()
@@ -257,3 +260,7 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
 
 /// The most repetitions `bench --points` times (each is one evaluation of every kernel).
 const MAX_REPS: usize = 100_000;
+
+/// The most worker threads `--threads` starts (each is a real thread with its own stack;
+/// far beyond the cores they only cost).
+const MAX_THREADS: usize = 1024;

@@ -33,6 +33,19 @@ pub(crate) fn parse_box(text: &str) -> Result<(Vec<f64>, Vec<f64>)> {
             hi[k]
         );
     }
+    // A width that overflows (or vanishes) leaves nothing to draw or sample on.
+    if let Some(k) = (0..lo.len()).find(|&k| {
+        let w = hi[k] - lo[k];
+        !(w.is_finite() && w > 1e-150 && w > 1e-12 * lo[k].abs().max(hi[k].abs()))
+    }) {
+        bail!(
+            "invalid --box = {text}: dimension {} is [{:?}, {:?}], expected a width that is \
+             finite, above 1e-150 and not vanishing next to the coordinates",
+            k + 1,
+            lo[k],
+            hi[k]
+        );
+    }
     Ok((lo, hi))
 }
 
