@@ -598,8 +598,9 @@ fn draw_charts<DB: DrawingBackend>(
 ) -> Result<(), PlotError> {
     root.fill(&WHITE).map_err(draw_error)?;
     for (chart, cell) in charts.iter().zip(root.split_evenly(shape)) {
+        // Values beyond 1e300 cannot be given an axis with room around them.
         let finite =
-            |p: &&(f64, f64)| p.0.is_finite() && p.1.is_finite() && (!chart.log_y || p.1 > 0.0);
+            |p: &&(f64, f64)| p.0.abs() < 1e300 && p.1.abs() < 1e300 && (!chart.log_y || p.1 > 0.0);
         let all: Vec<(f64, f64)> = chart
             .series
             .iter()
@@ -627,8 +628,9 @@ fn draw_charts<DB: DrawingBackend>(
             y0 -= pad;
             y1 += pad;
         } else if chart.log_y {
-            // Room above and below so the extreme curves are not drawn on the frame.
-            y0 *= 0.8;
+            // Room above and below so the extreme curves are not drawn on the frame; at
+            // most MAX_DECADES decades, so that the axis stays readable (and cheap).
+            y0 = (y0 * 0.8).max(y1 * 1.25 / 10f64.powi(MAX_DECADES));
             y1 *= 1.25;
         } else {
             let pad = 0.05 * (y1 - y0);
@@ -682,6 +684,9 @@ fn draw_charts<DB: DrawingBackend>(
     }
     Ok(())
 }
+
+/// The most decades a log-scale axis spans; lower values are drawn at its bottom edge.
+const MAX_DECADES: i32 = 30;
 
 /// A short axis label: 6 significant digits with trailing zeros dropped (enough for an
 /// energy that moves by 1e-4 of itself), scientific outside [1e-3, 1e5), so an axis never

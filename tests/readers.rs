@@ -354,3 +354,47 @@ proptest! {
         prop_assert!(clock.elapsed() < Duration::from_secs(5));
     }
 }
+
+#[test]
+fn extreme_trajectories_are_drawn_in_bounded_time() {
+    let d = TempDir::new("trajectory");
+    let (ok, err) = run_bounded(
+        &d.0,
+        &[
+            "generate",
+            "-n",
+            "10",
+            "-s",
+            "2",
+            "--steps",
+            "20",
+            "--trajectory",
+            "t.json",
+            "-o",
+            "o.csv",
+            "-q",
+        ],
+    );
+    assert!(ok, "{err}");
+    let v: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(d.path("t.json")).unwrap()).unwrap();
+    for (k, (e0, e1, m)) in [
+        (1e308, -1e308, 1e-308),
+        (1e300, 1e-300, 1e308),
+        (5.0, 5.0, -1e308),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let mut t = v.clone();
+        let recs = t["records"].as_array_mut().unwrap();
+        recs[0]["energy"] = e0.into();
+        recs[1]["energy"] = e1.into();
+        recs[2]["metrics"] = serde_json::json!([["star_l2", m], ["modified_l2", -m]]);
+        let name = format!("t{k}.json");
+        std::fs::write(d.path(&name), serde_json::to_vec(&t).unwrap()).unwrap();
+        let png = format!("p{k}.png");
+        // Drawn or refused, in bounded time and without a panic.
+        let _ = run_bounded(&d.0, &["plot", "--trajectory", &name, "-o", &png]);
+    }
+}
