@@ -637,13 +637,20 @@ fn parse_json(text: &str, file: &str) -> Result<PointSet, IoError> {
         Json::Arr(list) => list,
         Json::Obj(entries) => {
             let mut list = None;
-            for (key, value) in entries {
+            for (raw, value) in entries {
+                // A key written with escapes ("po\u0069nts") means its unescaped text.
+                let unescaped = raw
+                    .contains('\\')
+                    .then(|| serde_json::from_str::<String>(&format!("\"{raw}\"")).ok())
+                    .flatten();
+                let key = unescaped.as_deref().unwrap_or(raw);
                 match (key, value) {
                     ("points", Json::Arr(v)) => list = Some(v),
                     ("points", other) => {
                         return Err(shape(format!("\"points\" is {}", other.describe())))
                     }
-                    ("n" | "s", Json::Num(t)) => hints.push((key, t)),
+                    ("n", Json::Num(t)) => hints.push(("n", t)),
+                    ("s", Json::Num(t)) => hints.push(("s", t)),
                     _ => {}
                 }
             }

@@ -191,6 +191,19 @@ fn deeply_nested_json_is_refused_quickly_by_every_reader() {
 }
 
 #[test]
+fn an_escaped_points_key_is_the_points_key() {
+    let d = TempDir::new("escaped");
+    std::fs::write(
+        d.path("esc.json"),
+        r#"{"po\u0069nts": [[0.1, 0.2], [0.3, 0.4]], "\u006e": 2}"#,
+    )
+    .unwrap();
+    let p = stillpoint::io::read_points(&d.path("esc.json")).unwrap();
+    assert_eq!((p.n(), p.s()), (2, 2));
+    assert_eq!(p.point(1), [0.3, 0.4]);
+}
+
+#[test]
 fn endless_inputs_stop_at_the_size_bound() {
     let d = TempDir::new("endless");
     for args in [

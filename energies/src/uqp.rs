@@ -334,9 +334,14 @@ impl Energy for Uqp {
     fn name(&self) -> String {
         match (self.precision, self.distance) {
             (Precision::Fast, Distance::Q(q)) if Precision::fast_applies(q) => {
-                format!("U_{{q,p}}(q={}, p={}, fast)", self.distance.label(), self.p)
+                format!(
+                    "U_{{q,p}}(q={}, p={:?}, fast)",
+                    self.distance.label(),
+                    self.p
+                )
             }
-            _ => format!("U_{{q,p}}(q={}, p={})", self.distance.label(), self.p),
+            // Debug keeps an extreme p short (1e300, not 301 digits).
+            _ => format!("U_{{q,p}}(q={}, p={:?})", self.distance.label(), self.p),
         }
     }
 

@@ -380,8 +380,8 @@ impl Integrator for Dem {
         let u0 = energy.value(&start);
         if !u0.is_finite() {
             return Err(Error::Numerical(format!(
-                "the energy {} of the start is not finite ({u0}): two points coincide, or p is \
-                 too small for this n (the energy overflows)",
+                "the energy {} of the start is not finite ({u0}): two points coincide, or the \
+                 distances to the power −p overflow (p too large or too small for this n)",
                 energy.name()
             )));
         }

@@ -764,8 +764,8 @@ impl Integrator for Lbfgs {
             Err(Failure::NonFiniteEnergy(u)) => {
                 return Err(Error::Numerical(format!(
                     "the energy {} of the start is not finite ({u}): two points coincide, \
-                     a point is on the boundary, or p is too small for this n (the \
-                     energy overflows)",
+                     a point is on the boundary, or the distances to the power −p \
+                     overflow (p too large or too small for this n)",
                     energy.name()
                 )))
             }
