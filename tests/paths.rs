@@ -235,6 +235,7 @@ fn counts_and_ranges_are_checked_before_anything_is_allocated_or_written() {
         .unwrap();
     assert!(ok.status.success());
     std::fs::write(d.path("existing"), "a file").unwrap();
+    std::fs::write(d.path("poly.txt"), "1e308 0 1\n0 1 1\n-1 0 1\n0 -1 1\n").unwrap();
     let huge = "1000000000000000000";
     let huge_case = format!("2x{huge}");
     let cases: Vec<(Vec<&str>, &str)> = vec![
@@ -297,6 +298,39 @@ fn counts_and_ranges_are_checked_before_anything_is_allocated_or_written() {
             "--box",
         ),
         (vec!["compare", "--quick", "--out", "existing"], "existing"),
+        (
+            vec![
+                "generate",
+                "--shape",
+                "ball:1e308",
+                "-s",
+                "2",
+                "-n",
+                "5",
+                "-q",
+            ],
+            "radius",
+        ),
+        (
+            vec!["generate", "--shape", "ball:1e200@0,0", "-n", "5", "-q"],
+            "radius",
+        ),
+        (
+            vec!["generate", "--shape", "ellipsoid:1,1e300", "-n", "5", "-q"],
+            "semi-axis 2",
+        ),
+        (
+            vec![
+                "generate",
+                "--shape",
+                "polytope:poly.txt",
+                "--box",
+                "-2,2,-2,2",
+                "-n",
+                "5",
+            ],
+            "row 1 of a",
+        ),
     ];
     for (args, needle) in cases {
         refused(&d.0, &args, needle);

@@ -43,6 +43,31 @@ fn check_vector(name: &str, v: &[f64]) -> Result<()> {
             "a finite number",
         ));
     }
+    if let Some(k) = v.iter().position(|x| x.abs() > MAX_SCALE) {
+        return Err(Error::invalid(
+            format!("{name} coordinate {}", k + 1),
+            format!("{:?}", v[k]),
+            format!("a number of magnitude at most {MAX_SCALE:e} (squares must stay finite)"),
+        ));
+    }
+    Ok(())
+}
+
+/// The largest magnitude a shape's parameter (centre, radius, semi-axis, polytope entry)
+/// may have: the shapes square distances, and the square of anything larger would
+/// overflow f64.
+pub const MAX_SCALE: f64 = 1e150;
+
+/// Refuses a length (radius, semi-axis) that is not finite, not positive, or so large
+/// that its square overflows.
+fn check_length(name: &str, v: f64) -> Result<()> {
+    if !(v.is_finite() && v > 0.0 && v <= MAX_SCALE) {
+        return Err(Error::invalid(
+            name,
+            format!("{v:?}"),
+            format!("a number > 0 and at most {MAX_SCALE:e} (squares must stay finite)"),
+        ));
+    }
     Ok(())
 }
 
@@ -139,9 +164,7 @@ impl Ball {
     /// The ball of the given centre (s ≥ 1 finite coordinates) and radius (finite, > 0).
     pub fn new(center: Vec<f64>, radius: f64) -> Result<Self> {
         check_vector("center", &center)?;
-        if !(radius.is_finite() && radius > 0.0) {
-            return Err(Error::invalid("radius", radius, "a finite number > 0"));
-        }
+        check_length("radius", radius)?;
         Ok(Ball { center, radius })
     }
 
@@ -248,12 +271,8 @@ impl Ellipsoid {
                 format!("one per coordinate of the centre ({})", center.len()),
             ));
         }
-        if let Some(k) = semi_axes.iter().position(|a| !(a.is_finite() && *a > 0.0)) {
-            return Err(Error::invalid(
-                format!("semi-axis {}", k + 1),
-                semi_axes[k],
-                "a finite number > 0",
-            ));
+        for (k, a) in semi_axes.iter().enumerate() {
+            check_length(&format!("semi-axis {}", k + 1), *a)?;
         }
         Ok(Ellipsoid { center, semi_axes })
     }
@@ -736,13 +755,7 @@ impl Polytope {
                     format!("{s} coordinates (the dimension of the box)"),
                 ));
             }
-            if let Some(k) = row.iter().position(|v| !v.is_finite()) {
-                return Err(Error::invalid(
-                    format!("row {} of a, entry {}", i + 1, k + 1),
-                    row[k],
-                    "a finite number",
-                ));
-            }
+            check_vector(&format!("row {} of a", i + 1), row)?;
             if !bi.is_finite() {
                 return Err(Error::invalid(
                     format!("b entry {}", i + 1),
