@@ -984,6 +984,26 @@ pub fn write_points(
 
 static TEMP_COUNTER: AtomicUsize = AtomicUsize::new(0);
 
+/// The temporary files of the writes under way, so that an interrupted run can remove
+/// them ([`abandon_writes`]).
+static IN_FLIGHT: std::sync::Mutex<Vec<std::path::PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+fn in_flight() -> std::sync::MutexGuard<'static, Vec<std::path::PathBuf>> {
+    IN_FLIGHT.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Removes the temporary files of the writes under way and keeps any other write from
+/// starting: for a handler of SIGINT or SIGTERM that then exits, so that an interrupted
+/// run leaves every output either as it was or complete, and no temporary behind.
+pub fn abandon_writes() {
+    let mut writes = in_flight();
+    for tmp in writes.drain(..) {
+        let _ = fs::remove_file(tmp);
+    }
+    // The lock stays taken until the process exits: no new temporary can appear.
+    std::mem::forget(writes);
+}
+
 /// The longest file name an output may have: its temporary name `.{name}.tmp-{pid}-{k}`
 /// must still fit the usual 255-byte limit of a directory entry.
 pub const MAX_OUTPUT_NAME: usize = 255 - 32;
@@ -1120,6 +1140,8 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
     };
 
     remove_stale_temporaries(dir, name);
+    // Registered while the lock is held, so that an interrupt sees every temporary.
+    let mut writes = in_flight();
     let (tmp, mut file) = loop {
         let k = TEMP_COUNTER.fetch_add(1, Ordering::Relaxed);
         let mut tmp_name = std::ffi::OsString::from(".");
@@ -1132,7 +1154,10 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
             .create_new(true)
             .open(&tmp)
         {
-            Ok(file) => break (tmp, file),
+            Ok(file) => {
+                writes.push(tmp.clone());
+                break (tmp, file);
+            }
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && k < 1 << 20 => continue,
             Err(e) => {
                 return Err(io_error(
@@ -1144,6 +1169,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
         }
     };
 
+    drop(writes);
     let written = (|| {
         file.write_all(bytes)
             .map_err(|e| io_error(path, format!("cannot write {}", tmp.display()), e))?;
@@ -1162,8 +1188,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
 
     if written.is_err() {
         let _ = fs::remove_file(&tmp);
-        return written;
     }
+    in_flight().retain(|t| *t != tmp);
+    written?;
     // The rename is durable only once the directory entry is; best effort, since some
     // platforms and file systems cannot sync a directory.
     #[cfg(unix)]

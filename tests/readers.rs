@@ -411,3 +411,64 @@ fn extreme_trajectories_are_drawn_in_bounded_time() {
         let _ = run_bounded(&d.0, &["plot", "--trajectory", &name, "-o", &png]);
     }
 }
+
+#[test]
+fn interrupted_runs_leave_no_temporary_file() {
+    let d = TempDir::new("signals");
+    for (k, signal) in ["TERM", "INT", "TERM", "INT", "TERM", "INT", "TERM", "INT"]
+        .iter()
+        .enumerate()
+    {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_stillpoint"))
+            .current_dir(&d.0)
+            .args([
+                "generate",
+                "-n",
+                "300",
+                "-s",
+                "3",
+                "--steps",
+                "3000",
+                "--tolerance",
+                "0",
+                "--checkpoint",
+                "c.ckpt",
+                "--checkpoint-every",
+                "1",
+                "-o",
+                "out.csv",
+                "-q",
+            ])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let clock = Instant::now();
+        while !d.path("c.ckpt").exists() && clock.elapsed() < Duration::from_secs(20) {
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        // Vary the moment: some signals land in the middle of a checkpoint write.
+        std::thread::sleep(Duration::from_millis(3 * k as u64));
+        let killed = Command::new("kill")
+            .args([&format!("-{signal}"), &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(killed.success());
+        let status = child.wait().unwrap();
+        assert!(!status.success(), "the run ended before the signal");
+        let left: Vec<String> = d
+            .entries()
+            .into_iter()
+            .filter(|e| e.contains(".tmp-"))
+            .collect();
+        assert!(left.is_empty(), "after SIG{signal}: {left:?}");
+        assert!(
+            !d.path("out.csv").exists(),
+            "an interrupted run wrote its output"
+        );
+        // What is there is a whole checkpoint.
+        let text = std::fs::read(d.path("c.ckpt")).unwrap();
+        assert!(serde_json::from_slice::<serde_json::Value>(&text).is_ok());
+        std::fs::remove_file(d.path("c.ckpt")).unwrap();
+    }
+}

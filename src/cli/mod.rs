@@ -42,6 +42,12 @@ use {
 
 /// Parses the command line, runs it, and exits with status 1 and the error on failure.
 pub fn main() {
+    // Interrupted (Ctrl-C, SIGTERM): remove the temporaries of the writes under way, so
+    // that every output is as it was or complete, then exit as a shell expects.
+    let _ = ctrlc::set_handler(|| {
+        io::abandon_writes();
+        std::process::exit(130);
+    });
     let cli = Cli::parse();
     if let Err(e) = real_main(cli).map_err(with_flag_names) {
         eprintln!("error: {e:#}");
