@@ -1032,6 +1032,24 @@ pub fn check_output(path: &Path) -> Result<(), IoError> {
             dir.display()
         )));
     }
+    // A directory may exist and refuse new files (read-only, full quota): try one.
+    let probe = dir.join(format!(".stillpoint-probe-{}", std::process::id()));
+    match fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+    {
+        Ok(_) => {
+            let _ = fs::remove_file(&probe);
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+        Err(e) => {
+            return Err(refuse(&format!(
+                "no file can be created in {} ({e})",
+                dir.display()
+            )))
+        }
+    }
     #[cfg(unix)]
     if let Ok(meta) = fs::metadata(path) {
         use std::os::unix::fs::FileTypeExt;

@@ -296,6 +296,8 @@ fn outputs_that_cannot_be_written_are_refused_before_the_run() {
         ("out.xlsx", ".csv, .tsv, .json or .npy"),
         ("out.txt", ".csv, .tsv, .json or .npy"),
         ("missing/out.csv", "does not exist"),
+        // A directory that takes no new file (even for root).
+        ("/proc/out.csv", "no file can be created"),
         (&long, "bytes"),
     ];
     for (out, needle) in cases {
