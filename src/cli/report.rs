@@ -150,6 +150,35 @@ pub(crate) fn file_header(
     }))
 }
 
+/// What the solver did, in one line: the DEM's steps, κ and restarts, or L-BFGS's
+/// iterations and restarts.
+fn solver_line(r: &GenerateReport) -> String {
+    let steps = r
+        .output
+        .trajectory
+        .iter()
+        .map(|x| x.step)
+        .max()
+        .unwrap_or(0);
+    let restarts = r.output.info("restarts").unwrap_or(0.0);
+    match r.output.info("kappa") {
+        Some(kappa) => format!(
+            "DEM: {steps} steps ({:?}), κ = {kappa} after {} trial(s){}, {restarts} restart(s)",
+            r.output.stop,
+            r.output.info("kappa_trials").unwrap_or(0.0),
+            if r.output.info("kappa_trial_failed") == Some(1.0) {
+                " (the energy never fell steadily: κ capped)"
+            } else {
+                ""
+            },
+        ),
+        None => format!(
+            "L-BFGS: {steps} iterations ({:?}), {restarts} restart(s)",
+            r.output.stop
+        ),
+    }
+}
+
 /// The facts the solver reported (κ, restarts, evaluations …), by name.
 fn info_json(r: &GenerateReport) -> Value {
     Value::Object(
@@ -200,34 +229,7 @@ pub(crate) fn report_table(
             }
         );
     }
-    let steps = r
-        .output
-        .trajectory
-        .iter()
-        .map(|x| x.step)
-        .max()
-        .unwrap_or(0);
-    t += &match r.output.info("kappa") {
-        Some(kappa) => format!(
-            "  DEM: {} steps ({:?}), κ = {} after {} trial(s){}, {} restart(s)\n\n",
-            steps,
-            r.output.stop,
-            kappa,
-            r.output.info("kappa_trials").unwrap_or(0.0),
-            if r.output.info("kappa_trial_failed") == Some(1.0) {
-                " (the energy never fell steadily: κ capped)"
-            } else {
-                ""
-            },
-            r.output.info("restarts").unwrap_or(0.0),
-        ),
-        None => format!(
-            "  L-BFGS: {} iterations ({:?}), {} restart(s)\n\n",
-            steps,
-            r.output.stop,
-            r.output.info("restarts").unwrap_or(0.0),
-        ),
-    };
+    t += &format!("  {}\n\n", solver_line(r));
     t += &format!(
         "  {:<36} {:>14} {:>14} {:>9}\n",
         "", "start", "result", "change"
@@ -459,21 +461,7 @@ pub(crate) fn region_table(
 ) -> Result<String> {
     let (a, b) = r.region_metrics()?;
     let domain = cfg.region().map(|d| format!("{d:?}")).unwrap_or_default();
-    let steps = r
-        .output
-        .trajectory
-        .iter()
-        .map(|x| x.step)
-        .max()
-        .unwrap_or(0);
-    let solver = match r.output.info("kappa") {
-        Some(kappa) => format!(
-            "DEM: {steps} steps ({:?}), κ = {kappa} after {} trial(s)",
-            r.output.stop,
-            r.output.info("kappa_trials").unwrap_or(0.0),
-        ),
-        None => format!("L-BFGS: {steps} iterations ({:?})", r.output.stop),
-    };
+    let solver = solver_line(r);
     let mut t = format!(
         "stillpoint: n = {}, s = {} in {}\n  {} from {}, {solver}\n\n",
         cfg.n,
