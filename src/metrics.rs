@@ -20,7 +20,9 @@
 //! threads (the tiles and the order their sums are added in depend on n only), and the
 //! same bits with or without AVX2 (no fused multiply-add). O(n² s) time, O(n s) memory.
 
-use crate::energies::discrepancy::{squared_discrepancies, DiscrepancyKind};
+use crate::energies::discrepancy::{
+    closed_form_fits, discrepancy_root, squared_discrepancies, DiscrepancyKind,
+};
 use crate::energies::pairs::min_squared_distances;
 use crate::PointSet;
 
@@ -39,7 +41,7 @@ pub fn star_l2_squared(points: &PointSet) -> f64 {
 /// Star L2 discrepancy, the root of [`star_l2_squared`]: the paper's D_L2 (Table 5) and
 /// SciPy's `qmc.discrepancy(method='L2-star')`.
 pub fn star_l2(points: &PointSet) -> f64 {
-    star_l2_squared(points).sqrt()
+    discrepancy_root(points, DiscrepancyKind::StarL2)
 }
 
 /// Modified L2 discrepancy squared (Hickernell), the paper's eq. 47:
@@ -58,7 +60,7 @@ pub fn modified_l2_squared(points: &PointSet) -> f64 {
 /// Modified L2 discrepancy, the root of [`modified_l2_squared`]: the paper's D_MD
 /// (Table 5). Not SciPy's `'MD'` (the mixture discrepancy).
 pub fn modified_l2(points: &PointSet) -> f64 {
-    modified_l2_squared(points).sqrt()
+    discrepancy_root(points, DiscrepancyKind::ModifiedL2)
 }
 
 /// Centred L2 discrepancy squared (Hickernell):
@@ -78,7 +80,7 @@ pub fn centered_l2_squared(points: &PointSet) -> f64 {
 /// Centred L2 discrepancy, the root of [`centered_l2_squared`]; its square is SciPy's
 /// `'CD'`.
 pub fn centered_l2(points: &PointSet) -> f64 {
-    centered_l2_squared(points).sqrt()
+    discrepancy_root(points, DiscrepancyKind::CenteredL2)
 }
 
 /// Wrap-around L2 discrepancy squared (Hickernell):
@@ -97,7 +99,7 @@ pub fn wrap_around_l2_squared(points: &PointSet) -> f64 {
 /// Wrap-around L2 discrepancy, the root of [`wrap_around_l2_squared`]; its square is
 /// SciPy's `'WD'`.
 pub fn wrap_around_l2(points: &PointSet) -> f64 {
-    wrap_around_l2_squared(points).sqrt()
+    discrepancy_root(points, DiscrepancyKind::WrapAroundL2)
 }
 
 /// Smallest Euclidean distance between two distinct points of the set (the separation
@@ -121,10 +123,11 @@ pub fn min_distance_periodic(points: &PointSet) -> f64 {
 /// Returns `(star_l2, modified_l2)`, bit for bit equal to [`star_l2`] and
 /// [`modified_l2`].
 pub fn discrepancies(points: &PointSet) -> (f64, f64) {
-    let [star, modified] = squared(
-        points,
-        [DiscrepancyKind::StarL2, DiscrepancyKind::ModifiedL2],
-    );
+    let kinds = [DiscrepancyKind::StarL2, DiscrepancyKind::ModifiedL2];
+    if !kinds.iter().all(|&k| closed_form_fits(k, points.s())) {
+        return (star_l2(points), modified_l2(points));
+    }
+    let [star, modified] = squared(points, kinds);
     (star.sqrt(), modified.sqrt())
 }
 
@@ -155,21 +158,25 @@ impl Metrics {
     /// Computes every figure: one pass over the pairs for the four discrepancies, one for
     /// the two distances. O(n² s) time, O(n) memory; the points must lie in [0, 1]^s.
     pub fn compute(points: &PointSet) -> Metrics {
-        let [star, modified, centered, wrap] = squared(
-            points,
-            [
-                DiscrepancyKind::StarL2,
-                DiscrepancyKind::ModifiedL2,
-                DiscrepancyKind::CenteredL2,
-                DiscrepancyKind::WrapAroundL2,
-            ],
-        );
+        let kinds = [
+            DiscrepancyKind::StarL2,
+            DiscrepancyKind::ModifiedL2,
+            DiscrepancyKind::CenteredL2,
+            DiscrepancyKind::WrapAroundL2,
+        ];
+        // In very high dimension each root takes the logarithmic form of its own.
+        let [star, modified, centered, wrap] =
+            if kinds.iter().all(|&k| closed_form_fits(k, points.s())) {
+                squared(points, kinds).map(f64::sqrt)
+            } else {
+                kinds.map(|k| discrepancy_root(points, k))
+            };
         let [euclid, periodic] = pair_mins(points);
         Metrics {
-            star_l2: star.sqrt(),
-            modified_l2: modified.sqrt(),
-            centered_l2: centered.sqrt(),
-            wrap_around_l2: wrap.sqrt(),
+            star_l2: star,
+            modified_l2: modified,
+            centered_l2: centered,
+            wrap_around_l2: wrap,
             min_distance: euclid.sqrt(),
             min_distance_periodic: periodic.sqrt(),
         }

@@ -73,3 +73,43 @@ fn one_and_two_points_in_a_region() {
         }
     }
 }
+
+#[test]
+fn discrepancies_in_very_high_dimension_are_finite_and_agree_with_the_plain_form() {
+    use stillpoint::energies::discrepancy::{
+        closed_form_fits, discrepancy_root, discrepancy_root_by_logs, DiscrepancyKind,
+    };
+    let kinds = [
+        DiscrepancyKind::StarL2,
+        DiscrepancyKind::ModifiedL2,
+        DiscrepancyKind::CenteredL2,
+        DiscrepancyKind::WrapAroundL2,
+    ];
+    // Where both forms apply they agree to rounding.
+    for s in [2, 10, 60, 300] {
+        let p = stillpoint::sequences::random(40, s, 3).unwrap();
+        for k in kinds {
+            assert!(closed_form_fits(k, s), "{k:?} at s = {s}");
+            let (plain, logs) = (discrepancy_root(&p, k), discrepancy_root_by_logs(&p, k));
+            assert!(
+                (plain - logs).abs() <= 1e-8 * plain,
+                "{k:?}, s = {s}: {plain} vs {logs}"
+            );
+        }
+    }
+    // Beyond, the roots are finite and positive where representable, and the metrics
+    // that print them agree with the function of the same name.
+    let p = stillpoint::sequences::random(30, 2500, 4).unwrap();
+    let m = stillpoint::metrics::Metrics::compute(&p);
+    for (k, v) in [
+        (DiscrepancyKind::ModifiedL2, m.modified_l2),
+        (DiscrepancyKind::CenteredL2, m.centered_l2),
+        (DiscrepancyKind::WrapAroundL2, m.wrap_around_l2),
+    ] {
+        assert!(!closed_form_fits(k, 2500) || k == DiscrepancyKind::CenteredL2);
+        assert!(v.is_finite() && v > 1.0, "{k:?}: {v}");
+        assert_eq!(v.to_bits(), discrepancy_root(&p, k).to_bits());
+    }
+    // The star L2 at s = 2500 is about 3^(-1250): below f64, so 0.
+    assert_eq!(m.star_l2, 0.0);
+}

@@ -484,6 +484,92 @@ pub fn squared_discrepancies(points: &PointSet, kinds: &[DiscrepancyKind]) -> Ve
         .collect()
 }
 
+/// The largest factor of a kernel's products (the pair factors and g): with
+/// [`Kernel::CONSTANT_BASE`] it bounds how large the terms of the closed form grow with s.
+fn largest_factor(kind: DiscrepancyKind) -> f64 {
+    match kind {
+        DiscrepancyKind::StarL2 => 1.0,
+        DiscrepancyKind::ModifiedL2 => 2.0,
+        DiscrepancyKind::CenteredL2 | DiscrepancyKind::WrapAroundL2 => 1.5,
+    }
+}
+
+/// Whether the closed form of `kind` stays within f64 at dimension s: its constant
+/// base^s and every product of s factors within e^±600 (about 10^±260). Beyond, the
+/// terms overflow or vanish and [`discrepancy_root`] takes the logarithmic form.
+pub fn closed_form_fits(kind: DiscrepancyKind, s: usize) -> bool {
+    let base = match kind {
+        DiscrepancyKind::StarL2 => Star::CONSTANT_BASE,
+        DiscrepancyKind::ModifiedL2 => Modified::CONSTANT_BASE,
+        DiscrepancyKind::CenteredL2 => Centered::CONSTANT_BASE,
+        DiscrepancyKind::WrapAroundL2 => Wrap::CONSTANT_BASE,
+    };
+    let growth = base.ln().abs().max(largest_factor(kind).ln());
+    (s as f64) * growth < 600.0
+}
+
+/// The discrepancy itself (the root of the closed form, 0 where rounding makes the
+/// square negative), right whenever it is representable: where the closed form fits f64
+/// ([`closed_form_fits`]) the root of [`squared_discrepancies`]; beyond, every term of
+/// the closed form is formed as a logarithm (Σ ln of its factors) and the sum is taken
+/// relative to the largest, D = e^{L/2} √(Σ ± w e^{t − L}). That costs a logarithm per
+/// factor, O(n² s) of them, and is only used where the plain form cannot answer. The
+/// result is +∞ or 0 when the discrepancy itself lies beyond f64.
+pub fn discrepancy_root(points: &PointSet, kind: DiscrepancyKind) -> f64 {
+    if closed_form_fits(kind, points.s()) {
+        return squared_discrepancies(points, &[kind])[0].max(0.0).sqrt();
+    }
+    discrepancy_root_by_logs(points, kind)
+}
+
+/// The logarithmic form of [`discrepancy_root`] at any dimension (slower: a logarithm
+/// per factor), for checking it against the plain form where both apply.
+pub fn discrepancy_root_by_logs(points: &PointSet, kind: DiscrepancyKind) -> f64 {
+    match kind {
+        DiscrepancyKind::StarL2 => root_by_logs::<Star>(points),
+        DiscrepancyKind::ModifiedL2 => root_by_logs::<Modified>(points),
+        DiscrepancyKind::CenteredL2 => root_by_logs::<Centered>(points),
+        DiscrepancyKind::WrapAroundL2 => root_by_logs::<Wrap>(points),
+    }
+}
+
+/// The closed form with each term as (sign × weight, ln of its product); see
+/// [`discrepancy_root`].
+fn root_by_logs<K: Kernel>(points: &PointSet) -> f64 {
+    let n = points.n() as f64;
+    let s = points.s() as f64;
+    let mut terms: Vec<(f64, f64)> = vec![(K::CONSTANT_SIGN, s * K::CONSTANT_BASE.ln())];
+    let rows: Vec<&[f64]> = points.rows().collect();
+    for (i, xi) in rows.iter().enumerate() {
+        if K::HAS_SINGLE {
+            let ln: f64 = xi.iter().map(|&a| K::single(a).0.ln()).sum();
+            terms.push((-2.0 / n, ln));
+        }
+        for (l, xl) in rows.iter().enumerate().skip(i) {
+            let ln: f64 = xi
+                .iter()
+                .zip(xl.iter())
+                .map(|(&a, &b)| K::pair(a, b).0.ln())
+                .sum();
+            let weight = if l == i { 1.0 } else { 2.0 };
+            terms.push((weight / (n * n), ln));
+        }
+    }
+    let top = terms
+        .iter()
+        .map(|t| t.1)
+        .filter(|v| v.is_finite())
+        .fold(f64::NEG_INFINITY, f64::max);
+    if !top.is_finite() {
+        return 0.0;
+    }
+    let sum: f64 = terms.iter().map(|(w, ln)| w * (ln - top).exp()).sum();
+    if sum <= 0.0 {
+        return 0.0;
+    }
+    (0.5 * top).exp() * sum.sqrt()
+}
+
 /// The kinds of [`pair_product_sums`]: `M` kernels whose pair products one pass forms.
 trait Kinds<const M: usize>: Sync {
     /// Whether a kernel needs ½|x − ½| of each coordinate (the centred L2), which the
