@@ -1004,6 +1004,59 @@ pub fn abandon_writes() {
     std::mem::forget(writes);
 }
 
+thread_local! {
+    /// The writes of the current staging: (temporary, final path), renamed on commit.
+    static STAGED: std::cell::RefCell<Option<Vec<(std::path::PathBuf, std::path::PathBuf)>>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+/// A group of outputs that appear together or not at all. While a `Staging` is alive on
+/// this thread, [`write_atomic`] leaves each complete, synced file under its temporary
+/// name; [`Staging::commit`] renames them all into place. If any write fails, or the
+/// staging is dropped without a commit (an error returned early), every temporary is
+/// removed and no output of the group appears. FIFOs and devices are written at once.
+#[derive(Debug)]
+pub struct Staging {
+    _private: (),
+}
+
+impl Staging {
+    /// Starts staging the writes of this thread.
+    pub fn begin() -> Staging {
+        STAGED.with(|st| *st.borrow_mut() = Some(Vec::new()));
+        Staging { _private: () }
+    }
+
+    /// Renames every staged file into place.
+    pub fn commit(self) -> Result<(), IoError> {
+        let staged = STAGED.with(|st| st.borrow_mut().take()).unwrap_or_default();
+        let mut result = Ok(());
+        for (tmp, path) in &staged {
+            if result.is_ok() {
+                result = fs::rename(tmp, path).map_err(|e| {
+                    io_error(path, format!("cannot rename {} onto it", tmp.display()), e)
+                });
+            }
+            if result.is_err() {
+                let _ = fs::remove_file(tmp);
+            }
+            in_flight().retain(|t| t != tmp);
+        }
+        result
+    }
+}
+
+impl Drop for Staging {
+    fn drop(&mut self) {
+        if let Some(staged) = STAGED.with(|st| st.borrow_mut().take()) {
+            for (tmp, _) in staged {
+                let _ = fs::remove_file(&tmp);
+                in_flight().retain(|t| *t != tmp);
+            }
+        }
+    }
+}
+
 /// The longest file name an output may have: its temporary name `.{name}.tmp-{pid}-{k}`
 /// must still fit the usual 255-byte limit of a directory entry.
 pub const MAX_OUTPUT_NAME: usize = 255 - 32;
@@ -1200,12 +1253,27 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
             }
         }
         drop(file);
+        // Under a staging, the rename waits for its commit.
+        let staged = STAGED.with(|st| match st.borrow_mut().as_mut() {
+            Some(list) => {
+                list.push((tmp.clone(), path.to_path_buf()));
+                true
+            }
+            None => false,
+        });
+        if staged {
+            return Ok(true);
+        }
         fs::rename(&tmp, path)
             .map_err(|e| io_error(path, format!("cannot rename {} onto it", tmp.display()), e))
+            .map(|()| false)
     })();
 
     if written.is_err() {
         let _ = fs::remove_file(&tmp);
+    }
+    if written.as_ref().is_ok_and(|staged| *staged) {
+        return Ok(());
     }
     in_flight().retain(|t| *t != tmp);
     written?;

@@ -455,6 +455,33 @@ fn build_problem(cfg: &GenerateConfig) -> Result<(Problem<'static>, EnergyChoice
     Ok((Problem::shared(energy, domain)?, choice))
 }
 
+/// About how long the solver of `cfg` takes, in seconds: one energy-and-gradient
+/// evaluation timed on a set of at most 200 points of the run's space and dimension,
+/// scaled by (n/200)² (the pair sums) and by the step budget. A rough figure for warning
+/// before a long run, not a promise: convergence may stop a run early.
+pub fn estimate_seconds(cfg: &GenerateConfig) -> Result<f64, Error> {
+    sequences::check_size(cfg.n, cfg.s)?;
+    let probe_n = cfg.n.clamp(2, 200);
+    let mut probe = cfg.clone();
+    probe.n = probe_n;
+    probe.init = Init::Random;
+    let (problem, _) = build_problem(&probe)?;
+    let start = start_set(&probe)?;
+    let mut grad = vec![0.0; start.len()];
+    let clock = Instant::now();
+    let mut evaluations = 0u32;
+    while evaluations < 3 || clock.elapsed().as_secs_f64() < 0.02 {
+        problem.energy().value_and_gradient(&start, &mut grad);
+        evaluations += 1;
+        if evaluations >= 1000 {
+            break;
+        }
+    }
+    let each = clock.elapsed().as_secs_f64() / f64::from(evaluations);
+    let scale = (cfg.n as f64 / probe_n as f64).powi(2);
+    Ok(each * scale * cfg.steps.max(1) as f64)
+}
+
 /// The quality figures of a set in the configuration's space.
 fn quality(cfg: &GenerateConfig, points: &PointSet) -> Result<Quality, Error> {
     Ok(match cfg.region() {

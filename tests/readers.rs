@@ -474,3 +474,34 @@ fn interrupted_runs_leave_no_temporary_file() {
         std::fs::remove_file(d.path("c.ckpt")).unwrap();
     }
 }
+
+#[test]
+fn staged_outputs_appear_together_or_not_at_all() {
+    use stillpoint::io::{write_atomic, Staging};
+    let d = TempDir::new("staging");
+    std::fs::write(d.path("old.csv"), "old").unwrap();
+    // Dropped without a commit (an error returned early): nothing appears or changes.
+    {
+        let _staging = Staging::begin();
+        write_atomic(&d.path("a.json"), b"a").unwrap();
+        write_atomic(&d.path("old.csv"), b"new").unwrap();
+        let failed = write_atomic(&d.path("missing/b.csv"), b"b");
+        assert!(failed.is_err());
+    }
+    assert_eq!(d.entries(), ["old.csv"]);
+    assert_eq!(std::fs::read(d.path("old.csv")).unwrap(), b"old");
+    // Committed: all appear at once, with no temporary left.
+    let staging = Staging::begin();
+    write_atomic(&d.path("a.json"), b"a").unwrap();
+    write_atomic(&d.path("old.csv"), b"new").unwrap();
+    assert!(
+        !d.path("a.json").exists(),
+        "a staged file appeared before the commit"
+    );
+    staging.commit().unwrap();
+    assert_eq!(d.entries(), ["a.json", "old.csv"]);
+    assert_eq!(std::fs::read(d.path("old.csv")).unwrap(), b"new");
+    // Outside a staging a write is in place at once.
+    write_atomic(&d.path("c.csv"), b"c").unwrap();
+    assert!(d.path("c.csv").exists());
+}

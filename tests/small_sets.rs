@@ -113,3 +113,33 @@ fn discrepancies_in_very_high_dimension_are_finite_and_agree_with_the_plain_form
     // The star L2 at s = 2500 is about 3^(-1250): below f64, so 0.
     assert_eq!(m.star_l2, 0.0);
 }
+
+#[test]
+fn a_long_run_says_so_before_it_starts() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    let dir = std::env::temp_dir().join(format!("stillpoint-long-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_stillpoint"))
+        .current_dir(&dir)
+        .args(["generate", "-n", "100000000", "-s", "2", "-o", "big.csv"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(child.stderr.take().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    let _ = child.kill();
+    let _ = child.wait();
+    assert!(
+        first.starts_with("note: this run may take about"),
+        "{first}"
+    );
+    assert!(first.contains("--steps") && first.contains("-n"), "{first}");
+    assert!(!dir.join("big.csv").exists());
+    // A short run says nothing of the kind.
+    let (_, err) = generate(&["-n", "50", "-s", "2", "--steps", "50"]);
+    assert!(!err.contains("may take"), "{err}");
+}

@@ -2,6 +2,9 @@
 
 use super::*;
 
+/// A run estimated to take longer than this says so before it starts.
+const LONG_RUN_SECONDS: f64 = 30.0;
+
 /// Largest n whose O(n² s) metrics a baseline file's header records (above it they would
 /// take longer than generating the points by far).
 pub(crate) const METRICS_LIMIT: usize = 20_000;
@@ -193,9 +196,25 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         cfg.log_every = log_every.unwrap_or(if trajectory.is_some() { 10 } else { 0 });
         cfg
     };
+    // Say so before a long run starts, with what makes it cheaper.
+    if !quiet {
+        let estimate = run::estimate_seconds(&cfg)?;
+        if estimate > LONG_RUN_SECONDS {
+            eprintln!(
+                "note: this run may take about {} (n = {}, s = {}, up to {} steps, timed on \
+                 this machine); --steps K or a smaller -n make it cheaper",
+                studies::human_seconds(estimate),
+                cfg.n,
+                cfg.s,
+                cfg.steps
+            );
+        }
+    }
     let report = run::generate_with(&cfg, plan.as_ref(), |e| progress.event(e))?;
     progress.finish();
     let meta = file_header(&report, &cfg, &given)?;
+    // The run's outputs appear together or not at all.
+    let staging = io::Staging::begin();
     if let Some(path) = &trajectory {
         write_trajectory(path, &report.energy_name, &report.output)?;
     }
@@ -212,7 +231,13 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         (false, false) => Value::String(report_table(&report, &cfg, output.as_ref())?),
         (false, true) => Value::String(region_table(&report, &cfg, output.as_ref())?),
     };
-    emit(&report.output.points, &meta, output.as_ref(), summary)?;
+    emit(
+        &report.output.points,
+        &meta,
+        output.as_ref(),
+        summary,
+        staging,
+    )?;
     Ok(())
 }
 

@@ -26,27 +26,31 @@ pub(crate) fn parse_cases(text: &str) -> Result<Vec<(usize, usize)>> {
 /// Writes the points (to `output`, or as CSV to standard output) and the summary: a JSON
 /// object (printed to standard output, with the points when there is no output file) or a
 /// table (to standard output, or to standard error when the points went there).
+///
+/// The outputs written under `staging` (the points among them) are put in place before
+/// anything is printed.
 pub(crate) fn emit(
     points: &PointSet,
     meta: &Value,
     output: Option<&PathBuf>,
     summary: Value,
+    staging: io::Staging,
 ) -> Result<()> {
+    if let Some(path) = output {
+        io::write_points(path, points, meta)?;
+    }
+    staging.commit()?;
     match summary {
         Value::String(table) => match output {
-            Some(path) => {
-                io::write_points(path, points, meta)?;
-                print!("{table}");
-            }
+            Some(_) => print!("{table}"),
             None => {
                 print!("{}", io::to_csv_string(points, meta));
                 eprint!("{table}");
             }
         },
         mut v => {
-            match output {
-                Some(path) => io::write_points(path, points, meta)?,
-                None => v["points"] = points_json(points),
+            if output.is_none() {
+                v["points"] = points_json(points);
             }
             println!("{}", serde_json::to_string_pretty(&v)?);
         }
