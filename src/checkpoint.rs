@@ -165,7 +165,8 @@ pub fn read_checkpoint(path: &Path) -> Result<Checkpoint, Error> {
             format!("a stillpoint checkpoint file ({why})"),
         )
     };
-    let bytes = std::fs::read(path).map_err(|e| refuse(format!("cannot read it: {e}")))?;
+    let bytes =
+        crate::io::read_bounded(path).map_err(|e| refuse(format!("cannot read it: {e}")))?;
     let head: Value = serde_json::from_slice(&bytes).map_err(|e| {
         refuse(format!(
             "not valid JSON, the file is damaged or truncated: {e}"

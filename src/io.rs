@@ -164,7 +164,7 @@ pub const MAX_JSON_DEPTH: usize = 64;
 
 /// The whole of a file, refused beyond [`MAX_INPUT_BYTES`] — also a device or a pipe that
 /// never ends, which is read only up to the bound.
-fn read_bounded(path: &Path) -> Result<Vec<u8>, IoError> {
+pub fn read_bounded(path: &Path) -> Result<Vec<u8>, IoError> {
     use std::io::Read;
     let too_large = || {
         format_error(

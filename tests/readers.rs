@@ -210,6 +210,7 @@ fn endless_inputs_stop_at_the_size_bound() {
         vec!["eval", "/dev/zero"],
         vec!["integrate", "/dev/zero"],
         vec!["generate", "--init", "/dev/zero", "-o", "out.csv", "-q"],
+        vec!["plot", "--trajectory", "/dev/zero", "-o", "t.png"],
     ] {
         let (ok, err) = run_bounded(&d.0, &args);
         assert!(!ok, "{args:?} accepted /dev/zero");

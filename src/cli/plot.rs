@@ -107,7 +107,8 @@ pub(crate) fn plot_trajectory(
             path.display()
         )
     };
-    let bytes = std::fs::read(path).map_err(|e| refuse(format!("cannot read it: {e}")))?;
+    let bytes =
+        crate::io::read_bounded(path).map_err(|e| refuse(format!("cannot read it: {e}")))?;
     let traj: TrajectoryFile =
         serde_json::from_slice(&bytes).map_err(|e| refuse(format!("{e}")))?;
     // A non-smooth run repeats its returned state at the end; the curves follow the steps.
