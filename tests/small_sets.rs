@@ -143,3 +143,46 @@ fn a_long_run_says_so_before_it_starts() {
     let (_, err) = generate(&["-n", "50", "-s", "2", "--steps", "50"]);
     assert!(!err.contains("may take"), "{err}");
 }
+
+#[test]
+fn eval_says_what_a_missing_value_stands_for_and_never_prints_nan() {
+    let dir = std::env::temp_dir().join(format!("stillpoint-eval-notes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let files = [
+        ("one.csv", "0.5,0.5\n", "a single point has no pair"),
+        (
+            "dup.csv",
+            "0.5,0.5\n0.5,0.5\n0.1,0.2\n",
+            "two points coincide",
+        ),
+        (
+            "edge.csv",
+            "0,0\n1,1\n0.5,0.5\n",
+            "0 and 1 are one coordinate",
+        ),
+        (
+            "dup3.csv",
+            "0.2,0.2,0.2\n0.2,0.2,0.2\n",
+            "two points coincide",
+        ),
+    ];
+    for (name, text, note) in files {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        for json in [false, true] {
+            let mut cmd = Command::new(env!("CARGO_BIN_EXE_stillpoint"));
+            cmd.arg("eval").arg(&path);
+            if json {
+                cmd.arg("--json");
+            }
+            let o = cmd.output().unwrap();
+            let out = String::from_utf8_lossy(&o.stdout);
+            assert!(o.status.success(), "{name}");
+            assert!(
+                !out.contains("NaN") && !out.contains("nan"),
+                "{name}: {out}"
+            );
+            assert!(out.contains(note), "{name} (json {json}): {out}");
+        }
+    }
+}
