@@ -231,7 +231,15 @@ fn json_depth_exceeds(text: &str, limit: usize) -> bool {
 /// `descr`, `fortran_order` and `shape` (the header grammar is a Python literal; a
 /// general parser of it can take exponential time on nested braces).
 fn check_npy_header(bytes: &[u8], file: &str) -> Result<(), IoError> {
-    let bad = |why: &str| format_error(file, format!("not a valid .npy file ({why})"));
+    let bad = |why: &str| {
+        format_error(
+            file,
+            format!(
+                "not a valid .npy file ({why}); expected a NumPy .npy file of a 2-D float64 \
+                 or float32 array"
+            ),
+        )
+    };
     let major = *bytes.get(6).ok_or_else(|| bad("too short"))?;
     let (len, start) = match major {
         1 => (

@@ -50,7 +50,10 @@ pub fn main() {
     });
     let cli = Cli::parse();
     if let Err(e) = real_main(cli).map_err(with_flag_names) {
-        eprintln!("error: {e:#}");
+        // Not eprintln!: a closed standard error (`2>&1 | head`) must not turn a refusal
+        // into a panic.
+        use std::io::Write;
+        let _ = writeln!(std::io::stderr(), "error: {e:#}");
         std::process::exit(1);
     }
 }
