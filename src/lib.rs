@@ -20,6 +20,7 @@ pub mod checkpoint;
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod compare;
+pub mod evaluate;
 pub mod expr;
 pub mod io;
 pub mod metrics;

@@ -22,7 +22,7 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
             points
                 .check_unit_cube()
                 .with_context(|| format!("{}", file.display()))?;
-            let v = eval_json(&points);
+            let v = crate::evaluate::eval_json(&points);
             if json {
                 println!("{}", serde_json::to_string_pretty(&v)?);
             } else {

@@ -1,0 +1,89 @@
+//! The evaluation of a point set in the unit cube: every figure `stillpoint eval --json`
+//! prints, as one JSON object, shared by the command line and the Python package so the
+//! two give the same keys and the same numbers.
+
+use crate::energies::{paper_qp, Distance, Energy, Uqp};
+use crate::metrics::Metrics;
+use crate::PointSet;
+use serde_json::{json, Value};
+
+/// A finite number, or `null` where JSON cannot hold the value (its note says why).
+fn finite_or_null(v: f64) -> Value {
+    if v.is_finite() {
+        json!(v)
+    } else {
+        Value::Null
+    }
+}
+
+/// Every figure of `points` (in [0, 1]^s): the discrepancies (roots), the minimum
+/// distances, U_{q,p} at the paper's fit for (n, s), E_∞, the largest gap between a
+/// coordinate's mean and ½, and `notes` saying what each `null` stands for.
+pub fn eval_json(points: &PointSet) -> Value {
+    let m = Metrics::compute(points);
+    let fit = paper_qp(points.n(), points.s());
+    let uqp = Uqp::new(Distance::Q(fit.q), fit.p)
+        .map(|e| e.value(points))
+        .ok();
+    let mean_gap = points
+        .mean()
+        .iter()
+        .map(|v| (v - 0.5).abs())
+        .fold(0.0, f64::max);
+    json!({
+        "n": points.n(),
+        "s": points.s(),
+        "star_l2": m.star_l2,
+        "modified_l2": m.modified_l2,
+        "centered_l2": m.centered_l2,
+        "wrap_around_l2": m.wrap_around_l2,
+        "min_distance": finite_or_null(m.min_distance),
+        "min_distance_periodic": finite_or_null(m.min_distance_periodic),
+        "energy_uqp": uqp.map(finite_or_null),
+        "energy_uqp_q": fit.q,
+        "energy_uqp_p": fit.p,
+        "energy_e_inf": finite_or_null(1.0 / m.min_distance),
+        "mean_gap": mean_gap,
+        "notes": value_notes(points.n(), &m, uqp),
+    })
+}
+
+/// What a value that JSON cannot hold (null) stands for: a single point has no pair
+/// (no distance, energies 0), coinciding points have distance 0 and infinite energies
+/// (on the torus, 0 and 1 are the same coordinate). Only the keys concerned appear.
+fn value_notes(n: usize, m: &Metrics, uqp: Option<f64>) -> Value {
+    let mut notes = serde_json::Map::new();
+    let mut note = |k: &str, text: &str| {
+        notes.insert(k.to_string(), json!(text));
+    };
+    if n == 1 {
+        note("min_distance", "none: a single point has no pair");
+        note("min_distance_periodic", "none: a single point has no pair");
+    } else {
+        if m.min_distance == 0.0 {
+            note("energy_e_inf", "infinite: two points coincide");
+        }
+        if m.min_distance_periodic == 0.0 && uqp.is_some_and(|u| !u.is_finite()) {
+            note(
+                "energy_uqp",
+                if m.min_distance == 0.0 {
+                    "infinite: two points coincide"
+                } else {
+                    "infinite: two points coincide on the torus (0 and 1 are one coordinate)"
+                },
+            );
+        }
+    }
+    for (k, v) in [
+        ("star_l2", m.star_l2),
+        ("modified_l2", m.modified_l2),
+        ("centered_l2", m.centered_l2),
+        ("wrap_around_l2", m.wrap_around_l2),
+    ] {
+        if !v.is_finite() {
+            note(k, "not representable in f64 at this dimension");
+        }
+    }
+    Value::Object(notes)
+}
+
