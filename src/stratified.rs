@@ -1,0 +1,575 @@
+//! Stratified sets and the descent that keeps them stratified: the integration goal's
+//! pipeline.
+//!
+//! A set of n points is *stratified* when, in every coordinate, each interval
+//! [c/n, (c+1)/n) holds exactly one point (a Latin hypercube). Then every one-dimensional
+//! projection is as even as n points can be: an additive integrand f(x) = Σ_k f_k(x_k)
+//! is integrated with the error of a one-dimensional midpoint-type rule, O(1/n²) for
+//! smooth f_k, instead of the O(1/n)–O(log n / n) of an unstratified low-discrepancy set.
+//!
+//! Written as x_ik = (c_ik + u_ik)/n, a stratified set is a permutation of the cells in
+//! each column (c) and an offset inside each cell (u ∈ [0, 1)). The descent lowers a
+//! squared L2 discrepancy over both:
+//!
+//! * **Exchanges** ([`exchange_descent`]): two points swap one coordinate (so their
+//!   cells), accepted when the discrepancy falls; each proposal costs O(n) through the
+//!   pair tables of [`Exchange`] — the move of optimised Latin hypercubes (Morris and
+//!   Mitchell; Jin, Chen and Sudjianto's ESE; SciPy's `random-cd`).
+//! * **Offsets** ([`descend_in_cells`]): L-BFGS, through the one executor, on the
+//!   discrepancy as a function of z with u = 1/(1 + e^{−z}), so every iterate is
+//!   stratified by construction. Inside the cells no two points share a coordinate, so the
+//!   closed forms have no kinks there and L-BFGS converges as on a smooth function.
+//!
+//! [`integration_set`] starts from the best of several stratified candidates (scrambled
+//! Sobol' sets, which at n = 2^k are already stratified, and scrambled Halton), then
+//! alternates the two moves. Both only lower the discrepancy, so the result is never
+//! worse than the best start.
+
+use crate::energies::discrepancy::{squared_discrepancies, DiscrepancyEnergy, DiscrepancyKind};
+use crate::energies::shapes::BoxRegion;
+use crate::energies::Energy;
+use crate::integrators::lbfgs::Lbfgs;
+use crate::integrators::{Problem, Record};
+use crate::product_form::{Exchange, Form, EXCHANGE_MAX_N};
+use crate::run::{LoggingObserver, Run};
+use crate::sequences;
+use crate::{Error, PointSet};
+use rand::{RngExt, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use serde_json::Value;
+use std::sync::Arc;
+
+/// The cell of coordinate value `x` among n: ⌊x·n⌋ in f64 arithmetic (what
+/// `numpy.floor(x * n)` gives), clamped to n − 1.
+pub fn cell_of(x: f64, n: usize) -> usize {
+    ((x * n as f64).floor().max(0.0) as usize).min(n.saturating_sub(1))
+}
+
+/// Whether every coordinate of `points` lies in [0, 1) and each column has exactly one
+/// point in each cell [c/n, (c+1)/n) (as [`cell_of`] computes the cell).
+pub fn is_stratified(points: &PointSet) -> bool {
+    let (n, s) = (points.n(), points.s());
+    let x = points.as_slice();
+    (0..s).all(|k| {
+        let mut seen = vec![false; n];
+        (0..n).all(|i| {
+            let v = x[i * s + k];
+            if !(0.0..1.0).contains(&v) {
+                return false;
+            }
+            let c = cell_of(v, n);
+            !std::mem::replace(&mut seen[c], true)
+        })
+    })
+}
+
+/// The value (c + u)/n, moved by the last bits if rounding put it in a neighbouring cell,
+/// so that [`cell_of`] gives exactly c.
+fn in_cell(c: usize, u: f64, n: usize) -> f64 {
+    let mut x = (c as f64 + u.clamp(0.0, 1.0)) / n as f64;
+    for _ in 0..64 {
+        match cell_of(x, n).cmp(&c) {
+            std::cmp::Ordering::Greater => x = f64::from_bits(x.to_bits() - 1),
+            std::cmp::Ordering::Less => x = f64::from_bits(x.to_bits() + 1),
+            std::cmp::Ordering::Equal => break,
+        }
+    }
+    x
+}
+
+/// The cells of a stratified-to-be set: in each column, the rank of each point's value
+/// (ties broken by row), so cell c goes to the c-th smallest value.
+fn ranks(points: &PointSet) -> Vec<usize> {
+    let (n, s) = (points.n(), points.s());
+    let x = points.as_slice();
+    let mut cells = vec![0; n * s];
+    let mut order: Vec<usize> = (0..n).collect();
+    for k in 0..s {
+        order.sort_by(|&a, &b| x[a * s + k].total_cmp(&x[b * s + k]).then(a.cmp(&b)));
+        for (c, &i) in order.iter().enumerate() {
+            cells[i * s + k] = c;
+        }
+    }
+    cells
+}
+
+/// The stratified set nearest in order to `points`: each coordinate is replaced by a value
+/// in the cell of its rank in its column — the value itself where it already lies in that
+/// cell, the cell's midpoint otherwise. A stratified set is returned unchanged; the order
+/// of the points in every column is kept.
+pub fn stratify(points: &PointSet) -> PointSet {
+    let (n, s) = (points.n(), points.s());
+    let cells = ranks(points);
+    let data = points
+        .as_slice()
+        .iter()
+        .zip(&cells)
+        .map(|(&v, &c)| {
+            if (0.0..1.0).contains(&v) && cell_of(v, n) == c {
+                v
+            } else {
+                in_cell(c, 0.5, n)
+            }
+        })
+        .collect();
+    PointSet::new(n, s, data).expect("same shape")
+}
+
+/// What the integration goal lowers: a weighted sum of squared L2 discrepancies.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Target {
+    /// The discrepancies and their weights.
+    pub parts: Vec<(DiscrepancyKind, f64)>,
+}
+
+impl Target {
+    /// One squared discrepancy.
+    pub fn single(kind: DiscrepancyKind) -> Target {
+        Target {
+            parts: vec![(kind, 1.0)],
+        }
+    }
+
+    /// The default blend: D²_MD + D²_L2* + D²_CD, each divided by its value at the start,
+    /// so that no one of the three figures users compare is bought at the others' cost.
+    pub fn blend() -> Target {
+        Target {
+            parts: vec![
+                (DiscrepancyKind::ModifiedL2, 1.0),
+                (DiscrepancyKind::StarL2, 1.0),
+                (DiscrepancyKind::CenteredL2, 1.0),
+            ],
+        }
+    }
+
+    fn kinds(&self) -> Vec<DiscrepancyKind> {
+        self.parts.iter().map(|&(k, _)| k).collect()
+    }
+
+    /// The weighted sum at `points` (one fused pass over the pairs).
+    pub fn value(&self, points: &PointSet) -> f64 {
+        squared_discrepancies(points, &self.kinds())
+            .iter()
+            .zip(&self.parts)
+            .map(|(v, &(_, w))| w * v)
+            .sum()
+    }
+
+    /// The same target with each weight divided by its discrepancy at `points`, so every
+    /// part starts at its weight.
+    pub fn normalised_at(&self, points: &PointSet) -> Target {
+        let values = squared_discrepancies(points, &self.kinds());
+        Target {
+            parts: self
+                .parts
+                .iter()
+                .zip(values)
+                .map(|(&(k, w), v)| (k, if v > 0.0 { w / v } else { w }))
+                .collect(),
+        }
+    }
+
+    fn fits(&self, s: usize) -> bool {
+        self.parts
+            .iter()
+            .all(|&(k, _)| crate::energies::discrepancy::closed_form_fits(k, s))
+    }
+}
+
+/// A [`Target`] as an energy: the weighted sum of the discrepancy energies.
+struct TargetEnergy {
+    parts: Vec<(DiscrepancyEnergy, f64)>,
+}
+
+impl TargetEnergy {
+    fn new(target: &Target) -> TargetEnergy {
+        TargetEnergy {
+            parts: target
+                .parts
+                .iter()
+                .map(|&(k, w)| (DiscrepancyEnergy::new(k), w))
+                .collect(),
+        }
+    }
+}
+
+impl Energy for TargetEnergy {
+    fn name(&self) -> String {
+        let names: Vec<String> = self.parts.iter().map(|(e, _)| e.name()).collect();
+        names.join(" + ")
+    }
+
+    fn value(&self, points: &PointSet) -> f64 {
+        self.parts.iter().map(|(e, w)| w * e.value(points)).sum()
+    }
+
+    fn value_and_gradient(&self, points: &PointSet, grad: &mut [f64]) -> f64 {
+        grad.fill(0.0);
+        let mut part = vec![0.0; grad.len()];
+        let mut total = 0.0;
+        for (e, w) in &self.parts {
+            total += w * e.value_and_gradient(points, &mut part);
+            for (g, p) in grad.iter_mut().zip(&part) {
+                *g += w * p;
+            }
+        }
+        total
+    }
+}
+
+/// The logistic function, u = 1/(1 + e^{−z}).
+fn logistic(z: f64) -> f64 {
+    1.0 / (1.0 + (-z).exp())
+}
+
+/// The squared discrepancy of the points (c + logistic(z))/n, as an energy of z: what
+/// L-BFGS descends in [`descend_in_cells`].
+struct CellEnergy {
+    inner: TargetEnergy,
+    cells: Vec<usize>,
+    n: usize,
+    s: usize,
+}
+
+impl CellEnergy {
+    fn points(&self, z: &PointSet) -> PointSet {
+        let data = z
+            .as_slice()
+            .iter()
+            .zip(&self.cells)
+            .map(|(&z, &c)| in_cell(c, logistic(z), self.n))
+            .collect();
+        PointSet::new(self.n, self.s, data).expect("same shape")
+    }
+}
+
+impl Energy for CellEnergy {
+    fn name(&self) -> String {
+        format!("{} within the cells", self.inner.name())
+    }
+
+    fn value(&self, z: &PointSet) -> f64 {
+        self.inner.value(&self.points(z))
+    }
+
+    fn value_and_gradient(&self, z: &PointSet, grad: &mut [f64]) -> f64 {
+        let v = self.inner.value_and_gradient(&self.points(z), grad);
+        let inv_n = 1.0 / self.n as f64;
+        for (g, &z) in grad.iter_mut().zip(z.as_slice()) {
+            let u = logistic(z);
+            *g *= u * (1.0 - u) * inv_n;
+        }
+        v
+    }
+}
+
+/// How far z may go: logistic(±36) is within 2.4e-16 of 0 or 1, as close to a cell's edge
+/// as an offset can usefully get.
+const Z_BOUND: f64 = 36.0;
+
+/// L-BFGS (at most `steps` iterations) on the target over the offsets
+/// of a stratified set, its cells fixed; the result is stratified with the same cells and
+/// its discrepancy is not above the start's.
+pub fn descend_in_cells(
+    points: &PointSet,
+    target: &Target,
+    steps: usize,
+    lbfgs: &Lbfgs,
+) -> Result<PointSet, Error> {
+    let (n, s) = (points.n(), points.s());
+    debug_assert!(is_stratified(points));
+    let cells: Vec<usize> = points.as_slice().iter().map(|&v| cell_of(v, n)).collect();
+    let z0: Vec<f64> = points
+        .as_slice()
+        .iter()
+        .zip(&cells)
+        .map(|(&v, &c)| {
+            let u = (v * n as f64 - c as f64).clamp(1e-12, 1.0 - 1e-12);
+            (u / (1.0 - u)).ln().clamp(-Z_BOUND, Z_BOUND)
+        })
+        .collect();
+    let energy = CellEnergy {
+        inner: TargetEnergy::new(target),
+        cells,
+        n,
+        s,
+    };
+    let before = energy.inner.value(points);
+    let domain = BoxRegion::new(vec![-Z_BOUND; s], vec![Z_BOUND; s])?;
+    let energy = Arc::new(energy);
+    let problem = Problem::shared(energy.clone(), Arc::new(domain))?;
+    let mut quiet = LoggingObserver::new(0, |_: &Record| {});
+    let run = Run {
+        problem: &problem,
+        steps,
+        checkpoint: None,
+        config: &Value::Null,
+    };
+    let out = run.execute(lbfgs.clone(), PointSet::new(n, s, z0)?, &mut quiet)?;
+    let result = energy.points(&out.points);
+    Ok(if energy.inner.value(&result) < before {
+        result
+    } else {
+        points.clone()
+    })
+}
+
+/// Greedy exchanges: up to `proposals` swaps of one coordinate between two points, each
+/// kept when it lowers the weighted sum of the squared discrepancies `forms`. Half the partners are drawn among
+/// the nearest cells of the column (where late improvements are), half anywhere. Stops
+/// early after `n·s` proposals in a row without a gain. Keeps a stratified set
+/// stratified; deterministic for a seed. n at most [`EXCHANGE_MAX_N`] (larger sets are
+/// returned unchanged).
+pub fn exchange_descent(
+    points: &PointSet,
+    forms: &[(Form, f64)],
+    proposals: usize,
+    seed: u64,
+) -> PointSet {
+    let (n, s) = (points.n(), points.s());
+    if n < 2 || n > EXCHANGE_MAX_N || forms.is_empty() {
+        return points.clone();
+    }
+    let mut states: Vec<(Exchange, f64)> = forms
+        .iter()
+        .map(|&(f, w)| (Exchange::new(points, f), w))
+        .collect();
+    let total =
+        |states: &[(Exchange, f64)]| -> f64 { states.iter().map(|(e, w)| w * e.value()).sum() };
+    let mut cell = ranks(points);
+    let mut row_of = vec![0usize; n * s];
+    for i in 0..n {
+        for k in 0..s {
+            row_of[k * n + cell[i * s + k]] = i;
+        }
+    }
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed ^ 0x5374_7261_7469_6679);
+    let reach = (n / 16).max(2);
+    let patience = (n * s).max(64);
+    let mut idle = 0;
+    for _ in 0..proposals {
+        let k = rng.random_range(0..s);
+        let i = rng.random_range(0..n);
+        let j = if rng.random::<bool>() {
+            let ci = cell[i * s + k] as isize;
+            let step = rng.random_range(1..=reach) as isize;
+            let cj = if rng.random::<bool>() {
+                ci + step
+            } else {
+                ci - step
+            };
+            if cj < 0 || cj >= n as isize {
+                continue;
+            }
+            row_of[k * n + cj as usize]
+        } else {
+            rng.random_range(0..n)
+        };
+        if i == j {
+            continue;
+        }
+        let deltas: Vec<f64> = states.iter().map(|(e, _)| e.delta(i, j, k)).collect();
+        let d: f64 = deltas.iter().zip(&states).map(|(d, (_, w))| w * d).sum();
+        if d < -1e-15 * total(&states).abs() {
+            for ((e, _), d) in states.iter_mut().zip(deltas) {
+                e.swap(i, j, k, d);
+            }
+            let (ci, cj) = (cell[i * s + k], cell[j * s + k]);
+            cell.swap(i * s + k, j * s + k);
+            row_of[k * n + ci] = j;
+            row_of[k * n + cj] = i;
+            idle = 0;
+        } else {
+            idle += 1;
+            if idle >= patience {
+                break;
+            }
+        }
+    }
+    states[0].0.points()
+}
+
+/// How much work [`integration_set`] spends.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Effort {
+    /// Scrambled Sobol' starts (scrambled Halton is one more).
+    pub starts: usize,
+    /// Rounds of exchanges then offsets.
+    pub rounds: usize,
+    /// Exchange proposals per round, per point and coordinate.
+    pub proposals: usize,
+    /// L-BFGS iterations per round.
+    pub lbfgs_steps: usize,
+    /// A cap on the exchange work of the whole run, in pair-factor updates (one proposal
+    /// costs n per discrepancy of the target, about 2.5 ns each on one core): what keeps
+    /// the largest sets within seconds.
+    pub exchange_work: u64,
+}
+
+impl Default for Effort {
+    fn default() -> Self {
+        Effort {
+            starts: 8,
+            rounds: 3,
+            proposals: 20,
+            lbfgs_steps: 30,
+            exchange_work: 3_000_000_000,
+        }
+    }
+}
+
+/// What [`integration_set`] did, for reports.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outcome {
+    /// The start kept: `sobol(seed)` or `halton(seed)`.
+    pub start: String,
+    /// The target's value (its weights as given) at the kept start, stratified, and at the
+    /// result.
+    pub before: f64,
+    /// See `before`.
+    pub after: f64,
+}
+
+/// The seeds of the candidate starts: independent of each other and of other uses of the
+/// run's seed.
+fn start_seed(seed: u64, index: u64) -> u64 {
+    let mut h = seed ^ 0x9e37_79b9_7f4a_7c15_u64.wrapping_mul(index + 1);
+    h = (h ^ (h >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    h = (h ^ (h >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    h ^ (h >> 31)
+}
+
+/// The integration goal: a stratified set of n points in [0, 1)^s with the squared
+/// discrepancy `target` as low as `effort` reaches, from the best stratified start
+/// (scrambled Sobol' with `effort.starts` seeds derived from `seed`, scrambled Halton),
+/// then rounds of exchanges and offset descent. Deterministic for a seed, whatever the
+/// thread count.
+pub fn integration_set(
+    n: usize,
+    s: usize,
+    target: &Target,
+    seed: u64,
+    effort: &Effort,
+) -> Result<(PointSet, Outcome), Error> {
+    sequences::check_size(n, s)?;
+    let value = |p: &PointSet| target.value(p);
+    let mut best: Option<(f64, PointSet, String)> = None;
+    let mut consider = |p: PointSet, label: String| {
+        let p = stratify(&p);
+        let v = value(&p);
+        if best.as_ref().is_none_or(|(b, _, _)| v < *b) {
+            best = Some((v, p, label));
+        }
+    };
+    if s <= sequences::SOBOL_MAX_S && n as u64 <= sequences::SOBOL_MAX_N as u64 {
+        for t in 0..effort.starts.max(1) as u64 {
+            let sd = start_seed(seed, t);
+            consider(
+                sequences::sobol_scrambled(n, s, sd)?,
+                format!("sobol({sd})"),
+            );
+        }
+    }
+    if s <= sequences::HALTON_SCRAMBLED_MAX_S {
+        let sd = start_seed(seed, u64::MAX - 1);
+        consider(
+            sequences::halton_scrambled(n, s, sd)?,
+            format!("halton({sd})"),
+        );
+    }
+    let (before, mut points, start) = match best {
+        Some(b) => b,
+        None => {
+            let p = stratify(&sequences::random(n, s, seed)?);
+            (value(&p), p, format!("random({seed})"))
+        }
+    };
+    // The weights are fixed at the kept start, so the target is one function all along.
+    let target = target.normalised_at(&points);
+    if target.fits(s) && n >= 2 {
+        let lbfgs = Lbfgs::default();
+        let forms: Vec<(Form, f64)> = target
+            .parts
+            .iter()
+            .map(|&(k, w)| (Form::from(k), w))
+            .collect();
+        let rounds = effort.rounds.max(1) as u64;
+        let affordable = effort.exchange_work / (rounds * forms.len() as u64 * n as u64);
+        let proposals = (effort.proposals as u64 * (n * s) as u64).min(affordable) as usize;
+        for round in 0..effort.rounds {
+            points = exchange_descent(
+                &points,
+                &forms,
+                proposals,
+                start_seed(seed, 1000 + round as u64),
+            );
+            points = descend_in_cells(&points, &target, effort.lbfgs_steps, &lbfgs)?;
+        }
+    }
+    let after = value(&points);
+    Ok((
+        points,
+        Outcome {
+            start,
+            before,
+            after,
+        },
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stratify_gives_one_point_per_cell_and_keeps_order() {
+        for (n, s) in [(1, 3), (2, 5), (10, 2), (37, 4)] {
+            let p = sequences::random(n, s, 5).unwrap();
+            let q = stratify(&p);
+            assert!(is_stratified(&q), "n = {n}, s = {s}");
+            for k in 0..s {
+                for i in 0..n {
+                    for l in 0..n {
+                        let (a, b) = (p.as_slice()[i * s + k], p.as_slice()[l * s + k]);
+                        let (c, d) = (q.as_slice()[i * s + k], q.as_slice()[l * s + k]);
+                        if a < b {
+                            assert!(c < d);
+                        }
+                    }
+                }
+            }
+            assert_eq!(stratify(&q).as_slice(), q.as_slice());
+        }
+    }
+
+    #[test]
+    fn random_sets_are_not_stratified_and_lhs_is() {
+        assert!(!is_stratified(&sequences::random(50, 3, 1).unwrap()));
+        assert!(is_stratified(&sequences::lhs(50, 3, 1).unwrap()));
+    }
+
+    #[test]
+    fn offsets_descend_and_stay_in_their_cells() {
+        let p = stratify(&sequences::random(40, 3, 2).unwrap());
+        let before = squared_discrepancies(&p, &[DiscrepancyKind::ModifiedL2])[0];
+        let target = Target::single(DiscrepancyKind::ModifiedL2);
+        let q = descend_in_cells(&p, &target, 50, &Lbfgs::default()).unwrap();
+        let after = squared_discrepancies(&q, &[DiscrepancyKind::ModifiedL2])[0];
+        assert!(after < 0.9 * before, "{before} → {after}");
+        for (a, b) in p.as_slice().iter().zip(q.as_slice()) {
+            assert_eq!(cell_of(*a, 40), cell_of(*b, 40));
+        }
+    }
+
+    #[test]
+    fn exchanges_descend_and_keep_the_stratification() {
+        let p = sequences::lhs(60, 4, 3).unwrap();
+        let q = exchange_descent(&p, &[(Form::Centered, 1.0)], 5000, 1);
+        assert!(is_stratified(&q));
+        let (a, b) = (
+            crate::product_form::squared(&p, Form::Centered),
+            crate::product_form::squared(&q, Form::Centered),
+        );
+        assert!(b < 0.8 * a, "{a} → {b}");
+    }
+}
