@@ -86,4 +86,3 @@ fn value_notes(n: usize, m: &Metrics, uqp: Option<f64>) -> Value {
     }
     Value::Object(notes)
 }
-

@@ -26,6 +26,7 @@ use crate::metrics::{self, Metrics};
 use crate::regions::RegionMetrics;
 use crate::sequences;
 use crate::shift::{self, ShiftOutcome};
+pub use crate::stratified::Target;
 use crate::Error;
 use serde::Serialize;
 use serde_json::{json, Value};
@@ -109,6 +110,41 @@ pub enum Solver {
     Lbfgs,
 }
 
+/// What a run is for: the pipeline that makes the points.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Goal {
+    /// The configured start, energy and solver, then the post-steps. With the defaults of
+    /// [`GenerateConfig::new`] this is exactly the paper's pipeline (Halton start, U_{q,p}
+    /// with eq. 48, the DEM, shift selection): `--method paper`.
+    Paper,
+    /// Quasi-Monte Carlo integration: a stratified set (one point per 1/n interval in
+    /// every coordinate) with the target's discrepancy as low as the descent reaches
+    /// ([`crate::stratified::integration_set`]). The unit cube only.
+    Integration(Target),
+    /// Design of computer experiments: a stratified set with the largest smallest
+    /// distance found, from the better of the paper's DEM result (stratified) and a
+    /// Latin hypercube, each improved by the maximin swap search
+    /// ([`crate::sequences::maximin_search`]). In a region: the configured region run.
+    SpaceFilling,
+}
+
+/// How a finished set is randomised (`--randomize`), so that independent seeds give
+/// independent, unbiased estimates of an integral.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Randomize {
+    /// x ↦ (x + c) mod 1 with c uniform in [0, 1)^s: every point becomes uniform in the
+    /// cube; the torus distances, the periodic energies and the wrap-around L2
+    /// discrepancy are unchanged; the stratification is kept only where a coordinate's
+    /// values are equally spaced.
+    Shift,
+    /// Per coordinate, the cells are rotated by a uniform m ∈ {0, …, n−1} and every offset
+    /// inside its cell by a uniform v ∈ [0, 1), modulo the cell: x = (c + u)/n ↦
+    /// ((c + m) mod n + (u + v) mod 1)/n. Every point becomes uniform in the cube and a
+    /// stratified set stays stratified; the discrepancies change a little (a point whose
+    /// offset wraps moves by less than 1/n).
+    Cells,
+}
+
 /// Everything a `generate` run needs, in the cube or in a region.
 /// [`GenerateConfig::new`] and [`GenerateConfig::in_region`] give the defaults.
 #[derive(Debug, Clone, PartialEq)]
@@ -152,9 +188,22 @@ pub struct GenerateConfig {
     /// selection), in the closed cube for the non-periodic kinds. `None`: no polish. The
     /// cube only.
     pub polish: Option<DiscrepancyKind>,
+    /// What the run is for; [`Goal::Paper`] runs the fields above as they are.
+    pub goal: Goal,
+    /// A last randomisation of the result from `seed` (the cube only).
+    pub randomize: Option<Randomize>,
 }
 
 impl GenerateConfig {
+    /// The configuration of a goal in the cube: the paper's settings for everything the
+    /// goal's pipeline takes from them (the DEM run of [`Goal::SpaceFilling`]).
+    pub fn for_goal(n: usize, s: usize, goal: Goal) -> Self {
+        GenerateConfig {
+            goal,
+            ..GenerateConfig::new(n, s)
+        }
+    }
+
     /// The cube's defaults: (q, p) from eq. 48, plain Halton start, the paper's DEM with
     /// 1000 steps, κ trial from 100, restart threshold 2/n, then the best of 64 periodic
     /// shifts.
@@ -176,6 +225,8 @@ impl GenerateConfig {
             log_every: 0,
             shifts: 64,
             polish: None,
+            goal: Goal::Paper,
+            randomize: None,
         }
     }
 
@@ -274,6 +325,9 @@ pub struct GenerateReport {
     pub shift: Option<ShiftOutcome>,
     /// The polish, when it ran: (squared discrepancy before, after, L-BFGS iterations).
     pub polish: Option<(f64, f64, usize)>,
+    /// What a goal's pipeline did, one line per stage (empty for [`Goal::Paper`], whose
+    /// solver, shift and polish have fields of their own).
+    pub stages: Vec<String>,
     /// Wall time of the whole run in seconds.
     pub seconds: f64,
 }
@@ -554,6 +608,193 @@ pub fn generate_with(
     mut on_event: impl FnMut(Event),
 ) -> Result<GenerateReport, Error> {
     let clock = Instant::now();
+    if cfg.randomize.is_some() && cfg.region().is_some() {
+        return Err(Error::invalid(
+            "randomize",
+            format!("{:?}", cfg.randomize),
+            "no randomisation in a region (a shift would carry points out of it)",
+        ));
+    }
+    if cfg.goal != Goal::Paper && cfg.region().is_none() && checkpoint.is_some() {
+        return Err(Error::invalid(
+            "checkpoint",
+            "a goal run",
+            "checkpoints of --method paper runs (a goal's run takes seconds)",
+        ));
+    }
+    let mut report = match (&cfg.goal, cfg.region()) {
+        (Goal::Integration(_), Some(_)) => {
+            return Err(Error::invalid(
+                "goal",
+                "integration in a region",
+                "the unit cube, where the discrepancies of integration are defined; in a \
+                 region the goal is space-filling",
+            ))
+        }
+        (Goal::Integration(target), None) => integration_run(cfg, target, &mut on_event)?,
+        (Goal::SpaceFilling, None) => space_filling_run(cfg, &mut on_event)?,
+        _ => paper_run(cfg, checkpoint, &mut on_event)?,
+    };
+    if let Some(kind) = cfg.randomize {
+        report.output.points = crate::stratified::randomize(&report.output.points, kind, cfg.seed);
+        report.quality.1 = quality(cfg, &report.output.points)?;
+        report.stages.push(format!(
+            "randomised ({}) from seed {}",
+            match kind {
+                Randomize::Shift => "uniform shift modulo 1",
+                Randomize::Cells => "cells rotated, offsets shifted within their cells",
+            },
+            cfg.seed
+        ));
+    }
+    report.seconds = clock.elapsed().as_secs_f64();
+    Ok(report)
+}
+
+/// A goal's run as a report: the start and the result with their quality, the value the
+/// goal lowered (or raised) as the energy pair.
+fn goal_report(
+    cfg: &GenerateConfig,
+    start: PointSet,
+    points: PointSet,
+    energy: (f64, f64),
+    energy_name: String,
+    stages: Vec<String>,
+) -> Result<GenerateReport, Error> {
+    let quality_pair = (quality(cfg, &start)?, quality(cfg, &points)?);
+    Ok(GenerateReport {
+        start,
+        output: RunOutput {
+            points,
+            trajectory: Vec::new(),
+            stop: crate::integrators::StopReason::Converged,
+            info: Vec::new(),
+        },
+        energy,
+        energy_name,
+        quality: quality_pair,
+        choice: EnergyChoice {
+            q: "-".into(),
+            p: f64::NAN,
+            from_eq48: false,
+            eq48_in_fitted_range: false,
+            eq48_clamped: false,
+        },
+        shift: None,
+        polish: None,
+        stages,
+        seconds: 0.0,
+    })
+}
+
+/// The integration goal: [`crate::stratified::integration_set`].
+fn integration_run(
+    cfg: &GenerateConfig,
+    target: &Target,
+    on_event: &mut impl FnMut(Event),
+) -> Result<GenerateReport, Error> {
+    on_event(Event::Stage {
+        name: "stratified descent",
+        steps: None,
+    });
+    let effort = crate::stratified::Effort::default();
+    let (points, outcome) =
+        crate::stratified::integration_set(cfg.n, cfg.s, target, cfg.seed, &effort)?;
+    on_event(Event::Stage {
+        name: "metrics",
+        steps: None,
+    });
+    let stages = vec![
+        format!(
+            "start: the best of {} stratified scrambled Sobol' sets and a scrambled Halton \
+             set by the target: {}",
+            effort.starts, outcome.start
+        ),
+        format!(
+            "descent: {} rounds of coordinate exchanges and in-cell L-BFGS; every coordinate \
+             stratified (one point in each [k/n, (k+1)/n))",
+            effort.rounds
+        ),
+    ];
+    goal_report(
+        cfg,
+        outcome.start_points,
+        points,
+        (outcome.before, outcome.after),
+        target.name(),
+        stages,
+    )
+}
+
+/// The space-filling goal in the cube: the paper's run, stratified, and a Latin
+/// hypercube, each through the maximin swap search; the larger smallest distance wins.
+fn space_filling_run(
+    cfg: &GenerateConfig,
+    on_event: &mut impl FnMut(Event),
+) -> Result<GenerateReport, Error> {
+    let mut paper_cfg = cfg.clone();
+    paper_cfg.goal = Goal::Paper;
+    paper_cfg.randomize = None;
+    let paper = paper_run(&paper_cfg, None, &mut *on_event)?;
+    on_event(Event::Stage {
+        name: "maximin search",
+        steps: None,
+    });
+    let from_dem = crate::stratified::stratify(&paper.output.points);
+    let candidates = [
+        (
+            "the DEM's result, stratified",
+            sequences::maximin_search(from_dem.clone(), cfg.seed)?,
+        ),
+        (
+            "a Latin hypercube",
+            sequences::lhs_maximin(cfg.n, cfg.s, cfg.seed)?,
+        ),
+    ];
+    let min_d = |p: &PointSet| metrics::min_distance_euclidean(p);
+    let (label, best) = candidates
+        .into_iter()
+        .fold(None::<(&str, PointSet)>, |best, (l, p)| match best {
+            Some((bl, bp)) if min_d(&bp) >= min_d(&p) => Some((bl, bp)),
+            _ => Some((l, p)),
+        })
+        .expect("two candidates");
+    // A second pass of the search from the better one, with its own random stream: the
+    // search never returns a set below its start, so this only adds.
+    let points = sequences::maximin_search(best, cfg.seed.wrapping_add(0x9e37_79b9))?;
+    on_event(Event::Stage {
+        name: "metrics",
+        steps: None,
+    });
+    let stages = vec![
+        format!(
+            "DEM on {} ({} steps), then stratified",
+            paper.energy_name,
+            paper.output.trajectory.last().map_or(0, |r| r.step)
+        ),
+        format!(
+            "maximin swap search from the DEM's stratified result and from a Latin \
+             hypercube: kept {label}, searched again; every coordinate stratified"
+        ),
+    ];
+    let energy = (min_d(&from_dem), min_d(&points));
+    goal_report(
+        cfg,
+        from_dem,
+        points,
+        energy,
+        "minimum distance (Euclidean)".into(),
+        stages,
+    )
+}
+
+/// The configured pipeline: start, solver through the executor, post-steps.
+fn paper_run(
+    cfg: &GenerateConfig,
+    checkpoint: Option<&CheckpointPlan>,
+    mut on_event: impl FnMut(Event),
+) -> Result<GenerateReport, Error> {
+    let clock = Instant::now();
     let mut start = start_set(cfg)?;
     let (problem, choice) = build_problem(cfg)?;
     if cfg.polish.is_some() && cfg.region().is_some() {
@@ -686,6 +927,7 @@ pub fn generate_with(
         choice,
         shift,
         polish,
+        stages: Vec::new(),
         seconds: clock.elapsed().as_secs_f64(),
     })
 }
@@ -823,6 +1065,13 @@ pub fn config_json(cfg: &GenerateConfig) -> Value {
         // one path, and may differ in the last bits between paths.
         "kernel": crate::energies::pairs::vector_path(),
     });
+    // Only a goal run records its goal, so a paper run's record is what it always was.
+    if let (Value::Object(map), false) = (&mut v, cfg.goal == Goal::Paper) {
+        map.insert("goal".into(), json!(format!("{:?}", cfg.goal)));
+    }
+    if let (Value::Object(map), Some(r)) = (&mut v, cfg.randomize) {
+        map.insert("randomize".into(), json!(format!("{r:?}")));
+    }
     if let (Value::Object(map), Value::Object(dem)) = (&mut v, dem_json(&cfg.dem, cfg.steps)) {
         map.extend(dem);
     }

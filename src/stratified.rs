@@ -31,7 +31,7 @@ use crate::energies::Energy;
 use crate::integrators::lbfgs::Lbfgs;
 use crate::integrators::{Problem, Record};
 use crate::product_form::{Exchange, Form, EXCHANGE_MAX_N};
-use crate::run::{LoggingObserver, Run};
+use crate::run::{LoggingObserver, Randomize, Run};
 use crate::sequences;
 use crate::{Error, PointSet};
 use rand::{RngExt, SeedableRng};
@@ -139,6 +139,27 @@ impl Target {
                 (DiscrepancyKind::StarL2, 1.0),
                 (DiscrepancyKind::CenteredL2, 1.0),
             ],
+        }
+    }
+
+    /// The target as a formula, e.g. `D²_MD/… + D²_L2*/…` for the blend.
+    pub fn name(&self) -> String {
+        let names: Vec<String> = self
+            .parts
+            .iter()
+            .map(|&(k, w)| {
+                let e = DiscrepancyEnergy::new(k).name();
+                if w == 1.0 {
+                    e
+                } else {
+                    format!("{w}·{e}")
+                }
+            })
+            .collect();
+        if self.parts.len() > 1 && self.parts.iter().all(|&(_, w)| w == 1.0) {
+            format!("{} (each relative to the start)", names.join(" + "))
+        } else {
+            names.join(" + ")
         }
     }
 
@@ -327,7 +348,7 @@ pub fn exchange_descent(
     seed: u64,
 ) -> PointSet {
     let (n, s) = (points.n(), points.s());
-    if n < 2 || n > EXCHANGE_MAX_N || forms.is_empty() {
+    if !(2..=EXCHANGE_MAX_N).contains(&n) || forms.is_empty() {
         return points.clone();
     }
     let mut states: Vec<(Exchange, f64)> = forms
@@ -423,6 +444,8 @@ impl Default for Effort {
 pub struct Outcome {
     /// The start kept: `sobol(seed)` or `halton(seed)`.
     pub start: String,
+    /// The kept start, stratified.
+    pub start_points: PointSet,
     /// The target's value (its weights as given) at the kept start, stratified, and at the
     /// result.
     pub before: f64,
@@ -477,13 +500,14 @@ pub fn integration_set(
             format!("halton({sd})"),
         );
     }
-    let (before, mut points, start) = match best {
+    let (before, start_points, start) = match best {
         Some(b) => b,
         None => {
             let p = stratify(&sequences::random(n, s, seed)?);
             (value(&p), p, format!("random({seed})"))
         }
     };
+    let mut points = start_points.clone();
     // The weights are fixed at the kept start, so the target is one function all along.
     let target = target.normalised_at(&points);
     if target.fits(s) && n >= 2 {
@@ -511,10 +535,42 @@ pub fn integration_set(
         points,
         Outcome {
             start,
+            start_points,
             before,
             after,
         },
     ))
+}
+
+/// `points` randomised from `seed` as `kind` says (see [`Randomize`]): afterwards each
+/// point is uniformly distributed over [0, 1)^s.
+pub fn randomize(points: &PointSet, kind: Randomize, seed: u64) -> PointSet {
+    let (n, s) = (points.n(), points.s());
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(start_seed(seed, 0x5261_6e64));
+    match kind {
+        Randomize::Shift => {
+            let c: Vec<f64> = (0..s).map(|_| rng.random::<f64>()).collect();
+            crate::shift::shifted(points, &c)
+        }
+        Randomize::Cells => {
+            let turns: Vec<(usize, f64)> = (0..s)
+                .map(|_| (rng.random_range(0..n), rng.random::<f64>()))
+                .collect();
+            let data = points
+                .as_slice()
+                .iter()
+                .enumerate()
+                .map(|(idx, &x)| {
+                    let (m, v) = turns[idx % s];
+                    let c = cell_of(x, n);
+                    let u = (x * n as f64 - c as f64).clamp(0.0, 1.0);
+                    let w = u + v;
+                    in_cell((c + m) % n, if w >= 1.0 { w - 1.0 } else { w }, n)
+                })
+                .collect();
+            PointSet::new(n, s, data).expect("same shape")
+        }
+    }
 }
 
 #[cfg(test)]

@@ -30,6 +30,26 @@ pub(crate) struct GenerateArgs {
     /// points go to standard output as CSV and the report to standard error.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub(crate) output: Option<PathBuf>,
+    /// What the points are for: `integration` (the cube's default: every coordinate
+    /// stratified, discrepancy as low as we can make it) or `space-filling` (stratified,
+    /// largest minimum distance; a region's default).
+    #[arg(long, value_name = "integration|space-filling", value_parser = goal_arg)]
+    pub(crate) goal: Option<GoalArg>,
+    /// `paper`: the paper's pipeline exactly (Halton start, U_{q,p} with eq. 48, the DEM,
+    /// shift selection); the expert options below (--energy, --integrator, …) also
+    /// select it.
+    #[arg(long, value_name = "paper", value_parser = method_arg, conflicts_with = "goal")]
+    pub(crate) method: Option<MethodArg>,
+    /// The discrepancy the integration goal lowers: `blend` (D²_MD + D²_L2* + D²_CD,
+    /// each relative to the start; the default), `md`, `l2star`, `cd` or `periodic`.
+    #[arg(long, value_name = "KIND", value_parser = target_arg)]
+    pub(crate) target: Option<run::Target>,
+    /// Randomise the result from --seed, so that independent seeds give unbiased
+    /// estimates with error bars: `cells` (rotate the cells and shift the offsets within
+    /// them; keeps the stratification) or `shift` (uniform shift modulo 1; keeps the
+    /// wrap-around discrepancy and torus distances). The cube only.
+    #[arg(long, value_name = "cells|shift", value_parser = randomize_arg)]
+    pub(crate) randomize: Option<run::Randomize>,
     /// The potential energy: `uqp` (U_{q,p}, the cube's default), `e-inf` (U_{E,∞},
     /// maximin; with --q E in the closed cube, else on the torus), `e-inf-g`
     /// (U_{E,∞,g} of eq. 56, a region's default), `e-p-g` (smooth U_{E,p,g} for a
@@ -67,8 +87,8 @@ pub(crate) struct GenerateArgs {
     pub(crate) precision: Option<Precision>,
     /// The solver: `dem` (the paper's damped dynamics) or `lbfgs` (argmin's L-BFGS
     /// with restarts), in the cube or a region.
-    #[arg(long, default_value = "dem", value_name = "dem|lbfgs", value_parser = integrator_arg)]
-    pub(crate) integrator: Solver,
+    #[arg(long, value_name = "dem|lbfgs", value_parser = integrator_arg)]
+    pub(crate) integrator: Option<Solver>,
     /// Step budget of the DEM (default 1000 in the cube, as in the paper; 10 000 in a
     /// region, where U_{E,∞,g} moves only its active elements at each step).
     #[arg(long, value_name = "K")]
@@ -77,47 +97,41 @@ pub(crate) struct GenerateArgs {
     /// default: uniform in the box, the first n inside), or a point file.
     #[arg(long, value_name = "halton|random|FILE")]
     pub(crate) init: Option<String>,
-    /// Seed for the random start.
+    /// Seed for every random choice: the scrambles of the integration goal's starts, the
+    /// randomisation, the random start.
     #[arg(long, default_value_t = 0)]
     pub(crate) seed: u64,
     /// κ of eq. 39: `auto` (trial from 100, doubled while the energy fails to fall)
     /// or a fixed number ≥ 1.
     #[arg(
         long,
-        default_value = "auto",
         value_name = "auto|K",
         allow_hyphen_values = true,
         value_parser = kappa_arg
     )]
-    pub(crate) kappa: Kappa,
+    pub(crate) kappa: Option<Kappa>,
     /// Restart for unbiasedness (§4.3): `auto` (ε_p = 2/n), `off`, or ε_p > 0.
     #[arg(
         long,
-        default_value = "auto",
         value_name = "auto|off|EPS",
         allow_hyphen_values = true,
         value_parser = restart_arg
     )]
-    pub(crate) restart: Restart,
+    pub(crate) restart: Option<Restart>,
     /// Polish the result with L-BFGS on a squared discrepancy: `md`, `l2star`, `cd`,
     /// `periodic`, or `none`. The best points we know how to make: the DEM spreads the
     /// points, the shift places them, the polish lowers the chosen discrepancy.
-    #[arg(long, default_value = "none", value_name = "KIND", value_parser = polish_arg)]
-    pub(crate) polish: PolishChoice,
+    #[arg(long, value_name = "KIND", value_parser = polish_arg)]
+    pub(crate) polish: Option<PolishChoice>,
     /// Stop early when every coordinate step and every force step |G f|/A0 is below
     /// this (0: always use the whole budget).
-    #[arg(
-        long,
-        default_value_t = 1e-12,
-        value_name = "TOL",
-        allow_hyphen_values = true
-    )]
-    pub(crate) tolerance: f64,
+    #[arg(long, value_name = "TOL", allow_hyphen_values = true)]
+    pub(crate) tolerance: Option<f64>,
     /// Periodic shifts tried after the DEM (0: none). The energy is unchanged by a
     /// shift on the torus, the discrepancies are not: the shift with the smallest
     /// modified L2 discrepancy is kept.
-    #[arg(long, default_value_t = 64, value_name = "K")]
-    pub(crate) shifts: usize,
+    #[arg(long, value_name = "K")]
+    pub(crate) shifts: Option<usize>,
     /// Record D_L2* and D_MD every K steps in the trajectory (default 10 with
     /// --trajectory, else never).
     #[arg(long, value_name = "K")]

@@ -17,6 +17,10 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         n,
         s,
         output,
+        goal,
+        method,
+        target,
+        randomize,
         energy,
         region,
         bbox,
@@ -79,9 +83,74 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
             ("--shape polytope", polytope),
         ],
     )?;
-    if tolerance.is_nan() || tolerance < 0.0 {
-        bail!("invalid --tolerance = {tolerance}: expected a number ≥ 0");
+    if let Some(t) = tolerance {
+        if t.is_nan() || t < 0.0 {
+            bail!("invalid --tolerance = {t}: expected a number ≥ 0");
+        }
     }
+    // The options of the paper's pipeline (custom runs): any of them selects it.
+    let expert: Vec<&str> = [
+        ("--energy", energy.is_some()),
+        ("--integrator", integrator.is_some()),
+        ("--q", q.is_some()),
+        ("--p", p.is_some()),
+        ("--precision", precision.is_some()),
+        ("--init", init.is_some()),
+        ("--kappa", kappa.is_some()),
+        ("--restart", restart.is_some()),
+        ("--polish", polish.is_some()),
+        ("--tolerance", tolerance.is_some()),
+        ("--shifts", shifts.is_some()),
+        ("--log-every", log_every.is_some()),
+        ("--trajectory", trajectory.is_some()),
+        ("--checkpoint", checkpoint.is_some()),
+        ("--resume", resume.is_some()),
+    ]
+    .into_iter()
+    .filter_map(|(flag, given)| given.then_some(flag))
+    .collect();
+    let in_region = region.is_some() || shape.is_some();
+    let goal = match (goal, method) {
+        (Some(g), _) if !(expert.is_empty() || in_region && g == GoalArg::SpaceFilling) => bail!(
+            "invalid {} with --goal {}: the options of the paper's pipeline need \
+             --method paper (or no --goal); --goal chooses its own pipeline",
+            expert.join(", "),
+            match g {
+                GoalArg::Integration => "integration",
+                GoalArg::SpaceFilling => "space-filling",
+            }
+        ),
+        (Some(GoalArg::Integration), _) => run::Goal::Integration(run::Target::blend()),
+        (Some(GoalArg::SpaceFilling), _) => run::Goal::SpaceFilling,
+        (None, Some(MethodArg::Paper)) => run::Goal::Paper,
+        (None, None) if !expert.is_empty() || in_region => run::Goal::Paper,
+        (None, None) => run::Goal::Integration(run::Target::blend()),
+    };
+    let goal = match (goal, target) {
+        (run::Goal::Integration(_), Some(t)) => run::Goal::Integration(t),
+        (run::Goal::Integration(_), None) => run::Goal::Integration(run::Target::blend()),
+        (_, Some(_)) => bail!(
+            "invalid --target: it chooses what the integration goal lowers; this run is \
+             not one (its pipeline is the paper's or space-filling)"
+        ),
+        (g, None) => g,
+    };
+    if matches!(goal, run::Goal::Integration(_)) && steps.is_some() {
+        bail!(
+            "invalid --steps with the integration goal: its descent has a fixed budget of \
+             seconds; --steps sets the DEM's budget of --method paper and space-filling runs"
+        );
+    }
+    let paper_dem = crate::integrators::Dem::default();
+    let (kappa, restart) = (
+        kappa.unwrap_or(paper_dem.kappa),
+        restart.unwrap_or(paper_dem.restart),
+    );
+    let (tolerance, shifts) = (tolerance.unwrap_or(1e-12), shifts.unwrap_or(64));
+    let (polish, integrator) = (
+        polish.unwrap_or(PolishChoice(None)),
+        integrator.unwrap_or(Solver::Dem),
+    );
     if let Some(p) = p {
         if !(p > 0.0 && p.is_finite()) {
             bail!("invalid --p = {p}: expected a finite number > 0");
@@ -131,6 +200,18 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         cfg.dem.tolerance = tolerance;
         if plot.is_some() && cfg.s < 2 {
             bail!("invalid --plot: the region has dimension 1; plots need s ≥ 2");
+        }
+        if let run::Goal::Integration(_) = goal {
+            bail!(
+                "invalid --goal integration in a region: its discrepancies are those of the \
+                 unit cube; in a region the goal is space-filling (the default)"
+            );
+        }
+        if randomize.is_some() {
+            bail!(
+                "invalid --randomize in a region: a random shift would carry points out of it \
+                 (the cube only)"
+            );
         }
         cfg
     } else {
@@ -194,10 +275,12 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         cfg.shifts = shifts;
         cfg.polish = polish.0;
         cfg.log_every = log_every.unwrap_or(if trajectory.is_some() { 10 } else { 0 });
+        cfg.goal = goal;
+        cfg.randomize = randomize;
         cfg
     };
     // Say so before a long run starts, with what makes it cheaper.
-    if !quiet {
+    if !quiet && !matches!(cfg.goal, run::Goal::Integration(_)) {
         let estimate = run::estimate_seconds(&cfg)?;
         if estimate > LONG_RUN_SECONDS {
             eprintln!(

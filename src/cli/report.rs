@@ -135,7 +135,17 @@ pub(crate) fn file_header(
             serde_json::to_value(r.region_metrics()?.1).unwrap_or(Value::Null),
         ),
     };
-    if let (Value::Object(p), Value::Object(d)) =
+    if let (Some(goal), Value::Object(p)) = (goal_name(cfg), &mut parameters) {
+        // A goal run's parameters are its goal; the paper's settings it does not use
+        // would only mislead.
+        p.retain(|k, _| ["n", "s", "region", "domain"].contains(&k.as_str()));
+        p.insert("goal".into(), json!(goal));
+        p.insert(
+            "randomize".into(),
+            json!(cfg.randomize.map(|r| format!("{r:?}").to_lowercase())),
+        );
+        p.insert("stages".into(), json!(r.stages));
+    } else if let (Value::Object(p), Value::Object(d)) =
         (&mut parameters, dem_settings(&cfg.dem, cfg.steps))
     {
         p.extend(d);
@@ -148,6 +158,15 @@ pub(crate) fn file_header(
         "run": run,
         "metrics": metrics,
     }))
+}
+
+/// The goal of a goal run, as the report names it; `None` for the paper's pipeline.
+pub(crate) fn goal_name(cfg: &GenerateConfig) -> Option<String> {
+    match &cfg.goal {
+        run::Goal::Paper => None,
+        run::Goal::Integration(t) => Some(format!("integration (target {})", t.name())),
+        run::Goal::SpaceFilling => Some("space-filling".into()),
+    }
 }
 
 /// What the solver did, in one line: the DEM's steps, κ and restarts, or L-BFGS's
@@ -210,11 +229,19 @@ pub(crate) fn report_table(
         Init::Points(_) => "points from file".to_string(),
     };
     let mut t = String::new();
-    t += &format!(
-        "stillpoint: n = {}, s = {}, {} from {}\n",
-        cfg.n, cfg.s, r.energy_name, init
-    );
-    if r.choice.from_eq48 {
+    if let Some(goal) = goal_name(cfg) {
+        t += &format!("stillpoint: n = {}, s = {}, goal {goal}\n", cfg.n, cfg.s);
+        for line in &r.stages {
+            t += &format!("  {line}\n");
+        }
+        t += "\n";
+    } else {
+        t += &format!(
+            "stillpoint: n = {}, s = {}, {} from {}\n",
+            cfg.n, cfg.s, r.energy_name, init
+        );
+    }
+    if r.choice.from_eq48 && r.stages.is_empty() {
         t += &format!(
             "  (q, p) from eq. 48{}{}\n",
             if r.choice.eq48_in_fitted_range {
@@ -229,7 +256,9 @@ pub(crate) fn report_table(
             }
         );
     }
-    t += &format!("  {}\n\n", solver_line(r));
+    if r.stages.is_empty() {
+        t += &format!("  {}\n\n", solver_line(r));
+    }
     t += &format!(
         "  {:<36} {:>14} {:>14} {:>9}\n",
         "", "start", "result", "change"
@@ -249,7 +278,11 @@ pub(crate) fn report_table(
         };
         t += &format!("  {:<36} {:>14} {:>14} {:>9}\n", name, f(a), f(b), change);
     };
-    let energy_label = format!("energy {}", r.energy_name.split('(').next().unwrap_or(""));
+    let energy_label = match cfg.goal {
+        run::Goal::Integration(_) => "target (sum of squares)".to_string(),
+        run::Goal::SpaceFilling => "maximin search: min distance".to_string(),
+        run::Goal::Paper => format!("energy {}", r.energy_name.split('(').next().unwrap_or("")),
+    };
     row(&energy_label, r.energy.0, r.energy.1, true);
     row(
         "star L2 discrepancy D_L2* (root)",
@@ -301,6 +334,13 @@ pub(crate) fn report_table(
             sh.modified_l2_after,
             sh.shift.iter().map(|c| format!("{c:.4}")).collect::<Vec<_>>().join(", "),
             sh.evaluations
+        );
+    }
+    if !r.stages.is_empty() && cfg.region().is_none() {
+        let stratified = crate::stratified::is_stratified(&r.output.points);
+        t += &format!(
+            "\n  every coordinate stratified (one point in each [k/n, (k+1)/n)): {}\n",
+            if stratified { "yes" } else { "no" }
         );
     }
     if let Some((a, b, it)) = r.polish {

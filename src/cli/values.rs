@@ -60,6 +60,73 @@ pub(crate) enum PrecisionArg {
     Full,
 }
 
+/// `--goal`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum GoalArg {
+    /// Quasi-Monte Carlo integration: stratified, lowest discrepancy (the cube's default).
+    Integration,
+    /// Design of experiments: stratified, largest minimum distance (a region's default).
+    SpaceFilling,
+}
+
+/// `--method`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum MethodArg {
+    /// The paper's pipeline exactly: Halton start, U_{q,p} with eq. 48, the DEM, shifts.
+    Paper,
+}
+
+/// `--target`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum TargetArg {
+    /// D²_MD + D²_L2* + D²_CD, each relative to the start (the default).
+    Blend,
+    /// Modified L2.
+    Md,
+    /// Star L2.
+    L2star,
+    /// Centred L2.
+    Cd,
+    /// Wrap-around L2.
+    Periodic,
+}
+
+pub(crate) fn goal_arg(text: &str) -> std::result::Result<GoalArg, String> {
+    closed("--goal", text, "integration or space-filling")
+}
+
+pub(crate) fn method_arg(text: &str) -> std::result::Result<MethodArg, String> {
+    closed("--method", text, "paper")
+}
+
+pub(crate) fn target_arg(text: &str) -> std::result::Result<run::Target, String> {
+    Ok(
+        match closed("--target", text, "blend, md, l2star, cd or periodic")? {
+            TargetArg::Blend => run::Target::blend(),
+            TargetArg::Md => run::Target::single(DiscrepancyKind::ModifiedL2),
+            TargetArg::L2star => run::Target::single(DiscrepancyKind::StarL2),
+            TargetArg::Cd => run::Target::single(DiscrepancyKind::CenteredL2),
+            TargetArg::Periodic => run::Target::single(DiscrepancyKind::WrapAroundL2),
+        },
+    )
+}
+
+/// `--randomize`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum RandomizeArg {
+    /// Rotate the cells and shift the offsets within them (keeps the stratification).
+    Cells,
+    /// A uniform shift modulo 1 (keeps the torus distances and the wrap-around L2).
+    Shift,
+}
+
+pub(crate) fn randomize_arg(text: &str) -> std::result::Result<run::Randomize, String> {
+    Ok(match closed("--randomize", text, "cells or shift")? {
+        RandomizeArg::Cells => run::Randomize::Cells,
+        RandomizeArg::Shift => run::Randomize::Shift,
+    })
+}
+
 fn closed<T: ValueEnum>(flag: &str, text: &str, expected: &str) -> std::result::Result<T, String> {
     T::from_str(text.trim(), true)
         .map_err(|_| format!("invalid {flag} = {text}: expected {expected}"))

@@ -245,7 +245,21 @@ pub fn lhs_maximin(n: usize, s: usize, seed: u64) -> Result<PointSet, Error> {
             format!("1..={LHS_MAXIMIN_MAX_N} for a maximin Latin hypercube"),
         ));
     }
-    let start = lhs(n, s, seed)?;
+    maximin_search(lhs(n, s, seed)?, seed)
+}
+
+/// The swap search of [`lhs_maximin`] from any start: points swap one coordinate, so a
+/// stratified start stays stratified, with the same schedule and budget. Its smallest
+/// distance is never below the start's. n at most 20 000.
+pub fn maximin_search(start: PointSet, seed: u64) -> Result<PointSet, Error> {
+    let (n, s) = (start.n(), start.s());
+    if n > LHS_MAXIMIN_MAX_N {
+        return Err(Error::invalid(
+            "n",
+            n,
+            format!("1..={LHS_MAXIMIN_MAX_N} for a maximin search"),
+        ));
+    }
     if n <= 2 || s == 1 {
         return Ok(start);
     }
