@@ -122,7 +122,17 @@ fn a_long_run_says_so_before_it_starts() {
     std::fs::create_dir_all(&dir).unwrap();
     let mut child = Command::new(env!("CARGO_BIN_EXE_stillpoint"))
         .current_dir(&dir)
-        .args(["generate", "-n", "100000000", "-s", "2", "-o", "big.csv"])
+        .args([
+            "generate",
+            "-n",
+            "100000000",
+            "-s",
+            "2",
+            "--method",
+            "paper",
+            "-o",
+            "big.csv",
+        ])
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()

@@ -105,6 +105,10 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         ("--trajectory", trajectory.is_some()),
         ("--checkpoint", checkpoint.is_some()),
         ("--resume", resume.is_some()),
+        (
+            "--steps",
+            steps.is_some() && goal != Some(GoalArg::SpaceFilling),
+        ),
     ]
     .into_iter()
     .filter_map(|(flag, given)| given.then_some(flag))
@@ -135,12 +139,6 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         ),
         (g, None) => g,
     };
-    if matches!(goal, run::Goal::Integration(_)) && steps.is_some() {
-        bail!(
-            "invalid --steps with the integration goal: its descent has a fixed budget of \
-             seconds; --steps sets the DEM's budget of --method paper and space-filling runs"
-        );
-    }
     let paper_dem = crate::integrators::Dem::default();
     let (kappa, restart) = (
         kappa.unwrap_or(paper_dem.kappa),
