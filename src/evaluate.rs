@@ -16,7 +16,9 @@ fn finite_or_null(v: f64) -> Value {
     }
 }
 
-/// Every figure of `points` (in [0, 1]^s): the discrepancies (roots), the minimum
+/// Every figure of `points` (in [0, 1]^s): the discrepancies (roots; `mixture` is the
+/// mixture discrepancy of Zhou, Fang and Ning, whose square is SciPy's `'MD'`), whether
+/// every coordinate is stratified (one point in each [k/n, (k+1)/n)), the minimum
 /// distances, U_{q,p} at the paper's fit for (n, s), E_∞, the largest gap between a
 /// coordinate's mean and ½, and `notes` saying what each `null` stands for.
 pub fn eval_json(points: &PointSet) -> Value {
@@ -37,6 +39,8 @@ pub fn eval_json(points: &PointSet) -> Value {
         "modified_l2": m.modified_l2,
         "centered_l2": m.centered_l2,
         "wrap_around_l2": m.wrap_around_l2,
+        "mixture": crate::product_form::root(points, crate::product_form::Form::Mixture),
+        "stratified": crate::stratified::is_stratified(points),
         "min_distance": finite_or_null(m.min_distance),
         "min_distance_periodic": finite_or_null(m.min_distance_periodic),
         "energy_uqp": uqp.map(finite_or_null),
