@@ -23,6 +23,8 @@ fn finite_or_null(v: f64) -> Value {
 /// coordinate's mean and ½, and `notes` saying what each `null` stands for.
 pub fn eval_json(points: &PointSet) -> Value {
     let m = Metrics::compute(points);
+    let star = crate::star_inf::star_discrepancy(points);
+    let (one, two) = crate::star_inf::worst_projections(points);
     let fit = paper_qp(points.n(), points.s());
     let uqp = Uqp::new(Distance::Q(fit.q), fit.p)
         .map(|e| e.value(points))
@@ -41,6 +43,9 @@ pub fn eval_json(points: &PointSet) -> Value {
         "wrap_around_l2": m.wrap_around_l2,
         "mixture": crate::product_form::root(points, crate::product_form::Form::Mixture),
         "stratified": crate::stratified::is_stratified(points),
+        "star_linf": star.map(finite_or_null),
+        "worst_1d_star_linf": one,
+        "worst_2d_star_linf": two.map(finite_or_null),
         "min_distance": finite_or_null(m.min_distance),
         "min_distance_periodic": finite_or_null(m.min_distance_periodic),
         "energy_uqp": uqp.map(finite_or_null),
@@ -48,14 +53,21 @@ pub fn eval_json(points: &PointSet) -> Value {
         "energy_uqp_p": fit.p,
         "energy_e_inf": finite_or_null(1.0 / m.min_distance),
         "mean_gap": mean_gap,
-        "notes": value_notes(points.n(), &m, uqp),
+        "notes": value_notes(points, &m, uqp, star.is_some(), two.is_some()),
     })
 }
 
 /// What a value that JSON cannot hold (null) stands for: a single point has no pair
 /// (no distance, energies 0), coinciding points have distance 0 and infinite energies
 /// (on the torus, 0 and 1 are the same coordinate). Only the keys concerned appear.
-fn value_notes(n: usize, m: &Metrics, uqp: Option<f64>) -> Value {
+fn value_notes(
+    points: &PointSet,
+    m: &Metrics,
+    uqp: Option<f64>,
+    has_star: bool,
+    has_two: bool,
+) -> Value {
+    let n = points.n();
     let mut notes = serde_json::Map::new();
     let mut note = |k: &str, text: &str| {
         notes.insert(k.to_string(), json!(text));
@@ -77,6 +89,26 @@ fn value_notes(n: usize, m: &Metrics, uqp: Option<f64>) -> Value {
                 },
             );
         }
+    }
+    if !has_star {
+        note(
+            "star_linf",
+            &format!(
+                "computed exactly for s ≤ 3 only (n ≤ {} in 2-D, n ≤ {} in 3-D)",
+                crate::star_inf::MAX_N_2D,
+                crate::star_inf::MAX_N_3D
+            ),
+        );
+    }
+    if !has_two {
+        note(
+            "worst_2d_star_linf",
+            if points.s() < 2 {
+                "none: the set has one coordinate"
+            } else {
+                "not computed: s(s−1)/2 projections of n² work each exceed the budget"
+            },
+        );
     }
     for (k, v) in [
         ("star_l2", m.star_l2),

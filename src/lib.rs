@@ -31,6 +31,7 @@ pub mod regions;
 pub mod run;
 pub mod sequences;
 pub mod shift;
+pub mod star_inf;
 pub mod stratified;
 pub mod studies;
 pub mod testfns;

@@ -378,10 +378,23 @@ pub(crate) fn eval_table(file: &std::path::Path, points: &PointSet, v: &Value) -
         ("modified L2 discrepancy D_MD (root)", "modified_l2"),
         ("centred L2 discrepancy (root)", "centered_l2"),
         ("wrap-around L2 discrepancy (root)", "wrap_around_l2"),
+        ("mixture discrepancy (root)", "mixture"),
+        ("star discrepancy D* (L∞, exact)", "star_linf"),
+        ("worst 1-D projection D* (L∞)", "worst_1d_star_linf"),
+        ("worst 2-D projection D* (L∞)", "worst_2d_star_linf"),
         ("minimum distance (Euclidean)", "min_distance"),
         ("minimum distance (periodic)", "min_distance_periodic"),
         ("mean gap max_k |mean_k − 0.5|", "mean_gap"),
     ];
+    t += &format!(
+        "  {:<40} {}\n",
+        "every coordinate stratified",
+        if v["stratified"].as_bool() == Some(true) {
+            "yes (one point in each [k/n, (k+1)/n))"
+        } else {
+            "no"
+        }
+    );
     for (name, key) in rows {
         t += &format!("  {name:<40} {}\n", show(key, 6, false));
     }
