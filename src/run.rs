@@ -192,6 +192,12 @@ pub struct GenerateConfig {
     pub goal: Goal,
     /// A last randomisation of the result from `seed` (the cube only).
     pub randomize: Option<Randomize>,
+    /// Points to keep, first and unchanged, while n − their number are added (the
+    /// integration goal in the cube): [`crate::stratified::extend_set`].
+    pub extend: Option<PointSet>,
+    /// Sizes N1 < N2 < … = n of a nested set, each prefix made for its size (the
+    /// integration goal in the cube): [`crate::stratified::nested_set`]. Empty: one set.
+    pub nested: Vec<usize>,
 }
 
 impl GenerateConfig {
@@ -227,6 +233,8 @@ impl GenerateConfig {
             polish: None,
             goal: Goal::Paper,
             randomize: None,
+            extend: None,
+            nested: Vec::new(),
         }
     }
 
@@ -622,6 +630,15 @@ pub fn generate_with(
             "checkpoints of --method paper runs (a goal's run takes seconds)",
         ));
     }
+    if (cfg.extend.is_some() || !cfg.nested.is_empty())
+        && (!matches!(cfg.goal, Goal::Integration(_)) || cfg.region().is_some())
+    {
+        return Err(Error::invalid(
+            "extend",
+            "a run that is not the integration goal in the cube",
+            "--extend and --nested with the integration goal in the cube (the default)",
+        ));
+    }
     let mut report = match (&cfg.goal, cfg.region()) {
         (Goal::Integration(_), Some(_)) => {
             return Err(Error::invalid(
@@ -698,6 +715,88 @@ fn integration_run(
         steps: None,
     });
     let effort = crate::stratified::Effort::default();
+    if let Some(old) = &cfg.extend {
+        if old.s() != cfg.s || old.n() > cfg.n {
+            return Err(Error::invalid(
+                "extend",
+                format!("{} points in {} dimensions", old.n(), old.s()),
+                format!("at most n = {} points in s = {} dimensions", cfg.n, cfg.s),
+            ));
+        }
+        let ext = crate::stratified::extend_set(old, cfg.n - old.n(), target, cfg.seed, &effort)?;
+        let new = PointSet::new(
+            cfg.n - ext.old,
+            cfg.s,
+            ext.points.as_slice()[ext.old * cfg.s..].to_vec(),
+        )?;
+        let figures = |p: &PointSet| {
+            let m = Metrics::compute(p);
+            format!(
+                "D_MD {:.6}, D_L2* {:.6}, CD {:.6}",
+                m.modified_l2, m.star_l2, m.centered_l2
+            )
+        };
+        let stages = vec![
+            format!(
+                "extended {} old points (first, unchanged) by {} new ones, placed from {} \
+                 in the free cells of the union's grid, then exchanges and in-cell L-BFGS \
+                 moving the new points only",
+                ext.old,
+                cfg.n - ext.old,
+                ext.start_label
+            ),
+            format!(
+                "union stratified on its {} cells per coordinate: {}",
+                cfg.n,
+                if ext.stratified {
+                    "yes".to_string()
+                } else {
+                    format!(
+                        "no ({} old points share a cell of the union's grid with another, \
+                         so as many cells stay empty)",
+                        ext.collisions
+                    )
+                }
+            ),
+            format!("old points: {}", figures(old)),
+            format!("new points alone: {}", figures(&new)),
+            format!("union: {}", figures(&ext.points)),
+        ];
+        let (a, b) = (target.value(&ext.start), target.value(&ext.points));
+        return goal_report(cfg, ext.start, ext.points, (a, b), target.name(), stages);
+    }
+    if !cfg.nested.is_empty() {
+        if cfg.nested.last() != Some(&cfg.n) {
+            return Err(Error::invalid(
+                "nested",
+                format!("{:?}", cfg.nested),
+                format!("stages ending at n = {}", cfg.n),
+            ));
+        }
+        let points = crate::stratified::nested_set(&cfg.nested, cfg.s, target, cfg.seed, &effort)?;
+        let mut stages = vec![format!(
+            "nested: the first {} points made for their size, each later stage added by \
+             extension; every prefix below",
+            cfg.nested[0]
+        )];
+        for &k in &cfg.nested {
+            let prefix = PointSet::new(k, cfg.s, points.as_slice()[..k * cfg.s].to_vec())?;
+            let m = Metrics::compute(&prefix);
+            stages.push(format!(
+                "first {k}: D_MD {:.6}, D_L2* {:.6}, CD {:.6}, stratified: {}",
+                m.modified_l2,
+                m.star_l2,
+                m.centered_l2,
+                if crate::stratified::is_stratified(&prefix) {
+                    "yes"
+                } else {
+                    "no"
+                }
+            ));
+        }
+        let v = target.value(&points);
+        return goal_report(cfg, points.clone(), points, (v, v), target.name(), stages);
+    }
     let (points, outcome) =
         crate::stratified::integration_set(cfg.n, cfg.s, target, cfg.seed, &effort)?;
     on_event(Event::Stage {
@@ -1068,6 +1167,12 @@ pub fn config_json(cfg: &GenerateConfig) -> Value {
     // Only a goal run records its goal, so a paper run's record is what it always was.
     if let (Value::Object(map), false) = (&mut v, cfg.goal == Goal::Paper) {
         map.insert("goal".into(), json!(format!("{:?}", cfg.goal)));
+    }
+    if let (Value::Object(map), Some(old)) = (&mut v, &cfg.extend) {
+        map.insert("extend".into(), json!(points_fingerprint(old)));
+    }
+    if let (Value::Object(map), false) = (&mut v, cfg.nested.is_empty()) {
+        map.insert("nested".into(), json!(cfg.nested));
     }
     if let (Value::Object(map), Some(r)) = (&mut v, cfg.randomize) {
         map.insert("randomize".into(), json!(format!("{r:?}")));

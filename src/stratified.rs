@@ -26,6 +26,7 @@
 //! worse than the best start.
 
 use crate::energies::discrepancy::{squared_discrepancies, DiscrepancyEnergy, DiscrepancyKind};
+use crate::energies::fixed::WithFixed;
 use crate::energies::shapes::BoxRegion;
 use crate::energies::Energy;
 use crate::integrators::lbfgs::Lbfgs;
@@ -246,8 +247,11 @@ fn logistic(z: f64) -> f64 {
 /// The squared discrepancy of the points (c + logistic(z))/n, as an energy of z: what
 /// L-BFGS descends in [`descend_in_cells`].
 struct CellEnergy {
-    inner: TargetEnergy,
+    /// The target, of the moving points (with the fixed ones when there are).
+    inner: Arc<dyn Energy>,
+    /// The cells of the moving points.
     cells: Vec<usize>,
+    /// The number of cells per coordinate (the size of the whole set).
     n: usize,
     s: usize,
 }
@@ -260,7 +264,7 @@ impl CellEnergy {
             .zip(&self.cells)
             .map(|(&z, &c)| in_cell(c, logistic(z), self.n))
             .collect();
-        PointSet::new(self.n, self.s, data).expect("same shape")
+        PointSet::new(z.n(), self.s, data).expect("same shape")
     }
 }
 
@@ -297,11 +301,26 @@ pub fn descend_in_cells(
     steps: usize,
     lbfgs: &Lbfgs,
 ) -> Result<PointSet, Error> {
+    descend_in_cells_after(points, 0, target, steps, lbfgs)
+}
+
+/// [`descend_in_cells`] moving only the points from index `first_movable` on; the
+/// points before it take part in the target and stay where they are.
+pub fn descend_in_cells_after(
+    points: &PointSet,
+    first_movable: usize,
+    target: &Target,
+    steps: usize,
+    lbfgs: &Lbfgs,
+) -> Result<PointSet, Error> {
     let (n, s) = (points.n(), points.s());
-    debug_assert!(is_stratified(points));
-    let cells: Vec<usize> = points.as_slice().iter().map(|&v| cell_of(v, n)).collect();
-    let z0: Vec<f64> = points
-        .as_slice()
+    if first_movable >= n {
+        return Ok(points.clone());
+    }
+    let split = first_movable * s;
+    let moving = &points.as_slice()[split..];
+    let cells: Vec<usize> = moving.iter().map(|&v| cell_of(v, n)).collect();
+    let z0: Vec<f64> = moving
         .iter()
         .zip(&cells)
         .map(|(&v, &c)| {
@@ -309,15 +328,16 @@ pub fn descend_in_cells(
             (u / (1.0 - u)).ln().clamp(-Z_BOUND, Z_BOUND)
         })
         .collect();
-    let energy = CellEnergy {
-        inner: TargetEnergy::new(target),
-        cells,
-        n,
-        s,
+    let whole: Arc<dyn Energy> = Arc::new(TargetEnergy::new(target));
+    let inner: Arc<dyn Energy> = if first_movable == 0 {
+        whole.clone()
+    } else {
+        let fixed = PointSet::new(first_movable, s, points.as_slice()[..split].to_vec())?;
+        Arc::new(WithFixed::new(whole.clone(), fixed))
     };
-    let before = energy.inner.value(points);
+    let energy = Arc::new(CellEnergy { inner, cells, n, s });
+    let before = whole.value(points);
     let domain = BoxRegion::new(vec![-Z_BOUND; s], vec![Z_BOUND; s])?;
-    let energy = Arc::new(energy);
     let problem = Problem::shared(energy.clone(), Arc::new(domain))?;
     let mut quiet = LoggingObserver::new(0, |_: &Record| {});
     let run = Run {
@@ -326,9 +346,15 @@ pub fn descend_in_cells(
         checkpoint: None,
         config: &Value::Null,
     };
-    let out = run.execute(lbfgs.clone(), PointSet::new(n, s, z0)?, &mut quiet)?;
-    let result = energy.points(&out.points);
-    Ok(if energy.inner.value(&result) < before {
+    let out = run.execute(
+        lbfgs.clone(),
+        PointSet::new(n - first_movable, s, z0)?,
+        &mut quiet,
+    )?;
+    let mut data = points.as_slice()[..split].to_vec();
+    data.extend_from_slice(energy.points(&out.points).as_slice());
+    let result = PointSet::new(n, s, data)?;
+    Ok(if whole.value(&result) < before {
         result
     } else {
         points.clone()
@@ -347,8 +373,19 @@ pub fn exchange_descent(
     proposals: usize,
     seed: u64,
 ) -> PointSet {
+    exchange_descent_after(points, 0, forms, proposals, seed)
+}
+
+/// [`exchange_descent`] among the points from index `first_movable` on only.
+pub fn exchange_descent_after(
+    points: &PointSet,
+    first_movable: usize,
+    forms: &[(Form, f64)],
+    proposals: usize,
+    seed: u64,
+) -> PointSet {
     let (n, s) = (points.n(), points.s());
-    if !(2..=EXCHANGE_MAX_N).contains(&n) || forms.is_empty() {
+    if !(2..=EXCHANGE_MAX_N).contains(&n) || forms.is_empty() || first_movable + 2 > n {
         return points.clone();
     }
     let mut states: Vec<(Exchange, f64)> = forms
@@ -370,7 +407,7 @@ pub fn exchange_descent(
     let mut idle = 0;
     for _ in 0..proposals {
         let k = rng.random_range(0..s);
-        let i = rng.random_range(0..n);
+        let i = rng.random_range(first_movable..n);
         let j = if rng.random::<bool>() {
             let ci = cell[i * s + k] as isize;
             let step = rng.random_range(1..=reach) as isize;
@@ -384,9 +421,9 @@ pub fn exchange_descent(
             }
             row_of[k * n + cj as usize]
         } else {
-            rng.random_range(0..n)
+            rng.random_range(first_movable..n)
         };
-        if i == j {
+        if i == j || j < first_movable {
             continue;
         }
         let deltas: Vec<f64> = states.iter().map(|(e, _)| e.delta(i, j, k)).collect();
@@ -561,6 +598,164 @@ pub fn integration_set(
     ))
 }
 
+/// What [`extend_set`] did, for reports.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Extension {
+    /// The old points followed by the new ones.
+    pub points: PointSet,
+    /// The union as first placed (the best start), before the descent.
+    pub start: PointSet,
+    /// How many of the points are old.
+    pub old: usize,
+    /// Which start the new points came from.
+    pub start_label: String,
+    /// Whether the union is stratified on its own grid of n + m cells per coordinate.
+    pub stratified: bool,
+    /// Old points that share a cell of the union's grid with another old point, summed
+    /// over the coordinates: each such coincidence leaves a cell empty.
+    pub collisions: usize,
+}
+
+/// Adds `m` points to `old` (in [0, 1]^s) for the integration goal: the old points stay
+/// exactly where they are, first; the new ones fill the cells of the union's grid
+/// (n + m per coordinate) that no old point occupies — all of them when the old points
+/// lie in distinct cells of that grid, so a stratified union whenever the old points
+/// permit it (always when m is a multiple of n and the old set is stratified) — and then
+/// descend on the target as [`integration_set`] does, moving only the new points.
+/// Deterministic for (seed, n); `m = 0` returns `old`.
+pub fn extend_set(
+    old: &PointSet,
+    m: usize,
+    target: &Target,
+    seed: u64,
+    effort: &Effort,
+) -> Result<Extension, Error> {
+    let (n0, s) = (old.n(), old.s());
+    old.check_unit_cube()?;
+    let n = n0 + m;
+    sequences::check_size(n, s)?;
+    let x = old.as_slice();
+    let mut collisions = 0;
+    let free: Vec<Vec<usize>> = (0..s)
+        .map(|k| {
+            let mut occupied = vec![false; n];
+            for i in 0..n0 {
+                let c = cell_of(x[i * s + k], n);
+                collisions += usize::from(std::mem::replace(&mut occupied[c], true));
+            }
+            (0..n).filter(|&c| !occupied[c]).collect()
+        })
+        .collect();
+    if m == 0 {
+        return Ok(Extension {
+            points: old.clone(),
+            start: old.clone(),
+            old: n0,
+            start_label: "none".into(),
+            stratified: is_stratified(old),
+            collisions,
+        });
+    }
+    let seed = start_seed(seed, n0 as u64 + 0x4578_7465);
+    // The new points' order in every coordinate comes from a candidate set; the k-th
+    // smallest goes to the cell at the same quantile of the free cells.
+    let place = |cand: &PointSet| -> PointSet {
+        let r = ranks(cand);
+        let mut data = x.to_vec();
+        for i in 0..m {
+            for (k, f) in free.iter().enumerate() {
+                let q = ((r[i * s + k] as f64 + 0.5) * f.len() as f64 / m as f64) as usize;
+                data.push(in_cell(f[q.min(f.len() - 1)], 0.5, n));
+            }
+        }
+        PointSet::new(n, s, data).expect("n + m points")
+    };
+    let value = |p: &PointSet| target.value(p);
+    let mut best: Option<(f64, PointSet, String)> = None;
+    let mut consider = |p: PointSet, label: String| {
+        let v = value(&p);
+        if best.as_ref().is_none_or(|(b, _, _)| v < *b) {
+            best = Some((v, p, label));
+        }
+    };
+    if s <= sequences::SOBOL_MAX_S {
+        for t in 0..effort.starts.max(1) as u64 {
+            let sd = start_seed(seed, t);
+            consider(
+                place(&sequences::sobol_scrambled(m, s, sd)?),
+                format!("sobol({sd})"),
+            );
+        }
+    }
+    let sd = start_seed(seed, u64::MAX - 2);
+    consider(
+        place(&sequences::random(m, s, sd)?),
+        format!("random({sd})"),
+    );
+    let (_, start, start_label) = best.expect("at least one candidate");
+    let mut points = start.clone();
+    let target = target.normalised_at(&points);
+    if target.fits(s) && n <= DESCENT_MAX_N {
+        let lbfgs = Lbfgs::default();
+        let forms: Vec<(Form, f64)> = target
+            .parts
+            .iter()
+            .map(|&(k, w)| (Form::from(k), w))
+            .collect();
+        let rounds = effort.rounds.max(1) as u64;
+        let affordable = effort.exchange_work / (rounds * forms.len() as u64 * n as u64);
+        let proposals = (effort.proposals as u64 * (m * s) as u64).min(affordable) as usize;
+        for round in 0..effort.rounds {
+            points = exchange_descent_after(
+                &points,
+                n0,
+                &forms,
+                proposals,
+                start_seed(seed, 1000 + round as u64),
+            );
+            points = descend_in_cells_after(&points, n0, &target, effort.lbfgs_steps, &lbfgs)?;
+        }
+    }
+    points = center_columns_after(&points, n0);
+    debug_assert_eq!(&points.as_slice()[..n0 * s], x);
+    Ok(Extension {
+        stratified: is_stratified(&points),
+        points,
+        start,
+        old: n0,
+        start_label,
+        collisions,
+    })
+}
+
+/// A nested set for the integration goal: the first `stages[0]` points are
+/// [`integration_set`], and each later stage extends the previous one with
+/// [`extend_set`], so every prefix of the listed lengths is a set made for its size.
+/// Exactly what `generate -n N1` followed by `--extend` with the same seed gives.
+pub fn nested_set(
+    stages: &[usize],
+    s: usize,
+    target: &Target,
+    seed: u64,
+    effort: &Effort,
+) -> Result<PointSet, Error> {
+    let first = *stages
+        .first()
+        .ok_or_else(|| Error::invalid("nested", "an empty list", "N1,N2,... increasing"))?;
+    if first == 0 || stages.windows(2).any(|w| w[1] <= w[0]) {
+        return Err(Error::invalid(
+            "nested",
+            format!("{stages:?}"),
+            "increasing sizes N1 < N2 < ..., the first at least 1",
+        ));
+    }
+    let (mut points, _) = integration_set(first, s, target, seed, effort)?;
+    for w in stages.windows(2) {
+        points = extend_set(&points, w[1] - w[0], target, seed, effort)?.points;
+    }
+    Ok(points)
+}
+
 /// Moves the offsets of a stratified set within their cells, per column, by an affine
 /// function of the cell, u_i ↦ u_i + α + β·(c_i − (n−1)/2), with α and β chosen so that
 /// Σ_i (u_i − ½) = 0 and Σ_i c_i (u_i − ½) = 0 (repeated with the points a cell's edge
@@ -570,13 +765,19 @@ pub fn integration_set(
 /// integrated with an O(1/n²) error however the descent placed the offsets. The moves
 /// are a small fraction of a cell, and the points stay in their cells.
 pub fn center_columns(points: &PointSet) -> PointSet {
+    center_columns_after(points, 0)
+}
+
+/// [`center_columns`] moving only the points from index `first_movable` on (the sums
+/// still run over every point).
+pub fn center_columns_after(points: &PointSet, first_movable: usize) -> PointSet {
     let (n, s) = (points.n(), points.s());
     let mut x = points.as_slice().to_vec();
     let nf = n as f64;
     let mid = (nf - 1.0) / 2.0;
     for k in 0..s {
         let cells: Vec<usize> = (0..n).map(|i| cell_of(x[i * s + k], n)).collect();
-        let mut pinned = vec![false; n];
+        let mut pinned: Vec<bool> = (0..n).map(|i| i < first_movable).collect();
         for _ in 0..16 {
             let offset = |x: &[f64], i: usize| x[i * s + k] * nf - cells[i] as f64 - 0.5;
             let free: Vec<usize> = (0..n).filter(|&i| !pinned[i]).collect();

@@ -44,6 +44,14 @@ pub(crate) struct GenerateArgs {
     /// each relative to the start; the default), `md`, `l2star`, `cd` or `periodic`.
     #[arg(long, value_name = "KIND", value_parser = target_arg)]
     pub(crate) target: Option<run::Target>,
+    /// Grow an existing set: keep the points of FILE first and unchanged and add -n M new
+    /// ones for the union (the integration goal in the cube).
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["init", "nested"])]
+    pub(crate) extend: Option<PathBuf>,
+    /// A nested set N1,N2,...,Nk (increasing; needs -s, no -n): every prefix of those
+    /// lengths is a good set, each stage an extension of the one before.
+    #[arg(long, value_name = "N1,N2,...", conflicts_with = "n")]
+    pub(crate) nested: Option<String>,
     /// Randomise the result from --seed, so that independent seeds give unbiased
     /// estimates with error bars: `cells` (rotate the cells and shift the offsets within
     /// them; keeps the stratification) or `shift` (uniform shift modulo 1; keeps the

@@ -21,6 +21,8 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         method,
         target,
         randomize,
+        extend,
+        nested,
         energy,
         region,
         bbox,
@@ -79,6 +81,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         ],
         &[
             ("--init", init_file),
+            ("--extend", extend.as_deref()),
             ("--resume", resume_file),
             ("--shape polytope", polytope),
         ],
@@ -227,6 +230,62 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
                 Init::Points(points)
             }
         };
+        let grow = matches!(goal, run::Goal::Integration(_));
+        if (extend.is_some() || nested.is_some()) && !grow {
+            bail!(
+                "invalid {}: growing a set needs the integration goal (no --method paper, \
+                 --goal space-filling or paper options)",
+                if extend.is_some() {
+                    "--extend"
+                } else {
+                    "--nested"
+                }
+            );
+        }
+        let old = match &extend {
+            Some(path) => {
+                let points = io::read_points(path).context("--extend")?;
+                points
+                    .check_unit_cube()
+                    .with_context(|| format!("--extend: {}", path.display()))?;
+                Some(points)
+            }
+            None => None,
+        };
+        let stages: Vec<usize> = match &nested {
+            Some(text) => {
+                let list: Vec<usize> = text
+                    .split(',')
+                    .map(|t| t.trim().parse::<usize>())
+                    .collect::<std::result::Result<_, _>>()
+                    .map_err(|_| {
+                        anyhow::anyhow!(
+                            "invalid --nested = {text}: expected increasing sizes N1,N2,... \
+                             (whole numbers ≥ 1)"
+                        )
+                    })?;
+                if list.is_empty() || list[0] == 0 || list.windows(2).any(|w| w[1] <= w[0]) {
+                    bail!("invalid --nested = {text}: expected increasing sizes N1 < N2 < ..., N1 ≥ 1");
+                }
+                list
+            }
+            None => Vec::new(),
+        };
+        let (n, s) = match (&old, stages.last()) {
+            (Some(p), _) => {
+                let m = n.context("missing -n M: the number of points to add to --extend")?;
+                if s.is_some_and(|s| s != p.s()) {
+                    bail!(
+                        "invalid -s = {}: the --extend file has {} coordinates",
+                        s.unwrap_or(0),
+                        p.s()
+                    );
+                }
+                (Some(p.n() + m), Some(p.s()))
+            }
+            (None, Some(&last)) => (Some(last), s),
+            (None, None) => (n, s),
+        };
         let (n, s) = match (&init, n, s) {
             (Init::Points(p), n, s) => (n.unwrap_or(p.n()), s.unwrap_or(p.s())),
             (_, Some(n), Some(s)) => (n, s),
@@ -275,6 +334,8 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         cfg.log_every = log_every.unwrap_or(if trajectory.is_some() { 10 } else { 0 });
         cfg.goal = goal;
         cfg.randomize = randomize;
+        cfg.extend = old;
+        cfg.nested = stages;
         cfg
     };
     // Say so before a long run starts, with what makes it cheaper.

@@ -145,6 +145,13 @@ pub(crate) fn file_header(
             json!(cfg.randomize.map(|r| format!("{r:?}").to_lowercase())),
         );
         p.insert("stages".into(), json!(r.stages));
+        // The lengths of the prefixes made for their size, old and new.
+        let sizes: Vec<usize> = match (&cfg.extend, cfg.nested.is_empty()) {
+            (Some(old), _) => vec![old.n(), cfg.n],
+            (None, false) => cfg.nested.clone(),
+            (None, true) => vec![cfg.n],
+        };
+        p.insert("sizes".into(), json!(sizes));
     } else if let (Value::Object(p), Value::Object(d)) =
         (&mut parameters, dem_settings(&cfg.dem, cfg.steps))
     {

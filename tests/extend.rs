@@ -1,0 +1,187 @@
+//! Growing sets: `--extend` keeps the old points first and bit for bit, the union beats
+//! the old points plus random or scrambled-Sobol' points, and extending stage by stage is
+//! one `--nested` run.
+
+mod common;
+
+use common::{bin, TempDir};
+use stillpoint::metrics::Metrics;
+use stillpoint::sequences;
+use stillpoint::stratified::{
+    extend_set, integration_set, is_stratified, nested_set, Effort, Target,
+};
+use stillpoint::PointSet;
+
+fn union(old: &PointSet, new: &PointSet) -> PointSet {
+    let mut data = old.as_slice().to_vec();
+    data.extend_from_slice(new.as_slice());
+    PointSet::new(old.n() + new.n(), old.s(), data).unwrap()
+}
+
+#[test]
+fn the_union_keeps_the_old_points_and_beats_random_and_sobol_additions() {
+    let target = Target::blend();
+    let effort = Effort::default();
+    for (n, m, s) in [(40, 20, 2), (64, 64, 3), (100, 50, 5)] {
+        let (old, _) = integration_set(n, s, &target, 1, &effort).unwrap();
+        let ext = extend_set(&old, m, &target, 1, &effort).unwrap();
+        let u = &ext.points;
+        assert_eq!(&u.as_slice()[..n * s], old.as_slice());
+        assert!(u.check_unit_cube().is_ok());
+        let ours = Metrics::compute(u);
+        let reps = 16;
+        let (mut random, mut sobol) = ([0.0; 2], [0.0; 2]);
+        for seed in 0..reps {
+            let r = Metrics::compute(&union(&old, &sequences::random(m, s, seed).unwrap()));
+            let q = Metrics::compute(&union(
+                &old,
+                &sequences::sobol_scrambled(m, s, 50 + seed).unwrap(),
+            ));
+            random[0] += r.modified_l2 / reps as f64;
+            random[1] += r.star_l2 / reps as f64;
+            sobol[0] += q.modified_l2 / reps as f64;
+            sobol[1] += q.star_l2 / reps as f64;
+        }
+        for (name, base) in [("random", random), ("Sobol'", sobol)] {
+            assert!(
+                ours.modified_l2 < base[0],
+                "{n}+{m}, s = {s}: D_MD vs {name}"
+            );
+            assert!(ours.star_l2 < base[1], "{n}+{m}, s = {s}: D_L2* vs {name}");
+        }
+        // m a multiple of n on a stratified set: the union is stratified too.
+        if m % n == 0 {
+            assert!(ext.stratified && is_stratified(u));
+        }
+    }
+}
+
+#[test]
+fn extending_by_nothing_returns_the_set() {
+    let old = sequences::lhs(30, 3, 2).unwrap();
+    let ext = extend_set(&old, 0, &Target::blend(), 0, &Effort::default()).unwrap();
+    assert_eq!(ext.points.as_slice(), old.as_slice());
+}
+
+#[test]
+fn extend_then_extend_on_the_command_line_is_one_nested_run() {
+    let d = TempDir::new("nested");
+    let path = |name: &str| d.0.join(name);
+    let run = |args: &[&str]| {
+        let o = bin().args(args).output().unwrap();
+        assert!(
+            o.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    };
+    let (a, b, c) = (path("a.npy"), path("b.npy"), path("c.npy"));
+    run(&[
+        "generate",
+        "-n",
+        "24",
+        "-s",
+        "3",
+        "--seed",
+        "4",
+        "-q",
+        "-o",
+        a.to_str().unwrap(),
+    ]);
+    run(&[
+        "generate",
+        "--extend",
+        a.to_str().unwrap(),
+        "-n",
+        "24",
+        "--seed",
+        "4",
+        "-q",
+        "-o",
+        b.to_str().unwrap(),
+    ]);
+    run(&[
+        "generate",
+        "--extend",
+        b.to_str().unwrap(),
+        "-n",
+        "12",
+        "--seed",
+        "4",
+        "-q",
+        "-o",
+        c.to_str().unwrap(),
+    ]);
+    let stepwise = stillpoint::io::read_points(&c).unwrap();
+    let nested = nested_set(&[24, 48, 60], 3, &Target::blend(), 4, &Effort::default()).unwrap();
+    assert_eq!(stepwise.as_slice(), nested.as_slice());
+    let first = stillpoint::io::read_points(&a).unwrap();
+    assert_eq!(
+        &stepwise.as_slice()[..first.as_slice().len()],
+        first.as_slice()
+    );
+    // The command line's --nested writes the same bytes.
+    let n = path("n.npy");
+    run(&[
+        "generate",
+        "--nested",
+        "24,48,60",
+        "-s",
+        "3",
+        "--seed",
+        "4",
+        "-q",
+        "-o",
+        n.to_str().unwrap(),
+    ]);
+    assert_eq!(std::fs::read(&n).unwrap(), std::fs::read(&c).unwrap());
+}
+
+#[test]
+fn growing_options_are_checked() {
+    let d = TempDir::new("checks");
+    let a = d.0.join("a.csv");
+    let o = bin()
+        .args(["generate", "-n", "10", "-s", "2", "-q", "-o"])
+        .arg(&a)
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    for (args, needle) in [
+        (vec!["--extend", a.to_str().unwrap()], "-n M"),
+        (
+            vec![
+                "--extend",
+                a.to_str().unwrap(),
+                "-n",
+                "5",
+                "--method",
+                "paper",
+            ],
+            "--extend",
+        ),
+        (vec!["--nested", "10,5", "-s", "2"], "--nested"),
+        (vec!["--nested", "10,x", "-s", "2"], "--nested"),
+        (
+            vec![
+                "--extend",
+                a.to_str().unwrap(),
+                "-n",
+                "5",
+                "-o",
+                a.to_str().unwrap(),
+            ],
+            "--extend",
+        ),
+    ] {
+        let o = bin()
+            .arg("generate")
+            .args(&args)
+            .arg("-q")
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{args:?} was accepted");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}
