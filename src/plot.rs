@@ -57,6 +57,9 @@ pub struct Panel<'a> {
     pub hi: [f64; 2],
     /// Lines to draw, each a sequence of (x1, x2) vertices; may be empty.
     pub boundary: Vec<Vec<[f64; 2]>>,
+    /// Points from this index on are drawn in a second colour (the new points of a set
+    /// that grew); `None`: one colour.
+    pub split: Option<usize>,
 }
 
 /// Why a picture could not be made or saved.
@@ -359,6 +362,8 @@ fn draw_error(e: impl std::fmt::Display) -> PlotError {
 
 const POINT_COLOUR: RGBColor = RGBColor(31, 70, 160);
 const BOUNDARY_COLOUR: RGBColor = RGBColor(200, 40, 40);
+/// The points added to a set that grew: orange against the old points' blue.
+const NEW_COLOUR: RGBColor = RGBColor(230, 120, 0);
 /// Lighter than the points, so that a histogram's red reference line stands out on it.
 const BAR_COLOUR: RGBColor = RGBColor(150, 175, 225);
 
@@ -418,13 +423,18 @@ fn draw_panel<DB: DrawingBackend>(
         2_001..=20_000 => 2,
         _ => 1,
     };
+    let split = panel.split.unwrap_or(usize::MAX);
     chart
         .draw_series(
             panel
                 .points
                 .rows()
-                .filter(|p| inside(p))
-                .map(|p| Circle::new((p[0], p[1]), radius, POINT_COLOUR.filled())),
+                .enumerate()
+                .filter(|(_, p)| inside(p))
+                .map(|(i, p)| {
+                    let colour = if i < split { POINT_COLOUR } else { NEW_COLOUR };
+                    Circle::new((p[0], p[1]), radius, colour.filled())
+                }),
         )
         .map_err(draw_error)?;
 

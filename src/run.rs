@@ -414,7 +414,9 @@ pub fn start_set(cfg: &GenerateConfig) -> Result<PointSet, Error> {
         ));
     }
     if let Some(domain) = cfg.region() {
-        return crate::regions::start_in_region(domain.as_ref(), cfg.n, &cfg.init, cfg.seed);
+        // When a set grows, the start holds the new points only.
+        let n = cfg.n - cfg.extend.as_ref().map_or(0, |p| p.n().min(cfg.n));
+        return crate::regions::start_in_region(domain.as_ref(), n, &cfg.init, cfg.seed);
     }
     match &cfg.init {
         Init::Halton => sequences::halton(cfg.n, cfg.s),
@@ -514,6 +516,13 @@ fn build_problem(cfg: &GenerateConfig) -> Result<(Problem<'static>, EnergyChoice
                 ))
             }
         };
+    // A region's set that grows: the old points take part in the energy and never move.
+    let energy: Arc<dyn Energy> = match (&cfg.extend, cfg.region()) {
+        (Some(old), Some(_)) => {
+            Arc::new(crate::energies::fixed::WithFixed::new(energy, old.clone()))
+        }
+        _ => energy,
+    };
     Ok((Problem::shared(energy, domain)?, choice))
 }
 
@@ -630,14 +639,32 @@ pub fn generate_with(
             "checkpoints of --method paper runs (a goal's run takes seconds)",
         ));
     }
-    if (cfg.extend.is_some() || !cfg.nested.is_empty())
-        && (!matches!(cfg.goal, Goal::Integration(_)) || cfg.region().is_some())
+    let cube_integration = matches!(cfg.goal, Goal::Integration(_)) && cfg.region().is_none();
+    if (!cfg.nested.is_empty() && !cube_integration)
+        || (cfg.extend.is_some() && !cube_integration && cfg.region().is_none())
     {
         return Err(Error::invalid(
             "extend",
-            "a run that is not the integration goal in the cube",
-            "--extend and --nested with the integration goal in the cube (the default)",
+            "a cube run that is not the integration goal",
+            "--extend with the integration goal in the cube (the default) or in a region; \
+             --nested with the integration goal",
         ));
+    }
+    if let (Some(old), Some(domain)) = (&cfg.extend, cfg.region()) {
+        if old.s() != cfg.s || old.n() > cfg.n {
+            return Err(Error::invalid(
+                "extend",
+                format!("{} points in {} dimensions", old.n(), old.s()),
+                format!("at most n = {} points in s = {} dimensions", cfg.n, cfg.s),
+            ));
+        }
+        if let Some(i) = old.rows().position(|r| !domain.contains(r)) {
+            return Err(Error::invalid(
+                "extend",
+                format!("point {} outside the region", i + 1),
+                "old points inside the run's region",
+            ));
+        }
     }
     let mut report = match (&cfg.goal, cfg.region()) {
         (Goal::Integration(_), Some(_)) => {
@@ -909,13 +936,24 @@ fn paper_run(
         PeriodicCube::wrap_set(&mut start);
     }
     let config = config_json(cfg);
+    // A grown region set is reported as the union, old points first.
+    let with_old = |p: &PointSet| -> Result<PointSet, Error> {
+        match (&cfg.extend, cfg.region()) {
+            (Some(old), Some(_)) => {
+                let mut data = old.as_slice().to_vec();
+                data.extend_from_slice(p.as_slice());
+                PointSet::new(old.n() + p.n(), p.s(), data)
+            }
+            _ => Ok(p.clone()),
+        }
+    };
     let region_start_quality = match cfg.region() {
         Some(_) => {
             on_event(Event::Stage {
                 name: "metrics",
                 steps: None,
             });
-            Some(quality(cfg, &start)?)
+            Some(quality(cfg, &with_old(&start)?)?)
         }
         None => None,
     };
@@ -994,6 +1032,8 @@ fn paper_run(
         }
     }
     debug_assert!(output.points.rows().all(|r| domain.contains(r)));
+    output.points = with_old(&output.points)?;
+    let start = with_old(&start)?;
     let energy_pair = full_energies.unwrap_or((
         output
             .trajectory

@@ -185,3 +185,52 @@ fn growing_options_are_checked() {
         assert!(err.contains(needle), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn a_region_set_grows_with_its_old_points_fixed_and_every_point_inside() {
+    let d = TempDir::new("region");
+    let (a, b, pic) = (d.0.join("a.csv"), d.0.join("b.csv"), d.0.join("b.png"));
+    let region = ["--shape", "ball:1", "-s", "2", "--steps", "300", "-q"];
+    let o = bin()
+        .args(["generate", "-n", "30"])
+        .args(region)
+        .arg("-o")
+        .arg(&a)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = bin()
+        .args(["generate", "-n", "15", "--extend"])
+        .arg(&a)
+        .args(region)
+        .arg("-o")
+        .arg(&b)
+        .arg("--plot")
+        .arg(&pic)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let (old, union) = (
+        stillpoint::io::read_points(&a).unwrap(),
+        stillpoint::io::read_points(&b).unwrap(),
+    );
+    assert_eq!(union.n(), 45);
+    assert_eq!(&union.as_slice()[..60], old.as_slice());
+    for r in union.rows() {
+        assert!(
+            r[0] * r[0] + r[1] * r[1] <= 1.0 + 1e-12,
+            "{r:?} outside the disc"
+        );
+    }
+    // The new points keep away from the old ones: no new point sits on an old one.
+    let min_new_to_old = union
+        .rows()
+        .skip(30)
+        .flat_map(|p| {
+            old.rows()
+                .map(move |q| ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt())
+        })
+        .fold(f64::INFINITY, f64::min);
+    assert!(min_new_to_old > 0.05, "{min_new_to_old}");
+    assert!(pic.exists());
+}

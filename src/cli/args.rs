@@ -204,6 +204,10 @@ pub(crate) enum Command {
         /// Title above the picture (default: the file name).
         #[arg(long)]
         title: Option<String>,
+        /// Draw the first K points in one colour and the rest in another (the old and
+        /// new points of a `generate --extend` result). s = 2 only.
+        #[arg(long, value_name = "K")]
+        split: Option<usize>,
     },
     /// Print the quality of any point file (CSV, TSV, whitespace, JSON, .npy).
     Eval {

@@ -223,6 +223,7 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
             shape,
             trajectory,
             title,
+            split,
         } => {
             check_writable(&output, "-o")?;
             check_picture_extension(&output, "-o")?;
@@ -234,7 +235,7 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
                         bbox: bbox.as_deref(),
                         shape: shape.as_deref(),
                     };
-                    plot_points(&file, &output, dims, spec, title)?
+                    plot_points(&file, &output, dims, spec, title, split)?
                 }
                 (None, None) => {
                     bail!("missing FILE: the point file to draw (or --trajectory TRAJ)")

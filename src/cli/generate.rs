@@ -165,6 +165,14 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     let cfg = if region.is_some() || shape.is_some() {
         let domain = region_domain(region.as_deref(), bbox.as_deref(), shape.as_deref(), s)?;
         let n = n.context("missing -n N: the number of points (at least 1)")?;
+        if nested.is_some() {
+            bail!("invalid --nested in a region: nested sets are made for the integration goal in the cube; grow a region's set with --extend");
+        }
+        let old = match &extend {
+            Some(path) => Some(io::read_points(path).context("--extend")?),
+            None => None,
+        };
+        let n = n + old.as_ref().map_or(0, |p| p.n());
         if let Some(precision) = precision {
             bail!(
                 "invalid --precision = {} for a region: it sets U_{{q,p}}'s distance, which \
@@ -214,6 +222,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
                  (the cube only)"
             );
         }
+        cfg.extend = old;
         cfg
     } else {
         if bbox.is_some() {
@@ -365,7 +374,14 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
             Some(d) => d.clone(),
             None => Arc::new(crate::PeriodicCube::new(cfg.s)?),
         };
-        plot_start_result(path, &report.start, &report.output.points, domain.as_ref())?;
+        let old = cfg.extend.as_ref().map(|p| p.n());
+        plot_start_result(
+            path,
+            &report.start,
+            &report.output.points,
+            domain.as_ref(),
+            old,
+        )?;
     }
     let summary = match (json, cfg.region().is_some()) {
         (true, false) => report_json(&report, &cfg)?,

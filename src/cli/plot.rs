@@ -10,8 +10,17 @@ pub(crate) fn plot_points(
     dims: Option<usize>,
     spec: RegionSpec,
     title: Option<String>,
+    split: Option<usize>,
 ) -> Result<()> {
     let points = io::read_points(file)?;
+    if let Some(k) = split {
+        if k > points.n() {
+            bail!(
+                "invalid --split = {k}: the file has {} points (expected 0 ≤ K ≤ n)",
+                points.n()
+            );
+        }
+    }
     let s = points.s();
     let k = dims.unwrap_or(s.min(4));
     if k == 0 || k > s {
@@ -58,6 +67,7 @@ pub(crate) fn plot_points(
             lo: [lo[0], lo[1]],
             hi: [hi[0], hi[1]],
             boundary,
+            split,
         };
         crate::plot::save_panels(output, &[panel], 1)?;
     } else {
@@ -205,6 +215,7 @@ pub(crate) fn plot_start_result(
     start: &PointSet,
     result: &PointSet,
     domain: &dyn Domain,
+    old: Option<usize>,
 ) -> Result<()> {
     if start.s() < 2 {
         bail!("invalid --plot: the points have s = 1; plots need s ≥ 2");
@@ -228,6 +239,7 @@ pub(crate) fn plot_start_result(
             lo: lo2,
             hi: hi2,
             boundary: boundary.clone(),
+            split: old,
         },
         crate::plot::Panel {
             title: "result".into(),
@@ -235,6 +247,7 @@ pub(crate) fn plot_start_result(
             lo: lo2,
             hi: hi2,
             boundary,
+            split: old,
         },
     ];
     crate::plot::save_panels(path, &panels, 2)?;

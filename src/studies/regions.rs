@@ -117,6 +117,7 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
             lo,
             hi,
             boundary: boundary.clone(),
+            split: None,
         }];
         for (r, steps) in results.iter().zip(budgets) {
             panels.push(plot::Panel {
@@ -125,6 +126,7 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
                 lo,
                 hi,
                 boundary: boundary.clone(),
+                split: None,
             });
         }
         let pic = opts.out.join(format!("fig9_g{i}.png"));
