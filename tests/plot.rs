@@ -141,6 +141,7 @@ fn panels<'a>(start: &'a PointSet, result: &'a PointSet) -> Vec<Panel<'a>> {
             lo: [0.0, 0.0],
             hi: [1.0, 1.0],
             boundary: Vec::new(),
+            split: None,
         },
         Panel {
             title: "result after DEM".to_string(),
@@ -148,6 +149,7 @@ fn panels<'a>(start: &'a PointSet, result: &'a PointSet) -> Vec<Panel<'a>> {
             lo: [0.0, 0.0],
             hi: [1.0, 1.0],
             boundary: boundary_polylines(&circle, [0.0, 0.0], [1.0, 1.0], 100),
+            split: None,
         },
     ]
 }
@@ -260,6 +262,7 @@ fn bad_panels_are_refused_clearly() {
         lo: [0.0, 0.0],
         hi: [1.0, 1.0],
         boundary: Vec::new(),
+        split: None,
     };
     let m = save_panels(&path, &[one_d], 1).unwrap_err().to_string();
     assert!(m.contains("1-D") && m.contains("at least 2"), "{m}");
@@ -275,6 +278,7 @@ fn bad_panels_are_refused_clearly() {
             lo,
             hi,
             boundary: Vec::new(),
+            split: None,
         };
         let m = save_panels(&path, &[panel], 1).unwrap_err().to_string();
         assert!(m.contains("lo < hi"), "{m}");
@@ -287,6 +291,7 @@ fn bad_panels_are_refused_clearly() {
             lo: [0.0, 0.0],
             hi: [1.0, 1.0],
             boundary: Vec::new(),
+            split: None,
         })
         .collect();
     let e = save_panels(&path, &many, 40).unwrap_err();
@@ -313,6 +318,7 @@ fn columns_are_clamped_and_odd_input_is_drawn() {
         lo: [0.25, 0.25],
         hi: [0.5, 0.75],
         boundary: vec![vec![[0.3, 0.3], [f64::NAN, 0.4], [0.4, 0.4], [0.45, 0.6]]],
+        split: None,
     });
     let path = dir.path("three.svg");
     save_panels(&path, &three, 0).unwrap();
@@ -344,6 +350,7 @@ fn boundary_lines_are_clipped_to_the_box() {
         lo: [0.0, 0.0],
         hi: [1.0, 1.0],
         boundary,
+        split: None,
     };
     // Entirely outside: plotters would pin it to the frame's corner; nothing may show.
     let outside = boundary_polylines(&far, [4.0, 4.0], [6.0, 6.0], 50);
