@@ -68,6 +68,7 @@ fn main() -> anyhow::Result<()> {
                 lo,
                 hi,
                 boundary: boundary.clone(),
+                split: None,
             },
             plot::Panel {
                 title: format!("g{i}: DEM, U_{{E,∞,g}}, 10 000 steps"),
@@ -75,6 +76,7 @@ fn main() -> anyhow::Result<()> {
                 lo,
                 hi,
                 boundary,
+                split: None,
             },
         ];
         plot::save_panels(&out.join(format!("g{i}.png")), &panels, 2)?;
