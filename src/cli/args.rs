@@ -17,10 +17,15 @@ pub(crate) struct Cli {
     pub(crate) command: Command,
 }
 
+/// The heading of the options of the paper's pipeline in `generate --help`, after the
+/// few that most runs need.
+const EXPERT: &str = "Expert options: the paper's pipeline (any of them selects --method paper)";
+
 /// The options of `stillpoint generate`.
 #[derive(clap::Args)]
 pub(crate) struct GenerateArgs {
-    /// Number of points n ≥ 1 (taken from --init FILE when omitted).
+    /// Number of points n ≥ 1 (with --extend: the number of points to add; taken from
+    /// --init FILE when omitted).
     #[arg(short = 'n', value_name = "N")]
     pub(crate) n: Option<usize>,
     /// Dimension s ≥ 1 (taken from --init FILE when omitted).
@@ -64,6 +69,7 @@ pub(crate) struct GenerateArgs {
     /// region, p from --p, default 8).
     #[arg(long, value_name = "NAME")]
     #[arg(value_parser = energy_arg)]
+    #[arg(help_heading = EXPERT)]
     pub(crate) energy: Option<EnergyArg>,
     /// A region {x : g(x) ≤ 0}: g as an expression in x1..xs (or x, y, z), e.g.
     /// "|x| + 2*|y| - 5". Needs --box.
@@ -84,26 +90,32 @@ pub(crate) struct GenerateArgs {
     /// q of U_{q,p}: a number > 0, `inf` (torus distance) or `E` (Euclidean).
     /// Default: eq. 48 of the paper for (n, s).
     #[arg(long, value_name = "Q", allow_hyphen_values = true)]
+    #[arg(help_heading = EXPERT)]
     pub(crate) q: Option<String>,
     /// p of U_{q,p}: a number > 0. Default: eq. 48 of the paper for (n, s).
     #[arg(long, value_name = "P", allow_hyphen_values = true)]
+    #[arg(help_heading = EXPERT)]
     pub(crate) p: Option<f64>,
     /// How U_{q,p}'s distance is evaluated during the run for 0.01 ≤ q ≤ 2: `fast` (a
     /// table of cubics, each coordinate's h² within 4e-9; about twice as fast) or `full`
     /// (within 1e-12). Reported energies are always full. Default: fast.
     #[arg(long, value_name = "fast|full", value_parser = precision_arg)]
+    #[arg(help_heading = EXPERT)]
     pub(crate) precision: Option<Precision>,
     /// The solver: `dem` (the paper's damped dynamics) or `lbfgs` (argmin's L-BFGS
     /// with restarts), in the cube or a region.
     #[arg(long, value_name = "dem|lbfgs", value_parser = integrator_arg)]
+    #[arg(help_heading = EXPERT)]
     pub(crate) integrator: Option<Solver>,
     /// Step budget of the DEM (default 1000 in the cube, as in the paper; 10 000 in a
     /// region, where U_{E,∞,g} moves only its active elements at each step).
     #[arg(long, value_name = "K")]
+    #[arg(help_heading = EXPERT)]
     pub(crate) steps: Option<usize>,
     /// Start: `halton` (plain, indices 1..n; the cube's default), `random` (a region's
     /// default: uniform in the box, the first n inside), or a point file.
     #[arg(long, value_name = "halton|random|FILE")]
+    #[arg(help_heading = EXPERT)]
     pub(crate) init: Option<String>,
     /// Seed for every random choice: the scrambles of the integration goal's starts, the
     /// randomisation, the random start.
@@ -117,6 +129,7 @@ pub(crate) struct GenerateArgs {
         allow_hyphen_values = true,
         value_parser = kappa_arg
     )]
+    #[arg(help_heading = EXPERT)]
     pub(crate) kappa: Option<Kappa>,
     /// Restart for unbiasedness (§4.3): `auto` (ε_p = 2/n), `off`, or ε_p > 0.
     #[arg(
@@ -125,40 +138,48 @@ pub(crate) struct GenerateArgs {
         allow_hyphen_values = true,
         value_parser = restart_arg
     )]
+    #[arg(help_heading = EXPERT)]
     pub(crate) restart: Option<Restart>,
     /// Polish the result with L-BFGS on a squared discrepancy: `md`, `l2star`, `cd`,
-    /// `periodic`, or `none`. The best points we know how to make: the DEM spreads the
-    /// points, the shift places them, the polish lowers the chosen discrepancy.
+    /// `periodic`, or `none`; it runs after the DEM and the shift selection.
     #[arg(long, value_name = "KIND", value_parser = polish_arg)]
+    #[arg(help_heading = EXPERT)]
     pub(crate) polish: Option<PolishChoice>,
     /// Stop early when every coordinate step and every force step |G f|/A0 is below
     /// this (0: always use the whole budget).
     #[arg(long, value_name = "TOL", allow_hyphen_values = true)]
+    #[arg(help_heading = EXPERT)]
     pub(crate) tolerance: Option<f64>,
     /// Periodic shifts tried after the DEM (0: none). The energy is unchanged by a
     /// shift on the torus, the discrepancies are not: the shift with the smallest
     /// modified L2 discrepancy is kept.
     #[arg(long, value_name = "K")]
+    #[arg(help_heading = EXPERT)]
     pub(crate) shifts: Option<usize>,
     /// Record D_L2* and D_MD every K steps in the trajectory (default 10 with
     /// --trajectory, else never).
     #[arg(long, value_name = "K")]
+    #[arg(help_heading = EXPERT)]
     pub(crate) log_every: Option<usize>,
     /// Write the trajectory (energy each step, discrepancies every --log-every steps)
     /// as JSON to FILE.
     #[arg(long, value_name = "FILE")]
+    #[arg(help_heading = EXPERT)]
     pub(crate) trajectory: Option<PathBuf>,
     /// Save the DEM's whole state to FILE every --checkpoint-every steps (atomically),
     /// so that an interrupted run can be continued with --resume.
     #[arg(long, value_name = "FILE")]
+    #[arg(help_heading = EXPERT)]
     pub(crate) checkpoint: Option<PathBuf>,
     /// Steps between two checkpoints.
     #[arg(long, default_value_t = 100, value_name = "K")]
+    #[arg(help_heading = EXPERT)]
     pub(crate) checkpoint_every: usize,
     /// Continue from a checkpoint (FILE, or the --checkpoint file when no FILE is
     /// given). Every other option must be as in the run that wrote it; the result is
     /// the same bytes as an uninterrupted run.
     #[arg(long, value_name = "FILE", num_args = 0..=1)]
+    #[arg(help_heading = EXPERT)]
     pub(crate) resume: Option<Option<PathBuf>>,
     /// Print the report as one JSON object instead of a table.
     #[arg(long)]
@@ -172,7 +193,8 @@ pub(crate) struct GenerateArgs {
 #[allow(clippy::large_enum_variant)]
 #[derive(Subcommand)]
 pub(crate) enum Command {
-    /// Generate n points in [0,1)^s with the DEM and print their quality before and after.
+    /// Generate n points in [0,1)^s or a region — for integration (the default) or a
+    /// space-filling design — and print their quality.
     Generate(Box<GenerateArgs>),
     /// Draw a point file (a scatter plot for s = 2, a matrix of 2-D projections of the
     /// first --dims coordinates for s > 2), or a run's trajectory (--trajectory), as PNG

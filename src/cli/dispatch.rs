@@ -79,6 +79,12 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
             }
             let b = Baseline::parse(&name)?;
             let points = b.generate(n, s, seed)?;
+            if b == Baseline::Sobol && !n.is_power_of_two() {
+                eprintln!(
+                    "note: n = {n} is not a power of two; Sobol' points are balanced (one per \
+                     elementary interval, stratified in every coordinate) only at n = 2^k"
+                );
+            }
             let metrics = (n <= METRICS_LIMIT).then(|| Metrics::compute(&points));
             let meta = json!({
                 "generator": format!("stillpoint baseline {}", b.name()),
@@ -110,8 +116,13 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
                     io::write_points(path, &points, &meta)?;
                     let quality = match metrics {
                         Some(m) => format!(
-                            "D_MD {:.6}, D_L2* {:.6}, minimum distance {:.6}",
-                            m.modified_l2, m.star_l2, m.min_distance
+                            "D_MD {:.6}, D_L2* {:.6}, centred L2 {:.6}, wrap-around L2 {:.6}, \
+                             minimum distance {:.6}",
+                            m.modified_l2,
+                            m.star_l2,
+                            m.centered_l2,
+                            m.wrap_around_l2,
+                            m.min_distance
                         ),
                         None => format!("metrics skipped above n = {METRICS_LIMIT}"),
                     };

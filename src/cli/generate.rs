@@ -347,6 +347,33 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         cfg.nested = stages;
         cfg
     };
+    // Say what is unusual before the run starts.
+    if !quiet && cfg.goal == run::Goal::Paper {
+        if matches!(cfg.energy, EnergyKind::Discrepancy(_)) && cfg.solver == Solver::Dem {
+            eprintln!(
+                "note: the DEM is unstable on a discrepancy energy and returns its lowest early \
+                 state; --integrator lbfgs is the solver for discrepancy energies"
+            );
+        }
+        let fit = paper_qp(cfg.n, cfg.s);
+        if cfg.region().is_none()
+            && cfg.energy == EnergyKind::Uqp
+            && (cfg.q.is_none() || cfg.p.is_none())
+            && !fit.in_fitted_range
+        {
+            eprintln!(
+                "note: (n, s) = ({}, {}) lies outside the range eq. 48 was fitted on \
+                 (1 ≤ s ≤ 20, s ≤ n ≤ 1500): q and p are extrapolated{}",
+                cfg.n,
+                cfg.s,
+                if fit.q != fit.raw_q || fit.p != fit.raw_p {
+                    " and clamped into [0.05, 1]"
+                } else {
+                    ""
+                }
+            );
+        }
+    }
     // Say so before a long run starts, with what makes it cheaper.
     if !quiet && !matches!(cfg.goal, run::Goal::Integration(_)) {
         let estimate = run::estimate_seconds(&cfg)?;

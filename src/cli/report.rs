@@ -336,8 +336,12 @@ pub(crate) fn report_table(
     );
     if let Some(sh) = &r.shift {
         t += &format!(
-            "\n  shift selection: D_MD {:.6} after the DEM → {:.6} with shift ({}) ({} evaluations)\n",
+            "\n  shift selection: D_MD {:.6} after the {} → {:.6} with shift ({}) ({} evaluations)\n",
             sh.modified_l2_before,
+            match cfg.solver {
+                Solver::Dem => "DEM",
+                Solver::Lbfgs => "L-BFGS run",
+            },
             sh.modified_l2_after,
             sh.shift.iter().map(|c| format!("{c:.4}")).collect::<Vec<_>>().join(", "),
             sh.evaluations
