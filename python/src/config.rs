@@ -87,7 +87,10 @@ impl OptValue {
 /// takes. New options of the run configuration get one line here and one arm in
 /// [`apply_option`].
 pub const OPTIONS: &[(&str, &str)] = &[
-    ("q", "a number > 0, 'inf' (torus distance) or 'E' (Euclidean)"),
+    (
+        "q",
+        "a number > 0, 'inf' (torus distance) or 'E' (Euclidean)",
+    ),
     ("p", "a finite number > 0"),
     ("precision", "'fast' or 'full'"),
     ("init", "'halton', 'random' or an (n, d) array of points"),
@@ -153,7 +156,10 @@ impl GenerateArgs {
             Some(d) => Some(d as usize),
             None => None,
         };
-        let method = self.method.as_deref().map(|m| m.trim().to_ascii_lowercase());
+        let method = self
+            .method
+            .as_deref()
+            .map(|m| m.trim().to_ascii_lowercase());
         match method.as_deref() {
             None | Some("dem") => {}
             Some(name) => {
@@ -189,7 +195,11 @@ impl GenerateArgs {
                 return Ok(Plan::Baseline(baseline, n, d, seed));
             }
         }
-        let solver = match self.integrator.as_deref().map(|t| t.trim().to_ascii_lowercase()) {
+        let solver = match self
+            .integrator
+            .as_deref()
+            .map(|t| t.trim().to_ascii_lowercase())
+        {
             None => Solver::Dem,
             Some(t) if t == "dem" => Solver::Dem,
             Some(t) if t == "lbfgs" || t == "l-bfgs" => Solver::Lbfgs,
@@ -324,11 +334,17 @@ pub fn apply_option(cfg: &mut GenerateConfig, key: &str, value: &OptValue) -> Re
     match key {
         "q" => {
             if region {
-                return Err(invalid("q", value, "no q in a region (U_{q,p} is an energy of the cube)"));
+                return Err(invalid(
+                    "q",
+                    value,
+                    "no q in a region (U_{q,p} is an energy of the cube)",
+                ));
             }
             let text = match value {
                 OptValue::Str(s) => s.clone(),
-                OptValue::Int(_) | OptValue::Float(_) => value.number("q", expected("q"))?.to_string(),
+                OptValue::Int(_) | OptValue::Float(_) => {
+                    value.number("q", expected("q"))?.to_string()
+                }
                 other => return Err(invalid("q", other, expected("q"))),
             };
             cfg.q = Some(Distance::parse(&text).map_err(|_| invalid("q", value, expected("q")))?);
@@ -341,7 +357,11 @@ pub fn apply_option(cfg: &mut GenerateConfig, key: &str, value: &OptValue) -> Re
             match cfg.energy {
                 EnergyKind::EpG(_) => cfg.energy = EnergyKind::EpG(p),
                 _ if region => {
-                    return Err(invalid("p", value, "p only with energy='e-p-g' in a region"))
+                    return Err(invalid(
+                        "p",
+                        value,
+                        "p only with energy='e-p-g' in a region",
+                    ))
                 }
                 _ => cfg.p = Some(p),
             }
@@ -436,7 +456,7 @@ pub fn apply_option(cfg: &mut GenerateConfig, key: &str, value: &OptValue) -> Re
 /// `box` as (lo, hi): two finite numbers per dimension, lo < hi, a usable width.
 pub fn parse_box(v: &[f64]) -> Result<(Vec<f64>, Vec<f64>), Refusal> {
     let shown = || format!("{v:?}");
-    if v.is_empty() || v.len() % 2 != 0 {
+    if v.is_empty() || !v.len().is_multiple_of(2) {
         return Err(invalid(
             "box",
             shown(),
@@ -669,7 +689,10 @@ mod tests {
             seed: 3,
             ..args(8, 2)
         };
-        assert!(matches!(b.plan().unwrap(), Plan::Baseline(Baseline::Sobol, 8, 2, 3)));
+        assert!(matches!(
+            b.plan().unwrap(),
+            Plan::Baseline(Baseline::Sobol, 8, 2, 3)
+        ));
     }
 
     #[test]

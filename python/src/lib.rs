@@ -33,10 +33,7 @@ fn value_error(message: impl std::fmt::Display) -> PyErr {
 
 /// Runs `f` without the GIL; a library refusal becomes a `ValueError`, a panic a
 /// `RuntimeError`.
-fn detached<T: Send>(
-    py: Python<'_>,
-    f: impl FnOnce() -> Result<T, String> + Send,
-) -> PyResult<T> {
+fn detached<T: Send>(py: Python<'_>, f: impl FnOnce() -> Result<T, String> + Send) -> PyResult<T> {
     let outcome = py.detach(move || catch_unwind(AssertUnwindSafe(f)));
     match outcome {
         Ok(Ok(v)) => Ok(v),
@@ -132,9 +129,7 @@ impl Progress {
                 eprint!("\rstillpoint: {name}");
             }
             Event::Progress(step) => {
-                let due = self
-                    .last
-                    .is_none_or(|t| t.elapsed().as_secs_f64() >= 0.2);
+                let due = self.last.is_none_or(|t| t.elapsed().as_secs_f64() >= 0.2);
                 if due {
                     self.last = Some(Instant::now());
                     match self.steps {
@@ -312,10 +307,14 @@ fn baseline<'py>(
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let b = Baseline::parse(name).map_err(value_error)?;
     if n < 1 {
-        return Err(value_error(format!("invalid n = {n}: expected at least 1 point")));
+        return Err(value_error(format!(
+            "invalid n = {n}: expected at least 1 point"
+        )));
     }
     if d < 1 {
-        return Err(value_error(format!("invalid d = {d}: expected at least 1 dimension")));
+        return Err(value_error(format!(
+            "invalid d = {d}: expected at least 1 dimension"
+        )));
     }
     let points = detached(py, move || {
         b.generate(n as usize, d as usize, seed)
