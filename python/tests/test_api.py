@@ -182,3 +182,28 @@ def test_bad_arguments_are_value_errors_naming_them(call, names):
     with pytest.raises(ValueError) as info:
         call()
     assert names in str(info.value)
+
+
+def test_long_calls_release_the_gil():
+    import threading
+    import time
+
+    x = np.random.default_rng(6).random((6000, 10))
+    done = threading.Event()
+
+    def work():
+        for _ in range(3):
+            sp.discrepancy(x, "cd")
+        done.set()
+
+    t = threading.Thread(target=work)
+    start = time.perf_counter()
+    t.start()
+    ticks = 0
+    while not done.is_set():
+        ticks += 1
+        time.sleep(0)
+    t.join()
+    elapsed = time.perf_counter() - start
+    # With the GIL held through each call, this thread could not run meanwhile.
+    assert elapsed > 0.02 and ticks > 100
