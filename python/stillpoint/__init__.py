@@ -42,7 +42,7 @@ __all__ = [
 _ENGINE_REFUSES = ("n", "d", "region", "box", "shape", "bounds")
 
 
-def _int(name: str, value: Any, lowest: int, highest: Optional[int] = None) -> int:
+def _int(name: str, value: Any, lowest: int, highest: Optional[int] = 2**63 - 1) -> int:
     """An integer argument (Python or NumPy integer) within [lowest, highest]."""
     try:
         v = operator.index(value)

@@ -146,6 +146,8 @@ def test_baselines_are_described():
         (lambda: sp.generate(-3, 2), "invalid n = -3"),
         (lambda: sp.generate(2.5, 2), "invalid n = 2.5"),
         (lambda: sp.generate(10, 0), "invalid d = 0"),
+        (lambda: sp.generate(2**70, 2), "invalid n = 1180591620717411303424"),
+        (lambda: sp.generate(10**12, 20), "invalid n = 1000000000000: expected at most"),
         (lambda: sp.generate(10, 2, seed=-1), "invalid seed = -1"),
         (lambda: sp.generate(10, 2, steps=0), "invalid steps = 0"),
         (lambda: sp.generate(10, 2, energy="nope"), "invalid energy"),
