@@ -1,0 +1,484 @@
+"""stillpoint: evenly spread point sets in [0, 1)^d as NumPy arrays.
+
+The points are the static solution of a damped many-body problem (the dynamical
+evolutionary model): :func:`generate` gives exactly what ``stillpoint generate -n N -s D``
+writes, :func:`metrics` what ``stillpoint eval --json`` prints, :func:`baseline` the
+classic sequences (scrambled Sobol', Halton, lattices, Latin hypercubes, ...),
+:func:`integrate` the paper's test integrals, and :class:`Engine` a SciPy
+``scipy.stats.qmc.QMCEngine`` that draws randomly shifted copies of an optimised set
+(usable with ``scipy.integrate.qmc_quad``).
+
+Every function accepts any array-like of points (lists, float32, Fortran order: they are
+cast to C-ordered float64) and returns float64 arrays of shape (n, d). Every refusal is a
+``ValueError`` whose message names the argument; the long computations release the GIL.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import operator
+import threading
+from typing import Any, Callable, Dict, Optional, Sequence, Tuple
+
+import numpy as np
+
+from . import _core
+
+__version__: str = _core.__version__
+
+__all__ = [
+    "Engine",
+    "baseline",
+    "baselines",
+    "discrepancy",
+    "generate",
+    "integrate",
+    "metrics",
+]
+
+# Arguments of `generate` that an Engine sets itself or cannot take (it draws in the
+# unit cube).
+_ENGINE_REFUSES = ("n", "d", "region", "box", "shape", "bounds")
+
+
+def _int(name: str, value: Any, lowest: int, highest: Optional[int] = 2**63 - 1) -> int:
+    """An integer argument (Python or NumPy integer) within [lowest, highest]."""
+    try:
+        v = operator.index(value)
+    except TypeError:
+        raise ValueError(
+            f"invalid {name} = {value!r}: expected an integer >= {lowest}"
+        ) from None
+    if isinstance(value, bool):
+        raise ValueError(f"invalid {name} = {value!r}: expected an integer >= {lowest}")
+    if v < lowest or (highest is not None and v > highest):
+        upper = f" and <= {highest}" if highest is not None else ""
+        raise ValueError(f"invalid {name} = {v}: expected an integer >= {lowest}{upper}")
+    return v
+
+
+def _seed(value: Any) -> int:
+    return _int("seed", value, 0, 2**64 - 1)
+
+
+def _points(x: Any, name: str = "x") -> np.ndarray:
+    """`x` as a C-ordered float64 array of shape (n, d)."""
+    try:
+        a = np.ascontiguousarray(x, dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise ValueError(
+            f"invalid {name}: expected an (n, d) array of numbers ({e})"
+        ) from None
+    if a.ndim != 2:
+        raise ValueError(
+            f"invalid {name} of shape {a.shape}: expected a 2-D array of shape (n, d)"
+        )
+    if a.shape[0] == 0 or a.shape[1] == 0:
+        raise ValueError(
+            f"invalid {name} of shape {a.shape}: expected at least 1 point in at least "
+            "1 dimension"
+        )
+    return a
+
+
+def _box(value: Any) -> Optional[list]:
+    """`box` as [lo1, hi1, lo2, hi2, ...]: from that list, from pairs, or from the
+    command line's text "LO1,HI1,LO2,HI2"."""
+    if value is None:
+        return None
+    if isinstance(value, str):
+        try:
+            return [float(t) for t in value.split(",")]
+        except ValueError:
+            raise ValueError(
+                f"invalid box = {value!r}: expected comma-separated numbers "
+                "LO1,HI1,LO2,HI2,..."
+            ) from None
+    try:
+        a = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"invalid box = {value!r}: expected [lo1, hi1, lo2, hi2, ...] or "
+            "[(lo1, hi1), (lo2, hi2), ...]"
+        ) from None
+    if a.ndim == 2 and a.shape[1] != 2:
+        raise ValueError(
+            f"invalid box of shape {a.shape}: expected pairs (lo, hi), shape (d, 2)"
+        )
+    if a.ndim not in (1, 2):
+        raise ValueError(
+            f"invalid box of shape {a.shape}: expected [lo1, hi1, ...] or (d, 2) pairs"
+        )
+    return [float(v) for v in a.ravel()]
+
+
+def _scale(x: np.ndarray, bounds: Any) -> np.ndarray:
+    """Maps points of [0, 1)^d to the box [lo, hi) as ``scipy.stats.qmc.scale`` does:
+    lo + x (hi - lo)."""
+    try:
+        lo, hi = bounds
+        lo = np.broadcast_to(np.asarray(lo, dtype=np.float64), (x.shape[1],))
+        hi = np.broadcast_to(np.asarray(hi, dtype=np.float64), (x.shape[1],))
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"invalid bounds = {bounds!r}: expected (lo, hi), each a number or "
+            f"{x.shape[1]} numbers"
+        ) from None
+    if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(lo < hi)):
+        raise ValueError(
+            f"invalid bounds = {bounds!r}: expected finite lo < hi in every dimension"
+        )
+    return lo + x * (hi - lo)
+
+
+def _options(options: Dict[str, Any]) -> Dict[str, Any]:
+    """The keyword options, with a point set given as ``init=`` cast like any input."""
+    out = dict(options)
+    init = out.get("init")
+    if init is not None and not isinstance(init, str):
+        out["init"] = _points(init, "init")
+    return out
+
+
+def _core_args(
+    n: Any,
+    d: Any,
+    seed: Any,
+    steps: Any,
+    box: Any,
+    later: Dict[str, Any],
+) -> Tuple[int, Optional[int], int, Optional[int], Optional[list], Dict[str, Any]]:
+    n = _int("n", n, 1)
+    d = None if d is None else _int("d", d, 1)
+    steps = None if steps is None else _int("steps", steps, 1)
+    return n, d, _seed(seed), steps, _box(box), _options(later)
+
+
+def _check_generate(
+    n: Any,
+    d: Any = None,
+    *,
+    seed: Any = 0,
+    steps: Any = None,
+    box: Any = None,
+    progress: bool = False,
+    **rest: Any,
+) -> None:
+    """Refuses what :func:`generate` would refuse before its run, without running."""
+    named = {k: rest.pop(k) for k in ("method", "energy", "integrator", "region", "shape")
+             if k in rest}
+    n, d, seed, steps, box, options = _core_args(n, d, seed, steps, box, rest)
+    _core.check_generate(n, d, seed=seed, steps=steps, box=box, **named, **options)
+
+
+def generate(
+    n: int,
+    d: Optional[int] = None,
+    *,
+    seed: int = 0,
+    method: Optional[str] = None,
+    energy: Optional[str] = None,
+    integrator: Optional[str] = None,
+    steps: Optional[int] = None,
+    region: Optional[str] = None,
+    box: Any = None,
+    shape: Optional[str] = None,
+    bounds: Any = None,
+    progress: bool = False,
+    **later: Any,
+) -> np.ndarray:
+    """n evenly spread points in [0, 1)^d (or in a region), an array of shape (n, d).
+
+    With the defaults this is exactly ``stillpoint generate -n N -s D`` (the same
+    float64 values as its ``.npy`` output): U_{q,p} with (q, p) from the paper's eq. 48,
+    a plain Halton start, 1000 steps of the damped dynamics, then the best of 64
+    periodic shifts.
+
+    Parameters
+    ----------
+    n, d : int
+        Number of points (>= 1) and dimension (>= 1; may be omitted when ``region`` /
+        ``shape`` gives it).
+    seed : int
+        Seed of every random choice (the random start; a baseline's scramble).
+    method : str, optional
+        ``'dem'`` (default: the energy pipeline above) or a baseline's name
+        (``'sobol'``, ``'halton-scrambled'``, ``'lhs'``, ... see :func:`baselines`),
+        which then takes only n, d and seed.
+    energy : str, optional
+        In the cube ``'uqp'`` (default), ``'e-inf'``, ``'l2star'``, ``'md'``, ``'cd'``,
+        ``'periodic'``; in a region ``'e-inf-g'`` (default), ``'e-inf'``, ``'e-p-g'``.
+    integrator : str, optional
+        ``'dem'`` (default) or ``'lbfgs'``.
+    steps : int, optional
+        Step budget (default 1000 in the cube, 10 000 in a region).
+    region, box : optional
+        A region {x : g(x) <= 0} with g an expression in x1..xd (or x, y, z), e.g.
+        ``"x^2 + y^2 - 1"``, and its bounding box ``[lo1, hi1, lo2, hi2, ...]`` (or pairs,
+        or the command line's text ``"-1,1,-1,1"``).
+    shape : str, optional
+        A built-in region as the command line writes it: ``'ball:R[@C1,C2,..]'``,
+        ``'ellipsoid:A1,A2,..[@C..]'``, ``'box:LO1,HI1,..'``, ``'simplex'``,
+        ``'polytope:FILE'`` (with ``box``).
+    bounds : (lo, hi), optional
+        Scale the points from [0, 1)^d to [lo, hi) as ``scipy.stats.qmc.scale`` does.
+    progress : bool
+        Print the stages and steps of the run on standard error.
+    **later
+        The run's further options, passed through to the library: ``q``, ``p``,
+        ``precision``, ``init`` (``'halton'``, ``'random'`` or an (n, d) array),
+        ``kappa``, ``restart``, ``tolerance``, ``polish``, ``shifts``, ``log_every``.
+        Options the library adds later are accepted here under their names; an unknown
+        name is a ``ValueError`` listing the accepted ones.
+
+    Raises
+    ------
+    ValueError
+        For any argument the library refuses, with its message (naming the argument).
+    """
+    n, d, seed, steps, box, options = _core_args(n, d, seed, steps, box, later)
+    if bounds is not None and (region is not None or shape is not None):
+        raise ValueError(
+            "invalid bounds with a region: bounds scale the unit cube; a region's points "
+            "are in its own coordinates already"
+        )
+    x = _core.generate(
+        n,
+        d,
+        seed=seed,
+        method=method,
+        energy=energy,
+        integrator=integrator,
+        steps=steps,
+        region=region,
+        box=box,
+        shape=shape,
+        progress=bool(progress),
+        **options,
+    )
+    if bounds is not None:
+        x = _scale(x, bounds)
+    return x
+
+
+def metrics(x: Any) -> Dict[str, Any]:
+    """Every figure ``stillpoint eval --json`` prints for points in [0, 1]^d, as a dict
+    with the same keys and values: ``n``, ``s``, the discrepancies ``star_l2``,
+    ``modified_l2``, ``centered_l2``, ``wrap_around_l2`` (roots), ``min_distance``,
+    ``min_distance_periodic``, ``energy_uqp`` (with ``energy_uqp_q``, ``energy_uqp_p``),
+    ``energy_e_inf``, ``mean_gap`` and ``notes`` (what each ``None`` stands for).
+    O(n^2 d) time; the GIL is released meanwhile.
+    """
+    return json.loads(_core.metrics_json(_points(x)))
+
+
+def discrepancy(x: Any, kind: str = "md") -> float:
+    """One L2 discrepancy of points in [0, 1]^d, always the root (never the square).
+
+    ``kind``:
+
+    - ``'l2star'``: star L2 (Warnock), the paper's D_L2. Equals
+      ``scipy.stats.qmc.discrepancy(x, method='L2-star')`` (SciPy returns the root).
+    - ``'md'``: modified L2 (Hickernell), the paper's D_MD. **Not** SciPy's
+      ``method='MD'``, which is the *mixture* discrepancy; SciPy has no equivalent.
+    - ``'cd'``: centred L2. Its square equals SciPy's ``method='CD'`` (SciPy returns
+      the square).
+    - ``'wd'``: wrap-around L2. Its square equals SciPy's ``method='WD'`` (a square
+      too).
+
+    Exact closed forms, O(n^2 d), on all cores, with the GIL released.
+    """
+    return float(_core.discrepancy(_points(x), str(kind)))
+
+
+def baseline(name: str, n: int, d: int, seed: int = 0) -> np.ndarray:
+    """n points of a classic construction in [0, 1)^d, as ``stillpoint baseline NAME``:
+    ``'random'``, ``'halton'``, ``'halton-scrambled'``, ``'sobol'`` (Owen-scrambled),
+    ``'hua-wang'``, ``'lattice'``, ``'lhs'``, ``'lhs-maximin'``. :func:`baselines`
+    describes each exactly. ``seed`` is ignored by the deterministic ones."""
+    return _core.baseline(
+        str(name), _int("n", n, 1), _int("d", d, 1), _seed(seed)
+    )
+
+
+def baselines() -> Dict[str, str]:
+    """The baselines' names with the exact description of each construction."""
+    return {name: describe for name, _label, describe in _core.baselines()}
+
+
+def integrate(x: Any, f: Optional[Callable[[np.ndarray], Any]] = None) -> Any:
+    """The equal-weight (quasi-Monte Carlo) integral of f over [0, 1]^d with the
+    points x.
+
+    With ``f=None``: the paper's eight test integrands F1-F8 (exact integral 0, unit
+    variance), as ``stillpoint integrate --json`` reports them: a dict with ``n``,
+    ``s``, ``exact`` (0.0) and ``functions``, one dict per integrand with ``function``,
+    ``formula``, ``estimate`` and ``error`` (F8 is ``None`` for d = 1).
+
+    With a vectorised callable ``f(x) -> shape (n,)``: the mean of its values, a float.
+    """
+    pts = _points(x)
+    if f is None:
+        return json.loads(_core.integrate_json(pts))
+    if not callable(f):
+        raise ValueError(f"invalid f = {f!r}: expected None or a callable f(x) -> (n,)")
+    values = np.asarray(f(pts), dtype=np.float64)
+    if values.shape != (pts.shape[0],):
+        raise ValueError(
+            f"invalid f: f(x) returned shape {values.shape}, expected ({pts.shape[0]},) "
+            "(one value per point; f must be vectorised over the rows of x)"
+        )
+    return float(np.mean(values))
+
+
+# ---------------------------------------------------------------------------------------
+# The SciPy engine.
+
+try:  # SciPy is optional: without it Engine is a plain class with the same methods.
+    from scipy.stats import qmc as _qmc
+
+    _EngineBase: type = _qmc.QMCEngine
+except ImportError:  # pragma: no cover - exercised only without SciPy
+    _qmc = None
+    _EngineBase = object
+
+_cache: Dict[Any, np.ndarray] = {}
+_cache_lock = threading.Lock()
+
+
+def _frozen(value: Any) -> Any:
+    """A hashable stand-in for a keyword value (arrays by shape and bytes)."""
+    if isinstance(value, np.ndarray):
+        return ("ndarray", value.shape, value.dtype.str, value.tobytes())
+    if isinstance(value, dict):
+        return tuple(sorted((k, _frozen(v)) for k, v in value.items()))
+    if isinstance(value, (list, tuple)):
+        return tuple(_frozen(v) for v in value)
+    try:
+        hash(value)
+        return value
+    except TypeError:
+        return repr(value)
+
+
+def _optimised(n: int, d: int, kwargs: Dict[str, Any]) -> np.ndarray:
+    """The optimised set for (n, d, kwargs), computed once per process (read-only)."""
+    key = (n, d, _frozen(kwargs))
+    with _cache_lock:
+        hit = _cache.get(key)
+    if hit is not None:
+        return hit
+    x = generate(n, d, **kwargs)
+    x.flags.writeable = False
+    with _cache_lock:
+        return _cache.setdefault(key, x)
+
+
+class Engine(_EngineBase):  # type: ignore[misc,valid-type]
+    """A randomised QMC engine: every :meth:`random` call returns the optimised set for
+    (n, d) shifted by one uniform random vector modulo 1.
+
+    The optimised set is :func:`generate` ``(n, d, **generate_kwargs)``, computed on the
+    first draw of each n and cached for the process, so later draws cost one random
+    shift. Each draw is uniformly distributed in [0, 1)^d point by point (an unbiased
+    QMC rule) and independent draws give an error estimate: with
+    ``scipy.integrate.qmc_quad(f, a, b, qrng=stillpoint.Engine(d, seed=...))`` each
+    estimate uses a freshly seeded engine, hence a new shift, and the standard error is
+    that of the randomly shifted rule.
+
+    A subclass of ``scipy.stats.qmc.QMCEngine`` when SciPy is installed (then
+    ``optimization='random-cd'`` or ``'lloyd'`` is applied after the shift, as SciPy
+    does for its engines); a plain class with the same methods otherwise.
+
+    Parameters
+    ----------
+    d : int
+        Dimension.
+    seed, rng : optional
+        Seed of the shifts: an int, a ``numpy.random.Generator`` or None (give one of
+        the two; ``rng`` is SciPy's newer name). The optimised set itself does not depend
+        on it (it is generated with ``generate``'s own ``seed``, default 0).
+    optimization : {None, 'random-cd', 'lloyd'}
+        SciPy's post-processing of each draw.
+    **generate_kwargs
+        Passed to :func:`generate` (``method``, ``energy``, ``steps``, ``seed``
+        of the run as ``generate_seed``, the options); not ``region``, ``box``,
+        ``shape`` or ``bounds`` (the engine draws in the unit cube).
+    """
+
+    def __init__(
+        self,
+        d: int,
+        *,
+        seed: Any = None,
+        rng: Any = None,
+        optimization: Optional[str] = None,
+        **generate_kwargs: Any,
+    ) -> None:
+        d = _int("d", d, 1)
+        if seed is not None and rng is not None:
+            raise ValueError("invalid seed and rng: give one of them (rng is the newer name)")
+        rng = seed if rng is None else rng
+        for key in _ENGINE_REFUSES:
+            if key in generate_kwargs:
+                raise ValueError(
+                    f"invalid {key} for Engine: it draws n points of [0, 1)^d "
+                    "(n from random(n), d from Engine(d)); scale the draws instead"
+                )
+        kwargs = dict(generate_kwargs)
+        if "generate_seed" in kwargs:
+            kwargs["seed"] = kwargs.pop("generate_seed")
+        # Refuse bad generate arguments now rather than at the first draw.
+        _check_generate(2, d, **kwargs)
+        self._generate_kwargs = kwargs
+        if _qmc is not None:
+            super().__init__(d=d, optimization=optimization, rng=rng)
+        else:
+            if optimization is not None:
+                raise ValueError(
+                    f"invalid optimization = {optimization!r}: needs SciPy (not installed)"
+                )
+            self.d = d
+            self.rng = np.random.default_rng(rng)
+            self.rng_seed = copy.deepcopy(self.rng)
+            self.num_generated = 0
+            self.optimization_method = None
+        # What scipy.integrate.qmc_quad passes to build independent copies:
+        # type(engine)(seed=..., **engine._init_quad).
+        self._init_quad = {"d": d, "optimization": optimization, **generate_kwargs}
+
+    def _random(self, n: int = 1, *, workers: int = 1) -> np.ndarray:
+        """The cached optimised set for n plus one uniform shift, modulo 1."""
+        n = _int("n", n, 1)
+        base = _optimised(n, self.d, self._generate_kwargs)
+        shift = self.rng.random(self.d)
+        x = base + shift
+        x -= np.floor(x)
+        return x
+
+    if _qmc is None:  # pragma: no cover - the methods QMCEngine provides otherwise
+
+        def random(self, n: int = 1, *, workers: int = 1) -> np.ndarray:
+            """n points: the optimised set shifted by a uniform random vector mod 1."""
+            x = self._random(n, workers=workers)
+            self.num_generated += n
+            return x
+
+        def reset(self) -> "Engine":
+            """Back to the first draw: the same shifts again."""
+            self.rng = copy.deepcopy(self.rng_seed)
+            self.num_generated = 0
+            return self
+
+    def fast_forward(self, n: int) -> "Engine":
+        """Skips one draw of n points cheaply: the shift it would have used is drawn and
+        dropped, without computing the optimised set."""
+        n = _int("n", n, 0)
+        self.rng.random(self.d)
+        self.num_generated += n
+        return self
+
+    def __repr__(self) -> str:
+        extra = "".join(f", {k}={v!r}" for k, v in self._generate_kwargs.items())
+        return f"stillpoint.Engine(d={self.d}{extra})"
