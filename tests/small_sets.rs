@@ -137,12 +137,15 @@ fn a_long_run_says_so_before_it_starts() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    let mut first = String::new();
-    BufReader::new(child.stderr.take().unwrap())
-        .read_line(&mut first)
-        .unwrap();
+    // The notes come before the run: that (n, s) is outside eq. 48's fitted range, then
+    // the estimate of the time.
+    let mut reader = BufReader::new(child.stderr.take().unwrap());
+    let (mut outside, mut first) = (String::new(), String::new());
+    reader.read_line(&mut outside).unwrap();
+    reader.read_line(&mut first).unwrap();
     let _ = child.kill();
     let _ = child.wait();
+    assert!(outside.contains("outside the range eq. 48 was fitted on"), "{outside}");
     assert!(
         first.starts_with("note: this run may take about"),
         "{first}"

@@ -14,7 +14,7 @@ use stillpoint::domains::shapes::{Ball, BoxRegion, Ellipsoid, Polytope, Simplex}
 use stillpoint::energies::discrepancy::DiscrepancyKind;
 use stillpoint::energies::{Distance, Precision};
 use stillpoint::integrators::{Kappa, Restart};
-use stillpoint::run::{EnergyKind, GenerateConfig, Init, Solver, Space};
+use stillpoint::run::{EnergyKind, GenerateConfig, Goal, Init, Randomize, Solver, Space, Target};
 use stillpoint::sequences::Baseline;
 use stillpoint::{Domain, PointSet};
 
@@ -100,7 +100,24 @@ pub const OPTIONS: &[(&str, &str)] = &[
     ("polish", "None, 'md', 'l2star', 'cd' or 'periodic'"),
     ("shifts", "an integer >= 0"),
     ("log_every", "an integer >= 0"),
+    (
+        "goal",
+        "'integration' (the cube's default) or 'space-filling' (a region's)",
+    ),
+    (
+        "target",
+        "'blend' (the default), 'md', 'l2star', 'cd' or 'periodic'",
+    ),
+    ("randomize", "None, 'cells' or 'shift'"),
+    (
+        "extend",
+        "an (m, d) array of points to keep, first and unchanged",
+    ),
+    ("nested", "increasing sizes 'N1,N2,...' ending at n"),
 ];
+
+/// The options that choose what the run is for rather than set the paper's pipeline.
+const GOAL_OPTIONS: &[&str] = &["goal", "target", "randomize", "extend", "nested"];
 
 /// What a call of `generate` asks for.
 #[derive(Debug, Clone, Default)]
@@ -161,7 +178,7 @@ impl GenerateArgs {
             .as_deref()
             .map(|m| m.trim().to_ascii_lowercase());
         match method.as_deref() {
-            None | Some("dem") => {}
+            None | Some("dem" | "paper") => {}
             Some(name) => {
                 let baseline = Baseline::parse(name).map_err(|_| {
                     invalid(
@@ -270,11 +287,165 @@ impl GenerateArgs {
         if let Some(k) = steps {
             cfg.steps = k;
         }
+        let mut chosen: Vec<(&str, &OptValue)> = Vec::new();
+        let mut expert: Vec<&str> = [
+            ("energy", self.energy.is_some()),
+            ("integrator", self.integrator.is_some()),
+            ("steps", self.steps.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(k, given)| given.then_some(k))
+        .collect();
         for (key, value) in &self.options {
-            apply_option(&mut cfg, key, value)?;
+            if GOAL_OPTIONS.contains(&key.as_str()) {
+                chosen.push((key.as_str(), value));
+            } else {
+                apply_option(&mut cfg, key, value)?;
+                expert.push(key.as_str());
+            }
         }
+        let paper = method.is_some();
+        apply_goal(&mut cfg, &chosen, &expert, paper)?;
         Ok(Plan::Run(Box::new(cfg)))
     }
+}
+
+/// What the run is for, as the command line decides it: `goal=` chooses; without it the
+/// paper's options (or `method='paper'`) choose the paper's pipeline, a region its own,
+/// and otherwise the integration goal. Then `target`, `randomize`, `extend`, `nested`.
+fn apply_goal(
+    cfg: &mut GenerateConfig,
+    chosen: &[(&str, &OptValue)],
+    expert: &[&str],
+    paper: bool,
+) -> Result<(), Refusal> {
+    let get = |k: &str| chosen.iter().find(|(key, _)| *key == k).map(|(_, v)| *v);
+    let region = cfg.region().is_some();
+    let goal = match get("goal").filter(|v| **v != OptValue::None) {
+        Some(v) => match v.word().as_deref().map(|w| w.replace('_', "-")).as_deref() {
+            Some("integration") => Some(Goal::Integration(Target::blend())),
+            Some("space-filling") => Some(Goal::SpaceFilling),
+            _ => return Err(invalid("goal", v, "'integration' or 'space-filling'")),
+        },
+        None => None,
+    };
+    let goal = match goal {
+        Some(g) => {
+            if paper {
+                return Err(
+                    "invalid goal with method='paper': the paper's pipeline is its own goal".into(),
+                );
+            }
+            if let (Some(first), false) = (expert.first(), region && g == Goal::SpaceFilling) {
+                return Err(format!(
+                    "invalid {first} with goal: the options of the paper's pipeline need \
+                     method='paper' (or no goal); a goal chooses its own pipeline"
+                ));
+            }
+            if region && g != Goal::SpaceFilling {
+                return Err(invalid(
+                    "goal",
+                    "'integration' in a region",
+                    "'space-filling' in a region (its discrepancies are those of the cube)",
+                ));
+            }
+            g
+        }
+        None if paper || !expert.is_empty() || region => Goal::Paper,
+        None => Goal::Integration(Target::blend()),
+    };
+    let goal = match (goal, get("target").filter(|v| **v != OptValue::None)) {
+        (Goal::Integration(_), Some(v)) => Goal::Integration(match v.word().as_deref() {
+            Some("blend") => Target::blend(),
+            Some(w) => Target::single(DiscrepancyKind::parse(w).map_err(|_| {
+                invalid("target", v, "'blend', 'md', 'l2star', 'cd' or 'periodic'")
+            })?),
+            None => {
+                return Err(invalid(
+                    "target",
+                    v,
+                    "'blend', 'md', 'l2star', 'cd' or 'periodic'",
+                ))
+            }
+        }),
+        (_, Some(v)) => {
+            return Err(invalid(
+                "target",
+                v,
+                "a target only with the integration goal (the cube's default)",
+            ))
+        }
+        (g, None) => g,
+    };
+    cfg.randomize = match get("randomize") {
+        None | Some(OptValue::None) => None,
+        Some(v) if region => {
+            return Err(invalid(
+                "randomize",
+                v,
+                "no randomisation in a region (the cube only)",
+            ))
+        }
+        Some(v) => match v.word().as_deref() {
+            Some("cells") => Some(Randomize::Cells),
+            Some("shift") => Some(Randomize::Shift),
+            _ => return Err(invalid("randomize", v, "None, 'cells' or 'shift'")),
+        },
+    };
+    let integration = matches!(goal, Goal::Integration(_));
+    match get("extend") {
+        None | Some(OptValue::None) => {}
+        Some(OptValue::Points(old)) if integration || region => {
+            if old.s() != cfg.s {
+                return Err(invalid(
+                    "extend",
+                    format!("an array of shape ({}, {})", old.n(), old.s()),
+                    &format!("points of dimension d = {}", cfg.s),
+                ));
+            }
+            cfg.n += old.n();
+            cfg.extend = Some(old.clone());
+        }
+        Some(v) => {
+            return Err(invalid(
+                "extend",
+                v,
+                "an (m, d) array of points, with the integration goal in the cube or in a \
+                 region",
+            ))
+        }
+    }
+    match get("nested") {
+        None | Some(OptValue::None) => {}
+        Some(v @ OptValue::Str(text)) if integration && cfg.extend.is_none() => {
+            let list: Vec<usize> = text
+                .split(',')
+                .map(|t| t.trim().parse::<usize>())
+                .collect::<Result<_, _>>()
+                .map_err(|_| invalid("nested", v, "increasing sizes 'N1,N2,...'"))?;
+            if list.is_empty()
+                || list[0] == 0
+                || list.windows(2).any(|w| w[1] <= w[0])
+                || list.last() != Some(&cfg.n)
+            {
+                return Err(invalid(
+                    "nested",
+                    v,
+                    &format!("increasing sizes N1 < N2 < ... ending at n = {}", cfg.n),
+                ));
+            }
+            cfg.nested = list;
+        }
+        Some(v) => {
+            return Err(invalid(
+                "nested",
+                v,
+                "increasing sizes 'N1,N2,...' with the integration goal (no extend)",
+            ))
+        }
+    }
+    cfg.goal = goal;
+    Ok(())
 }
 
 /// An energy by the command line's name.
@@ -620,6 +791,18 @@ mod tests {
     #[test]
     fn defaults_are_the_command_lines() {
         match args(50, 3).plan().unwrap() {
+            Plan::Run(cfg) => assert_eq!(
+                *cfg,
+                GenerateConfig::for_goal(50, 3, Goal::Integration(Target::blend()))
+            ),
+            other => panic!("expected a run, got {other:?}"),
+        }
+        // The paper's options select the paper's pipeline, as on the command line.
+        let paper = GenerateArgs {
+            method: Some("paper".into()),
+            ..args(50, 3)
+        };
+        match paper.plan().unwrap() {
             Plan::Run(cfg) => assert_eq!(*cfg, GenerateConfig::new(50, 3)),
             other => panic!("expected a run, got {other:?}"),
         }
@@ -649,7 +832,14 @@ mod tests {
                     options: vec![("goal".into(), OptValue::Int(1))],
                     ..args(5, 2)
                 },
-                "invalid keyword argument goal",
+                "invalid goal",
+            ),
+            (
+                GenerateArgs {
+                    options: vec![("colour".into(), OptValue::Int(1))],
+                    ..args(5, 2)
+                },
+                "invalid keyword argument colour",
             ),
             (
                 GenerateArgs {

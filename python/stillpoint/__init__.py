@@ -5,7 +5,7 @@ evolutionary model): :func:`generate` gives exactly what ``stillpoint generate -
 writes, :func:`metrics` what ``stillpoint eval --json`` prints, :func:`baseline` the
 classic sequences (scrambled Sobol', Halton, lattices, Latin hypercubes, ...),
 :func:`integrate` the paper's test integrals, and :class:`Engine` a SciPy
-``scipy.stats.qmc.QMCEngine`` that draws randomly shifted copies of an optimised set
+``scipy.stats.qmc.QMCEngine`` that draws randomised copies of an optimised set
 (usable with ``scipy.integrate.qmc_quad``).
 
 Every function accepts any array-like of points (lists, float32, Fortran order: they are
@@ -32,9 +32,11 @@ __all__ = [
     "baseline",
     "baselines",
     "discrepancy",
+    "extend",
     "generate",
     "integrate",
     "metrics",
+    "nested",
 ]
 
 # Arguments of `generate` that an Engine sets itself or cannot take (it draws in the
@@ -138,6 +140,11 @@ def _options(options: Dict[str, Any]) -> Dict[str, Any]:
     init = out.get("init")
     if init is not None and not isinstance(init, str):
         out["init"] = _points(init, "init")
+    if out.get("extend") is not None:
+        out["extend"] = _points(out["extend"], "extend")
+    stages = out.get("nested")
+    if stages is not None and not isinstance(stages, str):
+        out["nested"] = ",".join(str(_int("nested", k, 1)) for k in stages)
     return out
 
 
@@ -191,9 +198,12 @@ def generate(
     """n evenly spread points in [0, 1)^d (or in a region), an array of shape (n, d).
 
     With the defaults this is exactly ``stillpoint generate -n N -s D`` (the same
-    float64 values as its ``.npy`` output): U_{q,p} with (q, p) from the paper's eq. 48,
-    a plain Halton start, 1000 steps of the damped dynamics, then the best of 64
-    periodic shifts.
+    float64 values as its ``.npy`` output): the integration goal, a set stratified in
+    every coordinate (one point in each [k/n, (k+1)/n)) with its discrepancy as low as
+    the descent reaches. ``method='paper'`` (or any of the paper's options: ``energy``,
+    ``integrator``, ``steps``, ``q``, ``p``, ``init``, ...) runs the paper's pipeline
+    instead: U_{q,p} with (q, p) from eq. 48, a plain Halton start, 1000 steps of the
+    damped dynamics, then the best of 64 periodic shifts.
 
     Parameters
     ----------
@@ -203,7 +213,7 @@ def generate(
     seed : int
         Seed of every random choice (the random start; a baseline's scramble).
     method : str, optional
-        ``'dem'`` (default: the energy pipeline above) or a baseline's name
+        ``'paper'`` (or ``'dem'``: the paper's pipeline above) or a baseline's name
         (``'sobol'``, ``'halton-scrambled'``, ``'lhs'``, ... see :func:`baselines`),
         which then takes only n, d and seed.
     energy : str, optional
@@ -226,11 +236,14 @@ def generate(
     progress : bool
         Print the stages and steps of the run on standard error.
     **later
-        The run's further options, passed through to the library: ``q``, ``p``,
+        ``goal`` (``'integration'``, the cube's default, or ``'space-filling'``, a
+        region's), ``target`` (``'blend'``, ``'md'``, ``'l2star'``, ``'cd'``,
+        ``'periodic'``), ``randomize`` (``'cells'``: keeps the stratification, or
+        ``'shift'``), ``extend`` (see :func:`extend`), ``nested`` (see :func:`nested`);
+        and the paper's options, passed through to the library: ``q``, ``p``,
         ``precision``, ``init`` (``'halton'``, ``'random'`` or an (n, d) array),
         ``kappa``, ``restart``, ``tolerance``, ``polish``, ``shifts``, ``log_every``.
-        Options the library adds later are accepted here under their names; an unknown
-        name is a ``ValueError`` listing the accepted ones.
+        An unknown name is a ``ValueError`` listing the accepted ones.
 
     Raises
     ------
@@ -260,6 +273,31 @@ def generate(
     if bounds is not None:
         x = _scale(x, bounds)
     return x
+
+
+def extend(points: Any, m: int, **kwargs: Any) -> np.ndarray:
+    """``points`` followed by ``m`` new points, an array of shape (n + m, d): the old
+    points first and unchanged (bit for bit), the new ones settled among them, as
+    ``stillpoint generate --extend FILE -n M``. In the cube (the integration goal) the
+    new points fill the cells of the union's grid that no old point occupies, so the
+    union stays stratified when the old points permit it; in a region (``region=`` /
+    ``shape=``) they settle under U_{E,inf,g} with the old points fixed. ``kwargs`` go
+    to :func:`generate` (``seed``, ``target``, ``region``, ...)."""
+    old = _points(points, "points")
+    m = _int("m", m, 0)
+    if m == 0:
+        return old.copy()
+    return generate(m, old.shape[1], extend=old, **kwargs)
+
+
+def nested(sizes: Any, d: int, **kwargs: Any) -> np.ndarray:
+    """One set of ``sizes[-1]`` points whose first ``sizes[0]``, ``sizes[1]``, ...
+    points are each a good set (each stage an extension of the one before), as
+    ``stillpoint generate --nested N1,N2,...``. ``kwargs`` go to :func:`generate`."""
+    sizes = [_int("sizes", k, 1) for k in sizes]
+    if not sizes:
+        raise ValueError("invalid sizes = []: expected increasing sizes N1 < N2 < ...")
+    return generate(sizes[-1], d, nested=sizes, **kwargs)
 
 
 def metrics(x: Any) -> Dict[str, Any]:
@@ -377,15 +415,16 @@ def _optimised(n: int, d: int, kwargs: Dict[str, Any]) -> np.ndarray:
 
 class Engine(_EngineBase):  # type: ignore[misc,valid-type]
     """A randomised QMC engine: every :meth:`random` call returns the optimised set for
-    (n, d) shifted by one uniform random vector modulo 1.
+    (n, d), stratified in every coordinate, randomised so that each point is uniform in
+    [0, 1)^d and the stratification is kept (cells rotated, offsets shifted in them).
 
     The optimised set is :func:`generate` ``(n, d, **generate_kwargs)``, computed on the
-    first draw of each n and cached for the process, so later draws cost one random
-    shift. Each draw is uniformly distributed in [0, 1)^d point by point (an unbiased
+    first draw of each n and cached for the process, so later draws cost one
+    randomisation. Each draw is uniformly distributed in [0, 1)^d point by point (an unbiased
     QMC rule) and independent draws give an error estimate: with
     ``scipy.integrate.qmc_quad(f, a, b, qrng=stillpoint.Engine(d, seed=...))`` each
     estimate uses a freshly seeded engine, hence a new shift, and the standard error is
-    that of the randomly shifted rule.
+    that of the randomised rule.
 
     A subclass of ``scipy.stats.qmc.QMCEngine`` when SciPy is installed (then
     ``optimization='random-cd'`` or ``'lloyd'`` is applied after the shift, as SciPy
@@ -449,13 +488,22 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
         self._init_quad = {"d": d, "optimization": optimization, **generate_kwargs}
 
     def _random(self, n: int = 1, *, workers: int = 1) -> np.ndarray:
-        """The cached optimised set for n plus one uniform shift, modulo 1."""
+        """The cached optimised set for n, randomised as ``generate(randomize='cells')``
+        does: per coordinate the cells [k/n, (k+1)/n) are rotated by a uniform random
+        m and the offsets inside them shifted by a uniform v modulo the cell. Each point
+        is then uniform in [0, 1)^d, and a stratified set stays stratified."""
         n = _int("n", n, 1)
         base = _optimised(n, self.d, self._generate_kwargs)
         shift = self.rng.random(self.d)
-        x = base + shift
-        x -= np.floor(x)
-        return x
+        turn = np.floor(self.rng.random(self.d) * n)
+        scaled = base * n
+        cell = np.minimum(np.floor(scaled), n - 1)
+        offset = scaled - cell + shift
+        offset -= np.floor(offset)
+        x = (np.mod(cell + turn, n) + offset) / n
+        # Rounding must not carry a point onto the next cell's edge or onto 1.
+        upper = np.nextafter((np.mod(cell + turn, n) + 1) / n, 0.0)
+        return np.minimum(x, upper)
 
     if _qmc is None:  # pragma: no cover - the methods QMCEngine provides otherwise
 
@@ -472,9 +520,10 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
             return self
 
     def fast_forward(self, n: int) -> "Engine":
-        """Skips one draw of n points cheaply: the shift it would have used is drawn and
-        dropped, without computing the optimised set."""
+        """Skips one draw of n points cheaply: the random numbers it would have used are
+        drawn and dropped, without computing the optimised set."""
         n = _int("n", n, 0)
+        self.rng.random(self.d)
         self.rng.random(self.d)
         self.num_generated += n
         return self

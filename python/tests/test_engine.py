@@ -17,18 +17,31 @@ def test_is_a_qmc_engine():
     assert e.num_generated == 64
 
 
-def test_draws_are_shifts_of_the_optimised_set():
+def assert_cell_randomisation(base, draw):
+    """``draw`` is ``base`` with, per coordinate, the cells rotated by one m and the
+    offsets within them shifted by one v modulo the cell."""
+    n = base.shape[0]
+    cells_base, cells_draw = np.floor(base * n), np.floor(draw * n)
+    for k in range(base.shape[1]):
+        # A stratified column stays stratified.
+        if sorted(cells_base[:, k]) == list(range(n)):
+            assert sorted(cells_draw[:, k]) == list(range(n))
+        turn = (cells_draw[:, k] - cells_base[:, k]) % n
+        assert np.all(turn == turn[0])
+        move = (draw[:, k] * n - cells_draw[:, k]) - (base[:, k] * n - cells_base[:, k])
+        move %= 1.0
+        spread = np.abs(((move - move[0] + 0.5) % 1.0) - 0.5)
+        assert spread.max() < 1e-9
+
+
+def test_draws_are_stratified_randomisations_of_the_optimised_set():
     base = sp.generate(64, 3)
     e = sp.Engine(3, seed=2)
     a, b = e.random(64), e.random(64)
     assert not np.array_equal(a, b)
     for draw in (a, b):
-        shift = (draw - base) % 1.0
-        # One shift for the whole set (up to rounding across the wrap).
-        spread = np.abs(((shift - shift[0] + 0.5) % 1.0) - 0.5)
-        assert spread.max() < 1e-12
-    # The shift preserves the wrap-around discrepancy.
-    assert abs(sp.discrepancy(a, "wd") - sp.discrepancy(base, "wd")) < 1e-9
+        assert_cell_randomisation(base, draw)
+        assert sp.metrics(draw)["stratified"]
 
 
 def test_reset_and_fast_forward():
@@ -57,8 +70,7 @@ def test_generate_kwargs_and_cache():
     e = sp.Engine(2, seed=0, steps=20, energy="e-inf", shifts=0)
     base = sp.generate(40, 2, steps=20, energy="e-inf", shifts=0)
     x = e.random(40)
-    shift = (x[0] - base[0]) % 1.0
-    np.testing.assert_allclose((base + shift) % 1.0, x, atol=1e-12)
+    assert_cell_randomisation(base, x)
     assert "energy='e-inf'" in repr(e)
 
 
