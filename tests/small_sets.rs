@@ -145,7 +145,10 @@ fn a_long_run_says_so_before_it_starts() {
     reader.read_line(&mut first).unwrap();
     let _ = child.kill();
     let _ = child.wait();
-    assert!(outside.contains("outside the range eq. 48 was fitted on"), "{outside}");
+    assert!(
+        outside.contains("outside the range eq. 48 was fitted on"),
+        "{outside}"
+    );
     assert!(
         first.starts_with("note: this run may take about"),
         "{first}"
