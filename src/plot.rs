@@ -397,7 +397,7 @@ fn draw_panel<DB: DrawingBackend>(
         )
         .map_err(draw_error)?;
 
-    let (lo, hi) = (panel.lo, panel.hi);
+    let (lo, hi) = to_scale(panel.lo, panel.hi, body.dim_in_pixel());
     let mut chart = ChartBuilder::on(&body)
         .margin(MARGIN)
         .x_label_area_size(X_LABEL_AREA)
@@ -453,6 +453,25 @@ fn draw_panel<DB: DrawingBackend>(
             .map_err(draw_error)?;
     }
     Ok(())
+}
+
+/// The box widened along one axis so that a unit is as long on both axes in the plotting
+/// area of a panel of `size` pixels: a circle looks round, a diamond twice as wide as
+/// tall looks so.
+fn to_scale(lo: [f64; 2], hi: [f64; 2], size: (u32, u32)) -> ([f64; 2], [f64; 2]) {
+    let w = size.0.saturating_sub(2 * MARGIN + Y_LABEL_AREA).max(1) as f64;
+    let h = size.1.saturating_sub(2 * MARGIN + X_LABEL_AREA).max(1) as f64;
+    let (dx, dy) = (hi[0] - lo[0], hi[1] - lo[1]);
+    if !(dx > 0.0 && dy > 0.0 && dx.is_finite() && dy.is_finite()) {
+        return (lo, hi);
+    }
+    if dx / w > dy / h {
+        let pad = (dx * h / w - dy) / 2.0;
+        ([lo[0], lo[1] - pad], [hi[0], hi[1] + pad])
+    } else {
+        let pad = (dy * w / h - dx) / 2.0;
+        ([lo[0] - pad, lo[1]], [hi[0] + pad, hi[1]])
+    }
 }
 
 /// The parts of a polyline inside the box [lo, hi], each with at least two vertices.

@@ -1,7 +1,7 @@
 //! The exact L∞ star discrepancy in one, two and three dimensions, and the worst one- and
 //! two-dimensional projection of a set in any dimension.
 //!
-//! D*(P) = sup_{t ∈ [0,1]^s} |#{x ∈ P : x ∈ [0, t)}/n − t_1⋯t_s| is the quantity of the
+//! D*(P) = sup_{t ∈ \[0,1\]^s} |#{x ∈ P : x ∈ [0, t)}/n − t_1⋯t_s| is the quantity of the
 //! optimal-point-set literature (Clément, Doerr, Paquete and co-authors; MPMC's 2-D and
 //! 3-D tables). Between consecutive coordinate values of the points the count is constant
 //! while the volume grows, so the supremum is reached on the grid of critical boxes: each

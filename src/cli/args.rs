@@ -57,6 +57,11 @@ pub(crate) struct GenerateArgs {
     /// lengths is a good set, each stage an extension of the one before.
     #[arg(long, value_name = "N1,N2,...", conflicts_with = "n")]
     pub(crate) nested: Option<String>,
+    /// Write the points scaled to the box LO1,HI1,... (like `qmc.scale`); the report's
+    /// metrics are those of the unit cube, and the header records the bounds. The cube
+    /// only.
+    #[arg(long, value_name = "LO1,HI1,...", allow_hyphen_values = true)]
+    pub(crate) bounds: Option<String>,
     /// Randomise the result from --seed, so that independent seeds give unbiased
     /// estimates with error bars: `cells` (rotate the cells and shift the offsets within
     /// them; keeps the stratification) or `shift` (uniform shift modulo 1; keeps the
@@ -184,9 +189,14 @@ pub(crate) struct GenerateArgs {
     /// Print the report as one JSON object instead of a table.
     #[arg(long)]
     pub(crate) json: bool,
-    /// No progress bar.
+    /// No progress display (the report is still printed).
     #[arg(long, short = 'q')]
     pub(crate) quiet: bool,
+    /// How progress is shown on standard error: `bar` (the default on a terminal),
+    /// `plain` (a line when a stage starts and at most every 10 s; the default off a
+    /// terminal, e.g. in a notebook or a job's log) or `none`.
+    #[arg(long, value_name = "bar|plain|none")]
+    pub(crate) progress: Option<ProgressMode>,
 }
 
 // Parsed once per process, so the size of the largest variant does not matter.
@@ -232,12 +242,20 @@ pub(crate) enum Command {
         split: Option<usize>,
     },
     /// Print the quality of any point file (CSV, TSV, whitespace, JSON, .npy).
+    /// With several files, one table with a column per file and the best value of each
+    /// row marked.
     Eval {
-        /// The point file; coordinates must lie in [0, 1].
-        file: PathBuf,
-        /// Print one JSON object (keys documented in the README).
+        /// The point files; coordinates must lie in [0, 1] (or in --bounds).
+        #[arg(required = true, value_name = "FILE")]
+        files: Vec<PathBuf>,
+        /// Print one JSON object (an array of them for several files; keys documented in
+        /// the README).
         #[arg(long)]
         json: bool,
+        /// The box the points were scaled to (`generate --bounds`): LO1,HI1,...; they are
+        /// mapped back to [0, 1]^s before they are measured.
+        #[arg(long, value_name = "LO1,HI1,...", allow_hyphen_values = true)]
+        bounds: Option<String>,
     },
     /// Compare the DEM and L-BFGS on U_{q,p} and on a discrepancy energy, for a list of
     /// (s, n); writes comparison.md, comparison.json and convergence pictures.
@@ -279,6 +297,10 @@ pub(crate) enum Command {
         /// Describe every generator and exit.
         #[arg(long)]
         list: bool,
+        /// Write the points scaled to this box, LO1,HI1,... (like `qmc.scale`); the
+        /// metrics are those of the unit cube.
+        #[arg(long, value_name = "LO1,HI1,...", allow_hyphen_values = true)]
+        bounds: Option<String>,
         /// Print a JSON summary (with the points when there is no -o).
         #[arg(long)]
         json: bool,

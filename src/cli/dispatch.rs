@@ -17,16 +17,39 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
     }
     match cli.command {
         Command::Generate(args) => generate(*args)?,
-        Command::Eval { file, json } => {
-            let points = io::read_points(&file)?;
-            points
-                .check_unit_cube()
-                .with_context(|| format!("{}", file.display()))?;
-            let v = crate::evaluate::eval_json(&points);
-            if json {
-                println!("{}", serde_json::to_string_pretty(&v)?);
-            } else {
-                print!("{}", eval_table(&file, &points, &v));
+        Command::Eval {
+            files,
+            json,
+            bounds,
+        } => {
+            let mut evaluated = Vec::new();
+            for file in &files {
+                let mut points = io::read_points(file)?;
+                if let Some(text) = &bounds {
+                    let (lo, hi) = parse_bounds(text, points.s())?;
+                    points = unscale_from(&points, &lo, &hi, file)?;
+                }
+                points
+                    .check_unit_cube()
+                    .with_context(|| format!("{}", file.display()))?;
+                let v = crate::evaluate::eval_json(&points);
+                evaluated.push((file.clone(), points, v));
+            }
+            match (json, evaluated.as_slice()) {
+                (true, [(_, _, v)]) => println!("{}", serde_json::to_string_pretty(v)?),
+                (false, [(file, points, v)]) => print!("{}", eval_table(file, points, v)),
+                (true, many) => {
+                    let all: Vec<Value> = many
+                        .iter()
+                        .map(|(f, _, v)| {
+                            let mut v = v.clone();
+                            v["file"] = json!(f.display().to_string());
+                            v
+                        })
+                        .collect();
+                    println!("{}", serde_json::to_string_pretty(&all)?)
+                }
+                (false, many) => print!("{}", eval_comparison(many)),
             }
         }
         Command::Compare {
@@ -63,6 +86,7 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
             seed,
             list,
             json,
+            bounds,
         } => {
             if list {
                 for b in Baseline::all() {
@@ -78,6 +102,10 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
                 check_points_extension(out, "-o")?;
             }
             let b = Baseline::parse(&name)?;
+            let scale = match &bounds {
+                Some(text) => Some(parse_bounds(text, s)?),
+                None => None,
+            };
             let points = b.generate(n, s, seed)?;
             if b == Baseline::Sobol && !n.is_power_of_two() {
                 eprintln!(
@@ -96,9 +124,15 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
                     "n": n,
                     "s": s,
                     "randomized": b.is_randomized(),
+                    "bounds": bounds,
                 },
                 "metrics": metrics.as_ref().map(metrics_json),
             });
+            // The metrics are the unit cube's; the points written are in the box.
+            let points = match &scale {
+                Some((lo, hi)) => scale_to(&points, lo, hi)?,
+                None => points,
+            };
             if json {
                 let mut v = meta.clone();
                 match &output {

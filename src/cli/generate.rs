@@ -23,6 +23,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         randomize,
         extend,
         nested,
+        bounds,
         energy,
         region,
         bbox,
@@ -47,6 +48,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         resume,
         json,
         quiet,
+        progress,
     } = a;
     if let Some(out) = &output {
         check_writable(out, "-o")?;
@@ -158,13 +160,16 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         }
     }
     let plan = checkpoint_plan(checkpoint, checkpoint_every, resume, Value::Null, quiet)?;
-    let mut progress = Progress::new(quiet);
+    let mut progress = Progress::new(quiet, progress);
     // How the command line named the region: recorded in checkpoints (a resume in
     // another region is refused) and in the file header.
     let given = json!({"--region": region, "--box": bbox, "--shape": shape});
     let cfg = if region.is_some() || shape.is_some() {
         let domain = region_domain(region.as_deref(), bbox.as_deref(), shape.as_deref(), s)?;
         let n = n.context("missing -n N: the number of points (at least 1)")?;
+        if bounds.is_some() {
+            bail!("invalid --bounds in a region: a region's points are in its own coordinates already (--bounds scales the unit cube)");
+        }
         if nested.is_some() {
             bail!("invalid --nested in a region: nested sets are made for the integration goal in the cube; grow a region's set with --extend");
         }
@@ -347,8 +352,11 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         cfg.nested = stages;
         cfg
     };
-    // Say what is unusual before the run starts.
-    if !quiet && cfg.goal == run::Goal::Paper {
+    if let Some(text) = &bounds {
+        parse_bounds(text, cfg.s)?;
+    }
+    // Say what is unusual before the run starts (even with -q, which hides progress).
+    if cfg.goal == run::Goal::Paper {
         if matches!(cfg.energy, EnergyKind::Discrepancy(_)) && cfg.solver == Solver::Dem {
             eprintln!(
                 "note: the DEM is unstable on a discrepancy energy and returns its lowest early \
@@ -390,7 +398,16 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     }
     let report = run::generate_with(&cfg, plan.as_ref(), |e| progress.event(e))?;
     progress.finish();
-    let meta = file_header(&report, &cfg, &given)?;
+    let mut meta = file_header(&report, &cfg, &given)?;
+    // The points are written in the user's box; every figure stays the unit cube's.
+    let written = match &bounds {
+        Some(text) => {
+            let (lo, hi) = parse_bounds(text, cfg.s)?;
+            meta["parameters"]["bounds"] = json!(text);
+            scale_to(&report.output.points, &lo, &hi)?
+        }
+        None => report.output.points.clone(),
+    };
     // The run's outputs appear together or not at all.
     let staging = io::Staging::begin();
     if let Some(path) = &trajectory {
@@ -416,13 +433,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         (false, false) => Value::String(report_table(&report, &cfg, output.as_ref())?),
         (false, true) => Value::String(region_table(&report, &cfg, output.as_ref())?),
     };
-    emit(
-        &report.output.points,
-        &meta,
-        output.as_ref(),
-        summary,
-        staging,
-    )?;
+    emit(&written, &meta, output.as_ref(), summary, staging)?;
     Ok(())
 }
 

@@ -1,6 +1,7 @@
 //! Progress display and checks of output paths before a run starts.
 
 use super::*;
+use std::io::Write as _;
 
 /// Refuses a picture path that is not `.png` or `.svg` before any work is done.
 pub(crate) fn check_picture_extension(path: &std::path::Path, option: &str) -> Result<()> {
@@ -17,32 +18,120 @@ pub(crate) fn check_picture_extension(path: &std::path::Path, option: &str) -> R
     Ok(())
 }
 
-/// A progress bar on standard error with the stage, steps and ETA; hidden with --quiet or
-/// when standard error is not a terminal.
+/// How a run shows its progress on standard error (`--progress`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum ProgressMode {
+    /// A bar redrawn in place (the default on a terminal).
+    Bar,
+    /// A plain line when a stage starts and at most every [`PLAIN_EVERY`] (the default
+    /// off a terminal: notebooks, pipes, a scheduler's log).
+    Plain,
+    /// Nothing (also `-q`).
+    None,
+}
+
+/// The least time between two plain progress lines of one stage.
+pub(crate) const PLAIN_EVERY: std::time::Duration = std::time::Duration::from_secs(10);
+
+/// A run's progress on standard error: the stage, steps, elapsed time and ETA, as a bar
+/// or as plain lines (see [`ProgressMode`]).
 pub(crate) struct Progress {
     pub(crate) bar: ProgressBar,
-    pub(crate) visible: bool,
+    pub(crate) mode: ProgressMode,
     /// The first position of a stage may jump (a resumed run), which must not count
     /// towards the rate the ETA is computed from.
     pub(crate) fresh: bool,
+    stage: &'static str,
+    len: Option<u64>,
+    started: std::time::Instant,
+    /// Where the rate is measured from: (time, position) of the first progress event.
+    origin: Option<(std::time::Instant, u64)>,
+    last_line: Option<std::time::Instant>,
+    eta_shown: bool,
 }
 
 impl Progress {
-    pub(crate) fn new(quiet: bool) -> Self {
-        let visible = !quiet && std::io::stderr().is_terminal();
+    /// `mode` when given, else none with `quiet`, a bar on a terminal, plain lines off one.
+    pub(crate) fn new(quiet: bool, mode: Option<ProgressMode>) -> Self {
+        let mode = match (quiet, mode) {
+            (true, _) => ProgressMode::None,
+            (false, Some(m)) => m,
+            (false, None) if std::io::stderr().is_terminal() => ProgressMode::Bar,
+            (false, None) => ProgressMode::Plain,
+        };
         // Drawn from the first stage on, so that no empty bar flashes up before it.
         let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::hidden());
         Progress {
             bar,
-            visible,
+            mode,
             fresh: true,
+            stage: "",
+            len: None,
+            started: std::time::Instant::now(),
+            origin: None,
+            last_line: None,
+            eta_shown: false,
         }
     }
 
-    pub(crate) fn event(&mut self, e: run::Event) {
-        if !self.visible {
-            return;
+    /// The estimated time left, once a rate has been measured (never a bare "0s" at the
+    /// start of a stage).
+    fn eta(&self, pos: u64) -> Option<std::time::Duration> {
+        let (t0, p0) = self.origin?;
+        let (len, done) = (self.len?, pos.checked_sub(p0)?);
+        let elapsed = t0.elapsed();
+        if done == 0 || elapsed < std::time::Duration::from_millis(500) {
+            return None;
         }
+        let left = len.saturating_sub(pos) as f64;
+        Some(elapsed.mul_f64(left / done as f64))
+    }
+
+    fn plain_line(&mut self, pos: Option<u64>) {
+        let mut line = format!("stillpoint: {}", self.stage);
+        if let (Some(p), Some(len)) = (pos, self.len) {
+            line += &format!(", step {p}/{len}");
+        }
+        line += &format!(
+            ", {} elapsed",
+            studies::human_seconds(self.started.elapsed().as_secs_f64())
+        );
+        if let Some(eta) = pos.and_then(|p| self.eta(p)) {
+            line += &format!(", ETA {}", studies::human_seconds(eta.as_secs_f64()));
+        }
+        // A closed standard error must not end the run.
+        let _ = writeln!(std::io::stderr(), "{line}");
+        self.last_line = Some(std::time::Instant::now());
+    }
+
+    pub(crate) fn event(&mut self, e: run::Event) {
+        if let run::Event::Stage { name, steps } = e {
+            self.stage = name;
+            self.len = steps;
+            self.started = std::time::Instant::now();
+            self.origin = None;
+            self.eta_shown = false;
+        }
+        match self.mode {
+            ProgressMode::None => {}
+            ProgressMode::Plain => match e {
+                run::Event::Stage { .. } => self.plain_line(None),
+                run::Event::Progress(p) => {
+                    if self.origin.is_none() {
+                        self.origin = Some((std::time::Instant::now(), p));
+                    }
+                    if self.last_line.is_none_or(|t| t.elapsed() >= PLAIN_EVERY) {
+                        self.plain_line(Some(p));
+                    }
+                }
+                run::Event::Record(_) => {}
+            },
+            ProgressMode::Bar => self.bar_event(e),
+        }
+    }
+
+    fn bar_event(&mut self, e: run::Event) {
+        const WITHOUT_ETA: &str = "{msg:>15} {wide_bar} {pos}/{len} steps, {elapsed} elapsed";
         match e {
             run::Event::Stage {
                 name,
@@ -51,11 +140,10 @@ impl Progress {
                 self.bar.disable_steady_tick();
                 self.bar.set_length(len);
                 self.bar.set_position(0);
+                // No ETA until a rate is measured: indicatif would show "0s".
                 self.bar.set_style(
-                    ProgressStyle::with_template(
-                        "{msg:>15} {wide_bar} {pos}/{len} steps, {elapsed} elapsed, ETA {eta}",
-                    )
-                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
+                    ProgressStyle::with_template(WITHOUT_ETA)
+                        .unwrap_or_else(|_| ProgressStyle::default_bar()),
                 );
                 self.bar.set_message(name);
                 self.bar.reset_elapsed();
@@ -75,10 +163,20 @@ impl Progress {
                     .enable_steady_tick(std::time::Duration::from_millis(120));
             }
             run::Event::Progress(p) => {
+                if self.origin.is_none() {
+                    self.origin = Some((std::time::Instant::now(), p));
+                }
                 self.bar.set_position(p);
                 if self.fresh {
                     self.bar.reset_eta();
                     self.fresh = false;
+                }
+                if !self.eta_shown && self.eta(p).is_some() {
+                    self.bar.set_style(
+                        ProgressStyle::with_template(&format!("{WITHOUT_ETA}, ETA {{eta}}"))
+                            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+                    );
+                    self.eta_shown = true;
                 }
             }
             run::Event::Record(_) => {}
@@ -92,7 +190,9 @@ impl Progress {
     }
 
     pub(crate) fn finish(&self) {
-        self.bar.finish_and_clear();
+        if self.mode == ProgressMode::Bar {
+            self.bar.finish_and_clear();
+        }
     }
 }
 

@@ -19,15 +19,71 @@ pub(crate) fn number_list(name: &str, text: &str) -> Result<Vec<f64>> {
 
 /// `--box LO1,HI1,LO2,HI2,...` as (lo, hi).
 pub(crate) fn parse_box(text: &str) -> Result<(Vec<f64>, Vec<f64>)> {
-    let v = number_list("--box", text)?;
+    parse_intervals("--box", text)
+}
+
+/// `--bounds LO1,HI1,...` for `s` coordinates, as (lo, hi).
+pub(crate) fn parse_bounds(text: &str, s: usize) -> Result<(Vec<f64>, Vec<f64>)> {
+    let (lo, hi) = parse_intervals("--bounds", text)?;
+    if lo.len() != s {
+        bail!(
+            "invalid --bounds = {text}: it has {} intervals, the points have s = {s} \
+             coordinates (expected LO1,HI1,...,LO{s},HI{s})",
+            lo.len()
+        );
+    }
+    Ok((lo, hi))
+}
+
+/// The points of [0, 1]^s mapped to the box, x ↦ lo + x·(hi − lo), as `qmc.scale` does.
+pub(crate) fn scale_to(points: &PointSet, lo: &[f64], hi: &[f64]) -> Result<PointSet> {
+    let s = points.s();
+    let data = points
+        .as_slice()
+        .iter()
+        .enumerate()
+        .map(|(i, &x)| lo[i % s] + x * (hi[i % s] - lo[i % s]))
+        .collect();
+    Ok(PointSet::new(points.n(), s, data)?)
+}
+
+/// Points of the box mapped back to [0, 1]^s; a point outside the box is refused.
+pub(crate) fn unscale_from(
+    points: &PointSet,
+    lo: &[f64],
+    hi: &[f64],
+    file: &std::path::Path,
+) -> Result<PointSet> {
+    let s = points.s();
+    let mut data = Vec::with_capacity(points.as_slice().len());
+    for (i, &x) in points.as_slice().iter().enumerate() {
+        let k = i % s;
+        if !(lo[k] <= x && x <= hi[k]) {
+            bail!(
+                "{}: point {}, coordinate {} = {x} lies outside --bounds [{}, {}]",
+                file.display(),
+                i / s + 1,
+                k + 1,
+                lo[k],
+                hi[k]
+            );
+        }
+        data.push(((x - lo[k]) / (hi[k] - lo[k])).clamp(0.0, 1.0));
+    }
+    Ok(PointSet::new(points.n(), s, data)?)
+}
+
+/// Two numbers per coordinate, LO < HI each, with a usable width.
+fn parse_intervals(flag: &str, text: &str) -> Result<(Vec<f64>, Vec<f64>)> {
+    let v = number_list(flag, text)?;
     if v.is_empty() || v.len() % 2 != 0 {
-        bail!("invalid --box = {text}: expected LO1,HI1,LO2,HI2,... (two numbers per dimension)");
+        bail!("invalid {flag} = {text}: expected LO1,HI1,LO2,HI2,... (two numbers per dimension)");
     }
     let lo: Vec<f64> = v.iter().step_by(2).copied().collect();
     let hi: Vec<f64> = v.iter().skip(1).step_by(2).copied().collect();
     if let Some(k) = (0..lo.len()).find(|&k| lo[k] >= hi[k]) {
         bail!(
-            "invalid --box = {text}: dimension {} has LO = {} ≥ HI = {} (expected LO < HI)",
+            "invalid {flag} = {text}: dimension {} has LO = {} ≥ HI = {} (expected LO < HI)",
             k + 1,
             lo[k],
             hi[k]
@@ -39,7 +95,7 @@ pub(crate) fn parse_box(text: &str) -> Result<(Vec<f64>, Vec<f64>)> {
         !(w.is_finite() && w > 1e-150 && w > 1e-12 * lo[k].abs().max(hi[k].abs()))
     }) {
         bail!(
-            "invalid --box = {text}: dimension {} is [{:?}, {:?}], expected a width that is \
+            "invalid {flag} = {text}: dimension {} is [{:?}, {:?}], expected a width that is \
              finite, above 1e-150 and not vanishing next to the coordinates",
             k + 1,
             lo[k],

@@ -424,6 +424,95 @@ pub(crate) fn eval_table(file: &std::path::Path, points: &PointSet, v: &Value) -
     t
 }
 
+/// `eval A B C`: one column per file, one row per figure, the best value of each row
+/// marked with `*` (lowest for discrepancies and energies, highest for distances).
+pub(crate) fn eval_comparison(files: &[(PathBuf, PointSet, Value)]) -> String {
+    let names: Vec<String> = files
+        .iter()
+        .map(|(f, _, _)| {
+            let name = f
+                .file_name()
+                .map(|x| x.to_string_lossy().into_owned())
+                .unwrap_or_else(|| f.display().to_string());
+            if name.chars().count() > 14 {
+                format!(
+                    "…{}",
+                    name.chars()
+                        .rev()
+                        .take(13)
+                        .collect::<Vec<_>>()
+                        .into_iter()
+                        .rev()
+                        .collect::<String>()
+                )
+            } else {
+                name
+            }
+        })
+        .collect();
+    let mut t = String::new();
+    for ((f, p, _), name) in files.iter().zip(&names) {
+        t += &format!("{name}: {} (n = {}, s = {})\n", f.display(), p.n(), p.s());
+    }
+    t += &format!("\n  {:<36}", "");
+    for name in &names {
+        t += &format!(" {name:>15}");
+    }
+    t += "\n";
+    let rows: [(&str, &str, bool); 12] = [
+        ("star L2 discrepancy D_L2* (root)", "star_l2", false),
+        ("modified L2 discrepancy D_MD (root)", "modified_l2", false),
+        ("centred L2 discrepancy (root)", "centered_l2", false),
+        ("wrap-around L2 discrepancy (root)", "wrap_around_l2", false),
+        ("mixture discrepancy (root)", "mixture", false),
+        ("star discrepancy D* (L∞)", "star_linf", false),
+        ("worst 1-D projection D* (L∞)", "worst_1d_star_linf", false),
+        ("worst 2-D projection D* (L∞)", "worst_2d_star_linf", false),
+        ("minimum distance (Euclidean)", "min_distance", true),
+        ("minimum distance (periodic)", "min_distance_periodic", true),
+        ("mean gap max_k |mean_k − 0.5|", "mean_gap", false),
+        ("energy U_{E,∞} = 1/d_min", "energy_e_inf", false),
+    ];
+    for (label, key, higher) in rows {
+        let values: Vec<Option<f64>> = files.iter().map(|(_, _, v)| v[key].as_f64()).collect();
+        let best = values
+            .iter()
+            .flatten()
+            .copied()
+            .fold(None, |b: Option<f64>, v| match b {
+                Some(b) if (higher && b >= v) || (!higher && b <= v) => Some(b),
+                _ => Some(v),
+            });
+        t += &format!("  {label:<36}");
+        for v in &values {
+            let cell = match v {
+                Some(x) => format!(
+                    "{x:.6}{}",
+                    if Some(*x) == best && files.len() > 1 {
+                        "*"
+                    } else {
+                        " "
+                    }
+                ),
+                None => "- ".to_string(),
+            };
+            t += &format!(" {cell:>15}");
+        }
+        t += "\n";
+    }
+    t += &format!("  {:<36}", "every coordinate stratified");
+    for (_, _, v) in files {
+        let yes = if v["stratified"].as_bool() == Some(true) {
+            "yes "
+        } else {
+            "no "
+        };
+        t += &format!(" {yes:>15}");
+    }
+    t += "\n\n  * the best of the row: lower is better for the discrepancies, the mean gap and the\n    energy; higher for the distances. \"-\": not computed (see eval FILE --json notes).\n";
+    t
+}
+
 pub(crate) fn points_json(points: &PointSet) -> Value {
     json!(points.rows().map(|r| r.to_vec()).collect::<Vec<_>>())
 }
@@ -450,13 +539,32 @@ pub(crate) fn region_json(r: &GenerateReport, cfg: &GenerateConfig) -> Result<Va
     Ok(v)
 }
 
+/// A region as the user gave it: `{x : EXPR ≤ 0} in the box …` or the shape's text,
+/// not the internal form.
+pub(crate) fn region_name(cfg: &GenerateConfig) -> String {
+    let run::Space::Region { description, .. } = &cfg.space else {
+        return "the unit cube".into();
+    };
+    match (
+        description["expression"].as_str(),
+        description["box"].as_str(),
+        description["shape"].as_str(),
+    ) {
+        (Some(e), Some(b), _) => format!("{{x : {e} ≤ 0}} within the box {b}"),
+        (Some(e), None, _) => format!("{{x : {e} ≤ 0}}"),
+        (None, Some(b), Some(sh)) => format!("the shape {sh} within the box {b}"),
+        (None, _, Some(sh)) => format!("the shape {sh}"),
+        _ => cfg.region().map(|d| format!("{d:?}")).unwrap_or_default(),
+    }
+}
+
 pub(crate) fn region_table(
     r: &GenerateReport,
     cfg: &GenerateConfig,
     out: Option<&PathBuf>,
 ) -> Result<String> {
     let (a, b) = r.region_metrics()?;
-    let domain = cfg.region().map(|d| format!("{d:?}")).unwrap_or_default();
+    let domain = region_name(cfg);
     let solver = solver_line(r);
     let mut t = format!(
         "stillpoint: n = {}, s = {} in {}\n  {} from {}, {solver}\n\n",
