@@ -352,11 +352,11 @@ pub fn run(quick: bool, out: &mut dyn Write) -> std::io::Result<()> {
         let x = sequences::halton(n_uqp, s).expect("halton");
         let e = Uqp::new(Distance::Q(q), p).expect("energy");
         let base = median_time(if quick { 1 } else { 3 }, || {
-            let mut g = vec![0.0; x.len()];
+            let mut g = vec![0.0; x.coordinate_count()];
             std::hint::black_box(naive_uqp_gradient(&x, q, p, &mut g));
         });
         let (one, two) = both(reps, || {
-            let mut g = vec![0.0; x.len()];
+            let mut g = vec![0.0; x.coordinate_count()];
             std::hint::black_box(e.value_and_gradient(&x, &mut g));
         });
         full_two.push(two);
@@ -383,7 +383,7 @@ pub fn run(quick: bool, out: &mut dyn Write) -> std::io::Result<()> {
             .expect("energy")
             .with_precision(Precision::Fast);
         let (one, two) = both(reps, || {
-            let mut g = vec![0.0; x.len()];
+            let mut g = vec![0.0; x.coordinate_count()];
             std::hint::black_box(e.value_and_gradient(&x, &mut g));
         });
         let t = Timing {
@@ -428,7 +428,7 @@ pub fn run(quick: bool, out: &mut dyn Write) -> std::io::Result<()> {
     ] {
         let e = Uqp::new(dist, p).expect("energy");
         let (one, two) = both(reps, || {
-            let mut g = vec![0.0; x.len()];
+            let mut g = vec![0.0; x.coordinate_count()];
             std::hint::black_box(e.value_and_gradient(&x, &mut g));
         });
         let t = Timing {
@@ -481,7 +481,7 @@ pub fn run(quick: bool, out: &mut dyn Write) -> std::io::Result<()> {
     let x = sequences::halton(n_uqp, 20).expect("halton");
     let e = DiscrepancyEnergy::new(DiscrepancyKind::ModifiedL2);
     let (one, two) = both(reps, || {
-        let mut g = vec![0.0; x.len()];
+        let mut g = vec![0.0; x.coordinate_count()];
         std::hint::black_box(e.value_and_gradient(&x, &mut g));
     });
     let t = Timing {
@@ -560,7 +560,7 @@ pub fn run(quick: bool, out: &mut dyn Write) -> std::io::Result<()> {
             let r = if n > 5000 { 3 } else { reps };
             let t = on_threads(2, || {
                 median_time(r, || {
-                    let mut g = vec![0.0; x.len()];
+                    let mut g = vec![0.0; x.coordinate_count()];
                     std::hint::black_box(e.value_and_gradient(&x, &mut g));
                 })
             });
@@ -631,8 +631,8 @@ mod tests {
     fn naive_kernel_agrees_with_the_library() {
         let x = sequences::random(40, 3, 1).unwrap();
         let e = Uqp::new(Distance::Q(0.3), 0.8).unwrap();
-        let mut g1 = vec![0.0; x.len()];
-        let mut g2 = vec![0.0; x.len()];
+        let mut g1 = vec![0.0; x.coordinate_count()];
+        let mut g2 = vec![0.0; x.coordinate_count()];
         let u1 = e.value_and_gradient(&x, &mut g1);
         let u2 = naive_uqp_gradient(&x, 0.3, 0.8, &mut g2);
         assert!((u1 - u2).abs() < 1e-12 * u1);

@@ -878,7 +878,7 @@ fn push_meta_comments(out: &mut String, meta: &serde_json::Value) {
 }
 
 fn to_text(points: &PointSet, meta: &serde_json::Value, sep: char) -> String {
-    let mut out = String::with_capacity(64 + points.len() * 21);
+    let mut out = String::with_capacity(64 + points.coordinate_count() * 21);
     let _ = writeln!(out, "# stillpoint {}", env!("CARGO_PKG_VERSION"));
     push_meta_comments(&mut out, meta);
     for k in 1..=points.s() {
@@ -901,7 +901,7 @@ fn to_text(points: &PointSet, meta: &serde_json::Value, sep: char) -> String {
 }
 
 fn to_json(points: &PointSet, meta: &serde_json::Value) -> String {
-    let mut out = String::with_capacity(128 + points.len() * 21);
+    let mut out = String::with_capacity(128 + points.coordinate_count() * 21);
     let _ = write!(
         out,
         "{{\n  \"stillpoint\": \"{}\",\n  \"n\": {},\n  \"s\": {},\n",
@@ -943,7 +943,7 @@ fn to_npy(points: &PointSet) -> Vec<u8> {
         unpadded.next_multiple_of(64) - unpadded,
     ));
     header.push('\n');
-    let mut out = Vec::with_capacity(10 + header.len() + 8 * points.len());
+    let mut out = Vec::with_capacity(10 + header.len() + 8 * points.coordinate_count());
     out.extend_from_slice(NPY_MAGIC);
     out.extend_from_slice(&[1, 0]);
     // A dict for two dimensions is far below the 65 535-byte limit of version 1.0.

@@ -538,7 +538,7 @@ pub fn estimate_seconds(cfg: &GenerateConfig) -> Result<f64, Error> {
     probe.init = Init::Random;
     let (problem, _) = build_problem(&probe)?;
     let start = start_set(&probe)?;
-    let mut grad = vec![0.0; start.len()];
+    let mut grad = vec![0.0; start.coordinate_count()];
     let clock = Instant::now();
     let mut evaluations = 0u32;
     while evaluations < 3 || clock.elapsed().as_secs_f64() < 0.02 {

@@ -119,7 +119,7 @@ proptest! {
             let e = Uqp::new(d, pw).unwrap();
             let u = e.value(&p);
             prop_assert!(u.is_finite() && u > 0.0, "{d:?}: {u}");
-            let mut g = vec![0.0; p.len()];
+            let mut g = vec![0.0; p.coordinate_count()];
             let u2 = e.value_and_gradient(&p, &mut g);
             prop_assert!(close(u, u2, 1e-9), "{u} vs {u2}");
             prop_assert!(g.iter().all(|v| v.is_finite()));

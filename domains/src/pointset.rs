@@ -86,14 +86,10 @@ impl PointSet {
         self.s
     }
 
-    /// n·s, the length of the flat buffer.
-    pub fn len(&self) -> usize {
+    /// n·s, the number of coordinates: the length of the flat buffer (and of a gradient).
+    /// The number of points is [`PointSet::n`].
+    pub fn coordinate_count(&self) -> usize {
         self.data.len()
-    }
-
-    /// Never true: a point set holds at least one point.
-    pub fn is_empty(&self) -> bool {
-        self.data.is_empty()
     }
 
     /// The flat row-major buffer.

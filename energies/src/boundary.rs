@@ -63,7 +63,7 @@ fn boundary_distances(domain: &dyn Domain, points: &PointSet) -> (Vec<f64>, Vec<
         domain.dim(),
         "point dimension must match the domain's dimension"
     );
-    let mut feet = vec![0.0; points.len()];
+    let mut feet = vec![0.0; points.coordinate_count()];
     let dist: Vec<f64> = feet
         .par_chunks_mut(s)
         .zip(points.as_slice().par_chunks(s))
@@ -196,7 +196,11 @@ impl Energy for UEInfG {
     }
 
     fn value_and_gradient(&self, points: &PointSet, grad: &mut [f64]) -> f64 {
-        assert_eq!(grad.len(), points.len(), "gradient buffer length");
+        assert_eq!(
+            grad.len(),
+            points.coordinate_count(),
+            "gradient buffer length"
+        );
         grad.fill(0.0);
         let sc = self.scan(points, true);
         let count = sc.pairs.len() + sc.boundary.len();
@@ -423,7 +427,11 @@ impl Energy for UEpG {
     }
 
     fn value_and_gradient(&self, points: &PointSet, grad: &mut [f64]) -> f64 {
-        assert_eq!(grad.len(), points.len(), "gradient buffer length");
+        assert_eq!(
+            grad.len(),
+            points.coordinate_count(),
+            "gradient buffer length"
+        );
         // `eval` accumulates into the buffer; callers reuse theirs between steps.
         grad.fill(0.0);
         self.eval(points, Some(grad))

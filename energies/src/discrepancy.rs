@@ -153,7 +153,11 @@ impl Energy for DiscrepancyEnergy {
     }
 
     fn value_and_gradient(&self, points: &PointSet, grad: &mut [f64]) -> f64 {
-        assert_eq!(grad.len(), points.len(), "gradient buffer length");
+        assert_eq!(
+            grad.len(),
+            points.coordinate_count(),
+            "gradient buffer length"
+        );
         dispatch(self.kind, points, Some(grad))
     }
 

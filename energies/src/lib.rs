@@ -36,7 +36,7 @@ pub trait Energy: Send + Sync {
     /// Energy of the set, with its gradient (or a subgradient where the energy is not
     /// differentiable) written into `grad`, laid out like the points (row per point).
     ///
-    /// `grad.len()` must equal `points.len()`.
+    /// `grad.len()` must equal `points.coordinate_count()` (n·s).
     fn value_and_gradient(&self, points: &PointSet, grad: &mut [f64]) -> f64;
 
     /// Whether the energy is differentiable away from coincident points. Integrators use

@@ -353,7 +353,11 @@ impl Energy for Uqp {
     }
 
     fn value_and_gradient(&self, points: &PointSet, grad: &mut [f64]) -> f64 {
-        assert_eq!(grad.len(), points.len(), "gradient buffer length");
+        assert_eq!(
+            grad.len(),
+            points.coordinate_count(),
+            "gradient buffer length"
+        );
         grad.fill(0.0);
         if points.n() < 2 {
             return 0.0;

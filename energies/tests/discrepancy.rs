@@ -44,7 +44,7 @@ fn energy(kind: DiscrepancyKind) -> DiscrepancyEnergy {
 }
 
 fn gradient(e: &dyn Energy, x: &PointSet) -> (f64, Vec<f64>) {
-    let mut g = vec![f64::NAN; x.len()];
+    let mut g = vec![f64::NAN; x.coordinate_count()];
     let v = e.value_and_gradient(x, &mut g);
     (v, g)
 }

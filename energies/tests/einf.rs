@@ -172,7 +172,7 @@ fn interior_points(domain: &dyn Domain, ok: AwayFromAxis, n: usize, seed: u64) -
 }
 
 fn grad_of(e: &dyn Energy, x: &PointSet) -> (f64, Vec<f64>) {
-    let mut g = vec![0.0; x.len()];
+    let mut g = vec![0.0; x.coordinate_count()];
     let u = e.value_and_gradient(x, &mut g);
     (u, g)
 }
@@ -212,7 +212,7 @@ fn brute_min_pair(torus: bool, x: &PointSet) -> (f64, usize, usize) {
 fn pair_gradient(torus: bool, x: &PointSet, i: usize, j: usize) -> Vec<f64> {
     let s = x.s();
     let d = dist(torus, x.point(i), x.point(j));
-    let mut g = vec![0.0; x.len()];
+    let mut g = vec![0.0; x.coordinate_count()];
     for k in 0..s {
         let a = diff(torus, x.point(i)[k], x.point(j)[k]);
         g[i * s + k] = -a / d.powi(3);
@@ -296,7 +296,7 @@ fn check_tie(torus: bool, x: &PointSet, active: &[(usize, usize)]) {
         .iter()
         .map(|&(i, j)| pair_gradient(torus, x, i, j))
         .collect();
-    let mean: Vec<f64> = (0..x.len())
+    let mean: Vec<f64> = (0..x.coordinate_count())
         .map(|k| pieces.iter().map(|p| p[k]).sum::<f64>() / pieces.len() as f64)
         .collect();
     assert!(rel_err(&g, &mean) < 1e-12 || g == mean, "{g:?} vs {mean:?}");
@@ -309,7 +309,7 @@ fn check_tie(torus: bool, x: &PointSet, active: &[(usize, usize)]) {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(99);
     let h = 1e-7;
     for _ in 0..200 {
-        let v: Vec<f64> = (0..x.len())
+        let v: Vec<f64> = (0..x.coordinate_count())
             .map(|_| 2.0 * rng.random::<f64>() - 1.0)
             .collect();
         let gv = dot(&g, &v);
@@ -554,7 +554,7 @@ fn same_bits_for_one_and_two_threads() {
                 .build()
                 .unwrap()
                 .install(|| {
-                    let mut g = vec![0.0; pts.len()];
+                    let mut g = vec![0.0; pts.coordinate_count()];
                     let u = e.value_and_gradient(pts, &mut g);
                     (
                         u.to_bits(),

@@ -144,7 +144,7 @@ fn fast_precision_handles_tiny_and_zero_differences() {
         let fast = Uqp::new(Distance::Q(q), 0.9)
             .unwrap()
             .with_precision(Precision::Fast);
-        let mut g = vec![0.0; x.len()];
+        let mut g = vec![0.0; x.coordinate_count()];
         let u = fast.value_and_gradient(&x, &mut g);
         let (u_ref, g_ref) = reference_uqp(&x, Distance::Q(q), 0.9);
         assert!(
@@ -246,7 +246,7 @@ fn energies_and_gradients_match_the_straightforward_kernel() {
             for &(n, s) in &sizes {
                 let x = random_set(n, s, 7 + 13 * di as u64 + n as u64 * s as u64);
                 let e = Uqp::new(dist, p).unwrap();
-                let mut g = vec![0.0; x.len()];
+                let mut g = vec![0.0; x.coordinate_count()];
                 let u = e.value_and_gradient(&x, &mut g);
                 assert_eq!(u.to_bits(), e.value(&x).to_bits(), "value paths differ");
                 let (u_ref, g_ref) = reference_uqp(&x, dist, p);
@@ -277,7 +277,7 @@ fn fast_energies_and_gradients_match_the_straightforward_kernel() {
                 let e = Uqp::new(Distance::Q(q), p)
                     .unwrap()
                     .with_precision(Precision::Fast);
-                let mut g = vec![0.0; x.len()];
+                let mut g = vec![0.0; x.coordinate_count()];
                 let u = e.value_and_gradient(&x, &mut g);
                 assert_eq!(u.to_bits(), e.value(&x).to_bits(), "value paths differ");
                 let (u_ref, g_ref) = reference_uqp(&x, Distance::Q(q), p);
@@ -329,7 +329,7 @@ fn same_bits_for_one_and_two_threads_every_kernel() {
             .build()
             .unwrap()
             .install(|| {
-                let mut g = vec![0.0; x.len()];
+                let mut g = vec![0.0; x.coordinate_count()];
                 let u = e.value_and_gradient(&x, &mut g);
                 let v = e.value(&x);
                 (
@@ -416,7 +416,7 @@ fn discrepancy_energy_value_paths_have_the_same_bits() {
         let x = random_set(n, s, 800 + n as u64);
         for kind in [StarL2, ModifiedL2, CenteredL2, WrapAroundL2] {
             let e = DiscrepancyEnergy::new(kind);
-            let mut g = vec![0.0; x.len()];
+            let mut g = vec![0.0; x.coordinate_count()];
             let v = e.value_and_gradient(&x, &mut g);
             assert_eq!(v.to_bits(), e.value(&x).to_bits(), "{kind:?} n={n} s={s}");
         }

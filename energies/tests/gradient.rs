@@ -22,7 +22,7 @@ fn gradient_matches_finite_differences() {
             for &s in &[1usize, 2, 7] {
                 let x = random_set(8, s, 1000 + 31 * qi as u64 + s as u64);
                 let e = Uqp::new(q, p).unwrap();
-                let mut g = vec![0.0; x.len()];
+                let mut g = vec![0.0; x.coordinate_count()];
                 let v = e.value_and_gradient(&x, &mut g);
                 let v2 = e.value(&x);
                 assert!((v - v2).abs() <= 1e-13 * v2.abs(), "value paths differ");
@@ -89,7 +89,7 @@ fn same_bits_for_one_and_two_threads() {
             .build()
             .unwrap()
             .install(|| {
-                let mut g = vec![0.0; x.len()];
+                let mut g = vec![0.0; x.coordinate_count()];
                 let u = e.value_and_gradient(&x, &mut g);
                 (
                     u.to_bits(),

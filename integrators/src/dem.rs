@@ -209,7 +209,7 @@ impl DemState {
         DemState {
             current: start.clone(),
             previous: start.clone(),
-            grad: vec![0.0; start.len()],
+            grad: vec![0.0; start.coordinate_count()],
             start,
             from_rest: true,
             step: 0,
@@ -411,9 +411,9 @@ impl Integrator for Dem {
             // The state of a single star without force (see `init`).
             return Ok(Step::Ended(crate::StopReason::Converged));
         }
-        if st.grad.len() != st.current.len() {
+        if st.grad.len() != st.current.coordinate_count() {
             // A resumed state: the gradient at x^(j), with the bits it had.
-            st.grad = vec![0.0; st.current.len()];
+            st.grad = vec![0.0; st.current.coordinate_count()];
             problem
                 .energy()
                 .value_and_gradient(&st.current, &mut st.grad);

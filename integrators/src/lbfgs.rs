@@ -241,7 +241,7 @@ impl EvalCache {
             param: start.as_slice().to_vec(),
             valid: false,
             points: start.clone(),
-            grad: vec![0.0; start.len()],
+            grad: vec![0.0; start.coordinate_count()],
             value: f64::NAN,
             moved: false,
             evaluations: 0,
@@ -859,7 +859,7 @@ impl Integrator for Lbfgs {
             ));
         }
         problem.check_inside("checkpoint point", c)?;
-        let len = c.len();
+        let len = c.coordinate_count();
         let lens_ok = st.cache.param.len() == len
             && st.cache.grad.len() == len
             && st.cache.trial_param.len() == len

@@ -40,7 +40,7 @@ impl Integrator for Descent {
 
     fn step(&self, problem: &Problem<'_>, st: &mut DescentState) -> Result<Step> {
         let s = st.points.s();
-        let mut grad = vec![0.0; st.points.len()];
+        let mut grad = vec![0.0; st.points.coordinate_count()];
         problem.energy().value_and_gradient(&st.points, &mut grad);
         let mut max_move: f64 = 0.0;
         let mut prev = vec![0.0; s];

@@ -23,7 +23,7 @@ impl<F: FnMut(&Record, &PointSet) -> Control> Observer for Check<F> {
 }
 
 fn grad_max_norm(e: &dyn Energy, x: &PointSet) -> f64 {
-    let mut g = vec![0.0; x.len()];
+    let mut g = vec![0.0; x.coordinate_count()];
     e.value_and_gradient(x, &mut g);
     g.iter().fold(0.0, |m, v| m.max(v.abs()))
 }

@@ -15,7 +15,7 @@ pub fn random_set(n: usize, s: usize, seed: u64) -> PointSet {
 
 /// Central differences of the energy's value, step h, coordinate by coordinate.
 pub fn fd_gradient(e: &dyn Energy, x: &PointSet, h: f64) -> Vec<f64> {
-    let mut g = vec![0.0; x.len()];
+    let mut g = vec![0.0; x.coordinate_count()];
     let mut y = x.clone();
     for (idx, gi) in g.iter_mut().enumerate() {
         let v = x.as_slice()[idx];
