@@ -852,6 +852,12 @@ fn integration_run(
     )
 }
 
+/// Latin hypercube starts of the space-filling goal's maximin search (each about half a
+/// second at most).
+const SPACE_FILLING_LHS_STARTS: u64 = 4;
+/// Further passes of the search from the best candidate.
+const SPACE_FILLING_PASSES: u64 = 3;
+
 /// The space-filling goal in the cube: the paper's run, stratified, and a Latin
 /// hypercube, each through the maximin swap search; the larger smallest distance wins.
 fn space_filling_run(
@@ -867,27 +873,31 @@ fn space_filling_run(
         steps: None,
     });
     let from_dem = crate::stratified::stratify(&paper.output.points);
-    let candidates = [
-        (
-            "the DEM's result, stratified",
-            sequences::maximin_search(from_dem.clone(), cfg.seed)?,
-        ),
-        (
-            "a Latin hypercube",
-            sequences::lhs_maximin(cfg.n, cfg.s, cfg.seed)?,
-        ),
-    ];
+    // Candidates: the DEM's set and several Latin hypercubes, each through the search.
+    let mut candidates = vec![(
+        "the DEM's result, stratified".to_string(),
+        sequences::maximin_search(from_dem.clone(), cfg.seed)?,
+    )];
+    for k in 0..SPACE_FILLING_LHS_STARTS {
+        candidates.push((
+            format!("a Latin hypercube (seed {})", cfg.seed.wrapping_add(k)),
+            sequences::lhs_maximin(cfg.n, cfg.s, cfg.seed.wrapping_add(k))?,
+        ));
+    }
     let min_d = |p: &PointSet| metrics::min_distance_euclidean(p);
-    let (label, best) = candidates
+    let (label, mut points) = candidates
         .into_iter()
-        .fold(None::<(&str, PointSet)>, |best, (l, p)| match best {
+        .fold(None::<(String, PointSet)>, |best, (l, p)| match best {
             Some((bl, bp)) if min_d(&bp) >= min_d(&p) => Some((bl, bp)),
             _ => Some((l, p)),
         })
-        .expect("two candidates");
-    // A second pass of the search from the better one, with its own random stream: the
-    // search never returns a set below its start, so this only adds.
-    let points = sequences::maximin_search(best, cfg.seed.wrapping_add(0x9e37_79b9))?;
+        .expect("at least two candidates");
+    // More passes of the search from the best, each with its own random stream: the
+    // search never returns a set below its start, so each pass only adds.
+    for pass in 0..SPACE_FILLING_PASSES {
+        let stream = cfg.seed ^ 0x9e37_79b9_7f4a_7c15u64.wrapping_mul(pass + 1);
+        points = sequences::maximin_search(points, stream)?;
+    }
     on_event(Event::Stage {
         name: "metrics",
         steps: None,
@@ -899,8 +909,9 @@ fn space_filling_run(
             paper.output.trajectory.last().map_or(0, |r| r.step)
         ),
         format!(
-            "maximin swap search from the DEM's stratified result and from a Latin \
-             hypercube: kept {label}, searched again; every coordinate stratified"
+            "maximin swap search from the DEM's stratified result and from \
+             {SPACE_FILLING_LHS_STARTS} Latin hypercubes: kept {label}, searched \
+             {SPACE_FILLING_PASSES} more times; every coordinate stratified"
         ),
     ];
     let energy = (min_d(&from_dem), min_d(&points));
