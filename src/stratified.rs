@@ -562,30 +562,7 @@ pub fn integration_set(
             (value(&p), p, format!("random({seed})"))
         }
     };
-    let mut points = start_points.clone();
-    // The weights are fixed at the kept start, so the target is one function all along.
-    let target = target.normalised_at(&points);
-    if target.fits(s) && n >= 2 {
-        let lbfgs = Lbfgs::default();
-        let forms: Vec<(Form, f64)> = target
-            .parts
-            .iter()
-            .map(|&(k, w)| (Form::from(k), w))
-            .collect();
-        let rounds = effort.rounds.max(1) as u64;
-        let affordable = effort.exchange_work / (rounds * forms.len() as u64 * n as u64);
-        let proposals = (effort.proposals as u64 * (n * s) as u64).min(affordable) as usize;
-        for round in 0..effort.rounds {
-            points = exchange_descent(
-                &points,
-                &forms,
-                proposals,
-                start_seed(seed, 1000 + round as u64),
-            );
-            points = descend_in_cells(&points, &target, effort.lbfgs_steps, &lbfgs)?;
-        }
-    }
-    points = center_columns(&points);
+    let points = descend(start_points.clone(), 0, target, seed, effort)?;
     let after = value(&points);
     Ok((
         points,
@@ -596,6 +573,50 @@ pub fn integration_set(
             after,
         },
     ))
+}
+
+/// The descent of the integration goal from a stratified start, moving the points from
+/// index `first_movable` on: rounds of exchanges and in-cell L-BFGS on the target (its
+/// weights fixed at the start, so it is one function all along), then the columns
+/// balanced. Up to [`DESCENT_MAX_N`] points; larger sets are only balanced.
+fn descend(
+    mut points: PointSet,
+    first_movable: usize,
+    target: &Target,
+    seed: u64,
+    effort: &Effort,
+) -> Result<PointSet, Error> {
+    let (n, s) = (points.n(), points.s());
+    let target = target.normalised_at(&points);
+    if target.fits(s) && (2..=DESCENT_MAX_N).contains(&n) {
+        let lbfgs = Lbfgs::default();
+        let forms: Vec<(Form, f64)> = target
+            .parts
+            .iter()
+            .map(|&(k, w)| (Form::from(k), w))
+            .collect();
+        let moving = (n - first_movable) as u64;
+        let rounds = effort.rounds.max(1) as u64;
+        let affordable = effort.exchange_work / (rounds * forms.len() as u64 * n as u64);
+        let proposals = (effort.proposals as u64 * moving * s as u64).min(affordable) as usize;
+        for round in 0..effort.rounds {
+            points = exchange_descent_after(
+                &points,
+                first_movable,
+                &forms,
+                proposals,
+                start_seed(seed, 1000 + round as u64),
+            );
+            points = descend_in_cells_after(
+                &points,
+                first_movable,
+                &target,
+                effort.lbfgs_steps,
+                &lbfgs,
+            )?;
+        }
+    }
+    Ok(center_columns_after(&points, first_movable))
 }
 
 /// What [`extend_set`] did, for reports.
@@ -693,30 +714,7 @@ pub fn extend_set(
         format!("random({sd})"),
     );
     let (_, start, start_label) = best.expect("at least one candidate");
-    let mut points = start.clone();
-    let target = target.normalised_at(&points);
-    if target.fits(s) && n <= DESCENT_MAX_N {
-        let lbfgs = Lbfgs::default();
-        let forms: Vec<(Form, f64)> = target
-            .parts
-            .iter()
-            .map(|&(k, w)| (Form::from(k), w))
-            .collect();
-        let rounds = effort.rounds.max(1) as u64;
-        let affordable = effort.exchange_work / (rounds * forms.len() as u64 * n as u64);
-        let proposals = (effort.proposals as u64 * (m * s) as u64).min(affordable) as usize;
-        for round in 0..effort.rounds {
-            points = exchange_descent_after(
-                &points,
-                n0,
-                &forms,
-                proposals,
-                start_seed(seed, 1000 + round as u64),
-            );
-            points = descend_in_cells_after(&points, n0, &target, effort.lbfgs_steps, &lbfgs)?;
-        }
-    }
-    points = center_columns_after(&points, n0);
+    let points = descend(start.clone(), n0, target, seed, effort)?;
     debug_assert_eq!(&points.as_slice()[..n0 * s], x);
     Ok(Extension {
         stratified: is_stratified(&points),
