@@ -714,7 +714,13 @@ pub fn extend_set(
         format!("random({sd})"),
     );
     let (_, start, start_label) = best.expect("at least one candidate");
-    let points = descend(start.clone(), n0, target, seed, effort)?;
+    // A stage moves only its new points, so it can afford a longer search per point.
+    let deeper = Effort {
+        rounds: effort.rounds * 3,
+        proposals: effort.proposals * 4,
+        ..*effort
+    };
+    let points = descend(start.clone(), n0, target, seed, &deeper)?;
     debug_assert_eq!(&points.as_slice()[..n0 * s], x);
     Ok(Extension {
         stratified: is_stratified(&points),
