@@ -128,6 +128,83 @@ pub enum Goal {
     SpaceFilling,
 }
 
+/// The goal a caller asked for by name (`--goal`, `goal=`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GoalName {
+    /// `integration`.
+    Integration,
+    /// `space-filling`.
+    SpaceFilling,
+}
+
+/// What a run is for, decided the same way for the command line and the Python package:
+/// an asked goal chooses (none of the paper's options may come with it, except with
+/// space-filling in a region, whose pipeline is the region's run); without one, the
+/// paper's method (`paper`), any of the paper's options (`expert`, named as the caller
+/// spells them) or a region choose the paper's pipeline, and otherwise the integration
+/// goal. `target` applies to the integration goal only. `flag` spells an option's name
+/// the caller's way (`--goal` or `goal`) in the refusals.
+pub fn choose_goal(
+    asked: Option<GoalName>,
+    paper: bool,
+    expert: &[&str],
+    in_region: bool,
+    target: Option<Target>,
+    flag: impl Fn(&str) -> String,
+) -> Result<Goal, Error> {
+    let goal = match asked {
+        Some(g) => {
+            let name = match g {
+                GoalName::Integration => "integration",
+                GoalName::SpaceFilling => "space-filling",
+            };
+            if paper {
+                return Err(Error::invalid(
+                    flag("goal"),
+                    name,
+                    "no goal with the paper's method (it is its own pipeline)",
+                ));
+            }
+            if let (Some(first), false) = (expert.first(), in_region && g == GoalName::SpaceFilling)
+            {
+                return Err(Error::invalid(
+                    *first,
+                    format!("given with the goal {name}"),
+                    format!(
+                        "the paper's options only with the paper's method (or no {}); a \
+                         goal chooses its own pipeline",
+                        flag("goal")
+                    ),
+                ));
+            }
+            match g {
+                GoalName::Integration if in_region => {
+                    return Err(Error::invalid(
+                        flag("goal"),
+                        "integration in a region",
+                        "space-filling in a region (the discrepancies of integration are \
+                         those of the unit cube)",
+                    ))
+                }
+                GoalName::Integration => Goal::Integration(Target::blend()),
+                GoalName::SpaceFilling => Goal::SpaceFilling,
+            }
+        }
+        None if paper || !expert.is_empty() || in_region => Goal::Paper,
+        None => Goal::Integration(Target::blend()),
+    };
+    match (goal, target) {
+        (Goal::Integration(_), Some(t)) => Ok(Goal::Integration(t)),
+        (_, Some(t)) => Err(Error::invalid(
+            flag("target"),
+            t.name(),
+            "a target only with the integration goal (the cube's default); this run's \
+             pipeline is the paper's or space-filling",
+        )),
+        (g, None) => Ok(g),
+    }
+}
+
 /// How a finished set is randomised (`--randomize`), so that independent seeds give
 /// independent, unbiased estimates of an integral.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

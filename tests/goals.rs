@@ -116,7 +116,7 @@ fn goal_options_are_checked() {
         (&["--randomize", "sometimes"][..], "--randomize"),
         (
             &["--goal", "integration", "--shape", "ball:1"][..],
-            "--goal integration in a region",
+            "integration in a region",
         ),
     ] {
         let o = bin()

@@ -14,7 +14,9 @@ use stillpoint::domains::shapes::{Ball, BoxRegion, Ellipsoid, Polytope, Simplex}
 use stillpoint::energies::discrepancy::DiscrepancyKind;
 use stillpoint::energies::{Distance, Precision};
 use stillpoint::integrators::{Kappa, Restart};
-use stillpoint::run::{EnergyKind, GenerateConfig, Goal, Init, Randomize, Solver, Space, Target};
+use stillpoint::run::{
+    choose_goal, EnergyKind, GenerateConfig, Goal, GoalName, Init, Randomize, Solver, Space, Target,
+};
 use stillpoint::sequences::Baseline;
 use stillpoint::{Domain, PointSet};
 
@@ -321,41 +323,16 @@ fn apply_goal(
 ) -> Result<(), Refusal> {
     let get = |k: &str| chosen.iter().find(|(key, _)| *key == k).map(|(_, v)| *v);
     let region = cfg.region().is_some();
-    let goal = match get("goal").filter(|v| **v != OptValue::None) {
+    let asked = match get("goal").filter(|v| **v != OptValue::None) {
         Some(v) => match v.word().as_deref().map(|w| w.replace('_', "-")).as_deref() {
-            Some("integration") => Some(Goal::Integration(Target::blend())),
-            Some("space-filling") => Some(Goal::SpaceFilling),
+            Some("integration") => Some(GoalName::Integration),
+            Some("space-filling") => Some(GoalName::SpaceFilling),
             _ => return Err(invalid("goal", v, "'integration' or 'space-filling'")),
         },
         None => None,
     };
-    let goal = match goal {
-        Some(g) => {
-            if paper {
-                return Err(
-                    "invalid goal with method='paper': the paper's pipeline is its own goal".into(),
-                );
-            }
-            if let (Some(first), false) = (expert.first(), region && g == Goal::SpaceFilling) {
-                return Err(format!(
-                    "invalid {first} with goal: the options of the paper's pipeline need \
-                     method='paper' (or no goal); a goal chooses its own pipeline"
-                ));
-            }
-            if region && g != Goal::SpaceFilling {
-                return Err(invalid(
-                    "goal",
-                    "'integration' in a region",
-                    "'space-filling' in a region (its discrepancies are those of the cube)",
-                ));
-            }
-            g
-        }
-        None if paper || !expert.is_empty() || region => Goal::Paper,
-        None => Goal::Integration(Target::blend()),
-    };
-    let goal = match (goal, get("target").filter(|v| **v != OptValue::None)) {
-        (Goal::Integration(_), Some(v)) => Goal::Integration(match v.word().as_deref() {
+    let target = match get("target").filter(|v| **v != OptValue::None) {
+        Some(v) => Some(match v.word().as_deref() {
             Some("blend") => Target::blend(),
             Some(w) => Target::single(DiscrepancyKind::parse(w).map_err(|_| {
                 invalid("target", v, "'blend', 'md', 'l2star', 'cd' or 'periodic'")
@@ -368,15 +345,12 @@ fn apply_goal(
                 ))
             }
         }),
-        (_, Some(v)) => {
-            return Err(invalid(
-                "target",
-                v,
-                "a target only with the integration goal (the cube's default)",
-            ))
-        }
-        (g, None) => g,
+        None => None,
     };
+    let goal = choose_goal(asked, paper, expert, region, target, |name| {
+        name.to_string()
+    })
+    .map_err(|e| e.to_string())?;
     cfg.randomize = match get("randomize") {
         None | Some(OptValue::None) => None,
         Some(v) if region => {

@@ -119,31 +119,17 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     .filter_map(|(flag, given)| given.then_some(flag))
     .collect();
     let in_region = region.is_some() || shape.is_some();
-    let goal = match (goal, method) {
-        (Some(g), _) if !(expert.is_empty() || in_region && g == GoalArg::SpaceFilling) => bail!(
-            "invalid {} with --goal {}: the options of the paper's pipeline need \
-             --method paper (or no --goal); --goal chooses its own pipeline",
-            expert.join(", "),
-            match g {
-                GoalArg::Integration => "integration",
-                GoalArg::SpaceFilling => "space-filling",
-            }
-        ),
-        (Some(GoalArg::Integration), _) => run::Goal::Integration(run::Target::blend()),
-        (Some(GoalArg::SpaceFilling), _) => run::Goal::SpaceFilling,
-        (None, Some(MethodArg::Paper)) => run::Goal::Paper,
-        (None, None) if !expert.is_empty() || in_region => run::Goal::Paper,
-        (None, None) => run::Goal::Integration(run::Target::blend()),
-    };
-    let goal = match (goal, target) {
-        (run::Goal::Integration(_), Some(t)) => run::Goal::Integration(t),
-        (run::Goal::Integration(_), None) => run::Goal::Integration(run::Target::blend()),
-        (_, Some(_)) => bail!(
-            "invalid --target: it chooses what the integration goal lowers; this run is \
-             not one (its pipeline is the paper's or space-filling)"
-        ),
-        (g, None) => g,
-    };
+    let goal = run::choose_goal(
+        goal.map(|g| match g {
+            GoalArg::Integration => run::GoalName::Integration,
+            GoalArg::SpaceFilling => run::GoalName::SpaceFilling,
+        }),
+        method == Some(MethodArg::Paper),
+        &expert,
+        in_region,
+        target,
+        |name| format!("--{name}"),
+    )?;
     let paper_dem = crate::integrators::Dem::default();
     let (kappa, restart) = (
         kappa.unwrap_or(paper_dem.kappa),
@@ -214,12 +200,6 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         cfg.dem.tolerance = tolerance;
         if plot.is_some() && cfg.s < 2 {
             bail!("invalid --plot: the region has dimension 1; plots need s ≥ 2");
-        }
-        if let run::Goal::Integration(_) = goal {
-            bail!(
-                "invalid --goal integration in a region: its discrepancies are those of the \
-                 unit cube; in a region the goal is space-filling (the default)"
-            );
         }
         if randomize.is_some() {
             bail!(
