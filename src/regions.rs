@@ -98,3 +98,48 @@ pub fn start_in_region(
         }
     }
 }
+
+/// A box or bounds given as LO1, HI1, LO2, HI2, …: split into (lo, hi), refusing an odd
+/// count, LO ≥ HI, and a width that overflows or vanishes next to the coordinates (it
+/// leaves nothing to draw or sample on). `name` and `shown` are the option and its
+/// value as the caller spells them, for the refusal.
+pub fn intervals(name: &str, shown: &str, v: &[f64]) -> Result<(Vec<f64>, Vec<f64>), Error> {
+    if v.is_empty() || !v.len().is_multiple_of(2) || v.iter().any(|x| !x.is_finite()) {
+        return Err(Error::invalid(
+            name,
+            shown,
+            "LO1,HI1,LO2,HI2,...: two finite numbers per dimension",
+        ));
+    }
+    let lo: Vec<f64> = v.iter().step_by(2).copied().collect();
+    let hi: Vec<f64> = v.iter().skip(1).step_by(2).copied().collect();
+    if let Some(k) = (0..lo.len()).find(|&k| lo[k] >= hi[k]) {
+        return Err(Error::invalid(
+            name,
+            shown,
+            format!(
+                "LO < HI, but dimension {} has LO = {} ≥ HI = {}",
+                k + 1,
+                lo[k],
+                hi[k]
+            ),
+        ));
+    }
+    if let Some(k) = (0..lo.len()).find(|&k| {
+        let w = hi[k] - lo[k];
+        !(w.is_finite() && w > 1e-150 && w > 1e-12 * lo[k].abs().max(hi[k].abs()))
+    }) {
+        return Err(Error::invalid(
+            name,
+            shown,
+            format!(
+                "a width that is finite, above 1e-150 and not vanishing next to the \
+                 coordinates, but dimension {} is [{:?}, {:?}]",
+                k + 1,
+                lo[k],
+                hi[k]
+            ),
+        ));
+    }
+    Ok((lo, hi))
+}

@@ -598,45 +598,10 @@ pub fn apply_option(cfg: &mut GenerateConfig, key: &str, value: &OptValue) -> Re
     Ok(())
 }
 
-/// `box` as (lo, hi): two finite numbers per dimension, lo < hi, a usable width.
+/// `box` as (lo, hi): two finite numbers per dimension, lo < hi, a usable width (the
+/// library's check, as for the command line's `--box`).
 pub fn parse_box(v: &[f64]) -> Result<(Vec<f64>, Vec<f64>), Refusal> {
-    let shown = || format!("{v:?}");
-    if v.is_empty() || !v.len().is_multiple_of(2) {
-        return Err(invalid(
-            "box",
-            shown(),
-            "[lo1, hi1, lo2, hi2, ...] or [(lo1, hi1), (lo2, hi2), ...]: two numbers per \
-             dimension",
-        ));
-    }
-    if v.iter().any(|x| !x.is_finite()) {
-        return Err(invalid("box", shown(), "finite numbers"));
-    }
-    let lo: Vec<f64> = v.iter().step_by(2).copied().collect();
-    let hi: Vec<f64> = v.iter().skip(1).step_by(2).copied().collect();
-    if let Some(k) = (0..lo.len()).find(|&k| lo[k] >= hi[k]) {
-        return Err(format!(
-            "invalid box = {}: dimension {} has lo = {} >= hi = {} (expected lo < hi)",
-            shown(),
-            k + 1,
-            lo[k],
-            hi[k]
-        ));
-    }
-    if let Some(k) = (0..lo.len()).find(|&k| {
-        let w = hi[k] - lo[k];
-        !(w.is_finite() && w > 1e-150 && w > 1e-12 * lo[k].abs().max(hi[k].abs()))
-    }) {
-        return Err(format!(
-            "invalid box = {}: dimension {} is [{:?}, {:?}], expected a width that is finite, \
-             above 1e-150 and not vanishing next to the coordinates",
-            shown(),
-            k + 1,
-            lo[k],
-            hi[k]
-        ));
-    }
-    Ok((lo, hi))
+    stillpoint::regions::intervals("box", &format!("{v:?}"), v).map_err(|e| e.to_string())
 }
 
 /// Comma-separated numbers of a shape's text.

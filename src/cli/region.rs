@@ -76,33 +76,7 @@ pub(crate) fn unscale_from(
 /// Two numbers per coordinate, LO < HI each, with a usable width.
 fn parse_intervals(flag: &str, text: &str) -> Result<(Vec<f64>, Vec<f64>)> {
     let v = number_list(flag, text)?;
-    if v.is_empty() || v.len() % 2 != 0 {
-        bail!("invalid {flag} = {text}: expected LO1,HI1,LO2,HI2,... (two numbers per dimension)");
-    }
-    let lo: Vec<f64> = v.iter().step_by(2).copied().collect();
-    let hi: Vec<f64> = v.iter().skip(1).step_by(2).copied().collect();
-    if let Some(k) = (0..lo.len()).find(|&k| lo[k] >= hi[k]) {
-        bail!(
-            "invalid {flag} = {text}: dimension {} has LO = {} ≥ HI = {} (expected LO < HI)",
-            k + 1,
-            lo[k],
-            hi[k]
-        );
-    }
-    // A width that overflows (or vanishes) leaves nothing to draw or sample on.
-    if let Some(k) = (0..lo.len()).find(|&k| {
-        let w = hi[k] - lo[k];
-        !(w.is_finite() && w > 1e-150 && w > 1e-12 * lo[k].abs().max(hi[k].abs()))
-    }) {
-        bail!(
-            "invalid {flag} = {text}: dimension {} is [{:?}, {:?}], expected a width that is \
-             finite, above 1e-150 and not vanishing next to the coordinates",
-            k + 1,
-            lo[k],
-            hi[k]
-        );
-    }
-    Ok((lo, hi))
+    Ok(crate::regions::intervals(flag, text, &v)?)
 }
 
 /// The domain of `--region EXPR --box ..` or `--shape SPEC`.
