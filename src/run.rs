@@ -962,11 +962,13 @@ fn space_filling_run(
         ));
     }
     let min_d = |p: &PointSet| metrics::min_distance_euclidean(p);
-    let (label, mut points) = candidates
+    // Each candidate's smallest distance once (an O(n² s) pass); the first best is kept.
+    let (label, _, mut points) = candidates
         .into_iter()
-        .fold(None::<(String, PointSet)>, |best, (l, p)| match best {
-            Some((bl, bp)) if min_d(&bp) >= min_d(&p) => Some((bl, bp)),
-            _ => Some((l, p)),
+        .map(|(l, p)| (l, min_d(&p), p))
+        .fold(None::<(String, f64, PointSet)>, |best, c| match best {
+            Some(b) if b.1 >= c.1 => Some(b),
+            _ => Some(c),
         })
         .expect("at least two candidates");
     // More passes of the search from the best, each with its own random stream: the
