@@ -7,9 +7,10 @@
 
 use std::fmt::Write as _;
 use std::time::Instant;
-use stillpoint::metrics::Metrics;
+use stillpoint::goals::integration::{integration_set, nested_set, Effort};
+use stillpoint::quality::metrics::Metrics;
+use stillpoint::quality::target::Target;
 use stillpoint::sequences;
-use stillpoint::stratified::{integration_set, nested_set, Effort, Target};
 use stillpoint::PointSet;
 
 fn prefix(p: &PointSet, k: usize) -> PointSet {

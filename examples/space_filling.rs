@@ -6,10 +6,10 @@
 
 use std::fmt::Write as _;
 use std::time::Instant;
-use stillpoint::metrics::min_distance_euclidean;
-use stillpoint::run::{self, GenerateConfig, Goal};
+use stillpoint::pipeline::{self as run, GenerateConfig, Goal};
+use stillpoint::quality::metrics::min_distance_euclidean;
+use stillpoint::quality::stratification::is_stratified;
 use stillpoint::sequences;
-use stillpoint::stratified::is_stratified;
 
 fn main() {
     let mut md = String::from(
@@ -26,7 +26,7 @@ fn main() {
     for s in [2, 3, 5, 10] {
         for n in [16, 64, 256, 1024] {
             let clock = Instant::now();
-            let goal = run::generate(&GenerateConfig::for_goal(n, s, Goal::SpaceFilling), |_| {})
+            let goal = run::run_config(&GenerateConfig::for_goal(n, s, Goal::SpaceFilling), |_| {})
                 .unwrap()
                 .output
                 .points;
@@ -35,7 +35,7 @@ fn main() {
                 .map(|seed| min_distance_euclidean(&sequences::lhs_maximin(n, s, seed).unwrap()))
                 .fold(0.0, f64::max);
             let paper = min_distance_euclidean(
-                &run::generate(&GenerateConfig::new(n, s), |_| {})
+                &run::run_config(&GenerateConfig::new(n, s), |_| {})
                     .unwrap()
                     .output
                     .points,

@@ -1,11 +1,35 @@
-//! stillpoint: point sets that fill a domain as evenly as possible, as the static solution
-//! of a damped many-body problem (the dynamical evolutionary model, DEM).
+//! stillpoint: point sets that fill a domain as evenly as possible.
 //!
-//! This crate composes the workspace: [`domains`] (geometry: point sets, the periodic
-//! cube, implicit regions, shapes), [`energies`] (potentials, re-exporting the geometry),
-//! [`integrators`] (the damped central-difference DEM), and here the metrics that prove a
-//! set's quality, the classic sequences it starts from or is compared with, file I/O and
-//! the run driver behind the `stillpoint` command.
+//! Three tasks, one call each:
+//!
+//! ```
+//! // The default set: stratified in every coordinate, discrepancy as low as the descent
+//! // reaches (the integration goal).
+//! let x = stillpoint::generate(64, 3)?;
+//! assert_eq!((x.n(), x.s()), (64, 3));
+//!
+//! // A set in a region, given as text: an expression g(x) ≤ 0 with its box, or a shape.
+//! let disc = stillpoint::region(50, "ball:1@0,0")?;
+//! assert!(disc.rows().all(|p| p[0] * p[0] + p[1] * p[1] <= 1.0));
+//!
+//! // The quality of any set in the unit cube.
+//! let m = stillpoint::metrics::Metrics::compute(&x);
+//! assert!(m.modified_l2 < 0.1);
+//! # Ok::<(), stillpoint::Error>(())
+//! ```
+//!
+//! [`paper`] runs the paper's pipeline (the dynamical evolutionary model: n equal
+//! "stars" repel each other under U_{q,p} and a damping force until they rest). Every
+//! option of a run is a field of a [`Request`], resolved once into a configuration
+//! ([`pipeline::request`]); the command line and the Python package are front ends to it.
+//!
+//! The layout follows the roles: [`pipeline`] (request → configuration → run),
+//! [`plan`] (what a run is: configuration, start, problem, report), [`goals`]
+//! (integration, space-filling, the paper's), [`post`] (shift, polish, randomise),
+//! [`solve`] (the executor and checkpoints), [`quality`] (metrics, closed forms,
+//! star L∞, region measures, integrands), [`sequences`] (the classic sets), [`io`],
+//! [`plot`]. The geometry is in [`domains`], the potentials in [`energies`], the solvers
+//! in [`integrators`].
 
 #![deny(missing_docs)]
 
@@ -15,27 +39,20 @@ pub use stillpoint_integrators as integrators;
 
 pub use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Uqp};
 
-pub mod bench;
-pub mod checkpoint;
-#[cfg(feature = "cli")]
-pub mod cli;
-pub mod compare;
-pub mod evaluate;
 pub mod expr;
+pub mod goals;
 pub mod io;
-pub mod metrics;
+pub mod pipeline;
+pub mod plan;
 pub mod plot;
-pub mod polish;
-pub mod product_form;
-pub mod regions;
-pub mod run;
+pub mod post;
+pub mod quality;
 pub mod sequences;
-pub mod shift;
-pub mod star_inf;
-pub mod stratified;
-pub mod studies;
-pub mod testfns;
-pub mod uq;
+pub mod solve;
+
+// REQ pub use pipeline::request::Request;
+pub use pipeline::generate;
+pub use quality::metrics;
 
 /// The README's Rust examples, compiled and run as doctests so they stay true.
 #[doc = include_str!("../README.md")]

@@ -32,7 +32,7 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
                 points
                     .check_unit_cube()
                     .with_context(|| format!("{}", file.display()))?;
-                let v = crate::evaluate::eval_json(&points);
+                let v = stillpoint::quality::evaluate::eval_json(&points);
                 evaluated.push((file.clone(), points, v));
             }
             match (json, evaluated.as_slice()) {
@@ -59,7 +59,7 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
             out,
             quick,
         } => {
-            let mut settings = crate::compare::CompareSettings {
+            let mut settings = stillpoint_paper::compare::CompareSettings {
                 steps,
                 discrepancy: DiscrepancyKind::parse(&energy).map_err(|_| {
                     anyhow::anyhow!(
@@ -75,7 +75,7 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
             if let Some(c) = cases {
                 settings.cases = parse_cases(&c)?;
             }
-            let table = crate::compare::run_and_write(&settings, &out, true)?;
+            let table = stillpoint_paper::compare::run_and_write(&settings, &out, true)?;
             print!("{table}");
         }
         Command::Baseline {
@@ -175,8 +175,8 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
             points
                 .check_unit_cube()
                 .with_context(|| format!("{}", file.display()))?;
-            let report = crate::testfns::integrate(&points)?;
-            let fns = crate::testfns::TestFunction::all();
+            let report = stillpoint::quality::integrands::integrate(&points)?;
+            let fns = stillpoint::quality::integrands::TestFunction::all();
             if json {
                 let rows: Vec<Value> = fns
                     .iter()

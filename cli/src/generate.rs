@@ -130,7 +130,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         target,
         |name| format!("--{name}"),
     )?;
-    let paper_dem = crate::integrators::Dem::default();
+    let paper_dem = stillpoint::integrators::Dem::default();
     let (kappa, restart) = (
         kappa.unwrap_or(paper_dem.kappa),
         restart.unwrap_or(paper_dem.restart),
@@ -396,7 +396,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     if let Some(path) = &plot {
         let domain: Arc<dyn Domain> = match cfg.region() {
             Some(d) => d.clone(),
-            None => Arc::new(crate::PeriodicCube::new(cfg.s)?),
+            None => Arc::new(stillpoint::PeriodicCube::new(cfg.s)?),
         };
         let old = cfg.extend.as_ref().map(|p| p.n());
         plot_start_result(

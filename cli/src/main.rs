@@ -1,5 +1,61 @@
-//! The `stillpoint` command; everything it does lives in the library's `cli` module.
+//! The `stillpoint` command: generate evenly spread point sets, evaluate and integrate
+//! with any point file, write the classic sequences, reproduce the paper's studies, and
+//! benchmark the kernels. A thin binary: clap's arguments become one library request
+//! (`stillpoint::pipeline::Request`), which the library resolves; only this crate knows
+//! clap, indicatif and the flags' names.
 
+mod args;
+mod dispatch;
+mod generate;
+mod output;
+mod plot;
+mod progress;
+mod region;
+mod report;
+mod values;
+
+// The submodules share one set of names (`use super::*`): the command line is one
+// program split by subcommand, not separate libraries.
+#[allow(unused_imports)]
+use {
+    self::{
+        args::*, dispatch::*, generate::*, output::*, plot::*, progress::*, region::*, report::*,
+        values::*,
+    },
+    anyhow::{bail, Context, Result},
+    clap::{Parser, Subcommand},
+    indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle},
+    serde_json::{json, Value},
+    std::io::IsTerminal,
+    std::path::PathBuf,
+    std::sync::Arc,
+    stillpoint::energies::discrepancy::DiscrepancyKind,
+    stillpoint::energies::region::ImplicitRegion,
+    stillpoint::energies::shapes::{Ball, BoxRegion, Ellipsoid, Polytope, Simplex},
+    stillpoint::energies::{paper_qp, Distance, Domain, Energy, Precision, Uqp},
+    stillpoint::integrators::{Kappa, Restart},
+    stillpoint::pipeline::{self as run, EnergyKind, GenerateConfig, GenerateReport, Init, Solver},
+    stillpoint::quality::metrics::Metrics,
+    stillpoint::sequences::Baseline,
+    stillpoint::{io, PointSet},
+    stillpoint_paper::bench,
+    stillpoint_paper::studies::{self, Study, StudyOptions},
+};
+
+/// Parses the command line, runs it, and exits with status 1 and the error on failure.
 fn main() {
-    stillpoint::cli::main()
+    // Interrupted (Ctrl-C, SIGTERM): remove the temporaries of the writes under way, so
+    // that every output is as it was or complete, then exit as a shell expects.
+    let _ = ctrlc::set_handler(|| {
+        io::abandon_writes();
+        std::process::exit(130);
+    });
+    let cli = Cli::parse();
+    if let Err(e) = real_main(cli).map_err(with_flag_names) {
+        // Not eprintln!: a closed standard error (`2>&1 | head`) must not turn a refusal
+        // into a panic.
+        use std::io::Write;
+        let _ = writeln!(std::io::stderr(), "error: {e:#}");
+        std::process::exit(1);
+    }
 }

@@ -16,7 +16,7 @@ pub(crate) fn parse_cases(text: &str) -> Result<Vec<(usize, usize)>> {
                 }
             };
             let (s, n) = (parse(s, "s")?, parse(n, "n")?);
-            crate::sequences::check_size(n, s)
+            stillpoint::sequences::check_size(n, s)
                 .with_context(|| format!("invalid --cases = {text}: case {c}"))?;
             Ok((s, n))
         })
@@ -62,7 +62,7 @@ pub(crate) fn emit(
 pub(crate) fn write_trajectory(
     path: &std::path::Path,
     energy: &str,
-    output: &crate::integrators::RunOutput,
+    output: &stillpoint::integrators::RunOutput,
 ) -> Result<()> {
     let traj = serde_json::to_vec_pretty(&json!({
         "energy": energy,

@@ -53,7 +53,7 @@ pub(crate) fn plot_points(
     };
     if k == 2 && s == 2 {
         let boundary = match &domain {
-            Some(d) if d.level(&[lo[0], lo[1]]).is_some() => crate::plot::boundary_polylines(
+            Some(d) if d.level(&[lo[0], lo[1]]).is_some() => stillpoint::plot::boundary_polylines(
                 &|x: &[f64]| d.level(x).unwrap_or(f64::NAN),
                 [lo[0], lo[1]],
                 [hi[0], hi[1]],
@@ -61,7 +61,7 @@ pub(crate) fn plot_points(
             ),
             _ => Vec::new(),
         };
-        let panel = crate::plot::Panel {
+        let panel = stillpoint::plot::Panel {
             title,
             points: &points,
             lo: [lo[0], lo[1]],
@@ -69,9 +69,9 @@ pub(crate) fn plot_points(
             boundary,
             split,
         };
-        crate::plot::save_panels(output, &[panel], 1)?;
+        stillpoint::plot::save_panels(output, &[panel], 1)?;
     } else {
-        crate::plot::save_projection_matrix(output, &title, &points, k, &lo, &hi)?;
+        stillpoint::plot::save_projection_matrix(output, &title, &points, k, &lo, &hi)?;
     }
     Ok(())
 }
@@ -99,7 +99,7 @@ pub(crate) fn plot_box(points: &PointSet) -> (Vec<f64>, Vec<f64>) {
 pub(crate) struct TrajectoryFile {
     #[serde(default)]
     pub(crate) energy: Option<String>,
-    pub(crate) records: Vec<crate::integrators::Record>,
+    pub(crate) records: Vec<stillpoint::integrators::Record>,
 }
 
 /// `stillpoint plot --trajectory TRAJ`: energy (relative to the start) and the logged
@@ -109,7 +109,7 @@ pub(crate) fn plot_trajectory(
     output: &std::path::Path,
     title: Option<String>,
 ) -> Result<()> {
-    use crate::plot::{LineChart, Series};
+    use stillpoint::plot::{LineChart, Series};
     let refuse = |why: String| {
         anyhow::anyhow!(
             "invalid --trajectory {}: expected a trajectory written by generate --trajectory \
@@ -118,7 +118,7 @@ pub(crate) fn plot_trajectory(
         )
     };
     let bytes =
-        crate::io::read_bounded(path).map_err(|e| refuse(format!("cannot read it: {e}")))?;
+        stillpoint::io::read_bounded(path).map_err(|e| refuse(format!("cannot read it: {e}")))?;
     let traj: TrajectoryFile =
         serde_json::from_slice(&bytes).map_err(|e| refuse(format!("{e}")))?;
     // A non-smooth run repeats its returned state at the end; the curves follow the steps.
@@ -126,7 +126,7 @@ pub(crate) fn plot_trajectory(
     for r in &traj.records {
         if records
             .last()
-            .is_none_or(|l: &&crate::integrators::Record| r.step > l.step)
+            .is_none_or(|l: &&stillpoint::integrators::Record| r.step > l.step)
         {
             records.push(r);
         }
@@ -147,11 +147,11 @@ pub(crate) fn plot_trajectory(
             }
         }
     }
-    let energy = |x: &dyn Fn(&crate::integrators::Record) -> f64| Series {
+    let energy = |x: &dyn Fn(&stillpoint::integrators::Record) -> f64| Series {
         name: "U / U(start)".into(),
         points: records.iter().map(|r| (x(r), r.energy / u0)).collect(),
     };
-    let metric = |x: &dyn Fn(&crate::integrators::Record) -> f64| -> Vec<Series> {
+    let metric = |x: &dyn Fn(&stillpoint::integrators::Record) -> f64| -> Vec<Series> {
         names
             .iter()
             .map(|name| Series {
@@ -168,8 +168,8 @@ pub(crate) fn plot_trajectory(
             })
             .collect()
     };
-    let by_step = |r: &crate::integrators::Record| r.step as f64;
-    let by_time = |r: &crate::integrators::Record| r.seconds;
+    let by_step = |r: &stillpoint::integrators::Record| r.step as f64;
+    let by_time = |r: &stillpoint::integrators::Record| r.seconds;
     let chart = |t: String, x: &str, y: &str, series: Vec<Series>| LineChart {
         title: t,
         x_label: x.into(),
@@ -205,7 +205,7 @@ pub(crate) fn plot_trajectory(
             metric(&by_time),
         ));
     }
-    crate::plot::save_line_chart_grid(output, &charts, 2)?;
+    stillpoint::plot::save_line_chart_grid(output, &charts, 2)?;
     Ok(())
 }
 
@@ -223,7 +223,7 @@ pub(crate) fn plot_start_result(
     let (lo, hi) = domain.bounding_box();
     let (lo2, hi2) = ([lo[0], lo[1]], [hi[0], hi[1]]);
     let boundary = if start.s() == 2 && domain.level(&[lo[0], lo[1]]).is_some() {
-        crate::plot::boundary_polylines(
+        stillpoint::plot::boundary_polylines(
             &|x: &[f64]| domain.level(x).unwrap_or(f64::NAN),
             lo2,
             hi2,
@@ -233,7 +233,7 @@ pub(crate) fn plot_start_result(
         Vec::new()
     };
     let panels = [
-        crate::plot::Panel {
+        stillpoint::plot::Panel {
             title: "start".into(),
             points: start,
             lo: lo2,
@@ -241,7 +241,7 @@ pub(crate) fn plot_start_result(
             boundary: boundary.clone(),
             split: old,
         },
-        crate::plot::Panel {
+        stillpoint::plot::Panel {
             title: "result".into(),
             points: result,
             lo: lo2,
@@ -250,6 +250,6 @@ pub(crate) fn plot_start_result(
             split: old,
         },
     ];
-    crate::plot::save_panels(path, &panels, 2)?;
+    stillpoint::plot::save_panels(path, &panels, 2)?;
     Ok(())
 }

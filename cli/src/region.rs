@@ -76,7 +76,7 @@ pub(crate) fn unscale_from(
 /// Two numbers per coordinate, LO < HI each, with a usable width.
 fn parse_intervals(flag: &str, text: &str) -> Result<(Vec<f64>, Vec<f64>)> {
     let v = number_list(flag, text)?;
-    Ok(crate::regions::intervals(flag, text, &v)?)
+    Ok(stillpoint::plan::space::intervals(flag, text, &v)?)
 }
 
 /// The domain of `--region EXPR --box ..` or `--shape SPEC`.
@@ -100,7 +100,7 @@ pub(crate) fn region_domain(
     if let Some(expr) = region {
         let (lo, hi) = parse_box(bbox.context("--region needs --box LO1,HI1,LO2,HI2,...")?)?;
         dim_check(lo.len())?;
-        let g = crate::expr::RegionExpr::parse(expr, lo.len())
+        let g = stillpoint::expr::RegionExpr::parse(expr, lo.len())
             .with_context(|| "invalid --region".to_string())?;
         let r = ImplicitRegion::new(g.into_fn(), lo, hi)?;
         r.check(4096, 0).context("--region")?;

@@ -50,8 +50,8 @@ pub(crate) fn report_json(r: &GenerateReport, cfg: &GenerateConfig) -> Result<Va
 }
 
 /// The settings of a DEM as the command line writes them.
-pub(crate) fn dem_settings(dem: &crate::integrators::Dem, steps: usize) -> Value {
-    use crate::integrators::{Kappa, Restart};
+pub(crate) fn dem_settings(dem: &stillpoint::integrators::Dem, steps: usize) -> Value {
+    use stillpoint::integrators::{Kappa, Restart};
     json!({
         "steps": steps,
         "kappa": match dem.kappa {
@@ -112,7 +112,7 @@ pub(crate) fn file_header(
                 "stop": r.output.stop,
                 "kappa": r.output.info("kappa").map(finite_or_null),
                 "restarts": r.output.info("restarts").map(finite_or_null),
-                "kernel": crate::energies::pairs::vector_path(),
+                "kernel": stillpoint::energies::pairs::vector_path(),
             }),
             metrics_json(r.cube_metrics()?.1),
         ),
@@ -130,7 +130,7 @@ pub(crate) fn file_header(
                 "steps": steps,
                 "stop": r.output.stop,
                 "kappa": r.output.info("kappa").map(finite_or_null),
-                "kernel": crate::energies::pairs::vector_path(),
+                "kernel": stillpoint::energies::pairs::vector_path(),
             }),
             serde_json::to_value(r.region_metrics()?.1).unwrap_or(Value::Null),
         ),
@@ -348,7 +348,7 @@ pub(crate) fn report_table(
         );
     }
     if !r.stages.is_empty() && cfg.region().is_none() {
-        let stratified = crate::stratified::is_stratified(&r.output.points);
+        let stratified = stillpoint::quality::stratification::is_stratified(&r.output.points);
         t += &format!(
             "\n  every coordinate stratified (one point in each [k/n, (k+1)/n)): {}\n",
             if stratified { "yes" } else { "no" }

@@ -231,12 +231,12 @@ pub(crate) fn with_flag_names(e: anyhow::Error) -> anyhow::Error {
     if e.chain().count() > 1 {
         return e;
     }
-    match e.downcast::<crate::Error>() {
-        Ok(crate::Error::InvalidArgument {
+    match e.downcast::<stillpoint::Error>() {
+        Ok(stillpoint::Error::InvalidArgument {
             name,
             value,
             expected,
-        }) => crate::Error::invalid(flag_name(&name), value, expected).into(),
+        }) => stillpoint::Error::invalid(flag_name(&name), value, expected).into(),
         Ok(other) => other.into(),
         Err(e) => e,
     }

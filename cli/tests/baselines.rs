@@ -2,7 +2,7 @@
 //! construction promises (nets, stratification, lattices, Latin hypercubes), the exact
 //! formulas, seeding and determinism, and the refusals of bad input.
 
-use stillpoint::metrics::{min_distance_euclidean, min_distance_periodic, modified_l2};
+use stillpoint::quality::metrics::{min_distance_euclidean, min_distance_periodic, modified_l2};
 use stillpoint::sequences::{
     halton_scrambled, hua_wang, korobov_p2, lattice, lattice_generator, lhs, lhs_maximin, random,
     sobol_plain, sobol_scrambled, Baseline,

@@ -1,9 +1,9 @@
 //! The solver comparison on a small case: every run improves on its Halton start, the
 //! discrepancy energy equals the squared metric, and the files are written.
 
-use stillpoint::compare::{run_and_write, CompareSettings};
 use stillpoint::energies::discrepancy::DiscrepancyKind;
 use stillpoint::{metrics, sequences};
+use stillpoint_paper::compare::{run_and_write, CompareSettings};
 
 #[test]
 fn small_comparison_improves_on_halton_and_writes_its_files() {

@@ -574,7 +574,7 @@ fn cli_refuses_bad_input_clearly_and_touches_no_file() {
 fn library_refuses_bad_input_clearly() {
     use stillpoint::energies::region::ImplicitRegion;
     use stillpoint::integrators::{Dem, Kappa};
-    use stillpoint::run::{generate, GenerateConfig, Init};
+    use stillpoint::pipeline::{generate, GenerateConfig, Init};
     let d = tmpdir("lib");
     let msg = |r: Result<(), String>| r.unwrap_err();
     let gen = |cfg: GenerateConfig| {
@@ -654,7 +654,7 @@ fn library_refuses_bad_input_clearly() {
     ));
     cases.push((
         "unknown study",
-        msg(stillpoint::studies::Study::parse("foo")
+        msg(stillpoint_paper::studies::Study::parse("foo")
             .map(|_| ())
             .map_err(|e| e.to_string())),
         "expected one of",
@@ -663,7 +663,7 @@ fn library_refuses_bad_input_clearly() {
     std::fs::write(&garbage, b"\x00\x01not json").unwrap();
     cases.push((
         "corrupted checkpoint",
-        msg(stillpoint::run::read_checkpoint(&garbage)
+        msg(stillpoint::pipeline::read_checkpoint(&garbage)
             .map(|_| ())
             .map_err(|e| e.to_string())),
         "damaged or truncated",

@@ -5,11 +5,11 @@
 mod common;
 
 use common::{bin, TempDir};
-use stillpoint::metrics::Metrics;
+use stillpoint::goals::integration::{extend_set, integration_set, nested_set, Effort};
+use stillpoint::quality::metrics::Metrics;
+use stillpoint::quality::stratification::is_stratified;
+use stillpoint::quality::target::Target;
 use stillpoint::sequences;
-use stillpoint::stratified::{
-    extend_set, integration_set, is_stratified, nested_set, Effort, Target,
-};
 use stillpoint::PointSet;
 
 fn union(old: &PointSet, new: &PointSet) -> PointSet {

@@ -7,16 +7,17 @@ mod common;
 
 use common::{bin, TempDir};
 use stillpoint::energies::discrepancy::DiscrepancyKind;
-use stillpoint::metrics::{self, Metrics};
-use stillpoint::run::{self, GenerateConfig, Goal, Randomize, Target};
+use stillpoint::pipeline::{self as run, GenerateConfig, Goal, Randomize, Target};
+use stillpoint::post::randomize::randomize;
+use stillpoint::quality::metrics::{self, Metrics};
+use stillpoint::quality::stratification::is_stratified;
 use stillpoint::sequences;
-use stillpoint::stratified::{is_stratified, randomize};
 use stillpoint::PointSet;
 
 fn integration(n: usize, s: usize, seed: u64) -> PointSet {
     let mut cfg = GenerateConfig::for_goal(n, s, Goal::Integration(Target::blend()));
     cfg.seed = seed;
-    run::generate(&cfg, |_| {}).unwrap().output.points
+    run::run_config(&cfg, |_| {}).unwrap().output.points
 }
 
 #[test]
@@ -66,7 +67,7 @@ fn a_single_target_is_lowered_below_its_stratified_start() {
         3,
         Goal::Integration(Target::single(DiscrepancyKind::CenteredL2)),
     );
-    let r = run::generate(&cfg, |_| {}).unwrap();
+    let r = run::run_config(&cfg, |_| {}).unwrap();
     let (start, result) = r.cube_metrics().unwrap();
     assert!(result.centered_l2 < start.centered_l2);
     assert!(is_stratified(&r.start) && is_stratified(&r.output.points));
@@ -76,7 +77,7 @@ fn a_single_target_is_lowered_below_its_stratified_start() {
 fn space_filling_is_stratified_and_at_least_the_maximin_lhs() {
     for (n, s) in [(30, 2), (60, 4)] {
         let cfg = GenerateConfig::for_goal(n, s, Goal::SpaceFilling);
-        let p = run::generate(&cfg, |_| {}).unwrap().output.points;
+        let p = run::run_config(&cfg, |_| {}).unwrap().output.points;
         assert!(is_stratified(&p));
         let lhs = sequences::lhs_maximin(n, s, 0).unwrap();
         assert!(metrics::min_distance_euclidean(&p) >= metrics::min_distance_euclidean(&lhs));
@@ -98,7 +99,7 @@ fn method_paper_is_the_paper_configuration() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let file = stillpoint::io::read_points(&f).unwrap();
-    let lib = run::generate(&GenerateConfig::new(40, 3), |_| {})
+    let lib = run::run_config(&GenerateConfig::new(40, 3), |_| {})
         .unwrap()
         .output
         .points;

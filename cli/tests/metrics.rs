@@ -1,11 +1,11 @@
-//! Checks of the discrepancies and distances in `stillpoint::metrics` against the paper's
+//! Checks of the discrepancies and distances in `stillpoint::quality::metrics` against the paper's
 //! Table 5, against independent derivations written here, and against properties they
 //! must have (permutation and shift invariance, thread-count independence).
 
 use rand::seq::SliceRandom;
 use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
-use stillpoint::metrics::{
+use stillpoint::quality::metrics::{
     centered_l2, centered_l2_squared, discrepancies, min_distance_euclidean, min_distance_periodic,
     modified_l2, modified_l2_squared, star_l2, star_l2_squared, wrap_around_l2,
     wrap_around_l2_squared, Metrics,

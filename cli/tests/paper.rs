@@ -4,8 +4,8 @@
 //! the full P_{2,1500} and P_{3,1500} runs are `#[ignore]`d and run with
 //! `cargo test --release --test paper -- --ignored --nocapture`.
 
-use stillpoint::metrics;
-use stillpoint::run::{generate, GenerateConfig};
+use stillpoint::pipeline::{generate, GenerateConfig};
+use stillpoint::quality::metrics;
 
 struct Outcome {
     start: (f64, f64),

@@ -2,7 +2,7 @@
 //! reports are the full formulas', and full precision is one option away.
 
 use stillpoint::energies::{Distance, Energy, Precision};
-use stillpoint::run::{choose_energy, generate, GenerateConfig};
+use stillpoint::pipeline::{choose_energy, generate, GenerateConfig};
 
 #[test]
 fn a_fast_run_reports_full_precision_energies() {
@@ -41,7 +41,7 @@ fn full_precision_runs_the_formulas_and_differs_from_fast() {
     assert_eq!(fast.energy.0.to_bits(), full.energy.0.to_bits());
     assert_ne!(fast.output.points.as_slice(), full.output.points.as_slice());
     // Both runs lower the energy from the same start by about as much.
-    let drop = |r: &stillpoint::run::GenerateReport| (r.energy.0 - r.energy.1) / r.energy.0;
+    let drop = |r: &stillpoint::pipeline::GenerateReport| (r.energy.0 - r.energy.1) / r.energy.0;
     let (a, b) = (drop(&fast), drop(&full));
     assert!(a > 0.0 && b > 0.0);
     assert!((a - b).abs() <= 0.05 * b, "{a} vs {b}");

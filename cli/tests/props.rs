@@ -6,7 +6,8 @@ use proptest::prelude::*;
 use stillpoint::energies::{Distance, Energy, PeriodicCube, PointSet, Uqp};
 use stillpoint::integrators::{Dem, DemState, Executor, Problem, Restart, Snapshot};
 use stillpoint::io::{self, Format};
-use stillpoint::{metrics, shift};
+use stillpoint::metrics;
+use stillpoint::post::shift;
 
 mod common;
 use common::bits;
@@ -232,7 +233,7 @@ proptest! {
         if let Ok(p) = io::read_points(&path) {
             prop_assert!(p.as_slice().iter().all(|v| v.is_finite()));
         }
-        let _ = stillpoint::run::read_checkpoint(&path);
+        let _ = stillpoint::pipeline::read_checkpoint(&path);
         let _ = std::fs::remove_file(&path);
     }
 }

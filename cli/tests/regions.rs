@@ -6,7 +6,7 @@ use stillpoint::energies::boundary::UEpG;
 use stillpoint::energies::region::paper_region;
 use stillpoint::energies::shapes::Ball;
 use stillpoint::energies::{Domain, Energy};
-use stillpoint::run::{generate, EnergyKind, GenerateConfig, Init};
+use stillpoint::pipeline::{generate, EnergyKind, GenerateConfig, Init};
 
 mod common;
 use common::{bin, tmpdir};

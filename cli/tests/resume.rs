@@ -10,7 +10,7 @@ use std::sync::Arc;
 use stillpoint::energies::shapes::Ball;
 use stillpoint::io::{encode, Format};
 
-use stillpoint::run::{
+use stillpoint::pipeline::{
     generate, generate_with, read_checkpoint, CheckpointPlan, Event, GenerateConfig, Init,
 };
 
@@ -95,7 +95,7 @@ fn library_resume_of_a_cube_run_is_bit_identical() {
         reference.shift.as_ref().map(|s| s.shift.clone())
     );
     // Logged discrepancies of the steps before the checkpoint come from the file.
-    let logged = |r: &stillpoint::run::GenerateReport| {
+    let logged = |r: &stillpoint::pipeline::GenerateReport| {
         r.output
             .trajectory
             .iter()
@@ -189,7 +189,7 @@ fn library_refuses_other_configurations_and_damaged_checkpoints() {
     assert!(resume_err(&cfg, &d.join("missing.ckpt")).contains("cannot read"));
     // A checkpoint of the DEM is not resumed by L-BFGS.
     let mut lbfgs = cfg.clone();
-    lbfgs.solver = stillpoint::run::Solver::Lbfgs;
+    lbfgs.solver = stillpoint::pipeline::Solver::Lbfgs;
     let e = resume_err(&lbfgs, &ck);
     assert!(e.contains("integrator = Dem (this run: Lbfgs)"), "{e}");
     // The good checkpoint was never touched by the refusals.

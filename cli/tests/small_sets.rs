@@ -100,7 +100,7 @@ fn discrepancies_in_very_high_dimension_are_finite_and_agree_with_the_plain_form
     // Beyond, the roots are finite and positive where representable, and the metrics
     // that print them agree with the function of the same name.
     let p = stillpoint::sequences::random(30, 2500, 4).unwrap();
-    let m = stillpoint::metrics::Metrics::compute(&p);
+    let m = stillpoint::quality::metrics::Metrics::compute(&p);
     for (k, v) in [
         (DiscrepancyKind::ModifiedL2, m.modified_l2),
         (DiscrepancyKind::CenteredL2, m.centered_l2),

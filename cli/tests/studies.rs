@@ -4,7 +4,7 @@
 
 use serde_json::Value;
 use std::path::PathBuf;
-use stillpoint::studies::{self, spearman, Study, StudyOptions};
+use stillpoint_paper::studies::{self, spearman, Study, StudyOptions};
 
 fn temp_dir(tag: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("stillpoint-studies-{tag}-{}", std::process::id()));

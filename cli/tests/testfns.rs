@@ -1,9 +1,9 @@
 //! The eight test integrands of eq. 49: zero integrals, unit second moments, the midpoint
 //! rule's convergence on the smooth ones, F8 by hand, and the integration report.
 
-use stillpoint::testfns::{f8_step, integrate, TestFunction};
-use stillpoint::uq::gauss_legendre;
+use stillpoint::quality::integrands::{f8_step, integrate, TestFunction};
 use stillpoint::PointSet;
+use stillpoint_paper::uq::gauss_legendre;
 
 mod common;
 use common::random_set;

@@ -1,8 +1,8 @@
 //! The stochastic problems of Section 5.3: the Kraichnan–Orszag integrator and its moments,
 //! the shear frame's frequencies and moments, the references, determinism and refusals.
 
-use stillpoint::uq::*;
 use stillpoint::PointSet;
+use stillpoint_paper::uq::*;
 
 fn threads<T: Send>(t: usize, f: impl FnOnce() -> T + Send) -> T {
     rayon::ThreadPoolBuilder::new()

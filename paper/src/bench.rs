@@ -28,13 +28,13 @@
 //! prints one JSON object; `benches/scipy_discrepancy.py` uses it to compare with SciPy on
 //! the same points.
 
-use crate::energies::discrepancy::{DiscrepancyEnergy, DiscrepancyKind};
-use crate::energies::pairs::vector_path;
-use crate::energies::{Distance, Energy, PointSet, Precision, Uqp};
-use crate::metrics::{self, Metrics};
-use crate::sequences;
 use std::io::Write;
 use std::time::Instant;
+use stillpoint::energies::discrepancy::{DiscrepancyEnergy, DiscrepancyKind};
+use stillpoint::energies::pairs::vector_path;
+use stillpoint::energies::{Distance, Energy, PointSet, Precision, Uqp};
+use stillpoint::quality::metrics::{self, Metrics};
+use stillpoint::sequences;
 
 /// Median wall time in seconds of `reps` calls (after one warm-up call when reps > 1).
 fn median_time(reps: usize, mut f: impl FnMut()) -> f64 {
@@ -601,7 +601,7 @@ fn cpu_model() -> String {
 /// Points mode: the centred and star L2 discrepancies of a point file, timed (median of
 /// `reps` runs after one warm-up), as one JSON object.
 pub fn run_points(path: &std::path::Path, reps: usize, out: &mut dyn Write) -> std::io::Result<()> {
-    let points = crate::io::read_points(path)
+    let points = stillpoint::io::read_points(path)
         .map_err(|e| std::io::Error::other(format!("{}: {e}", path.display())))?;
     let reps = reps.max(1);
     // A first call outside the timing starts the thread pool.

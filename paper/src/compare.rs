@@ -2,13 +2,13 @@
 //! from the same Halton start, with the quality of each result and its convergence
 //! against wall time. Behind `stillpoint compare` and `examples/solver_comparison.rs`.
 
-use crate::energies::discrepancy::DiscrepancyKind;
-use crate::metrics;
-use crate::plot::{self, LineChart, Series};
-use crate::run::{generate, EnergyKind, GenerateConfig, Solver};
 use anyhow::Result;
 use std::fmt::Write as _;
 use std::path::Path;
+use stillpoint::energies::discrepancy::DiscrepancyKind;
+use stillpoint::pipeline::{generate, EnergyKind, GenerateConfig, Solver};
+use stillpoint::plot::{self, LineChart, Series};
+use stillpoint::quality::metrics;
 
 /// The paper's cases (Table 5) and two smaller ones: (s, n).
 pub const DEFAULT_CASES: [(usize, usize); 6] = [
@@ -256,8 +256,8 @@ pub fn run_and_write(settings: &CompareSettings, dir: &Path, verbose: bool) -> R
         }
     })?;
     let table = markdown(&rows);
-    crate::io::write_atomic(&dir.join("comparison.md"), table.as_bytes())?;
-    crate::io::write_atomic(
+    stillpoint::io::write_atomic(&dir.join("comparison.md"), table.as_bytes())?;
+    stillpoint::io::write_atomic(
         &dir.join("comparison.json"),
         &serde_json::to_vec_pretty(&rows)?,
     )?;
@@ -270,18 +270,18 @@ fn polish_row(
     settings: &CompareSettings,
     s: usize,
     n: usize,
-    points: &crate::PointSet,
+    points: &stillpoint::PointSet,
     seconds_before: f64,
 ) -> Result<CompareRow> {
-    use crate::energies::discrepancy::DiscrepancyEnergy;
-    use crate::energies::Energy;
+    use stillpoint::energies::discrepancy::DiscrepancyEnergy;
+    use stillpoint::energies::Energy;
     let clock = std::time::Instant::now();
     let e = DiscrepancyEnergy::new(settings.discrepancy);
-    let p = crate::polish::polish(
+    let p = stillpoint::post::polish::polish(
         points,
         settings.discrepancy,
         settings.steps,
-        &crate::integrators::lbfgs::Lbfgs::default(),
+        &stillpoint::integrators::lbfgs::Lbfgs::default(),
         |_| {},
     )?;
     let seconds = seconds_before + clock.elapsed().as_secs_f64();

@@ -14,7 +14,7 @@ use stillpoint::domains::shapes::{Ball, BoxRegion, Ellipsoid, Polytope, Simplex}
 use stillpoint::energies::discrepancy::DiscrepancyKind;
 use stillpoint::energies::{Distance, Precision};
 use stillpoint::integrators::{Kappa, Restart};
-use stillpoint::run::{
+use stillpoint::pipeline::{
     choose_goal, EnergyKind, GenerateConfig, Goal, GoalName, Init, Randomize, Solver, Space, Target,
 };
 use stillpoint::sequences::Baseline;
@@ -601,7 +601,7 @@ pub fn apply_option(cfg: &mut GenerateConfig, key: &str, value: &OptValue) -> Re
 /// `box` as (lo, hi): two finite numbers per dimension, lo < hi, a usable width (the
 /// library's check, as for the command line's `--box`).
 pub fn parse_box(v: &[f64]) -> Result<(Vec<f64>, Vec<f64>), Refusal> {
-    stillpoint::regions::intervals("box", &format!("{v:?}"), v).map_err(|e| e.to_string())
+    stillpoint::plan::space::intervals("box", &format!("{v:?}"), v).map_err(|e| e.to_string())
 }
 
 /// Comma-separated numbers of a shape's text.

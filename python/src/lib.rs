@@ -22,7 +22,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
 
 use config::{GenerateArgs, OptValue, Plan, OPTIONS};
-use stillpoint::run::{self, Event};
+use stillpoint::pipeline::{self, Event};
 use stillpoint::sequences::Baseline;
 use stillpoint::{metrics, PointSet};
 
@@ -224,7 +224,7 @@ fn generate<'py>(
                 steps: None,
                 last: None,
             };
-            let report = run::generate_with(&cfg, None, |e| {
+            let report = pipeline::generate_with(&cfg, None, |e| {
                 if progress {
                     bar.event(e)
                 }
@@ -271,7 +271,8 @@ fn check_generate(
 fn metrics_json(py: Python<'_>, x: PyReadonlyArray2<'_, f64>) -> PyResult<String> {
     let p = unit_points("x", &x)?;
     detached(py, move || {
-        serde_json::to_string(&stillpoint::evaluate::eval_json(&p)).map_err(|e| e.to_string())
+        serde_json::to_string(&stillpoint::quality::evaluate::eval_json(&p))
+            .map_err(|e| e.to_string())
     })
 }
 
@@ -338,8 +339,8 @@ fn baselines() -> Vec<(&'static str, &'static str, &'static str)> {
 fn integrate_json(py: Python<'_>, x: PyReadonlyArray2<'_, f64>) -> PyResult<String> {
     let p = unit_points("x", &x)?;
     detached(py, move || {
-        let report = stillpoint::testfns::integrate(&p).map_err(|e| e.to_string())?;
-        let rows: Vec<serde_json::Value> = stillpoint::testfns::TestFunction::all()
+        let report = stillpoint::quality::integrands::integrate(&p).map_err(|e| e.to_string())?;
+        let rows: Vec<serde_json::Value> = stillpoint::quality::integrands::TestFunction::all()
             .iter()
             .zip(report.estimates)
             .map(|(f, e)| {

@@ -6,7 +6,7 @@ use crate::energies::shapes::BoxRegion;
 use crate::energies::{Domain, PeriodicCube, PointSet};
 use crate::integrators::lbfgs::Lbfgs;
 use crate::integrators::{Problem, Record};
-use crate::run::{LoggingObserver, Run};
+use crate::solve::{LoggingObserver, Solve};
 use crate::Error;
 use serde_json::Value;
 use std::sync::Arc;
@@ -47,7 +47,7 @@ pub fn polish(
     let e = problem.energy();
     let before = e.value(points);
     let mut progress = LoggingObserver::new(0, |r: &Record| on_step(r.step as u64));
-    let run = Run {
+    let run = Solve {
         problem: &problem,
         steps,
         checkpoint: None,

@@ -9,7 +9,7 @@
 
 use crate::domains::wrap_unit;
 use crate::energies::PointSet;
-use crate::metrics;
+use crate::quality::metrics;
 use crate::sequences;
 
 /// What the shift selection did.

@@ -3,7 +3,7 @@
 //! two give the same keys and the same numbers.
 
 use crate::energies::{paper_qp, Distance, Energy, Uqp};
-use crate::metrics::Metrics;
+use crate::quality::metrics::Metrics;
 use crate::PointSet;
 use serde_json::{json, Value};
 
@@ -23,8 +23,8 @@ fn finite_or_null(v: f64) -> Value {
 /// coordinate's mean and ½, and `notes` saying what each `null` stands for.
 pub fn eval_json(points: &PointSet) -> Value {
     let m = Metrics::compute(points);
-    let star = crate::star_inf::star_discrepancy(points);
-    let (one, two) = crate::star_inf::worst_projections(points);
+    let star = crate::quality::star_inf::star_discrepancy(points);
+    let (one, two) = crate::quality::star_inf::worst_projections(points);
     let fit = paper_qp(points.n(), points.s());
     let uqp = Uqp::new(Distance::Q(fit.q), fit.p)
         .map(|e| e.value(points))
@@ -41,8 +41,8 @@ pub fn eval_json(points: &PointSet) -> Value {
         "modified_l2": m.modified_l2,
         "centered_l2": m.centered_l2,
         "wrap_around_l2": m.wrap_around_l2,
-        "mixture": crate::product_form::root(points, crate::product_form::Form::Mixture),
-        "stratified": crate::stratified::is_stratified(points),
+        "mixture": crate::goals::integration::exchange::root(points, crate::goals::integration::exchange::Form::Mixture),
+        "stratified": crate::quality::stratification::is_stratified(points),
         "star_linf": star.map(finite_or_null),
         "worst_1d_star_linf": one,
         "worst_2d_star_linf": two.map(finite_or_null),
@@ -95,8 +95,8 @@ fn value_notes(
             "star_linf",
             &format!(
                 "computed exactly for s ≤ 3 only (n ≤ {} in 2-D, n ≤ {} in 3-D)",
-                crate::star_inf::MAX_N_2D,
-                crate::star_inf::MAX_N_3D
+                crate::quality::star_inf::MAX_N_2D,
+                crate::quality::star_inf::MAX_N_3D
             ),
         );
     }

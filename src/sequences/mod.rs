@@ -147,6 +147,15 @@ pub(crate) fn prev_float(x: f64) -> f64 {
     f64::from_bits(x.to_bits() - 1)
 }
 
+/// An independent seed for the `index`-th use of a run's `seed` (a SplitMix64 finaliser
+/// of the two), so the random streams of a run's stages do not overlap.
+pub fn stream_seed(seed: u64, index: u64) -> u64 {
+    let mut h = seed ^ 0x9e37_79b9_7f4a_7c15_u64.wrapping_mul(index + 1);
+    h = (h ^ (h >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    h = (h ^ (h >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    h ^ (h >> 31)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

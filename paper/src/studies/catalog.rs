@@ -8,16 +8,16 @@
 //! the same files as an uninterrupted one.
 
 use super::{human_seconds, markdown_table, Body, StudyOptions};
-use crate::io;
-use crate::metrics::Metrics;
-use crate::run::{generate, GenerateConfig};
-use crate::PointSet;
 use anyhow::{bail, Context, Result};
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
+use stillpoint::io;
+use stillpoint::pipeline::{generate, GenerateConfig};
+use stillpoint::quality::metrics::Metrics;
+use stillpoint::PointSet;
 
 /// The sizes of the paper's catalog.
 pub const CATALOG_N: [usize; 8] = [10, 20, 50, 100, 200, 400, 800, 1500];

@@ -3,14 +3,14 @@
 //! how the final sets compare with the classic sequences.
 
 use super::{fmt_opt, markdown_table, save_charts, spearman, Body, StudyOptions};
-use crate::energies::einf::UEInf;
-use crate::energies::{Distance, Energy, PointSet, Uqp};
-use crate::metrics;
-use crate::plot::{LineChart, Series};
-use crate::run::{generate, EnergyKind, GenerateConfig, Init};
-use crate::sequences::Baseline;
 use anyhow::Result;
 use serde_json::json;
+use stillpoint::energies::einf::UEInf;
+use stillpoint::energies::{Distance, Energy, PointSet, Uqp};
+use stillpoint::pipeline::{generate, EnergyKind, GenerateConfig, Init};
+use stillpoint::plot::{LineChart, Series};
+use stillpoint::quality::metrics;
+use stillpoint::sequences::Baseline;
 
 /// Table 1 (s = 2, by n) of the paper: ρ_{1,L2}, ρ_{1,MD}, ρ_{E,L2}, ρ_{E,MD}.
 const PAPER_T1: [(usize, [f64; 4]); 6] = [
@@ -218,7 +218,7 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
             // default pipeline (eq. 48, Halton start, shift selection).
             sets.push((
                 "DEM U_{1,1} + shift".into(),
-                crate::shift::best_shift(&t1.points, 64).0,
+                stillpoint::post::shift::best_shift(&t1.points, 64).0,
             ));
             let mut cfg = GenerateConfig::new(n, s);
             cfg.steps = steps;
@@ -318,7 +318,7 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
             })
             .collect();
         let path = opts.out.join(fig);
-        crate::plot::save_line_chart_grid(&path, &charts, 2)?;
+        stillpoint::plot::save_line_chart_grid(&path, &charts, 2)?;
         files.push(path);
         md += &format!(
             "Final sets against the classic sequences (Fig. {}): [{fig}]({fig}). D_MD of each:\n\n",

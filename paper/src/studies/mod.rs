@@ -13,10 +13,10 @@ pub mod table5;
 pub mod table6;
 pub mod uq;
 
-use crate::io;
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use stillpoint::io;
 
 /// One of the paper's studies.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -66,7 +66,7 @@ impl Study {
     }
 
     /// Parses a command-line name.
-    pub fn parse(name: &str) -> Result<Study, crate::Error> {
+    pub fn parse(name: &str) -> Result<Study, stillpoint::Error> {
         let t = name.trim().to_ascii_lowercase();
         Study::all()
             .into_iter()
@@ -74,7 +74,7 @@ impl Study {
             .or_else(|| (t == "table8").then_some(Study::ShearFrame))
             .ok_or_else(|| {
                 let names: Vec<&str> = Study::all().iter().map(|s| s.name()).collect();
-                crate::Error::invalid("study", name, format!("one of: {}", names.join(", ")))
+                stillpoint::Error::invalid("study", name, format!("one of: {}", names.join(", ")))
             })
     }
 }
@@ -272,10 +272,10 @@ pub(crate) fn pct2(v: f64) -> String {
 /// Saves line charts and records the file.
 pub(crate) fn save_charts(
     path: &Path,
-    charts: &[crate::plot::LineChart],
+    charts: &[stillpoint::plot::LineChart],
     files: &mut Vec<PathBuf>,
 ) -> Result<()> {
-    crate::plot::save_line_charts(path, charts)?;
+    stillpoint::plot::save_line_charts(path, charts)?;
     files.push(path.to_path_buf());
     Ok(())
 }

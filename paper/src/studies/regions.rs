@@ -2,15 +2,15 @@
 //! U_{E,∞,g} from the paper's random start, with the paper's 1000 steps and with 10 000.
 
 use super::{markdown_table, Body, StudyOptions};
-use crate::energies::region::paper_region;
-use crate::energies::Domain;
-use crate::run::{generate, GenerateConfig};
-use crate::{io, plot, PointSet};
 use anyhow::Result;
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde_json::json;
 use std::sync::Arc;
+use stillpoint::energies::region::paper_region;
+use stillpoint::energies::Domain;
+use stillpoint::pipeline::{generate, GenerateConfig};
+use stillpoint::{io, plot, PointSet};
 
 /// The paper's reductions of U_{E,∞,g} (only g1 and g4 are given).
 const PAPER_REDUCTION: [Option<f64>; 4] = [Some(0.801), None, None, Some(0.893)];

@@ -2,12 +2,12 @@
 //! `generate` pipeline) against every baseline and the paper's rows, in D_MD and D_L2*.
 
 use super::{markdown_table, Body, StudyOptions};
-use crate::energies::discrepancy::DiscrepancyKind;
-use crate::metrics;
-use crate::run::{generate, GenerateConfig};
-use crate::sequences::Baseline;
 use anyhow::Result;
 use serde_json::json;
+use stillpoint::energies::discrepancy::DiscrepancyKind;
+use stillpoint::pipeline::{generate, GenerateConfig};
+use stillpoint::quality::metrics;
+use stillpoint::sequences::Baseline;
 
 /// The paper's Table 5: (reference, [(D_MD, D_L2) for s = 2, 3, 5, 6]).
 pub const PAPER_TABLE5: [(&str, [(f64, f64); 4]); 9] = [

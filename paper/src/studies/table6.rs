@@ -4,12 +4,12 @@
 
 use super::catalog;
 use super::{markdown_table, pct, save_charts, Body, StudyOptions};
-use crate::metrics;
-use crate::plot::{LineChart, Series};
-use crate::sequences::Baseline;
-use crate::testfns;
 use anyhow::Result;
 use serde_json::json;
+use stillpoint::plot::{LineChart, Series};
+use stillpoint::quality::integrands as testfns;
+use stillpoint::quality::metrics;
+use stillpoint::sequences::Baseline;
 
 /// The paper's Table 6: RAR of each method over F1..F8, D_MD, D_L2.
 const PAPER_TABLE6: [(&str, [f64; 10]); 5] = [
@@ -37,7 +37,7 @@ const PAPER_TABLE6: [(&str, [f64; 10]); 5] = [
 
 /// The ten error measures of a set: |F1..F8 estimates| then D_MD, D_L2*. `None` where a
 /// test function is not defined (F8 with s = 1).
-fn measures(points: &crate::PointSet) -> Result<[Option<f64>; 10]> {
+fn measures(points: &stillpoint::PointSet) -> Result<[Option<f64>; 10]> {
     let rep = testfns::integrate(points)?;
     let (l2, md) = metrics::discrepancies(points);
     let mut out = [None; 10];

@@ -3,17 +3,17 @@
 //! and with each baseline, against our own Monte Carlo references.
 
 use super::{markdown_table, pct2, save_charts, Body, StudyOptions};
-use crate::plot::{LineChart, Series};
-use crate::run::{generate, GenerateConfig};
-use crate::sequences::Baseline;
 use crate::uq::{
     frame_emax, frame_moments, frame_monte_carlo, ko_gauss, ko_moments, ko_monte_carlo,
     ko_relative_errors, FrameMoments, KoMoments, KoSettings,
 };
-use crate::PointSet;
 use anyhow::Result;
 use serde_json::json;
 use std::time::Instant;
+use stillpoint::pipeline::{generate, GenerateConfig};
+use stillpoint::plot::{LineChart, Series};
+use stillpoint::sequences::Baseline;
+use stillpoint::PointSet;
 
 /// Table 7 of the paper: relative errors (%) of the means and SDs of u1, u2, u3 for
 /// U_{q,p}, HSO, HS, HW, SS.

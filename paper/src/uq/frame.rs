@@ -25,7 +25,7 @@ use serde::{Deserialize, Serialize};
 
 use super::tridiag::{lowest_eigenvalues, Brackets};
 use super::{check_points, check_samples, chunked};
-use crate::{Error, PointSet};
+use stillpoint::{Error, PointSet};
 
 /// Number of storeys.
 pub const FRAME_STORIES: usize = 20;

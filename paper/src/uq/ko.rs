@@ -25,7 +25,7 @@ use rand::RngExt;
 use serde::{Deserialize, Serialize};
 
 use super::{check_points, check_samples, chunked, gauss_legendre, Accumulator};
-use crate::{Error, PointSet};
+use stillpoint::{Error, PointSet};
 
 /// Time grid of the integration.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

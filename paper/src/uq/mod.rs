@@ -28,7 +28,7 @@ use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
 
-use crate::{Error, PointSet};
+use stillpoint::{Error, PointSet};
 
 /// Samples per parallel chunk; fixed so the reduction order never depends on threads.
 const CHUNK: usize = 4096;

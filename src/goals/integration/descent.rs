@@ -25,58 +25,22 @@
 //! alternates the two moves. Both only lower the discrepancy, so the result is never
 //! worse than the best start.
 
-use crate::energies::discrepancy::{squared_discrepancies, DiscrepancyEnergy, DiscrepancyKind};
+use crate::energies::discrepancy::DiscrepancyEnergy;
 use crate::energies::fixed::WithFixed;
 use crate::energies::shapes::BoxRegion;
 use crate::energies::Energy;
+use crate::goals::integration::exchange::{Exchange, Form, EXCHANGE_MAX_N};
 use crate::integrators::lbfgs::Lbfgs;
 use crate::integrators::{Problem, Record};
-use crate::product_form::{Exchange, Form, EXCHANGE_MAX_N};
-use crate::run::{LoggingObserver, Randomize, Run};
+use crate::quality::stratification::{cell_of, in_cell, is_stratified};
+use crate::quality::target::Target;
 use crate::sequences;
+use crate::solve::{LoggingObserver, Solve};
 use crate::{Error, PointSet};
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde_json::Value;
 use std::sync::Arc;
-
-/// The cell of coordinate value `x` among n: ⌊x·n⌋ in f64 arithmetic (what
-/// `numpy.floor(x * n)` gives), clamped to n − 1.
-pub fn cell_of(x: f64, n: usize) -> usize {
-    ((x * n as f64).floor().max(0.0) as usize).min(n.saturating_sub(1))
-}
-
-/// Whether every coordinate of `points` lies in [0, 1) and each column has exactly one
-/// point in each cell [c/n, (c+1)/n) (as [`cell_of`] computes the cell).
-pub fn is_stratified(points: &PointSet) -> bool {
-    let (n, s) = (points.n(), points.s());
-    let x = points.as_slice();
-    (0..s).all(|k| {
-        let mut seen = vec![false; n];
-        (0..n).all(|i| {
-            let v = x[i * s + k];
-            if !(0.0..1.0).contains(&v) {
-                return false;
-            }
-            let c = cell_of(v, n);
-            !std::mem::replace(&mut seen[c], true)
-        })
-    })
-}
-
-/// The value (c + u)/n, moved by the last bits if rounding put it in a neighbouring cell,
-/// so that [`cell_of`] gives exactly c.
-fn in_cell(c: usize, u: f64, n: usize) -> f64 {
-    let mut x = (c as f64 + u.clamp(0.0, 1.0)) / n as f64;
-    for _ in 0..64 {
-        match cell_of(x, n).cmp(&c) {
-            std::cmp::Ordering::Greater => x = f64::from_bits(x.to_bits() - 1),
-            std::cmp::Ordering::Less => x = f64::from_bits(x.to_bits() + 1),
-            std::cmp::Ordering::Equal => break,
-        }
-    }
-    x
-}
 
 /// The cells of a stratified-to-be set: in each column, the rank of each point's value
 /// (ties broken by row), so cell c goes to the c-th smallest value.
@@ -114,88 +78,6 @@ pub fn stratify(points: &PointSet) -> PointSet {
         })
         .collect();
     PointSet::new(n, s, data).expect("same shape")
-}
-
-/// What the integration goal lowers: a weighted sum of squared L2 discrepancies.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Target {
-    /// The discrepancies and their weights.
-    pub parts: Vec<(DiscrepancyKind, f64)>,
-}
-
-impl Target {
-    /// One squared discrepancy.
-    pub fn single(kind: DiscrepancyKind) -> Target {
-        Target {
-            parts: vec![(kind, 1.0)],
-        }
-    }
-
-    /// The default blend: D²_MD + D²_L2* + D²_CD, each divided by its value at the start,
-    /// so that no one of the three figures users compare is bought at the others' cost.
-    pub fn blend() -> Target {
-        Target {
-            parts: vec![
-                (DiscrepancyKind::ModifiedL2, 1.0),
-                (DiscrepancyKind::StarL2, 1.0),
-                (DiscrepancyKind::CenteredL2, 1.0),
-            ],
-        }
-    }
-
-    /// The target as a formula, e.g. `D²_MD/… + D²_L2*/…` for the blend.
-    pub fn name(&self) -> String {
-        let names: Vec<String> = self
-            .parts
-            .iter()
-            .map(|&(k, w)| {
-                let e = DiscrepancyEnergy::new(k).name();
-                if w == 1.0 {
-                    e
-                } else {
-                    format!("{w}·{e}")
-                }
-            })
-            .collect();
-        if self.parts.len() > 1 && self.parts.iter().all(|&(_, w)| w == 1.0) {
-            format!("{} (each relative to the start)", names.join(" + "))
-        } else {
-            names.join(" + ")
-        }
-    }
-
-    fn kinds(&self) -> Vec<DiscrepancyKind> {
-        self.parts.iter().map(|&(k, _)| k).collect()
-    }
-
-    /// The weighted sum at `points` (one fused pass over the pairs).
-    pub fn value(&self, points: &PointSet) -> f64 {
-        squared_discrepancies(points, &self.kinds())
-            .iter()
-            .zip(&self.parts)
-            .map(|(v, &(_, w))| w * v)
-            .sum()
-    }
-
-    /// The same target with each weight divided by its discrepancy at `points`, so every
-    /// part starts at its weight.
-    pub fn normalised_at(&self, points: &PointSet) -> Target {
-        let values = squared_discrepancies(points, &self.kinds());
-        Target {
-            parts: self
-                .parts
-                .iter()
-                .zip(values)
-                .map(|(&(k, w), v)| (k, if v > 0.0 { w / v } else { w }))
-                .collect(),
-        }
-    }
-
-    fn fits(&self, s: usize) -> bool {
-        self.parts
-            .iter()
-            .all(|&(k, _)| crate::energies::discrepancy::closed_form_fits(k, s))
-    }
 }
 
 /// A [`Target`] as an energy: the weighted sum of the discrepancy energies.
@@ -340,7 +222,7 @@ pub fn descend_in_cells_after(
     let domain = BoxRegion::new(vec![-Z_BOUND; s], vec![Z_BOUND; s])?;
     let problem = Problem::shared(energy.clone(), Arc::new(domain))?;
     let mut quiet = LoggingObserver::new(0, |_: &Record| {});
-    let run = Run {
+    let run = Solve {
         problem: &problem,
         steps,
         checkpoint: None,
@@ -490,15 +372,6 @@ pub struct Outcome {
     pub after: f64,
 }
 
-/// The seeds of the candidate starts: independent of each other and of other uses of the
-/// run's seed.
-fn start_seed(seed: u64, index: u64) -> u64 {
-    let mut h = seed ^ 0x9e37_79b9_7f4a_7c15_u64.wrapping_mul(index + 1);
-    h = (h ^ (h >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    h = (h ^ (h >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    h ^ (h >> 31)
-}
-
 /// Largest n for which [`integration_set`] compares starts and descends (each evaluation
 /// of a discrepancy is O(n² s)); above it the set is one stratified scrambled Sobol' set
 /// with centred columns, made in O(n s log n).
@@ -518,7 +391,7 @@ pub fn integration_set(
 ) -> Result<(PointSet, Outcome), Error> {
     sequences::check_size(n, s)?;
     if n > DESCENT_MAX_N && s <= sequences::SOBOL_MAX_S {
-        let sd = start_seed(seed, 0);
+        let sd = sequences::stream_seed(seed, 0);
         let p = center_columns(&stratify(&sequences::sobol_scrambled(n, s, sd)?));
         return Ok((
             p.clone(),
@@ -541,7 +414,7 @@ pub fn integration_set(
     };
     if s <= sequences::SOBOL_MAX_S && n as u64 <= sequences::SOBOL_MAX_N as u64 {
         for t in 0..effort.starts.max(1) as u64 {
-            let sd = start_seed(seed, t);
+            let sd = sequences::stream_seed(seed, t);
             consider(
                 sequences::sobol_scrambled(n, s, sd)?,
                 format!("sobol({sd})"),
@@ -549,7 +422,7 @@ pub fn integration_set(
         }
     }
     if s <= sequences::HALTON_SCRAMBLED_MAX_S {
-        let sd = start_seed(seed, u64::MAX - 1);
+        let sd = sequences::stream_seed(seed, u64::MAX - 1);
         consider(
             sequences::halton_scrambled(n, s, sd)?,
             format!("halton({sd})"),
@@ -605,7 +478,7 @@ fn descend(
                 first_movable,
                 &forms,
                 proposals,
-                start_seed(seed, 1000 + round as u64),
+                sequences::stream_seed(seed, 1000 + round as u64),
             );
             points = descend_in_cells_after(
                 &points,
@@ -677,7 +550,7 @@ pub fn extend_set(
             collisions,
         });
     }
-    let seed = start_seed(seed, n0 as u64 + 0x4578_7465);
+    let seed = sequences::stream_seed(seed, n0 as u64 + 0x4578_7465);
     // The new points' order in every coordinate comes from a candidate set; the k-th
     // smallest goes to the cell at the same quantile of the free cells.
     let place = |cand: &PointSet| -> PointSet {
@@ -701,14 +574,14 @@ pub fn extend_set(
     };
     if s <= sequences::SOBOL_MAX_S {
         for t in 0..effort.starts.max(1) as u64 {
-            let sd = start_seed(seed, t);
+            let sd = sequences::stream_seed(seed, t);
             consider(
                 place(&sequences::sobol_scrambled(m, s, sd)?),
                 format!("sobol({sd})"),
             );
         }
     }
-    let sd = start_seed(seed, u64::MAX - 2);
+    let sd = sequences::stream_seed(seed, u64::MAX - 2);
     consider(
         place(&sequences::random(m, s, sd)?),
         format!("random({sd})"),
@@ -828,40 +701,10 @@ pub fn center_columns_after(points: &PointSet, first_movable: usize) -> PointSet
     PointSet::new(n, s, x).expect("same shape")
 }
 
-/// `points` randomised from `seed` as `kind` says (see [`Randomize`]): afterwards each
-/// point is uniformly distributed over [0, 1)^s.
-pub fn randomize(points: &PointSet, kind: Randomize, seed: u64) -> PointSet {
-    let (n, s) = (points.n(), points.s());
-    let mut rng = Xoshiro256PlusPlus::seed_from_u64(start_seed(seed, 0x5261_6e64));
-    match kind {
-        Randomize::Shift => {
-            let c: Vec<f64> = (0..s).map(|_| rng.random::<f64>()).collect();
-            crate::shift::shifted(points, &c)
-        }
-        Randomize::Cells => {
-            let turns: Vec<(usize, f64)> = (0..s)
-                .map(|_| (rng.random_range(0..n), rng.random::<f64>()))
-                .collect();
-            let data = points
-                .as_slice()
-                .iter()
-                .enumerate()
-                .map(|(idx, &x)| {
-                    let (m, v) = turns[idx % s];
-                    let c = cell_of(x, n);
-                    let u = (x * n as f64 - c as f64).clamp(0.0, 1.0);
-                    let w = u + v;
-                    in_cell((c + m) % n, if w >= 1.0 { w - 1.0 } else { w }, n)
-                })
-                .collect();
-            PointSet::new(n, s, data).expect("same shape")
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::energies::discrepancy::{squared_discrepancies, DiscrepancyKind};
 
     #[test]
     fn stratify_gives_one_point_per_cell_and_keeps_order() {
@@ -935,8 +778,8 @@ mod tests {
         let q = exchange_descent(&p, &[(Form::Centered, 1.0)], 5000, 1);
         assert!(is_stratified(&q));
         let (a, b) = (
-            crate::product_form::squared(&p, Form::Centered),
-            crate::product_form::squared(&q, Form::Centered),
+            crate::goals::integration::exchange::squared(&p, Form::Centered),
+            crate::goals::integration::exchange::squared(&q, Form::Centered),
         );
         assert!(b < 0.8 * a, "{a} → {b}");
     }

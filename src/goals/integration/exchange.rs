@@ -1,6 +1,6 @@
 //! The L2 discrepancies whose closed form is a product over coordinates, written once as
 //! three factors, in plain scalar code: the mixture discrepancy (which the vectorised
-//! kernels of [`crate::metrics`] do not carry), an independent check of those kernels,
+//! kernels of [`crate::quality::metrics`] do not carry), an independent check of those kernels,
 //! and the O(n) update of a squared discrepancy when two points swap one coordinate —
 //! the move of the stratified descent ([`crate::stratified`]) and of optimised Latin
 //! hypercubes.
@@ -328,7 +328,7 @@ impl Exchange {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::metrics;
+    use crate::quality::metrics;
 
     fn sample(n: usize, s: usize, seed: u64) -> PointSet {
         crate::sequences::random(n, s, seed).unwrap()

@@ -1,0 +1,194 @@
+//! The pipeline of every run: a [`Request`] is resolved once into a configuration
+//! ([`request`]); [`generate_with`] builds its start and problem, runs the goal's
+//! pipeline (integration, space-filling or the paper's) through the one executor,
+//! applies the post-steps (randomisation last), and reports on the set it returns.
+//! [`generate`], [`paper`] and [`region`] are the one-call entry points.
+
+pub mod request;
+
+use crate::integrators::Record;
+use crate::{Error, PointSet};
+use std::time::Instant;
+
+pub use crate::plan::*;
+pub use crate::post::randomize::Randomize;
+pub use crate::quality::target::Target;
+pub use crate::solve::checkpoint::{
+    encode_checkpoint, fnv1a64, read_checkpoint, Checkpoint, CheckpointPlan, CHECKPOINT_FORMAT,
+    CHECKPOINT_VERSION,
+};
+pub use crate::solve::{Event, LoggingObserver};
+pub use request::*;
+
+/// The default set: `n` points in [0, 1)^`s` for integration, stratified in every
+/// coordinate with the discrepancy as low as the descent reaches (what `stillpoint
+/// generate -n N -s S` writes).
+pub fn generate(n: usize, s: usize) -> Result<PointSet, Error> {
+    Ok(Request::new(n, s).resolve()?.run(None, |_| {})?.points)
+}
+
+/// The paper's pipeline for `n` points in [0, 1)^`s`: Halton start, U_{q,p} with (q, p)
+/// from eq. 48, 1000 steps of the damped dynamics, the best of 64 periodic shifts.
+pub fn paper(n: usize, s: usize) -> Result<PointSet, Error> {
+    let mut r = Request::new(n, s);
+    r.method = Some("paper".into());
+    Ok(r.resolve()?.run(None, |_| {})?.points)
+}
+
+/// `n` points spread over a region given as text: a shape (`ball:1@0,0`,
+/// `ellipsoid:2,1`, `box:0,1,0,2`, `polytope:FILE` with `bbox`) or an expression g(x)
+/// with the region {g ≤ 0} inside `bbox` (LO1,HI1,LO2,HI2,...). `bbox` is empty for a
+/// shape that carries its own extent.
+pub fn region(n: usize, text: &str, bbox: &[f64]) -> Result<PointSet, Error> {
+    let shape = ["ball:", "ellipsoid:", "box:", "simplex", "polytope:"]
+        .iter()
+        .any(|k| text.trim_start().starts_with(k));
+    let mut r = Request {
+        n: Some(n.into()),
+        ..Request::default()
+    };
+    if shape {
+        r.shape = Some(text.into());
+    } else {
+        r.region = Some(text.into());
+    }
+    if !bbox.is_empty() {
+        r.bbox = Some(Arg::Numbers(bbox.to_vec()));
+    }
+    Ok(r.resolve()?.run(None, |_| {})?.points)
+}
+
+/// What a resolved request produced: the points as written (scaled to the bounds when
+/// asked), and for a run its report and configuration.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    /// The points as the caller receives them.
+    pub points: PointSet,
+    /// The run's report (none for a baseline).
+    pub report: Option<GenerateReport>,
+}
+
+impl Resolved {
+    /// Runs what the request asked for, with checkpoints as `checkpoint` says and every
+    /// [`Event`] passed to `on_event`.
+    pub fn run(
+        &self,
+        checkpoint: Option<&CheckpointPlan>,
+        on_event: impl FnMut(Event),
+    ) -> Result<Outcome, Error> {
+        let (points, report) = match &self.job {
+            Job::Baseline {
+                baseline,
+                n,
+                s,
+                seed,
+            } => (baseline.generate(*n, *s, *seed)?, None),
+            Job::Run(cfg) => {
+                let report = generate_with(cfg, checkpoint, on_event)?;
+                (report.output.points.clone(), Some(report))
+            }
+        };
+        let points = match &self.bounds {
+            Some(b) => b.scale(&points)?,
+            None => points,
+        };
+        Ok(Outcome { points, report })
+    }
+}
+
+/// Runs a configuration, calling `on_record` with every trajectory record.
+pub fn run_config(
+    cfg: &GenerateConfig,
+    mut on_record: impl FnMut(&Record),
+) -> Result<GenerateReport, Error> {
+    generate_with(cfg, None, |e| {
+        if let Event::Record(r) = e {
+            on_record(r)
+        }
+    })
+}
+
+/// Runs a configuration as [`generate`] does, with checkpoints written (and an earlier one
+/// resumed) as `checkpoint` says, and every [`Event`] passed to `on_event`: the start,
+/// the solver through the executor, then the post-steps (shift selection after a
+/// periodic energy, the polish), then the report. The post-steps run after a resume too.
+pub fn generate_with(
+    cfg: &GenerateConfig,
+    checkpoint: Option<&CheckpointPlan>,
+    mut on_event: impl FnMut(Event),
+) -> Result<GenerateReport, Error> {
+    let clock = Instant::now();
+    if cfg.randomize.is_some() && cfg.region().is_some() {
+        return Err(Error::invalid(
+            "randomize",
+            format!("{:?}", cfg.randomize),
+            "no randomisation in a region (a shift would carry points out of it)",
+        ));
+    }
+    if cfg.goal != Goal::Paper && cfg.region().is_none() && checkpoint.is_some() {
+        return Err(Error::invalid(
+            "checkpoint",
+            "a goal run",
+            "checkpoints of the paper's pipeline (a goal's run takes seconds)",
+        ));
+    }
+    let cube_integration = matches!(cfg.goal, Goal::Integration(_)) && cfg.region().is_none();
+    if (!cfg.nested.is_empty() && !cube_integration)
+        || (cfg.extend.is_some() && !cube_integration && cfg.region().is_none())
+    {
+        return Err(Error::invalid(
+            "extend",
+            "a cube run that is not the integration goal",
+            "extend with the integration goal in the cube (the default) or in a region; \
+             nested with the integration goal",
+        ));
+    }
+    if let (Some(old), Some(domain)) = (&cfg.extend, cfg.region()) {
+        if old.s() != cfg.s || old.n() > cfg.n {
+            return Err(Error::invalid(
+                "extend",
+                format!("{} points in {} dimensions", old.n(), old.s()),
+                format!("at most n = {} points in s = {} dimensions", cfg.n, cfg.s),
+            ));
+        }
+        if let Some(i) = old.rows().position(|r| !domain.contains(r)) {
+            return Err(Error::invalid(
+                "extend",
+                format!("point {} outside the region", i + 1),
+                "old points inside the run's region",
+            ));
+        }
+    }
+    let mut report = match (&cfg.goal, cfg.region()) {
+        (Goal::Integration(_), Some(_)) => {
+            return Err(Error::invalid(
+                "goal",
+                "integration in a region",
+                "the unit cube, where the discrepancies of integration are defined; in a \
+                 region the goal is space-filling",
+            ))
+        }
+        (Goal::Integration(target), None) => {
+            crate::goals::integration::integration_run(cfg, target, &mut on_event)?
+        }
+        (Goal::SpaceFilling, None) => {
+            crate::goals::space_filling::space_filling_run(cfg, &mut on_event)?
+        }
+        _ => crate::goals::paper::paper_run(cfg, checkpoint, &mut on_event)?,
+    };
+    if let Some(kind) = cfg.randomize {
+        report.output.points =
+            crate::post::randomize::randomize(&report.output.points, kind, cfg.seed);
+        report.quality.1 = quality(cfg, &report.output.points)?;
+        report.stages.push(format!(
+            "randomised ({}) from seed {}",
+            match kind {
+                Randomize::Shift => "uniform shift modulo 1",
+                Randomize::Cells => "cells rotated, offsets shifted within their cells",
+            },
+            cfg.seed
+        ));
+    }
+    report.seconds = clock.elapsed().as_secs_f64();
+    Ok(report)
+}

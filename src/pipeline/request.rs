@@ -1,0 +1,1126 @@
+//! One request for every front end. A [`Request`] holds every option a user can set on a
+//! run, each optional and each as the front end received it ([`Arg`]); [`Request::resolve`]
+//! is the only place where option rules live: which pipeline runs, which options belong
+//! to which space, goal and solver, the checks of nested and grown sets, the region and
+//! shape grammar, the names of energies and discrepancies. It gives the run's
+//! configuration ([`Resolved`]) or an error naming the parameter as the front end spells
+//! it (`--log-every` on the command line, `log_every` in Python), through the `spell`
+//! function the front end passes.
+//!
+//! An option that would have no effect on the chosen run is refused, never ignored.
+
+use crate::energies::discrepancy::DiscrepancyKind;
+use crate::energies::{Distance, Precision};
+use crate::integrators::{Kappa, Restart};
+use crate::plan::space::{numbers_text, Bounds, RegionSpec};
+use crate::plan::{EnergyKind, GenerateConfig, Goal, Init, Solver, Space};
+use crate::post::randomize::Randomize;
+use crate::quality::target::Target;
+use crate::sequences::{self, Baseline};
+use crate::{Error, PointSet};
+use serde_json::json;
+
+/// A value as a front end received it: the command line gives text, Python gives typed
+/// values; resolving gives either a meaning.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Arg {
+    /// Text (every value on the command line; strings from Python).
+    Text(String),
+    /// A whole number.
+    Int(i128),
+    /// A floating-point number.
+    Float(f64),
+    /// A truth value.
+    Bool(bool),
+    /// A list of numbers (a box or bounds as LO1,HI1,...).
+    Numbers(Vec<f64>),
+    /// Lower and upper ends given apart, as SciPy's `qmc.scale(l_bounds, u_bounds)`
+    /// takes them; one number stands for every coordinate.
+    Pair(Vec<f64>, Vec<f64>),
+    /// A list of whole numbers (nested sizes).
+    Counts(Vec<i128>),
+    /// A point set (a start, or points to keep).
+    Points(PointSet),
+}
+
+impl std::fmt::Display for Arg {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Arg::Text(t) => f.write_str(t),
+            Arg::Int(i) => write!(f, "{i}"),
+            Arg::Float(v) => write!(f, "{v}"),
+            Arg::Bool(b) => write!(f, "{b}"),
+            Arg::Numbers(v) => f.write_str(&numbers_text(v)),
+            Arg::Pair(lo, hi) => write!(f, "({}; {})", numbers_text(lo), numbers_text(hi)),
+            Arg::Counts(v) => {
+                let t: Vec<String> = v.iter().map(|k| k.to_string()).collect();
+                f.write_str(&t.join(","))
+            }
+            Arg::Points(p) => write!(f, "{} points in {} dimensions", p.n(), p.s()),
+        }
+    }
+}
+
+impl From<&str> for Arg {
+    fn from(t: &str) -> Arg {
+        Arg::Text(t.to_string())
+    }
+}
+impl From<String> for Arg {
+    fn from(t: String) -> Arg {
+        Arg::Text(t)
+    }
+}
+impl From<usize> for Arg {
+    fn from(v: usize) -> Arg {
+        Arg::Int(v as i128)
+    }
+}
+impl From<u64> for Arg {
+    fn from(v: u64) -> Arg {
+        Arg::Int(v.into())
+    }
+}
+impl From<f64> for Arg {
+    fn from(v: f64) -> Arg {
+        Arg::Float(v)
+    }
+}
+impl From<PointSet> for Arg {
+    fn from(p: PointSet) -> Arg {
+        Arg::Points(p)
+    }
+}
+
+/// Every user-settable option of a run; `None` takes the default. The field names are
+/// the parameters' names in errors (before a front end spells them).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Request {
+    /// Number of points (with `extend`: the number to add).
+    pub n: Option<Arg>,
+    /// Dimension (a region, `extend` or `init` points may give it).
+    pub s: Option<Arg>,
+    /// Seed of every random choice.
+    pub seed: Option<Arg>,
+    /// `paper` (the paper's pipeline) or a baseline's name.
+    pub method: Option<Arg>,
+    /// `integration` or `space-filling`.
+    pub goal: Option<Arg>,
+    /// The integration goal's discrepancy: `blend`, `md`, `l2star`, `cd`, `periodic`.
+    pub target: Option<Arg>,
+    /// `cells` or `shift`.
+    pub randomize: Option<Arg>,
+    /// Points to keep, first and unchanged, while `n` more are added.
+    pub extend: Option<Arg>,
+    /// Increasing sizes N1,N2,...: every prefix a good set.
+    pub nested: Option<Arg>,
+    /// Scale the written points from the unit cube to LO1,HI1,...
+    pub bounds: Option<Arg>,
+    /// A region g(x) ≤ 0 as an expression.
+    pub region: Option<Arg>,
+    /// The bounding box of `region` (or of a polytope).
+    pub bbox: Option<Arg>,
+    /// A built-in shape.
+    pub shape: Option<Arg>,
+    /// The energy of the paper's pipeline.
+    pub energy: Option<Arg>,
+    /// `dem` or `lbfgs`.
+    pub integrator: Option<Arg>,
+    /// q of U_{q,p}.
+    pub q: Option<Arg>,
+    /// p of U_{q,p} (or of U_{E,p,g}).
+    pub p: Option<Arg>,
+    /// `fast` or `full`.
+    pub precision: Option<Arg>,
+    /// The step budget.
+    pub steps: Option<Arg>,
+    /// `halton`, `random` or points.
+    pub init: Option<Arg>,
+    /// κ: `auto` or a number ≥ 1.
+    pub kappa: Option<Arg>,
+    /// `auto`, `off` or ε_p > 0.
+    pub restart: Option<Arg>,
+    /// The DEM's stopping tolerance.
+    pub tolerance: Option<Arg>,
+    /// A last L-BFGS on a discrepancy: `md`, `l2star`, `cd`, `periodic`, `none`.
+    pub polish: Option<Arg>,
+    /// Candidate periodic shifts after the DEM.
+    pub shifts: Option<Arg>,
+    /// Log discrepancies every this many steps.
+    pub log_every: Option<Arg>,
+    /// The run's trajectory is to be recorded (the paper's pipeline only).
+    pub trajectory: bool,
+    /// The run is checkpointed or resumed (the paper's pipeline, or a region run).
+    pub checkpoint: bool,
+}
+
+/// What a resolved request runs.
+#[derive(Debug, Clone)]
+pub enum Job {
+    /// The library's pipeline with this configuration.
+    Run(Box<GenerateConfig>),
+    /// A baseline construction.
+    Baseline {
+        /// Which.
+        baseline: Baseline,
+        /// Points.
+        n: usize,
+        /// Dimension.
+        s: usize,
+        /// Seed.
+        seed: u64,
+    },
+}
+
+/// A request resolved: what runs, and how the written points are scaled.
+#[derive(Debug, Clone)]
+pub struct Resolved {
+    /// The run or the baseline.
+    pub job: Job,
+    /// Scaling of the written points (a cube run with `bounds`).
+    pub bounds: Option<Bounds>,
+}
+
+/// The library's own spelling of a parameter: its name as the request writes it.
+pub fn plain(name: &str) -> String {
+    name.to_string()
+}
+
+/// The options of the paper's pipeline, in the order they are reported.
+const PAPER_OPTIONS: [&str; 14] = [
+    "energy",
+    "integrator",
+    "q",
+    "p",
+    "precision",
+    "init",
+    "kappa",
+    "restart",
+    "polish",
+    "tolerance",
+    "shifts",
+    "log_every",
+    "trajectory",
+    "checkpoint",
+];
+
+/// The most points a single run accepts (beyond it a set of f64 cannot be addressed).
+const MAX_COUNT: i128 = u32::MAX as i128 * 16;
+
+impl Request {
+    /// A request for `n` points in `s` dimensions with every other option at its default.
+    pub fn new(n: usize, s: usize) -> Request {
+        Request {
+            n: Some(n.into()),
+            s: Some(s.into()),
+            ..Request::default()
+        }
+    }
+
+    /// Sets the parameter `name` (as [`Request`]'s fields are named; `box` for `bbox`)
+    /// to `value`; an unknown name is refused with the accepted ones. This is how a front
+    /// end with keyword arguments fills a request.
+    pub fn set(&mut self, name: &str, value: Arg) -> Result<(), Error> {
+        let slot = match name {
+            "n" => &mut self.n,
+            "s" => &mut self.s,
+            "seed" => &mut self.seed,
+            "method" => &mut self.method,
+            "goal" => &mut self.goal,
+            "target" => &mut self.target,
+            "randomize" => &mut self.randomize,
+            "extend" => &mut self.extend,
+            "nested" => &mut self.nested,
+            "bounds" => &mut self.bounds,
+            "region" => &mut self.region,
+            "box" | "bbox" => &mut self.bbox,
+            "shape" => &mut self.shape,
+            "energy" => &mut self.energy,
+            "integrator" => &mut self.integrator,
+            "q" => &mut self.q,
+            "p" => &mut self.p,
+            "precision" => &mut self.precision,
+            "steps" => &mut self.steps,
+            "init" => &mut self.init,
+            "kappa" => &mut self.kappa,
+            "restart" => &mut self.restart,
+            "tolerance" => &mut self.tolerance,
+            "polish" => &mut self.polish,
+            "shifts" => &mut self.shifts,
+            "log_every" => &mut self.log_every,
+            other => {
+                return Err(Error::invalid(
+                    "keyword argument",
+                    other,
+                    format!("one of {}", Request::names().join(", ")),
+                ))
+            }
+        };
+        *slot = Some(value);
+        Ok(())
+    }
+
+    /// The parameters [`Request::set`] accepts.
+    pub fn names() -> Vec<&'static str> {
+        vec![
+            "n",
+            "s",
+            "seed",
+            "method",
+            "goal",
+            "target",
+            "randomize",
+            "extend",
+            "nested",
+            "bounds",
+            "region",
+            "box",
+            "shape",
+            "energy",
+            "integrator",
+            "q",
+            "p",
+            "precision",
+            "steps",
+            "init",
+            "kappa",
+            "restart",
+            "tolerance",
+            "polish",
+            "shifts",
+            "log_every",
+        ]
+    }
+
+    /// Resolves the request with the library's own parameter names.
+    pub fn resolve(&self) -> Result<Resolved, Error> {
+        self.resolve_as(&plain)
+    }
+
+    /// Resolves the request; `spell` writes a parameter's name as the caller's front end
+    /// spells it, in every refusal.
+    pub fn resolve_as(&self, spell: &dyn Fn(&str) -> String) -> Result<Resolved, Error> {
+        Resolver { r: self, spell }.resolve()
+    }
+
+    fn given(&self, name: &str) -> bool {
+        match name {
+            "energy" => self.energy.is_some(),
+            "integrator" => self.integrator.is_some(),
+            "q" => self.q.is_some(),
+            "p" => self.p.is_some(),
+            "precision" => self.precision.is_some(),
+            "init" => self.init.is_some(),
+            "kappa" => self.kappa.is_some(),
+            "restart" => self.restart.is_some(),
+            "polish" => self.polish.is_some(),
+            "tolerance" => self.tolerance.is_some(),
+            "shifts" => self.shifts.is_some(),
+            "log_every" => self.log_every.is_some(),
+            "trajectory" => self.trajectory,
+            "checkpoint" => self.checkpoint,
+            "steps" => self.steps.is_some(),
+            _ => false,
+        }
+    }
+}
+
+/// The resolution of one request: every rule of every option.
+struct Resolver<'a> {
+    r: &'a Request,
+    spell: &'a dyn Fn(&str) -> String,
+}
+
+/// What a request's goal option asked for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum GoalName {
+    Integration,
+    SpaceFilling,
+}
+
+impl Resolver<'_> {
+    fn bad(&self, name: &str, value: impl std::fmt::Display, expected: impl Into<String>) -> Error {
+        Error::invalid((self.spell)(name), value, expected)
+    }
+
+    fn word(&self, name: &str, arg: &Arg, expected: &str) -> Result<String, Error> {
+        match arg {
+            Arg::Text(t) => Ok(t.trim().to_ascii_lowercase().replace('_', "-")),
+            other => Err(self.bad(name, other, expected)),
+        }
+    }
+
+    /// A whole number in [lo, MAX_COUNT] (text is parsed).
+    fn count(&self, name: &str, arg: &Arg, lo: i128, expected: &str) -> Result<usize, Error> {
+        let v = match arg {
+            Arg::Int(i) => Some(*i),
+            Arg::Text(t) => t.trim().parse::<i128>().ok(),
+            Arg::Float(f) if f.fract() == 0.0 && f.abs() < 1e30 => Some(*f as i128),
+            _ => None,
+        };
+        match v {
+            Some(v) if v >= lo && v <= MAX_COUNT => Ok(v as usize),
+            _ => Err(self.bad(name, arg, expected)),
+        }
+    }
+
+    /// A finite number (text is parsed).
+    fn number(&self, name: &str, arg: &Arg, expected: &str) -> Result<f64, Error> {
+        let v = match arg {
+            Arg::Int(i) => Some(*i as f64),
+            Arg::Float(f) => Some(*f),
+            Arg::Text(t) => t.trim().parse::<f64>().ok(),
+            _ => None,
+        };
+        v.filter(|v| v.is_finite())
+            .ok_or_else(|| self.bad(name, arg, expected))
+    }
+
+    fn numbers(&self, name: &str, arg: &Arg) -> Result<Vec<f64>, Error> {
+        match arg {
+            Arg::Numbers(v) => Ok(v.clone()),
+            Arg::Text(t) => crate::plan::space::number_list(&(self.spell)(name), t, t),
+            other => Err(self.bad(name, other, "LO1,HI1,LO2,HI2,...")),
+        }
+    }
+
+    fn text<'b>(&self, name: &str, arg: &'b Option<Arg>) -> Result<Option<&'b str>, Error> {
+        match arg {
+            None => Ok(None),
+            Some(Arg::Text(t)) => Ok(Some(t.as_str())),
+            Some(other) => Err(self.bad(name, other, "text")),
+        }
+    }
+
+    fn points<'b>(&self, name: &str, arg: &'b Option<Arg>) -> Result<Option<&'b PointSet>, Error> {
+        match arg {
+            None => Ok(None),
+            Some(Arg::Points(p)) => Ok(Some(p)),
+            Some(other) => Err(self.bad(name, other, "a point set")),
+        }
+    }
+
+    fn resolve(&self) -> Result<Resolved, Error> {
+        let r = self.r;
+        let seed = match &r.seed {
+            None => 0,
+            Some(Arg::Int(v)) if (0..=u64::MAX as i128).contains(v) => *v as u64,
+            Some(Arg::Text(t)) if t.trim().parse::<u64>().is_ok() => t.trim().parse().unwrap_or(0),
+            Some(other) => return Err(self.bad("seed", other, "a whole number in [0, 2^64)")),
+        };
+        if let Some(job) = self.baseline(seed)? {
+            return Ok(job);
+        }
+        let in_region = r.region.is_some() || r.shape.is_some();
+        let goal = self.goal(in_region)?;
+        let mut cfg = if in_region {
+            self.region_config()?
+        } else {
+            self.cube_config(&goal)?
+        };
+        cfg.seed = seed;
+        cfg.goal = goal;
+        self.common(&mut cfg)?;
+        sequences::check_size(cfg.n, cfg.s).map_err(|e| match e {
+            Error::InvalidArgument {
+                name,
+                value,
+                expected,
+            } => Error::invalid((self.spell)(&name), value, expected),
+            other => other,
+        })?;
+        let bounds = match &r.bounds {
+            None => None,
+            Some(_) if in_region => {
+                return Err(self.bad(
+                    "bounds",
+                    r.bounds.as_ref().map_or(String::new(), |b| b.to_string()),
+                    format!(
+                        "no bounds in a region: its points are in its own coordinates \
+                         already ({} scales the unit cube)",
+                        (self.spell)("bounds")
+                    ),
+                ))
+            }
+            Some(arg) => Some(self.bounds(arg, cfg.s)?),
+        };
+        Ok(Resolved {
+            job: Job::Run(Box::new(cfg)),
+            bounds,
+        })
+    }
+
+    /// A baseline asked for by `method`, which takes only n, s, seed and bounds.
+    fn baseline(&self, seed: u64) -> Result<Option<Resolved>, Error> {
+        let r = self.r;
+        let Some(method) = &r.method else {
+            return Ok(None);
+        };
+        let word = self.word("method", method, "paper or a baseline's name")?;
+        if word == "paper" || word == "dem" {
+            return Ok(None);
+        }
+        let baseline = Baseline::parse(&word).map_err(|_| {
+            self.bad(
+                "method",
+                method,
+                "paper (the paper's pipeline) or a baseline: random, halton, \
+                 halton-scrambled, sobol, hua-wang, lattice, lhs, lhs-maximin",
+            )
+        })?;
+        let others = [
+            ("goal", r.goal.is_some()),
+            ("target", r.target.is_some()),
+            ("randomize", r.randomize.is_some()),
+            ("extend", r.extend.is_some()),
+            ("nested", r.nested.is_some()),
+            ("region", r.region.is_some()),
+            ("box", r.bbox.is_some()),
+            ("shape", r.shape.is_some()),
+            ("steps", r.steps.is_some()),
+        ];
+        let paper = PAPER_OPTIONS.iter().find(|o| r.given(o));
+        if let Some(name) = others
+            .iter()
+            .find(|(_, g)| *g)
+            .map(|(n, _)| *n)
+            .or(paper.copied())
+        {
+            return Err(self.bad(
+                name,
+                format!("given with the baseline {}", baseline.name()),
+                format!(
+                    "a baseline takes only {}, {}, {} and {}",
+                    (self.spell)("n"),
+                    (self.spell)("s"),
+                    (self.spell)("seed"),
+                    (self.spell)("bounds")
+                ),
+            ));
+        }
+        let n = self.n_points()?;
+        let s = match &r.s {
+            Some(a) => self.count("s", a, 1, "at least 1 dimension")?,
+            None => return Err(self.bad("s", "none", "the dimension (at least 1)")),
+        };
+        sequences::check_size(n, s)?;
+        let bounds = match &r.bounds {
+            Some(a) => Some(self.bounds(a, s)?),
+            None => None,
+        };
+        Ok(Some(Resolved {
+            job: Job::Baseline {
+                baseline,
+                n,
+                s,
+                seed,
+            },
+            bounds,
+        }))
+    }
+
+    fn n_points(&self) -> Result<usize, Error> {
+        match &self.r.n {
+            Some(a) => self.count("n", a, 1, "at least 1 point"),
+            None => Err(self.bad("n", "none", "the number of points (at least 1)")),
+        }
+    }
+
+    fn bounds(&self, arg: &Arg, s: usize) -> Result<Bounds, Error> {
+        let name = (self.spell)("bounds");
+        let v = match arg {
+            Arg::Pair(lo, hi) => {
+                let widen = |v: &Vec<f64>| -> Result<Vec<f64>, Error> {
+                    match v.len() {
+                        1 => Ok(vec![v[0]; s]),
+                        k if k == s => Ok(v.clone()),
+                        k => Err(Error::invalid(
+                            &name,
+                            arg,
+                            format!("one number or {s} per side (the dimension), not {k}"),
+                        )),
+                    }
+                };
+                let (lo, hi) = (widen(lo)?, widen(hi)?);
+                lo.iter().zip(&hi).flat_map(|(a, b)| [*a, *b]).collect()
+            }
+            other => self.numbers("bounds", other)?,
+        };
+        Bounds::new(&name, &arg.to_string(), &v, s)
+    }
+
+    /// What the run is for: an asked goal chooses (none of the paper's options may come
+    /// with it, except with space-filling in a region, whose pipeline is the region's
+    /// run); without one, the paper's method, any of the paper's options or a region
+    /// choose the paper's pipeline, and otherwise the integration goal.
+    fn goal(&self, in_region: bool) -> Result<Goal, Error> {
+        let r = self.r;
+        let spell = self.spell;
+        let paper = r.method.is_some();
+        let asked = match &r.goal {
+            None => None,
+            Some(a) => Some(
+                match self
+                    .word("goal", a, "integration or space-filling")?
+                    .as_str()
+                {
+                    "integration" => GoalName::Integration,
+                    "space-filling" => GoalName::SpaceFilling,
+                    _ => return Err(self.bad("goal", a, "integration or space-filling")),
+                },
+            ),
+        };
+        let target =
+            match &r.target {
+                None => None,
+                Some(a) => Some(
+                    match self
+                        .word("target", a, "blend, md, l2star, cd or periodic")?
+                        .as_str()
+                    {
+                        "blend" => Target::blend(),
+                        w => Target::single(DiscrepancyKind::parse(w).map_err(|_| {
+                            self.bad("target", a, "blend, md, l2star, cd or periodic")
+                        })?),
+                    },
+                ),
+            };
+        // `steps` feeds the DEM stage of the space-filling goal; elsewhere it belongs to
+        // the paper's pipeline.
+        let expert: Vec<&str> = PAPER_OPTIONS
+            .iter()
+            .copied()
+            .chain(std::iter::once("steps"))
+            .filter(|o| r.given(o))
+            .filter(|o| !(*o == "steps" && asked == Some(GoalName::SpaceFilling)))
+            .collect();
+        let goal = match asked {
+            Some(g) => {
+                let name = match g {
+                    GoalName::Integration => "integration",
+                    GoalName::SpaceFilling => "space-filling",
+                };
+                if paper {
+                    return Err(self.bad(
+                        "goal",
+                        name,
+                        format!(
+                            "no {} with {} paper (the paper's method is its own pipeline)",
+                            spell("goal"),
+                            spell("method")
+                        ),
+                    ));
+                }
+                if let (Some(first), false) =
+                    (expert.first(), in_region && g == GoalName::SpaceFilling)
+                {
+                    return Err(self.bad(
+                        first,
+                        format!("given with the goal {name}"),
+                        format!(
+                            "the paper's options only with {} paper (or no {}); a goal \
+                             chooses its own pipeline",
+                            spell("method"),
+                            spell("goal")
+                        ),
+                    ));
+                }
+                match g {
+                    GoalName::Integration if in_region => {
+                        return Err(self.bad(
+                            "goal",
+                            "integration in a region",
+                            "space-filling in a region (the discrepancies of integration \
+                             are those of the unit cube)",
+                        ))
+                    }
+                    GoalName::Integration => Goal::Integration(Target::blend()),
+                    GoalName::SpaceFilling => Goal::SpaceFilling,
+                }
+            }
+            None if paper || !expert.is_empty() || in_region => Goal::Paper,
+            None => Goal::Integration(Target::blend()),
+        };
+        match (goal, target) {
+            (Goal::Integration(_), Some(t)) => Ok(Goal::Integration(t)),
+            (_, Some(t)) => Err(self.bad(
+                "target",
+                t.name(),
+                "a target only with the integration goal (the cube's default); this run's \
+                 pipeline is the paper's or space-filling",
+            )),
+            (g, None) => Ok(g),
+        }
+    }
+
+    /// The options every space shares: solver, budget, κ, restart, tolerance,
+    /// randomisation, and the refusals of combinations that cannot keep their promise.
+    fn common(&self, cfg: &mut GenerateConfig) -> Result<(), Error> {
+        let r = self.r;
+        let region = cfg.region().is_some();
+        if let Some(a) = &r.integrator {
+            cfg.solver = match self.word("integrator", a, "dem or lbfgs")?.as_str() {
+                "dem" => Solver::Dem,
+                "lbfgs" | "l-bfgs" => Solver::Lbfgs,
+                _ => return Err(self.bad("integrator", a, "dem or lbfgs")),
+            };
+        }
+        if let Some(a) = &r.steps {
+            cfg.steps = self.count("steps", a, 1, "a whole number of steps ≥ 1")?;
+        }
+        if let Some(a) = &r.kappa {
+            cfg.dem.kappa = match a {
+                Arg::Text(t) if t.trim().eq_ignore_ascii_case("auto") => Kappa::default(),
+                _ => {
+                    let k = self.number("kappa", a, "auto or a finite number ≥ 1")?;
+                    if k < 1.0 {
+                        return Err(self.bad("kappa", a, "auto or a finite number ≥ 1"));
+                    }
+                    Kappa::Fixed(k)
+                }
+            };
+        }
+        if let Some(a) = &r.restart {
+            const EXPECTED: &str = "auto (ε_p = 2/n), off, or a number ε_p > 0";
+            cfg.dem.restart = match a {
+                Arg::Text(t) if t.trim().eq_ignore_ascii_case("auto") => Restart::Auto,
+                Arg::Text(t)
+                    if ["off", "none"].contains(&t.trim().to_ascii_lowercase().as_str()) =>
+                {
+                    Restart::Off
+                }
+                _ => {
+                    let e = self.number("restart", a, EXPECTED)?;
+                    if e <= 0.0 {
+                        return Err(self.bad("restart", a, EXPECTED));
+                    }
+                    Restart::Threshold(e)
+                }
+            };
+        }
+        if let Some(a) = &r.tolerance {
+            let t = self.number("tolerance", a, "a number ≥ 0")?;
+            if t < 0.0 {
+                return Err(self.bad("tolerance", a, "a number ≥ 0"));
+            }
+            cfg.dem.tolerance = t;
+        }
+        if let Some(a) = &r.randomize {
+            let kind = match self.word("randomize", a, "cells or shift")?.as_str() {
+                "cells" => Randomize::Cells,
+                "shift" => Randomize::Shift,
+                _ => return Err(self.bad("randomize", a, "cells or shift")),
+            };
+            if region {
+                return Err(self.bad(
+                    "randomize",
+                    a,
+                    "no randomisation in a region (a shift would carry points out of it; \
+                     the cube only)",
+                ));
+            }
+            if cfg.extend.is_some() || !cfg.nested.is_empty() {
+                let with = if cfg.extend.is_some() {
+                    "extend"
+                } else {
+                    "nested"
+                };
+                return Err(self.bad(
+                    "randomize",
+                    format!("{a} with {}", (self.spell)(with)),
+                    format!(
+                        "no randomisation of a grown set: it would move the kept points \
+                         ({}) and unstratify the prefixes ({}); randomise a set made for \
+                         its size instead",
+                        (self.spell)("extend"),
+                        (self.spell)("nested")
+                    ),
+                ));
+            }
+            cfg.randomize = Some(kind);
+        }
+        Ok(())
+    }
+
+    fn region_config(&self) -> Result<GenerateConfig, Error> {
+        let r = self.r;
+        let s = match &r.s {
+            Some(a) => Some(self.count("s", a, 1, "at least 1 dimension")?),
+            None => None,
+        };
+        let bbox = match &r.bbox {
+            Some(a) => Some(self.numbers("box", a)?),
+            None => None,
+        };
+        let spec = RegionSpec {
+            expression: self.text("region", &r.region)?,
+            bbox: bbox.as_deref(),
+            shape: self.text("shape", &r.shape)?,
+            s,
+        };
+        if r.bbox.is_some()
+            && spec.expression.is_none()
+            && !spec.shape.is_some_and(|t| t.starts_with("polytope:"))
+        {
+            return Err(self.box_alone());
+        }
+        let domain = spec.domain(self.spell)?;
+        let dim = domain.dim();
+        // Options that mean nothing for a region's energies are refused, not ignored.
+        let energy_word = match &r.energy {
+            Some(a) => Some(self.word("energy", a, "e-inf-g, e-inf or e-p-g")?),
+            None => None,
+        };
+        let is_epg = energy_word.as_deref() == Some("e-p-g");
+        for (name, given, why) in [
+            ("q", r.q.is_some(), "U_{q,p} is an energy of the cube"),
+            (
+                "precision",
+                r.precision.is_some(),
+                "it sets U_{q,p}'s distance, which region energies do not use",
+            ),
+            (
+                "polish",
+                r.polish.is_some(),
+                "the discrepancies it lowers live in the unit cube",
+            ),
+            (
+                "shifts",
+                r.shifts.is_some(),
+                "a periodic shift would carry points out of the region",
+            ),
+            (
+                "log_every",
+                r.log_every.is_some(),
+                "it logs the unit cube's discrepancies",
+            ),
+            (
+                "p",
+                r.p.is_some() && !is_epg,
+                "p belongs to U_{E,p,g} (energy e-p-g) in a region",
+            ),
+            (
+                "nested",
+                r.nested.is_some(),
+                "nested sets are made by the integration goal in the cube; grow a region's \
+                 set with extend",
+            ),
+        ] {
+            if given {
+                return Err(self.bad(
+                    name,
+                    "given for a region",
+                    format!("not in a region: {why}"),
+                ));
+            }
+        }
+        let old = self.points("extend", &r.extend)?.cloned();
+        let m = self.n_points()?;
+        let n = match &old {
+            Some(p) => {
+                if p.s() != dim {
+                    return Err(self.bad(
+                        "extend",
+                        format!("{} points in {} dimensions", p.n(), p.s()),
+                        format!("points of the region's dimension, {dim}"),
+                    ));
+                }
+                if let Some(i) = p.rows().position(|x| !domain.contains(x)) {
+                    return Err(self.bad(
+                        "extend",
+                        format!("point {} outside the region", i + 1),
+                        "old points inside the run's region",
+                    ));
+                }
+                self.grown(m, p.n())?
+            }
+            None => m,
+        };
+        let mut cfg = GenerateConfig::in_region(domain, n);
+        cfg.space = Space::Region {
+            domain: cfg
+                .region()
+                .cloned()
+                .ok_or_else(|| self.bad("region", "none", "a region"))?,
+            description: json!({
+                "expression": self.text("region", &r.region)?,
+                "box": bbox.as_deref().map(numbers_text),
+                "shape": self.text("shape", &r.shape)?,
+            }),
+        };
+        cfg.energy = match energy_word.as_deref() {
+            None | Some("e-inf-g") => EnergyKind::EInfG,
+            Some("e-inf") => EnergyKind::EInf,
+            Some("e-p-g") => EnergyKind::EpG(match &r.p {
+                Some(a) => self.positive_p(a)?,
+                None => 8.0,
+            }),
+            Some(_) => {
+                return Err(self.bad(
+                    "energy",
+                    r.energy.as_ref().map_or(String::new(), |a| a.to_string()),
+                    "in a region e-inf-g (eq. 56), e-inf or e-p-g",
+                ))
+            }
+        };
+        cfg.init = match &r.init {
+            None => Init::Random,
+            Some(Arg::Points(p)) => {
+                if p.s() != dim || p.n() != cfg.n - old.as_ref().map_or(0, |o| o.n()) {
+                    return Err(self.bad(
+                        "init",
+                        format!("{} points in {} dimensions", p.n(), p.s()),
+                        format!("{} points in {dim} dimensions", cfg.n),
+                    ));
+                }
+                Init::Points(p.clone())
+            }
+            Some(a) => match self.word("init", a, "halton, random or points")?.as_str() {
+                "random" => Init::Random,
+                "halton" => Init::Halton,
+                _ => return Err(self.bad("init", a, "halton, random or points")),
+            },
+        };
+        cfg.extend = old;
+        Ok(cfg)
+    }
+
+    fn box_alone(&self) -> Error {
+        self.bad(
+            "box",
+            self.r
+                .bbox
+                .as_ref()
+                .map_or(String::new(), |a| a.to_string()),
+            format!(
+                "a box only with {} EXPR or {} polytope:FILE (it bounds them)",
+                (self.spell)("region"),
+                (self.spell)("shape")
+            ),
+        )
+    }
+
+    fn positive_p(&self, a: &Arg) -> Result<f64, Error> {
+        let p = self.number("p", a, "a finite number > 0")?;
+        if p <= 0.0 {
+            return Err(self.bad("p", a, "a finite number > 0"));
+        }
+        Ok(p)
+    }
+
+    /// n + m for a grown set, checked.
+    fn grown(&self, m: usize, old: usize) -> Result<usize, Error> {
+        m.checked_add(old)
+            .filter(|&t| t as i128 <= MAX_COUNT)
+            .ok_or_else(|| {
+                self.bad(
+                    "n",
+                    m,
+                    format!(
+                        "a number of points to add that, with the {old} kept points, stays \
+                         within {MAX_COUNT} points"
+                    ),
+                )
+            })
+    }
+
+    fn cube_config(&self, goal: &Goal) -> Result<GenerateConfig, Error> {
+        let r = self.r;
+        if r.bbox.is_some() {
+            return Err(self.box_alone());
+        }
+        let integration = matches!(goal, Goal::Integration(_));
+        let mut s = match &r.s {
+            Some(a) => Some(self.count("s", a, 1, "at least 1 dimension")?),
+            None => None,
+        };
+        let old = self.points("extend", &r.extend)?.cloned();
+        let init_points = match &r.init {
+            Some(Arg::Points(p)) => Some(p.clone()),
+            _ => None,
+        };
+        for (name, p) in [("extend", &old), ("init", &init_points)] {
+            if let Some(p) = p {
+                p.check_unit_cube()
+                    .map_err(|e| self.bad(name, format!("{} points", p.n()), e.to_string()))?;
+                match s {
+                    Some(s) if s != p.s() => {
+                        return Err(self.bad(
+                            "s",
+                            s,
+                            format!(
+                                "the dimension of the {} points, {} (or no {})",
+                                (self.spell)(name),
+                                p.s(),
+                                (self.spell)("s")
+                            ),
+                        ))
+                    }
+                    _ => s = Some(p.s()),
+                }
+            }
+        }
+        if (old.is_some() || r.nested.is_some()) && !integration {
+            let name = if old.is_some() { "extend" } else { "nested" };
+            return Err(self.bad(
+                name,
+                "given with the paper's pipeline or the space-filling goal",
+                format!(
+                    "a grown set needs the integration goal (no {} paper, {} space-filling \
+                     or paper options)",
+                    (self.spell)("method"),
+                    (self.spell)("goal")
+                ),
+            ));
+        }
+        if old.is_some() && r.nested.is_some() {
+            return Err(self.bad(
+                "nested",
+                "given with extend",
+                format!(
+                    "either {} or {} (a nested run builds every stage itself)",
+                    (self.spell)("extend"),
+                    (self.spell)("nested")
+                ),
+            ));
+        }
+        let nested = match &r.nested {
+            Some(a) => self.nested(a)?,
+            None => Vec::new(),
+        };
+        let n = match (&old, nested.last(), &init_points) {
+            (Some(p), _, _) => {
+                let m = self.n_points()?;
+                self.grown(m, p.n())?
+            }
+            (None, Some(&last), _) => {
+                if let Some(a) = &r.n {
+                    let n = self.count("n", a, 1, "at least 1 point")?;
+                    if n != last {
+                        return Err(self.bad(
+                            "n",
+                            n,
+                            format!("the last nested size, {last} (or no {})", (self.spell)("n")),
+                        ));
+                    }
+                }
+                last
+            }
+            (None, None, Some(p)) => match &r.n {
+                Some(a) => {
+                    let n = self.count("n", a, 1, "at least 1 point")?;
+                    if n != p.n() {
+                        return Err(self.bad(
+                            "n",
+                            n,
+                            format!(
+                                "the number of init points, {} (or no {})",
+                                p.n(),
+                                (self.spell)("n")
+                            ),
+                        ));
+                    }
+                    n
+                }
+                None => p.n(),
+            },
+            (None, None, None) => self.n_points()?,
+        };
+        let s = s.ok_or_else(|| self.bad("s", "none", "the dimension (at least 1)"))?;
+        let mut cfg = GenerateConfig::new(n, s);
+        if let Some(a) = &r.energy {
+            const EXPECTED: &str = "in the cube uqp, e-inf, l2star, md, cd or periodic \
+                                    (e-inf-g and e-p-g are energies of a region)";
+            cfg.energy = match self.word("energy", a, EXPECTED)?.as_str() {
+                "uqp" => EnergyKind::Uqp,
+                "e-inf" => EnergyKind::EInf,
+                w => EnergyKind::Discrepancy(
+                    DiscrepancyKind::parse(w).map_err(|_| self.bad("energy", a, EXPECTED))?,
+                ),
+            };
+        }
+        if let Some(a) = &r.q {
+            const EXPECTED: &str = "a number > 0, inf (the torus distance) or E (Euclidean)";
+            let text = match a {
+                Arg::Text(t) => t.clone(),
+                Arg::Int(_) | Arg::Float(_) => self.number("q", a, EXPECTED)?.to_string(),
+                other => return Err(self.bad("q", other, EXPECTED)),
+            };
+            cfg.q = Some(Distance::parse(&text).map_err(|_| self.bad("q", a, EXPECTED))?);
+        }
+        if let Some(a) = &r.p {
+            cfg.p = Some(self.positive_p(a)?);
+        }
+        if let Some(a) = &r.precision {
+            cfg.precision = match self.word("precision", a, "fast or full")?.as_str() {
+                "fast" => Precision::Fast,
+                "full" => Precision::Full,
+                _ => return Err(self.bad("precision", a, "fast or full")),
+            };
+        }
+        cfg.init = match (&r.init, init_points) {
+            (_, Some(p)) => Init::Points(p),
+            (None, None) => Init::Halton,
+            (Some(a), None) => match self.word("init", a, "halton, random or points")?.as_str() {
+                "halton" => Init::Halton,
+                "random" => Init::Random,
+                _ => return Err(self.bad("init", a, "halton, random or points")),
+            },
+        };
+        if let Some(a) = &r.polish {
+            const EXPECTED: &str = "none, md, l2star, cd or periodic";
+            cfg.polish = match self.word("polish", a, EXPECTED)?.as_str() {
+                "none" => None,
+                w => Some(DiscrepancyKind::parse(w).map_err(|_| self.bad("polish", a, EXPECTED))?),
+            };
+        }
+        if let Some(a) = &r.shifts {
+            cfg.shifts = self.count(
+                "shifts",
+                a,
+                0,
+                &format!(
+                    "a whole number of shifts in [0, {}]",
+                    crate::plan::MAX_SHIFTS
+                ),
+            )?;
+            if cfg.shifts > crate::plan::MAX_SHIFTS {
+                return Err(self.bad(
+                    "shifts",
+                    a,
+                    format!("at most {} candidate shifts", crate::plan::MAX_SHIFTS),
+                ));
+            }
+        }
+        cfg.log_every = match &r.log_every {
+            Some(a) => self.count("log_every", a, 0, "a whole number of steps ≥ 0")?,
+            None if r.trajectory => 10,
+            None => 0,
+        };
+        cfg.extend = old;
+        cfg.nested = nested;
+        Ok(cfg)
+    }
+
+    /// Increasing sizes N1 < N2 < ..., N1 ≥ 1, as text or a list.
+    fn nested(&self, a: &Arg) -> Result<Vec<usize>, Error> {
+        const EXPECTED: &str = "increasing sizes N1 < N2 < ..., N1 ≥ 1 (whole numbers)";
+        let raw: Vec<i128> = match a {
+            Arg::Counts(v) => v.clone(),
+            Arg::Text(t) => t
+                .split(',')
+                .map(|x| x.trim().parse::<i128>())
+                .collect::<Result<_, _>>()
+                .map_err(|_| self.bad("nested", a, EXPECTED))?,
+            other => return Err(self.bad("nested", other, EXPECTED)),
+        };
+        if raw.is_empty()
+            || raw[0] < 1
+            || raw.iter().any(|&k| k > MAX_COUNT)
+            || raw.windows(2).any(|w| w[1] <= w[0])
+        {
+            return Err(self.bad("nested", a, EXPECTED));
+        }
+        Ok(raw.into_iter().map(|k| k as usize).collect())
+    }
+}

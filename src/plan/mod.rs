@@ -1,0 +1,14 @@
+//! What a run is, before it runs: its configuration ([`config`]), where its points live
+//! ([`space`]), its start set ([`start`]), its energy and domain ([`problem`]), and what it
+//! reports ([`report`]).
+
+pub mod config;
+pub mod problem;
+pub mod report;
+pub mod space;
+pub mod start;
+
+pub use config::*;
+pub use problem::*;
+pub use report::*;
+pub use start::*;

@@ -1,0 +1,56 @@
+//! Randomising a finished set so that independent seeds give independent, unbiased
+//! estimates of an integral.
+
+use crate::energies::PointSet;
+use crate::quality::stratification::{cell_of, in_cell};
+use rand::{RngExt, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+
+/// How a finished set is randomised (`--randomize`), so that independent seeds give
+/// independent, unbiased estimates of an integral.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Randomize {
+    /// x ↦ (x + c) mod 1 with c uniform in [0, 1)^s: every point becomes uniform in the
+    /// cube; the torus distances, the periodic energies and the wrap-around L2
+    /// discrepancy are unchanged; the stratification is kept only where a coordinate's
+    /// values are equally spaced.
+    Shift,
+    /// Per coordinate, the cells are rotated by a uniform m ∈ {0, …, n−1} and every offset
+    /// inside its cell by a uniform v ∈ [0, 1), modulo the cell: x = (c + u)/n ↦
+    /// ((c + m) mod n + (u + v) mod 1)/n. Every point becomes uniform in the cube and a
+    /// stratified set stays stratified; the discrepancies change a little (a point whose
+    /// offset wraps moves by less than 1/n).
+    Cells,
+}
+
+/// `points` randomised from `seed` as `kind` says (see [`Randomize`]): afterwards each
+/// point is uniformly distributed over [0, 1)^s.
+pub fn randomize(points: &PointSet, kind: Randomize, seed: u64) -> PointSet {
+    let (n, s) = (points.n(), points.s());
+    let mut rng =
+        Xoshiro256PlusPlus::seed_from_u64(crate::sequences::stream_seed(seed, 0x5261_6e64));
+    match kind {
+        Randomize::Shift => {
+            let c: Vec<f64> = (0..s).map(|_| rng.random::<f64>()).collect();
+            crate::post::shift::shifted(points, &c)
+        }
+        Randomize::Cells => {
+            let turns: Vec<(usize, f64)> = (0..s)
+                .map(|_| (rng.random_range(0..n), rng.random::<f64>()))
+                .collect();
+            let data = points
+                .as_slice()
+                .iter()
+                .enumerate()
+                .map(|(idx, &x)| {
+                    let (m, v) = turns[idx % s];
+                    let c = cell_of(x, n);
+                    let u = (x * n as f64 - c as f64).clamp(0.0, 1.0);
+                    let w = u + v;
+                    in_cell((c + m) % n, if w >= 1.0 { w - 1.0 } else { w }, n)
+                })
+                .collect();
+            PointSet::new(n, s, data).expect("same shape")
+        }
+    }
+}
