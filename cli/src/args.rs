@@ -26,11 +26,11 @@ const EXPERT: &str = "Expert options: the paper's pipeline (any of them selects 
 pub(crate) struct GenerateArgs {
     /// Number of points n ≥ 1 (with --extend: the number of points to add; taken from
     /// --init FILE when omitted).
-    #[arg(short = 'n', value_name = "N")]
-    pub(crate) n: Option<usize>,
+    #[arg(short = 'n', value_name = "N", allow_hyphen_values = true)]
+    pub(crate) n: Option<String>,
     /// Dimension s ≥ 1 (taken from --init FILE when omitted).
-    #[arg(short = 's', value_name = "S")]
-    pub(crate) s: Option<usize>,
+    #[arg(short = 's', value_name = "S", allow_hyphen_values = true)]
+    pub(crate) s: Option<String>,
     /// Output file: .csv (default), .tsv, .json or .npy by extension. Without it the
     /// points go to standard output as CSV and the report to standard error.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
@@ -38,24 +38,24 @@ pub(crate) struct GenerateArgs {
     /// What the points are for: `integration` (the cube's default: every coordinate
     /// stratified, discrepancy as low as we can make it) or `space-filling` (stratified,
     /// largest minimum distance; a region's default).
-    #[arg(long, value_name = "integration|space-filling", value_parser = goal_arg)]
-    pub(crate) goal: Option<GoalArg>,
+    #[arg(long, value_name = "integration|space-filling")]
+    pub(crate) goal: Option<String>,
     /// `paper`: the paper's pipeline exactly (Halton start, U_{q,p} with eq. 48, the DEM,
     /// shift selection); the expert options below (--energy, --integrator, …) also
     /// select it.
-    #[arg(long, value_name = "paper", value_parser = method_arg, conflicts_with = "goal")]
-    pub(crate) method: Option<MethodArg>,
+    #[arg(long, value_name = "paper|BASELINE")]
+    pub(crate) method: Option<String>,
     /// The discrepancy the integration goal lowers: `blend` (D²_MD + D²_L2* + D²_CD,
     /// each relative to the start; the default), `md`, `l2star`, `cd` or `periodic`.
-    #[arg(long, value_name = "KIND", value_parser = target_arg)]
-    pub(crate) target: Option<run::Target>,
+    #[arg(long, value_name = "KIND")]
+    pub(crate) target: Option<String>,
     /// Grow an existing set: keep the points of FILE first and unchanged and add -n M new
     /// ones for the union (the integration goal in the cube).
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["init", "nested"])]
+    #[arg(long, value_name = "FILE")]
     pub(crate) extend: Option<PathBuf>,
     /// A nested set N1,N2,...,Nk (increasing; needs -s, no -n): every prefix of those
     /// lengths is a good set, each stage an extension of the one before.
-    #[arg(long, value_name = "N1,N2,...", conflicts_with = "n")]
+    #[arg(long, value_name = "N1,N2,...")]
     pub(crate) nested: Option<String>,
     /// Write the points scaled to the box LO1,HI1,... (like `qmc.scale`); the report's
     /// metrics are those of the unit cube, and the header records the bounds. The cube
@@ -66,16 +66,16 @@ pub(crate) struct GenerateArgs {
     /// estimates with error bars: `cells` (rotate the cells and shift the offsets within
     /// them; keeps the stratification) or `shift` (uniform shift modulo 1; keeps the
     /// wrap-around discrepancy and torus distances). The cube only.
-    #[arg(long, value_name = "cells|shift", value_parser = randomize_arg)]
-    pub(crate) randomize: Option<run::Randomize>,
+    #[arg(long, value_name = "cells|shift")]
+    pub(crate) randomize: Option<String>,
     /// The potential energy: `uqp` (U_{q,p}, the cube's default), `e-inf` (U_{E,∞},
     /// maximin; with --q E in the closed cube, else on the torus), `e-inf-g`
     /// (U_{E,∞,g} of eq. 56, a region's default), `e-p-g` (smooth U_{E,p,g} for a
     /// region, p from --p, default 8).
     #[arg(long, value_name = "NAME")]
-    #[arg(value_parser = energy_arg)]
+    #[arg(allow_hyphen_values = true)]
     #[arg(help_heading = EXPERT)]
-    pub(crate) energy: Option<EnergyArg>,
+    pub(crate) energy: Option<String>,
     /// A region {x : g(x) ≤ 0}: g as an expression in x1..xs (or x, y, z), e.g.
     /// "|x| + 2*|y| - 5". Needs --box.
     #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
@@ -100,23 +100,23 @@ pub(crate) struct GenerateArgs {
     /// p of U_{q,p}: a number > 0. Default: eq. 48 of the paper for (n, s).
     #[arg(long, value_name = "P", allow_hyphen_values = true)]
     #[arg(help_heading = EXPERT)]
-    pub(crate) p: Option<f64>,
+    pub(crate) p: Option<String>,
     /// How U_{q,p}'s distance is evaluated during the run for 0.01 ≤ q ≤ 2: `fast` (a
     /// table of cubics, each coordinate's h² within 4e-9; about twice as fast) or `full`
     /// (within 1e-12). Reported energies are always full. Default: fast.
-    #[arg(long, value_name = "fast|full", value_parser = precision_arg)]
+    #[arg(long, value_name = "fast|full")]
     #[arg(help_heading = EXPERT)]
-    pub(crate) precision: Option<Precision>,
+    pub(crate) precision: Option<String>,
     /// The solver: `dem` (the paper's damped dynamics) or `lbfgs` (argmin's L-BFGS
     /// with restarts), in the cube or a region.
-    #[arg(long, value_name = "dem|lbfgs", value_parser = integrator_arg)]
+    #[arg(long, value_name = "dem|lbfgs")]
     #[arg(help_heading = EXPERT)]
-    pub(crate) integrator: Option<Solver>,
+    pub(crate) integrator: Option<String>,
     /// Step budget of the DEM (default 1000 in the cube, as in the paper; 10 000 in a
     /// region, where U_{E,∞,g} moves only its active elements at each step).
-    #[arg(long, value_name = "K")]
+    #[arg(long, value_name = "K", allow_hyphen_values = true)]
     #[arg(help_heading = EXPERT)]
-    pub(crate) steps: Option<usize>,
+    pub(crate) steps: Option<String>,
     /// Start: `halton` (plain, indices 1..n; the cube's default), `random` (a region's
     /// default: uniform in the box, the first n inside), or a point file.
     #[arg(long, value_name = "halton|random|FILE")]
@@ -124,48 +124,38 @@ pub(crate) struct GenerateArgs {
     pub(crate) init: Option<String>,
     /// Seed for every random choice: the scrambles of the integration goal's starts, the
     /// randomisation, the random start.
-    #[arg(long, default_value_t = 0)]
-    pub(crate) seed: u64,
+    #[arg(long, value_name = "SEED", allow_hyphen_values = true)]
+    pub(crate) seed: Option<String>,
     /// κ of eq. 39: `auto` (trial from 100, doubled while the energy fails to fall)
     /// or a fixed number ≥ 1.
-    #[arg(
-        long,
-        value_name = "auto|K",
-        allow_hyphen_values = true,
-        value_parser = kappa_arg
-    )]
+    #[arg(long, value_name = "auto|K", allow_hyphen_values = true)]
     #[arg(help_heading = EXPERT)]
-    pub(crate) kappa: Option<Kappa>,
+    pub(crate) kappa: Option<String>,
     /// Restart for unbiasedness (§4.3): `auto` (ε_p = 2/n), `off`, or ε_p > 0.
-    #[arg(
-        long,
-        value_name = "auto|off|EPS",
-        allow_hyphen_values = true,
-        value_parser = restart_arg
-    )]
+    #[arg(long, value_name = "auto|off|EPS", allow_hyphen_values = true)]
     #[arg(help_heading = EXPERT)]
-    pub(crate) restart: Option<Restart>,
+    pub(crate) restart: Option<String>,
     /// Polish the result with L-BFGS on a squared discrepancy: `md`, `l2star`, `cd`,
     /// `periodic`, or `none`; it runs after the DEM and the shift selection.
-    #[arg(long, value_name = "KIND", value_parser = polish_arg)]
+    #[arg(long, value_name = "KIND")]
     #[arg(help_heading = EXPERT)]
-    pub(crate) polish: Option<PolishChoice>,
+    pub(crate) polish: Option<String>,
     /// Stop early when every coordinate step and every force step |G f|/A0 is below
     /// this (0: always use the whole budget).
     #[arg(long, value_name = "TOL", allow_hyphen_values = true)]
     #[arg(help_heading = EXPERT)]
-    pub(crate) tolerance: Option<f64>,
+    pub(crate) tolerance: Option<String>,
     /// Periodic shifts tried after the DEM (0: none). The energy is unchanged by a
     /// shift on the torus, the discrepancies are not: the shift with the smallest
     /// modified L2 discrepancy is kept.
-    #[arg(long, value_name = "K")]
+    #[arg(long, value_name = "K", allow_hyphen_values = true)]
     #[arg(help_heading = EXPERT)]
-    pub(crate) shifts: Option<usize>,
+    pub(crate) shifts: Option<String>,
     /// Record D_L2* and D_MD every K steps in the trajectory (default 10 with
     /// --trajectory, else never).
-    #[arg(long, value_name = "K")]
+    #[arg(long, value_name = "K", allow_hyphen_values = true)]
     #[arg(help_heading = EXPERT)]
-    pub(crate) log_every: Option<usize>,
+    pub(crate) log_every: Option<String>,
     /// Write the trajectory (energy each step, discrepancies every --log-every steps)
     /// as JSON to FILE.
     #[arg(long, value_name = "FILE")]

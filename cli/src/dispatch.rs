@@ -26,8 +26,8 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
             for file in &files {
                 let mut points = io::read_points(file)?;
                 if let Some(text) = &bounds {
-                    let (lo, hi) = parse_bounds(text, points.s())?;
-                    points = unscale_from(&points, &lo, &hi, file)?;
+                    points = parse_bounds(text, points.s())?
+                        .unscale(&points, &file.display().to_string())?;
                 }
                 points
                     .check_unit_cube()
@@ -130,7 +130,7 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
             });
             // The metrics are the unit cube's; the points written are in the box.
             let points = match &scale {
-                Some((lo, hi)) => scale_to(&points, lo, hi)?,
+                Some(b) => b.scale(&points)?,
                 None => points,
             };
             if json {

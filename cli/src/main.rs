@@ -34,7 +34,10 @@ use {
     stillpoint::energies::shapes::{Ball, BoxRegion, Ellipsoid, Polytope, Simplex},
     stillpoint::energies::{paper_qp, Distance, Domain, Energy, Precision, Uqp},
     stillpoint::integrators::{Kappa, Restart},
-    stillpoint::pipeline::{self as run, EnergyKind, GenerateConfig, GenerateReport, Init, Solver},
+    stillpoint::pipeline::{
+        self as run, Arg, EnergyKind, GenerateConfig, GenerateReport, Init, Job, Request, Resolved,
+        Solver,
+    },
     stillpoint::quality::metrics::Metrics,
     stillpoint::sequences::Baseline,
     stillpoint::{io, PointSet},

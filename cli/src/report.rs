@@ -156,6 +156,10 @@ pub(crate) fn file_header(
         (&mut parameters, dem_settings(&cfg.dem, cfg.steps))
     {
         p.extend(d);
+        // The header reproduces its file: a randomised paper run says so.
+        if let Some(kind) = cfg.randomize {
+            p.insert("randomize".into(), json!(kind.name()));
+        }
     }
     Ok(json!({
         "generator": "stillpoint generate",

@@ -131,7 +131,7 @@ fn bounds_scale_the_written_points_and_eval_reads_them_back() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("--bounds"));
     let o = run(&["eval", scaled.to_str().unwrap(), "--bounds=0,1,0,1,0,1"]);
-    assert!(String::from_utf8_lossy(&o.stderr).contains("outside --bounds"));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("inside the bounds"));
 }
 
 #[test]

@@ -4,7 +4,7 @@
 //! the full P_{2,1500} and P_{3,1500} runs are `#[ignore]`d and run with
 //! `cargo test --release --test paper -- --ignored --nocapture`.
 
-use stillpoint::pipeline::{generate, GenerateConfig};
+use stillpoint::pipeline::{run_config, GenerateConfig};
 use stillpoint::quality::metrics;
 
 struct Outcome {
@@ -17,7 +17,7 @@ struct Outcome {
 
 fn run(n: usize, s: usize) -> Outcome {
     let cfg = GenerateConfig::new(n, s);
-    let r = generate(&cfg, |_| {}).expect("generate");
+    let r = run_config(&cfg, |_| {}).expect("generate");
     let sh = r
         .shift
         .as_ref()
@@ -89,9 +89,9 @@ fn table5_p3_1500() {
 fn polish_lowers_the_chosen_discrepancy() {
     use stillpoint::energies::discrepancy::DiscrepancyKind;
     let mut cfg = GenerateConfig::new(300, 3);
-    let plain = generate(&cfg, |_| {}).unwrap();
+    let plain = run_config(&cfg, |_| {}).unwrap();
     cfg.polish = Some(DiscrepancyKind::ModifiedL2);
-    let polished = generate(&cfg, |_| {}).unwrap();
+    let polished = run_config(&cfg, |_| {}).unwrap();
     let (before, after, _) = polished.polish.unwrap();
     let md_plain = metrics::modified_l2(&plain.output.points);
     let md_polished = metrics::modified_l2(&polished.output.points);

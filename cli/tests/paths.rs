@@ -241,7 +241,7 @@ fn counts_and_ranges_are_checked_before_anything_is_allocated_or_written() {
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (
             vec!["generate", "-n", huge, "-s", "2", "-q"],
-            "invalid n = ",
+            "invalid -n = ",
         ),
         (
             vec!["generate", "-n", "400000000", "-s", "20", "-q"],
@@ -249,15 +249,15 @@ fn counts_and_ranges_are_checked_before_anything_is_allocated_or_written() {
         ),
         (
             vec!["generate", "--shape", "ball:1", "-s", "2", "-n", huge, "-q"],
-            "invalid n = ",
+            "invalid -n = ",
         ),
         (
             vec!["baseline", "random", "-n", huge, "-s", "2"],
-            "invalid n = ",
+            "invalid -n = ",
         ),
         (
             vec!["baseline", "sobol", "-n", "100000000000", "-s", "3"],
-            "invalid n = ",
+            "invalid -n = ",
         ),
         (
             vec!["compare", "--cases", &huge_case, "--out", "cmp"],

@@ -2,14 +2,14 @@
 //! reports are the full formulas', and full precision is one option away.
 
 use stillpoint::energies::{Distance, Energy, Precision};
-use stillpoint::pipeline::{choose_energy, generate, GenerateConfig};
+use stillpoint::pipeline::{choose_energy, run_config, GenerateConfig};
 
 #[test]
 fn a_fast_run_reports_full_precision_energies() {
     let mut cfg = GenerateConfig::new(120, 4);
     cfg.steps = 60;
     assert_eq!(cfg.precision, Precision::Fast);
-    let r = generate(&cfg, |_| {}).unwrap();
+    let r = run_config(&cfg, |_| {}).unwrap();
     let (full, _) = choose_energy(120, 4, None, None).unwrap();
     let Distance::Q(q) = full.distance() else {
         panic!("eq. 48 gives a numeric q");
@@ -33,9 +33,9 @@ fn a_fast_run_reports_full_precision_energies() {
 fn full_precision_runs_the_formulas_and_differs_from_fast() {
     let mut cfg = GenerateConfig::new(120, 4);
     cfg.steps = 60;
-    let fast = generate(&cfg, |_| {}).unwrap();
+    let fast = run_config(&cfg, |_| {}).unwrap();
     cfg.precision = Precision::Full;
-    let full = generate(&cfg, |_| {}).unwrap();
+    let full = run_config(&cfg, |_| {}).unwrap();
     assert!(!full.energy_name.contains("fast"));
     // Same start, same energy reported for it; the runs part in the last bits and more.
     assert_eq!(fast.energy.0.to_bits(), full.energy.0.to_bits());

@@ -6,7 +6,7 @@ use stillpoint::energies::boundary::UEpG;
 use stillpoint::energies::region::paper_region;
 use stillpoint::energies::shapes::Ball;
 use stillpoint::energies::{Domain, Energy};
-use stillpoint::pipeline::{generate, EnergyKind, GenerateConfig, Init};
+use stillpoint::pipeline::{run_config, EnergyKind, GenerateConfig, Init};
 
 mod common;
 use common::{bin, tmpdir};
@@ -20,7 +20,7 @@ fn paper_region_points_stay_inside_and_the_energy_falls() {
     let domain: Arc<dyn Domain> = Arc::new(paper_region(4).unwrap());
     let mut cfg = GenerateConfig::in_region(domain.clone(), 40);
     cfg.steps = 3000;
-    let r = generate(&cfg, |_| {}).unwrap();
+    let r = run_config(&cfg, |_| {}).unwrap();
     assert!(r.output.points.rows().all(|x| g4(x) <= 0.0));
     assert!(r.start.rows().all(|x| g4(x) <= 0.0));
     assert!(
@@ -46,7 +46,7 @@ fn ball_in_three_dimensions_and_the_smooth_energy() {
     cfg.energy = EnergyKind::EpG(6.0);
     cfg.init = Init::Halton;
     cfg.steps = 1500;
-    let r = generate(&cfg, |_| {}).unwrap();
+    let r = run_config(&cfg, |_| {}).unwrap();
     assert!(r.output.points.rows().all(|x| ball.contains(x)));
     let e = UEpG::new(ball, 6.0).unwrap();
     assert!(e.value(&r.output.points) < e.value(&r.start));
@@ -62,7 +62,7 @@ fn same_bits_for_one_and_two_threads() {
             .num_threads(t)
             .build()
             .unwrap()
-            .install(|| generate(&cfg, |_| {}).unwrap().output.points)
+            .install(|| run_config(&cfg, |_| {}).unwrap().output.points)
     };
     let (a, b) = (run(1), run(2));
     let bits =

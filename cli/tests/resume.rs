@@ -11,7 +11,7 @@ use stillpoint::energies::shapes::Ball;
 use stillpoint::io::{encode, Format};
 
 use stillpoint::pipeline::{
-    generate, generate_with, read_checkpoint, CheckpointPlan, Event, GenerateConfig, Init,
+    generate_with, read_checkpoint, run_config, CheckpointPlan, Event, GenerateConfig, Init,
 };
 
 mod common;
@@ -44,7 +44,7 @@ fn cube_config() -> GenerateConfig {
 fn library_resume_of_a_cube_run_is_bit_identical() {
     let d = tmpdir("lib-cube");
     let cfg = cube_config();
-    let reference = generate(&cfg, |_| {}).unwrap();
+    let reference = run_config(&cfg, |_| {}).unwrap();
     // Run with checkpoints every 20 steps and keep a copy of the one written at step 60,
     // as if the process had died right after writing it.
     let ck = d.join("run.ckpt");
@@ -112,7 +112,7 @@ fn library_resume_of_a_region_run_is_bit_identical() {
     let mut cfg = GenerateConfig::in_region(Arc::new(ball), 40);
     cfg.steps = 300;
     cfg.dem.tolerance = 0.0;
-    let reference = generate(&cfg, |_| {}).unwrap();
+    let reference = run_config(&cfg, |_| {}).unwrap();
     let ck = d.join("region.ckpt");
     let mid = d.join("mid.ckpt");
     let plan = CheckpointPlan::new(&ck, 50);

@@ -6,7 +6,7 @@ use anyhow::Result;
 use std::fmt::Write as _;
 use std::path::Path;
 use stillpoint::energies::discrepancy::DiscrepancyKind;
-use stillpoint::pipeline::{generate, EnergyKind, GenerateConfig, Solver};
+use stillpoint::pipeline::{run_config, EnergyKind, GenerateConfig, Solver};
 use stillpoint::plot::{self, LineChart, Series};
 use stillpoint::quality::metrics;
 
@@ -96,7 +96,7 @@ pub fn run(
                 cfg.solver = solver;
                 cfg.steps = settings.steps;
                 cfg.log_every = settings.log_every;
-                let r = generate(&cfg, |_| {})?;
+                let r = run_config(&cfg, |_| {})?;
                 let e0 = r.energy.0;
                 let curve = r
                     .output

@@ -10,8 +10,6 @@
 
 #![deny(missing_docs)]
 
-pub mod config;
-
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::time::Instant;
 
@@ -21,8 +19,8 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
 
-use config::{GenerateArgs, OptValue, Plan, OPTIONS};
-use stillpoint::pipeline::{self, Event};
+use std::collections::HashMap;
+use stillpoint::pipeline::{Arg, Event, Request, Resolved};
 use stillpoint::sequences::Baseline;
 use stillpoint::{metrics, PointSet};
 
@@ -76,37 +74,122 @@ fn to_array<'py>(py: Python<'py>, p: PointSet) -> PyResult<Bound<'py, PyArray2<f
     Ok(a.into_pyarray(py))
 }
 
-/// A keyword option's value from Python.
-fn option_value(key: &str, v: &Bound<'_, PyAny>) -> PyResult<OptValue> {
+/// A keyword argument as the library's request takes it; `None` means "not given".
+/// Only the form is converted here (numbers, text, arrays, lists); what a value means is
+/// the library's to decide.
+fn arg(key: &str, v: &Bound<'_, PyAny>) -> PyResult<Option<Arg>> {
+    let shown = || v.repr().map(|r| r.to_string()).unwrap_or_default();
     if v.is_none() {
-        return Ok(OptValue::None);
+        return Ok(None);
     }
     if v.is_instance_of::<PyBool>() {
-        return Ok(OptValue::Bool(v.extract()?));
-    }
-    if v.is_instance_of::<PyInt>() {
-        return v
-            .extract::<i64>()
-            .map(OptValue::Int)
-            .map_err(|_| value_error(format!("invalid {key} = {v}: expected a 64-bit integer")));
-    }
-    if v.is_instance_of::<PyFloat>() {
-        return Ok(OptValue::Float(v.extract()?));
+        return Ok(Some(Arg::Bool(v.extract()?)));
     }
     if v.is_instance_of::<PyString>() {
-        return Ok(OptValue::Str(v.extract()?));
+        return Ok(Some(Arg::Text(v.extract()?)));
+    }
+    if v.is_instance_of::<PyInt>() || v.hasattr("__index__")? && !v.hasattr("shape")? {
+        return v
+            .call_method0("__index__")
+            .and_then(|i| i.extract::<i128>())
+            .map(|i| Some(Arg::Int(i)))
+            .map_err(|_| value_error(format!("invalid {key} = {}: expected an integer", shown())));
+    }
+    if v.is_instance_of::<PyFloat>() {
+        return Ok(Some(Arg::Float(v.extract()?)));
     }
     if let Ok(a) = v.extract::<PyReadonlyArray2<'_, f64>>() {
-        return point_set(key, &a).map(OptValue::Points);
+        return point_set(key, &a).map(|p| Some(Arg::Points(p)));
     }
-    let expected = OPTIONS
-        .iter()
-        .find(|(name, _)| *name == key)
-        .map_or("a number, a string or None", |(_, e)| e);
-    let shown = v.repr().map(|r| r.to_string()).unwrap_or_default();
+    if let Ok(f) = v.extract::<f64>() {
+        return Ok(Some(Arg::Float(f)));
+    }
+    // A pair of sides (bounds' lo and hi, each a number or one per coordinate).
+    if let Ok((lo, hi)) = v.extract::<(Bound<'_, PyAny>, Bound<'_, PyAny>)>() {
+        let side = |x: &Bound<'_, PyAny>| -> Option<Vec<f64>> {
+            x.extract::<f64>()
+                .map(|f| vec![f])
+                .ok()
+                .or_else(|| x.extract::<Vec<f64>>().ok())
+        };
+        if key == "bounds" {
+            if let (Some(lo), Some(hi)) = (side(&lo), side(&hi)) {
+                return Ok(Some(Arg::Pair(lo, hi)));
+            }
+        }
+    }
+    if let Ok(counts) = v.extract::<Vec<i128>>() {
+        return Ok(Some(Arg::Counts(counts)));
+    }
+    if let Ok(numbers) = v.extract::<Vec<f64>>() {
+        return Ok(Some(Arg::Numbers(numbers)));
+    }
+    // Pairs [(lo1, hi1), (lo2, hi2), ...], as a box is often written.
+    if let Ok(pairs) = v.extract::<Vec<(f64, f64)>>() {
+        return Ok(Some(Arg::Numbers(
+            pairs.into_iter().flat_map(|(a, b)| [a, b]).collect(),
+        )));
+    }
     Err(value_error(format!(
-        "invalid {key} = {shown}: expected {expected}"
+        "invalid {key} = {}: expected a number, a string, a list of numbers or an (n, d) \
+         array",
+        shown()
     )))
+}
+
+/// The request of a call: every keyword argument through [`Request::set`], `d` as `s`.
+fn request(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Request> {
+    let mut r = Request::default();
+    if let Some(dict) = kwargs {
+        for (k, v) in dict.iter() {
+            let key: String = k.extract()?;
+            let name = match key.as_str() {
+                "d" => "s",
+                "names" | "progress" => continue,
+                other => other,
+            };
+            if let Some(value) = arg(&key, &v)? {
+                r.set(name, value)
+                    .map_err(|e| value_error(spell_error(e, &HashMap::new())))?;
+            }
+        }
+    }
+    Ok(r)
+}
+
+/// Python's spelling of a parameter: `d` for the dimension, `box` for the bounding box,
+/// and the caller's own names where a wrapper renames one (`m`, `sizes`).
+fn spell(name: &str, renamed: &HashMap<String, String>) -> String {
+    if let Some(r) = renamed.get(name) {
+        return r.clone();
+    }
+    match name {
+        "s" => "d".into(),
+        "bbox" => "box".into(),
+        other => other.into(),
+    }
+}
+
+fn spell_error(e: stillpoint::Error, renamed: &HashMap<String, String>) -> String {
+    match e {
+        stillpoint::Error::InvalidArgument {
+            name,
+            value,
+            expected,
+        } => stillpoint::Error::invalid(spell(&name, renamed), value, expected).to_string(),
+        other => other.to_string(),
+    }
+}
+
+/// The resolution of a call's keyword arguments, with Python's names in refusals.
+fn resolve(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Resolved> {
+    let renamed: HashMap<String, String> = match kwargs.map(|d| d.get_item("names")).transpose()? {
+        Some(Some(v)) if !v.is_none() => v.extract()?,
+        _ => HashMap::new(),
+    };
+    let r = request(kwargs)?;
+    r.resolve_as(&|name| spell(name, &renamed))
+        .map_err(|e| value_error(spell_error(e, &renamed)))
 }
 
 /// Progress lines on standard error, at most five a second.
@@ -149,121 +232,60 @@ impl Progress {
     }
 }
 
-/// The arguments of `generate` and `check_generate` as the configuration module takes
-/// them.
-#[allow(clippy::too_many_arguments)]
-fn generate_args(
-    n: i64,
-    d: Option<i64>,
-    seed: u64,
-    method: Option<String>,
-    energy: Option<String>,
-    integrator: Option<String>,
-    steps: Option<i64>,
-    region: Option<String>,
-    bbox: Option<Vec<f64>>,
-    shape: Option<String>,
-    options: Option<&Bound<'_, PyDict>>,
-) -> PyResult<GenerateArgs> {
-    let mut opts = Vec::new();
-    if let Some(dict) = options {
-        for (k, v) in dict.iter() {
-            let key: String = k.extract()?;
-            let value = option_value(&key, &v)?;
-            opts.push((key, value));
-        }
-    }
-    Ok(GenerateArgs {
-        n,
-        d,
-        seed,
-        method,
-        energy,
-        integrator,
-        steps,
-        region,
-        bbox,
-        shape,
-        options: opts,
-    })
-}
-
-/// Generates n points: the library's run (by default exactly `stillpoint generate -n N
-/// -s D`), in the cube or in a region, or a baseline. See the Python wrapper for the
-/// arguments.
+/// Generates points: the library's run for the request the keyword arguments make
+/// (by default exactly `stillpoint generate -n N -s D`), or a baseline. `names` renames
+/// parameters in refusals (a wrapper's own argument names); `progress` prints stages.
 #[pyfunction]
-#[pyo3(signature = (
-    n, d=None, *, seed=0, method=None, energy=None, integrator=None, steps=None,
-    region=None, r#box=None, shape=None, progress=false, **options
-))]
-#[allow(clippy::too_many_arguments)]
+#[pyo3(signature = (**kwargs))]
 fn generate<'py>(
     py: Python<'py>,
-    n: i64,
-    d: Option<i64>,
-    seed: u64,
-    method: Option<String>,
-    energy: Option<String>,
-    integrator: Option<String>,
-    steps: Option<i64>,
-    region: Option<String>,
-    r#box: Option<Vec<f64>>,
-    shape: Option<String>,
-    progress: bool,
-    options: Option<&Bound<'py, PyDict>>,
+    kwargs: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let args = generate_args(
-        n, d, seed, method, energy, integrator, steps, region, r#box, shape, options,
-    )?;
-    let plan = args.plan().map_err(value_error)?;
-    let points = detached(py, move || match plan {
-        Plan::Baseline(b, n, s, seed) => b.generate(n, s, seed).map_err(|e| e.to_string()),
-        Plan::Run(cfg) => {
-            let mut bar = Progress {
-                stage: "",
-                steps: None,
-                last: None,
-            };
-            let report = pipeline::generate_with(&cfg, None, |e| {
-                if progress {
-                    bar.event(e)
-                }
-            });
-            bar.finish();
-            report.map(|r| r.output.points).map_err(|e| e.to_string())
-        }
+    let progress = match kwargs.map(|d| d.get_item("progress")).transpose()? {
+        Some(Some(v)) => v.is_truthy()?,
+        _ => false,
+    };
+    let resolved = resolve(kwargs)?;
+    let points = detached(py, move || {
+        let mut bar = Progress {
+            stage: "",
+            steps: None,
+            last: None,
+        };
+        let outcome = resolved.run(None, |e| {
+            if progress {
+                bar.event(e)
+            }
+        });
+        bar.finish();
+        outcome.map(|o| o.points).map_err(|e| e.to_string())
     })?;
     to_array(py, points)
 }
 
-/// Checks the arguments of `generate` without running it (a cheap check of names and
-/// ranges; the run itself may still refuse, e.g. a start set too large for memory).
+/// Checks the keyword arguments of `generate` without running it.
 #[pyfunction]
-#[pyo3(signature = (
-    n, d=None, *, seed=0, method=None, energy=None, integrator=None, steps=None,
-    region=None, r#box=None, shape=None, progress=false, **options
-))]
-#[allow(clippy::too_many_arguments)]
-fn check_generate(
-    n: i64,
-    d: Option<i64>,
+#[pyo3(signature = (**kwargs))]
+fn check_generate(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+    resolve(kwargs).map(|_| ())
+}
+
+/// `x` randomised from `seed` as `generate(..., randomize=kind)` randomises its result:
+/// `'cells'` (cells rotated, offsets shifted within them) or `'shift'`.
+#[pyfunction]
+fn randomize<'py>(
+    py: Python<'py>,
+    x: PyReadonlyArray2<'_, f64>,
+    kind: &str,
     seed: u64,
-    method: Option<String>,
-    energy: Option<String>,
-    integrator: Option<String>,
-    steps: Option<i64>,
-    region: Option<String>,
-    r#box: Option<Vec<f64>>,
-    shape: Option<String>,
-    progress: bool,
-    options: Option<&Bound<'_, PyDict>>,
-) -> PyResult<()> {
-    let _ = progress;
-    let args = generate_args(
-        n, d, seed, method, energy, integrator, steps, region, r#box, shape, options,
-    )?;
-    args.plan().map_err(value_error)?;
-    Ok(())
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let p = unit_points("x", &x)?;
+    let kind = stillpoint::post::randomize::Randomize::parse(kind)
+        .map_err(|e| value_error(e.to_string()))?;
+    let points = detached(py, move || {
+        Ok(stillpoint::post::randomize::randomize(&p, kind, seed))
+    })?;
+    to_array(py, points)
 }
 
 /// Every figure of `stillpoint eval --json` for points in [0, 1]^d, as JSON text.
@@ -280,48 +302,9 @@ fn metrics_json(py: Python<'_>, x: PyReadonlyArray2<'_, f64>) -> PyResult<String
 /// (wrap-around).
 #[pyfunction]
 fn discrepancy(py: Python<'_>, x: PyReadonlyArray2<'_, f64>, kind: &str) -> PyResult<f64> {
-    let f: fn(&PointSet) -> f64 = match kind.trim().to_ascii_lowercase().as_str() {
-        "l2star" | "l2-star" => metrics::star_l2,
-        "md" => metrics::modified_l2,
-        "cd" => metrics::centered_l2,
-        "wd" | "periodic" => metrics::wrap_around_l2,
-        _ => {
-            return Err(value_error(format!(
-                "invalid kind = {kind:?}: expected 'l2star' (star L2), 'md' (modified L2), \
-                 'cd' (centred L2) or 'wd' (wrap-around L2)"
-            )))
-        }
-    };
+    let f = metrics::discrepancy_by_name("kind", kind).map_err(value_error)?;
     let p = unit_points("x", &x)?;
     detached(py, move || Ok(f(&p)))
-}
-
-/// n points of a baseline generator (`stillpoint baseline NAME -n N -s D --seed SEED`).
-#[pyfunction]
-#[pyo3(signature = (name, n, d, seed=0))]
-fn baseline<'py>(
-    py: Python<'py>,
-    name: &str,
-    n: i64,
-    d: i64,
-    seed: u64,
-) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let b = Baseline::parse(name).map_err(value_error)?;
-    if n < 1 {
-        return Err(value_error(format!(
-            "invalid n = {n}: expected at least 1 point"
-        )));
-    }
-    if d < 1 {
-        return Err(value_error(format!(
-            "invalid d = {d}: expected at least 1 dimension"
-        )));
-    }
-    let points = detached(py, move || {
-        b.generate(n as usize, d as usize, seed)
-            .map_err(|e| e.to_string())
-    })?;
-    to_array(py, points)
 }
 
 /// The baselines as (name, paper label, description) triples.
@@ -339,16 +322,7 @@ fn baselines() -> Vec<(&'static str, &'static str, &'static str)> {
 fn integrate_json(py: Python<'_>, x: PyReadonlyArray2<'_, f64>) -> PyResult<String> {
     let p = unit_points("x", &x)?;
     detached(py, move || {
-        let report = stillpoint::quality::integrands::integrate(&p).map_err(|e| e.to_string())?;
-        let rows: Vec<serde_json::Value> = stillpoint::quality::integrands::TestFunction::all()
-            .iter()
-            .zip(report.estimates)
-            .map(|(f, e)| {
-                serde_json::json!({"function": f.name(), "formula": f.formula(),
-                                   "estimate": e, "error": e.map(f64::abs)})
-            })
-            .collect();
-        let v = serde_json::json!({"n": p.n(), "s": p.s(), "exact": 0.0, "functions": rows});
+        let v = stillpoint::quality::integrands::report_json(&p).map_err(|e| e.to_string())?;
         serde_json::to_string(&v).map_err(|e| e.to_string())
     })
 }
@@ -361,8 +335,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check_generate, m)?)?;
     m.add_function(wrap_pyfunction!(metrics_json, m)?)?;
     m.add_function(wrap_pyfunction!(discrepancy, m)?)?;
-    m.add_function(wrap_pyfunction!(baseline, m)?)?;
     m.add_function(wrap_pyfunction!(baselines, m)?)?;
     m.add_function(wrap_pyfunction!(integrate_json, m)?)?;
+    m.add_function(wrap_pyfunction!(randomize, m)?)?;
     Ok(())
 }

@@ -84,99 +84,30 @@ def _points(x: Any, name: str = "x") -> np.ndarray:
     return a
 
 
-def _box(value: Any) -> Optional[list]:
-    """`box` as [lo1, hi1, lo2, hi2, ...]: from that list, from pairs, or from the
-    command line's text "LO1,HI1,LO2,HI2"."""
-    if value is None:
-        return None
-    if isinstance(value, str):
-        try:
-            return [float(t) for t in value.split(",")]
-        except ValueError:
-            raise ValueError(
-                f"invalid box = {value!r}: expected comma-separated numbers "
-                "LO1,HI1,LO2,HI2,..."
-            ) from None
-    try:
-        a = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ValueError(
-            f"invalid box = {value!r}: expected [lo1, hi1, lo2, hi2, ...] or "
-            "[(lo1, hi1), (lo2, hi2), ...]"
-        ) from None
-    if a.ndim == 2 and a.shape[1] != 2:
-        raise ValueError(
-            f"invalid box of shape {a.shape}: expected pairs (lo, hi), shape (d, 2)"
+def _arrays(options: Dict[str, Any]) -> Dict[str, Any]:
+    """The keyword options with the point sets among them (``init``, ``extend``) cast like
+    any input; everything else goes to the library as given."""
+    out = {k: v for k, v in options.items() if v is not None}
+    for key in ("init", "extend"):
+        value = out.get(key)
+        if value is not None and not isinstance(value, str):
+            out[key] = _points(value, key)
+    if isinstance(out.get("nested"), (range, np.ndarray)):
+        out["nested"] = [int(k) for k in out["nested"]]
+    if isinstance(out.get("box"), np.ndarray):
+        out["box"] = [float(v) for v in np.ravel(out["box"])]
+    if isinstance(out.get("bounds"), np.ndarray):
+        out["bounds"] = tuple(np.asarray(out["bounds"], dtype=np.float64).tolist())
+    if isinstance(out.get("bounds"), (tuple, list)) and len(out["bounds"]) == 2:
+        out["bounds"] = tuple(
+            np.asarray(v, dtype=np.float64).tolist() for v in out["bounds"]
         )
-    if a.ndim not in (1, 2):
-        raise ValueError(
-            f"invalid box of shape {a.shape}: expected [lo1, hi1, ...] or (d, 2) pairs"
-        )
-    return [float(v) for v in a.ravel()]
-
-
-def _scale(x: np.ndarray, bounds: Any) -> np.ndarray:
-    """Maps points of [0, 1)^d to the box [lo, hi) as ``scipy.stats.qmc.scale`` does:
-    lo + x (hi - lo)."""
-    try:
-        lo, hi = bounds
-        lo = np.broadcast_to(np.asarray(lo, dtype=np.float64), (x.shape[1],))
-        hi = np.broadcast_to(np.asarray(hi, dtype=np.float64), (x.shape[1],))
-    except (TypeError, ValueError):
-        raise ValueError(
-            f"invalid bounds = {bounds!r}: expected (lo, hi), each a number or "
-            f"{x.shape[1]} numbers"
-        ) from None
-    if not (np.all(np.isfinite(lo)) and np.all(np.isfinite(hi)) and np.all(lo < hi)):
-        raise ValueError(
-            f"invalid bounds = {bounds!r}: expected finite lo < hi in every dimension"
-        )
-    return lo + x * (hi - lo)
-
-
-def _options(options: Dict[str, Any]) -> Dict[str, Any]:
-    """The keyword options, with a point set given as ``init=`` cast like any input."""
-    out = dict(options)
-    init = out.get("init")
-    if init is not None and not isinstance(init, str):
-        out["init"] = _points(init, "init")
-    if out.get("extend") is not None:
-        out["extend"] = _points(out["extend"], "extend")
-    stages = out.get("nested")
-    if stages is not None and not isinstance(stages, str):
-        out["nested"] = ",".join(str(_int("nested", k, 1)) for k in stages)
     return out
 
 
-def _core_args(
-    n: Any,
-    d: Any,
-    seed: Any,
-    steps: Any,
-    box: Any,
-    later: Dict[str, Any],
-) -> Tuple[int, Optional[int], int, Optional[int], Optional[list], Dict[str, Any]]:
-    n = _int("n", n, 1)
-    d = None if d is None else _int("d", d, 1)
-    steps = None if steps is None else _int("steps", steps, 1)
-    return n, d, _seed(seed), steps, _box(box), _options(later)
-
-
-def _check_generate(
-    n: Any,
-    d: Any = None,
-    *,
-    seed: Any = 0,
-    steps: Any = None,
-    box: Any = None,
-    progress: bool = False,
-    **rest: Any,
-) -> None:
+def _check_generate(n: Any = None, d: Any = None, **options: Any) -> None:
     """Refuses what :func:`generate` would refuse before its run, without running."""
-    named = {k: rest.pop(k) for k in ("method", "energy", "integrator", "region", "shape")
-             if k in rest}
-    n, d, seed, steps, box, options = _core_args(n, d, seed, steps, box, rest)
-    _core.check_generate(n, d, seed=seed, steps=steps, box=box, **named, **options)
+    _core.check_generate(**_arrays({"n": n, "d": d, **options}))
 
 
 def generate(
@@ -250,29 +181,25 @@ def generate(
     ValueError
         For any argument the library refuses, with its message (naming the argument).
     """
-    n, d, seed, steps, box, options = _core_args(n, d, seed, steps, box, later)
-    if bounds is not None and (region is not None or shape is not None):
-        raise ValueError(
-            "invalid bounds with a region: bounds scale the unit cube; a region's points "
-            "are in its own coordinates already"
-        )
-    x = _core.generate(
-        n,
-        d,
-        seed=seed,
-        method=method,
-        energy=energy,
-        integrator=integrator,
-        steps=steps,
-        region=region,
-        box=box,
-        shape=shape,
+    return _core.generate(
+        **_arrays(
+            {
+                "n": n,
+                "d": d,
+                "seed": seed,
+                "method": method,
+                "energy": energy,
+                "integrator": integrator,
+                "steps": steps,
+                "region": region,
+                "box": box,
+                "shape": shape,
+                "bounds": bounds,
+                **later,
+            }
+        ),
         progress=bool(progress),
-        **options,
     )
-    if bounds is not None:
-        x = _scale(x, bounds)
-    return x
 
 
 def extend(points: Any, m: int, **kwargs: Any) -> np.ndarray:
@@ -281,23 +208,21 @@ def extend(points: Any, m: int, **kwargs: Any) -> np.ndarray:
     ``stillpoint generate --extend FILE -n M``. In the cube (the integration goal) the
     new points fill the cells of the union's grid that no old point occupies, so the
     union stays stratified when the old points permit it; in a region (``region=`` /
-    ``shape=``) they settle under U_{E,inf,g} with the old points fixed. ``kwargs`` go
-    to :func:`generate` (``seed``, ``target``, ``region``, ...)."""
+    ``shape=``) they settle under U_{E,inf,g} with the old points fixed. ``m`` must be at
+    least 1. ``kwargs`` go to :func:`generate` (``seed``, ``target``, ``region``, ...)."""
     old = _points(points, "points")
-    m = _int("m", m, 0)
-    if m == 0:
-        return old.copy()
-    return generate(m, old.shape[1], extend=old, **kwargs)
+    d = kwargs.pop("d", None)
+    return generate(m, d, extend=old, names={"n": "m", "extend": "points"}, **kwargs)
 
 
 def nested(sizes: Any, d: int, **kwargs: Any) -> np.ndarray:
     """One set of ``sizes[-1]`` points whose first ``sizes[0]``, ``sizes[1]``, ...
     points are each a good set (each stage an extension of the one before), as
-    ``stillpoint generate --nested N1,N2,...``. ``kwargs`` go to :func:`generate`."""
-    sizes = [_int("sizes", k, 1) for k in sizes]
-    if not sizes:
-        raise ValueError("invalid sizes = []: expected increasing sizes N1 < N2 < ...")
-    return generate(sizes[-1], d, nested=sizes, **kwargs)
+    ``stillpoint generate --nested N1,N2,...``. ``sizes`` is a list of increasing sizes
+    or the command line's text ``"N1,N2,..."``. ``kwargs`` go to :func:`generate`."""
+    if not isinstance(sizes, str):
+        sizes = list(sizes)
+    return generate(None, d, nested=sizes, names={"nested": "sizes"}, **kwargs)
 
 
 def metrics(x: Any) -> Dict[str, Any]:
@@ -335,9 +260,7 @@ def baseline(name: str, n: int, d: int, seed: int = 0) -> np.ndarray:
     ``'random'``, ``'halton'``, ``'halton-scrambled'``, ``'sobol'`` (Owen-scrambled),
     ``'hua-wang'``, ``'lattice'``, ``'lhs'``, ``'lhs-maximin'``. :func:`baselines`
     describes each exactly. ``seed`` is ignored by the deterministic ones."""
-    return _core.baseline(
-        str(name), _int("n", n, 1), _int("d", d, 1), _seed(seed)
-    )
+    return _core.generate(method=str(name), n=n, d=d, seed=seed)
 
 
 def baselines() -> Dict[str, str]:
@@ -489,21 +412,16 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
 
     def _random(self, n: int = 1, *, workers: int = 1) -> np.ndarray:
         """The cached optimised set for n, randomised as ``generate(randomize='cells')``
-        does: per coordinate the cells [k/n, (k+1)/n) are rotated by a uniform random
-        m and the offsets inside them shifted by a uniform v modulo the cell. Each point
-        is then uniform in [0, 1)^d, and a stratified set stays stratified."""
-        n = _int("n", n, 1)
+        does (the library's randomisation, seeded from this engine's generator): per
+        coordinate the cells [k/n, (k+1)/n) are rotated by a uniform random m and the
+        offsets inside them shifted by a uniform v modulo the cell. Each point is then
+        uniform in [0, 1)^d, and a stratified set stays stratified."""
+        n = _int("n", n, 0)
+        if n == 0:
+            return np.empty((0, self.d))
         base = _optimised(n, self.d, self._generate_kwargs)
-        shift = self.rng.random(self.d)
-        turn = np.floor(self.rng.random(self.d) * n)
-        scaled = base * n
-        cell = np.minimum(np.floor(scaled), n - 1)
-        offset = scaled - cell + shift
-        offset -= np.floor(offset)
-        x = (np.mod(cell + turn, n) + offset) / n
-        # Rounding must not carry a point onto the next cell's edge or onto 1.
-        upper = np.nextafter((np.mod(cell + turn, n) + 1) / n, 0.0)
-        return np.minimum(x, upper)
+        seed = int(self.rng.integers(0, 2**64, dtype=np.uint64))
+        return _core.randomize(base, "cells", seed)
 
     if _qmc is None:  # pragma: no cover - the methods QMCEngine provides otherwise
 
@@ -523,8 +441,8 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
         """Skips one draw of n points cheaply: the random numbers it would have used are
         drawn and dropped, without computing the optimised set."""
         n = _int("n", n, 0)
-        self.rng.random(self.d)
-        self.rng.random(self.d)
+        if n > 0:
+            self.rng.integers(0, 2**64, dtype=np.uint64)
         self.num_generated += n
         return self
 

@@ -13,44 +13,23 @@ import numpy.typing as npt
 
 __version__: str
 
-def generate(
-    n: int,
-    d: Optional[int] = None,
-    *,
-    seed: int = 0,
-    method: Optional[str] = None,
-    energy: Optional[str] = None,
-    integrator: Optional[str] = None,
-    steps: Optional[int] = None,
-    region: Optional[str] = None,
-    box: Optional[Sequence[float]] = None,
-    shape: Optional[str] = None,
-    progress: bool = False,
-    **options: Any,
-) -> npt.NDArray[np.float64]:
-    """n points of the library's run (by default exactly ``stillpoint generate -n N -s
-    D``), in the cube or in a region, or of a baseline (``method=NAME``). ``box`` is the
-    flat list lo1, hi1, lo2, hi2, ...; ``options`` are the run's further settings (q, p,
-    precision, init, kappa, restart, tolerance, polish, shifts, log_every); an unknown
-    one is refused with the list of accepted names. Returns an (n, d) array."""
+def generate(**kwargs: Any) -> npt.NDArray[np.float64]:
+    """The points of the library's request made of the keyword arguments (``n``, ``d``,
+    ``seed``, ``method``, ``goal``, ``target``, ``randomize``, ``extend``, ``nested``,
+    ``bounds``, ``region``, ``box``, ``shape`` and the paper's options): by default
+    exactly ``stillpoint generate -n N -s D``; a baseline with ``method=NAME``. ``names``
+    renames parameters in refusals; ``progress`` prints the stages. Returns an (n, d)
+    array."""
 
-def check_generate(
-    n: int,
-    d: Optional[int] = None,
-    *,
-    seed: int = 0,
-    method: Optional[str] = None,
-    energy: Optional[str] = None,
-    integrator: Optional[str] = None,
-    steps: Optional[int] = None,
-    region: Optional[str] = None,
-    box: Optional[Sequence[float]] = None,
-    shape: Optional[str] = None,
-    progress: bool = False,
-    **options: Any,
-) -> None:
-    """Checks the arguments of :func:`generate` without running it: raises the
-    ``ValueError`` generate would raise for a bad name or range."""
+def check_generate(**kwargs: Any) -> None:
+    """Resolves the keyword arguments of :func:`generate` without running: raises the
+    ``ValueError`` generate would raise."""
+
+def randomize(
+    x: npt.NDArray[np.float64], kind: str, seed: int
+) -> npt.NDArray[np.float64]:
+    """``x`` randomised from ``seed`` as ``generate(..., randomize=kind)`` does:
+    ``'cells'`` or ``'shift'``."""
 
 def metrics_json(x: npt.NDArray[np.float64]) -> str:
     """Every figure ``stillpoint eval --json`` prints for points in [0, 1]^d, as the same
@@ -61,10 +40,6 @@ def discrepancy(x: npt.NDArray[np.float64], kind: str) -> float:
     too), ``'md'`` (modified L2; not SciPy's 'MD', the mixture discrepancy), ``'cd'``
     (centred; SciPy's 'CD' is its square), ``'wd'`` (wrap-around; SciPy's 'WD' is its
     square)."""
-
-def baseline(name: str, n: int, d: int, seed: int = 0) -> npt.NDArray[np.float64]:
-    """n points of a baseline in [0, 1)^d, as ``stillpoint baseline NAME -n N -s D
-    --seed SEED`` writes them."""
 
 def baselines() -> List[Tuple[str, str, str]]:
     """Every baseline as (name, the paper's label, exact description)."""

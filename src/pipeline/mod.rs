@@ -180,6 +180,19 @@ pub fn generate_with(
         report.output.points =
             crate::post::randomize::randomize(&report.output.points, kind, cfg.seed);
         report.quality.1 = quality(cfg, &report.output.points)?;
+        // Every row of the report describes the written set: the value the run lowered
+        // is evaluated again on the randomised points.
+        report.energy.1 = match &cfg.goal {
+            Goal::Integration(target) => {
+                report.energy.0 = target.value(&report.start);
+                target.value(&report.output.points)
+            }
+            Goal::SpaceFilling => crate::metrics::min_distance_euclidean(&report.output.points),
+            Goal::Paper => {
+                let (problem, _) = crate::plan::problem::build_problem(cfg)?;
+                problem.energy().value(&report.output.points)
+            }
+        };
         report.stages.push(format!(
             "randomised ({}) from seed {}",
             match kind {

@@ -360,6 +360,13 @@ impl Resolver<'_> {
         };
         match v {
             Some(v) if v >= lo && v <= MAX_COUNT => Ok(v as usize),
+            Some(v) if v > MAX_COUNT => Err(self.bad(
+                name,
+                arg,
+                format!(
+                    "{expected}, at most {MAX_COUNT} (a set that large does not fit in memory)"
+                ),
+            )),
             _ => Err(self.bad(name, arg, expected)),
         }
     }
@@ -379,6 +386,7 @@ impl Resolver<'_> {
     fn numbers(&self, name: &str, arg: &Arg) -> Result<Vec<f64>, Error> {
         match arg {
             Arg::Numbers(v) => Ok(v.clone()),
+            Arg::Counts(v) => Ok(v.iter().map(|&k| k as f64).collect()),
             Arg::Text(t) => crate::plan::space::number_list(&(self.spell)(name), t, t),
             other => Err(self.bad(name, other, "LO1,HI1,LO2,HI2,...")),
         }
@@ -546,7 +554,7 @@ impl Resolver<'_> {
             }
             other => self.numbers("bounds", other)?,
         };
-        Bounds::new(&name, &arg.to_string(), &v, s)
+        Bounds::new(&name, &numbers_text(&v), &v, s)
     }
 
     /// What the run is for: an asked goal chooses (none of the paper's options may come
@@ -706,11 +714,8 @@ impl Resolver<'_> {
             cfg.dem.tolerance = t;
         }
         if let Some(a) = &r.randomize {
-            let kind = match self.word("randomize", a, "cells or shift")?.as_str() {
-                "cells" => Randomize::Cells,
-                "shift" => Randomize::Shift,
-                _ => return Err(self.bad("randomize", a, "cells or shift")),
-            };
+            let kind = Randomize::parse(&self.word("randomize", a, "cells or shift")?)
+                .map_err(|_| self.bad("randomize", a, "cells or shift"))?;
             if region {
                 return Err(self.bad(
                     "randomize",
@@ -941,8 +946,13 @@ impl Resolver<'_> {
         };
         for (name, p) in [("extend", &old), ("init", &init_points)] {
             if let Some(p) = p {
-                p.check_unit_cube()
-                    .map_err(|e| self.bad(name, format!("{} points", p.n()), e.to_string()))?;
+                p.check_unit_cube().map_err(|e| {
+                    self.bad(
+                        name,
+                        format!("{} points", p.n()),
+                        format!("points in [0, 1]^s ({e})"),
+                    )
+                })?;
                 match s {
                     Some(s) if s != p.s() => {
                         return Err(self.bad(
@@ -990,7 +1000,20 @@ impl Resolver<'_> {
         };
         let n = match (&old, nested.last(), &init_points) {
             (Some(p), _, _) => {
-                let m = self.n_points()?;
+                let m = match &r.n {
+                    Some(a) => self.count("n", a, 1, "at least 1 point to add")?,
+                    None => {
+                        return Err(self.bad(
+                            "n",
+                            "none",
+                            format!(
+                                "{} M: the number of points to add to the {} points (at least 1)",
+                                (self.spell)("n"),
+                                (self.spell)("extend")
+                            ),
+                        ))
+                    }
+                };
                 self.grown(m, p.n())?
             }
             (None, Some(&last), _) => {

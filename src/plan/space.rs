@@ -132,12 +132,13 @@ impl Bounds {
 
     /// The bounds as interleaved LO1,HI1,... text (what a file header records).
     pub fn text(&self) -> String {
-        self.lo
+        let v: Vec<f64> = self
+            .lo
             .iter()
             .zip(&self.hi)
-            .map(|(a, b)| format!("{a:?},{b:?}"))
-            .collect::<Vec<_>>()
-            .join(",")
+            .flat_map(|(a, b)| [*a, *b])
+            .collect();
+        numbers_text(&v)
     }
 }
 
@@ -276,7 +277,14 @@ impl RegionSpec<'_> {
 /// Numbers as the comma-separated text a user would write.
 pub fn numbers_text(v: &[f64]) -> String {
     v.iter()
-        .map(|x| format!("{x}"))
+        .map(|&x| {
+            // Whole numbers as integers, the rest in the shortest form that reads back.
+            if x.fract() == 0.0 && x.abs() < 1e16 {
+                format!("{}", x as i64)
+            } else {
+                format!("{x:?}")
+            }
+        })
         .collect::<Vec<_>>()
         .join(",")
 }

@@ -3,6 +3,7 @@
 
 use crate::energies::PointSet;
 use crate::quality::stratification::{cell_of, in_cell};
+use crate::Error;
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
@@ -21,6 +22,25 @@ pub enum Randomize {
     /// stratified set stays stratified; the discrepancies change a little (a point whose
     /// offset wraps moves by less than 1/n).
     Cells,
+}
+
+impl Randomize {
+    /// `cells` or `shift`.
+    pub fn parse(text: &str) -> Result<Randomize, Error> {
+        match text.trim().to_ascii_lowercase().as_str() {
+            "cells" => Ok(Randomize::Cells),
+            "shift" => Ok(Randomize::Shift),
+            _ => Err(Error::invalid("randomize", text, "cells or shift")),
+        }
+    }
+
+    /// The name [`Randomize::parse`] reads.
+    pub fn name(self) -> &'static str {
+        match self {
+            Randomize::Cells => "cells",
+            Randomize::Shift => "shift",
+        }
+    }
 }
 
 /// `points` randomised from `seed` as `kind` says (see [`Randomize`]): afterwards each

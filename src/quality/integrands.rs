@@ -315,6 +315,22 @@ pub fn integrate(points: &PointSet) -> Result<IntegrationReport, Error> {
     Ok(IntegrationReport { n, s, estimates })
 }
 
+/// The report of [`integrate`] as JSON, as `stillpoint integrate --json` prints it and the
+/// Python package returns it: `n`, `s`, `exact` (0) and one object per integrand with
+/// `function`, `formula`, `estimate` and `error`.
+pub fn report_json(points: &PointSet) -> Result<serde_json::Value, Error> {
+    let report = integrate(points)?;
+    let rows: Vec<serde_json::Value> = TestFunction::all()
+        .iter()
+        .zip(report.estimates)
+        .map(|(f, e)| {
+            serde_json::json!({"function": f.name(), "formula": f.formula(),
+                               "estimate": e, "error": e.map(f64::abs)})
+        })
+        .collect();
+    Ok(serde_json::json!({"n": points.n(), "s": points.s(), "exact": 0.0, "functions": rows}))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

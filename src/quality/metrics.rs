@@ -24,7 +24,7 @@ use crate::energies::discrepancy::{
     closed_form_fits, discrepancy_root, squared_discrepancies, DiscrepancyKind,
 };
 use crate::energies::pairs::min_squared_distances;
-use crate::PointSet;
+use crate::{Error, PointSet};
 
 /// Star L2 discrepancy squared, the paper's eq. 46 (Warnock's formula):
 ///
@@ -196,6 +196,29 @@ fn squared<const M: usize>(points: &PointSet, kinds: [DiscrepancyKind; M]) -> [f
 /// pair. A minimum does not depend on the order it is taken in.
 fn pair_mins(points: &PointSet) -> [f64; 2] {
     min_squared_distances(points.as_slice(), points.n(), points.s())
+}
+
+/// One L2 discrepancy (the root) by its name: `l2star` (or `l2-star`), `md` (modified),
+/// `cd` (centred), `wd` or `periodic` (wrap-around); `name` spells the parameter in the
+/// refusal.
+pub fn discrepancy_by_name(name: &str, kind: &str) -> Result<fn(&PointSet) -> f64, Error> {
+    let key = kind
+        .trim()
+        .to_ascii_lowercase()
+        .replace("l2-star", "l2star");
+    Ok(match DiscrepancyKind::parse(&key) {
+        Ok(DiscrepancyKind::StarL2) => star_l2,
+        Ok(DiscrepancyKind::ModifiedL2) => modified_l2,
+        Ok(DiscrepancyKind::CenteredL2) => centered_l2,
+        Ok(DiscrepancyKind::WrapAroundL2) => wrap_around_l2,
+        Err(_) => {
+            return Err(Error::invalid(
+                name,
+                kind,
+                "l2star (star L2), md (modified L2), cd (centred L2) or wd (wrap-around L2)",
+            ))
+        }
+    })
 }
 
 #[cfg(test)]

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use stillpoint::io;
-use stillpoint::pipeline::{generate, GenerateConfig};
+use stillpoint::pipeline::{run_config, GenerateConfig};
 use stillpoint::quality::metrics::Metrics;
 use stillpoint::PointSet;
 
@@ -240,7 +240,7 @@ fn flush(shared: &Mutex<(Manifest, Vec<String>)>, log: &mut dyn FnMut(&str)) -> 
 fn make_set(dir: &Path, s: usize, n: usize, steps: usize) -> Result<Entry> {
     let mut cfg = GenerateConfig::new(n, s);
     cfg.steps = steps;
-    let r = generate(&cfg, |_| {})?;
+    let r = run_config(&cfg, |_| {})?;
     let (m0, m1) = r.cube_metrics()?;
     let (m0, m1): (Metrics, Metrics) = (*m0, *m1);
     let file = file_name(s, n);

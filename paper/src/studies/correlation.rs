@@ -7,7 +7,7 @@ use anyhow::Result;
 use serde_json::json;
 use stillpoint::energies::einf::UEInf;
 use stillpoint::energies::{Distance, Energy, PointSet, Uqp};
-use stillpoint::pipeline::{generate, EnergyKind, GenerateConfig, Init};
+use stillpoint::pipeline::{run_config, EnergyKind, GenerateConfig, Init};
 use stillpoint::plot::{LineChart, Series};
 use stillpoint::quality::metrics;
 use stillpoint::sequences::Baseline;
@@ -56,7 +56,7 @@ fn trajectory(n: usize, s: usize, einf: bool, steps: usize, seed: u64) -> Result
         cfg.q = Some(Distance::Q(1.0));
         cfg.p = Some(1.0);
     }
-    let report = generate(&cfg, |_| {})?;
+    let report = run_config(&cfg, |_| {})?;
     let mut t = Trajectory {
         steps: vec![],
         energy: vec![],
@@ -224,7 +224,7 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
             cfg.steps = steps;
             sets.push((
                 "stillpoint default".into(),
-                generate(&cfg, |_| {})?.output.points,
+                run_config(&cfg, |_| {})?.output.points,
             ));
             let mut values = serde_json::Map::new();
             for (m, (name, set)) in sets.iter().enumerate() {

@@ -9,7 +9,7 @@ use serde_json::json;
 use std::sync::Arc;
 use stillpoint::energies::region::paper_region;
 use stillpoint::energies::Domain;
-use stillpoint::pipeline::{generate, GenerateConfig};
+use stillpoint::pipeline::{run_config, GenerateConfig};
 use stillpoint::{io, plot, PointSet};
 
 /// The paper's reductions of U_{E,∞,g} (only g1 and g4 are given).
@@ -64,7 +64,7 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
             let mut cfg = GenerateConfig::in_region(domain.clone(), n);
             cfg.steps = steps;
             cfg.seed = opts.seed;
-            let r = generate(&cfg, |_| {})?;
+            let r = run_config(&cfg, |_| {})?;
             let inside = r.output.points.rows().all(|x| domain.contains(x));
             anyhow::ensure!(inside, "a point of g{i} left the region");
             let file = opts.out.join(format!("g{i}_{steps}.csv"));

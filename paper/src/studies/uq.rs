@@ -10,7 +10,7 @@ use crate::uq::{
 use anyhow::Result;
 use serde_json::json;
 use std::time::Instant;
-use stillpoint::pipeline::{generate, GenerateConfig};
+use stillpoint::pipeline::{run_config, GenerateConfig};
 use stillpoint::plot::{LineChart, Series};
 use stillpoint::sequences::Baseline;
 use stillpoint::PointSet;
@@ -66,7 +66,7 @@ fn sets(
     let mut cfg = GenerateConfig::new(n, s);
     cfg.steps = steps;
     cfg.seed = seed;
-    let r = generate(&cfg, |_| {})?;
+    let r = run_config(&cfg, |_| {})?;
     log(&format!(
         "DEM P_{{{s},{n}}}: D_MD {:.6} in {:.1} s",
         r.cube_metrics()?.1.modified_l2,
