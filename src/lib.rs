@@ -9,7 +9,7 @@
 //! assert_eq!((x.n(), x.s()), (64, 3));
 //!
 //! // A set in a region, given as text: an expression g(x) ≤ 0 with its box, or a shape.
-//! let disc = stillpoint::region(50, "ball:1@0,0")?;
+//! let disc = stillpoint::region(50, "ball:1@0,0", &[])?;
 //! assert!(disc.rows().all(|p| p[0] * p[0] + p[1] * p[1] <= 1.0));
 //!
 //! // The quality of any set in the unit cube.
@@ -50,8 +50,8 @@ pub mod quality;
 pub mod sequences;
 pub mod solve;
 
-// REQ pub use pipeline::request::Request;
-pub use pipeline::generate;
+pub use pipeline::request::Request;
+pub use pipeline::{generate, paper, region};
 pub use quality::metrics;
 
 /// The README's Rust examples, compiled and run as doctests so they stay true.
