@@ -134,7 +134,7 @@ pub struct GenerateConfig {
     /// cube only).
     pub log_every: usize,
     /// Candidate periodic shifts tried after a periodic energy (0: none); see
-    /// [`crate::shift`].
+    /// [`crate::post::shift`].
     pub shifts: usize,
     /// A last L-BFGS run on this squared discrepancy, from the result (after the shift
     /// selection), in the closed cube for the non-periodic kinds. `None`: no polish. The
@@ -219,12 +219,12 @@ impl GenerateConfig {
 }
 
 /// A step after the solver. Each is one function in a module of its own; a new one is
-/// one more arm here and in [`generate_with`].
+/// one more arm here and in [`crate::pipeline::generate_with`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum PostStep {
-    /// The best of this many periodic shifts ([`crate::shift`]), after a periodic energy.
+    /// The best of this many periodic shifts ([`crate::post::shift`]), after a periodic energy.
     Shift(usize),
-    /// L-BFGS on a squared discrepancy ([`crate::polish`]).
+    /// L-BFGS on a squared discrepancy ([`crate::post::polish`]).
     Polish(DiscrepancyKind),
 }
 

@@ -1,7 +1,7 @@
 //! Point sets in regions (§5.4, eq. 58): the start of a run in a region and the figures
 //! that measure a set there (U_{E,∞,g}, the paper's measure of uniformity in a region,
 //! where no discrepancy formula applies, with the minimum point and boundary distances).
-//! Region runs themselves go through the one pipeline of [`crate::run`].
+//! Region runs themselves go through the one pipeline of [`crate::pipeline`].
 
 use crate::energies::boundary::UEInfG;
 use crate::energies::{Domain, Energy, PointSet};

@@ -1,4 +1,4 @@
-//! Running a solver: one [`Solve`] drives any integrator through the executor, with
+//! Running a solver: one `Solve` drives any integrator through the executor, with
 //! checkpoints; observers log discrepancies and pass progress events on.
 
 pub mod checkpoint;

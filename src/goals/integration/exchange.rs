@@ -2,7 +2,7 @@
 //! three factors, in plain scalar code: the mixture discrepancy (which the vectorised
 //! kernels of [`crate::quality::metrics`] do not carry), an independent check of those kernels,
 //! and the O(n) update of a squared discrepancy when two points swap one coordinate —
-//! the move of the stratified descent ([`crate::stratified`]) and of optimised Latin
+//! the move of the stratified descent ([`crate::goals::integration`]) and of optimised Latin
 //! hypercubes.
 //!
 //! Every form here is
