@@ -5,12 +5,13 @@
 use rand::seq::SliceRandom;
 use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
+use stillpoint::goals::integration::exchange::{self as product_form, Form};
 use stillpoint::quality::metrics::{
     centered_l2, centered_l2_squared, discrepancies, min_distance_euclidean, min_distance_periodic,
-    modified_l2, modified_l2_squared, star_l2, star_l2_squared, wrap_around_l2,
-    wrap_around_l2_squared, Metrics,
+    mixture, mixture_squared, modified_l2, modified_l2_squared, star_l2, star_l2_squared,
+    wrap_around_l2, wrap_around_l2_squared, Metrics,
 };
-use stillpoint::sequences::{halton, random};
+use stillpoint::sequences::{halton, random, sobol_scrambled};
 use stillpoint::PointSet;
 
 fn rel_err(got: f64, want: f64) -> f64 {
@@ -393,6 +394,8 @@ fn scipy_reference_values() {
     assert!(rel_err(centered_l2_squared(&p), cd) < 1e-12);
     assert!(rel_err(wrap_around_l2_squared(&p), wd) < 1e-12);
     assert!(rel_err(star_l2(&p), l2_star) < 1e-12);
+    // 'MD' (the mixture discrepancy, squared), printed the same way.
+    assert!(rel_err(mixture_squared(&p), 0.09031916943576146) < 1e-12);
 }
 
 const SCIPY_CD_WD_L2STAR: (f64, f64, f64) = (
@@ -462,8 +465,9 @@ fn min_distances_known_configuration() {
 // 5. Determinism across thread counts, and agreement of the fused passes.
 // ---------------------------------------------------------------------------------------
 
-fn bits(m: &Metrics) -> [u64; 6] {
+fn bits(m: &Metrics) -> [u64; 7] {
     [
+        m.mixture.to_bits(),
         m.star_l2.to_bits(),
         m.modified_l2.to_bits(),
         m.centered_l2.to_bits(),
@@ -503,6 +507,7 @@ fn metrics_fields_equal_the_single_functions() {
         modified_l2: modified_l2(&p),
         centered_l2: centered_l2(&p),
         wrap_around_l2: wrap_around_l2(&p),
+        mixture: mixture(&p),
         min_distance: min_distance_euclidean(&p),
         min_distance_periodic: min_distance_periodic(&p),
     };
@@ -534,11 +539,12 @@ fn discrepancies_are_invariant_under_permutation() {
         let q = PointSet::new(p.n(), s, data).unwrap();
         // The closed forms cancel terms of size c^s down to D², so reordering the sums
         // moves D² by rounding of the terms, not of D²: 1e-14 relative to c^s.
-        let checks: [(&str, Squared, f64); 4] = [
+        let checks: [(&str, Squared, f64); 5] = [
             ("star", star_l2_squared, 1.0 / 3.0),
             ("modified", modified_l2_squared, 4.0 / 3.0),
             ("centred", centered_l2_squared, 13.0 / 12.0),
             ("wrap-around", wrap_around_l2_squared, 4.0 / 3.0),
+            ("mixture", mixture_squared, 19.0 / 12.0),
         ];
         for (name, f, c) in checks {
             let (a, b) = (f(&p), f(&q));
@@ -579,5 +585,212 @@ fn wrap_around_is_invariant_under_periodic_shift() {
         assert!((a - b).abs() < 1e-15, "s={s}: {a} vs {b}");
         // The anchored discrepancies are not shift invariant; the check above could fail.
         assert!(rel_err(star_l2(&q), star_l2(&p)) > 1e-4, "s={s}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// 7. The mixture discrepancy: one of the five kinds of the fused pass.
+// ---------------------------------------------------------------------------------------
+
+#[test]
+fn mixture_equals_the_scalar_closed_form() {
+    // `product_form` evaluates the same closed form in plain scalar code (its own factors,
+    // operation order and summation order); at moderate s they agree to rounding.
+    for s in 1..=30 {
+        for (n, seed) in [(1, 1), (9, 2), (64, 3), (250, 4)] {
+            let p = random(n, s, 1000 * s as u64 + seed).unwrap();
+            let want = product_form::squared(&p, Form::Mixture);
+            let got = mixture_squared(&p);
+            assert!(rel_err(got, want) < 1e-12, "n={n} s={s}: {got} vs {want}");
+            let m = Metrics::compute(&p);
+            let root = product_form::root(&p, Form::Mixture);
+            assert!(rel_err(m.mixture, root) < 1e-12, "n={n} s={s}");
+            assert_eq!(m.mixture.to_bits(), mixture(&p).to_bits(), "n={n} s={s}");
+        }
+    }
+}
+
+#[test]
+fn mixture_of_zhou_fang_ning_example_4_through_the_fused_pass() {
+    // The 7-run, 6-factor two-level design of their Example 4, levels k ↦ (2k − 1)/4:
+    // MD² = 2.5000 to the 4 digits they print.
+    let design = [
+        [2, 1, 1, 2, 2, 2],
+        [1, 2, 2, 2, 2, 2],
+        [2, 1, 1, 1, 1, 1],
+        [1, 1, 1, 1, 2, 2],
+        [1, 2, 2, 2, 1, 1],
+        [2, 2, 2, 2, 1, 1],
+        [2, 2, 2, 1, 2, 2],
+    ];
+    let rows: Vec<Vec<f64>> = design
+        .iter()
+        .map(|r| r.iter().map(|&k| (2.0 * k as f64 - 1.0) / 4.0).collect())
+        .collect();
+    let p = PointSet::from_rows(&rows).unwrap();
+    let md2 = mixture_squared(&p);
+    assert!((md2 - 2.5000).abs() < 5e-5, "{md2}");
+    let m = Metrics::compute(&p);
+    assert!(
+        (m.mixture * m.mixture - 2.5000).abs() < 5e-5,
+        "{}",
+        m.mixture
+    );
+}
+
+#[test]
+fn mixture_is_invariant_under_reflection_and_coordinate_permutation() {
+    let p = random(40, 4, 77).unwrap();
+    let reflected = PointSet::new(40, 4, p.as_slice().iter().map(|&x| 1.0 - x).collect()).unwrap();
+    let swapped = PointSet::new(
+        40,
+        4,
+        p.rows().flat_map(|r| [r[2], r[0], r[3], r[1]]).collect(),
+    )
+    .unwrap();
+    let d = mixture(&p);
+    assert!(rel_err(mixture(&reflected), d) < 1e-12);
+    assert!(rel_err(mixture(&swapped), d) < 1e-12);
+}
+
+/// A nonnegative number as m · 2^e with m in [½, 1) (or 0), so that products of
+/// thousands of factors and sums of such products neither overflow nor underflow.
+#[derive(Clone, Copy, Debug)]
+struct Big {
+    m: f64,
+    e: i64,
+}
+
+impl Big {
+    fn new(x: f64) -> Big {
+        assert!(x.is_finite() && x >= 0.0);
+        Big { m: x, e: 0 }.normalized()
+    }
+
+    /// m in [½, 1) read off the bits (for normal numbers, which every m here is).
+    fn normalized(self) -> Big {
+        if self.m == 0.0 {
+            return Big { m: 0.0, e: 0 };
+        }
+        let bits = self.m.to_bits();
+        let exp = ((bits >> 52) & 0x7ff) as i64;
+        assert!(exp != 0 && exp != 0x7ff, "{self:?}");
+        let m = f64::from_bits((bits & !(0x7ff << 52)) | (1022 << 52));
+        Big {
+            m,
+            e: self.e + exp - 1022,
+        }
+    }
+
+    fn mul(self, o: Big) -> Big {
+        Big {
+            m: self.m * o.m,
+            e: self.e + o.e,
+        }
+        .normalized()
+    }
+
+    /// self + w·o for a weight w of either sign; the result must stay nonnegative.
+    fn add_scaled(self, w: f64, o: Big) -> Big {
+        let top = self.e.max(o.e);
+        let part = |b: Big| b.m * pow2(b.e - top);
+        Big {
+            m: part(self) + w * part(o),
+            e: top,
+        }
+        .normalized()
+    }
+
+    /// √(m · 2^e) as an f64 (which must be representable).
+    fn sqrt(self) -> f64 {
+        let (m, e) = if self.e % 2 == 0 {
+            (self.m, self.e)
+        } else {
+            (2.0 * self.m, self.e - 1)
+        };
+        m.sqrt() * pow2(e / 2)
+    }
+}
+
+/// 2^k, exactly, for any k (0 below the subnormals, +∞ above f64).
+fn pow2(k: i64) -> f64 {
+    let mut v = 1.0;
+    let step = if k >= 0 {
+        2f64.powi(100)
+    } else {
+        0.5f64.powi(100)
+    };
+    let mut left = k.abs();
+    while left >= 100 {
+        v *= step;
+        left -= 100;
+    }
+    v * 2f64.powi(if k >= 0 { left as i32 } else { -(left as i32) })
+}
+
+/// The mixture discrepancy (the root) by the closed form in [`Big`] arithmetic: every
+/// factor from the formula as Zhou, Fang and Ning write it, every product and sum
+/// without overflow, each term rounded once per factor.
+fn mixture_by_big_floats(p: &PointSet) -> f64 {
+    let (n, s) = (p.n() as f64, p.s());
+    let g = |v: f64| {
+        let a = (v - 0.5).abs();
+        5.0 / 3.0 - a / 4.0 - a * a / 4.0
+    };
+    let h = |u: f64, v: f64| {
+        let (a, b, d) = ((u - 0.5).abs(), (v - 0.5).abs(), (u - v).abs());
+        15.0 / 8.0 - a / 4.0 - b / 4.0 - 3.0 * d / 4.0 + d * d / 2.0
+    };
+    let product = |f: &mut dyn FnMut(usize) -> f64| {
+        (0..s).fold(Big::new(1.0), |acc, k| acc.mul(Big::new(f(k))))
+    };
+    // The positive terms first, the negative single sum last, so no partial sum is
+    // negative.
+    let mut total = product(&mut |_| 19.0 / 12.0);
+    for a in p.rows() {
+        for b in p.rows() {
+            total = total.add_scaled(1.0 / (n * n), product(&mut |k| h(a[k], b[k])));
+        }
+    }
+    for a in p.rows() {
+        total = total.add_scaled(-2.0 / n, product(&mut |k| g(a[k])));
+    }
+    total.sqrt()
+}
+
+#[test]
+fn mixture_in_high_dimension_matches_big_float_arithmetic() {
+    // At s = 1500 the pair products (up to (15/8)^s ≈ 10^409) overflow f64 and at
+    // s = 1600 so does the constant (19/12)^s; the root itself fits. These are the points
+    // of `stillpoint baseline sobol -n 4 -s S` (Owen-scrambled Sobol', seed 0).
+    for s in [1500, 1600] {
+        let p = sobol_scrambled(4, s, 0).unwrap();
+        let want = mixture_by_big_floats(&p);
+        assert!(want.is_finite() && want > 1e150, "s={s}: {want}");
+        let got = Metrics::compute(&p).mixture;
+        eprintln!("s = {s}: {got:e} vs {want:e}, {:.1e}", rel_err(got, want));
+        assert!(got.is_finite() && got > 0.0, "s={s}: {got}");
+        assert!(rel_err(got, want) < 1e-9, "s={s}: {got} vs {want}");
+        assert_eq!(got.to_bits(), mixture(&p).to_bits(), "s={s}");
+        if s == 1600 {
+            assert!(rel_err(got, 7.4904e193) < 1e-4, "{got}");
+        }
+    }
+    // And a random set, where off-diagonal pairs weigh in as well.
+    let p = random(9, 1200, 8).unwrap();
+    let (got, want) = (mixture(&p), mixture_by_big_floats(&p));
+    assert!(rel_err(got, want) < 1e-9, "{got} vs {want}");
+}
+
+#[test]
+fn mixture_plain_and_logarithmic_forms_agree_where_both_apply() {
+    use stillpoint::energies::discrepancy::{mixture_closed_form_fits, mixture_root_by_logs};
+    for s in [2, 20, 200, 900] {
+        let p = random(30, s, 90 + s as u64).unwrap();
+        assert!(mixture_closed_form_fits(s));
+        let (plain, logs) = (mixture(&p), mixture_root_by_logs(&p));
+        assert!(rel_err(logs, plain) < 1e-10, "s={s}: {plain} vs {logs}");
+        // The big floats agree with both.
+        assert!(rel_err(mixture_by_big_floats(&p), plain) < 1e-10, "s={s}");
     }
 }

@@ -14,8 +14,16 @@
 //! | modified L2 | (4/3)^s   | (3 − x²)/2             | 2 − max(x, y)                            |
 //! | centred L2  | (13/12)^s | 1 + a/2 − a²/2         | 1 + ½\|x − ½\| + ½\|y − ½\| − ½\|x − y\| |
 //! | wrap-around | −(4/3)^s  | none (merged into C_s) | 3/2 − d(1 − d)                           |
+//! | mixture     | (19/12)^s | 5/3 − a/4 − a²/4       | 15/8 − a/4 − b/4 − 3d/4 + d²/2           |
 //!
-//! where a = |x − ½| and d = |x − y|.
+//! where a = |x − ½|, b = |y − ½| and d = |x − y|.
+//!
+//! The last row is the mixture discrepancy of Y.-D. Zhou, K.-T. Fang and J.-H. Ning
+//! (*Mixture discrepancy for quasi-random point sets*, J. Complexity 29, 2013), whose
+//! square is SciPy's `qmc.discrepancy(method='MD')`. It is a figure of merit here, not a
+//! [`DiscrepancyKind`]: no energy, polish or target takes it. It shares the pair loops
+//! ([`squared_discrepancies_with_mixture`] computes it with the other four in one pass)
+//! and the logarithmic form of very high dimension ([`mixture_root`]).
 //!
 //! The value is the *square* of the discrepancy: the closed forms give the square, and
 //! its gradient needs no division by the root, which vanishes for a perfect set. The
@@ -60,8 +68,9 @@
 //! without AVX2. O(n² s) time, O(n s) memory (block-transposed copies of the points and
 //! the gradient); the pair loop does not allocate (one reused scratch buffer per worker
 //! thread). The value-only path skips the derivatives. [`squared_discrepancies`] gives
-//! the values of several kinds from one pass over the pairs ([`pair_product_sums`]), for
-//! the metrics of the root crate.
+//! the values of several kinds from one pass over the pairs ([`pair_product_sums`]), and
+//! [`squared_discrepancies_with_mixture`] those of all five, for the metrics of the root
+//! crate.
 
 use crate::pairs::{
     give_scratch, grad_tiles, sum_tiles, take_scratch, AlignedBuf, Blocks, GradTiles, Simd,
@@ -198,6 +207,14 @@ trait Kernel: Sync + Send + 'static {
 
     /// ∂K/∂x and ∂K/∂y lane by lane, as `pair` gives them.
     fn vderiv<V: Simd>(x: V, y: V) -> (V, V);
+
+    /// K(x, y) lane by lane given `gx` = ½|x − ½| and `gy` = ½|y − ½|, which the value
+    /// loops precompute once per coordinate for the kernels with [`Kernel::HALF_GAP`]:
+    /// the same bits as `vpair`.
+    #[inline(always)]
+    fn vpair_gap<V: Simd>(x: V, y: V, _gx: V, _gy: V) -> V {
+        Self::vpair(x, y)
+    }
 }
 
 /// sgn(v)/2 with sgn(0) = 0, lane by lane.
@@ -243,6 +260,7 @@ struct Star;
 struct Modified;
 struct Centered;
 struct Wrap;
+struct Mixture;
 
 impl Kernel for Star {
     const CONSTANT_BASE: f64 = 1.0 / 3.0;
@@ -339,6 +357,11 @@ impl Kernel for Centered {
             vhalf_sgn(y.sub(half)).add(sd),
         )
     }
+
+    #[inline(always)]
+    fn vpair_gap<V: Simd>(x: V, y: V, gx: V, gy: V) -> V {
+        centered_factor(x, y, gx, gy)
+    }
 }
 
 impl Kernel for Wrap {
@@ -376,6 +399,73 @@ impl Kernel for Wrap {
         );
         (dx, V::splat(0.0).sub(dx))
     }
+}
+
+impl Kernel for Mixture {
+    const CONSTANT_BASE: f64 = 19.0 / 12.0;
+    const CONSTANT_SIGN: f64 = 1.0;
+    const HAS_SINGLE: bool = true;
+    const HALF_GAP: bool = true;
+
+    #[inline(always)]
+    fn single(x: f64) -> (f64, f64) {
+        let a = (x - 0.5).abs();
+        (
+            5.0 / 3.0 - 0.25 * a - 0.25 * a * a,
+            -sgn(x - 0.5) * (0.25 + 0.5 * a),
+        )
+    }
+
+    #[inline(always)]
+    fn pair(x: f64, y: f64) -> (f64, f64, f64) {
+        let (gx, gy) = (0.5 * (x - 0.5).abs(), 0.5 * (y - 0.5).abs());
+        let d = (x - y).abs();
+        // The same operations, in the same order, as `mixture_factor`.
+        let v = 1.875 - 0.5 * gx - 0.5 * gy + d * (0.5 * d - 0.75);
+        // d/dd (d²/2 − 3d/4) = d − 3/4, times ∂d/∂x = sgn(x − y).
+        let sd = sgn(x - y) * (d - 0.75);
+        (v, -0.25 * sgn(x - 0.5) + sd, -0.25 * sgn(y - 0.5) - sd)
+    }
+
+    #[inline(always)]
+    fn vpair<V: Simd>(x: V, y: V) -> V {
+        let half = V::splat(0.5);
+        let gx = half.mul(x.sub(half).abs());
+        let gy = half.mul(y.sub(half).abs());
+        mixture_factor(x, y, gx, gy)
+    }
+
+    #[inline(always)]
+    fn vderiv<V: Simd>(x: V, y: V) -> (V, V) {
+        let half = V::splat(0.5);
+        let d = x.sub(y).abs();
+        // sgn(x − y)(d − ¾) = 2·(sgn/2)·(d − ¾); ¼ sgn(x − ½) = ½·(sgn/2).
+        let sd = V::splat(2.0)
+            .mul(vhalf_sgn(x.sub(y)))
+            .mul(d.sub(V::splat(0.75)));
+        (
+            sd.sub(half.mul(vhalf_sgn(x.sub(half)))),
+            V::splat(0.0).sub(sd).sub(half.mul(vhalf_sgn(y.sub(half)))),
+        )
+    }
+
+    #[inline(always)]
+    fn vpair_gap<V: Simd>(x: V, y: V, gx: V, gy: V) -> V {
+        mixture_factor(x, y, gx, gy)
+    }
+}
+
+/// The mixture's pair factor 15/8 − ¼|x − ½| − ¼|y − ½| − ¾d + ½d² from `gx` = ½|x − ½|
+/// and `gy` = ½|y − ½| (so ¼|x − ½| = ½·gx exactly). The quadratic in d is d(½d − ¾),
+/// which lies in [−9/32, 0], so nothing cancels: every factor is in [11/8, 15/8].
+#[inline(always)]
+fn mixture_factor<V: Simd>(x: V, y: V, gx: V, gy: V) -> V {
+    let half = V::splat(0.5);
+    let d = x.sub(y).abs();
+    V::splat(1.875)
+        .sub(half.mul(gx))
+        .sub(half.mul(gy))
+        .add(d.mul(half.mul(d).sub(V::splat(0.75))))
 }
 
 /// D² of the set, and its gradient into `grad` when given.
@@ -498,6 +588,16 @@ fn largest_factor(kind: DiscrepancyKind) -> f64 {
     }
 }
 
+/// The mixture's largest factor, h(½, ½) = 15/8. Its smallest, h(0, 1) = 11/8 (g is at
+/// least 71/48), is above 1, so its products only grow with s.
+const MIXTURE_LARGEST_FACTOR: f64 = 1.875;
+
+/// Whether base^s and every product of s factors of at most `largest` stay within e^±600.
+fn fits(base: f64, largest: f64, s: usize) -> bool {
+    let growth = base.ln().abs().max(largest.ln());
+    (s as f64) * growth < 600.0
+}
+
 /// Whether the closed form of `kind` stays within f64 at dimension s: its constant
 /// base^s and every product of s factors within e^±600 (about 10^±260). Beyond, the
 /// terms overflow or vanish and [`discrepancy_root`] takes the logarithmic form.
@@ -508,8 +608,64 @@ pub fn closed_form_fits(kind: DiscrepancyKind, s: usize) -> bool {
         DiscrepancyKind::CenteredL2 => Centered::CONSTANT_BASE,
         DiscrepancyKind::WrapAroundL2 => Wrap::CONSTANT_BASE,
     };
-    let growth = base.ln().abs().max(largest_factor(kind).ln());
-    (s as f64) * growth < 600.0
+    fits(base, largest_factor(kind), s)
+}
+
+/// [`closed_form_fits`] for the mixture discrepancy: s ≤ 954, where (15/8)^s, its
+/// largest product, is below e^600.
+pub fn mixture_closed_form_fits(s: usize) -> bool {
+    fits(Mixture::CONSTANT_BASE, MIXTURE_LARGEST_FACTOR, s)
+}
+
+/// The squared mixture discrepancy (the table's last row): (19/12)^s − (2/n) Σ_i Π_k g +
+/// (1/n²) Σ_{i,l} Π_k h, not clamped, from one vectorised pass over the pairs. SciPy's
+/// `qmc.discrepancy(method='MD')` is this value. Same bits as the fifth value of
+/// [`squared_discrepancies_with_mixture`], for any number of threads and with or without
+/// AVX2. Overflows beyond [`mixture_closed_form_fits`] (see [`mixture_root`]). The points
+/// must lie in [0, 1]^s (not checked). O(n² s) time.
+pub fn mixture_squared(points: &PointSet) -> f64 {
+    closed_form::<Mixture>(points, products::<Single<Mixture>, 1>(points)[0])
+}
+
+/// The squares of the four L2 discrepancies, in the order of [`DiscrepancyKind`] (star,
+/// modified, centred, wrap-around), and of the mixture discrepancy, from one pass over
+/// the pairs; not clamped. Each is the same bits as [`squared_discrepancies`] of its kind
+/// (and [`mixture_squared`] for the fifth), so fusing changes no value. The points must
+/// lie in [0, 1]^s (not checked). O(n² s) time.
+pub fn squared_discrepancies_with_mixture(points: &PointSet) -> [f64; 5] {
+    let [star, modified, centered, wrap, mixture] = products::<AllFive, 5>(points);
+    [
+        closed_form::<Star>(points, star),
+        closed_form::<Modified>(points, modified),
+        closed_form::<Centered>(points, centered),
+        closed_form::<Wrap>(points, wrap),
+        closed_form::<Mixture>(points, mixture),
+    ]
+}
+
+/// The mixture discrepancy itself, right whenever it is representable, as
+/// [`discrepancy_root`] is for the other kinds: the root of [`mixture_squared`] (0 where
+/// rounding makes the square negative) while [`mixture_closed_form_fits`], the
+/// logarithmic form beyond ([`mixture_root_by_logs`]).
+///
+/// Accuracy: both forms add terms of either sign, so both are exact to a few units of
+/// rounding *of the largest term* (the constant (19/12)^s or a product of up to (15/8)^s),
+/// not of D². Where D² is far below that term (many points in a dimension where the terms
+/// nearly cancel) its relative error grows by their ratio, and a square lost to rounding
+/// comes out as 0, exactly as for the other kinds. For few points in high dimension the
+/// diagonal pair products dominate D² (h(x, x) ≥ 13/8 > 19/12) and the result is accurate
+/// to about s·ε relative.
+pub fn mixture_root(points: &PointSet) -> f64 {
+    if mixture_closed_form_fits(points.s()) {
+        return mixture_squared(points).max(0.0).sqrt();
+    }
+    mixture_root_by_logs(points)
+}
+
+/// The logarithmic form of [`mixture_root`] at any dimension (a logarithm per factor),
+/// for checking it against the plain form where both apply.
+pub fn mixture_root_by_logs(points: &PointSet) -> f64 {
+    root_by_logs::<Mixture>(points)
 }
 
 /// The discrepancy itself (the root of the closed form, 0 where rounding makes the
@@ -576,19 +732,23 @@ fn root_by_logs<K: Kernel>(points: &PointSet) -> f64 {
 
 /// The kinds of [`pair_product_sums`]: `M` kernels whose pair products one pass forms.
 trait Kinds<const M: usize>: Sync {
-    /// Whether a kernel needs ½|x − ½| of each coordinate (the centred L2), which the
-    /// loop then reads from a precomputed copy instead of forming it for every pair.
+    /// Whether a kernel needs ½|x − ½| of each coordinate (the centred L2 and the
+    /// mixture), which the loop then reads from a precomputed copy instead of forming it
+    /// for every pair.
     const HALF_GAP: bool;
     /// Multiplies each product `p[m]` by kernel m's factor K_m(x, y); with
-    /// [`Kinds::HALF_GAP`], `cx` = 1 + ½|x − ½| and `gy` = ½|y − ½| (else unused).
-    fn mul_factors<V: Simd>(x: V, y: V, cx: V, gy: V, p: &mut [V; M]);
+    /// [`Kinds::HALF_GAP`], `gx` = ½|x − ½| and `gy` = ½|y − ½| (else unused).
+    fn mul_factors<V: Simd>(x: V, y: V, gx: V, gy: V, p: &mut [V; M]);
 }
 
-/// The centred L2 factor from `cx` = 1 + ½|x − ½| and `gy` = ½|y − ½|: the same
+/// The centred L2 factor from `gx` = ½|x − ½| and `gy` = ½|y − ½|: the same
 /// operations, in the same order, as [`Centered::vpair`], so the same bits.
 #[inline(always)]
-fn centered_factor<V: Simd>(x: V, y: V, cx: V, gy: V) -> V {
-    cx.add(gy).sub(V::splat(0.5).mul(x.sub(y).abs()))
+fn centered_factor<V: Simd>(x: V, y: V, gx: V, gy: V) -> V {
+    V::splat(1.0)
+        .add(gx)
+        .add(gy)
+        .sub(V::splat(0.5).mul(x.sub(y).abs()))
 }
 
 /// One kernel.
@@ -597,13 +757,8 @@ struct Single<K>(PhantomData<K>);
 impl<K: Kernel> Kinds<1> for Single<K> {
     const HALF_GAP: bool = K::HALF_GAP;
     #[inline(always)]
-    fn mul_factors<V: Simd>(x: V, y: V, cx: V, gy: V, p: &mut [V; 1]) {
-        let f = if K::HALF_GAP {
-            centered_factor(x, y, cx, gy)
-        } else {
-            K::vpair(x, y)
-        };
-        p[0] = p[0].mul(f);
+    fn mul_factors<V: Simd>(x: V, y: V, gx: V, gy: V, p: &mut [V; 1]) {
+        p[0] = p[0].mul(K::vpair_gap(x, y, gx, gy));
     }
 }
 
@@ -625,11 +780,26 @@ struct AllFour;
 impl Kinds<4> for AllFour {
     const HALF_GAP: bool = true;
     #[inline(always)]
-    fn mul_factors<V: Simd>(x: V, y: V, cx: V, gy: V, p: &mut [V; 4]) {
+    fn mul_factors<V: Simd>(x: V, y: V, gx: V, gy: V, p: &mut [V; 4]) {
         p[0] = p[0].mul(Star::vpair(x, y));
         p[1] = p[1].mul(Modified::vpair(x, y));
-        p[2] = p[2].mul(centered_factor(x, y, cx, gy));
+        p[2] = p[2].mul(centered_factor(x, y, gx, gy));
         p[3] = p[3].mul(Wrap::vpair(x, y));
+    }
+}
+
+/// The four L2 discrepancies and the mixture: every discrepancy the metrics report.
+struct AllFive;
+
+impl Kinds<5> for AllFive {
+    const HALF_GAP: bool = true;
+    #[inline(always)]
+    fn mul_factors<V: Simd>(x: V, y: V, gx: V, gy: V, p: &mut [V; 5]) {
+        p[0] = p[0].mul(Star::vpair(x, y));
+        p[1] = p[1].mul(Modified::vpair(x, y));
+        p[2] = p[2].mul(centered_factor(x, y, gx, gy));
+        p[3] = p[3].mul(Wrap::vpair(x, y));
+        p[4] = p[4].mul(mixture_factor(x, y, gx, gy));
     }
 }
 
@@ -708,7 +878,6 @@ impl<P: Kinds<M>, const M: usize> SumTiles for SumPairs<'_, P, M> {
         let (xa, xb) = (bl.chunk(self.xt, a), bl.chunk(self.xt, b));
         let zero = V::splat(0.0);
         let mut acc = [zero; M];
-        let (one, zero_gap) = (V::splat(1.0), V::splat(0.0));
         let (ga, gb) = if P::HALF_GAP {
             (bl.chunk(self.gap, a), bl.chunk(self.gap, b))
         } else {
@@ -721,10 +890,10 @@ impl<P: Kinds<M>, const M: usize> SumTiles for SumPairs<'_, P, M> {
                     let x = V::splat(xa[k * bs + ii]);
                     let y = V::load(&xb[k * bs + jj..]);
                     if P::HALF_GAP {
-                        let cx = one.add(V::splat(ga[k * bs + ii]));
-                        P::mul_factors(x, y, cx, V::load(&gb[k * bs + jj..]), &mut p);
+                        let gx = V::splat(ga[k * bs + ii]);
+                        P::mul_factors(x, y, gx, V::load(&gb[k * bs + jj..]), &mut p);
                     } else {
-                        P::mul_factors(x, y, zero_gap, zero_gap, &mut p);
+                        P::mul_factors(x, y, zero, zero, &mut p);
                     }
                 }
                 for m in 0..M {
@@ -806,4 +975,72 @@ impl<K: Kernel> GradTiles for GradPairs<K> {
 /// clamp at 0 (see the module documentation).
 fn assemble(constant: f64, single: f64, diag: f64, off: f64, n: f64) -> f64 {
     constant - 2.0 * single / n + (diag + 2.0 * off) / (n * n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small set with every coordinate at least 0.02 from ½, from the faces and from
+    /// the same coordinate of every other point: a step of 1e-6 crosses no kink.
+    fn set_away_from_kinks() -> PointSet {
+        let (n, s) = (6, 3);
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut data = Vec::with_capacity(n * s);
+        while data.len() < n * s {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let v = (state >> 11) as f64 / (1u64 << 53) as f64;
+            let k = data.len() % s;
+            let clear = (v - 0.5).abs() > 0.02
+                && v > 0.02
+                && v < 0.98
+                && data
+                    .iter()
+                    .skip(k)
+                    .step_by(s)
+                    .all(|&u: &f64| (u - v).abs() > 0.02);
+            if clear {
+                data.push(v);
+            }
+        }
+        PointSet::new(n, s, data).unwrap()
+    }
+
+    #[test]
+    fn mixture_gradient_matches_central_differences() {
+        // The mixture is not an energy, but its kernel carries the derivatives the pair
+        // loops ask of every kernel; they must be right should it ever be minimised.
+        let p = set_away_from_kinks();
+        let mut grad = vec![f64::NAN; p.coordinate_count()];
+        let v = evaluate::<Mixture>(&p, Some(&mut grad));
+        assert_eq!(v.to_bits(), evaluate::<Mixture>(&p, None).to_bits());
+        assert_eq!(v.to_bits(), mixture_squared(&p).to_bits());
+        let h = 1e-6;
+        let scale = grad.iter().fold(0.0f64, |m, g| m.max(g.abs()));
+        for c in 0..p.coordinate_count() {
+            let moved = |dx: f64| {
+                let mut x = p.as_slice().to_vec();
+                x[c] += dx;
+                evaluate::<Mixture>(&PointSet::new(p.n(), p.s(), x).unwrap(), None)
+            };
+            let fd = (moved(h) - moved(-h)) / (2.0 * h);
+            assert!(
+                (grad[c] - fd).abs() < 1e-6 * scale,
+                "coordinate {c}: {} vs {fd}",
+                grad[c]
+            );
+        }
+    }
+
+    #[test]
+    fn mixture_kink_derivatives_are_the_averages_of_the_one_sided_ones() {
+        // At x = y and at ½ the kinks contribute nothing (the middle of ±¾ and of ±¼).
+        let (_, dx, dy) = Mixture::pair(0.5, 0.5);
+        assert_eq!((dx, dy), (0.0, 0.0));
+        assert_eq!(Mixture::single(0.5).1, 0.0);
+        let (_, dx, dy) = Mixture::pair(0.3, 0.3);
+        assert_eq!((dx, dy), (0.25, 0.25));
+    }
 }

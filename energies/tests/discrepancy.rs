@@ -559,3 +559,122 @@ fn parse_accepts_the_cli_names_and_refuses_others() {
         }
     }
 }
+
+// ---- The mixture discrepancy (a figure of merit sharing the pair loops).
+
+/// The mixture's closed form as Zhou, Fang and Ning (2013) write it, a full double
+/// loop: (19/12)^s − (2/n) Σ Π (5/3 − a/4 − a²/4)
+/// + (1/n²) Σ Σ Π (15/8 − a/4 − b/4 − 3d/4 + d²/2).
+fn bf_mixture(x: &PointSet) -> f64 {
+    let (n, s) = (x.n(), x.s());
+    let nf = n as f64;
+    let g = |v: f64| {
+        let a = (v - 0.5).abs();
+        5.0 / 3.0 - a / 4.0 - a * a / 4.0
+    };
+    let h = |u: f64, v: f64| {
+        let (a, b, d) = ((u - 0.5).abs(), (v - 0.5).abs(), (u - v).abs());
+        15.0 / 8.0 - a / 4.0 - b / 4.0 - 3.0 * d / 4.0 + d * d / 2.0
+    };
+    let single: f64 = (0..n)
+        .map(|i| x.point(i).iter().map(|&v| g(v)).product::<f64>())
+        .sum();
+    let mut pair = 0.0;
+    for i in 0..n {
+        for l in 0..n {
+            pair += (0..s)
+                .map(|k| h(x.point(i)[k], x.point(l)[k]))
+                .product::<f64>();
+        }
+    }
+    (19.0f64 / 12.0).powi(s as i32) - 2.0 / nf * single + pair / (nf * nf)
+}
+
+#[test]
+fn mixture_matches_brute_force_and_scipy() {
+    use stillpoint_energies::discrepancy::mixture_squared;
+    for &(n, s) in &[
+        (1usize, 1usize),
+        (3, 2),
+        (17, 5),
+        (64, 7),
+        (100, 12),
+        (50, 30),
+    ] {
+        let mut x = random_set(n, s, 70 + n as u64 * s as u64);
+        if n >= 3 {
+            x.point_mut(0)[0] = 0.0;
+            x.point_mut(1)[s - 1] = 1.0;
+            x.point_mut(2)[0] = 0.5;
+        }
+        let (got, want) = (mixture_squared(&x), bf_mixture(&x));
+        assert!(rel(got, want) < 1e-12, "n={n} s={s}: {got} vs {want}");
+    }
+    // The set of `values_match_scipy_and_exact_rationals`: qmc.discrepancy(X,
+    // method='MD') with SciPy 1.17.1 gives 0.07171546364007941; the closed form in
+    // `fractions.Fraction`, rounded once, 0.07171546364008101.
+    let x = PointSet::from_rows(&[
+        [0.12, 0.83, 0.47],
+        [0.65, 0.21, 0.94],
+        [0.38, 0.56, 0.09],
+        [0.91, 0.34, 0.62],
+        [0.27, 0.05, 0.78],
+        [0.54, 0.97, 0.31],
+    ])
+    .unwrap();
+    let v = mixture_squared(&x);
+    assert!(rel(v, 0.07171546364008101) < 1e-13, "{v} vs exact");
+    assert!(rel(v, 0.07171546364007941) < 1e-12, "{v} vs SciPy");
+}
+
+#[test]
+fn the_five_kinds_fused_have_the_bits_of_each_alone() {
+    use stillpoint_energies::discrepancy::{
+        mixture_squared, squared_discrepancies, squared_discrepancies_with_mixture,
+    };
+    // n = 300 spans several blocks (and rounds of the schedule); n = 5 one partial block.
+    for &(n, s) in &[(5usize, 3usize), (77, 9), (300, 4)] {
+        let x = random_set(n, s, 500 + n as u64);
+        let five = squared_discrepancies_with_mixture(&x);
+        let four = squared_discrepancies(&x, &KINDS);
+        for (m, &kind) in KINDS.iter().enumerate() {
+            let alone = squared_discrepancies(&x, &[kind])[0];
+            assert_eq!(five[m].to_bits(), alone.to_bits(), "{kind:?} n={n}");
+            assert_eq!(four[m].to_bits(), alone.to_bits(), "{kind:?} n={n}");
+            assert_eq!(
+                energy(kind).value(&x).to_bits(),
+                alone.to_bits(),
+                "{kind:?} n={n}"
+            );
+        }
+        assert_eq!(five[4].to_bits(), mixture_squared(&x).to_bits(), "n={n}");
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap()
+            .install(|| squared_discrepancies_with_mixture(&x));
+        assert_eq!(one.map(f64::to_bits), five.map(f64::to_bits), "n={n}");
+    }
+}
+
+#[test]
+fn mixture_root_takes_the_logarithmic_form_beyond_s_954() {
+    use stillpoint_energies::discrepancy::{
+        mixture_closed_form_fits, mixture_root, mixture_root_by_logs, mixture_squared,
+    };
+    // (15/8)^954 ≈ e^599.7, the largest product of the closed form, is the last to fit.
+    assert!(mixture_closed_form_fits(954));
+    assert!(!mixture_closed_form_fits(955));
+    for s in [1, 7, 60, 400, 954] {
+        let x = random_set(12, s, 30 + s as u64);
+        let plain = mixture_squared(&x).sqrt();
+        assert_eq!(mixture_root(&x).to_bits(), plain.to_bits(), "s={s}");
+        let logs = mixture_root_by_logs(&x);
+        assert!(rel(logs, plain) < 1e-10, "s={s}: {logs} vs {plain}");
+    }
+    // Beyond, the plain products overflow while the root is representable.
+    let x = random_set(12, 1500, 5);
+    assert!(!mixture_squared(&x).is_finite());
+    let root = mixture_root(&x);
+    assert!(root.is_finite() && root > 1e100, "{root}");
+}

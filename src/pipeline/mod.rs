@@ -187,7 +187,9 @@ pub fn generate_with(
                 report.energy.0 = target.value(&report.start);
                 target.value(&report.output.points)
             }
-            Goal::SpaceFilling => crate::metrics::min_distance_euclidean(&report.output.points),
+            Goal::SpaceFilling => {
+                crate::quality::metrics::min_distance_euclidean(&report.output.points)
+            }
             Goal::Paper => {
                 let (problem, _) = crate::plan::problem::build_problem(cfg)?;
                 problem.energy().value(&report.output.points)

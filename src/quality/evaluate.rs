@@ -41,7 +41,7 @@ pub fn eval_json(points: &PointSet) -> Value {
         "modified_l2": m.modified_l2,
         "centered_l2": m.centered_l2,
         "wrap_around_l2": m.wrap_around_l2,
-        "mixture": crate::goals::integration::exchange::root(points, crate::goals::integration::exchange::Form::Mixture),
+        "mixture": m.mixture,
         "stratified": crate::quality::stratification::is_stratified(points),
         "star_linf": star.map(finite_or_null),
         "worst_1d_star_linf": one,
@@ -115,6 +115,7 @@ fn value_notes(
         ("modified_l2", m.modified_l2),
         ("centered_l2", m.centered_l2),
         ("wrap_around_l2", m.wrap_around_l2),
+        ("mixture", m.mixture),
     ] {
         if !v.is_finite() {
             note(k, "not representable in f64 at this dimension");

@@ -1,7 +1,8 @@
 //! Discrepancies and distances that measure how evenly a point set fills the unit cube.
 //!
-//! Four L2-type discrepancies, each computed exactly by its closed form in O(n² s) time
-//! and O(n) memory, and the smallest pairwise distance, plain and on the torus. All of
+//! Four L2-type discrepancies and the mixture discrepancy, each computed exactly by its
+//! closed form in O(n² s) time and O(n) memory, and the smallest pairwise distance, plain
+//! and on the torus. All of
 //! them assume the points lie in [0, 1]^s and do not check it (see
 //! [`PointSet::check_unit_cube`]).
 //!
@@ -12,7 +13,8 @@
 //! L2 discrepancy of the paper; each function below says which SciPy value it matches.
 //!
 //! The closed forms are those of the discrepancy energies: each squared value is
-//! [`stillpoint_energies::discrepancy::squared_discrepancies`] clamped at 0. Their pair
+//! [`stillpoint_energies::discrepancy::squared_discrepancies`] (for the mixture,
+//! [`stillpoint_energies::discrepancy::mixture_squared`]) clamped at 0. Their pair
 //! sums run in the vectorised, tiled half loop of
 //! [`stillpoint_energies::discrepancy::pair_product_sums`] (the minimum distances in
 //! [`stillpoint_energies::pairs::min_squared_distances`]): each pair once, 16 pairs per
@@ -21,7 +23,9 @@
 //! same bits with or without AVX2 (no fused multiply-add). O(n² s) time, O(n s) memory.
 
 use crate::energies::discrepancy::{
-    closed_form_fits, discrepancy_root, squared_discrepancies, DiscrepancyKind,
+    closed_form_fits, discrepancy_root, mixture_closed_form_fits, mixture_root,
+    mixture_squared as mixture_closed_form, squared_discrepancies,
+    squared_discrepancies_with_mixture, DiscrepancyKind,
 };
 use crate::energies::pairs::min_squared_distances;
 use crate::{Error, PointSet};
@@ -102,6 +106,28 @@ pub fn wrap_around_l2(points: &PointSet) -> f64 {
     discrepancy_root(points, DiscrepancyKind::WrapAroundL2)
 }
 
+/// Mixture discrepancy squared (Zhou, Fang and Ning 2013), with a = |x − ½|, b = |y − ½|
+/// and d = |x − y| in each coordinate:
+///
+/// D_M² = (19/12)^s − (2/n) Σ_i Π_k (5/3 − a/4 − a²/4)
+///        + (1/n²) Σ_{i,l} Π_k (15/8 − a/4 − b/4 − 3d/4 + d²/2).
+///
+/// Its boxes mix those of the centred and the wrap-around L2 discrepancies; like them it
+/// is unchanged by reflections x_k → 1 − x_k and by permutations of the coordinates.
+/// Equals SciPy's `qmc.discrepancy(method='MD')`, which returns this squared value (and
+/// which is not the modified L2 of [`modified_l2_squared`]). Clamped at 0 against
+/// rounding. For s ≤ 954 only: beyond, the terms of the closed form may overflow, and the
+/// root [`mixture`] takes the logarithmic form instead.
+pub fn mixture_squared(points: &PointSet) -> f64 {
+    mixture_closed_form(points).max(0.0)
+}
+
+/// Mixture discrepancy, the root of [`mixture_squared`], right at any dimension where it
+/// is representable (the logarithmic form beyond s = 954); its square is SciPy's `'MD'`.
+pub fn mixture(points: &PointSet) -> f64 {
+    mixture_root(points)
+}
+
 /// Smallest Euclidean distance between two distinct points of the set (the separation
 /// a space-filling design maximises); `f64::INFINITY` for a single point.
 pub fn min_distance_euclidean(points: &PointSet) -> f64 {
@@ -148,6 +174,11 @@ pub struct Metrics {
     pub centered_l2: f64,
     /// Wrap-around L2 discrepancy (Hickernell), root; its square is SciPy's `'WD'`.
     pub wrap_around_l2: f64,
+    /// Mixture discrepancy (Zhou, Fang and Ning), root; its square is SciPy's `'MD'`.
+    /// Not serialised: the point-file headers and run reports carry the other fields
+    /// only, and stay the same bytes.
+    #[serde(skip)]
+    pub mixture: f64,
     /// Smallest Euclidean distance between two points.
     pub min_distance: f64,
     /// Smallest distance between two points on the unit torus.
@@ -155,9 +186,10 @@ pub struct Metrics {
 }
 
 impl Metrics {
-    /// Computes every figure: one pass over the pairs for the four discrepancies, one for
+    /// Computes every figure: one pass over the pairs for the five discrepancies, one for
     /// the two distances. O(n² s) time, O(n) memory; the points must lie in [0, 1]^s.
     pub fn compute(points: &PointSet) -> Metrics {
+        let s = points.s();
         let kinds = [
             DiscrepancyKind::StarL2,
             DiscrepancyKind::ModifiedL2,
@@ -165,11 +197,12 @@ impl Metrics {
             DiscrepancyKind::WrapAroundL2,
         ];
         // In very high dimension each root takes the logarithmic form of its own.
-        let [star, modified, centered, wrap] =
-            if kinds.iter().all(|&k| closed_form_fits(k, points.s())) {
-                squared(points, kinds).map(f64::sqrt)
+        let [star, modified, centered, wrap, mixture] =
+            if kinds.iter().all(|&k| closed_form_fits(k, s)) && mixture_closed_form_fits(s) {
+                squared_discrepancies_with_mixture(points).map(|v| v.max(0.0).sqrt())
             } else {
-                kinds.map(|k| discrepancy_root(points, k))
+                let [a, b, c, d] = kinds.map(|k| discrepancy_root(points, k));
+                [a, b, c, d, mixture_root(points)]
             };
         let [euclid, periodic] = pair_mins(points);
         Metrics {
@@ -177,6 +210,7 @@ impl Metrics {
             modified_l2: modified,
             centered_l2: centered,
             wrap_around_l2: wrap,
+            mixture,
             min_distance: euclid.sqrt(),
             min_distance_periodic: periodic.sqrt(),
         }
@@ -254,6 +288,7 @@ mod tests {
         assert_eq!(m.modified_l2.to_bits(), modified_l2(&p).to_bits());
         assert_eq!(m.centered_l2.to_bits(), centered_l2(&p).to_bits());
         assert_eq!(m.wrap_around_l2.to_bits(), wrap_around_l2(&p).to_bits());
+        assert_eq!(m.mixture.to_bits(), mixture(&p).to_bits());
         let (a, b) = discrepancies(&p);
         assert_eq!(a.to_bits(), m.star_l2.to_bits());
         assert_eq!(b.to_bits(), m.modified_l2.to_bits());
