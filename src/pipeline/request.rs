@@ -1051,6 +1051,20 @@ impl Resolver<'_> {
         };
         let s = s.ok_or_else(|| self.bad("s", "none", "the dimension (at least 1)"))?;
         let mut cfg = GenerateConfig::new(n, s);
+        self.paper_options(&mut cfg, init_points)?;
+        cfg.extend = old;
+        cfg.nested = nested;
+        Ok(cfg)
+    }
+
+    /// The paper's pipeline's options in the cube: energy, (q, p), precision, start,
+    /// polish, shifts, logging.
+    fn paper_options(
+        &self,
+        cfg: &mut GenerateConfig,
+        init_points: Option<PointSet>,
+    ) -> Result<(), Error> {
+        let r = self.r;
         if let Some(a) = &r.energy {
             const EXPECTED: &str = "in the cube uqp, e-inf, l2star, md, cd or periodic \
                                     (e-inf-g and e-p-g are energies of a region)";
@@ -1120,9 +1134,7 @@ impl Resolver<'_> {
             None if r.trajectory => 10,
             None => 0,
         };
-        cfg.extend = old;
-        cfg.nested = nested;
-        Ok(cfg)
+        Ok(())
     }
 
     /// Increasing sizes N1 < N2 < ..., N1 ≥ 1, as text or a list.
@@ -1145,5 +1157,106 @@ impl Resolver<'_> {
             return Err(self.bad("nested", a, EXPECTED));
         }
         Ok(raw.into_iter().map(|k| k as usize).collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn config(r: &Request) -> GenerateConfig {
+        match r.resolve().unwrap().job {
+            Job::Run(cfg) => *cfg,
+            other => panic!("expected a run, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn defaults_are_the_integration_goal_and_paper_is_by_name() {
+        assert_eq!(
+            config(&Request::new(50, 3)),
+            GenerateConfig::for_goal(50, 3, Goal::Integration(Target::blend()))
+        );
+        let mut r = Request::new(50, 3);
+        r.method = Some("paper".into());
+        assert_eq!(config(&r), GenerateConfig::new(50, 3));
+    }
+
+    #[test]
+    fn a_region_takes_restart_and_refuses_what_has_no_effect_there() {
+        let mut r = Request {
+            n: Some(10usize.into()),
+            s: Some(2usize.into()),
+            shape: Some("ball:1".into()),
+            restart: Some("off".into()),
+            ..Request::default()
+        };
+        assert_eq!(config(&r).dem.restart, Restart::Off);
+        for name in ["polish", "shifts", "q", "log_every", "precision", "p"] {
+            let mut bad = r.clone();
+            bad.set(name, Arg::Text("1".into())).unwrap();
+            let e = bad.resolve().unwrap_err().to_string();
+            assert!(e.starts_with(&format!("invalid {name} = ")), "{name}: {e}");
+            assert!(e.contains("not in a region"), "{name}: {e}");
+        }
+        r.energy = Some("e-p-g".into());
+        r.p = Some(Arg::Float(4.0));
+        assert_eq!(config(&r).energy, EnergyKind::EpG(4.0));
+    }
+
+    #[test]
+    fn refusals_are_spelled_by_the_caller() {
+        let mut r = Request::new(10, 2);
+        r.log_every = Some("-3".into());
+        let plain = r.resolve().unwrap_err().to_string();
+        let flag = r
+            .resolve_as(&|n| format!("--{}", n.replace('_', "-")))
+            .unwrap_err()
+            .to_string();
+        assert!(plain.starts_with("invalid log_every = -3"), "{plain}");
+        assert!(flag.starts_with("invalid --log-every = -3"), "{flag}");
+    }
+
+    #[test]
+    fn grown_sets_keep_their_promises() {
+        let old = PointSet::from_rows(&[[0.1, 0.2], [0.6, 0.7]]).unwrap();
+        let mut r = Request {
+            n: Some(Arg::Int(u64::MAX.into())),
+            extend: Some(Arg::Points(old.clone())),
+            ..Request::default()
+        };
+        let e = r.resolve().unwrap_err().to_string();
+        assert!(e.starts_with("invalid n = 18446744073709551615"), "{e}");
+        r.n = Some(Arg::Int(3));
+        r.randomize = Some("cells".into());
+        let e = r.resolve().unwrap_err().to_string();
+        assert!(e.contains("no randomisation of a grown set"), "{e}");
+        r.randomize = None;
+        r.s = Some(Arg::Int(3));
+        let e = r.resolve().unwrap_err().to_string();
+        assert!(e.starts_with("invalid s = 3"), "{e}");
+        r.s = None;
+        assert_eq!(config(&r).n, 5);
+    }
+
+    #[test]
+    fn nested_sizes_are_read_once_from_text_or_a_list() {
+        for arg in [Arg::Text("8, 16,32".into()), Arg::Counts(vec![8, 16, 32])] {
+            let r = Request {
+                s: Some(Arg::Int(2)),
+                nested: Some(arg),
+                ..Request::default()
+            };
+            let cfg = config(&r);
+            assert_eq!((cfg.n, cfg.nested), (32, vec![8, 16, 32]));
+        }
+        for bad in ["16,8", "0,8", "8,x", ""] {
+            let r = Request {
+                s: Some(Arg::Int(2)),
+                nested: Some(bad.into()),
+                ..Request::default()
+            };
+            assert!(r.resolve().is_err(), "{bad}");
+        }
     }
 }
