@@ -486,219 +486,173 @@ fn parse_field(field: &str, delim: Delim) -> Option<f64> {
     None
 }
 
-/// A JSON value as far as point sets care: numbers keep their text so that they can be
-/// parsed exactly (serde_json's default float parsing is not correctly rounded).
-enum Json<'a> {
-    Num(&'a str),
-    Arr(Vec<Json<'a>>),
-    Obj(Vec<(&'a str, Json<'a>)>),
-    /// A string, `true`, `false` or `null`, as written.
-    Other(&'a str),
-}
-
-impl Json<'_> {
-    fn describe(&self) -> String {
-        match self {
-            Json::Num(t) => format!("the number {t}"),
-            Json::Arr(_) => "a list".to_string(),
-            Json::Obj(_) => "an object".to_string(),
-            Json::Other(t) if t.starts_with('"') => "a string".to_string(),
-            Json::Other(t) => (*t).to_string(),
-        }
-    }
-
-    fn raw(&self) -> String {
-        match self {
-            Json::Num(t) | Json::Other(t) => t.chars().take(40).collect(),
-            Json::Arr(_) => "[...]".to_string(),
-            Json::Obj(_) => "{...}".to_string(),
-        }
-    }
-}
-
-/// A scanner for text that serde_json has already accepted, so it only has to find token
-/// boundaries; `None` means the two disagree, which would be a bug here.
-struct Scanner<'a> {
-    text: &'a str,
-    pos: usize,
-}
-
-impl<'a> Scanner<'a> {
-    fn peek(&mut self) -> Option<u8> {
-        let bytes = self.text.as_bytes();
-        while self.pos < bytes.len() && bytes[self.pos].is_ascii_whitespace() {
-            self.pos += 1;
-        }
-        bytes.get(self.pos).copied()
-    }
-
-    fn expect(&mut self, b: u8) -> Option<()> {
-        if self.peek()? != b {
-            return None;
-        }
-        self.pos += 1;
-        Some(())
-    }
-
-    fn value(&mut self) -> Option<Json<'a>> {
-        match self.peek()? {
-            b'[' => {
-                self.pos += 1;
-                let mut items = Vec::new();
-                if self.peek()? == b']' {
-                    self.pos += 1;
-                    return Some(Json::Arr(items));
-                }
-                loop {
-                    items.push(self.value()?);
-                    match self.peek()? {
-                        b',' => self.pos += 1,
-                        b']' => {
-                            self.pos += 1;
-                            return Some(Json::Arr(items));
-                        }
-                        _ => return None,
-                    }
-                }
-            }
-            b'{' => {
-                self.pos += 1;
-                let mut entries = Vec::new();
-                if self.peek()? == b'}' {
-                    self.pos += 1;
-                    return Some(Json::Obj(entries));
-                }
-                loop {
-                    let key = self.string()?;
-                    self.expect(b':')?;
-                    let key = &key[1..key.len() - 1];
-                    entries.push((key, self.value()?));
-                    match self.peek()? {
-                        b',' => self.pos += 1,
-                        b'}' => {
-                            self.pos += 1;
-                            return Some(Json::Obj(entries));
-                        }
-                        _ => return None,
-                    }
-                }
-            }
-            b'"' => self.string().map(Json::Other),
-            _ => {
-                let start = self.pos;
-                let bytes = self.text.as_bytes();
-                while self.pos < bytes.len()
-                    && (bytes[self.pos].is_ascii_alphanumeric()
-                        || matches!(bytes[self.pos], b'+' | b'-' | b'.'))
-                {
-                    self.pos += 1;
-                }
-                let token = &self.text[start..self.pos];
-                match token.as_bytes().first()? {
-                    b't' | b'f' | b'n' => Some(Json::Other(token)),
-                    _ => Some(Json::Num(token)),
-                }
-            }
-        }
-    }
-
-    /// A string token including its quotes.
-    fn string(&mut self) -> Option<&'a str> {
-        if self.peek()? != b'"' {
-            return None;
-        }
-        let bytes = self.text.as_bytes();
-        let start = self.pos;
-        let mut i = start + 1;
-        while i < bytes.len() {
-            match bytes[i] {
-                b'\\' => i += 2,
-                b'"' => {
-                    self.pos = i + 1;
-                    return Some(&self.text[start..self.pos]);
-                }
-                _ => i += 1,
-            }
-        }
-        None
-    }
-}
-
 const JSON_SHAPE: &str = r#"expected {"points": [[x1, x2, ...], ...]} or [[x1, x2, ...], ...]"#;
 
-fn parse_json(text: &str, file: &str) -> Result<PointSet, IoError> {
+/// The top level of a JSON point file: a list of points, or an object whose `points`
+/// holds them (with optional `n` and `s` that must agree). Read with serde_json, whose
+/// `float_roundtrip` parsing is correctly rounded; a key given twice is refused rather
+/// than silently taking the last one.
+enum JsonRoot {
+    List(Vec<serde_json::Value>),
+    Object {
+        points: Option<serde_json::Value>,
+        hints: Vec<(&'static str, serde_json::Value)>,
+        repeated: Option<String>,
+    },
+    Other(serde_json::Value),
+}
+
+impl<'de> serde::Deserialize<'de> for JsonRoot {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visit;
+        impl<'de> serde::de::Visitor<'de> for Visit {
+            type Value = JsonRoot;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a JSON value")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                mut a: A,
+            ) -> Result<JsonRoot, A::Error> {
+                let mut v = Vec::new();
+                while let Some(x) = a.next_element()? {
+                    v.push(x);
+                }
+                Ok(JsonRoot::List(v))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                mut a: A,
+            ) -> Result<JsonRoot, A::Error> {
+                let (mut points, mut hints, mut repeated) = (None, Vec::new(), None);
+                let mut seen = std::collections::HashSet::new();
+                while let Some(key) = a.next_key::<String>()? {
+                    let value: serde_json::Value = a.next_value()?;
+                    if !seen.insert(key.clone()) && repeated.is_none() {
+                        repeated = Some(key.clone());
+                    }
+                    match key.as_str() {
+                        "points" => points = Some(value),
+                        "n" => hints.push(("n", value)),
+                        "s" => hints.push(("s", value)),
+                        _ => {}
+                    }
+                }
+                Ok(JsonRoot::Object {
+                    points,
+                    hints,
+                    repeated,
+                })
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<JsonRoot, E> {
+                Ok(JsonRoot::Other(serde_json::Value::String(v.into())))
+            }
+            fn visit_bool<E: serde::de::Error>(self, v: bool) -> Result<JsonRoot, E> {
+                Ok(JsonRoot::Other(serde_json::Value::Bool(v)))
+            }
+            fn visit_unit<E: serde::de::Error>(self) -> Result<JsonRoot, E> {
+                Ok(JsonRoot::Other(serde_json::Value::Null))
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<JsonRoot, E> {
+                Ok(JsonRoot::Other(serde_json::json!(v)))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<JsonRoot, E> {
+                Ok(JsonRoot::Other(serde_json::json!(v)))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<JsonRoot, E> {
+                Ok(JsonRoot::Other(serde_json::json!(v)))
+            }
+        }
+        d.deserialize_any(Visit)
+    }
+}
+
+/// What a JSON value is, for a refusal.
+fn describe(v: &serde_json::Value) -> String {
+    match v {
+        serde_json::Value::Number(x) => format!("the number {x}"),
+        serde_json::Value::Array(_) => "a list".to_string(),
+        serde_json::Value::Object(_) => "an object".to_string(),
+        serde_json::Value::String(_) => "a string".to_string(),
+        other => other.to_string(),
+    }
+}
+
+/// Parses a JSON point file (`{"points": [[..], ..]}` or `[[..], ..]`); `file` names the
+/// input in error messages.
+pub fn parse_json(text: &str, file: &str) -> Result<PointSet, IoError> {
     if json_depth_exceeds(text, MAX_JSON_DEPTH) {
         return Err(format_error(
             file,
             format!("JSON nested more than {MAX_JSON_DEPTH} levels deep; {JSON_SHAPE}"),
         ));
     }
-    serde_json::from_str::<serde::de::IgnoredAny>(text)
-        .map_err(|e| format_error(file, format!("not valid JSON ({e})")))?;
-    let root = Scanner { text, pos: 0 }
-        .value()
-        .ok_or_else(|| format_error(file, "could not scan this JSON (please report)"))?;
-    let shape = |detail: String| format_error(file, format!("{JSON_SHAPE} ({detail})"));
-
-    let mut hints: Vec<(&str, &str)> = Vec::new();
-    let list = match root {
-        Json::Arr(list) => list,
-        Json::Obj(entries) => {
-            let mut list = None;
-            for (raw, value) in entries {
-                // A key written with escapes ("po\u0069nts") means its unescaped text.
-                let unescaped = raw
-                    .contains('\\')
-                    .then(|| serde_json::from_str::<String>(&format!("\"{raw}\"")).ok())
-                    .flatten();
-                let key = unescaped.as_deref().unwrap_or(raw);
-                match (key, value) {
-                    ("points", Json::Arr(v)) => list = Some(v),
-                    ("points", other) => {
-                        return Err(shape(format!("\"points\" is {}", other.describe())))
-                    }
-                    ("n", Json::Num(t)) => hints.push(("n", t)),
-                    ("s", Json::Num(t)) => hints.push(("s", t)),
-                    _ => {}
-                }
-            }
-            list.ok_or_else(|| shape("the object has no \"points\" key".to_string()))?
+    let root: JsonRoot = serde_json::from_str(text).map_err(|e| {
+        if e.to_string().starts_with("number out of range") {
+            format_error(
+                file,
+                format!(
+                    "line {}, column {}: a number beyond ±1.8e308 (every coordinate must be a \
+                     finite number)",
+                    e.line(),
+                    e.column()
+                ),
+            )
+        } else {
+            format_error(file, format!("not valid JSON ({e})"))
         }
-        other => return Err(shape(format!("got {}", other.describe()))),
+    })?;
+    let shape = |detail: String| format_error(file, format!("{JSON_SHAPE} ({detail})"));
+    let (list, hints) = match root {
+        JsonRoot::List(list) => (list, Vec::new()),
+        JsonRoot::Object {
+            repeated: Some(key),
+            ..
+        } => {
+            return Err(format_error(
+                file,
+                format!("the key \"{key}\" is given twice (expected each key once)"),
+            ))
+        }
+        JsonRoot::Object {
+            points: Some(serde_json::Value::Array(list)),
+            hints,
+            ..
+        } => (list, hints),
+        JsonRoot::Object {
+            points: Some(other),
+            ..
+        } => return Err(shape(format!("\"points\" is {}", describe(&other)))),
+        JsonRoot::Object { points: None, .. } => {
+            return Err(shape("the object has no \"points\" key".to_string()))
+        }
+        JsonRoot::Other(v) => return Err(shape(format!("got {}", describe(&v)))),
     };
     if list.is_empty() {
         return Err(IoError::Empty {
             file: file.to_string(),
         });
     }
-
-    let number = |j: &Json, point: usize, coord: usize| match j {
-        Json::Num(t) => t.parse::<f64>().map_err(|_| {
+    let number = |j: &serde_json::Value, point: usize, coord: usize| {
+        j.as_f64().ok_or_else(|| {
+            let raw: String = j.to_string().chars().take(40).collect();
             format_error(
                 file,
-                format!("point {point}, coordinate {coord}: bad number {t}"),
+                format!("point {point}, coordinate {coord}: {raw} is not a number"),
             )
-        }),
-        other => Err(format_error(
-            file,
-            format!(
-                "point {point}, coordinate {coord}: {} is not a number",
-                other.raw()
-            ),
-        )),
+        })
     };
-
     let n = list.len();
     let mut data = Vec::new();
-    let s = if matches!(list[0], Json::Num(_)) {
+    let s = if list[0].is_number() {
         // A flat list of numbers is n points on a line.
         data.reserve(n);
         for (i, item) in list.iter().enumerate() {
-            if !matches!(item, Json::Num(_)) {
+            if !item.is_number() {
                 return Err(shape(format!(
                     "point {} is {} but point 1 is a number",
                     i + 1,
-                    item.describe()
+                    describe(item)
                 )));
             }
             data.push(number(item, i + 1, 1)?);
@@ -707,11 +661,11 @@ fn parse_json(text: &str, file: &str) -> Result<PointSet, IoError> {
     } else {
         let mut s = 0;
         for (i, item) in list.iter().enumerate() {
-            let Json::Arr(row) = item else {
+            let serde_json::Value::Array(row) = item else {
                 return Err(shape(format!(
                     "point {} is {}, not a list of numbers",
                     i + 1,
-                    item.describe()
+                    describe(item)
                 )));
             };
             if i == 0 {
@@ -736,10 +690,9 @@ fn parse_json(text: &str, file: &str) -> Result<PointSet, IoError> {
         }
         s
     };
-
     for (key, t) in hints {
         let actual = if key == "n" { n } else { s };
-        if t.parse::<f64>().ok() != Some(actual as f64) {
+        if t.as_f64() != Some(actual as f64) {
             return Err(format_error(
                 file,
                 format!(
@@ -753,7 +706,6 @@ fn parse_json(text: &str, file: &str) -> Result<PointSet, IoError> {
             ));
         }
     }
-
     PointSet::new(n, s, data).map_err(|error| IoError::Points {
         file: file.to_string(),
         error,
