@@ -17,276 +17,12 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
     }
     match cli.command {
         Command::Generate(args) => generate(*args)?,
-        Command::Eval {
-            files,
-            json,
-            bounds,
-        } => {
-            let mut evaluated = Vec::new();
-            for file in &files {
-                let mut points = io::read_points(file)?;
-                if let Some(text) = &bounds {
-                    points = parse_bounds(text, points.s())?
-                        .unscale(&points, &file.display().to_string())?;
-                }
-                points
-                    .check_unit_cube()
-                    .with_context(|| format!("{}", file.display()))?;
-                let v = stillpoint::quality::evaluate::eval_json(&points);
-                evaluated.push((file.clone(), points, v));
-            }
-            match (json, evaluated.as_slice()) {
-                (true, [(_, _, v)]) => println!("{}", serde_json::to_string_pretty(v)?),
-                (false, [(file, points, v)]) => print!("{}", eval_table(file, points, v)),
-                (true, many) => {
-                    let all: Vec<Value> = many
-                        .iter()
-                        .map(|(f, _, v)| {
-                            let mut v = v.clone();
-                            v["file"] = json!(f.display().to_string());
-                            v
-                        })
-                        .collect();
-                    println!("{}", serde_json::to_string_pretty(&all)?)
-                }
-                (false, many) => print!("{}", eval_comparison(many)),
-            }
-        }
-        Command::Compare {
-            cases,
-            steps,
-            energy,
-            out,
-            quick,
-        } => {
-            let mut settings = stillpoint_paper::compare::CompareSettings {
-                steps,
-                discrepancy: DiscrepancyKind::parse(&energy).map_err(|_| {
-                    anyhow::anyhow!(
-                        "invalid --energy = {energy}: expected l2star, md, cd or periodic"
-                    )
-                })?,
-                ..Default::default()
-            };
-            if quick {
-                settings.cases = vec![(2, 200), (3, 200)];
-                settings.steps = steps.min(200);
-            }
-            if let Some(c) = cases {
-                settings.cases = parse_cases(&c)?;
-            }
-            let table = stillpoint_paper::compare::run_and_write(&settings, &out, true)?;
-            print!("{table}");
-        }
-        Command::Baseline {
-            name,
-            n,
-            s,
-            output,
-            seed,
-            list,
-            json,
-            bounds,
-        } => {
-            if list {
-                for b in Baseline::all() {
-                    println!("{} ({}):\n  {}\n", b.name(), b.label(), b.describe());
-                }
-                return Ok(());
-            }
-            let (Some(name), Some(n), Some(s)) = (name, n, s) else {
-                bail!("missing NAME, -n N or -s S (see stillpoint baseline --help)");
-            };
-            if let Some(out) = &output {
-                check_writable(out, "-o")?;
-                check_points_extension(out, "-o")?;
-            }
-            let b = Baseline::parse(&name)?;
-            let scale = match &bounds {
-                Some(text) => Some(parse_bounds(text, s)?),
-                None => None,
-            };
-            let points = b.generate(n, s, seed)?;
-            if b == Baseline::Sobol && !n.is_power_of_two() {
-                eprintln!(
-                    "note: n = {n} is not a power of two; Sobol' points are balanced (one per \
-                     elementary interval, stratified in every coordinate) only at n = 2^k"
-                );
-            }
-            let metrics = (n <= METRICS_LIMIT).then(|| Metrics::compute(&points));
-            let meta = json!({
-                "generator": format!("stillpoint baseline {}", b.name()),
-                "version": env!("CARGO_PKG_VERSION"),
-                "seed": if b.is_randomized() { Some(seed) } else { None },
-                "parameters": {
-                    "baseline": b.name(),
-                    "label": b.label(),
-                    "n": n,
-                    "s": s,
-                    "randomized": b.is_randomized(),
-                    "bounds": bounds,
-                },
-                "metrics": metrics.as_ref().map(metrics_json),
-            });
-            // The metrics are the unit cube's; the points written are in the box.
-            let points = match &scale {
-                Some(b) => b.scale(&points)?,
-                None => points,
-            };
-            if json {
-                let mut v = meta.clone();
-                match &output {
-                    Some(path) => {
-                        io::write_points(path, &points, &meta)?;
-                        v["output"] = json!(path);
-                    }
-                    None => v["points"] = points_json(&points),
-                }
-                println!("{}", serde_json::to_string_pretty(&v)?);
-                return Ok(());
-            }
-            match &output {
-                Some(path) => {
-                    io::write_points(path, &points, &meta)?;
-                    let quality = match metrics {
-                        Some(m) => format!(
-                            "D_MD {:.6}, D_L2* {:.6}, centred L2 {:.6}, wrap-around L2 {:.6}, \
-                             minimum distance {:.6}",
-                            m.modified_l2,
-                            m.star_l2,
-                            m.centered_l2,
-                            m.wrap_around_l2,
-                            m.min_distance
-                        ),
-                        None => format!("metrics skipped above n = {METRICS_LIMIT}"),
-                    };
-                    println!(
-                        "{} ({}), n = {n}, s = {s}: {quality}; written to {}",
-                        b.name(),
-                        b.label(),
-                        path.display()
-                    );
-                }
-                None => print!("{}", io::to_csv_string(&points, &meta)),
-            }
-        }
-        Command::Integrate { file, json } => {
-            let points = io::read_points(&file)?;
-            points
-                .check_unit_cube()
-                .with_context(|| format!("{}", file.display()))?;
-            let report = stillpoint::quality::integrands::integrate(&points)?;
-            let fns = stillpoint::quality::integrands::TestFunction::all();
-            if json {
-                let rows: Vec<Value> = fns
-                    .iter()
-                    .zip(report.estimates)
-                    .map(|(f, e)| {
-                        json!({"function": f.name(), "formula": f.formula(),
-                               "estimate": e, "error": e.map(f64::abs)})
-                    })
-                    .collect();
-                let v = json!({"file": file, "n": points.n(), "s": points.s(),
-                               "exact": 0.0, "functions": rows});
-                println!("{}", serde_json::to_string_pretty(&v)?);
-            } else {
-                println!(
-                    "{}: n = {}, s = {}; every exact integral is 0, so |estimate| is the error\n",
-                    file.display(),
-                    points.n(),
-                    points.s()
-                );
-                println!(
-                    "  {:<4} {:>14} {:>12}   integrand",
-                    "", "estimate", "|error|"
-                );
-                for (f, e) in fns.iter().zip(report.estimates) {
-                    match e {
-                        Some(v) => println!(
-                            "  {:<4} {:>14.6e} {:>12.3e}   {}",
-                            f.name(),
-                            v,
-                            v.abs(),
-                            f.formula()
-                        ),
-                        None => println!(
-                            "  {:<4} {:>14} {:>12}   {} (needs s ≥ 2)",
-                            f.name(),
-                            "—",
-                            "—",
-                            f.formula()
-                        ),
-                    }
-                }
-            }
-        }
-        Command::Study {
-            name,
-            quick,
-            out,
-            seed,
-            quiet,
-        } => {
-            let studies: Vec<Study> = if name.trim().eq_ignore_ascii_case("all") {
-                Study::all().to_vec()
-            } else {
-                vec![Study::parse(&name)?]
-            };
-            let out = out.unwrap_or_else(|| {
-                if quick {
-                    PathBuf::from("results/quick")
-                } else {
-                    PathBuf::from("results")
-                }
-            });
-            for study in studies {
-                let mut opts = StudyOptions::new(quick, out.join(study.name()));
-                opts.catalog_dir = out.join("catalog");
-                opts.seed = seed;
-                let mut log = |line: &str| {
-                    if !quiet {
-                        eprintln!("{line}");
-                    }
-                };
-                let result = studies::run(study, &opts, &mut log)?;
-                print!("{}", result.markdown);
-                eprintln!(
-                    "{}: {} file(s) in {} ({})",
-                    study.name(),
-                    result.files.len(),
-                    opts.out.display(),
-                    studies::human_seconds(result.seconds)
-                );
-            }
-        }
-        Command::Plot {
-            file,
-            output,
-            dims,
-            region,
-            bbox,
-            shape,
-            trajectory,
-            title,
-            split,
-        } => {
-            check_writable(&output, "-o")?;
-            check_picture_extension(&output, "-o")?;
-            match (trajectory, file) {
-                (Some(traj), _) => plot_trajectory(&traj, &output, title)?,
-                (None, Some(file)) => {
-                    let spec = RegionSpec {
-                        region: region.as_deref(),
-                        bbox: bbox.as_deref(),
-                        shape: shape.as_deref(),
-                    };
-                    plot_points(&file, &output, dims, spec, title, split)?
-                }
-                (None, None) => {
-                    bail!("missing FILE: the point file to draw (or --trajectory TRAJ)")
-                }
-            }
-        }
+        c @ Command::Eval { .. } => eval_command(c)?,
+        c @ Command::Compare { .. } => compare_command(c)?,
+        c @ Command::Baseline { .. } => baseline_command(c)?,
+        c @ Command::Integrate { .. } => integrate_command(c)?,
+        c @ Command::Study { .. } => study_command(c)?,
+        c @ Command::Plot { .. } => plot_command(c)?,
         Command::Bench {
             quick,
             points,
@@ -310,3 +46,308 @@ const MAX_REPS: usize = 100_000;
 /// The most worker threads `--threads` starts (each is a real thread with its own stack;
 /// far beyond the cores they only cost).
 const MAX_THREADS: usize = 1024;
+
+/// `stillpoint eval`.
+fn eval_command(c: Command) -> Result<()> {
+    let Command::Eval {
+        files,
+        json,
+        bounds,
+    } = c
+    else {
+        bail!("eval: not this subcommand");
+    };
+    let mut evaluated = Vec::new();
+    for file in &files {
+        let mut points = io::read_points(file)?;
+        if let Some(text) = &bounds {
+            points =
+                parse_bounds(text, points.s())?.unscale(&points, &file.display().to_string())?;
+        }
+        points
+            .check_unit_cube()
+            .with_context(|| format!("{}", file.display()))?;
+        let v = stillpoint::quality::evaluate::eval_json(&points);
+        evaluated.push((file.clone(), points, v));
+    }
+    match (json, evaluated.as_slice()) {
+        (true, [(_, _, v)]) => println!("{}", serde_json::to_string_pretty(v)?),
+        (false, [(file, points, v)]) => print!("{}", eval_table(file, points, v)),
+        (true, many) => {
+            let all: Vec<Value> = many
+                .iter()
+                .map(|(f, _, v)| {
+                    let mut v = v.clone();
+                    v["file"] = json!(f.display().to_string());
+                    v
+                })
+                .collect();
+            println!("{}", serde_json::to_string_pretty(&all)?)
+        }
+        (false, many) => print!("{}", eval_comparison(many)),
+    }
+    Ok(())
+}
+
+/// `stillpoint compare`.
+fn compare_command(c: Command) -> Result<()> {
+    let Command::Compare {
+        cases,
+        steps,
+        energy,
+        out,
+        quick,
+    } = c
+    else {
+        bail!("compare: not this subcommand");
+    };
+    let mut settings = stillpoint_paper::compare::CompareSettings {
+        steps,
+        discrepancy: DiscrepancyKind::parse(&energy).map_err(|_| {
+            anyhow::anyhow!("invalid --energy = {energy}: expected l2star, md, cd or periodic")
+        })?,
+        ..Default::default()
+    };
+    if quick {
+        settings.cases = vec![(2, 200), (3, 200)];
+        settings.steps = steps.min(200);
+    }
+    if let Some(c) = cases {
+        settings.cases = parse_cases(&c)?;
+    }
+    let table = stillpoint_paper::compare::run_and_write(&settings, &out, true)?;
+    print!("{table}");
+    Ok(())
+}
+
+/// `stillpoint baseline`.
+fn baseline_command(c: Command) -> Result<()> {
+    let Command::Baseline {
+        name,
+        n,
+        s,
+        output,
+        seed,
+        list,
+        json,
+        bounds,
+    } = c
+    else {
+        bail!("baseline: not this subcommand");
+    };
+    if list {
+        for b in Baseline::all() {
+            println!("{} ({}):\n  {}\n", b.name(), b.label(), b.describe());
+        }
+        return Ok(());
+    }
+    let (Some(name), Some(n), Some(s)) = (name, n, s) else {
+        bail!("missing NAME, -n N or -s S (see stillpoint baseline --help)");
+    };
+    if let Some(out) = &output {
+        check_writable(out, "-o")?;
+        check_points_extension(out, "-o")?;
+    }
+    let b = Baseline::parse(&name)?;
+    let scale = match &bounds {
+        Some(text) => Some(parse_bounds(text, s)?),
+        None => None,
+    };
+    let points = b.generate(n, s, seed)?;
+    if b == Baseline::Sobol && !n.is_power_of_two() {
+        eprintln!(
+            "note: n = {n} is not a power of two; Sobol' points are balanced (one per \
+             elementary interval, stratified in every coordinate) only at n = 2^k"
+        );
+    }
+    let metrics = (n <= METRICS_LIMIT).then(|| Metrics::compute(&points));
+    let meta = json!({
+        "generator": format!("stillpoint baseline {}", b.name()),
+        "version": env!("CARGO_PKG_VERSION"),
+        "seed": if b.is_randomized() { Some(seed) } else { None },
+        "parameters": {
+            "baseline": b.name(),
+            "label": b.label(),
+            "n": n,
+            "s": s,
+            "randomized": b.is_randomized(),
+            "bounds": bounds,
+        },
+        "metrics": metrics.as_ref().map(metrics_json),
+    });
+    // The metrics are the unit cube's; the points written are in the box.
+    let points = match &scale {
+        Some(b) => b.scale(&points)?,
+        None => points,
+    };
+    if json {
+        let mut v = meta.clone();
+        match &output {
+            Some(path) => {
+                io::write_points(path, &points, &meta)?;
+                v["output"] = json!(path);
+            }
+            None => v["points"] = points_json(&points),
+        }
+        println!("{}", serde_json::to_string_pretty(&v)?);
+        return Ok(());
+    }
+    match &output {
+        Some(path) => {
+            io::write_points(path, &points, &meta)?;
+            let quality = match metrics {
+                Some(m) => format!(
+                    "D_MD {:.6}, D_L2* {:.6}, centred L2 {:.6}, wrap-around L2 {:.6}, \
+                     minimum distance {:.6}",
+                    m.modified_l2, m.star_l2, m.centered_l2, m.wrap_around_l2, m.min_distance
+                ),
+                None => format!("metrics skipped above n = {METRICS_LIMIT}"),
+            };
+            println!(
+                "{} ({}), n = {n}, s = {s}: {quality}; written to {}",
+                b.name(),
+                b.label(),
+                path.display()
+            );
+        }
+        None => print!("{}", io::to_csv_string(&points, &meta)),
+    }
+    Ok(())
+}
+
+/// `stillpoint integrate`.
+fn integrate_command(c: Command) -> Result<()> {
+    let Command::Integrate { file, json } = c else {
+        bail!("integrate: not this subcommand");
+    };
+    let points = io::read_points(&file)?;
+    points
+        .check_unit_cube()
+        .with_context(|| format!("{}", file.display()))?;
+    let report = stillpoint::quality::integrands::integrate(&points)?;
+    let fns = stillpoint::quality::integrands::TestFunction::all();
+    if json {
+        let rows: Vec<Value> = fns
+            .iter()
+            .zip(report.estimates)
+            .map(|(f, e)| {
+                json!({"function": f.name(), "formula": f.formula(),
+                       "estimate": e, "error": e.map(f64::abs)})
+            })
+            .collect();
+        let v = json!({"file": file, "n": points.n(), "s": points.s(),
+                       "exact": 0.0, "functions": rows});
+        println!("{}", serde_json::to_string_pretty(&v)?);
+    } else {
+        println!(
+            "{}: n = {}, s = {}; every exact integral is 0, so |estimate| is the error\n",
+            file.display(),
+            points.n(),
+            points.s()
+        );
+        println!(
+            "  {:<4} {:>14} {:>12}   integrand",
+            "", "estimate", "|error|"
+        );
+        for (f, e) in fns.iter().zip(report.estimates) {
+            match e {
+                Some(v) => println!(
+                    "  {:<4} {:>14.6e} {:>12.3e}   {}",
+                    f.name(),
+                    v,
+                    v.abs(),
+                    f.formula()
+                ),
+                None => println!(
+                    "  {:<4} {:>14} {:>12}   {} (needs s ≥ 2)",
+                    f.name(),
+                    "—",
+                    "—",
+                    f.formula()
+                ),
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `stillpoint study`.
+fn study_command(c: Command) -> Result<()> {
+    let Command::Study {
+        name,
+        quick,
+        out,
+        seed,
+        quiet,
+    } = c
+    else {
+        bail!("study: not this subcommand");
+    };
+    let studies: Vec<Study> = if name.trim().eq_ignore_ascii_case("all") {
+        Study::all().to_vec()
+    } else {
+        vec![Study::parse(&name)?]
+    };
+    let out = out.unwrap_or_else(|| {
+        if quick {
+            PathBuf::from("results/quick")
+        } else {
+            PathBuf::from("results")
+        }
+    });
+    for study in studies {
+        let mut opts = StudyOptions::new(quick, out.join(study.name()));
+        opts.catalog_dir = out.join("catalog");
+        opts.seed = seed;
+        let mut log = |line: &str| {
+            if !quiet {
+                eprintln!("{line}");
+            }
+        };
+        let result = studies::run(study, &opts, &mut log)?;
+        print!("{}", result.markdown);
+        eprintln!(
+            "{}: {} file(s) in {} ({})",
+            study.name(),
+            result.files.len(),
+            opts.out.display(),
+            studies::human_seconds(result.seconds)
+        );
+    }
+    Ok(())
+}
+
+/// `stillpoint plot`.
+fn plot_command(c: Command) -> Result<()> {
+    let Command::Plot {
+        file,
+        output,
+        dims,
+        region,
+        bbox,
+        shape,
+        trajectory,
+        title,
+        split,
+    } = c
+    else {
+        bail!("plot: not this subcommand");
+    };
+    check_writable(&output, "-o")?;
+    check_picture_extension(&output, "-o")?;
+    match (trajectory, file) {
+        (Some(traj), _) => plot_trajectory(&traj, &output, title)?,
+        (None, Some(file)) => {
+            let spec = RegionSpec {
+                region: region.as_deref(),
+                bbox: bbox.as_deref(),
+                shape: shape.as_deref(),
+            };
+            plot_points(&file, &output, dims, spec, title, split)?
+        }
+        (None, None) => {
+            bail!("missing FILE: the point file to draw (or --trajectory TRAJ)")
+        }
+    }
+    Ok(())
+}

@@ -345,6 +345,18 @@ pub fn run(quick: bool, out: &mut dyn Write) -> std::io::Result<()> {
     )?;
     writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|")?;
 
+    kernel_table(quick, reps, peak, out)?;
+    scaling_table(quick, reps, out)
+}
+
+/// One row per kernel: ours on 1 and 2 threads beside its baseline, and the share of
+/// the machine's f64 peak.
+fn kernel_table(
+    quick: bool,
+    reps: usize,
+    peak: (f64, f64),
+    out: &mut dyn Write,
+) -> std::io::Result<()> {
     let n_uqp = if quick { 500 } else { 1500 };
     let (q, p) = (0.3, 0.8);
     let mut full_two = Vec::new();
@@ -440,6 +452,18 @@ pub fn run(quick: bool, out: &mut dyn Write) -> std::io::Result<()> {
         row(out, &name, n_uqp, 20, "—", &t, flops, peak)?;
     }
 
+    discrepancy_rows(quick, reps, peak, out)
+}
+
+/// The discrepancy kernels' rows: each closed form, the discrepancy energy's gradient and
+/// every metric of `eval` together.
+fn discrepancy_rows(
+    quick: bool,
+    reps: usize,
+    peak: (f64, f64),
+    out: &mut dyn Write,
+) -> std::io::Result<()> {
+    let n_uqp = if quick { 500 } else { 1500 };
     let n_disc = if quick { 1500 } else { 10_000 };
     let x = sequences::halton(n_disc, 20).expect("halton");
     for (name, kind, f, flops) in [
@@ -526,7 +550,13 @@ pub fn run(quick: bool, out: &mut dyn Write) -> std::io::Result<()> {
             peak,
         )?;
     }
+    Ok(())
+}
 
+/// Nanoseconds per pair and coordinate as n grows: constant while the kernels are
+/// compute-bound.
+fn scaling_table(quick: bool, reps: usize, out: &mut dyn Write) -> std::io::Result<()> {
+    let (q, p) = (0.3, 0.8);
     let ns: &[usize] = if quick {
         &[250, 500, 1000, 2000]
     } else {

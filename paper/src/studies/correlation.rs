@@ -155,186 +155,18 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
             &PAPER_T2[..],
         ),
     ] {
-        let by_n = paper.len() == PAPER_T1.len();
-        let mut rows: Vec<Vec<String>> = vec![
-            vec!["ρ_{1,L2}".into()],
-            vec!["ρ_{1,MD}".into()],
-            vec!["ρ_{E,L2}".into()],
-            vec!["ρ_{E,MD}".into()],
-        ];
-        let mut active_rows: Vec<Vec<String>> = vec![
-            vec!["ρ_{1,L2}, active phase".into()],
-            vec!["ρ_{1,MD}, active phase".into()],
-            vec!["ρ_{E,L2}, active phase".into()],
-            vec!["ρ_{E,MD}, active phase".into()],
-        ];
-        let mut header = vec![if by_n { "n" } else { "s" }.to_string()];
-        // Fig. 4/5 data: index -> method -> value per case.
-        let mut figure: Vec<Vec<Series>> = (0..4).map(|_| vec![]).collect();
-        let method_names: Vec<String> = baselines
-            .iter()
-            .map(|b| b.label().to_string())
-            .chain([
-                "DEM U_{1,1}".to_string(),
-                "DEM U_{E,∞}".to_string(),
-                "DEM U_{1,1} + shift".to_string(),
-                "stillpoint default".to_string(),
-            ])
-            .collect();
-        for series in figure.iter_mut() {
-            for name in &method_names {
-                series.push(Series {
-                    name: name.clone(),
-                    points: vec![],
-                });
-            }
-        }
-        for &(n, s) in &cases {
-            let key = if by_n { n } else { s };
-            header.push(key.to_string());
-            let t1 = trajectory(n, s, false, steps, opts.seed)?;
-            let te = trajectory(n, s, true, steps, opts.seed)?;
-            let ([a, b], [c, d]) = (t1.rho(t1.energy.len()), te.rho(te.energy.len()));
-            let rho = [a, b, c, d];
-            let (l1, le) = (t1.active_len(), te.active_len());
-            let ([a, b], [c, d]) = (t1.rho(l1), te.rho(le));
-            let rho_active = [a, b, c, d];
-            let paper_row = paper.iter().find(|(k, _)| *k == key).map(|(_, v)| *v);
-            for (k, row) in rows.iter_mut().enumerate() {
-                let p = paper_row.map_or(String::new(), |v| format!(" ({:.4})", v[k]));
-                row.push(format!("{}{p}", fmt_opt(rho[k], 4)));
-            }
-            for (k, row) in active_rows.iter_mut().enumerate() {
-                let len = if k < 2 { l1 } else { le };
-                row.push(format!("{} [{len}]", fmt_opt(rho_active[k], 4)));
-            }
-            let mut sets: Vec<(String, PointSet)> = vec![];
-            for b in &baselines {
-                sets.push((b.label().to_string(), b.generate(n, s, opts.seed)?));
-            }
-            sets.push(("DEM U_{1,1}".into(), t1.points.clone()));
-            sets.push(("DEM U_{E,∞}".into(), te.points.clone()));
-            // What a user gets: the same DEM result after the shift selection, and the
-            // default pipeline (eq. 48, Halton start, shift selection).
-            sets.push((
-                "DEM U_{1,1} + shift".into(),
-                stillpoint::post::shift::best_shift(&t1.points, 64).0,
-            ));
-            let mut cfg = GenerateConfig::new(n, s);
-            cfg.steps = steps;
-            sets.push((
-                "stillpoint default".into(),
-                run_config(&cfg, |_| {})?.output.points,
-            ));
-            let mut values = serde_json::Map::new();
-            for (m, (name, set)) in sets.iter().enumerate() {
-                let v = indexes(set)?;
-                for (i, series) in figure.iter_mut().enumerate() {
-                    series[m].points.push((key as f64, v[i]));
-                }
-                values.insert(
-                    name.clone(),
-                    json!({"star_l2": v[0], "modified_l2": v[1], "u11": v[2], "u_e_inf": v[3]}),
-                );
-            }
-            json_cases.push(json!({
-                "n": n, "s": s, "steps": steps,
-                "rho_1_l2": rho[0], "rho_1_md": rho[1], "rho_e_l2": rho[2], "rho_e_md": rho[3],
-                "active_steps": [l1, le], "rho_active": rho_active,
-                "paper": paper_row,
-                "final": values,
-                "dem_u11_start": {"star_l2": t1.star.first(), "modified_l2": t1.modified.first()},
-                "dem_u11_end": {"star_l2": t1.star.last(), "modified_l2": t1.modified.last()},
-            }));
-            log(&format!(
-                "correlation n={n} s={s}: ρ = {}",
-                rho.iter()
-                    .map(|r| fmt_opt(*r, 4))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ));
-            // Fig. 3: the evolution of P_{2,20} (the paper's example of a negative ρ).
-            if by_n && n == 20 {
-                let chart = |title: &str, y: &str, series: Vec<Series>| LineChart {
-                    title: title.into(),
-                    x_label: "step".into(),
-                    y_label: y.into(),
-                    log_y: true,
-                    series,
-                };
-                let zip = |v: &[f64]| t1.steps.iter().copied().zip(v.iter().copied()).collect();
-                let path = opts.out.join("fig3_p2_20.png");
-                save_charts(
-                    &path,
-                    &[
-                        chart(
-                            "P_{2,20}: discrepancies along the DEM on U_{1,1}",
-                            "discrepancy",
-                            vec![
-                                Series {
-                                    name: "D_L2*".into(),
-                                    points: zip(&t1.star),
-                                },
-                                Series {
-                                    name: "D_MD".into(),
-                                    points: zip(&t1.modified),
-                                },
-                            ],
-                        ),
-                        chart(
-                            "P_{2,20}: U_{1,1}",
-                            "U_{1,1}",
-                            vec![Series {
-                                name: "U_{1,1}".into(),
-                                points: zip(&t1.energy),
-                            }],
-                        ),
-                    ],
-                    &mut files,
-                )?;
-            }
-        }
-        md += &format!("## {title}\n\n");
-        md += &markdown_table(&header, &rows);
-        md += "\nThe same over the active phase only (the first [k] steps, until the energy has \
-               done 99.9 % of its fall):\n\n";
-        md += &markdown_table(&header, &active_rows);
-        md += "\n";
-        let fig = if by_n {
-            "fig4_by_n.png"
-        } else {
-            "fig5_by_s.png"
-        };
-        let labels = ["D_L2*", "D_MD", "U_{1,1}", "U_{E,∞}"];
-        let charts: Vec<LineChart> = figure
-            .into_iter()
-            .zip(labels)
-            .map(|(series, label)| LineChart {
-                title: format!("{label} of the final sets"),
-                x_label: if by_n { "n" } else { "s" }.into(),
-                y_label: label.into(),
-                log_y: true,
-                series,
-            })
-            .collect();
-        let path = opts.out.join(fig);
-        stillpoint::plot::save_line_chart_grid(&path, &charts, 2)?;
-        files.push(path);
-        md += &format!(
-            "Final sets against the classic sequences (Fig. {}): [{fig}]({fig}). D_MD of each:\n\n",
-            if by_n { 4 } else { 5 }
-        );
-        let md_rows: Vec<Vec<String>> = charts[1]
-            .series
-            .iter()
-            .map(|s| {
-                let mut row = vec![s.name.clone()];
-                row.extend(s.points.iter().map(|p| format!("{:.5}", p.1)));
-                row
-            })
-            .collect();
-        md += &markdown_table(&header, &md_rows);
-        md += "\n";
+        let text = table(
+            &title,
+            &cases,
+            paper,
+            opts,
+            steps,
+            &baselines,
+            log,
+            &mut files,
+            &mut json_cases,
+        )?;
+        md += &text;
     }
     md += "Fig. 3 (the evolution of P_{2,20}): [fig3_p2_20.png](fig3_p2_20.png).\n";
     Ok(Body {
@@ -342,4 +174,224 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
         json: json!({"study": "correlation", "cases": json_cases}),
         files,
     })
+}
+
+/// One table of the study (by n or by s): the correlations over the whole trajectory and
+/// over its active phase, the final sets against the classic sequences, and the figure;
+/// returns its markdown.
+#[allow(clippy::too_many_arguments)]
+fn table(
+    title: &str,
+    cases: &[(usize, usize)],
+    paper: &[(usize, [f64; 4])],
+    opts: &StudyOptions,
+    steps: usize,
+    baselines: &[Baseline],
+    log: &mut dyn FnMut(&str),
+    files: &mut Vec<std::path::PathBuf>,
+    json_cases: &mut Vec<serde_json::Value>,
+) -> Result<String> {
+    let mut text = String::new();
+    let by_n = paper.len() == PAPER_T1.len();
+    let labels = |suffix: &str| -> Vec<Vec<String>> {
+        ["ρ_{1,L2}", "ρ_{1,MD}", "ρ_{E,L2}", "ρ_{E,MD}"]
+            .iter()
+            .map(|l| vec![format!("{l}{suffix}")])
+            .collect()
+    };
+    let (mut rows, mut active_rows) = (labels(""), labels(", active phase"));
+    let mut header = vec![if by_n { "n" } else { "s" }.to_string()];
+    // Fig. 4/5 data: index -> method -> value per case.
+    let mut figure: Vec<Vec<Series>> = (0..4).map(|_| vec![]).collect();
+    let method_names: Vec<String> = baselines
+        .iter()
+        .map(|b| b.label().to_string())
+        .chain([
+            "DEM U_{1,1}".to_string(),
+            "DEM U_{E,∞}".to_string(),
+            "DEM U_{1,1} + shift".to_string(),
+            "stillpoint default".to_string(),
+        ])
+        .collect();
+    for series in figure.iter_mut() {
+        for name in &method_names {
+            series.push(Series {
+                name: name.clone(),
+                points: vec![],
+            });
+        }
+    }
+    for &(n, s) in cases {
+        let key = if by_n { n } else { s };
+        header.push(key.to_string());
+        let t1 = trajectory(n, s, false, steps, opts.seed)?;
+        let te = trajectory(n, s, true, steps, opts.seed)?;
+        let ([a, b], [c, d]) = (t1.rho(t1.energy.len()), te.rho(te.energy.len()));
+        let rho = [a, b, c, d];
+        let (l1, le) = (t1.active_len(), te.active_len());
+        let ([a, b], [c, d]) = (t1.rho(l1), te.rho(le));
+        let rho_active = [a, b, c, d];
+        let paper_row = paper.iter().find(|(k, _)| *k == key).map(|(_, v)| *v);
+        for (k, row) in rows.iter_mut().enumerate() {
+            let p = paper_row.map_or(String::new(), |v| format!(" ({:.4})", v[k]));
+            row.push(format!("{}{p}", fmt_opt(rho[k], 4)));
+        }
+        for (k, row) in active_rows.iter_mut().enumerate() {
+            let len = if k < 2 { l1 } else { le };
+            row.push(format!("{} [{len}]", fmt_opt(rho_active[k], 4)));
+        }
+        let mut sets: Vec<(String, PointSet)> = vec![];
+        for b in baselines {
+            sets.push((b.label().to_string(), b.generate(n, s, opts.seed)?));
+        }
+        sets.push(("DEM U_{1,1}".into(), t1.points.clone()));
+        sets.push(("DEM U_{E,∞}".into(), te.points.clone()));
+        // What a user gets: the same DEM result after the shift selection, and the
+        // default pipeline (eq. 48, Halton start, shift selection).
+        sets.push((
+            "DEM U_{1,1} + shift".into(),
+            stillpoint::post::shift::best_shift(&t1.points, 64).0,
+        ));
+        let mut cfg = GenerateConfig::new(n, s);
+        cfg.steps = steps;
+        sets.push((
+            "stillpoint default".into(),
+            run_config(&cfg, |_| {})?.output.points,
+        ));
+        let mut values = serde_json::Map::new();
+        for (m, (name, set)) in sets.iter().enumerate() {
+            let v = indexes(set)?;
+            for (i, series) in figure.iter_mut().enumerate() {
+                series[m].points.push((key as f64, v[i]));
+            }
+            values.insert(
+                name.clone(),
+                json!({"star_l2": v[0], "modified_l2": v[1], "u11": v[2], "u_e_inf": v[3]}),
+            );
+        }
+        json_cases.push(json!({
+            "n": n, "s": s, "steps": steps,
+            "rho_1_l2": rho[0], "rho_1_md": rho[1], "rho_e_l2": rho[2], "rho_e_md": rho[3],
+            "active_steps": [l1, le], "rho_active": rho_active,
+            "paper": paper_row,
+            "final": values,
+            "dem_u11_start": {"star_l2": t1.star.first(), "modified_l2": t1.modified.first()},
+            "dem_u11_end": {"star_l2": t1.star.last(), "modified_l2": t1.modified.last()},
+        }));
+        log(&format!(
+            "correlation n={n} s={s}: ρ = {}",
+            rho.iter()
+                .map(|r| fmt_opt(*r, 4))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+        // Fig. 3: the evolution of P_{2,20} (the paper's example of a negative ρ).
+        if by_n && n == 20 {
+            let chart = |title: &str, y: &str, series: Vec<Series>| LineChart {
+                title: title.into(),
+                x_label: "step".into(),
+                y_label: y.into(),
+                log_y: true,
+                series,
+            };
+            let zip = |v: &[f64]| t1.steps.iter().copied().zip(v.iter().copied()).collect();
+            let path = opts.out.join("fig3_p2_20.png");
+            save_charts(
+                &path,
+                &[
+                    chart(
+                        "P_{2,20}: discrepancies along the DEM on U_{1,1}",
+                        "discrepancy",
+                        vec![
+                            Series {
+                                name: "D_L2*".into(),
+                                points: zip(&t1.star),
+                            },
+                            Series {
+                                name: "D_MD".into(),
+                                points: zip(&t1.modified),
+                            },
+                        ],
+                    ),
+                    chart(
+                        "P_{2,20}: U_{1,1}",
+                        "U_{1,1}",
+                        vec![Series {
+                            name: "U_{1,1}".into(),
+                            points: zip(&t1.energy),
+                        }],
+                    ),
+                ],
+                files,
+            )?;
+        }
+    }
+    text += &render(
+        title,
+        by_n,
+        &header,
+        &rows,
+        &active_rows,
+        figure,
+        opts,
+        files,
+    )?;
+    Ok(text)
+}
+
+/// The markdown and the figure of one table from its rows and series.
+#[allow(clippy::too_many_arguments)]
+fn render(
+    title: &str,
+    by_n: bool,
+    header: &[String],
+    rows: &[Vec<String>],
+    active_rows: &[Vec<String>],
+    figure: Vec<Vec<Series>>,
+    opts: &StudyOptions,
+    files: &mut Vec<std::path::PathBuf>,
+) -> Result<String> {
+    let mut text = String::new();
+    text += &format!("## {title}\n\n");
+    text += &markdown_table(header, rows);
+    text += "\nThe same over the active phase only (the first [k] steps, until the energy has \
+           done 99.9 % of its fall):\n\n";
+    text += &markdown_table(header, active_rows);
+    text += "\n";
+    let fig = if by_n {
+        "fig4_by_n.png"
+    } else {
+        "fig5_by_s.png"
+    };
+    let labels = ["D_L2*", "D_MD", "U_{1,1}", "U_{E,∞}"];
+    let charts: Vec<LineChart> = figure
+        .into_iter()
+        .zip(labels)
+        .map(|(series, label)| LineChart {
+            title: format!("{label} of the final sets"),
+            x_label: if by_n { "n" } else { "s" }.into(),
+            y_label: label.into(),
+            log_y: true,
+            series,
+        })
+        .collect();
+    let path = opts.out.join(fig);
+    stillpoint::plot::save_line_chart_grid(&path, &charts, 2)?;
+    files.push(path);
+    text += &format!(
+        "Final sets against the classic sequences (Fig. {}): [{fig}]({fig}). D_MD of each:\n\n",
+        if by_n { 4 } else { 5 }
+    );
+    let md_rows: Vec<Vec<String>> = charts[1]
+        .series
+        .iter()
+        .map(|s| {
+            let mut row = vec![s.name.clone()];
+            row.extend(s.points.iter().map(|p| format!("{:.5}", p.1)));
+            row
+        })
+        .collect();
+    text += &markdown_table(header, &md_rows);
+    text += "\n";
+    Ok(text)
 }
