@@ -71,8 +71,8 @@ fn eval_command(c: Command) -> Result<()> {
         evaluated.push((file.clone(), points, v));
     }
     match (json, evaluated.as_slice()) {
-        (true, [(_, _, v)]) => println!("{}", serde_json::to_string_pretty(v)?),
-        (false, [(file, points, v)]) => print!("{}", eval_table(file, points, v)),
+        (true, [(_, _, v)]) => outln!("{}", serde_json::to_string_pretty(v)?),
+        (false, [(file, points, v)]) => out!("{}", eval_table(file, points, v)),
         (true, many) => {
             let all: Vec<Value> = many
                 .iter()
@@ -82,9 +82,9 @@ fn eval_command(c: Command) -> Result<()> {
                     v
                 })
                 .collect();
-            println!("{}", serde_json::to_string_pretty(&all)?)
+            outln!("{}", serde_json::to_string_pretty(&all)?)
         }
-        (false, many) => print!("{}", eval_comparison(many)),
+        (false, many) => out!("{}", eval_comparison(many)),
     }
     Ok(())
 }
@@ -116,7 +116,7 @@ fn compare_command(c: Command) -> Result<()> {
         settings.cases = parse_cases(&c)?;
     }
     let table = stillpoint_paper::compare::run_and_write(&settings, &out, true)?;
-    print!("{table}");
+    out!("{table}");
     Ok(())
 }
 
@@ -137,7 +137,7 @@ fn baseline_command(c: Command) -> Result<()> {
     };
     if list {
         for b in Baseline::all() {
-            println!("{} ({}):\n  {}\n", b.name(), b.label(), b.describe());
+            outln!("{} ({}):\n  {}\n", b.name(), b.label(), b.describe());
         }
         return Ok(());
     }
@@ -155,7 +155,7 @@ fn baseline_command(c: Command) -> Result<()> {
     };
     let points = b.generate(n, s, seed)?;
     if b == Baseline::Sobol && !n.is_power_of_two() {
-        eprintln!(
+        noteln!(
             "note: n = {n} is not a power of two; Sobol' points are balanced (one per \
              elementary interval, stratified in every coordinate) only at n = 2^k"
         );
@@ -189,7 +189,7 @@ fn baseline_command(c: Command) -> Result<()> {
             }
             None => v["points"] = points_json(&points),
         }
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        outln!("{}", serde_json::to_string_pretty(&v)?);
         return Ok(());
     }
     match &output {
@@ -203,14 +203,14 @@ fn baseline_command(c: Command) -> Result<()> {
                 ),
                 None => format!("metrics skipped above n = {METRICS_LIMIT}"),
             };
-            println!(
+            outln!(
                 "{} ({}), n = {n}, s = {s}: {quality}; written to {}",
                 b.name(),
                 b.label(),
                 path.display()
             );
         }
-        None => print!("{}", io::to_csv_string(&points, &meta)),
+        None => out!("{}", io::to_csv_string(&points, &meta)),
     }
     Ok(())
 }
@@ -237,28 +237,30 @@ fn integrate_command(c: Command) -> Result<()> {
             .collect();
         let v = json!({"file": file, "n": points.n(), "s": points.s(),
                        "exact": 0.0, "functions": rows});
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        outln!("{}", serde_json::to_string_pretty(&v)?);
     } else {
-        println!(
+        outln!(
             "{}: n = {}, s = {}; every exact integral is 0, so |estimate| is the error\n",
             file.display(),
             points.n(),
             points.s()
         );
-        println!(
+        outln!(
             "  {:<4} {:>14} {:>12}   integrand",
-            "", "estimate", "|error|"
+            "",
+            "estimate",
+            "|error|"
         );
         for (f, e) in fns.iter().zip(report.estimates) {
             match e {
-                Some(v) => println!(
+                Some(v) => outln!(
                     "  {:<4} {:>14.6e} {:>12.3e}   {}",
                     f.name(),
                     v,
                     v.abs(),
                     f.formula()
                 ),
-                None => println!(
+                None => outln!(
                     "  {:<4} {:>14} {:>12}   {} (needs s ≥ 2)",
                     f.name(),
                     "—",
@@ -301,12 +303,12 @@ fn study_command(c: Command) -> Result<()> {
         opts.seed = seed;
         let mut log = |line: &str| {
             if !quiet {
-                eprintln!("{line}");
+                noteln!("{line}");
             }
         };
         let result = studies::run(study, &opts, &mut log)?;
-        print!("{}", result.markdown);
-        eprintln!(
+        out!("{}", result.markdown);
+        noteln!(
             "{}: {} file(s) in {} ({})",
             study.name(),
             result.files.len(),

@@ -276,7 +276,7 @@ pub(crate) fn checkpoint_plan(
     };
     check_writable(&path, "--checkpoint")?;
     if resume_path.is_none() && path.exists() && !quiet {
-        eprintln!(
+        noteln!(
             "note: {} exists; this run starts afresh and replaces it (add --resume to \
              continue from it)",
             path.display()

@@ -12,6 +12,7 @@ mod plot;
 mod progress;
 mod region;
 mod report;
+mod streams;
 mod values;
 
 // The submodules share one set of names (`use super::*`): the command line is one
@@ -19,7 +20,15 @@ mod values;
 #[allow(unused_imports)]
 use {
     self::{
-        args::*, dispatch::*, generate::*, output::*, plot::*, progress::*, region::*, report::*,
+        args::*,
+        dispatch::*,
+        generate::*,
+        output::*,
+        plot::*,
+        progress::*,
+        region::*,
+        report::*,
+        streams::{note, noteln, out, outln},
         values::*,
     },
     anyhow::{bail, Context, Result},
@@ -54,7 +63,11 @@ fn main() {
         std::process::exit(130);
     });
     let cli = Cli::parse();
-    if let Err(e) = real_main(cli).map_err(with_flag_names) {
+    let done = real_main(cli).and_then(|()| streams::flush_out());
+    if let Err(e) = done.map_err(with_flag_names) {
+        if streams::is_closed_pipe(&e) {
+            std::process::exit(streams::CLOSED_PIPE_STATUS);
+        }
         // Not eprintln!: a closed standard error (`2>&1 | head`) must not turn a refusal
         // into a panic.
         use std::io::Write;

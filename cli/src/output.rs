@@ -42,17 +42,17 @@ pub(crate) fn emit(
     staging.commit()?;
     match summary {
         Value::String(table) => match output {
-            Some(_) => print!("{table}"),
+            Some(_) => out!("{table}"),
             None => {
-                print!("{}", io::to_csv_string(points, meta));
-                eprint!("{table}");
+                out!("{}", io::to_csv_string(points, meta));
+                note!("{table}");
             }
         },
         mut v => {
             if output.is_none() {
                 v["points"] = points_json(points);
             }
-            println!("{}", serde_json::to_string_pretty(&v)?);
+            outln!("{}", serde_json::to_string_pretty(&v)?);
         }
     }
     Ok(())
