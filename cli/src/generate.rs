@@ -275,6 +275,15 @@ pub(crate) fn checkpoint_plan(
         return Ok(None);
     };
     check_writable(&path, "--checkpoint")?;
+    // Only a checkpoint is replaced: any other file there (a point set, a report) is
+    // someone's result, not this run's state.
+    if resume_path.is_none() && path.exists() && run::read_checkpoint(&path).is_err() {
+        bail!(
+            "invalid --checkpoint {}: the file exists and is not a checkpoint (expected a new \
+             path, or a checkpoint of an earlier run to replace)",
+            path.display()
+        );
+    }
     if resume_path.is_none() && path.exists() && !quiet {
         noteln!(
             "note: {} exists; this run starts afresh and replaces it (add --resume to \
