@@ -290,6 +290,12 @@ def integrate(x: Any, f: Optional[Callable[[np.ndarray], Any]] = None) -> Any:
             f"invalid f: f(x) returned shape {values.shape}, expected ({pts.shape[0]},) "
             "(one value per point; f must be vectorised over the rows of x)"
         )
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size:
+        raise ValueError(
+            f"invalid f: f(x) is {values[bad[0]]} at point {bad[0] + 1} (x = "
+            f"{pts[bad[0]].tolist()}); expected a finite value at every point"
+        )
     return float(np.mean(values))
 
 

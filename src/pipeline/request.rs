@@ -959,7 +959,7 @@ impl Resolver<'_> {
                             "s",
                             s,
                             format!(
-                                "the dimension of the {} points, {} (or no {})",
+                                "the dimension of {}, {} (or no {})",
                                 (self.spell)(name),
                                 p.s(),
                                 (self.spell)("s")
