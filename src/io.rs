@@ -486,145 +486,296 @@ fn parse_field(field: &str, delim: Delim) -> Option<f64> {
     None
 }
 
-/// A JSON value as far as point sets care: numbers keep their text so that they can be
-/// parsed exactly (serde_json's default float parsing is not correctly rounded).
-enum Json<'a> {
-    Num(&'a str),
-    Arr(Vec<Json<'a>>),
-    Obj(Vec<(&'a str, Json<'a>)>),
-    /// A string, `true`, `false` or `null`, as written.
-    Other(&'a str),
-}
-
-impl Json<'_> {
-    fn describe(&self) -> String {
-        match self {
-            Json::Num(t) => format!("the number {t}"),
-            Json::Arr(_) => "a list".to_string(),
-            Json::Obj(_) => "an object".to_string(),
-            Json::Other(t) if t.starts_with('"') => "a string".to_string(),
-            Json::Other(t) => (*t).to_string(),
-        }
-    }
-
-    fn raw(&self) -> String {
-        match self {
-            Json::Num(t) | Json::Other(t) => t.chars().take(40).collect(),
-            Json::Arr(_) => "[...]".to_string(),
-            Json::Obj(_) => "{...}".to_string(),
-        }
-    }
-}
-
-/// A scanner for text that serde_json has already accepted, so it only has to find token
-/// boundaries; `None` means the two disagree, which would be a bug here.
-struct Scanner<'a> {
-    text: &'a str,
-    pos: usize,
-}
-
-impl<'a> Scanner<'a> {
-    fn peek(&mut self) -> Option<u8> {
-        let bytes = self.text.as_bytes();
-        while self.pos < bytes.len() && bytes[self.pos].is_ascii_whitespace() {
-            self.pos += 1;
-        }
-        bytes.get(self.pos).copied()
-    }
-
-    fn expect(&mut self, b: u8) -> Option<()> {
-        if self.peek()? != b {
-            return None;
-        }
-        self.pos += 1;
-        Some(())
-    }
-
-    fn value(&mut self) -> Option<Json<'a>> {
-        match self.peek()? {
-            b'[' => {
-                self.pos += 1;
-                let mut items = Vec::new();
-                if self.peek()? == b']' {
-                    self.pos += 1;
-                    return Some(Json::Arr(items));
-                }
-                loop {
-                    items.push(self.value()?);
-                    match self.peek()? {
-                        b',' => self.pos += 1,
-                        b']' => {
-                            self.pos += 1;
-                            return Some(Json::Arr(items));
-                        }
-                        _ => return None,
-                    }
-                }
-            }
-            b'{' => {
-                self.pos += 1;
-                let mut entries = Vec::new();
-                if self.peek()? == b'}' {
-                    self.pos += 1;
-                    return Some(Json::Obj(entries));
-                }
-                loop {
-                    let key = self.string()?;
-                    self.expect(b':')?;
-                    let key = &key[1..key.len() - 1];
-                    entries.push((key, self.value()?));
-                    match self.peek()? {
-                        b',' => self.pos += 1,
-                        b'}' => {
-                            self.pos += 1;
-                            return Some(Json::Obj(entries));
-                        }
-                        _ => return None,
-                    }
-                }
-            }
-            b'"' => self.string().map(Json::Other),
-            _ => {
-                let start = self.pos;
-                let bytes = self.text.as_bytes();
-                while self.pos < bytes.len()
-                    && (bytes[self.pos].is_ascii_alphanumeric()
-                        || matches!(bytes[self.pos], b'+' | b'-' | b'.'))
-                {
-                    self.pos += 1;
-                }
-                let token = &self.text[start..self.pos];
-                match token.as_bytes().first()? {
-                    b't' | b'f' | b'n' => Some(Json::Other(token)),
-                    _ => Some(Json::Num(token)),
-                }
-            }
-        }
-    }
-
-    /// A string token including its quotes.
-    fn string(&mut self) -> Option<&'a str> {
-        if self.peek()? != b'"' {
-            return None;
-        }
-        let bytes = self.text.as_bytes();
-        let start = self.pos;
-        let mut i = start + 1;
-        while i < bytes.len() {
-            match bytes[i] {
-                b'\\' => i += 2,
-                b'"' => {
-                    self.pos = i + 1;
-                    return Some(&self.text[start..self.pos]);
-                }
-                _ => i += 1,
-            }
-        }
-        None
-    }
-}
-
 const JSON_SHAPE: &str = r#"expected {"points": [[x1, x2, ...], ...]} or [[x1, x2, ...], ...]"#;
+
+/// Where in a point file a JSON value sits, which decides what it may be.
+#[derive(Debug, Clone, Copy)]
+enum Place {
+    /// The whole document: the list of points, or an object holding it.
+    Root,
+    /// The value of the `"points"` key.
+    Points,
+    /// Point `i` (1-based): a list of coordinates, or one number in a flat list.
+    Point(usize),
+    /// Coordinate `k` of point `i`.
+    Coordinate(usize, usize),
+}
+
+/// One read of a JSON point file, in a single pass of serde_json straight into the
+/// coordinates (no tree of values in between, which for a large file is many times the
+/// size of its numbers).
+struct JsonReader<'a> {
+    file: &'a str,
+    data: Vec<f64>,
+    n: usize,
+    /// Coordinates per point, fixed by point 1.
+    s: usize,
+    /// Point 1 was a bare number: the file is a flat list of one-dimensional points.
+    flat: bool,
+    /// The `"n"` and `"s"` of an object, checked against what `"points"` holds.
+    hints: Vec<(&'static str, serde_json::Number)>,
+    /// A refusal of ours, kept aside while serde_json unwinds: its errors carry only
+    /// text, and a refusal must name the file, the point and what is accepted.
+    refusal: Option<IoError>,
+    /// The value being read when serde_json stopped, to name a number it cannot hold.
+    at: Option<Place>,
+}
+
+impl JsonReader<'_> {
+    /// The refusal for a read that stopped with `error`.
+    fn explain(self, error: serde_json::Error, text: &str) -> IoError {
+        let file = self.file;
+        if let Some(refusal) = self.refusal {
+            return refusal;
+        }
+        let place = match self.at {
+            Some(Place::Coordinate(i, k)) => format!("point {i}, coordinate {k}"),
+            Some(Place::Point(i)) if self.flat || i == 1 => format!("point {i}, coordinate 1"),
+            Some(Place::Point(i)) => format!("point {i}"),
+            _ => return format_error(file, format!("not valid JSON ({error})")),
+        };
+        // serde_json refuses a number beyond the largest double rather than round it to
+        // infinity; say which number, as the text reader does for `inf`.
+        let number = number_at(text, error.line(), error.column());
+        if number.parse::<f64>().is_ok_and(f64::is_infinite) {
+            return IoError::Points {
+                file: file.to_string(),
+                error: Error::invalid(
+                    place,
+                    shorten(number),
+                    "a finite number, at most 1.7976931348623157e308 in magnitude",
+                ),
+            };
+        }
+        format_error(file, format!("{place}: not valid JSON ({error})"))
+    }
+}
+
+/// The number around serde_json's error position (1-based line; byte column just past
+/// what it read), or `""` if there is none.
+fn number_at(text: &str, line: usize, column: usize) -> &str {
+    let start_of_line: usize = text
+        .split('\n')
+        .take(line.saturating_sub(1))
+        .map(|l| l.len() + 1)
+        .sum();
+    let at = (start_of_line + column).min(text.len());
+    let bytes = text.as_bytes();
+    let numeric = |b: &&u8| b.is_ascii_digit() || matches!(b, b'+' | b'-' | b'.' | b'e' | b'E');
+    let start = at - bytes[..at].iter().rev().take_while(numeric).count();
+    let end = at + bytes[at..].iter().take_while(numeric).count();
+    // `get`: with no number there, `at` may fall inside a multi-byte character.
+    text.get(start..end).unwrap_or("")
+}
+
+/// At most 40 characters of `text`, marked when cut.
+fn shorten(text: &str) -> String {
+    let shown: String = text.chars().take(40).collect();
+    let dots = if shown.len() < text.len() { "..." } else { "" };
+    format!("{shown}{dots}")
+}
+
+/// The JSON value at `place`, read into `reader`; serves as its own visitor.
+struct Seed<'r, 'a> {
+    reader: &'r mut JsonReader<'a>,
+    place: Place,
+}
+
+impl<'de> serde::de::DeserializeSeed<'de> for Seed<'_, '_> {
+    type Value = ();
+
+    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        let Seed { reader, place } = self;
+        reader.at = Some(place);
+        d.deserialize_any(Seed {
+            reader: &mut *reader,
+            place,
+        })?;
+        reader.at = None;
+        Ok(())
+    }
+}
+
+impl Seed<'_, '_> {
+    fn refuse<E: serde::de::Error>(self, refusal: IoError) -> E {
+        self.reader.refusal = Some(refusal);
+        E::custom("refused")
+    }
+
+    fn shape<E: serde::de::Error>(self, detail: String) -> E {
+        let refusal = format_error(self.reader.file, format!("{JSON_SHAPE} ({detail})"));
+        self.refuse(refusal)
+    }
+
+    /// A number: a coordinate, or point 1 of a flat list and any point after it.
+    fn number<E: serde::de::Error>(self, v: f64, written: &dyn std::fmt::Debug) -> Result<(), E> {
+        match self.place {
+            Place::Coordinate(..) => {}
+            Place::Point(i) if i == 1 || self.reader.flat => {
+                self.reader.flat = true;
+                self.reader.s = 1;
+            }
+            _ => return self.other(&format!("the number {written:?}"), ""),
+        }
+        self.reader.data.push(v);
+        Ok(())
+    }
+
+    /// A value that has no place here: `what` describes it, `raw` is its text.
+    fn other<E: serde::de::Error>(self, what: &str, raw: &str) -> Result<(), E> {
+        let file = self.reader.file;
+        Err(match self.place {
+            Place::Root => self.shape(format!("got {what}")),
+            Place::Points => self.shape(format!("\"points\" is {what}")),
+            Place::Point(i) if self.reader.flat => {
+                self.shape(format!("point {i} is {what} but point 1 is a number"))
+            }
+            Place::Point(i) => self.shape(format!("point {i} is {what}, not a list of numbers")),
+            Place::Coordinate(i, k) => self.refuse(format_error(
+                file,
+                format!(
+                    "point {i}, coordinate {k}: {} is not a number",
+                    shorten(raw)
+                ),
+            )),
+        })
+    }
+
+    /// The list of points.
+    fn list<'de, A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+        let mut n = 0;
+        while seq
+            .next_element_seed(Seed {
+                reader: &mut *self.reader,
+                place: Place::Point(n + 1),
+            })?
+            .is_some()
+        {
+            n += 1;
+        }
+        self.reader.n = n;
+        Ok(())
+    }
+
+    /// The coordinates of point `i`.
+    fn row<'de, A: serde::de::SeqAccess<'de>>(self, i: usize, mut seq: A) -> Result<(), A::Error> {
+        if self.reader.flat {
+            return Err(self.shape(format!("point {i} is a list but point 1 is a number")));
+        }
+        let mut count = 0;
+        while seq
+            .next_element_seed(Seed {
+                reader: &mut *self.reader,
+                place: Place::Coordinate(i, count + 1),
+            })?
+            .is_some()
+        {
+            count += 1;
+        }
+        let file = self.reader.file;
+        let s = self.reader.s;
+        if i == 1 && count == 0 {
+            return Err(self.refuse(format_error(file, "point 1 has no coordinates")));
+        }
+        if i == 1 {
+            self.reader.s = count;
+        } else if count != s {
+            let message = format!(
+                "point {i} has {}, point 1 has {s} (every point needs the same number)",
+                coordinates(count)
+            );
+            return Err(self.refuse(format_error(file, message)));
+        }
+        Ok(())
+    }
+
+    /// The top-level object: `"points"`, with `"n"` and `"s"` checked if present and any
+    /// other key (`"meta"`, provenance) skipped.
+    fn object<'de, A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        let file = self.reader.file;
+        let mut seen: Vec<&'static str> = Vec::new();
+        while let Some(key) = map.next_key::<String>()? {
+            let key = match key.as_str() {
+                "points" => "points",
+                "n" => "n",
+                "s" => "s",
+                _ => {
+                    map.next_value::<serde::de::IgnoredAny>()?;
+                    continue;
+                }
+            };
+            // JSON leaves a repeated key's meaning open, and parsers differ on which one
+            // wins: a second `"points"` is more likely a mistake than a choice.
+            if seen.contains(&key) {
+                let message = format!("duplicate key \"{key}\"; a point file has each key once");
+                return Err(self.refuse(format_error(file, message)));
+            }
+            seen.push(key);
+            if key == "points" {
+                map.next_value_seed(Seed {
+                    reader: &mut *self.reader,
+                    place: Place::Points,
+                })?;
+            } else if let serde_json::Value::Number(v) = map.next_value()? {
+                self.reader.hints.push((key, v));
+            }
+        }
+        if !seen.contains(&"points") {
+            return Err(self.shape("the object has no \"points\" key".to_string()));
+        }
+        Ok(())
+    }
+}
+
+impl<'de> serde::de::Visitor<'de> for Seed<'_, '_> {
+    type Value = ();
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str(JSON_SHAPE)
+    }
+
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<(), E> {
+        // `as` rounds to the nearest double, ties to even.
+        self.number(v as f64, &v)
+    }
+
+    fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<(), E> {
+        self.number(v as f64, &v)
+    }
+
+    fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<(), E> {
+        self.number(v, &v)
+    }
+
+    fn visit_bool<E: serde::de::Error>(self, v: bool) -> Result<(), E> {
+        let text = if v { "true" } else { "false" };
+        self.other(text, text)
+    }
+
+    fn visit_unit<E: serde::de::Error>(self) -> Result<(), E> {
+        self.other("null", "null")
+    }
+
+    fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<(), E> {
+        let raw = serde_json::to_string(v).unwrap_or_default();
+        self.other("a string", &raw)
+    }
+
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<(), A::Error> {
+        match self.place {
+            Place::Root | Place::Points => self.list(seq),
+            Place::Point(i) => self.row(i, seq),
+            Place::Coordinate(..) => self.other("a list", "[...]"),
+        }
+    }
+
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<(), A::Error> {
+        match self.place {
+            Place::Root => self.object(map),
+            _ => self.other("an object", "{...}"),
+        }
+    }
+}
 
 fn parse_json(text: &str, file: &str) -> Result<PointSet, IoError> {
     if json_depth_exceeds(text, MAX_JSON_DEPTH) {
@@ -633,127 +784,45 @@ fn parse_json(text: &str, file: &str) -> Result<PointSet, IoError> {
             format!("JSON nested more than {MAX_JSON_DEPTH} levels deep; {JSON_SHAPE}"),
         ));
     }
-    serde_json::from_str::<serde::de::IgnoredAny>(text)
-        .map_err(|e| format_error(file, format!("not valid JSON ({e})")))?;
-    let root = Scanner { text, pos: 0 }
-        .value()
-        .ok_or_else(|| format_error(file, "could not scan this JSON (please report)"))?;
-    let shape = |detail: String| format_error(file, format!("{JSON_SHAPE} ({detail})"));
-
-    let mut hints: Vec<(&str, &str)> = Vec::new();
-    let list = match root {
-        Json::Arr(list) => list,
-        Json::Obj(entries) => {
-            let mut list = None;
-            for (raw, value) in entries {
-                // A key written with escapes ("po\u0069nts") means its unescaped text.
-                let unescaped = raw
-                    .contains('\\')
-                    .then(|| serde_json::from_str::<String>(&format!("\"{raw}\"")).ok())
-                    .flatten();
-                let key = unescaped.as_deref().unwrap_or(raw);
-                match (key, value) {
-                    ("points", Json::Arr(v)) => list = Some(v),
-                    ("points", other) => {
-                        return Err(shape(format!("\"points\" is {}", other.describe())))
-                    }
-                    ("n", Json::Num(t)) => hints.push(("n", t)),
-                    ("s", Json::Num(t)) => hints.push(("s", t)),
-                    _ => {}
-                }
-            }
-            list.ok_or_else(|| shape("the object has no \"points\" key".to_string()))?
-        }
-        other => return Err(shape(format!("got {}", other.describe()))),
+    let mut reader = JsonReader {
+        file,
+        data: Vec::new(),
+        n: 0,
+        s: 0,
+        flat: false,
+        hints: Vec::new(),
+        refusal: None,
+        at: None,
     };
-    if list.is_empty() {
+    let mut de = serde_json::Deserializer::from_str(text);
+    let root = Seed {
+        reader: &mut reader,
+        place: Place::Root,
+    };
+    if let Err(e) = serde::de::DeserializeSeed::deserialize(root, &mut de).and_then(|()| de.end()) {
+        return Err(reader.explain(e, text));
+    }
+    let JsonReader {
+        n, s, data, hints, ..
+    } = reader;
+    if n == 0 {
         return Err(IoError::Empty {
             file: file.to_string(),
         });
     }
-
-    let number = |j: &Json, point: usize, coord: usize| match j {
-        Json::Num(t) => t.parse::<f64>().map_err(|_| {
-            format_error(
-                file,
-                format!("point {point}, coordinate {coord}: bad number {t}"),
-            )
-        }),
-        other => Err(format_error(
-            file,
-            format!(
-                "point {point}, coordinate {coord}: {} is not a number",
-                other.raw()
-            ),
-        )),
-    };
-
-    let n = list.len();
-    let mut data = Vec::new();
-    let s = if matches!(list[0], Json::Num(_)) {
-        // A flat list of numbers is n points on a line.
-        data.reserve(n);
-        for (i, item) in list.iter().enumerate() {
-            if !matches!(item, Json::Num(_)) {
-                return Err(shape(format!(
-                    "point {} is {} but point 1 is a number",
-                    i + 1,
-                    item.describe()
-                )));
-            }
-            data.push(number(item, i + 1, 1)?);
-        }
-        1
-    } else {
-        let mut s = 0;
-        for (i, item) in list.iter().enumerate() {
-            let Json::Arr(row) = item else {
-                return Err(shape(format!(
-                    "point {} is {}, not a list of numbers",
-                    i + 1,
-                    item.describe()
-                )));
-            };
-            if i == 0 {
-                if row.is_empty() {
-                    return Err(format_error(file, "point 1 has no coordinates"));
-                }
-                s = row.len();
-                data.reserve(n * s);
-            } else if row.len() != s {
-                return Err(format_error(
-                    file,
-                    format!(
-                        "point {} has {}, point 1 has {s} (every point needs the same number)",
-                        i + 1,
-                        coordinates(row.len())
-                    ),
-                ));
-            }
-            for (k, v) in row.iter().enumerate() {
-                data.push(number(v, i + 1, k + 1)?);
-            }
-        }
-        s
-    };
-
-    for (key, t) in hints {
-        let actual = if key == "n" { n } else { s };
-        if t.parse::<f64>().ok() != Some(actual as f64) {
+    for (key, written) in hints {
+        let (actual, what) = if key == "n" {
+            (n, "points")
+        } else {
+            (s, "coordinates per point")
+        };
+        if written.as_f64() != Some(actual as f64) {
             return Err(format_error(
                 file,
-                format!(
-                    "\"{key}\" is {t} but \"points\" holds {actual} {}",
-                    if key == "n" {
-                        "points"
-                    } else {
-                        "coordinates per point"
-                    }
-                ),
+                format!("\"{key}\" is {written} but \"points\" holds {actual} {what}"),
             ));
         }
     }
-
     PointSet::new(n, s, data).map_err(|error| IoError::Points {
         file: file.to_string(),
         error,
