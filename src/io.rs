@@ -488,221 +488,338 @@ fn parse_field(field: &str, delim: Delim) -> Option<f64> {
 
 const JSON_SHAPE: &str = r#"expected {"points": [[x1, x2, ...], ...]} or [[x1, x2, ...], ...]"#;
 
-/// The top level of a JSON point file: a list of points, or an object whose `points`
-/// holds them (with optional `n` and `s` that must agree). Read with serde_json, whose
-/// `float_roundtrip` parsing is correctly rounded; a key given twice is refused rather
-/// than silently taking the last one.
-enum JsonRoot {
-    List(Vec<serde_json::Value>),
-    Object {
-        points: Option<serde_json::Value>,
-        hints: Vec<(&'static str, serde_json::Value)>,
-        repeated: Option<String>,
-    },
-    Other(serde_json::Value),
+/// Where in a point file a JSON value sits, which decides what it may be.
+#[derive(Debug, Clone, Copy)]
+enum Place {
+    /// The whole document: the list of points, or an object holding it.
+    Root,
+    /// The value of the `"points"` key.
+    Points,
+    /// Point `i` (1-based): a list of coordinates, or one number in a flat list.
+    Point(usize),
+    /// Coordinate `k` of point `i`.
+    Coordinate(usize, usize),
 }
 
-impl<'de> serde::Deserialize<'de> for JsonRoot {
-    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct Visit;
-        impl<'de> serde::de::Visitor<'de> for Visit {
-            type Value = JsonRoot;
-            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                f.write_str("a JSON value")
+/// One read of a JSON point file, in a single pass of serde_json straight into the
+/// coordinates (no tree of values in between, which for a large file is many times the
+/// size of its numbers).
+struct JsonReader<'a> {
+    file: &'a str,
+    data: Vec<f64>,
+    n: usize,
+    /// Coordinates per point, fixed by point 1.
+    s: usize,
+    /// Point 1 was a bare number: the file is a flat list of one-dimensional points.
+    flat: bool,
+    /// The `"n"` and `"s"` of an object, checked against what `"points"` holds.
+    hints: Vec<(&'static str, serde_json::Number)>,
+    /// A refusal of ours, kept aside while serde_json unwinds: its errors carry only
+    /// text, and a refusal must name the file, the point and what is accepted.
+    refusal: Option<IoError>,
+    /// The value being read when serde_json stopped, to name a number it cannot hold.
+    at: Option<Place>,
+}
+
+impl JsonReader<'_> {
+    /// The refusal for a read that stopped with `error`.
+    fn explain(self, error: serde_json::Error, text: &str) -> IoError {
+        let file = self.file;
+        if let Some(refusal) = self.refusal {
+            return refusal;
+        }
+        let place = match self.at {
+            Some(Place::Coordinate(i, k)) => format!("point {i}, coordinate {k}"),
+            Some(Place::Point(i)) if self.flat || i == 1 => format!("point {i}, coordinate 1"),
+            Some(Place::Point(i)) => format!("point {i}"),
+            _ => return format_error(file, format!("not valid JSON ({error})")),
+        };
+        // serde_json refuses a number beyond the largest double rather than round it to
+        // infinity; say which number, as the text reader does for `inf`.
+        let number = number_at(text, error.line(), error.column());
+        if number.parse::<f64>().is_ok_and(f64::is_infinite) {
+            return IoError::Points {
+                file: file.to_string(),
+                error: Error::invalid(
+                    place,
+                    shorten(number),
+                    "a finite number, at most 1.7976931348623157e308 in magnitude",
+                ),
+            };
+        }
+        format_error(file, format!("{place}: not valid JSON ({error})"))
+    }
+}
+
+/// The number around serde_json's error position (1-based line; byte column just past
+/// what it read), or `""` if there is none.
+fn number_at(text: &str, line: usize, column: usize) -> &str {
+    let start_of_line: usize = text
+        .split('\n')
+        .take(line.saturating_sub(1))
+        .map(|l| l.len() + 1)
+        .sum();
+    let at = (start_of_line + column).min(text.len());
+    let bytes = text.as_bytes();
+    let numeric = |b: &&u8| b.is_ascii_digit() || matches!(b, b'+' | b'-' | b'.' | b'e' | b'E');
+    let start = at - bytes[..at].iter().rev().take_while(numeric).count();
+    let end = at + bytes[at..].iter().take_while(numeric).count();
+    // `get`: with no number there, `at` may fall inside a multi-byte character.
+    text.get(start..end).unwrap_or("")
+}
+
+/// At most 40 characters of `text`, marked when cut.
+fn shorten(text: &str) -> String {
+    let shown: String = text.chars().take(40).collect();
+    let dots = if shown.len() < text.len() { "..." } else { "" };
+    format!("{shown}{dots}")
+}
+
+/// The JSON value at `place`, read into `reader`; serves as its own visitor.
+struct Seed<'r, 'a> {
+    reader: &'r mut JsonReader<'a>,
+    place: Place,
+}
+
+impl<'de> serde::de::DeserializeSeed<'de> for Seed<'_, '_> {
+    type Value = ();
+
+    fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+        let Seed { reader, place } = self;
+        reader.at = Some(place);
+        d.deserialize_any(Seed {
+            reader: &mut *reader,
+            place,
+        })?;
+        reader.at = None;
+        Ok(())
+    }
+}
+
+impl Seed<'_, '_> {
+    fn refuse<E: serde::de::Error>(self, refusal: IoError) -> E {
+        self.reader.refusal = Some(refusal);
+        E::custom("refused")
+    }
+
+    fn shape<E: serde::de::Error>(self, detail: String) -> E {
+        let refusal = format_error(self.reader.file, format!("{JSON_SHAPE} ({detail})"));
+        self.refuse(refusal)
+    }
+
+    /// A number: a coordinate, or point 1 of a flat list and any point after it.
+    fn number<E: serde::de::Error>(self, v: f64, written: &dyn std::fmt::Debug) -> Result<(), E> {
+        match self.place {
+            Place::Coordinate(..) => {}
+            Place::Point(i) if i == 1 || self.reader.flat => {
+                self.reader.flat = true;
+                self.reader.s = 1;
             }
-            fn visit_seq<A: serde::de::SeqAccess<'de>>(
-                self,
-                mut a: A,
-            ) -> Result<JsonRoot, A::Error> {
-                let mut v = Vec::new();
-                while let Some(x) = a.next_element()? {
-                    v.push(x);
+            _ => return self.other(&format!("the number {written:?}"), ""),
+        }
+        self.reader.data.push(v);
+        Ok(())
+    }
+
+    /// A value that has no place here: `what` describes it, `raw` is its text.
+    fn other<E: serde::de::Error>(self, what: &str, raw: &str) -> Result<(), E> {
+        let file = self.reader.file;
+        Err(match self.place {
+            Place::Root => self.shape(format!("got {what}")),
+            Place::Points => self.shape(format!("\"points\" is {what}")),
+            Place::Point(i) if self.reader.flat => {
+                self.shape(format!("point {i} is {what} but point 1 is a number"))
+            }
+            Place::Point(i) => self.shape(format!("point {i} is {what}, not a list of numbers")),
+            Place::Coordinate(i, k) => self.refuse(format_error(
+                file,
+                format!(
+                    "point {i}, coordinate {k}: {} is not a number",
+                    shorten(raw)
+                ),
+            )),
+        })
+    }
+
+    /// The list of points.
+    fn list<'de, A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+        let mut n = 0;
+        while seq
+            .next_element_seed(Seed {
+                reader: &mut *self.reader,
+                place: Place::Point(n + 1),
+            })?
+            .is_some()
+        {
+            n += 1;
+        }
+        self.reader.n = n;
+        Ok(())
+    }
+
+    /// The coordinates of point `i`.
+    fn row<'de, A: serde::de::SeqAccess<'de>>(self, i: usize, mut seq: A) -> Result<(), A::Error> {
+        if self.reader.flat {
+            return Err(self.shape(format!("point {i} is a list but point 1 is a number")));
+        }
+        let mut count = 0;
+        while seq
+            .next_element_seed(Seed {
+                reader: &mut *self.reader,
+                place: Place::Coordinate(i, count + 1),
+            })?
+            .is_some()
+        {
+            count += 1;
+        }
+        let file = self.reader.file;
+        let s = self.reader.s;
+        if i == 1 && count == 0 {
+            return Err(self.refuse(format_error(file, "point 1 has no coordinates")));
+        }
+        if i == 1 {
+            self.reader.s = count;
+        } else if count != s {
+            let message = format!(
+                "point {i} has {}, point 1 has {s} (every point needs the same number)",
+                coordinates(count)
+            );
+            return Err(self.refuse(format_error(file, message)));
+        }
+        Ok(())
+    }
+
+    /// The top-level object: `"points"`, with `"n"` and `"s"` checked if present and any
+    /// other key (`"meta"`, provenance) skipped.
+    fn object<'de, A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+        let file = self.reader.file;
+        let mut seen: Vec<&'static str> = Vec::new();
+        while let Some(key) = map.next_key::<String>()? {
+            let key = match key.as_str() {
+                "points" => "points",
+                "n" => "n",
+                "s" => "s",
+                _ => {
+                    map.next_value::<serde::de::IgnoredAny>()?;
+                    continue;
                 }
-                Ok(JsonRoot::List(v))
+            };
+            // JSON leaves a repeated key's meaning open, and parsers differ on which one
+            // wins: a second `"points"` is more likely a mistake than a choice.
+            if seen.contains(&key) {
+                let message = format!("duplicate key \"{key}\"; a point file has each key once");
+                return Err(self.refuse(format_error(file, message)));
             }
-            fn visit_map<A: serde::de::MapAccess<'de>>(
-                self,
-                mut a: A,
-            ) -> Result<JsonRoot, A::Error> {
-                let (mut points, mut hints, mut repeated) = (None, Vec::new(), None);
-                let mut seen = std::collections::HashSet::new();
-                while let Some(key) = a.next_key::<String>()? {
-                    let value: serde_json::Value = a.next_value()?;
-                    if !seen.insert(key.clone()) && repeated.is_none() {
-                        repeated = Some(key.clone());
-                    }
-                    match key.as_str() {
-                        "points" => points = Some(value),
-                        "n" => hints.push(("n", value)),
-                        "s" => hints.push(("s", value)),
-                        _ => {}
-                    }
-                }
-                Ok(JsonRoot::Object {
-                    points,
-                    hints,
-                    repeated,
-                })
-            }
-            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<JsonRoot, E> {
-                Ok(JsonRoot::Other(serde_json::Value::String(v.into())))
-            }
-            fn visit_bool<E: serde::de::Error>(self, v: bool) -> Result<JsonRoot, E> {
-                Ok(JsonRoot::Other(serde_json::Value::Bool(v)))
-            }
-            fn visit_unit<E: serde::de::Error>(self) -> Result<JsonRoot, E> {
-                Ok(JsonRoot::Other(serde_json::Value::Null))
-            }
-            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<JsonRoot, E> {
-                Ok(JsonRoot::Other(serde_json::json!(v)))
-            }
-            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<JsonRoot, E> {
-                Ok(JsonRoot::Other(serde_json::json!(v)))
-            }
-            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<JsonRoot, E> {
-                Ok(JsonRoot::Other(serde_json::json!(v)))
+            seen.push(key);
+            if key == "points" {
+                map.next_value_seed(Seed {
+                    reader: &mut *self.reader,
+                    place: Place::Points,
+                })?;
+            } else if let serde_json::Value::Number(v) = map.next_value()? {
+                self.reader.hints.push((key, v));
             }
         }
-        d.deserialize_any(Visit)
+        if !seen.contains(&"points") {
+            return Err(self.shape("the object has no \"points\" key".to_string()));
+        }
+        Ok(())
     }
 }
 
-/// What a JSON value is, for a refusal.
-fn describe(v: &serde_json::Value) -> String {
-    match v {
-        serde_json::Value::Number(x) => format!("the number {x}"),
-        serde_json::Value::Array(_) => "a list".to_string(),
-        serde_json::Value::Object(_) => "an object".to_string(),
-        serde_json::Value::String(_) => "a string".to_string(),
-        other => other.to_string(),
+impl<'de> serde::de::Visitor<'de> for Seed<'_, '_> {
+    type Value = ();
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str(JSON_SHAPE)
+    }
+
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<(), E> {
+        // `as` rounds to the nearest double, ties to even.
+        self.number(v as f64, &v)
+    }
+
+    fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<(), E> {
+        self.number(v as f64, &v)
+    }
+
+    fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<(), E> {
+        self.number(v, &v)
+    }
+
+    fn visit_bool<E: serde::de::Error>(self, v: bool) -> Result<(), E> {
+        let text = if v { "true" } else { "false" };
+        self.other(text, text)
+    }
+
+    fn visit_unit<E: serde::de::Error>(self) -> Result<(), E> {
+        self.other("null", "null")
+    }
+
+    fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<(), E> {
+        let raw = serde_json::to_string(v).unwrap_or_default();
+        self.other("a string", &raw)
+    }
+
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, seq: A) -> Result<(), A::Error> {
+        match self.place {
+            Place::Root | Place::Points => self.list(seq),
+            Place::Point(i) => self.row(i, seq),
+            Place::Coordinate(..) => self.other("a list", "[...]"),
+        }
+    }
+
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<(), A::Error> {
+        match self.place {
+            Place::Root => self.object(map),
+            _ => self.other("an object", "{...}"),
+        }
     }
 }
 
-/// Parses a JSON point file (`{"points": [[..], ..]}` or `[[..], ..]`); `file` names the
-/// input in error messages.
-pub fn parse_json(text: &str, file: &str) -> Result<PointSet, IoError> {
+fn parse_json(text: &str, file: &str) -> Result<PointSet, IoError> {
     if json_depth_exceeds(text, MAX_JSON_DEPTH) {
         return Err(format_error(
             file,
             format!("JSON nested more than {MAX_JSON_DEPTH} levels deep; {JSON_SHAPE}"),
         ));
     }
-    let root: JsonRoot = serde_json::from_str(text).map_err(|e| {
-        if e.to_string().starts_with("number out of range") {
-            format_error(
-                file,
-                format!(
-                    "line {}, column {}: a number beyond ±1.8e308 (every coordinate must be a \
-                     finite number)",
-                    e.line(),
-                    e.column()
-                ),
-            )
-        } else {
-            format_error(file, format!("not valid JSON ({e})"))
-        }
-    })?;
-    let shape = |detail: String| format_error(file, format!("{JSON_SHAPE} ({detail})"));
-    let (list, hints) = match root {
-        JsonRoot::List(list) => (list, Vec::new()),
-        JsonRoot::Object {
-            repeated: Some(key),
-            ..
-        } => {
-            return Err(format_error(
-                file,
-                format!("the key \"{key}\" is given twice (expected each key once)"),
-            ))
-        }
-        JsonRoot::Object {
-            points: Some(serde_json::Value::Array(list)),
-            hints,
-            ..
-        } => (list, hints),
-        JsonRoot::Object {
-            points: Some(other),
-            ..
-        } => return Err(shape(format!("\"points\" is {}", describe(&other)))),
-        JsonRoot::Object { points: None, .. } => {
-            return Err(shape("the object has no \"points\" key".to_string()))
-        }
-        JsonRoot::Other(v) => return Err(shape(format!("got {}", describe(&v)))),
+    let mut reader = JsonReader {
+        file,
+        data: Vec::new(),
+        n: 0,
+        s: 0,
+        flat: false,
+        hints: Vec::new(),
+        refusal: None,
+        at: None,
     };
-    if list.is_empty() {
+    let mut de = serde_json::Deserializer::from_str(text);
+    let root = Seed {
+        reader: &mut reader,
+        place: Place::Root,
+    };
+    if let Err(e) = serde::de::DeserializeSeed::deserialize(root, &mut de).and_then(|()| de.end()) {
+        return Err(reader.explain(e, text));
+    }
+    let JsonReader {
+        n, s, data, hints, ..
+    } = reader;
+    if n == 0 {
         return Err(IoError::Empty {
             file: file.to_string(),
         });
     }
-    let number = |j: &serde_json::Value, point: usize, coord: usize| {
-        j.as_f64().ok_or_else(|| {
-            let raw: String = j.to_string().chars().take(40).collect();
-            format_error(
-                file,
-                format!("point {point}, coordinate {coord}: {raw} is not a number"),
-            )
-        })
-    };
-    let n = list.len();
-    let mut data = Vec::new();
-    let s = if list[0].is_number() {
-        // A flat list of numbers is n points on a line.
-        data.reserve(n);
-        for (i, item) in list.iter().enumerate() {
-            if !item.is_number() {
-                return Err(shape(format!(
-                    "point {} is {} but point 1 is a number",
-                    i + 1,
-                    describe(item)
-                )));
-            }
-            data.push(number(item, i + 1, 1)?);
-        }
-        1
-    } else {
-        let mut s = 0;
-        for (i, item) in list.iter().enumerate() {
-            let serde_json::Value::Array(row) = item else {
-                return Err(shape(format!(
-                    "point {} is {}, not a list of numbers",
-                    i + 1,
-                    describe(item)
-                )));
-            };
-            if i == 0 {
-                if row.is_empty() {
-                    return Err(format_error(file, "point 1 has no coordinates"));
-                }
-                s = row.len();
-                data.reserve(n * s);
-            } else if row.len() != s {
-                return Err(format_error(
-                    file,
-                    format!(
-                        "point {} has {}, point 1 has {s} (every point needs the same number)",
-                        i + 1,
-                        coordinates(row.len())
-                    ),
-                ));
-            }
-            for (k, v) in row.iter().enumerate() {
-                data.push(number(v, i + 1, k + 1)?);
-            }
-        }
-        s
-    };
-    for (key, t) in hints {
-        let actual = if key == "n" { n } else { s };
-        if t.as_f64() != Some(actual as f64) {
+    for (key, written) in hints {
+        let (actual, what) = if key == "n" {
+            (n, "points")
+        } else {
+            (s, "coordinates per point")
+        };
+        if written.as_f64() != Some(actual as f64) {
             return Err(format_error(
                 file,
-                format!(
-                    "\"{key}\" is {t} but \"points\" holds {actual} {}",
-                    if key == "n" {
-                        "points"
-                    } else {
-                        "coordinates per point"
-                    }
-                ),
+                format!("\"{key}\" is {written} but \"points\" holds {actual} {what}"),
             ));
         }
     }

@@ -393,7 +393,7 @@ fn json_errors_say_what_is_accepted() {
         ("[]", "no points found"),
         (r#"{"points": []}"#, "no points found"),
         ("[[]]", "point 1 has no coordinates"),
-        ("[[0.1, NaN]]", "not valid JSON"),
+        ("[[0.1, NaN]]", "point 1, coordinate 2: not valid JSON"),
         ("[[0.1, 0.2]", "not valid JSON"),
         ("[[1e400]]", "finite"),
         (
@@ -406,6 +406,36 @@ fn json_errors_say_what_is_accepted() {
         assert!(e.contains("points.json: "), "{e}");
         assert!(e.contains(detail), "{text}: {e}");
     }
+}
+
+#[test]
+fn a_repeated_points_key_is_refused() {
+    // JSON leaves a repeated key's meaning open; reading either copy would be a guess.
+    let cases = [
+        (r#"{"points": [[0.5]], "points": [[0.25]]}"#, "points"),
+        (
+            r#"{"points": [[0.5]], "meta": {}, "points": [[0.5]]}"#,
+            "points",
+        ),
+        (r#"{"po\u0069nts": [[0.5]], "points": [[0.25]]}"#, "points"),
+        (r#"{"n": 1, "points": [[0.5]], "n": 1}"#, "n"),
+        (r#"{"s": 1, "s": 2, "points": [[0.5]]}"#, "s"),
+    ];
+    for (i, (text, key)) in cases.into_iter().enumerate() {
+        let e = err_text(parse_json_via_file(&format!("dup{i}"), text));
+        assert!(
+            e.ends_with(&format!(
+                "points.json: duplicate key \"{key}\"; a point file has each key once"
+            )),
+            "{text}: {e}"
+        );
+    }
+    // Keys the reader skips may repeat: they change nothing it reads.
+    let p = parse_json_via_file(
+        "dup_meta",
+        r#"{"meta": 1, "points": [[0.5, 0.25]], "meta": 2}"#,
+    );
+    assert_eq!(p.unwrap().as_slice(), &[0.5, 0.25]);
 }
 
 #[test]
