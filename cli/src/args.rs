@@ -42,7 +42,8 @@ pub(crate) struct GenerateArgs {
     pub(crate) goal: Option<String>,
     /// `paper`: the paper's pipeline exactly (Halton start, U_{q,p} with eq. 48, the DEM,
     /// shift selection); the expert options below (--energy, --integrator, …) also
-    /// select it.
+    /// select it. Or a baseline's name (`sobol`, `halton-scrambled`, `lhs`, … see
+    /// `stillpoint baseline --list`), which takes only -n, -s, --seed and --bounds.
     #[arg(long, value_name = "paper|BASELINE")]
     pub(crate) method: Option<String>,
     /// The discrepancy the integration goal lowers: `blend` (D²_MD + D²_L2* + D²_CD,
