@@ -29,10 +29,44 @@ fn value_error(message: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(message.to_string())
 }
 
-/// Runs `f` without the GIL; a library refusal becomes a `ValueError`, a panic a
-/// `RuntimeError`.
+/// Runs `f` on a worker thread without the GIL, while this thread watches for signals:
+/// Ctrl-C asks the library's runs to stop ([`stillpoint::solve::cancel`]) and raises
+/// `KeyboardInterrupt` as soon as the worker has stopped. A library refusal becomes a
+/// `ValueError`, a panic a `RuntimeError`.
 fn detached<T: Send>(py: Python<'_>, f: impl FnOnce() -> Result<T, String> + Send) -> PyResult<T> {
-    let outcome = py.detach(move || catch_unwind(AssertUnwindSafe(f)));
+    stillpoint::solve::clear_cancel();
+    let mut signal = None;
+    let outcome = std::thread::scope(|scope| {
+        let (done, mut finished) = std::sync::mpsc::channel();
+        scope.spawn(move || {
+            let _ = done.send(catch_unwind(AssertUnwindSafe(f)));
+        });
+        loop {
+            // Back as soon as the worker is done; otherwise look at the signals every
+            // 50 ms (with the GIL, which the check needs).
+            let wait = std::time::Duration::from_millis(50);
+            let (got, back) = py.detach(move || (finished.recv_timeout(wait), finished));
+            finished = back;
+            match got {
+                Ok(result) => break result,
+                Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+                    break Err(Box::new("the worker thread ended without a result")
+                        as Box<dyn std::any::Any + Send>)
+                }
+                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
+            }
+            if signal.is_none() {
+                if let Err(e) = py.check_signals() {
+                    stillpoint::solve::cancel();
+                    signal = Some(e);
+                }
+            }
+        }
+    });
+    if let Some(e) = signal {
+        stillpoint::solve::clear_cancel();
+        return Err(e);
+    }
     match outcome {
         Ok(Ok(v)) => Ok(v),
         Ok(Err(message)) => Err(value_error(message)),

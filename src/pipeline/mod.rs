@@ -204,6 +204,9 @@ pub fn generate_with(
             cfg.seed
         ));
     }
+    if crate::solve::cancelled() {
+        return Err(crate::solve::interrupted());
+    }
     report.seconds = clock.elapsed().as_secs_f64();
     Ok(report)
 }

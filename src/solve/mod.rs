@@ -44,8 +44,37 @@ impl<F: FnMut(&Record)> Observer for LoggingObserver<F> {
             record.metrics.push(("modified_l2".into(), md));
         }
         (self.on_record)(record);
-        Control::Continue
+        if cancelled() {
+            Control::Stop
+        } else {
+            Control::Continue
+        }
     }
+}
+
+/// Set when a caller asks the runs under way to stop (Python's Ctrl-C): solvers stop at
+/// their next step, the exchange descent at its next batch of proposals, and the
+/// pipeline returns [`interrupted`] instead of a result. Process-wide, as a signal is.
+static CANCEL: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Asks every run under way to stop.
+pub fn cancel() {
+    CANCEL.store(true, std::sync::atomic::Ordering::SeqCst);
+}
+
+/// Clears a stop request (before a new run).
+pub fn clear_cancel() {
+    CANCEL.store(false, std::sync::atomic::Ordering::SeqCst);
+}
+
+/// Whether a stop was asked for.
+pub fn cancelled() -> bool {
+    CANCEL.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// The error of a run stopped by [`cancel`].
+pub fn interrupted() -> crate::Error {
+    crate::Error::Numerical("interrupted".into())
 }
 
 /// What a run reports while it works, for progress displays.

@@ -287,7 +287,11 @@ pub fn exchange_descent_after(
     let reach = (n / 16).max(2);
     let patience = (n * s).max(64);
     let mut idle = 0;
-    for _ in 0..proposals {
+    for proposal in 0..proposals {
+        // A stop request is seen within a batch of proposals (each costs O(n)).
+        if proposal % 1024 == 0 && crate::solve::cancelled() {
+            break;
+        }
         let k = rng.random_range(0..s);
         let i = rng.random_range(first_movable..n);
         let j = if rng.random::<bool>() {
