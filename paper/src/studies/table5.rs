@@ -190,7 +190,8 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
         cases.push(json!({
             "n": n, "s": s, "steps": steps,
             "dem": {"modified_l2": dmd, "star_l2": dl2, "seconds": dem.seconds,
-                     "q": dem.choice.q, "p": dem.choice.p},
+                     "q": dem.choice.as_ref().map(|c| &c.q),
+                     "p": dem.choice.as_ref().map(|c| c.p)},
             "dem_polish_md": {"modified_l2": pmd, "star_l2": pl2, "seconds": pol.seconds},
             "baselines": base_json,
         }));
