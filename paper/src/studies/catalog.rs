@@ -131,7 +131,7 @@ pub fn ensure(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<(Manifes
             stillpoint: env!("CARGO_PKG_VERSION").into(),
             steps,
             quick: opts.quick,
-            pipeline: "stillpoint generate defaults: U_{q,p} with (q, p) from eq. 48, plain \
+            pipeline: "stillpoint generate --method paper: U_{q,p} with (q, p) from eq. 48, plain \
                        Halton start (indices 1..n), DEM with κ trial from 100 and restart \
                        ε_p = 2/n, then the best of 64 periodic shifts by D_MD"
                 .into(),

@@ -215,7 +215,7 @@ pub(crate) fn run(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<Body
     let mut md = format!("# Table 5: P_{{s,{n}}} against the classic sequences and the paper\n\n");
     md += &format!(
         "D_MD and D_L2* are the roots of eqs. 47 and 46. Our DEM runs {steps} steps with the \
-         defaults of `stillpoint generate`; randomized baselines are averaged over seeds {:?}. \
+         defaults of `stillpoint generate --method paper`; randomized baselines are averaged over seeds {:?}. \
          The paper's rows are its Table 5 (references as numbered there; by the paper's account [16] \
          optimised the scrambling permutations of a generalised Halton sequence).\n\n",
         seeds
