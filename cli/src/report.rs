@@ -7,9 +7,13 @@ pub(crate) fn metrics_json(m: &Metrics) -> Value {
 }
 
 /// The `--json` report of a cube run: settings, run facts, energies and metrics of the
-/// start and the result, the shift and polish, and the wall time.
+/// start and the result, the shift and polish, and the wall time; for a goal run, its
+/// stages in place of the paper's solver facts.
 pub(crate) fn report_json(r: &GenerateReport, cfg: &GenerateConfig) -> Result<Value> {
     let (m0, m1) = r.cube_metrics()?;
+    let (Some(choice), Some(solver)) = (&r.choice, r.solver()) else {
+        return Ok(goal_json(r, cfg, m0, m1));
+    };
     let init = match &cfg.init {
         Init::Halton => "halton".to_string(),
         Init::Random => "random".to_string(),
@@ -20,21 +24,24 @@ pub(crate) fn report_json(r: &GenerateReport, cfg: &GenerateConfig) -> Result<Va
         "n": cfg.n,
         "s": cfg.s,
         "energy": r.energy_name,
-        "q": r.choice.q,
-        "p": r.choice.p,
+        "q": choice.q,
+        "p": finite_or_null(choice.p),
         "precision": cfg.precision.label(),
         "init": init,
         "seed": cfg.seed,
-        "steps": r.output.trajectory.iter().map(|t| t.step).max().unwrap_or(0),
-        "stop": r.output.stop,
-        "kappa": r.output.info("kappa"),
-        "restarts": r.output.info("restarts"),
+        "steps": solver.trajectory.iter().map(|t| t.step).max().unwrap_or(0),
+        "stop": solver.stop,
+        "kappa": solver.info("kappa").map(finite_or_null),
+        "restarts": solver.info("restarts").map(finite_or_null),
     });
     v["eq48"] = json!({
-        "used": r.choice.from_eq48,
-        "in_fitted_range": r.choice.eq48_in_fitted_range,
-        "clamped": r.choice.eq48_clamped,
+        "used": choice.from_eq48,
+        "in_fitted_range": choice.eq48_in_fitted_range,
+        "clamped": choice.eq48_clamped,
     });
+    if !r.stages.is_empty() {
+        v["stages"] = json!(r.stages);
+    }
     v["run"] = info_json(r);
     v["energy_start"] = finite_or_null(r.energy.0);
     v["energy_result"] = finite_or_null(r.energy.1);
@@ -47,6 +54,41 @@ pub(crate) fn report_json(r: &GenerateReport, cfg: &GenerateConfig) -> Result<Va
     };
     v["seconds"] = json!(r.seconds);
     Ok(v)
+}
+
+/// The `--json` report of a goal run: its goal, its stages as data (each start's
+/// candidates, each descent's rounds, the searches), the value it lowered or raised,
+/// and the metrics of the start and the result.
+fn goal_json(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Metrics) -> Value {
+    let descents = r.stages.iter().filter_map(|st| match st {
+        stillpoint::plan::Stage::Descent(d) => Some(d),
+        _ => None,
+    });
+    let (mut accepted, mut iterations, mut skipped) = (0, 0, Vec::new());
+    for d in descents {
+        accepted += d.accepted();
+        iterations += d.lbfgs_iterations();
+        skipped.extend(d.skipped.clone());
+    }
+    json!({
+        "generator": format!("stillpoint {}", env!("CARGO_PKG_VERSION")),
+        "n": cfg.n,
+        "s": cfg.s,
+        "seed": cfg.seed,
+        "goal": goal_name(cfg),
+        "energy": r.energy_name,
+        "energy_start": finite_or_null(r.energy.0),
+        "energy_result": finite_or_null(r.energy.1),
+        "stages": r.stages,
+        "totals": {
+            "exchanges_accepted": accepted,
+            "lbfgs_iterations": iterations,
+            "descents_skipped": skipped,
+        },
+        "metrics_start": metrics_json(m0),
+        "metrics_result": metrics_json(m1),
+        "seconds": r.seconds,
+    })
 }
 
 /// The settings of a DEM as the command line writes them.
@@ -85,23 +127,19 @@ pub(crate) fn file_header(
         Solver::Dem => "dem",
         Solver::Lbfgs => "lbfgs",
     };
-    let steps = r
-        .output
-        .trajectory
-        .iter()
-        .map(|t| t.step)
-        .max()
-        .unwrap_or(0);
-    let (mut parameters, run, metrics) = match cfg.region() {
+    let solver = r.solver();
+    let steps = solver.map(|o| o.trajectory.iter().map(|t| t.step).max().unwrap_or(0));
+    let info = |k: &str| solver.and_then(|o| o.info(k)).map(finite_or_null);
+    let (mut parameters, mut run, metrics) = match cfg.region() {
         None => (
             json!({
                 "n": cfg.n,
                 "s": cfg.s,
                 "energy": r.energy_name,
-                "q": r.choice.q,
-                "p": finite_or_null(r.choice.p),
+                "q": r.choice.as_ref().map(|c| c.q.clone()),
+                "p": r.choice.as_ref().map(|c| finite_or_null(c.p)),
                 "precision": cfg.precision.label(),
-                "pq_from_eq48": r.choice.from_eq48,
+                "pq_from_eq48": r.choice.as_ref().map(|c| c.from_eq48),
                 "init": init,
                 "integrator": integrator,
                 "shifts": cfg.shifts,
@@ -109,9 +147,9 @@ pub(crate) fn file_header(
             }),
             json!({
                 "steps": steps,
-                "stop": r.output.stop,
-                "kappa": r.output.info("kappa").map(finite_or_null),
-                "restarts": r.output.info("restarts").map(finite_or_null),
+                "stop": solver.map(|o| o.stop),
+                "kappa": info("kappa"),
+                "restarts": info("restarts"),
                 "kernel": stillpoint::energies::pairs::vector_path(),
             }),
             metrics_json(r.cube_metrics()?.1),
@@ -128,8 +166,8 @@ pub(crate) fn file_header(
             }),
             json!({
                 "steps": steps,
-                "stop": r.output.stop,
-                "kappa": r.output.info("kappa").map(finite_or_null),
+                "stop": solver.map(|o| o.stop),
+                "kappa": info("kappa"),
                 "kernel": stillpoint::energies::pairs::vector_path(),
             }),
             serde_json::to_value(r.region_metrics()?.1).unwrap_or(Value::Null),
@@ -145,6 +183,10 @@ pub(crate) fn file_header(
             json!(cfg.randomize.map(|r| format!("{r:?}").to_lowercase())),
         );
         p.insert("stages".into(), json!(r.stages));
+        // A goal's solver runs are in its stages: the paper's run facts would be empty.
+        if let Value::Object(run) = &mut run {
+            run.retain(|k, _| k == "kernel");
+        }
         // The lengths of the prefixes made for their size, old and new.
         let sizes: Vec<usize> = match (&cfg.extend, cfg.nested.is_empty()) {
             (Some(old), _) => vec![old.n(), cfg.n],
@@ -182,21 +224,16 @@ pub(crate) fn goal_name(cfg: &GenerateConfig) -> Option<String> {
 
 /// What the solver did, in one line: the DEM's steps, κ and restarts, or L-BFGS's
 /// iterations and restarts.
-fn solver_line(r: &GenerateReport) -> String {
-    let steps = r
-        .output
-        .trajectory
-        .iter()
-        .map(|x| x.step)
-        .max()
-        .unwrap_or(0);
-    let restarts = r.output.info("restarts").unwrap_or(0.0);
-    match r.output.info("kappa") {
+fn solver_line(output: &stillpoint::integrators::RunOutput) -> String {
+    let r = output;
+    let steps = r.trajectory.iter().map(|x| x.step).max().unwrap_or(0);
+    let restarts = r.info("restarts").unwrap_or(0.0);
+    match r.info("kappa") {
         Some(kappa) => format!(
             "DEM: {steps} steps ({:?}), κ = {kappa} after {} trial(s){}, {restarts} restart(s)",
-            r.output.stop,
-            r.output.info("kappa_trials").unwrap_or(0.0),
-            if r.output.info("kappa_trial_failed") == Some(1.0) {
+            r.stop,
+            r.info("kappa_trials").unwrap_or(0.0),
+            if r.info("kappa_trial_failed") == Some(1.0) {
                 " (the energy never fell steadily: κ capped)"
             } else {
                 ""
@@ -204,7 +241,7 @@ fn solver_line(r: &GenerateReport) -> String {
         ),
         None => format!(
             "L-BFGS: {steps} iterations ({:?}), {restarts} restart(s)",
-            r.output.stop
+            r.stop
         ),
     }
 }
@@ -252,23 +289,28 @@ pub(crate) fn report_table(
             cfg.n, cfg.s, r.energy_name, init
         );
     }
-    if r.choice.from_eq48 && r.stages.is_empty() {
+    if let Some(choice) = r.choice.as_ref().filter(|c| c.from_eq48) {
         t += &format!(
             "  (q, p) from eq. 48{}{}\n",
-            if r.choice.eq48_in_fitted_range {
+            if choice.eq48_in_fitted_range {
                 ""
             } else {
                 "; (n, s) is outside the fitted range 1 ≤ s ≤ 20, s ≤ n ≤ 1500"
             },
-            if r.choice.eq48_clamped {
+            if choice.eq48_clamped {
                 "; clamped into [0.05, 1]"
             } else {
                 ""
             }
         );
     }
-    if r.stages.is_empty() {
-        t += &format!("  {}\n\n", solver_line(r));
+    if let Some(solver) = r.solver() {
+        t += &format!("  {}\n", solver_line(solver));
+        // A randomised paper run says so after its solver.
+        for line in &r.stages {
+            t += &format!("  {line}\n");
+        }
+        t += "\n";
     }
     t += &format!(
         "  {:<36} {:>14} {:>14} {:>9}\n",
@@ -351,7 +393,7 @@ pub(crate) fn report_table(
             sh.evaluations
         );
     }
-    if !r.stages.is_empty() && cfg.region().is_none() {
+    if goal_name(cfg).is_some() && cfg.region().is_none() {
         let stratified = stillpoint::quality::stratification::is_stratified(&r.output.points);
         t += &format!(
             "\n  every coordinate stratified (one point in each [k/n, (k+1)/n)): {}\n",
@@ -569,7 +611,7 @@ pub(crate) fn region_table(
 ) -> Result<String> {
     let (a, b) = r.region_metrics()?;
     let domain = region_name(cfg);
-    let solver = solver_line(r);
+    let solver = r.solver().map(solver_line).unwrap_or_default();
     let mut t = format!(
         "stillpoint: n = {}, s = {} in {}\n  {} from {}, {solver}\n\n",
         cfg.n,

@@ -12,14 +12,16 @@ use crate::plan::*;
 use crate::Error;
 
 /// A goal's run as a report: the start and the result with their quality, the value the
-/// goal lowered (or raised) as the energy pair.
+/// goal lowered (or raised) as the energy pair, and its stages. A goal run is no single
+/// solver run, so the report's solver output carries only the points (see
+/// [`GenerateReport::solver`]).
 pub(crate) fn goal_report(
     cfg: &GenerateConfig,
     start: PointSet,
     points: PointSet,
     energy: (f64, f64),
     energy_name: String,
-    stages: Vec<String>,
+    stages: Vec<Stage>,
 ) -> Result<GenerateReport, Error> {
     let quality_pair = (quality(cfg, &start)?, quality(cfg, &points)?);
     Ok(GenerateReport {
@@ -27,19 +29,15 @@ pub(crate) fn goal_report(
         output: RunOutput {
             points,
             trajectory: Vec::new(),
+            // The type asks for a stop reason; no report reads it, as `solver()` is `None`
+            // without an energy choice. Each solver run's own stop is in the stages.
             stop: crate::integrators::StopReason::Converged,
             info: Vec::new(),
         },
         energy,
         energy_name,
         quality: quality_pair,
-        choice: EnergyChoice {
-            q: "-".into(),
-            p: f64::NAN,
-            from_eq48: false,
-            eq48_in_fitted_range: false,
-            eq48_clamped: false,
-        },
+        choice: None,
         shift: None,
         polish: None,
         stages,

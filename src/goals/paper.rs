@@ -163,7 +163,7 @@ pub(crate) fn paper_run(
         output,
         energy: energy_pair,
         quality: quality_pair,
-        choice,
+        choice: Some(choice),
         shift,
         polish,
         stages: Vec::new(),

@@ -44,35 +44,47 @@ pub(crate) fn space_filling_run(
     }
     let min_d = |p: &PointSet| metrics::min_distance_euclidean(p);
     // Each candidate's smallest distance once (an O(n² s) pass); the first best is kept.
-    let (label, _, mut points) = candidates
-        .into_iter()
-        .map(|(l, p)| (l, min_d(&p), p))
-        .fold(None::<(String, f64, PointSet)>, |best, c| match best {
-            Some(b) if b.1 >= c.1 => Some(b),
-            _ => Some(c),
+    let judged: Vec<Candidate> = candidates
+        .iter()
+        .map(|(l, p)| Candidate {
+            label: l.clone(),
+            value: min_d(p),
         })
-        .expect("at least two candidates");
+        .collect();
+    let kept = judged.iter().enumerate().fold(
+        0,
+        |b, (i, c)| if judged[b].value >= c.value { b } else { i },
+    );
+    let mut points = candidates.swap_remove(kept).1;
     // More passes of the search from the best, each with its own random stream: the
     // search never returns a set below its start, so each pass only adds.
+    let mut passes = Vec::new();
     for pass in 0..SPACE_FILLING_PASSES {
         let stream = cfg.seed ^ 0x9e37_79b9_7f4a_7c15u64.wrapping_mul(pass + 1);
         points = sequences::maximin_search(points, stream)?;
+        passes.push(min_d(&points));
     }
     on_event(Event::Stage {
         name: "metrics",
         steps: None,
     });
     let stages = vec![
-        format!(
-            "DEM on {} ({} steps), then stratified",
-            paper.energy_name,
-            paper.output.trajectory.last().map_or(0, |r| r.step)
-        ),
-        format!(
-            "maximin swap search from the DEM's stratified result and from \
-             {SPACE_FILLING_LHS_STARTS} Latin hypercubes: kept {label}, searched \
-             {SPACE_FILLING_PASSES} more times; every coordinate stratified"
-        ),
+        Stage::Dem {
+            energy: paper.energy_name.clone(),
+            steps: paper
+                .output
+                .trajectory
+                .iter()
+                .map(|r| r.step)
+                .max()
+                .unwrap_or(0),
+            stop: paper.output.stop,
+        },
+        Stage::Maximin {
+            candidates: judged,
+            kept,
+            passes,
+        },
     ];
     let energy = (min_d(&from_dem), min_d(&points));
     goal_report(

@@ -195,14 +195,14 @@ pub fn generate_with(
                 problem.energy().value(&report.output.points)
             }
         };
-        report.stages.push(format!(
-            "randomised ({}) from seed {}",
-            match kind {
+        report.stages.push(Stage::Randomized {
+            how: match kind {
                 Randomize::Shift => "uniform shift modulo 1",
                 Randomize::Cells => "cells rotated, offsets shifted within their cells",
-            },
-            cfg.seed
-        ));
+            }
+            .into(),
+            seed: cfg.seed,
+        });
     }
     if crate::solve::cancelled() {
         return Err(crate::solve::interrupted());

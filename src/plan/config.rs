@@ -162,8 +162,9 @@ impl GenerateConfig {
         }
     }
 
-    /// The cube's defaults: (q, p) from eq. 48, plain Halton start, the paper's DEM with
-    /// 1000 steps, κ trial from 100, restart threshold 2/n, then the best of 64 periodic
+    /// The paper's pipeline in the cube (`generate --method paper`; the command's default
+    /// is the integration goal, [`GenerateConfig::for_goal`]): (q, p) from eq. 48, plain
+    /// Halton start, the paper's DEM with 1000 steps, κ trial from 100, restart threshold 2/n, then the best of 64 periodic
     /// shifts.
     pub fn new(n: usize, s: usize) -> Self {
         GenerateConfig {

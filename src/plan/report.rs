@@ -1,12 +1,14 @@
 //! What a run reports: the start and the result with their quality, and what each stage did.
 
 use crate::energies::PointSet;
-use crate::integrators::RunOutput;
+use crate::integrators::{RunOutput, StopReason};
 use crate::plan::*;
 use crate::post::shift::ShiftOutcome;
 use crate::quality::metrics::Metrics;
 use crate::quality::region::RegionMetrics;
 use crate::Error;
+use serde::Serialize;
+use std::fmt;
 
 /// The quality of a set, as fits its space.
 #[derive(Debug, Clone, PartialEq)]
@@ -22,7 +24,10 @@ pub enum Quality {
 pub struct GenerateReport {
     /// The start set.
     pub start: PointSet,
-    /// The final set.
+    /// The final set, and for the paper's pipeline its solver's trajectory, stop and
+    /// facts. A goal run is no single solver run: its trajectory and facts are empty and
+    /// its `stop` says nothing (read [`GenerateReport::solver`]); what it did is in
+    /// [`GenerateReport::stages`].
     pub output: RunOutput,
     /// Energy of the start and of the result.
     pub energy: (f64, f64),
@@ -30,20 +35,26 @@ pub struct GenerateReport {
     pub energy_name: String,
     /// Quality of the start and of the result.
     pub quality: (Quality, Quality),
-    /// How the energy was chosen.
-    pub choice: EnergyChoice,
+    /// How the paper's energy was chosen; `None` for a goal run, which has no (q, p).
+    pub choice: Option<EnergyChoice>,
     /// The shift selection after the DEM, when it ran.
     pub shift: Option<ShiftOutcome>,
     /// The polish, when it ran: (squared discrepancy before, after, L-BFGS iterations).
     pub polish: Option<(f64, f64, usize)>,
-    /// What a goal's pipeline did, one line per stage (empty for [`Goal::Paper`], whose
+    /// What a goal's pipeline did, stage by stage (empty for [`Goal::Paper`], whose
     /// solver, shift and polish have fields of their own).
-    pub stages: Vec<String>,
+    pub stages: Vec<Stage>,
     /// Wall time of the whole run in seconds.
     pub seconds: f64,
 }
 
 impl GenerateReport {
+    /// The solver's run of the paper's pipeline; `None` for a goal run, whose stages
+    /// record each of its solver runs instead.
+    pub fn solver(&self) -> Option<&RunOutput> {
+        self.choice.as_ref().map(|_| &self.output)
+    }
+
     /// The cube metrics of the start and the result; an error for a region run, whose
     /// quality is measured by [`GenerateReport::region_metrics`].
     pub fn cube_metrics(&self) -> Result<(&Metrics, &Metrics), Error> {
@@ -83,4 +94,256 @@ pub(crate) fn quality(cfg: &GenerateConfig, points: &PointSet) -> Result<Quality
         Some(domain) => Quality::Region(RegionMetrics::compute(domain, points)?),
         None => Quality::Cube(Metrics::compute(points)),
     })
+}
+
+/// A set a goal compared with others, and the value it was judged by.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Candidate {
+    /// Where the set came from, e.g. `sobol(SEED)`.
+    pub label: String,
+    /// The value it was judged by (the stage says which).
+    pub value: f64,
+}
+
+/// One round of the stratified descent: exchanges, then L-BFGS on the offsets.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Round {
+    /// Exchange proposals evaluated.
+    pub proposals: usize,
+    /// Exchanges accepted, each because it lowered the target.
+    pub accepted: usize,
+    /// L-BFGS iterations on the offsets inside the cells.
+    pub lbfgs_iterations: usize,
+    /// Why that L-BFGS run stopped.
+    pub lbfgs_stop: StopReason,
+    /// Whether its result was kept: only when it lowered the target.
+    pub lbfgs_kept: bool,
+}
+
+/// The stratified descent of the integration goal, or why it did not run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Descent {
+    /// The points it may move (all of them, or an extension's new ones).
+    pub moving: usize,
+    /// The rounds run; empty when the descent was skipped.
+    pub rounds: Vec<Round>,
+    /// Why no round ran, when none did.
+    pub skipped: Option<String>,
+    /// Why the rounds made no exchanges, when they ran without.
+    pub exchanges_skipped: Option<String>,
+}
+
+impl Descent {
+    /// Exchanges accepted over all rounds.
+    pub fn accepted(&self) -> usize {
+        self.rounds.iter().map(|r| r.accepted).sum()
+    }
+
+    /// L-BFGS iterations over all rounds.
+    pub fn lbfgs_iterations(&self) -> usize {
+        self.rounds.iter().map(|r| r.lbfgs_iterations).sum()
+    }
+}
+
+/// What one stage of a goal's run did, as data; its [`fmt::Display`] is the report's line.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "stage", rename_all = "snake_case")]
+pub enum Stage {
+    /// A start chosen among candidates by the target, the lowest kept.
+    Start {
+        /// The size of the set the start is for.
+        n: usize,
+        /// What the candidates are, e.g. how they were stratified or placed.
+        made: String,
+        /// The candidates with their target values.
+        candidates: Vec<Candidate>,
+        /// The index of the one kept.
+        kept: usize,
+    },
+    /// The stratified descent, then the columns centred.
+    Descent(Descent),
+    /// An extension's facts: old points kept first, new ones added.
+    Extension {
+        /// Old points, unchanged.
+        old: usize,
+        /// New points.
+        new: usize,
+        /// Whether the union is stratified on its own grid.
+        stratified: bool,
+        /// Old points sharing a cell of the union's grid with another (summed over the
+        /// coordinates): each leaves a cell empty.
+        collisions: usize,
+    },
+    /// The root discrepancies of a part of the result.
+    Figures {
+        /// Which part, e.g. `first 16` or `union`.
+        of: String,
+        /// D_MD.
+        modified_l2: f64,
+        /// D_L2*.
+        star_l2: f64,
+        /// The centred L2 discrepancy.
+        centered_l2: f64,
+        /// Whether that part is stratified on its own grid, when it matters.
+        stratified: Option<bool>,
+    },
+    /// The paper's DEM as the space-filling goal runs it.
+    Dem {
+        /// The energy.
+        energy: String,
+        /// Steps taken.
+        steps: usize,
+        /// Why it stopped.
+        stop: StopReason,
+    },
+    /// The maximin swap search: candidates by their minimum distance after a search,
+    /// the largest kept, then further passes from it.
+    Maximin {
+        /// The candidates with their minimum (Euclidean) distance after the search.
+        candidates: Vec<Candidate>,
+        /// The index of the one kept.
+        kept: usize,
+        /// The minimum distance after each further pass.
+        passes: Vec<f64>,
+    },
+    /// The result randomised after the goal's run.
+    Randomized {
+        /// How.
+        how: String,
+        /// From which seed.
+        seed: u64,
+    },
+}
+
+fn candidates_text(c: &[Candidate], kept: usize, sci: bool) -> String {
+    c.iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let mark = if i == kept { " (kept)" } else { "" };
+            if sci {
+                format!("{} {:.6e}{mark}", c.label, c.value)
+            } else {
+                format!("{} {:.6}{mark}", c.label, c.value)
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+impl fmt::Display for Descent {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some(why) = &self.skipped {
+            return write!(f, "descent skipped: {why}; columns centred");
+        }
+        let stops: Vec<String> = self
+            .rounds
+            .iter()
+            .map(|r| {
+                format!(
+                    "{} ({:?}{})",
+                    r.lbfgs_iterations,
+                    r.lbfgs_stop,
+                    if r.lbfgs_kept { "" } else { ", not kept" }
+                )
+            })
+            .collect();
+        write!(
+            f,
+            "descent of {} points: {} rounds; exchanges accepted {} of {} proposed",
+            self.moving,
+            self.rounds.len(),
+            self.accepted(),
+            self.rounds.iter().map(|r| r.proposals).sum::<usize>(),
+        )?;
+        if let Some(why) = &self.exchanges_skipped {
+            write!(f, " (none run: {why})")?;
+        }
+        write!(
+            f,
+            "; in-cell L-BFGS iterations {} (per round: {}); columns centred",
+            self.lbfgs_iterations(),
+            stops.join(", ")
+        )
+    }
+}
+
+impl fmt::Display for Stage {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Stage::Start {
+                n,
+                made,
+                candidates,
+                kept,
+            } => write!(
+                f,
+                "start for {n} points: {made}; by the target (lowest kept): {}",
+                candidates_text(candidates, *kept, true)
+            ),
+            Stage::Descent(d) => write!(f, "{d}"),
+            Stage::Extension {
+                old,
+                new,
+                stratified,
+                collisions,
+            } => {
+                write!(
+                    f,
+                    "extended {old} old points (first, unchanged) by {new} new ones; union \
+                     stratified on its {} cells per coordinate: ",
+                    old + new
+                )?;
+                if *stratified {
+                    write!(f, "yes")
+                } else {
+                    write!(
+                        f,
+                        "no ({collisions} old points share a cell of the union's grid with \
+                         another, so as many cells stay empty)"
+                    )
+                }
+            }
+            Stage::Figures {
+                of,
+                modified_l2,
+                star_l2,
+                centered_l2,
+                stratified,
+            } => {
+                write!(
+                    f,
+                    "{of}: D_MD {modified_l2:.6}, D_L2* {star_l2:.6}, CD {centered_l2:.6}"
+                )?;
+                match stratified {
+                    Some(yes) => write!(f, ", stratified: {}", if *yes { "yes" } else { "no" }),
+                    None => Ok(()),
+                }
+            }
+            Stage::Dem {
+                energy,
+                steps,
+                stop,
+            } => write!(
+                f,
+                "DEM on {energy}: {steps} steps ({stop:?}), then stratified"
+            ),
+            Stage::Maximin {
+                candidates,
+                kept,
+                passes,
+            } => write!(
+                f,
+                "maximin swap search, minimum distance after it (largest kept): {}; {} more \
+                 passes from the kept one: {}",
+                candidates_text(candidates, *kept, false),
+                passes.len(),
+                passes
+                    .iter()
+                    .map(|d| format!("{d:.6}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+            Stage::Randomized { how, seed } => write!(f, "randomised ({how}) from seed {seed}"),
+        }
+    }
 }

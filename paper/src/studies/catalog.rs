@@ -131,7 +131,7 @@ pub fn ensure(opts: &StudyOptions, log: &mut dyn FnMut(&str)) -> Result<(Manifes
             stillpoint: env!("CARGO_PKG_VERSION").into(),
             steps,
             quick: opts.quick,
-            pipeline: "stillpoint generate defaults: U_{q,p} with (q, p) from eq. 48, plain \
+            pipeline: "stillpoint generate --method paper: U_{q,p} with (q, p) from eq. 48, plain \
                        Halton start (indices 1..n), DEM with κ trial from 100 and restart \
                        ε_p = 2/n, then the best of 64 periodic shifts by D_MD"
                 .into(),
@@ -243,10 +243,11 @@ fn make_set(dir: &Path, s: usize, n: usize, steps: usize) -> Result<Entry> {
     let r = run_config(&cfg, |_| {})?;
     let (m0, m1) = r.cube_metrics()?;
     let (m0, m1): (Metrics, Metrics) = (*m0, *m1);
+    let choice = r.choice.clone().context("the paper's (q, p)")?;
     let file = file_name(s, n);
     let meta = json!({
         "generator": "stillpoint study catalog",
-        "n": n, "s": s, "q": r.choice.q, "p": r.choice.p, "steps": steps,
+        "n": n, "s": s, "q": choice.q, "p": choice.p, "steps": steps,
         "modified_l2": m1.modified_l2, "star_l2": m1.star_l2,
     });
     io::write_points(&dir.join(&file), &r.output.points, &meta)?;
@@ -254,8 +255,8 @@ fn make_set(dir: &Path, s: usize, n: usize, steps: usize) -> Result<Entry> {
         s,
         n,
         file,
-        q: r.choice.q.clone(),
-        p: r.choice.p,
+        q: choice.q,
+        p: choice.p,
         steps: r.output.trajectory.last().map_or(0, |t| t.step),
         modified_l2: m1.modified_l2,
         star_l2: m1.star_l2,

@@ -55,7 +55,8 @@ const PAPER_T8_EMAX: [(&str, f64, f64); 4] = [
     ("HW", 0.129, 8.732),
 ];
 
-/// The DEM set of the default pipeline and every baseline, for (n, s).
+/// The DEM set of the paper's pipeline (`generate --method paper`) and every baseline,
+/// for (n, s).
 fn sets(
     n: usize,
     s: usize,

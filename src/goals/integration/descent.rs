@@ -31,7 +31,8 @@ use crate::energies::shapes::BoxRegion;
 use crate::energies::Energy;
 use crate::goals::integration::exchange::{Exchange, Form, EXCHANGE_MAX_N};
 use crate::integrators::lbfgs::Lbfgs;
-use crate::integrators::{Problem, Record};
+use crate::integrators::{Problem, Record, StopReason};
+use crate::plan::report::{Candidate, Descent, Round};
 use crate::quality::stratification::{cell_of, in_cell, is_stratified};
 use crate::quality::target::Target;
 use crate::sequences;
@@ -195,10 +196,25 @@ pub fn descend_in_cells_after(
     steps: usize,
     lbfgs: &Lbfgs,
 ) -> Result<PointSet, Error> {
-    let (n, s) = (points.n(), points.s());
-    if first_movable >= n {
+    if first_movable >= points.n() {
         return Ok(points.clone());
     }
+    Ok(cell_descent(points, first_movable, target, steps, lbfgs)?.0)
+}
+
+/// What one L-BFGS run of [`cell_descent`] did: its iterations, why it stopped, and
+/// whether its result was kept.
+type CellRun = (usize, StopReason, bool);
+
+/// [`descend_in_cells_after`] with at least one movable point, and what its run did.
+fn cell_descent(
+    points: &PointSet,
+    first_movable: usize,
+    target: &Target,
+    steps: usize,
+    lbfgs: &Lbfgs,
+) -> Result<(PointSet, CellRun), Error> {
+    let (n, s) = (points.n(), points.s());
     let split = first_movable * s;
     let moving = &points.as_slice()[split..];
     let cells: Vec<usize> = moving.iter().map(|&v| cell_of(v, n)).collect();
@@ -236,10 +252,11 @@ pub fn descend_in_cells_after(
     let mut data = points.as_slice()[..split].to_vec();
     data.extend_from_slice(energy.points(&out.points).as_slice());
     let result = PointSet::new(n, s, data)?;
+    let iterations = out.trajectory.iter().map(|r| r.step).max().unwrap_or(0);
     Ok(if whole.value(&result) < before {
-        result
+        (result, (iterations, out.stop, true))
     } else {
-        points.clone()
+        (points.clone(), (iterations, out.stop, false))
     })
 }
 
@@ -266,9 +283,22 @@ pub fn exchange_descent_after(
     proposals: usize,
     seed: u64,
 ) -> PointSet {
+    exchanges_counted(points, first_movable, forms, proposals, seed).0
+}
+
+/// [`exchange_descent_after`], with the proposals it evaluated and the swaps it accepted
+/// (a proposal whose partner falls outside the column or among the fixed points is drawn
+/// again and not counted).
+fn exchanges_counted(
+    points: &PointSet,
+    first_movable: usize,
+    forms: &[(Form, f64)],
+    proposals: usize,
+    seed: u64,
+) -> (PointSet, usize, usize) {
     let (n, s) = (points.n(), points.s());
     if !(2..=EXCHANGE_MAX_N).contains(&n) || forms.is_empty() || first_movable + 2 > n {
-        return points.clone();
+        return (points.clone(), 0, 0);
     }
     let mut states: Vec<(Exchange, f64)> = forms
         .iter()
@@ -287,6 +317,7 @@ pub fn exchange_descent_after(
     let reach = (n / 16).max(2);
     let patience = (n * s).max(64);
     let mut idle = 0;
+    let (mut evaluated, mut accepted) = (0, 0);
     for proposal in 0..proposals {
         // A stop request is seen within a batch of proposals (each costs O(n)).
         if proposal % 1024 == 0 && crate::solve::cancelled() {
@@ -312,6 +343,7 @@ pub fn exchange_descent_after(
         if i == j || j < first_movable {
             continue;
         }
+        evaluated += 1;
         let deltas: Vec<f64> = states.iter().map(|(e, _)| e.delta(i, j, k)).collect();
         let d: f64 = deltas.iter().zip(&states).map(|(d, (_, w))| w * d).sum();
         if d < -1e-15 * total(&states).abs() {
@@ -322,6 +354,7 @@ pub fn exchange_descent_after(
             cell.swap(i * s + k, j * s + k);
             row_of[k * n + ci] = j;
             row_of[k * n + cj] = i;
+            accepted += 1;
             idle = 0;
         } else {
             idle += 1;
@@ -330,7 +363,7 @@ pub fn exchange_descent_after(
             }
         }
     }
-    states[0].0.points()
+    (states[0].0.points(), evaluated, accepted)
 }
 
 /// How much work [`integration_set`] spends.
@@ -365,7 +398,7 @@ impl Default for Effort {
 /// What [`integration_set`] did, for reports.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Outcome {
-    /// The start kept: `sobol(seed)` or `halton(seed)`.
+    /// The start kept: `sobol(seed)`, `halton(seed)` or `random(seed)`.
     pub start: String,
     /// The kept start, stratified.
     pub start_points: PointSet,
@@ -374,6 +407,14 @@ pub struct Outcome {
     pub before: f64,
     /// See `before`.
     pub after: f64,
+    /// What the candidates were.
+    pub made: String,
+    /// Every candidate, stratified, with its target value.
+    pub candidates: Vec<Candidate>,
+    /// The index of the kept one in `candidates`.
+    pub kept: usize,
+    /// What the descent did, or why it did not run.
+    pub descent: Descent,
 }
 
 /// Largest n for which [`integration_set`] compares starts and descends (each evaluation
@@ -396,22 +437,40 @@ pub fn integration_set(
     sequences::check_size(n, s)?;
     if n > DESCENT_MAX_N && s <= sequences::SOBOL_MAX_S {
         let sd = sequences::stream_seed(seed, 0);
-        let p = center_columns(&stratify(&sequences::sobol_scrambled(n, s, sd)?));
+        let start_points = stratify(&sequences::sobol_scrambled(n, s, sd)?);
+        let p = center_columns(&start_points);
+        let (before, after) = (target.value(&start_points), target.value(&p));
+        let start = format!("sobol({sd})");
         return Ok((
-            p.clone(),
+            p,
             Outcome {
-                start: format!("sobol({sd})"),
-                start_points: p,
-                before: f64::NAN,
-                after: f64::NAN,
+                made: format!(
+                    "one scrambled Sobol' set, stratified (above {DESCENT_MAX_N} points no \
+                     candidates are compared)"
+                ),
+                candidates: vec![Candidate {
+                    label: start.clone(),
+                    value: before,
+                }],
+                kept: 0,
+                descent: skipped_descent(n, n),
+                start,
+                start_points,
+                before,
+                after,
             },
         ));
     }
     let value = |p: &PointSet| target.value(p);
     let mut best: Option<(f64, PointSet, String)> = None;
+    let mut candidates = Vec::new();
     let mut consider = |p: PointSet, label: String| {
         let p = stratify(&p);
         let v = value(&p);
+        candidates.push(Candidate {
+            label: label.clone(),
+            value: v,
+        });
         if best.as_ref().is_none_or(|(b, _, _)| v < *b) {
             best = Some((v, p, label));
         }
@@ -436,10 +495,19 @@ pub fn integration_set(
         Some(b) => b,
         None => {
             let p = stratify(&sequences::random(n, s, seed)?);
-            (value(&p), p, format!("random({seed})"))
+            let (v, label) = (value(&p), format!("random({seed})"));
+            candidates.push(Candidate {
+                label: label.clone(),
+                value: v,
+            });
+            (v, p, label)
         }
     };
-    let points = descend(start_points.clone(), 0, target, seed, effort)?;
+    let kept = candidates
+        .iter()
+        .position(|c| c.label == start)
+        .expect("the kept start is a candidate");
+    let (points, descent) = descend(start_points.clone(), 0, target, seed, effort)?;
     let after = value(&points);
     Ok((
         points,
@@ -448,8 +516,27 @@ pub fn integration_set(
             start_points,
             before,
             after,
+            made: "scrambled Sobol' sets and scrambled Halton, as the dimension allows, \
+                   each stratified"
+                .into(),
+            candidates,
+            kept,
+            descent,
         },
     ))
+}
+
+/// The descent of `moving` of n points, not run because n is above [`DESCENT_MAX_N`].
+fn skipped_descent(n: usize, moving: usize) -> Descent {
+    Descent {
+        moving,
+        rounds: Vec::new(),
+        skipped: Some(format!(
+            "n = {n} is above {DESCENT_MAX_N}, where its cost (growing as about n^2.3) \
+             would dwarf the rest of the run"
+        )),
+        exchanges_skipped: None,
+    }
 }
 
 /// The descent of the integration goal from a stratified start, moving the points from
@@ -462,10 +549,33 @@ fn descend(
     target: &Target,
     seed: u64,
     effort: &Effort,
-) -> Result<PointSet, Error> {
+) -> Result<(PointSet, Descent), Error> {
     let (n, s) = (points.n(), points.s());
-    let target = target.normalised_at(&points);
-    if target.fits(s) && (2..=DESCENT_MAX_N).contains(&n) {
+    let mut descent = Descent {
+        moving: n.saturating_sub(first_movable),
+        rounds: Vec::new(),
+        skipped: None,
+        exchanges_skipped: None,
+    };
+    if n > DESCENT_MAX_N {
+        descent = skipped_descent(n, descent.moving);
+    } else if n < 2 || first_movable >= n {
+        descent.skipped = Some("nothing to move".into());
+    } else if !target.fits(s) {
+        descent.skipped = Some(format!(
+            "the target's closed form leaves the range of f64 at s = {s}"
+        ));
+    }
+    if descent.skipped.is_none() {
+        if n > EXCHANGE_MAX_N {
+            descent.exchanges_skipped = Some(format!(
+                "n is above {EXCHANGE_MAX_N}, where their table of n² pair products would \
+                 not fit in memory"
+            ));
+        } else if first_movable + 2 > n {
+            descent.exchanges_skipped = Some("a single point moves".into());
+        }
+        let target = target.normalised_at(&points);
         let lbfgs = Lbfgs::default();
         let forms: Vec<(Form, f64)> = target
             .parts
@@ -477,23 +587,31 @@ fn descend(
         let affordable = effort.exchange_work / (rounds * forms.len() as u64 * n as u64);
         let proposals = (effort.proposals as u64 * moving * s as u64).min(affordable) as usize;
         for round in 0..effort.rounds {
-            points = exchange_descent_after(
+            let (exchanged, proposals, accepted) = exchanges_counted(
                 &points,
                 first_movable,
                 &forms,
                 proposals,
                 sequences::stream_seed(seed, 1000 + round as u64),
             );
-            points = descend_in_cells_after(
-                &points,
+            let (descended, (lbfgs_iterations, lbfgs_stop, lbfgs_kept)) = cell_descent(
+                &exchanged,
                 first_movable,
                 &target,
                 effort.lbfgs_steps,
                 &lbfgs,
             )?;
+            points = descended;
+            descent.rounds.push(Round {
+                proposals,
+                accepted,
+                lbfgs_iterations,
+                lbfgs_stop,
+                lbfgs_kept,
+            });
         }
     }
-    Ok(center_columns_after(&points, first_movable))
+    Ok((center_columns_after(&points, first_movable), descent))
 }
 
 /// What [`extend_set`] did, for reports.
@@ -512,6 +630,12 @@ pub struct Extension {
     /// Old points that share a cell of the union's grid with another old point, summed
     /// over the coordinates: each such coincidence leaves a cell empty.
     pub collisions: usize,
+    /// Every placement compared, with the target's value on the union.
+    pub candidates: Vec<Candidate>,
+    /// The index of the kept one in `candidates`.
+    pub kept: usize,
+    /// What the descent of the new points did, or why it did not run.
+    pub descent: Descent,
 }
 
 /// Adds `m` points to `old` (in [0, 1]^s) for the integration goal: the old points stay
@@ -552,6 +676,14 @@ pub fn extend_set(
             start_label: "none".into(),
             stratified: is_stratified(old),
             collisions,
+            candidates: Vec::new(),
+            kept: 0,
+            descent: Descent {
+                moving: 0,
+                rounds: Vec::new(),
+                skipped: Some("nothing to move".into()),
+                exchanges_skipped: None,
+            },
         });
     }
     let seed = sequences::stream_seed(seed, n0 as u64 + 0x4578_7465);
@@ -570,8 +702,13 @@ pub fn extend_set(
     };
     let value = |p: &PointSet| target.value(p);
     let mut best: Option<(f64, PointSet, String)> = None;
+    let mut candidates = Vec::new();
     let mut consider = |p: PointSet, label: String| {
         let v = value(&p);
+        candidates.push(Candidate {
+            label: label.clone(),
+            value: v,
+        });
         if best.as_ref().is_none_or(|(b, _, _)| v < *b) {
             best = Some((v, p, label));
         }
@@ -591,13 +728,17 @@ pub fn extend_set(
         format!("random({sd})"),
     );
     let (_, start, start_label) = best.expect("at least one candidate");
+    let kept = candidates
+        .iter()
+        .position(|c| c.label == start_label)
+        .expect("the kept start is a candidate");
     // A stage moves only its new points, so it can afford a longer search per point.
     let deeper = Effort {
         rounds: effort.rounds * 3,
         proposals: effort.proposals * 4,
         ..*effort
     };
-    let points = descend(start.clone(), n0, target, seed, &deeper)?;
+    let (points, descent) = descend(start.clone(), n0, target, seed, &deeper)?;
     debug_assert_eq!(&points.as_slice()[..n0 * s], x);
     Ok(Extension {
         stratified: is_stratified(&points),
@@ -606,7 +747,25 @@ pub fn extend_set(
         old: n0,
         start_label,
         collisions,
+        candidates,
+        kept,
+        descent,
     })
+}
+
+/// What [`nested_run`] did, for reports.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Nested {
+    /// The nested set.
+    pub points: PointSet,
+    /// Every stage's points as placed before its descent: the first stage's kept start,
+    /// then each later stage's new points as placed in the free cells of the previous
+    /// stages' result.
+    pub start: PointSet,
+    /// The first stage.
+    pub first: Outcome,
+    /// The later stages, in order.
+    pub extensions: Vec<Extension>,
 }
 
 /// A nested set for the integration goal: the first `stages[0]` points are
@@ -620,6 +779,17 @@ pub fn nested_set(
     seed: u64,
     effort: &Effort,
 ) -> Result<PointSet, Error> {
+    Ok(nested_run(stages, s, target, seed, effort)?.points)
+}
+
+/// [`nested_set`], with what each stage did.
+pub fn nested_run(
+    stages: &[usize],
+    s: usize,
+    target: &Target,
+    seed: u64,
+    effort: &Effort,
+) -> Result<Nested, Error> {
     let first = *stages
         .first()
         .ok_or_else(|| Error::invalid("nested", "an empty list", "N1,N2,... increasing"))?;
@@ -630,11 +800,21 @@ pub fn nested_set(
             "increasing sizes N1 < N2 < ..., the first at least 1",
         ));
     }
-    let (mut points, _) = integration_set(first, s, target, seed, effort)?;
+    let (mut points, outcome) = integration_set(first, s, target, seed, effort)?;
+    let mut start = outcome.start_points.as_slice().to_vec();
+    let mut extensions = Vec::new();
     for w in stages.windows(2) {
-        points = extend_set(&points, w[1] - w[0], target, seed, effort)?.points;
+        let ext = extend_set(&points, w[1] - w[0], target, seed, effort)?;
+        start.extend_from_slice(&ext.start.as_slice()[w[0] * s..]);
+        points = ext.points.clone();
+        extensions.push(ext);
     }
-    Ok(points)
+    Ok(Nested {
+        start: PointSet::new(points.n(), s, start)?,
+        points,
+        first: outcome,
+        extensions,
+    })
 }
 
 /// Moves the offsets of a stratified set within their cells, per column, by an affine

@@ -1,4 +1,6 @@
-//! INTEGRATION
+//! The integration goal: stratified sets with a low squared L2 discrepancy ([`descent`],
+//! with the exchange move of [`exchange`]), one set, an extension of a given one, or a
+//! nested sequence, each reported stage by stage.
 
 pub mod descent;
 pub mod exchange;
@@ -14,6 +16,42 @@ use crate::quality::target::Target;
 use crate::solve::Event;
 use crate::Error;
 
+/// The figures of a part of a result, as a report stage.
+fn figures(of: String, p: &PointSet, stratified: Option<bool>) -> Stage {
+    let m = Metrics::compute(p);
+    Stage::Figures {
+        of,
+        modified_l2: m.modified_l2,
+        star_l2: m.star_l2,
+        centered_l2: m.centered_l2,
+        stratified,
+    }
+}
+
+/// The start stage of an extension to `n` points.
+fn extension_start(ext: &Extension, n: usize) -> Stage {
+    Stage::Start {
+        n,
+        made: format!(
+            "the {} new points placed in the free cells of the union's grid, in the order \
+             of each candidate",
+            n - ext.old
+        ),
+        candidates: ext.candidates.clone(),
+        kept: ext.kept,
+    }
+}
+
+/// The start stage of a set made for its size.
+fn outcome_start(o: &Outcome, n: usize) -> Stage {
+    Stage::Start {
+        n,
+        made: o.made.clone(),
+        candidates: o.candidates.clone(),
+        kept: o.kept,
+    }
+}
+
 /// The integration goal: [`crate::goals::integration::integration_set`].
 pub(crate) fn integration_run(
     cfg: &GenerateConfig,
@@ -26,88 +64,10 @@ pub(crate) fn integration_run(
     });
     let effort = crate::goals::integration::Effort::default();
     if let Some(old) = &cfg.extend {
-        if old.s() != cfg.s || old.n() > cfg.n {
-            return Err(Error::invalid(
-                "extend",
-                format!("{} points in {} dimensions", old.n(), old.s()),
-                format!("at most n = {} points in s = {} dimensions", cfg.n, cfg.s),
-            ));
-        }
-        let ext =
-            crate::goals::integration::extend_set(old, cfg.n - old.n(), target, cfg.seed, &effort)?;
-        let new = PointSet::new(
-            cfg.n - ext.old,
-            cfg.s,
-            ext.points.as_slice()[ext.old * cfg.s..].to_vec(),
-        )?;
-        let figures = |p: &PointSet| {
-            let m = Metrics::compute(p);
-            format!(
-                "D_MD {:.6}, D_L2* {:.6}, CD {:.6}",
-                m.modified_l2, m.star_l2, m.centered_l2
-            )
-        };
-        let stages = vec![
-            format!(
-                "extended {} old points (first, unchanged) by {} new ones, placed from {} \
-                 in the free cells of the union's grid, then exchanges and in-cell L-BFGS \
-                 moving the new points only",
-                ext.old,
-                cfg.n - ext.old,
-                ext.start_label
-            ),
-            format!(
-                "union stratified on its {} cells per coordinate: {}",
-                cfg.n,
-                if ext.stratified {
-                    "yes".to_string()
-                } else {
-                    format!(
-                        "no ({} old points share a cell of the union's grid with another, \
-                         so as many cells stay empty)",
-                        ext.collisions
-                    )
-                }
-            ),
-            format!("old points: {}", figures(old)),
-            format!("new points alone: {}", figures(&new)),
-            format!("union: {}", figures(&ext.points)),
-        ];
-        let (a, b) = (target.value(&ext.start), target.value(&ext.points));
-        return goal_report(cfg, ext.start, ext.points, (a, b), target.name(), stages);
+        return extension_run(cfg, old, target, &effort);
     }
     if !cfg.nested.is_empty() {
-        if cfg.nested.last() != Some(&cfg.n) {
-            return Err(Error::invalid(
-                "nested",
-                format!("{:?}", cfg.nested),
-                format!("stages ending at n = {}", cfg.n),
-            ));
-        }
-        let points =
-            crate::goals::integration::nested_set(&cfg.nested, cfg.s, target, cfg.seed, &effort)?;
-        let mut stages = vec![format!(
-            "nested: the first {} points made for their size, each later stage added by \
-             extension; every prefix below",
-            cfg.nested[0]
-        )];
-        for &k in &cfg.nested {
-            let prefix = PointSet::new(k, cfg.s, points.as_slice()[..k * cfg.s].to_vec())?;
-            let m = Metrics::compute(&prefix);
-            stages.push(format!(
-                "first {k}: D_MD {:.6}, D_L2* {:.6}, CD {:.6}, stratified: {}",
-                m.modified_l2,
-                m.star_l2,
-                m.centered_l2,
-                if crate::goals::integration::is_stratified(&prefix) {
-                    "yes"
-                } else {
-                    "no"
-                }
-            ));
-        }
-        let v = target.value(&points);
-        return goal_report(cfg, points.clone(), points, (v, v), target.name(), stages);
+        return nested_report(cfg, target, &effort);
     }
     let (points, outcome) =
         crate::goals::integration::integration_set(cfg.n, cfg.s, target, cfg.seed, &effort)?;
@@ -116,22 +76,95 @@ pub(crate) fn integration_run(
         steps: None,
     });
     let stages = vec![
-        format!(
-            "start: the best of {} stratified scrambled Sobol' sets and a scrambled Halton \
-             set by the target: {}",
-            effort.starts, outcome.start
-        ),
-        format!(
-            "descent: {} rounds of coordinate exchanges and in-cell L-BFGS; every coordinate \
-             stratified (one point in each [k/n, (k+1)/n))",
-            effort.rounds
-        ),
+        outcome_start(&outcome, cfg.n),
+        Stage::Descent(outcome.descent.clone()),
     ];
     goal_report(
         cfg,
         outcome.start_points,
         points,
         (outcome.before, outcome.after),
+        target.name(),
+        stages,
+    )
+}
+
+/// `--extend`: the old points first and unchanged, new ones placed and descended.
+fn extension_run(
+    cfg: &GenerateConfig,
+    old: &PointSet,
+    target: &Target,
+    effort: &Effort,
+) -> Result<GenerateReport, Error> {
+    if old.s() != cfg.s || old.n() > cfg.n {
+        return Err(Error::invalid(
+            "extend",
+            format!("{} points in {} dimensions", old.n(), old.s()),
+            format!("at most n = {} points in s = {} dimensions", cfg.n, cfg.s),
+        ));
+    }
+    let ext =
+        crate::goals::integration::extend_set(old, cfg.n - old.n(), target, cfg.seed, effort)?;
+    let new = PointSet::new(
+        cfg.n - ext.old,
+        cfg.s,
+        ext.points.as_slice()[ext.old * cfg.s..].to_vec(),
+    )?;
+    let stages = vec![
+        extension_start(&ext, cfg.n),
+        Stage::Descent(ext.descent.clone()),
+        Stage::Extension {
+            old: ext.old,
+            new: cfg.n - ext.old,
+            stratified: ext.stratified,
+            collisions: ext.collisions,
+        },
+        figures("old points".into(), old, None),
+        figures("new points alone".into(), &new, None),
+        figures("union".into(), &ext.points, None),
+    ];
+    let (a, b) = (target.value(&ext.start), target.value(&ext.points));
+    goal_report(cfg, ext.start, ext.points, (a, b), target.name(), stages)
+}
+
+/// `--nested`: the first stage made for its size, each later one added by extension.
+/// The report's start is every stage as placed before its descent ([`Nested::start`]).
+fn nested_report(
+    cfg: &GenerateConfig,
+    target: &Target,
+    effort: &Effort,
+) -> Result<GenerateReport, Error> {
+    if cfg.nested.last() != Some(&cfg.n) {
+        return Err(Error::invalid(
+            "nested",
+            format!("{:?}", cfg.nested),
+            format!("stages ending at n = {}", cfg.n),
+        ));
+    }
+    let nested =
+        crate::goals::integration::nested_run(&cfg.nested, cfg.s, target, cfg.seed, effort)?;
+    let prefix = |k: usize| -> Result<Stage, Error> {
+        let p = PointSet::new(k, cfg.s, nested.points.as_slice()[..k * cfg.s].to_vec())?;
+        let stratified = is_stratified(&p);
+        Ok(figures(format!("first {k}"), &p, Some(stratified)))
+    };
+    let first = cfg.nested[0];
+    let mut stages = vec![
+        outcome_start(&nested.first, first),
+        Stage::Descent(nested.first.descent.clone()),
+        prefix(first)?,
+    ];
+    for (ext, &k) in nested.extensions.iter().zip(&cfg.nested[1..]) {
+        stages.push(extension_start(ext, k));
+        stages.push(Stage::Descent(ext.descent.clone()));
+        stages.push(prefix(k)?);
+    }
+    let (a, b) = (target.value(&nested.start), target.value(&nested.points));
+    goal_report(
+        cfg,
+        nested.start,
+        nested.points,
+        (a, b),
         target.name(),
         stages,
     )
