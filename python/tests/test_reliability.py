@@ -70,3 +70,43 @@ def test_a_user_integrand_that_is_not_finite_is_refused():
 def test_engine_random_zero_is_empty():
     e = sp.Engine(3)
     assert e.random(0).shape == (0, 3)
+
+
+def test_ctrl_c_stops_a_long_generate_within_seconds():
+    # A run of about half a minute, interrupted two seconds in, must raise
+    # KeyboardInterrupt soon after the signal, as any Python call does, and leave the
+    # package usable.
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    child = (
+        "import sys, time, stillpoint as sp\n"
+        "print('ready', flush=True)\n"
+        "try:\n"
+        "    sp.generate(8000, 5)\n"
+        "    print('finished', flush=True)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', sp.generate(16, 2).shape, flush=True)\n"
+    )
+    p = subprocess.Popen(
+        [sys.executable, "-c", child],
+        stdout=subprocess.PIPE,
+        text=True,
+        # A child started from a background shell inherits SIGINT ignored; Python only
+        # installs its handler when the signal is not ignored.
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+    try:
+        assert p.stdout.readline().strip() == "ready"
+        time.sleep(2.0)
+        sent = time.monotonic()
+        p.send_signal(signal.SIGINT)
+        out, _ = p.communicate(timeout=60)
+        waited = time.monotonic() - sent
+    finally:
+        p.kill()
+    # The next call runs normally: the stop request is cleared.
+    assert out.strip() == "interrupted (16, 2)", out
+    assert waited < 10.0, waited

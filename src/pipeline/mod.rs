@@ -176,6 +176,7 @@ pub fn generate_with(
         }
         _ => crate::goals::paper::paper_run(cfg, checkpoint, &mut on_event)?,
     };
+    crate::solve::stop_if_cancelled()?;
     if let Some(kind) = cfg.randomize {
         report.output.points =
             crate::post::randomize::randomize(&report.output.points, kind, cfg.seed);

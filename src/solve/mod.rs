@@ -77,6 +77,16 @@ pub fn interrupted() -> crate::Error {
     crate::Error::Numerical("interrupted".into())
 }
 
+/// [`interrupted`] when a stop was asked for: checked between the stages of a run, so a
+/// stop never waits for a report or another candidate.
+pub fn stop_if_cancelled() -> Result<(), crate::Error> {
+    if cancelled() {
+        Err(interrupted())
+    } else {
+        Ok(())
+    }
+}
+
 /// What a run reports while it works, for progress displays.
 #[derive(Debug, Clone, Copy)]
 pub enum Event<'a> {

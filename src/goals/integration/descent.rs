@@ -465,6 +465,9 @@ pub fn integration_set(
     let mut best: Option<(f64, PointSet, String)> = None;
     let mut candidates = Vec::new();
     let mut consider = |p: PointSet, label: String| {
+        if crate::solve::cancelled() {
+            return;
+        }
         let p = stratify(&p);
         let v = value(&p);
         candidates.push(Candidate {
@@ -503,6 +506,7 @@ pub fn integration_set(
             (v, p, label)
         }
     };
+    crate::solve::stop_if_cancelled()?;
     let kept = candidates
         .iter()
         .position(|c| c.label == start)
@@ -587,6 +591,7 @@ fn descend(
         let affordable = effort.exchange_work / (rounds * forms.len() as u64 * n as u64);
         let proposals = (effort.proposals as u64 * moving * s as u64).min(affordable) as usize;
         for round in 0..effort.rounds {
+            crate::solve::stop_if_cancelled()?;
             let (exchanged, proposals, accepted) = exchanges_counted(
                 &points,
                 first_movable,
@@ -601,6 +606,7 @@ fn descend(
                 effort.lbfgs_steps,
                 &lbfgs,
             )?;
+            crate::solve::stop_if_cancelled()?;
             points = descended;
             descent.rounds.push(Round {
                 proposals,

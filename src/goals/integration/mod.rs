@@ -71,6 +71,7 @@ pub(crate) fn integration_run(
     }
     let (points, outcome) =
         crate::goals::integration::integration_set(cfg.n, cfg.s, target, cfg.seed, &effort)?;
+    crate::solve::stop_if_cancelled()?;
     on_event(Event::Stage {
         name: "metrics",
         steps: None,
