@@ -63,11 +63,14 @@ pub(crate) struct GenerateArgs {
     /// only.
     #[arg(long, value_name = "LO1,HI1,...", allow_hyphen_values = true)]
     pub(crate) bounds: Option<String>,
-    /// Randomise the result from --seed, so that independent seeds give unbiased
-    /// estimates with error bars: `cells` (rotate the cells and shift the offsets within
-    /// them; keeps the stratification) or `shift` (uniform shift modulo 1; keeps the
-    /// wrap-around discrepancy and torus distances). The cube only.
-    #[arg(long, value_name = "cells|shift")]
+    /// Randomise from --seed, so that independent seeds give unbiased estimates with
+    /// error bars. Alone, or `tent` (recommended): the set is a lattice made for this
+    /// randomisation, shifted uniformly modulo 1 and then tent-transformed (x ↦ 1 − |2x −
+    /// 1|); its error decays like n⁻² for smooth integrands. `cells` (rotate the cells
+    /// and shift the offsets within them; keeps the stratification) or `shift` (uniform
+    /// shift modulo 1; keeps the wrap-around discrepancy and torus distances) randomise
+    /// the optimised set instead. The cube only.
+    #[arg(long, value_name = "tent|cells|shift", num_args = 0..=1, default_missing_value = "tent")]
     pub(crate) randomize: Option<String>,
     /// The potential energy: `uqp` (U_{q,p}, the cube's default), `e-inf` (U_{E,∞},
     /// maximin; with --q E in the closed cube, else on the torus), `e-inf-g`

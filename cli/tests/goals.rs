@@ -107,6 +107,18 @@ fn method_paper_is_the_paper_configuration() {
     assert_ne!(lib.as_slice(), integration(40, 3, 0).as_slice());
 }
 
+/// `generate -n 10 -s 2` with `args` fails with a message containing `needle`.
+fn refused(args: &[&str], needle: &str) {
+    let o = bin()
+        .args(["generate", "-n", "10", "-s", "2", "-q"])
+        .args(args)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{args:?} was accepted");
+    assert!(err.contains(needle), "{args:?}: {err}");
+}
+
 #[test]
 fn goal_options_are_checked() {
     for (args, needle) in [
@@ -120,14 +132,7 @@ fn goal_options_are_checked() {
             "integration in a region",
         ),
     ] {
-        let o = bin()
-            .args(["generate", "-n", "10", "-s", "2", "-q"])
-            .args(args)
-            .output()
-            .unwrap();
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert!(!o.status.success(), "{args:?} was accepted");
-        assert!(err.contains(needle), "{args:?}: {err}");
+        refused(args, needle);
     }
 }
 
@@ -164,12 +169,18 @@ fn randomised_replicates_average_to_the_integral_within_their_standard_error() {
         1.0 + at(1.0) - at(0.0)
     };
     let exact = one.powi(3) + 0.25;
-    let p = integration(64, 3, 0);
-    for kind in [Randomize::Cells, Randomize::Shift] {
+    let optimised = integration(64, 3, 0);
+    let lattice = sequences::tent_lattice(64, 3).unwrap();
+    for kind in [Randomize::Cells, Randomize::Shift, Randomize::Tent] {
+        let p = if kind == Randomize::Tent {
+            &lattice
+        } else {
+            &optimised
+        };
         let reps = 64;
         let estimates: Vec<f64> = (0..reps)
             .map(|seed| {
-                let q = randomize(&p, kind, 1000 + seed);
+                let q = randomize(p, kind, 1000 + seed);
                 q.rows().map(f).sum::<f64>() / q.n() as f64
             })
             .collect();
@@ -181,5 +192,78 @@ fn randomised_replicates_average_to_the_integral_within_their_standard_error() {
             (mean - exact).abs() < 4.0 * se,
             "{kind:?}: {mean} vs {exact} (se {se})"
         );
+    }
+}
+
+#[test]
+fn tent_randomisation_spreads_each_point_uniformly_and_keeps_lattices_stratified() {
+    for n in [2usize, 3, 16, 63, 64, 100, 101, 250] {
+        let p = sequences::tent_lattice(n, 4).unwrap();
+        // The lattice's columns are the n multiples of 1/n, each once.
+        for k in 0..4 {
+            let mut seen: Vec<u64> = p.rows().map(|r| (r[k] * n as f64).round() as u64).collect();
+            seen.sort_unstable();
+            assert_eq!(seen, (0..n as u64).collect::<Vec<_>>(), "n = {n}");
+        }
+        let reps = 400;
+        let mut hist = [0usize; 10];
+        for seed in 0..reps {
+            let q = randomize(&p, Randomize::Tent, seed);
+            assert!(q.as_slice().iter().all(|v| (0.0..1.0).contains(v)));
+            assert!(is_stratified(&q), "n = {n}, seed {seed}");
+            hist[(q.as_slice()[n / 2 * 4 + 1] * 10.0) as usize] += 1;
+        }
+        // One coordinate of one point is uniform over the seeds: 40 of 400 per tenth.
+        for (k, &h) in hist.iter().enumerate() {
+            assert!((16..=64).contains(&h), "n = {n}, bin {k}: {h}");
+        }
+    }
+    // A coordinate exactly at ½ after the shift folds onto 1: it is kept below 1.
+    let half = PointSet::new(1, 1, vec![0.5]).unwrap();
+    for seed in 0..64 {
+        assert!(randomize(&half, Randomize::Tent, seed).as_slice()[0] < 1.0);
+    }
+}
+
+#[test]
+fn a_bare_randomize_is_the_tent_lattice_randomised() {
+    let dir = TempDir::new("tent");
+    let run = |extra: &[&str], name: &str| -> (Vec<u8>, String) {
+        let path = dir.path(name);
+        let o = bin()
+            .args(["generate", "-n", "50", "-s", "3", "--seed", "7", "-o"])
+            .arg(&path)
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        (
+            std::fs::read(&path).unwrap(),
+            String::from_utf8_lossy(&o.stdout).into_owned(),
+        )
+    };
+    let (bare, report) = run(&["--randomize"], "bare.csv");
+    let (named, _) = run(&["--randomize", "tent"], "named.csv");
+    assert_eq!(bare, named);
+    assert!(
+        report.contains("rank-1 lattice for the tent randomisation"),
+        "{report}"
+    );
+    assert!(report.contains("tent transform"), "{report}");
+    // The written set is the library's lattice randomised from the run's seed.
+    let written = stillpoint::io::read_points(&dir.path("bare.csv")).unwrap();
+    let expected = randomize(&sequences::tent_lattice(50, 3).unwrap(), Randomize::Tent, 7);
+    for (a, b) in written.as_slice().iter().zip(expected.as_slice()) {
+        assert!((a - b).abs() <= 1e-15, "{a} vs {b}");
+    }
+    for (args, needle) in [
+        (&["--randomize", "--method", "paper"][..], "--randomize"),
+        (
+            &["--randomize", "tent", "--goal", "space-filling"][..],
+            "--randomize",
+        ),
+        (&["--randomize", "--target", "md"][..], "--target"),
+    ] {
+        refused(args, needle);
     }
 }

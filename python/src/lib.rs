@@ -304,8 +304,18 @@ fn check_generate(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
     resolve(kwargs).map(|_| ())
 }
 
+/// The lattice `generate(n, d, randomize='tent')` randomises, unrandomised.
+#[pyfunction]
+fn tent_lattice<'py>(py: Python<'py>, n: usize, d: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let points = detached(py, move || {
+        stillpoint::sequences::tent_lattice(n, d).map_err(|e| e.to_string())
+    })?;
+    to_array(py, points)
+}
+
 /// `x` randomised from `seed` as `generate(..., randomize=kind)` randomises its result:
-/// `'cells'` (cells rotated, offsets shifted within them) or `'shift'`.
+/// `'tent'` (uniform shift, then the tent transform), `'cells'` (cells rotated, offsets
+/// shifted within them) or `'shift'`.
 #[pyfunction]
 fn randomize<'py>(
     py: Python<'py>,
@@ -372,5 +382,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(baselines, m)?)?;
     m.add_function(wrap_pyfunction!(integrate_json, m)?)?;
     m.add_function(wrap_pyfunction!(randomize, m)?)?;
+    m.add_function(wrap_pyfunction!(tent_lattice, m)?)?;
     Ok(())
 }

@@ -169,8 +169,9 @@ def generate(
     **later
         ``goal`` (``'integration'``, the cube's default, or ``'space-filling'``, a
         region's), ``target`` (``'blend'``, ``'md'``, ``'l2star'``, ``'cd'``,
-        ``'periodic'``), ``randomize`` (``'cells'``: keeps the stratification, or
-        ``'shift'``), ``extend`` (see :func:`extend`), ``nested`` (see :func:`nested`);
+        ``'periodic'``), ``randomize`` (``True`` or ``'tent'``, recommended for error
+        bars: the lattice made for a uniform shift and the tent transform, randomised so;
+        ``'cells'`` or ``'shift'`` randomise the optimised set), ``extend`` (see :func:`extend`), ``nested`` (see :func:`nested`);
         and the paper's options, passed through to the library: ``q``, ``p``,
         ``precision``, ``init`` (``'halton'``, ``'random'`` or an (n, d) array),
         ``kappa``, ``restart``, ``tolerance``, ``polish``, ``shifts``, ``log_every``.
@@ -329,6 +330,19 @@ def _frozen(value: Any) -> Any:
         return repr(value)
 
 
+def _tent_lattice(n: int, d: int) -> np.ndarray:
+    """The lattice for the tent randomisation, computed once per process (read-only)."""
+    key = ("tent", n, d)
+    with _cache_lock:
+        hit = _cache.get(key)
+    if hit is not None:
+        return hit
+    x = _core.tent_lattice(n, d)
+    x.flags.writeable = False
+    with _cache_lock:
+        return _cache.setdefault(key, x)
+
+
 def _optimised(n: int, d: int, kwargs: Dict[str, Any]) -> np.ndarray:
     """The optimised set for (n, d, kwargs), computed once per process (read-only)."""
     key = (n, d, _frozen(kwargs))
@@ -343,17 +357,20 @@ def _optimised(n: int, d: int, kwargs: Dict[str, Any]) -> np.ndarray:
 
 
 class Engine(_EngineBase):  # type: ignore[misc,valid-type]
-    """A randomised QMC engine: every :meth:`random` call returns the optimised set for
-    (n, d), stratified in every coordinate, randomised so that each point is uniform in
-    [0, 1)^d and the stratification is kept (cells rotated, offsets shifted in them).
+    """A randomised QMC engine: every :meth:`random` call returns a set for (n, d)
+    randomised so that each point is uniform in [0, 1)^d (an unbiased QMC rule), with
+    independent draws for an error estimate.
 
-    The optimised set is :func:`generate` ``(n, d, **generate_kwargs)``, computed on the
-    first draw of each n and cached for the process, so later draws cost one
-    randomisation. Each draw is uniformly distributed in [0, 1)^d point by point (an unbiased
-    QMC rule) and independent draws give an error estimate: with
+    By default (``randomize='tent'``) the set is the rank-1 lattice made for this
+    randomisation (``generate(n, d, randomize='tent')``): a uniform shift modulo 1, then
+    the tent transform x ↦ 1 − |2x − 1|. Its error decays like n⁻² on smooth integrands,
+    and each coordinate of a draw stays stratified (one point in each [k/n, (k+1)/n)). ``randomize='cells'`` or ``'shift'`` randomise the optimised set
+    :func:`generate` ``(n, d, **generate_kwargs)`` instead (cells rotated and offsets
+    shifted in them, or a plain shift). Each n's set is computed on its first draw and
+    cached for the process, so later draws cost one randomisation. With
     ``scipy.integrate.qmc_quad(f, a, b, qrng=stillpoint.Engine(d, seed=...))`` each
-    estimate uses a freshly seeded engine, hence a new shift, and the standard error is
-    that of the randomised rule.
+    estimate uses a freshly seeded engine, hence a new randomisation, and the standard
+    error is that of the randomised rule.
 
     A subclass of ``scipy.stats.qmc.QMCEngine`` when SciPy is installed (then
     ``optimization='random-cd'`` or ``'lloyd'`` is applied after the shift, as SciPy
@@ -370,7 +387,9 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
     optimization : {None, 'random-cd', 'lloyd'}
         SciPy's post-processing of each draw.
     **generate_kwargs
-        Passed to :func:`generate` (``method``, ``energy``, ``steps``, ``seed``
+        ``randomize`` (``'tent'``, the default, ``'cells'`` or ``'shift'``; ``'cells'``
+        is the default when other options describe the set); the others are passed to
+        :func:`generate` (``method``, ``energy``, ``steps``, ``seed``
         of the run as ``generate_seed``, the options); not ``region``, ``box``,
         ``shape`` or ``bounds`` (the engine draws in the unit cube).
     """
@@ -395,10 +414,23 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
                     "(n from random(n), d from Engine(d)); scale the draws instead"
                 )
         kwargs = dict(generate_kwargs)
+        # The recommended randomisation (the lattice made for the shift and tent
+        # transform) unless another is named, or options describe a set of generate's to
+        # randomise: then its cells are rotated, as before tent existed.
+        describes_a_set = any(k != "seed" for k in kwargs)
+        kind = kwargs.pop("randomize", None)
+        if kind is None or kind is True:
+            kind = "cells" if describes_a_set else "tent"
+        if kind is False:
+            raise ValueError(
+                "invalid randomize = False for Engine: its draws are randomised "
+                "('tent', 'cells' or 'shift')"
+            )
+        self._randomize = kind
         if "generate_seed" in kwargs:
             kwargs["seed"] = kwargs.pop("generate_seed")
         # Refuse bad generate arguments now rather than at the first draw.
-        _check_generate(2, d, **kwargs)
+        _check_generate(2, d, randomize=kind, **kwargs)
         self._generate_kwargs = kwargs
         if _qmc is not None:
             super().__init__(d=d, optimization=optimization, rng=rng)
@@ -417,17 +449,17 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
         self._init_quad = {"d": d, "optimization": optimization, **generate_kwargs}
 
     def _random(self, n: int = 1, *, workers: int = 1) -> np.ndarray:
-        """The cached optimised set for n, randomised as ``generate(randomize='cells')``
-        does (the library's randomisation, seeded from this engine's generator): per
-        coordinate the cells [k/n, (k+1)/n) are rotated by a uniform random m and the
-        offsets inside them shifted by a uniform v modulo the cell. Each point is then
-        uniform in [0, 1)^d, and a stratified set stays stratified."""
+        """The cached set for n randomised as ``generate(randomize=...)`` does, seeded
+        from this engine's generator (see the class)."""
         n = _int("n", n, 0)
         if n == 0:
             return np.empty((0, self.d))
-        base = _optimised(n, self.d, self._generate_kwargs)
+        if self._randomize == "tent":
+            base = _tent_lattice(n, self.d)
+        else:
+            base = _optimised(n, self.d, self._generate_kwargs)
         seed = int(self.rng.integers(0, 2**64, dtype=np.uint64))
-        return _core.randomize(base, "cells", seed)
+        return _core.randomize(base, self._randomize, seed)
 
     if _qmc is None:  # pragma: no cover - the methods QMCEngine provides otherwise
 

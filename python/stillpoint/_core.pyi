@@ -29,7 +29,10 @@ def randomize(
     x: npt.NDArray[np.float64], kind: str, seed: int
 ) -> npt.NDArray[np.float64]:
     """``x`` randomised from ``seed`` as ``generate(..., randomize=kind)`` does:
-    ``'cells'`` or ``'shift'``."""
+    ``'tent'``, ``'cells'`` or ``'shift'``."""
+
+def tent_lattice(n: int, d: int) -> npt.NDArray[np.float64]:
+    """The lattice ``generate(n, d, randomize='tent')`` randomises, unrandomised."""
 
 def metrics_json(x: npt.NDArray[np.float64]) -> str:
     """Every figure ``stillpoint eval --json`` prints for points in [0, 1]^d, as the same

@@ -168,6 +168,9 @@ pub fn generate_with(
                  region the goal is space-filling",
             ))
         }
+        (Goal::Integration(target), None) if cfg.randomize == Some(Randomize::Tent) => {
+            crate::goals::integration::tent_lattice_run(cfg, target)?
+        }
         (Goal::Integration(target), None) => {
             crate::goals::integration::integration_run(cfg, target, &mut on_event)?
         }
@@ -200,6 +203,7 @@ pub fn generate_with(
             how: match kind {
                 Randomize::Shift => "uniform shift modulo 1",
                 Randomize::Cells => "cells rotated, offsets shifted within their cells",
+                Randomize::Tent => "uniform shift modulo 1, then the tent transform",
             }
             .into(),
             seed: cfg.seed,

@@ -713,9 +713,17 @@ impl Resolver<'_> {
             }
             cfg.dem.tolerance = t;
         }
-        if let Some(a) = &r.randomize {
-            let kind = Randomize::parse(&self.word("randomize", a, "cells or shift")?)
-                .map_err(|_| self.bad("randomize", a, "cells or shift"))?;
+        // `randomize=True` asks for the recommended randomisation, `False` for none.
+        let randomize = match &r.randomize {
+            Some(Arg::Bool(false)) => None,
+            other => other.as_ref(),
+        };
+        if let Some(a) = randomize {
+            let kind = match a {
+                Arg::Bool(true) => Randomize::Tent,
+                _ => Randomize::parse(&self.word("randomize", a, Randomize::EXPECTED)?)
+                    .map_err(|_| self.bad("randomize", a, Randomize::EXPECTED))?,
+            };
             if region {
                 return Err(self.bad(
                     "randomize",
@@ -741,6 +749,27 @@ impl Resolver<'_> {
                         (self.spell)("nested")
                     ),
                 ));
+            }
+            if kind == Randomize::Tent {
+                // The tent randomisation keeps its promise only for the lattice made for
+                // it, which the integration goal builds in place of its descent.
+                if !matches!(cfg.goal, Goal::Integration(_)) {
+                    return Err(self.bad(
+                        "randomize",
+                        format!(
+                            "{} with this run's pipeline (the paper's or space-filling)",
+                            kind.name()
+                        ),
+                        "tent with the integration goal (the cube's default), which makes                          the lattice tent is for; cells or shift randomise other sets",
+                    ));
+                }
+                if r.target.is_some() {
+                    return Err(self.bad(
+                        "target",
+                        format!("given with {} tent", (self.spell)("randomize")),
+                        "no target: the lattice for the tent randomisation is chosen by                          its own criterion (the randomised estimate's mean square error)",
+                    ));
+                }
             }
             cfg.randomize = Some(kind);
         }

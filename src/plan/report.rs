@@ -206,6 +206,15 @@ pub enum Stage {
         /// The minimum distance after each further pass.
         passes: Vec<f64>,
     },
+    /// The rank-1 lattice made for the tent randomisation, built component by component.
+    Lattice {
+        /// Its generating vector z: point k is frac(k z / n).
+        generator: Vec<u64>,
+        /// The coordinates' weight γ in the criterion.
+        weight: f64,
+        /// The criterion: the randomised estimate's mean square error bound.
+        criterion: f64,
+    },
     /// The result randomised after the goal's run.
     Randomized {
         /// How.
@@ -343,6 +352,19 @@ impl fmt::Display for Stage {
                     .collect::<Vec<_>>()
                     .join(", ")
             ),
+            Stage::Lattice {
+                generator,
+                weight,
+                criterion,
+            } => {
+                let z: Vec<String> = generator.iter().map(|v| v.to_string()).collect();
+                write!(
+                    f,
+                    "rank-1 lattice for the tent randomisation, built component by \
+                     component: z = ({}), criterion {criterion:.4e} (weight {weight})",
+                    z.join(", ")
+                )
+            }
             Stage::Randomized { how, seed } => write!(f, "randomised ({how}) from seed {seed}"),
         }
     }

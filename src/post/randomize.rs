@@ -22,24 +22,50 @@ pub enum Randomize {
     /// stratified set stays stratified; the discrepancies change a little (a point whose
     /// offset wraps moves by less than 1/n).
     Cells,
+    /// x ↦ 1 − |2((x + c) mod 1) − 1| with c uniform in [0, 1)^s: a uniform shift, then
+    /// the tent (baker's) transform, which keeps the uniform distribution. Every point
+    /// becomes uniform in the cube. Made for the lattice of
+    /// [`crate::sequences::tent_lattice`], whose criterion is this
+    /// randomisation's mean square error: the estimate's error decays like n⁻² for smooth
+    /// integrands (Hickernell 2002), and each column of the lattice stays stratified
+    /// (the shifted column is equally spaced, and the tent folds its two halves onto
+    /// alternate cells).
+    Tent,
 }
 
 impl Randomize {
-    /// `cells` or `shift`.
+    /// What [`Randomize::parse`] accepts, for messages.
+    pub const EXPECTED: &'static str =
+        "tent (the recommended one: a lattice made for it), cells or shift";
+
+    /// `tent`, `cells` or `shift`.
     pub fn parse(text: &str) -> Result<Randomize, Error> {
         match text.trim().to_ascii_lowercase().as_str() {
+            "tent" => Ok(Randomize::Tent),
             "cells" => Ok(Randomize::Cells),
             "shift" => Ok(Randomize::Shift),
-            _ => Err(Error::invalid("randomize", text, "cells or shift")),
+            _ => Err(Error::invalid("randomize", text, Randomize::EXPECTED)),
         }
     }
 
     /// The name [`Randomize::parse`] reads.
     pub fn name(self) -> &'static str {
         match self {
+            Randomize::Tent => "tent",
             Randomize::Cells => "cells",
             Randomize::Shift => "shift",
         }
+    }
+}
+
+/// The tent transform x ↦ 1 − |2x − 1|, which maps the uniform distribution on [0, 1)
+/// onto itself; kept below 1 (x = ½ would map onto 1).
+fn tent(x: f64) -> f64 {
+    let y = 1.0 - (2.0 * x - 1.0).abs();
+    if y >= 1.0 {
+        crate::sequences::prev_float(1.0)
+    } else {
+        y
     }
 }
 
@@ -53,6 +79,12 @@ pub fn randomize(points: &PointSet, kind: Randomize, seed: u64) -> PointSet {
         Randomize::Shift => {
             let c: Vec<f64> = (0..s).map(|_| rng.random::<f64>()).collect();
             crate::post::shift::shifted(points, &c)
+        }
+        Randomize::Tent => {
+            let c: Vec<f64> = (0..s).map(|_| rng.random::<f64>()).collect();
+            let shifted = crate::post::shift::shifted(points, &c);
+            let data = shifted.as_slice().iter().map(|&x| tent(x)).collect();
+            PointSet::new(n, s, data).expect("same shape")
         }
         Randomize::Cells => {
             let turns: Vec<(usize, f64)> = (0..s)

@@ -90,6 +90,33 @@ pub(crate) fn integration_run(
     )
 }
 
+/// The set `--randomize tent` randomises: the lattice made for that randomisation
+/// ([`crate::sequences::tent_lattice`]), in place of the descent. Descending the
+/// lattice's own criterion from it does not lower it (the lattice is a stationary point,
+/// and every descent tried from perturbed lattices ended above it), so it is kept as built.
+pub(crate) fn tent_lattice_run(
+    cfg: &GenerateConfig,
+    target: &Target,
+) -> Result<GenerateReport, Error> {
+    use crate::sequences as lattices;
+    let generator = lattices::tent_lattice_generator(cfg.n, cfg.s)?;
+    let points = lattices::rank1_lattice(cfg.n, &generator)?;
+    let stages = vec![Stage::Lattice {
+        criterion: lattices::tent_criterion(cfg.n, &generator)?,
+        weight: lattices::TENT_WEIGHT,
+        generator,
+    }];
+    let value = target.value(&points);
+    goal_report(
+        cfg,
+        points.clone(),
+        points,
+        (value, value),
+        target.name(),
+        stages,
+    )
+}
+
 /// `--extend`: the old points first and unchanged, new ones placed and descended.
 fn extension_run(
     cfg: &GenerateConfig,
