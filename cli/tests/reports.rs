@@ -134,31 +134,25 @@ fn a_nested_run_starts_from_its_stages_as_placed() {
 }
 
 #[test]
-fn above_the_descent_limit_the_report_says_it_was_skipped_and_stays_finite() {
-    let d = TempDir::new("large");
+fn a_skipped_descent_is_reported_with_its_reason_and_the_report_stays_finite() {
+    // One point has nothing to move; where the budget allows no iteration the same
+    // field carries that reason (see the descent's unit tests).
+    let d = TempDir::new("skipped");
     let out = d.path("x.npy");
-    let v = run_json(&["-n", "20001", "-s", "1", "-o", out.to_str().unwrap()]);
+    let v = run_json(&["-n", "1", "-s", "3", "-o", out.to_str().unwrap()]);
     let descent = stages(&v, "descent");
     assert_eq!(descent.len(), 1);
     assert!(descent[0]["rounds"].as_array().unwrap().is_empty());
     let why = descent[0]["skipped"].as_str().expect("a reason");
-    assert!(why.contains("20000") && why.contains("n^2.3"), "{why}");
+    assert!(why.contains("nothing to move"), "{why}");
     assert_eq!(v["totals"]["descents_skipped"][0], why);
-    let start = stages(&v, "start");
-    assert_eq!(start[0]["candidates"].as_array().unwrap().len(), 1);
-    assert!(start[0]["candidates"][0]["label"]
-        .as_str()
-        .unwrap()
-        .starts_with("sobol("));
-    // The target on the start and on the result (its columns centred): finite numbers.
     let (a, b) = (f(&v["energy_start"]), f(&v["energy_result"]));
-    assert!(a.is_finite() && b.is_finite() && a > 0.0 && b > 0.0);
-    assert_eq!(f(&start[0]["candidates"][0]["value"]), a);
-    for m in ["metrics_start", "metrics_result"] {
-        for (k, x) in v[m].as_object().unwrap() {
-            assert!(x.as_f64().is_some_and(f64::is_finite), "{m}.{k} = {x}");
-        }
-    }
+    assert!(a.is_finite() && b.is_finite());
+    let start = stages(&v, "start");
+    assert_eq!(
+        f(&start[0]["candidates"][start[0]["kept"].as_u64().unwrap() as usize]["value"]),
+        a
+    );
 }
 
 #[test]

@@ -381,6 +381,9 @@ pub struct Effort {
     /// costs n per discrepancy of the target, about 2.5 ns each on one core): what keeps
     /// the largest sets within seconds.
     pub exchange_work: u64,
+    /// A cap on the L-BFGS work of the whole run, and through it on the starts compared,
+    /// in pairs × coordinates × iterations (see [`Budget`]).
+    pub work: u64,
 }
 
 impl Default for Effort {
@@ -391,7 +394,49 @@ impl Default for Effort {
             proposals: 20,
             lbfgs_steps: 30,
             exchange_work: 3_000_000_000,
+            // 90 iterations at n = 8 192, s = 5 (n²·s = 3.4·10⁸): 31 s on the 2-core
+            // machine, about 1 ns per unit.
+            work: 30_000_000_000,
         }
+    }
+}
+
+/// What the work cap of an [`Effort`] allows for n points in s dimensions. One L-BFGS
+/// iteration on the blended target costs about n²·s units (value and gradient of its
+/// discrepancies, with the line search), one evaluation of the target to compare a start
+/// about n²·s·2/5. The iterations get the whole cap, the start comparisons a third of it
+/// more, so a run's cost grows smoothly with n up to about 40 s at 2 cores, and the
+/// descent fades out (fewer iterations, then fewer starts) instead of stopping at one n.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Budget {
+    /// Rounds of exchanges then L-BFGS.
+    pub rounds: usize,
+    /// L-BFGS iterations per round.
+    pub steps: usize,
+    /// Candidate starts to compare (Sobol' sets, then Halton), at least 1.
+    pub starts: usize,
+}
+
+impl Budget {
+    /// The budget of `effort` at n points in s dimensions.
+    pub fn of(n: usize, s: usize, effort: &Effort) -> Budget {
+        let unit = (n as u128 * n as u128 * s as u128).max(1);
+        let wanted = (effort.rounds * effort.lbfgs_steps) as u128;
+        let total = wanted.min(u128::from(effort.work) / unit) as usize;
+        let rounds = effort.rounds.min(total);
+        let steps = total.checked_div(rounds).unwrap_or(0);
+        let comparable = u128::from(effort.work) * 5 / (6 * unit);
+        let starts = comparable.clamp(1, effort.starts as u128 + 1) as usize;
+        Budget {
+            rounds,
+            steps,
+            starts,
+        }
+    }
+
+    /// Whether the descent runs at all (at least one L-BFGS iteration fits).
+    pub fn descends(&self) -> bool {
+        self.steps > 0
     }
 }
 
@@ -417,11 +462,6 @@ pub struct Outcome {
     pub descent: Descent,
 }
 
-/// Largest n for which [`integration_set`] compares starts and descends (each evaluation
-/// of a discrepancy is O(n² s)); above it the set is one stratified scrambled Sobol' set
-/// with centred columns, made in O(n s log n).
-pub const DESCENT_MAX_N: usize = 20_000;
-
 /// The integration goal: a stratified set of n points in [0, 1)^s with the squared
 /// discrepancy `target` as low as `effort` reaches, from the best stratified start
 /// (scrambled Sobol' with `effort.starts` seeds derived from `seed`, scrambled Halton),
@@ -435,7 +475,8 @@ pub fn integration_set(
     effort: &Effort,
 ) -> Result<(PointSet, Outcome), Error> {
     sequences::check_size(n, s)?;
-    if n > DESCENT_MAX_N && s <= sequences::SOBOL_MAX_S {
+    let budget = Budget::of(n, s, effort);
+    if !budget.descends() && budget.starts == 1 && s <= sequences::SOBOL_MAX_S {
         let sd = sequences::stream_seed(seed, 0);
         let start_points = stratify(&sequences::sobol_scrambled(n, s, sd)?);
         let p = center_columns(&start_points);
@@ -444,16 +485,15 @@ pub fn integration_set(
         return Ok((
             p,
             Outcome {
-                made: format!(
-                    "one scrambled Sobol' set, stratified (above {DESCENT_MAX_N} points no \
-                     candidates are compared)"
-                ),
+                made: "one scrambled Sobol' set, stratified (no candidates are compared: \
+                       one evaluation of the target costs O(n² s))"
+                    .into(),
                 candidates: vec![Candidate {
                     label: start.clone(),
                     value: before,
                 }],
                 kept: 0,
-                descent: skipped_descent(n, n),
+                descent: skipped_descent(n, s, n, effort),
                 start,
                 start_points,
                 before,
@@ -478,8 +518,11 @@ pub fn integration_set(
             best = Some((v, p, label));
         }
     };
-    if s <= sequences::SOBOL_MAX_S && n as u64 <= sequences::SOBOL_MAX_N as u64 {
-        for t in 0..effort.starts.max(1) as u64 {
+    // The Sobol' candidates first, then Halton, as many as the budget compares.
+    let sobol_starts = budget.starts.min(effort.starts.max(1));
+    let sobol = s <= sequences::SOBOL_MAX_S && n as u64 <= sequences::SOBOL_MAX_N as u64;
+    if sobol {
+        for t in 0..sobol_starts as u64 {
             let sd = sequences::stream_seed(seed, t);
             consider(
                 sequences::sobol_scrambled(n, s, sd)?,
@@ -487,7 +530,7 @@ pub fn integration_set(
             );
         }
     }
-    if s <= sequences::HALTON_SCRAMBLED_MAX_S {
+    if s <= sequences::HALTON_SCRAMBLED_MAX_S && (!sobol || budget.starts > sobol_starts) {
         let sd = sequences::stream_seed(seed, u64::MAX - 1);
         consider(
             sequences::halton_scrambled(n, s, sd)?,
@@ -530,14 +573,17 @@ pub fn integration_set(
     ))
 }
 
-/// The descent of `moving` of n points, not run because n is above [`DESCENT_MAX_N`].
-fn skipped_descent(n: usize, moving: usize) -> Descent {
+/// The descent of `moving` of n points, not run because one L-BFGS iteration costs more
+/// than the effort's work cap.
+fn skipped_descent(n: usize, s: usize, moving: usize, effort: &Effort) -> Descent {
     Descent {
         moving,
         rounds: Vec::new(),
         skipped: Some(format!(
-            "n = {n} is above {DESCENT_MAX_N}, where its cost (growing as about n^2.3) \
-             would dwarf the rest of the run"
+            "one L-BFGS iteration at n = {n}, s = {s} costs n²·s = {:.1e} units, above the \
+             run's cap of {:.1e} (about 30 s on 2 cores)",
+            (n as f64).powi(2) * s as f64,
+            effort.work as f64
         )),
         exchanges_skipped: None,
     }
@@ -546,7 +592,8 @@ fn skipped_descent(n: usize, moving: usize) -> Descent {
 /// The descent of the integration goal from a stratified start, moving the points from
 /// index `first_movable` on: rounds of exchanges and in-cell L-BFGS on the target (its
 /// weights fixed at the start, so it is one function all along), then the columns
-/// balanced. Up to [`DESCENT_MAX_N`] points; larger sets are only balanced.
+/// balanced. As many rounds and iterations as the effort's [`Budget`] allows; where no
+/// iteration fits, the set is only balanced.
 fn descend(
     mut points: PointSet,
     first_movable: usize,
@@ -561,8 +608,9 @@ fn descend(
         skipped: None,
         exchanges_skipped: None,
     };
-    if n > DESCENT_MAX_N {
-        descent = skipped_descent(n, descent.moving);
+    let budget = Budget::of(n, s, effort);
+    if !budget.descends() {
+        descent = skipped_descent(n, s, descent.moving, effort);
     } else if n < 2 || first_movable >= n {
         descent.skipped = Some("nothing to move".into());
     } else if !target.fits(s) {
@@ -587,10 +635,10 @@ fn descend(
             .map(|&(k, w)| (Form::from(k), w))
             .collect();
         let moving = (n - first_movable) as u64;
-        let rounds = effort.rounds.max(1) as u64;
+        let rounds = budget.rounds.max(1) as u64;
         let affordable = effort.exchange_work / (rounds * forms.len() as u64 * n as u64);
         let proposals = (effort.proposals as u64 * moving * s as u64).min(affordable) as usize;
-        for round in 0..effort.rounds {
+        for round in 0..budget.rounds {
             crate::solve::stop_if_cancelled()?;
             let (exchanged, proposals, accepted) = exchanges_counted(
                 &points,
@@ -599,13 +647,8 @@ fn descend(
                 proposals,
                 sequences::stream_seed(seed, 1000 + round as u64),
             );
-            let (descended, (lbfgs_iterations, lbfgs_stop, lbfgs_kept)) = cell_descent(
-                &exchanged,
-                first_movable,
-                &target,
-                effort.lbfgs_steps,
-                &lbfgs,
-            )?;
+            let (descended, (lbfgs_iterations, lbfgs_stop, lbfgs_kept)) =
+                cell_descent(&exchanged, first_movable, &target, budget.steps, &lbfgs)?;
             crate::solve::stop_if_cancelled()?;
             points = descended;
             descent.rounds.push(Round {
@@ -894,6 +937,54 @@ pub fn center_columns_after(points: &PointSet, first_movable: usize) -> PointSet
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_budget_fades_with_n_and_never_grows() {
+        let effort = Effort::default();
+        for s in [1usize, 2, 5, 10, 20] {
+            let mut last = Budget::of(2, s, &effort);
+            assert_eq!((last.rounds, last.steps, last.starts), (3, 30, 9));
+            for n in (1..400).map(|k| k * k * 8) {
+                let b = Budget::of(n, s, &effort);
+                assert!(
+                    b.rounds * b.steps <= last.rounds * last.steps,
+                    "n = {n}, s = {s}"
+                );
+                assert!(b.starts <= last.starts && b.starts >= 1, "n = {n}, s = {s}");
+                // The iterations' cost stays within the cap.
+                let unit = (n * n * s) as u128;
+                assert!((b.rounds * b.steps) as u128 * unit <= u128::from(effort.work));
+                last = b;
+            }
+            // Far above the cap nothing is compared or descended.
+            assert_eq!(last.steps, 0, "s = {s}");
+            assert_eq!(last.starts, 1, "s = {s}");
+        }
+    }
+
+    #[test]
+    fn without_budget_the_set_is_one_stratified_sobol_set_and_says_why() {
+        let tiny = Effort {
+            work: 1_000,
+            ..Effort::default()
+        };
+        let target = Target::blend();
+        let (points, outcome) = integration_set(64, 3, &target, 5, &tiny).unwrap();
+        assert!(is_stratified(&points));
+        assert_eq!(outcome.candidates.len(), 1);
+        assert!(outcome.start.starts_with("sobol("));
+        let why = outcome.descent.skipped.expect("a reason");
+        assert!(
+            why.contains("L-BFGS iteration") && why.contains("cap"),
+            "{why}"
+        );
+        assert!(outcome.before.is_finite() && outcome.after.is_finite());
+        // With the default budget the same size compares every start and descends.
+        let (_, full) = integration_set(64, 3, &target, 5, &Effort::default()).unwrap();
+        assert_eq!(full.candidates.len(), 9);
+        assert_eq!(full.descent.rounds.len(), 3);
+        assert!(full.after < outcome.after);
+    }
     use crate::energies::discrepancy::{squared_discrepancies, DiscrepancyKind};
 
     #[test]
