@@ -394,19 +394,22 @@ impl Default for Effort {
             proposals: 20,
             lbfgs_steps: 30,
             exchange_work: 3_000_000_000,
-            // 90 iterations at n = 8 192, s = 5 (n²·s = 3.4·10⁸): 31 s on the 2-core
-            // machine, about 1 ns per unit.
-            work: 30_000_000_000,
+            // Three rounds of 30 iterations up to n = 8 192 at s = 5 (n²·s = 3.4·10⁸),
+            // which took 31 s on the 2-core machine: about 1 ns per unit.
+            work: 35_000_000_000,
         }
     }
 }
 
 /// What the work cap of an [`Effort`] allows for n points in s dimensions. One L-BFGS
 /// iteration on the blended target costs about n²·s units (value and gradient of its
-/// discrepancies, with the line search), one evaluation of the target to compare a start
-/// about n²·s·2/5. The iterations get the whole cap, the start comparisons a third of it
-/// more, so a run's cost grows smoothly with n up to about 40 s at 2 cores, and the
-/// descent fades out (fewer iterations, then fewer starts) instead of stopping at one n.
+/// discrepancies, with the line search), and each round about [`ROUND_OVERHEAD`]
+/// iterations more (its start, its end and the target's normalisation); one evaluation of
+/// the target to compare a start costs about n²·s·2/5. Above [`EXCHANGE_MAX_N`] points,
+/// where no exchanges run between rounds, there is one round. The rounds get the whole cap, the
+/// start comparisons a third of it more, so a run's cost grows smoothly with n and the
+/// descent fades out (fewer iterations, fewer rounds, then fewer starts) instead of
+/// stopping at one n.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Budget {
     /// Rounds of exchanges then L-BFGS.
@@ -417,14 +420,25 @@ pub struct Budget {
     pub starts: usize,
 }
 
+/// The cost of a round of the descent beyond its iterations, in iterations.
+pub const ROUND_OVERHEAD: usize = 3;
+
 impl Budget {
     /// The budget of `effort` at n points in s dimensions.
     pub fn of(n: usize, s: usize, effort: &Effort) -> Budget {
         let unit = (n as u128 * n as u128 * s as u128).max(1);
-        let wanted = (effort.rounds * effort.lbfgs_steps) as u128;
-        let total = wanted.min(u128::from(effort.work) / unit) as usize;
-        let rounds = effort.rounds.min(total);
-        let steps = total.checked_div(rounds).unwrap_or(0);
+        let available = (u128::from(effort.work) / unit).min(1 << 20) as usize;
+        let fits = available / (1 + ROUND_OVERHEAD);
+        // Without exchanges between them (their tables stop at EXCHANGE_MAX_N), rounds
+        // would only restart L-BFGS: one round gets every iteration instead.
+        let (rounds, most) = if n > EXCHANGE_MAX_N {
+            (fits.min(1), effort.rounds * effort.lbfgs_steps)
+        } else {
+            (effort.rounds.min(fits), effort.lbfgs_steps)
+        };
+        let steps = available
+            .checked_div(rounds)
+            .map_or(0, |per| (per - ROUND_OVERHEAD).min(most));
         let comparable = u128::from(effort.work) * 5 / (6 * unit);
         let starts = comparable.clamp(1, effort.starts as u128 + 1) as usize;
         Budget {
@@ -573,15 +587,16 @@ pub fn integration_set(
     ))
 }
 
-/// The descent of `moving` of n points, not run because one L-BFGS iteration costs more
-/// than the effort's work cap.
+/// The descent of `moving` of n points, not run because one round costs more than the
+/// effort's work cap.
 fn skipped_descent(n: usize, s: usize, moving: usize, effort: &Effort) -> Descent {
     Descent {
         moving,
         rounds: Vec::new(),
         skipped: Some(format!(
-            "one L-BFGS iteration at n = {n}, s = {s} costs n²·s = {:.1e} units, above the \
-             run's cap of {:.1e} (about 30 s on 2 cores)",
+            "one round of the descent at n = {n}, s = {s} costs {} L-BFGS iterations of \
+             n²·s = {:.1e} units each, above the run's cap of {:.1e} (about 35 s on 2 cores)",
+            1 + ROUND_OVERHEAD,
             (n as f64).powi(2) * s as f64,
             effort.work as f64
         )),
@@ -946,14 +961,13 @@ mod tests {
             assert_eq!((last.rounds, last.steps, last.starts), (3, 30, 9));
             for n in (1..400).map(|k| k * k * 8) {
                 let b = Budget::of(n, s, &effort);
-                assert!(
-                    b.rounds * b.steps <= last.rounds * last.steps,
-                    "n = {n}, s = {s}"
-                );
+                assert!(b.rounds <= last.rounds, "n = {n}, s = {s}");
+                assert!(last.descends() || !b.descends(), "n = {n}, s = {s}");
                 assert!(b.starts <= last.starts && b.starts >= 1, "n = {n}, s = {s}");
-                // The iterations' cost stays within the cap.
+                // The rounds' cost stays within the cap.
                 let unit = (n * n * s) as u128;
-                assert!((b.rounds * b.steps) as u128 * unit <= u128::from(effort.work));
+                let iterations = b.rounds * (b.steps + ROUND_OVERHEAD);
+                assert!(iterations as u128 * unit <= u128::from(effort.work));
                 last = b;
             }
             // Far above the cap nothing is compared or descended.
