@@ -304,6 +304,14 @@ fn check_generate(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
     resolve(kwargs).map(|_| ())
 }
 
+/// The estimated seconds of `generate` with these keyword arguments on this machine's
+/// thread pool, from the library's cost model; refuses what `generate` would refuse.
+#[pyfunction]
+#[pyo3(signature = (**kwargs))]
+fn estimate(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<f64> {
+    resolve(kwargs).map(|r| r.estimate_seconds())
+}
+
 /// `x` randomised from `seed` as `generate(..., randomize=kind)` randomises its result:
 /// `'cells'` (cells rotated, offsets shifted within them) or `'shift'`.
 #[pyfunction]
@@ -367,6 +375,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(generate, m)?)?;
     m.add_function(wrap_pyfunction!(check_generate, m)?)?;
+    m.add_function(wrap_pyfunction!(estimate, m)?)?;
     m.add_function(wrap_pyfunction!(metrics_json, m)?)?;
     m.add_function(wrap_pyfunction!(discrepancy, m)?)?;
     m.add_function(wrap_pyfunction!(baselines, m)?)?;
