@@ -18,7 +18,10 @@ from __future__ import annotations
 import copy
 import json
 import operator
+import os
+import sys
 import threading
+import warnings
 from typing import Any, Callable, Dict, Optional, Sequence, Tuple
 
 import numpy as np
@@ -110,6 +113,38 @@ def _check_generate(n: Any = None, d: Any = None, **options: Any) -> None:
     _core.check_generate(**_arrays({"n": n, "d": d, **options}))
 
 
+# A call estimated to take longer than this warns before it starts.
+_LONG_CALL_SECONDS = 30.0
+
+_PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
+
+
+def _caller_stacklevel() -> int:
+    """The ``stacklevel`` of the first frame outside this package, as seen from the
+    function calling this one: a warning then points at the user's line, whichever of
+    the package's functions led to it."""
+    level, frame = 2, sys._getframe(2)
+    while frame is not None and os.path.abspath(frame.f_code.co_filename).startswith(
+        _PACKAGE_DIR
+    ):
+        frame, level = frame.f_back, level + 1
+    return level
+
+
+def _warn_if_long(kwargs: Dict[str, Any]) -> None:
+    """A ``RuntimeWarning`` with the library's estimate of the call's seconds when it is
+    above 30 seconds, before any work starts (the estimate also refuses
+    a bad argument, with generate's message)."""
+    seconds = _core.estimate(**kwargs)
+    if seconds > _LONG_CALL_SECONDS:
+        warnings.warn(
+            f"this stillpoint run is estimated to take about {seconds:.0f} seconds on this "
+            "machine; Ctrl-C stops it",
+            RuntimeWarning,
+            stacklevel=_caller_stacklevel(),
+        )
+
+
 def generate(
     n: int,
     d: Optional[int] = None,
@@ -180,26 +215,32 @@ def generate(
     ------
     ValueError
         For any argument the library refuses, with its message (naming the argument).
+
+    Warns
+    -----
+    RuntimeWarning
+        Before a run the library's cost model estimates at more than 30 seconds
+        (on this machine's cores), with the estimate; ``warnings.filterwarnings``
+        silences it or, with ``'error'``, turns it into an exception before any work.
     """
-    return _core.generate(
-        **_arrays(
-            {
-                "n": n,
-                "d": d,
-                "seed": seed,
-                "method": method,
-                "energy": energy,
-                "integrator": integrator,
-                "steps": steps,
-                "region": region,
-                "box": box,
-                "shape": shape,
-                "bounds": bounds,
-                **later,
-            }
-        ),
-        progress=bool(progress),
+    kwargs = _arrays(
+        {
+            "n": n,
+            "d": d,
+            "seed": seed,
+            "method": method,
+            "energy": energy,
+            "integrator": integrator,
+            "steps": steps,
+            "region": region,
+            "box": box,
+            "shape": shape,
+            "bounds": bounds,
+            **later,
+        }
     )
+    _warn_if_long(kwargs)
+    return _core.generate(**kwargs, progress=bool(progress))
 
 
 def extend(points: Any, m: int, **kwargs: Any) -> np.ndarray:
@@ -209,7 +250,8 @@ def extend(points: Any, m: int, **kwargs: Any) -> np.ndarray:
     new points fill the cells of the union's grid that no old point occupies, so the
     union stays stratified when the old points permit it; in a region (``region=`` /
     ``shape=``) they settle under U_{E,inf,g} with the old points fixed. ``m`` must be at
-    least 1. ``kwargs`` go to :func:`generate` (``seed``, ``target``, ``region``, ...)."""
+    least 1. ``kwargs`` go to :func:`generate` (``seed``, ``target``, ``region``, ...),
+    which warns before a long run."""
     old = _points(points, "points")
     d = kwargs.pop("d", None)
     return generate(m, d, extend=old, names={"n": "m", "extend": "points"}, **kwargs)
@@ -219,7 +261,8 @@ def nested(sizes: Any, d: int, **kwargs: Any) -> np.ndarray:
     """One set of ``sizes[-1]`` points whose first ``sizes[0]``, ``sizes[1]``, ...
     points are each a good set (each stage an extension of the one before), as
     ``stillpoint generate --nested N1,N2,...``. ``sizes`` is a list of increasing sizes
-    or the command line's text ``"N1,N2,..."``. ``kwargs`` go to :func:`generate`."""
+    or the command line's text ``"N1,N2,..."``. ``kwargs`` go to :func:`generate`,
+    which warns before a long run."""
     if not isinstance(sizes, str):
         sizes = list(sizes)
     return generate(None, d, nested=sizes, names={"nested": "sizes"}, **kwargs)
