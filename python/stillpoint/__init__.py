@@ -498,3 +498,39 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
     def __repr__(self) -> str:
         extra = "".join(f", {k}={v!r}" for k, v in self._generate_kwargs.items())
         return f"stillpoint.Engine(d={self.d}{extra})"
+
+    def _state(self) -> Tuple[Any, ...]:
+        """What decides the draws to come: the dimension, the run's arguments, SciPy's
+        post-processing, the generators' states (the current one and the one ``reset``
+        returns to) and the count drawn."""
+        return (
+            type(self),
+            self.d,
+            _frozen(self._generate_kwargs),
+            getattr(self, "_optimization", None),
+            _frozen(self.rng.bit_generator.state),
+            _frozen(self.rng_seed.bit_generator.state),
+            _frozen(_optimizer_rng_state(self)),
+            self.num_generated,
+        )
+
+    def __eq__(self, other: object) -> bool:
+        """Engines are equal when they will draw the same points from now on (and after
+        ``reset``): a copy, or a pickled and loaded engine, equals its original."""
+        if not isinstance(other, Engine):
+            return NotImplemented
+        return self._state() == other._state()
+
+    # Equal engines stop being equal as either draws: no hash, as for any mutable value.
+    # Pickling needs nothing of its own: the instance's attributes (the generators with
+    # their states, the arguments, SciPy's post-processing) are all picklable, and pickle
+    # keeps the post-processing's generator the same object as ``rng`` when it is one.
+    # The cached optimised set is not carried; each process computes it on its first draw.
+    __hash__ = None  # type: ignore[assignment]
+
+
+def _optimizer_rng_state(engine: Engine) -> Any:
+    """The state of the generator SciPy's post-processing draws from (after ``reset``
+    no longer the engine's own ``rng``), or None without one."""
+    rng = getattr(getattr(engine, "optimization_method", None), "keywords", {}).get("rng")
+    return None if rng is None else rng.bit_generator.state
