@@ -37,6 +37,7 @@ __all__ = [
     "discrepancy",
     "extend",
     "generate",
+    "generate_many",
     "integrate",
     "metrics",
     "nested",
@@ -534,3 +535,6 @@ def _optimizer_rng_state(engine: Engine) -> Any:
     no longer the engine's own ``rng``), or None without one."""
     rng = getattr(getattr(engine, "optimization_method", None), "keywords", {}).get("rng")
     return None if rng is None else rng.bit_generator.state
+
+
+from ._many import generate_many  # noqa: E402  (it uses generate, defined above)
