@@ -313,6 +313,14 @@ fn tent_lattice<'py>(py: Python<'py>, n: usize, d: usize) -> PyResult<Bound<'py,
     to_array(py, points)
 }
 
+/// The estimated seconds of `generate` with these keyword arguments on this machine's
+/// thread pool, from the library's cost model; refuses what `generate` would refuse.
+#[pyfunction]
+#[pyo3(signature = (**kwargs))]
+fn estimate(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<f64> {
+    resolve(kwargs).map(|r| r.estimate_seconds())
+}
+
 /// `x` randomised from `seed` as `generate(..., randomize=kind)` randomises its result:
 /// `'tent'` (uniform shift, then the tent transform), `'cells'` (cells rotated, offsets
 /// shifted within them) or `'shift'`.
@@ -377,6 +385,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(generate, m)?)?;
     m.add_function(wrap_pyfunction!(check_generate, m)?)?;
+    m.add_function(wrap_pyfunction!(estimate, m)?)?;
     m.add_function(wrap_pyfunction!(metrics_json, m)?)?;
     m.add_function(wrap_pyfunction!(discrepancy, m)?)?;
     m.add_function(wrap_pyfunction!(baselines, m)?)?;

@@ -18,7 +18,10 @@ from __future__ import annotations
 import copy
 import json
 import operator
+import os
+import sys
 import threading
+import warnings
 from typing import Any, Callable, Dict, Optional, Sequence, Tuple
 
 import numpy as np
@@ -34,6 +37,7 @@ __all__ = [
     "discrepancy",
     "extend",
     "generate",
+    "generate_many",
     "integrate",
     "metrics",
     "nested",
@@ -110,6 +114,38 @@ def _check_generate(n: Any = None, d: Any = None, **options: Any) -> None:
     _core.check_generate(**_arrays({"n": n, "d": d, **options}))
 
 
+# A call estimated to take longer than this warns before it starts.
+_LONG_CALL_SECONDS = 30.0
+
+_PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
+
+
+def _caller_stacklevel() -> int:
+    """The ``stacklevel`` of the first frame outside this package, as seen from the
+    function calling this one: a warning then points at the user's line, whichever of
+    the package's functions led to it."""
+    level, frame = 2, sys._getframe(2)
+    while frame is not None and os.path.abspath(frame.f_code.co_filename).startswith(
+        _PACKAGE_DIR
+    ):
+        frame, level = frame.f_back, level + 1
+    return level
+
+
+def _warn_if_long(kwargs: Dict[str, Any]) -> None:
+    """A ``RuntimeWarning`` with the library's estimate of the call's seconds when it is
+    above 30 seconds, before any work starts (the estimate also refuses
+    a bad argument, with generate's message)."""
+    seconds = _core.estimate(**kwargs)
+    if seconds > _LONG_CALL_SECONDS:
+        warnings.warn(
+            f"this stillpoint run is estimated to take about {seconds:.0f} seconds on this "
+            "machine; Ctrl-C stops it",
+            RuntimeWarning,
+            stacklevel=_caller_stacklevel(),
+        )
+
+
 def generate(
     n: int,
     d: Optional[int] = None,
@@ -181,26 +217,32 @@ def generate(
     ------
     ValueError
         For any argument the library refuses, with its message (naming the argument).
+
+    Warns
+    -----
+    RuntimeWarning
+        Before a run the library's cost model estimates at more than 30 seconds
+        (on this machine's cores), with the estimate; ``warnings.filterwarnings``
+        silences it or, with ``'error'``, turns it into an exception before any work.
     """
-    return _core.generate(
-        **_arrays(
-            {
-                "n": n,
-                "d": d,
-                "seed": seed,
-                "method": method,
-                "energy": energy,
-                "integrator": integrator,
-                "steps": steps,
-                "region": region,
-                "box": box,
-                "shape": shape,
-                "bounds": bounds,
-                **later,
-            }
-        ),
-        progress=bool(progress),
+    kwargs = _arrays(
+        {
+            "n": n,
+            "d": d,
+            "seed": seed,
+            "method": method,
+            "energy": energy,
+            "integrator": integrator,
+            "steps": steps,
+            "region": region,
+            "box": box,
+            "shape": shape,
+            "bounds": bounds,
+            **later,
+        }
     )
+    _warn_if_long(kwargs)
+    return _core.generate(**kwargs, progress=bool(progress))
 
 
 def extend(points: Any, m: int, **kwargs: Any) -> np.ndarray:
@@ -210,7 +252,8 @@ def extend(points: Any, m: int, **kwargs: Any) -> np.ndarray:
     new points fill the cells of the union's grid that no old point occupies, so the
     union stays stratified when the old points permit it; in a region (``region=`` /
     ``shape=``) they settle under U_{E,inf,g} with the old points fixed. ``m`` must be at
-    least 1. ``kwargs`` go to :func:`generate` (``seed``, ``target``, ``region``, ...)."""
+    least 1. ``kwargs`` go to :func:`generate` (``seed``, ``target``, ``region``, ...),
+    which warns before a long run."""
     old = _points(points, "points")
     d = kwargs.pop("d", None)
     return generate(m, d, extend=old, names={"n": "m", "extend": "points"}, **kwargs)
@@ -220,7 +263,8 @@ def nested(sizes: Any, d: int, **kwargs: Any) -> np.ndarray:
     """One set of ``sizes[-1]`` points whose first ``sizes[0]``, ``sizes[1]``, ...
     points are each a good set (each stage an extension of the one before), as
     ``stillpoint generate --nested N1,N2,...``. ``sizes`` is a list of increasing sizes
-    or the command line's text ``"N1,N2,..."``. ``kwargs`` go to :func:`generate`."""
+    or the command line's text ``"N1,N2,..."``. ``kwargs`` go to :func:`generate`,
+    which warns before a long run."""
     if not isinstance(sizes, str):
         sizes = list(sizes)
     return generate(None, d, nested=sizes, names={"nested": "sizes"}, **kwargs)
@@ -486,4 +530,46 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
 
     def __repr__(self) -> str:
         extra = "".join(f", {k}={v!r}" for k, v in self._generate_kwargs.items())
+        if self._randomize != "tent":
+            extra = f", randomize={self._randomize!r}" + extra
         return f"stillpoint.Engine(d={self.d}{extra})"
+
+    def _state(self) -> Tuple[Any, ...]:
+        """What decides the draws to come: the dimension, the run's arguments, SciPy's
+        post-processing, the generators' states (the current one and the one ``reset``
+        returns to) and the count drawn."""
+        return (
+            type(self),
+            self.d,
+            self._randomize,
+            _frozen(self._generate_kwargs),
+            getattr(self, "_optimization", None),
+            _frozen(self.rng.bit_generator.state),
+            _frozen(self.rng_seed.bit_generator.state),
+            _frozen(_optimizer_rng_state(self)),
+            self.num_generated,
+        )
+
+    def __eq__(self, other: object) -> bool:
+        """Engines are equal when they will draw the same points from now on (and after
+        ``reset``): a copy, or a pickled and loaded engine, equals its original."""
+        if not isinstance(other, Engine):
+            return NotImplemented
+        return self._state() == other._state()
+
+    # Equal engines stop being equal as either draws: no hash, as for any mutable value.
+    # Pickling needs nothing of its own: the instance's attributes (the generators with
+    # their states, the arguments, SciPy's post-processing) are all picklable, and pickle
+    # keeps the post-processing's generator the same object as ``rng`` when it is one.
+    # The cached optimised set is not carried; each process computes it on its first draw.
+    __hash__ = None  # type: ignore[assignment]
+
+
+def _optimizer_rng_state(engine: Engine) -> Any:
+    """The state of the generator SciPy's post-processing draws from (after ``reset``
+    no longer the engine's own ``rng``), or None without one."""
+    rng = getattr(getattr(engine, "optimization_method", None), "keywords", {}).get("rng")
+    return None if rng is None else rng.bit_generator.state
+
+
+from ._many import generate_many  # noqa: E402  (it uses generate, defined above)

@@ -25,6 +25,12 @@ def check_generate(**kwargs: Any) -> None:
     """Resolves the keyword arguments of :func:`generate` without running: raises the
     ``ValueError`` generate would raise."""
 
+def estimate(**kwargs: Any) -> float:
+    """The estimated seconds of :func:`generate` with these keyword arguments on this
+    machine's thread pool (the library's cost model, measured on a 2-core machine; a
+    larger pool divides it). Raises the ``ValueError`` generate would raise, without
+    running."""
+
 def randomize(
     x: npt.NDArray[np.float64], kind: str, seed: int
 ) -> npt.NDArray[np.float64]:

@@ -4,6 +4,7 @@
 //! applies the post-steps (randomisation last), and reports on the set it returns.
 //! [`generate`], [`paper`] and [`region`] are the one-call entry points.
 
+pub mod estimate;
 pub mod request;
 
 use crate::integrators::Record;

@@ -1,0 +1,80 @@
+"""The long-call warning: generate, extend and nested warn with the library's estimate
+before a run it puts above 30 seconds, and before any work (so that a filter turning the
+warning into an error stops the call at once)."""
+
+import time
+import warnings
+
+import pytest
+
+import stillpoint as sp
+from stillpoint import _core
+
+# Each is hours on 2 cores by the cost model, so minutes even on a large machine.
+HUGE = [
+    ("generate", lambda: sp.generate(20000, 50)),
+    ("extend", lambda: sp.extend(sp.generate(8, 50), 19992)),
+    ("nested", lambda: sp.nested([10000, 20000], 50)),
+    ("paper", lambda: sp.generate(20000, 50, method="paper")),
+]
+
+
+class Stopped(Exception):
+    pass
+
+
+def warning_of(call):
+    """The warning `call` issues first, as (message, category, file, line), stopping the
+    call there; None when it issues none (then the call has run)."""
+    seen = []
+
+    def stop(message, category, filename, lineno, file=None, line=None):
+        seen.append((str(message), category, filename, lineno))
+        raise Stopped
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")
+        warnings.showwarning = stop
+        try:
+            call()
+        except Stopped:
+            pass
+    return seen[0] if seen else None
+
+
+def test_the_estimate_is_the_librarys_and_refuses_like_generate():
+    assert _core.estimate(n=20000, d=50) > 30
+    assert 0 < _core.estimate(n=16, d=2) < 1
+    assert _core.estimate(n=1000, d=5, method="sobol") < 0.1
+    with pytest.raises(ValueError, match=r"^invalid steps = 0"):
+        _core.estimate(n=16, d=2, steps=0)
+
+
+@pytest.mark.parametrize("name, call", HUGE, ids=[h[0] for h in HUGE])
+def test_a_huge_call_warns_before_it_starts(name, call):
+    started = time.monotonic()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        with pytest.raises(RuntimeWarning, match=r"estimated to take about \d+ seconds"):
+            call()
+    # The warning came before the run: nothing of an hours-long run was done.
+    assert time.monotonic() - started < 5.0
+
+
+@pytest.mark.parametrize("name, call", HUGE[:3], ids=[h[0] for h in HUGE[:3]])
+def test_the_warning_points_at_the_callers_line(name, call):
+    message, category, filename, _ = warning_of(call)
+    assert category is RuntimeWarning
+    assert filename == __file__
+    seconds = float(message.split("about ")[1].split(" ")[0])
+    assert seconds > 30
+
+
+def test_an_ordinary_call_does_not_warn():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        x = sp.generate(64, 3)
+        sp.extend(x, 16)
+        sp.nested([8, 16], 2)
+        sp.generate(1000, 5, method="sobol")
+    assert warning_of(lambda: sp.generate(32, 2)) is None

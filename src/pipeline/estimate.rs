@@ -1,0 +1,349 @@
+//! How long a run will take, estimated before it starts, so that a front end can warn
+//! before a long call: a cost model of each pipeline with constants measured on the
+//! project's build machine. `python/benches/cost_model.py` prints the measured times
+//! beside the model's; refit the constants from it when a pipeline's cost changes.
+//!
+//! Every constant below is in seconds of one core of that machine (2 cores, shared with
+//! other work; each case timed once as process CPU time with `RAYON_NUM_THREADS=1`,
+//! which there matched the wall time of a default run, the other work taking the second
+//! core). The fitted model is within a factor of 2 of every measured run (most within
+//! 30 %); it is a warning's estimate, not a benchmark.
+
+use super::{Job, Resolved};
+use crate::goals::integration::exchange::EXCHANGE_MAX_N;
+use crate::goals::integration::{Budget, Effort};
+use crate::plan::{GenerateConfig, Goal};
+use crate::sequences::Baseline;
+
+/// The thread count the constants were measured with; a larger pool is taken to divide
+/// the time (the O(n²) passes run in parallel), a smaller one not to lengthen it (the
+/// measured runs had about one core).
+const MEASURED_THREADS: usize = 2;
+
+/// a + b · x: most parts of the model are one fixed cost and one proportional cost.
+struct Affine {
+    a: f64,
+    b: f64,
+}
+
+impl Affine {
+    fn at(&self, x: f64) -> f64 {
+        self.a + self.b * x
+    }
+}
+
+/// The integration goal where its [`Budget`] is whole, fitted (least squares on the
+/// logarithm of the time) to 27 runs: n from 256 to 12 000 at d = 2, 5, 20 and
+/// n = 10, 100 at d = 10⁴ to 10⁶:
+///
+/// t = c + e · X · n / (n + n0) + b · n^g · (d + d0) + l · n · d
+///
+/// X is the exchange work the descent does (pair-factor updates, from [`Effort`]; none
+/// above [`EXCHANGE_MAX_N`]), each update cheaper while the table is small (n0); the
+/// n^g term is the candidates' values, the in-cell L-BFGS and the report (the L-BFGS
+/// needs more iterations as n grows, hence g > 2); l · n · d making and stratifying
+/// the candidates.
+struct IntegrationFit {
+    c: f64,
+    e: f64,
+    n0: f64,
+    b: f64,
+    g: f64,
+    d0: f64,
+    l: f64,
+}
+
+/// See [`IntegrationFit`].
+const INTEGRATION: IntegrationFit = IntegrationFit {
+    c: 0.18,
+    e: 6.8e-9,
+    n0: 300.0,
+    b: 2.4e-8,
+    g: 2.17,
+    d0: 4.2,
+    l: 5.2e-7,
+};
+
+/// Where the [`Budget`] allows no descent only the report's O(n² d) passes remain (its discrepancies
+/// and distances of the start and the result), n² · (a + b · d): from n = 25 000 and
+/// 50 000 at d = 2 and 25 000 at d = 5 (4.7 s, 18.0 s, 7.7 s).
+const REPORT: Affine = Affine {
+    a: 4.3e-9,
+    b: 1.6e-9,
+};
+
+/// Seconds per unit of [`Effort::work`] (pairs × coordinates × L-BFGS iterations): three
+/// rounds of 30 iterations at n = 8 192, d = 5 (3.0·10¹⁰ units with their rounds'
+/// overhead) took 31 s. Where the budget caps the descent, its cost is the cap's, plus a
+/// third for the starts compared.
+const UNIT_SECONDS: f64 = 1.0e-9;
+
+/// The lattice of `--randomize tent`: its component-by-component search costs about
+/// n/2 · n · d steps (a candidate per unit below n/2, each a pass over the n points), a
+/// few nanoseconds each.
+const LATTICE_STEP: f64 = 2.0e-9;
+
+/// A grown set costs about twice a set of its final size made at once (its placement
+/// and descent keep the old points fixed): `extend` of 1000 + 1000 and 1000 + 3000
+/// points at d = 3 took 21.8 s and 50.9 s against 12.2 s and 25.2 s for 2000 and 4000.
+const EXTENSION_FACTOR: f64 = 2.0;
+
+/// The paper's pipeline, one pass over the pairs per solver step: steps · n² · (a + b ·
+/// d), from n = 256 to 2048 at d = 5 and 2048 at d = 2 (0.68 s to 35.7 s). Runs whose
+/// dynamics settle before the step budget take less (at d = 2 and n ≤ 1600, eq. 48's
+/// small q: 0.1 s to 4.6 s).
+const PAPER_STEP: Affine = Affine {
+    a: 1.25e-9,
+    b: 1.45e-9,
+};
+
+/// A region's run, steps · n · (a + b · n) (the boundary projections, the pairs): from
+/// a ball at d = 2 with n = 100 to 800 (0.98 s to 26.1 s). Runs at d = 3 and 5 were not
+/// longer than at d = 2 (the dynamics settle sooner), so there is no d term.
+const REGION_STEP: Affine = Affine {
+    a: 6.5e-7,
+    b: 3.3e-9,
+};
+
+/// One maximin swap search (its budget is fixed) and its nearest-neighbour pass,
+/// a + b · n² · d: a maximin Latin hypercube of 1000, 4000 and 16 000 points at d = 5
+/// took 0.60 s, 0.66 s and 1.5 s.
+const SEARCH: Affine = Affine { a: 0.6, b: 0.7e-9 };
+
+/// The eight searches of the space-filling goal (one from the DEM's result, four Latin
+/// hypercubes, three more passes) took 6 s to 15 s beyond the paper's run for n = 256
+/// to 1024 at d = 2 and 5: 1.1 s each, with [`SEARCH`]'s pass.
+const SPACE_FILLING_SEARCHES: f64 = 8.0;
+/// See [`SPACE_FILLING_SEARCHES`].
+const SPACE_FILLING_SEARCH: Affine = Affine {
+    a: 1.1,
+    b: SEARCH.b,
+};
+
+/// The constructions other than the maximin Latin hypercube, per coordinate: Sobol'
+/// (the slowest) made 200 000 points at d = 10 in 0.63 s.
+const BASELINE_PER_COORDINATE: f64 = 3.2e-7;
+
+/// The estimated seconds of a run of `cfg` on the current thread pool.
+pub fn estimate_seconds(cfg: &GenerateConfig) -> f64 {
+    on_threads(core_seconds(cfg), rayon::current_num_threads())
+}
+
+/// The estimated seconds of a run of `cfg` on `threads` threads.
+pub fn estimate_seconds_on(cfg: &GenerateConfig, threads: usize) -> f64 {
+    on_threads(core_seconds(cfg), threads)
+}
+
+impl Resolved {
+    /// The estimated seconds of what the request runs, on the current thread pool.
+    pub fn estimate_seconds(&self) -> f64 {
+        self.estimate_seconds_on(rayon::current_num_threads())
+    }
+
+    /// The estimated seconds of what the request runs, on `threads` threads.
+    pub fn estimate_seconds_on(&self, threads: usize) -> f64 {
+        let seconds = match &self.job {
+            Job::Run(cfg) => core_seconds(cfg),
+            Job::Baseline { baseline, n, s, .. } => {
+                baseline_seconds(*baseline, *n as f64, *s as f64)
+            }
+        };
+        on_threads(seconds, threads)
+    }
+}
+
+fn on_threads(seconds: f64, threads: usize) -> f64 {
+    seconds * MEASURED_THREADS as f64 / threads.max(MEASURED_THREADS) as f64
+}
+
+/// The run's seconds on the measuring machine.
+fn core_seconds(cfg: &GenerateConfig) -> f64 {
+    let (n, s) = (cfg.n as f64, cfg.s as f64);
+    if cfg.region().is_some() {
+        return cfg.steps as f64 * n * REGION_STEP.at(n);
+    }
+    match &cfg.goal {
+        Goal::Integration(_) if cfg.randomize == Some(crate::post::randomize::Randomize::Tent) => {
+            n / 2.0 * n * s * LATTICE_STEP + n * n * REPORT.at(s) + INTEGRATION.l * n * s
+        }
+        Goal::Integration(target) => {
+            let forms = target.parts.len().max(1);
+            let one = |n: usize| integration_seconds(n, cfg.s, forms);
+            match (cfg.nested.split_first(), &cfg.extend) {
+                (Some((&first, rest)), _) => {
+                    one(first) + rest.iter().map(|&k| EXTENSION_FACTOR * one(k)).sum::<f64>()
+                }
+                (None, Some(_)) => EXTENSION_FACTOR * one(cfg.n),
+                (None, None) => one(cfg.n),
+            }
+        }
+        Goal::Paper => paper_seconds(cfg),
+        Goal::SpaceFilling => {
+            paper_seconds(cfg) + SPACE_FILLING_SEARCHES * SPACE_FILLING_SEARCH.at(n * n * s)
+        }
+    }
+}
+
+/// The integration goal for one set of `n` points in `s` dimensions with a target of
+/// `forms` discrepancies.
+fn integration_seconds(n: usize, s: usize, forms: usize) -> f64 {
+    let (nf, sf) = (n as f64, s as f64);
+    let fit = &INTEGRATION;
+    let linear = fit.l * nf * sf;
+    let report = nf * nf * REPORT.at(sf);
+    let effort = Effort::default();
+    if !Budget::of(n, s, &effort).descends() {
+        return report + linear;
+    }
+    let fitted = fit.c
+        + fit.e * exchange_work(n, s, forms) * nf / (nf + fit.n0)
+        + fit.b * nf.powf(fit.g) * (sf + fit.d0)
+        + linear;
+    let capped = fit.c + effort.work as f64 * UNIT_SECONDS * 4.0 / 3.0 + report + linear;
+    fitted.min(capped)
+}
+
+/// The pair-factor updates of the descent's exchanges, as it budgets them: per round
+/// the proposals per moving point and coordinate, at most what the run's cap affords,
+/// each costing n per discrepancy of the target.
+fn exchange_work(n: usize, s: usize, forms: usize) -> f64 {
+    if !(2..=EXCHANGE_MAX_N).contains(&n) {
+        return 0.0;
+    }
+    let effort = Effort::default();
+    let (nf, sf, ff) = (n as f64, s as f64, forms as f64);
+    let rounds = effort.rounds.max(1) as f64;
+    let per_round =
+        (effort.proposals as f64 * nf * sf * ff * nf).min(effort.exchange_work as f64 / rounds);
+    rounds * per_round
+}
+
+/// The paper's pipeline in the cube: the solver's steps (and the polish's), then the
+/// report.
+fn paper_seconds(cfg: &GenerateConfig) -> f64 {
+    let (n, s) = (cfg.n as f64, cfg.s as f64);
+    let polish_steps = if cfg.polish.is_some() { cfg.steps } else { 0 };
+    let steps = (cfg.steps + polish_steps) as f64;
+    steps * n * n * PAPER_STEP.at(s) + n * n * REPORT.at(s) + INTEGRATION.l * n * s
+}
+
+/// A baseline of `n` points in `s` dimensions.
+fn baseline_seconds(baseline: Baseline, n: f64, s: f64) -> f64 {
+    match baseline {
+        Baseline::LhsMaximin => SEARCH.at(n * n * s),
+        _ => BASELINE_PER_COORDINATE * n * s,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pipeline::{Arg, Request};
+    use crate::quality::target::Target;
+
+    /// The default run's estimate (the configuration a default request resolves to,
+    /// built directly so that no memory check refuses the largest sizes).
+    fn default_run(n: usize, s: usize) -> f64 {
+        let cfg = GenerateConfig::for_goal(n, s, Goal::Integration(Target::blend()));
+        estimate_seconds_on(&cfg, MEASURED_THREADS)
+    }
+
+    fn request(edit: impl Fn(&mut Request)) -> f64 {
+        let mut r = Request::new(2048, 5);
+        edit(&mut r);
+        r.resolve().unwrap().estimate_seconds_on(MEASURED_THREADS)
+    }
+
+    #[test]
+    fn a_default_request_is_estimated_as_the_default_run() {
+        assert_eq!(request(|_| {}), default_run(2048, 5));
+    }
+
+    #[test]
+    fn grows_with_n_within_each_regime_and_with_s() {
+        // The real cost falls where the pipeline stops doing a part of its work (the
+        // exchanges above EXCHANGE_MAX_N, the whole descent where its budget allows no
+        // round); the estimate falls there too and grows everywhere else.
+        let regime = |n: usize, s: usize| {
+            (
+                n <= EXCHANGE_MAX_N,
+                Budget::of(n, s, &Effort::default()).descends(),
+            )
+        };
+        for s in [1, 2, 5, 20, 1000] {
+            let ns: Vec<usize> = (2..=200_000).step_by(97).collect();
+            for w in ns.windows(2) {
+                if regime(w[0], s) == regime(w[1], s) {
+                    assert!(
+                        default_run(w[1], s) > default_run(w[0], s),
+                        "n {w:?}, s {s}"
+                    );
+                }
+            }
+            let last = (2..=200_000)
+                .rev()
+                .find(|&n| regime(n, s).1)
+                .expect("small sets descend");
+            assert!(default_run(last + 1, s) < default_run(last, s), "s {s}");
+        }
+        for n in [1, 2, 10, 256, 4096, 16_000, 50_000] {
+            let mut last = (0.0, regime(n, 1));
+            for s in [1, 2, 3, 5, 10, 20, 100, 10_000, 1_000_000, 10_000_000] {
+                let t = default_run(n, s);
+                if regime(n, s) == last.1 {
+                    assert!(t > last.0, "n {n}, s {s}: {t} after {}", last.0);
+                }
+                last = (t, regime(n, s));
+            }
+        }
+    }
+
+    #[test]
+    fn small_sets_are_quick_and_the_known_long_calls_are_long() {
+        assert!(default_run(1, 1) < 0.5);
+        assert!(default_run(16, 2) < 0.5);
+        assert!(default_run(256, 2) < 1.0);
+        // Measured: 122 s for (10, 10^7); 57 s for (8000, 5), so more at 16 000.
+        assert!(default_run(10, 10_000_000) > 30.0);
+        assert!(default_run(16_000, 5) > 30.0);
+        // Within the factor of 2 the fit keeps, of runs timed on the measuring machine.
+        for (n, s, measured) in [(1024, 5, 5.4), (2048, 2, 12.1), (100, 100_000, 61.8)] {
+            let t = default_run(n, s);
+            assert!(t > measured / 2.0 && t < measured * 2.0, "({n}, {s}): {t}");
+        }
+    }
+
+    #[test]
+    fn a_larger_pool_divides_the_estimate() {
+        let cfg = GenerateConfig::for_goal(2000, 3, Goal::Integration(Target::blend()));
+        let two = estimate_seconds_on(&cfg, 2);
+        assert_eq!(estimate_seconds_on(&cfg, 1), two);
+        assert!((estimate_seconds_on(&cfg, 8) - two / 4.0).abs() < 1e-12 * two);
+    }
+
+    #[test]
+    fn every_pipeline_has_its_own_cost() {
+        let paper = request(|r| r.method = Some("paper".into()));
+        // Measured 35.7 s.
+        assert!(paper > 18.0 && paper < 72.0, "{paper}");
+        let fewer = request(|r| {
+            r.method = Some("paper".into());
+            r.steps = Some(100usize.into());
+        });
+        assert!(fewer < paper / 5.0);
+        assert!(request(|r| r.goal = Some("space-filling".into())) > paper);
+        assert!(request(|r| r.method = Some("sobol".into())) < 0.01);
+        let nested = request(|r| {
+            r.n = None;
+            r.nested = Some(Arg::Counts(vec![1024, 2048]));
+        });
+        assert!(nested > 2.0 * default_run(2048, 5));
+        let region = request(|r| {
+            r.s = None;
+            r.shape = Some("ball:1@0,0".into());
+            r.n = Some(400usize.into());
+        });
+        // Measured 8.1 s.
+        assert!(region > 4.0 && region < 16.0, "{region}");
+    }
+}
