@@ -47,6 +47,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--bin", default="target/release/stillpoint")
     ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--max-n", type=int, default=None, help="leave out larger sizes")
     ap.add_argument("--out", default="results/scaling")
     args = ap.parse_args()
     lines = ["| n | s | seconds | ratio to previous | D_MD start | D_MD result | descent |",
@@ -55,6 +56,8 @@ def main():
         for s in (5, 10):
             last = None
             for n in (QUICK if args.quick else SIZES):
+                if args.max_n and n > args.max_n:
+                    continue
                 seconds, rep = run(args.bin, n, s, os.path.join(tmp, "x.npy"))
                 ratio = f"{seconds / last:.2f}" if last else ""
                 last = seconds
