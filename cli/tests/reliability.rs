@@ -203,3 +203,25 @@ fn a_randomised_paper_run_records_it_and_rows_describe_the_written_set() {
         assert!(!String::from_utf8_lossy(&o.stdout).contains("NaN"));
     }
 }
+
+#[test]
+fn an_extension_counts_collisions_as_values_summed_over_the_coordinates() {
+    // Four old points whose first coordinates all fall in the first of the union's eight
+    // cells (three collisions) and whose second coordinates are in distinct cells.
+    let d = TempDir::new("collisions");
+    let old = d.path("old.csv");
+    std::fs::write(&old, "0.01,0.05\n0.02,0.30\n0.03,0.55\n0.04,0.80\n").unwrap();
+    let o = bin()
+        .args(["generate", "-n", "8", "-s", "2", "-q", "--extend"])
+        .arg(&old)
+        .arg("-o")
+        .arg(d.path("u.csv"))
+        .output()
+        .unwrap();
+    let report = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        report.contains("summed over the coordinates, 3 old values fall in a cell"),
+        "{report}"
+    );
+}

@@ -307,8 +307,9 @@ impl fmt::Display for Stage {
                 } else {
                     write!(
                         f,
-                        "no ({collisions} old points share a cell of the union's grid with \
-                         another, so as many cells stay empty)"
+                        "no (summed over the coordinates, {collisions} old values fall in a \
+                         cell of the union's grid that another old point already takes, so \
+                         as many cells stay empty)"
                     )
                 }
             }
