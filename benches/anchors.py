@@ -18,6 +18,12 @@ anchors.json.
 
     python3 benches/anchors.py --bin target/release/stillpoint            # the grid below
     python3 benches/anchors.py --bin target/release/stillpoint --quick    # a 12-cell subset
+    python3 benches/anchors.py --s 8,10,15,20 --reuse results/anchors/anchors.json \
+        --out results/anchors-high-s      # only the default made again; baselines reused
+
+With --reuse the seeded baselines (and `--method paper`) are read from an earlier run's
+anchors.json instead of being drawn again (they depend only on their seeds and SciPy's
+version), and the report adds each family's error as a ratio to scrambled Sobol's.
 
 Needs numpy and scipy.
 """
@@ -165,6 +171,37 @@ def run_cell(binary, n, s, seeds, tmp):
     return rows
 
 
+def rerun_default(binary, n, s, stored, tmp):
+    """The cell with only the default made again, the stored baselines beside it."""
+    genz = [(f, a, u, genz_exact(f, a, u)) for (f, a, u) in genz_instances(s, 50, 2024)]
+    out = os.path.join(tmp, "gen.npy")
+    t0 = time.perf_counter()
+    subprocess.run([binary, "generate", "-n", str(n), "-s", str(s), "-o", out, "-q"],
+                   check=True, capture_output=True)
+    secs = time.perf_counter() - t0
+    rows = {"stillpoint (default)": summarise(
+        [measure(binary, np.load(out), os.path.join(tmp, "x.npy"), genz)], False)}
+    rows["stillpoint (default)"]["seconds"] = secs
+    rows.update({k: v for k, v in stored.items() if k != "stillpoint (default)"})
+    return rows
+
+
+def sobol_ratios(results):
+    """Per family: cells at or below scrambled Sobol's RMSE, and the geometric mean of
+    the default's error over Sobol's."""
+    ratios = np.array([[rows["stillpoint (default)"]["genz"][i]
+                        / rows["Sobol' (scrambled)"]["genz"][i] for i in range(6)]
+                       for rows in results.values()])
+    lines = ["## The default against scrambled Sobol' (integration errors)", "",
+             "| family | cells at or below Sobol' | geometric mean of the ratio | worst |",
+             "|---|---|---|---|"]
+    for i, fam in enumerate(FAMILIES):
+        r = ratios[:, i]
+        lines.append(f"| {fam} | {int((r <= 1).sum())}/{len(r)} | "
+                     f"{math.exp(np.log(r).mean()):.2f} | {r.max():.2f} |")
+    return lines + [""]
+
+
 def report(results, seeds, command):
     names = list(next(iter(results.values())).keys())
     ours = names[0]
@@ -222,6 +259,7 @@ def report(results, seeds, command):
     for f in ["F1", "F2", "F3"]:
         lines.append(f"| {f} | {wins[f]}/{total} | error at most LHS's RMS |")
     lines.append("")
+    lines += sobol_ratios(results)
     return "\n".join(lines + body) + "\n"
 
 
@@ -231,16 +269,26 @@ def main():
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--seeds", type=int, default=16)
     ap.add_argument("--out", default="results/anchors")
+    ap.add_argument("--s", help="only these dimensions, e.g. 8,10,15,20")
+    ap.add_argument("--reuse", help="an earlier anchors.json: its baselines are reused")
     a = ap.parse_args()
     cells = QUICK if a.quick else [(n, s) for s in S_FULL for n in N_FULL if n >= 2 * s]
+    if a.s:
+        keep = {int(v) for v in a.s.split(",")}
+        cells = [(n, s) for (n, s) in cells if s in keep]
+    stored = json.load(open(a.reuse)) if a.reuse else None
     results = {}
     os.makedirs(a.out, exist_ok=True)
     command = "python3 benches/anchors.py" + (" --quick" if a.quick else "") + (
-        f" --seeds {a.seeds}" if a.seeds != 16 else "")
+        f" --seeds {a.seeds}" if a.seeds != 16 else "") + (f" --s {a.s}" if a.s else "") + (
+        f" --reuse {a.reuse} --out {a.out}" if a.reuse else "")
     with tempfile.TemporaryDirectory() as tmp:
         for n, s in cells:
             t0 = time.perf_counter()
-            results[(n, s)] = run_cell(a.bin, n, s, a.seeds, tmp)
+            if stored is None:
+                results[(n, s)] = run_cell(a.bin, n, s, a.seeds, tmp)
+            else:
+                results[(n, s)] = rerun_default(a.bin, n, s, stored[f"{n}x{s}"], tmp)
             print(f"n = {n}, s = {s}: {time.perf_counter() - t0:.1f} s", file=sys.stderr,
                   flush=True)
             with open(os.path.join(a.out, "anchors.md"), "w") as fh:

@@ -46,8 +46,11 @@ pub(crate) struct GenerateArgs {
     /// `stillpoint baseline --list`), which takes only -n, -s, --seed and --bounds.
     #[arg(long, value_name = "paper|BASELINE")]
     pub(crate) method: Option<String>,
-    /// The discrepancy the integration goal lowers: `blend` (D²_MD + D²_L2* + D²_CD,
-    /// each relative to the start; the default), `md`, `l2star`, `cd` or `periodic`.
+    /// What the integration goal lowers: `blend` (D²_MD + D²_L2* + D²_CD, each relative
+    /// to the start; the default below s = 8), `blend-smooth` (the blend and, with weight
+    /// ¼, the worst-case error for integrands of smoothness 2, from the lattice of the tent
+    /// randomisation; the default from s = 8), `md`, `l2star`, `cd`, `periodic` or
+    /// `smooth`.
     #[arg(long, value_name = "KIND")]
     pub(crate) target: Option<String>,
     /// Grow an existing set: keep the points of FILE first and unchanged and add -n M new

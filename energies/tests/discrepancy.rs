@@ -10,12 +10,26 @@ use stillpoint_energies::{Energy, PointSet};
 mod common;
 use common::{fd_gradient, random_set, rel_err};
 
-const KINDS: [DiscrepancyKind; 4] = [
+const KINDS: [DiscrepancyKind; 5] = [
     DiscrepancyKind::StarL2,
     DiscrepancyKind::ModifiedL2,
     DiscrepancyKind::CenteredL2,
     DiscrepancyKind::WrapAroundL2,
+    DiscrepancyKind::Smooth,
 ];
+
+/// γ of the smoothness-2 kernel, and its Bernoulli polynomials as Dick, Kuo and Sloan
+/// print them.
+const GAMMA: f64 = stillpoint_energies::discrepancy::SMOOTH_WEIGHT;
+fn b1(t: f64) -> f64 {
+    t - 0.5
+}
+fn b2(t: f64) -> f64 {
+    t * t - t + 1.0 / 6.0
+}
+fn b4(t: f64) -> f64 {
+    t.powi(4) - 2.0 * t.powi(3) + t * t - 1.0 / 30.0
+}
 
 /// A random set whose coordinates are at least `gap` apart from each other (per
 /// coordinate) and from ½, so that a finite-difference step of less than `gap` crosses no
@@ -64,6 +78,7 @@ fn bf_constant(kind: DiscrepancyKind, s: usize) -> f64 {
         DiscrepancyKind::ModifiedL2 => (4.0f64 / 3.0).powi(s),
         DiscrepancyKind::CenteredL2 => (13.0f64 / 12.0).powi(s),
         DiscrepancyKind::WrapAroundL2 => -(4.0f64 / 3.0).powi(s),
+        DiscrepancyKind::Smooth => -1.0,
     }
 }
 
@@ -83,7 +98,7 @@ fn bf_single_term(kind: DiscrepancyKind, xi: &[f64]) -> f64 {
                 1.0 + a / 2.0 - a * a / 2.0
             })
             .product(),
-        DiscrepancyKind::WrapAroundL2 => 0.0,
+        DiscrepancyKind::WrapAroundL2 | DiscrepancyKind::Smooth => 0.0,
     }
 }
 
@@ -97,6 +112,9 @@ fn bf_k(kind: DiscrepancyKind, x: f64, y: f64) -> f64 {
         DiscrepancyKind::WrapAroundL2 => {
             let d = (x - y).abs();
             1.5 - d + d * d
+        }
+        DiscrepancyKind::Smooth => {
+            1.0 + GAMMA * (b1(x) * b1(y) + b2(x) * b2(y) / 4.0 - b4((x - y).abs()) / 24.0)
         }
     }
 }
@@ -113,6 +131,11 @@ fn bf_dk_dx(kind: DiscrepancyKind, x: f64, y: f64) -> f64 {
         }
         DiscrepancyKind::CenteredL2 => 0.5 * (x - 0.5).signum() - 0.5 * (x - y).signum(),
         DiscrepancyKind::WrapAroundL2 => (x - y).signum() * (2.0 * (x - y).abs() - 1.0),
+        DiscrepancyKind::Smooth => {
+            let d = (x - y).abs();
+            let db4 = 4.0 * d.powi(3) - 6.0 * d * d + 2.0 * d;
+            GAMMA * (b1(y) + (2.0 * x - 1.0) * b2(y) / 4.0 - (x - y).signum() * db4 / 24.0)
+        }
     }
 }
 
@@ -121,7 +144,7 @@ fn bf_dg(kind: DiscrepancyKind, x: f64) -> f64 {
     match kind {
         DiscrepancyKind::StarL2 | DiscrepancyKind::ModifiedL2 => -x,
         DiscrepancyKind::CenteredL2 => (x - 0.5).signum() * (0.5 - (x - 0.5).abs()),
-        DiscrepancyKind::WrapAroundL2 => 0.0,
+        DiscrepancyKind::WrapAroundL2 | DiscrepancyKind::Smooth => 0.0,
     }
 }
 
@@ -133,7 +156,7 @@ fn bf_g(kind: DiscrepancyKind, x: f64) -> f64 {
             let a = (x - 0.5).abs();
             1.0 + a / 2.0 - a * a / 2.0
         }
-        DiscrepancyKind::WrapAroundL2 => 1.0,
+        DiscrepancyKind::WrapAroundL2 | DiscrepancyKind::Smooth => 1.0,
     }
 }
 
@@ -198,6 +221,8 @@ fn diag_second_arg(kind: DiscrepancyKind, x: f64) -> f64 {
         DiscrepancyKind::StarL2 | DiscrepancyKind::ModifiedL2 => -1.0,
         DiscrepancyKind::CenteredL2 => (x - 0.5).signum(),
         DiscrepancyKind::WrapAroundL2 => 0.0,
+        // d/dx of γ(B₁(x)² + B₂(x)²/4) (B₄(0) is a constant).
+        DiscrepancyKind::Smooth => GAMMA * (2.0 * b1(x) + (2.0 * x - 1.0) * b2(x) / 2.0),
     };
     // `bf_dk_dx` at x = y takes the "x ≤ y" branch (0) for max, and signum(0) = +1 for
     // centred and wrap-around; give the diagonal term its true total derivative.
@@ -299,8 +324,14 @@ fn values_match_brute_force() {
             }
             let got = energy(kind).value(&x);
             let want = bf_value(kind, &x);
+            // The smoothness-2 error is −1 plus terms near 1: accurate to rounding of 1.
+            let scale = want.abs().max(if kind == DiscrepancyKind::Smooth {
+                1.0
+            } else {
+                0.0
+            });
             assert!(
-                rel(got, want) < 1e-12,
+                (got - want).abs() < 1e-12 * scale,
                 "{kind:?}: n={n} s={s}: {got} vs {want}"
             );
         }
@@ -636,8 +667,8 @@ fn the_five_kinds_fused_have_the_bits_of_each_alone() {
     for &(n, s) in &[(5usize, 3usize), (77, 9), (300, 4)] {
         let x = random_set(n, s, 500 + n as u64);
         let five = squared_discrepancies_with_mixture(&x);
-        let four = squared_discrepancies(&x, &KINDS);
-        for (m, &kind) in KINDS.iter().enumerate() {
+        let four = squared_discrepancies(&x, &KINDS[..4]);
+        for (m, &kind) in KINDS[..4].iter().enumerate() {
             let alone = squared_discrepancies(&x, &[kind])[0];
             assert_eq!(five[m].to_bits(), alone.to_bits(), "{kind:?} n={n}");
             assert_eq!(four[m].to_bits(), alone.to_bits(), "{kind:?} n={n}");

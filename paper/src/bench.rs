@@ -30,7 +30,7 @@
 
 use std::io::Write;
 use std::time::Instant;
-use stillpoint::energies::discrepancy::{DiscrepancyEnergy, DiscrepancyKind};
+use stillpoint::energies::discrepancy::{DiscrepancyEnergy, DiscrepancyKind, SMOOTH_WEIGHT};
 use stillpoint::energies::pairs::vector_path;
 use stillpoint::energies::{Distance, Energy, PointSet, Precision, Uqp};
 use stillpoint::quality::metrics::{self, Metrics};
@@ -119,6 +119,16 @@ pub fn naive_discrepancy_squared(points: &PointSet, kind: DiscrepancyKind) -> f6
             |x, y| {
                 let d = (x - y).abs();
                 1.5 - d * (1.0 - d)
+            },
+        ),
+        DiscrepancyKind::Smooth => (
+            -1.0,
+            |_| 0.0,
+            |x, y| {
+                let b2 = |t: f64| t * t - t + 1.0 / 6.0;
+                let e = (x - y).abs() * (1.0 - (x - y).abs());
+                1.0 + SMOOTH_WEIGHT
+                    * ((x - 0.5) * (y - 0.5) + 0.25 * b2(x) * b2(y) + 1.0 / 720.0 - e * e / 24.0)
             },
         ),
     };

@@ -204,8 +204,9 @@ def generate(
         Print the stages and steps of the run on standard error.
     **later
         ``goal`` (``'integration'``, the cube's default, or ``'space-filling'``, a
-        region's), ``target`` (``'blend'``, ``'md'``, ``'l2star'``, ``'cd'``,
-        ``'periodic'``), ``randomize`` (``True`` or ``'tent'``, recommended for error
+        region's), ``target`` (``'blend'``, the default below d = 8,
+        ``'blend-smooth'``, the default from d = 8, ``'md'``, ``'l2star'``, ``'cd'``,
+        ``'periodic'``, ``'smooth'``), ``randomize`` (``True`` or ``'tent'``, recommended for error
         bars: the lattice made for a uniform shift and the tent transform, randomised so;
         ``'cells'`` or ``'shift'`` randomise the optimised set), ``extend`` (see :func:`extend`), ``nested`` (see :func:`nested`);
         and the paper's options, passed through to the library: ``q``, ``p``,

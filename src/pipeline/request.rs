@@ -205,6 +205,11 @@ const PAPER_OPTIONS: [&str; 14] = [
 ];
 
 /// The most points a single run accepts (beyond it a set of f64 cannot be addressed).
+/// The words `target` takes, as a refusal lists them.
+const TARGETS: &str = "blend (D²_MD + D²_L2* + D²_CD), blend-smooth (the blend and the \
+                       smoothness-2 error; the default from s = 8), md, l2star, cd, periodic \
+                       or smooth";
+
 const MAX_COUNT: i128 = u32::MAX as i128 * 16;
 
 impl Request {
@@ -427,7 +432,13 @@ impl Resolver<'_> {
             self.cube_config(&goal)?
         };
         cfg.seed = seed;
-        cfg.goal = goal;
+        cfg.goal = match goal {
+            // The default target follows the dimension ([`Target::default_for`]).
+            Goal::Integration(_) if r.target.is_none() => {
+                Goal::Integration(Target::default_for(cfg.s))
+            }
+            g => g,
+        };
         self.common(&mut cfg)?;
         sequences::check_size(cfg.n, cfg.s).map_err(|e| match e {
             Error::InvalidArgument {
@@ -578,21 +589,16 @@ impl Resolver<'_> {
                 },
             ),
         };
-        let target =
-            match &r.target {
-                None => None,
-                Some(a) => Some(
-                    match self
-                        .word("target", a, "blend, md, l2star, cd or periodic")?
-                        .as_str()
-                    {
-                        "blend" => Target::blend(),
-                        w => Target::single(DiscrepancyKind::parse(w).map_err(|_| {
-                            self.bad("target", a, "blend, md, l2star, cd or periodic")
-                        })?),
-                    },
+        let target = match &r.target {
+            None => None,
+            Some(a) => Some(match self.word("target", a, TARGETS)?.as_str() {
+                "blend" => Target::blend(),
+                "blend-smooth" => Target::smooth_blend(),
+                w => Target::single(
+                    DiscrepancyKind::parse(w).map_err(|_| self.bad("target", a, TARGETS))?,
                 ),
-            };
+            }),
+        };
         // `steps` feeds the DEM stage of the space-filling goal; elsewhere it belongs to
         // the paper's pipeline.
         let expert: Vec<&str> = PAPER_OPTIONS
@@ -760,14 +766,16 @@ impl Resolver<'_> {
                             "{} with this run's pipeline (the paper's or space-filling)",
                             kind.name()
                         ),
-                        "tent with the integration goal (the cube's default), which makes                          the lattice tent is for; cells or shift randomise other sets",
+                        "tent with the integration goal (the cube's default), which makes \
+                         the lattice tent is for; cells or shift randomise other sets",
                     ));
                 }
                 if r.target.is_some() {
                     return Err(self.bad(
                         "target",
                         format!("given with {} tent", (self.spell)("randomize")),
-                        "no target: the lattice for the tent randomisation is chosen by                          its own criterion (the randomised estimate's mean square error)",
+                        "no target: the lattice for the tent randomisation is chosen by \
+                         its own criterion (the randomised estimate's mean square error)",
                     ));
                 }
             }

@@ -20,13 +20,14 @@
 //! | centred L2 (SciPy `'CD'`) | 13/12 | 1 + a/2 − a²/2 | 1 + a/2 + b/2 − d/2 |
 //! | wrap-around L2 (SciPy `'WD'`) | −4/3 | — | 3/2 − d(1 − d) |
 //! | mixture (SciPy `'MD'`) | 19/12 | 5/3 − a/4 − a²/4 | 15/8 − a/4 − b/4 − 3d/4 + d²/2 |
+//! | smoothness 2 | −1 | — | 1 + γ(B₁(x)B₁(y) + B₂(x)B₂(y)/4 − B₄(d)/24) |
 //!
 //! The mixture discrepancy is that of Y.-D. Zhou, K.-T. Fang and J.-H. Ning, *Mixture
 //! discrepancy for quasi-random point sets*, J. Complexity 29 (2013); its square is what
 //! SciPy's `qmc.discrepancy(method='MD')` returns. On [0, 1) every h is positive, which
 //! the swap update relies on (it rescales pair products by ratios of h).
 
-use crate::energies::discrepancy::DiscrepancyKind;
+use crate::energies::discrepancy::{DiscrepancyKind, SMOOTH_WEIGHT};
 use crate::PointSet;
 use rayon::prelude::*;
 
@@ -43,6 +44,9 @@ pub enum Form {
     WrapAround,
     /// Mixture discrepancy (Zhou, Fang and Ning 2013).
     Mixture,
+    /// The worst-case error for integrands of smoothness 2 (Bernoulli polynomials B₁,
+    /// B₂, B₄; product weight γ = [`SMOOTH_WEIGHT`]).
+    Smooth,
 }
 
 impl From<DiscrepancyKind> for Form {
@@ -52,6 +56,7 @@ impl From<DiscrepancyKind> for Form {
             DiscrepancyKind::ModifiedL2 => Form::Modified,
             DiscrepancyKind::CenteredL2 => Form::Centered,
             DiscrepancyKind::WrapAroundL2 => Form::WrapAround,
+            DiscrepancyKind::Smooth => Form::Smooth,
         }
     }
 }
@@ -66,12 +71,13 @@ impl Form {
             Form::Centered => (13.0f64 / 12.0).powi(s),
             Form::WrapAround => -(4.0f64 / 3.0).powi(s),
             Form::Mixture => (19.0f64 / 12.0).powi(s),
+            Form::Smooth => -1.0,
         }
     }
 
     /// Whether the form has the single sum Σ_i Π_k g.
     fn has_single(self) -> bool {
-        self != Form::WrapAround
+        !matches!(self, Form::WrapAround | Form::Smooth)
     }
 
     /// The factor g of the single sum.
@@ -82,7 +88,7 @@ impl Form {
             Form::Star => 0.5 * (1.0 - x * x),
             Form::Modified => 0.5 * (3.0 - x * x),
             Form::Centered => 1.0 + 0.5 * a - 0.5 * a * a,
-            Form::WrapAround => 0.0,
+            Form::WrapAround | Form::Smooth => 0.0,
             Form::Mixture => 5.0 / 3.0 - 0.25 * a - 0.25 * a * a,
         }
     }
@@ -98,6 +104,12 @@ impl Form {
             Form::WrapAround => 1.5 - d * (1.0 - d),
             Form::Mixture => {
                 1.875 - 0.25 * (x - 0.5).abs() - 0.25 * (y - 0.5).abs() - 0.75 * d + 0.5 * d * d
+            }
+            Form::Smooth => {
+                let b2 = |t: f64| t * t - t + 1.0 / 6.0;
+                let e = d * (1.0 - d);
+                1.0 + SMOOTH_WEIGHT
+                    * ((x - 0.5) * (y - 0.5) + 0.25 * b2(x) * b2(y) + 1.0 / 720.0 - e * e / 24.0)
             }
         }
     }
@@ -255,6 +267,7 @@ impl Exchange {
             Form::Centered => self.off_sum(i, j, k, |x, y| Form::Centered.h(x, y)),
             Form::WrapAround => self.off_sum(i, j, k, |x, y| Form::WrapAround.h(x, y)),
             Form::Mixture => self.off_sum(i, j, k, |x, y| Form::Mixture.h(x, y)),
+            Form::Smooth => self.off_sum(i, j, k, |x, y| Form::Smooth.h(x, y)),
         };
         off -= term(i) + term(j);
         let diag = pi[i] * (form.h(xj, xj) / form.h(xi, xi) - 1.0)
@@ -345,6 +358,10 @@ mod tests {
                 (Form::Centered, metrics::centered_l2(&p)),
                 (Form::WrapAround, metrics::wrap_around_l2(&p)),
                 (Form::Mixture, metrics::mixture(&p)),
+                (
+                    Form::Smooth,
+                    crate::energies::discrepancy::discrepancy_root(&p, DiscrepancyKind::Smooth),
+                ),
             ] {
                 let got = root(&p, form);
                 assert!(
@@ -388,6 +405,7 @@ mod tests {
             Form::Centered,
             Form::WrapAround,
             Form::Mixture,
+            Form::Smooth,
         ] {
             let p = sample(30, 4, 11);
             let mut e = Exchange::new(&p, form);
@@ -400,8 +418,14 @@ mod tests {
                 q.swap(i * 4 + k, j * 4 + k);
                 let want = squared(&PointSet::new(30, 4, q).unwrap(), form);
                 e.swap(i, j, k, d);
+                // The smoothness-2 error is −1 plus terms near 1: exact to rounding of 1.
+                let scale = if form == Form::Smooth {
+                    1.0
+                } else {
+                    want.abs().max(1e-6)
+                };
                 assert!(
-                    (e.value() - want).abs() < 1e-12 * want.abs().max(1e-6),
+                    (e.value() - want).abs() < 1e-12 * scale,
                     "{form:?} swap {t}: {} vs {want}",
                     e.value()
                 );
