@@ -417,7 +417,11 @@ pub(crate) fn eval_table(file: &std::path::Path, points: &PointSet, v: &Value) -
     let num = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
     // A value JSON holds as null is shown by its note, never as NaN.
     let show = |k: &str, digits: usize, sci: bool| -> String {
+        let se = v["estimate"]["standard_errors"][k].as_f64();
         match (v[k].as_f64(), v["notes"][k].as_str()) {
+            (Some(x), _) if se.is_some() => {
+                format!("≈ {x:.digits$} ± {:.digits$}", se.unwrap_or(f64::NAN))
+            }
             (Some(x), _) if sci => format!("{x:.digits$e}"),
             (Some(x), _) => format!("{x:.digits$}"),
             (None, Some(note)) => note.to_string(),
@@ -467,6 +471,13 @@ pub(crate) fn eval_table(file: &std::path::Path, points: &PointSet, v: &Value) -
         "energy U_{E,∞} = 1/d_min",
         show("energy_e_inf", 6, false)
     );
+    if let Some(pairs) = v["estimate"]["pairs"].as_u64() {
+        t += &format!(
+            "\n  ≈: estimated, ± one standard error: the pair sums from {pairs} random pairs \
+             (above n = {}; the roots' errors by the delta method); --exact for the exact sums\n",
+            v["estimate"]["above_n"]
+        );
+    }
     t
 }
 
