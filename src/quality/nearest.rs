@@ -102,13 +102,24 @@ pub fn min_squared_distances_by_cells(points: &PointSet) -> [Option<f64>; 2] {
                 .collect()
         })
         .collect();
+    // The coordinates in cell order, so that a cell's points, and the cells that differ
+    // in the last gridded coordinate, lie together in memory.
     let rows = points.as_slice();
+    let sorted: Vec<f64> = order
+        .iter()
+        .flat_map(|&i| rows[i * s..(i + 1) * s].iter().copied())
+        .collect();
     let m = grid.m as i64;
-    let best = (0..n)
+    let best = (0..count)
         .into_par_iter()
-        .map(|i| {
-            let x = &rows[i * s..(i + 1) * s];
-            let home = grid.cell_of(x);
+        .filter(|&cell| start[cell] < start[cell + 1])
+        .map(|cell| {
+            let mut home = vec![0usize; grid.k];
+            let mut rest = cell;
+            for h in home.iter_mut().rev() {
+                *h = rest % grid.m;
+                rest /= grid.m;
+            }
             let mut best = [f64::INFINITY; 2];
             let mut c = vec![0usize; grid.k];
             for off in &offsets {
@@ -119,16 +130,19 @@ pub fn min_squared_distances_by_cells(points: &PointSet) -> [Option<f64>; 2] {
                     inside &= (0..m).contains(&v);
                     *ci = v.rem_euclid(m) as usize;
                 }
-                let cell = grid.index(&c);
-                for &l in &order[start[cell]..start[cell + 1]] {
-                    if l == i {
-                        continue;
+                let other = grid.index(&c);
+                for a in start[cell]..start[cell + 1] {
+                    let x = &sorted[a * s..(a + 1) * s];
+                    for b in start[other]..start[other + 1] {
+                        if b == a {
+                            continue;
+                        }
+                        let [de, dp] = squared_pair(x, &sorted[b * s..(b + 1) * s]);
+                        if inside {
+                            best[0] = best[0].min(de);
+                        }
+                        best[1] = best[1].min(dp);
                     }
-                    let [de, dp] = squared_pair(x, &rows[l * s..(l + 1) * s]);
-                    if inside {
-                        best[0] = best[0].min(de);
-                    }
-                    best[1] = best[1].min(dp);
                 }
             }
             best
