@@ -1102,6 +1102,15 @@ pub fn sampled_squared_discrepancies(
     ];
     // ∫∫ K of each kernel: |C_s| (for the wrap-around L2, C_s = −(4/3)^s).
     let whole = constant.map(f64::abs);
+    // The closed form's middle term; the wrap-around L2 has merged it into C_s.
+    let has_single = [
+        Star::HAS_SINGLE,
+        Modified::HAS_SINGLE,
+        Centered::HAS_SINGLE,
+        Wrap::HAS_SINGLE,
+        Mixture::HAS_SINGLE,
+    ];
+    let middle = |m: usize, single: f64| if has_single[m] { single } else { 0.0 };
     let g: Vec<[f64; 5]> = points.rows().map(point_integrals).collect();
     let (mut single, mut diag) = ([0.0; 5], [0.0; 5]);
     for (x, gi) in points.rows().zip(&g) {
@@ -1114,7 +1123,7 @@ pub fn sampled_squared_discrepancies(
     let nf = n as f64;
     if n < 2 || pairs == 0 {
         return std::array::from_fn(|m| SampledSquare {
-            value: assemble(constant[m], single[m], diag[m], 0.0, nf),
+            value: assemble(constant[m], middle(m, single[m]), diag[m], 0.0, nf),
             standard_error: if n < 2 { 0.0 } else { f64::INFINITY },
         });
     }
@@ -1153,7 +1162,7 @@ pub fn sampled_squared_discrepancies(
             f64::INFINITY
         };
         SampledSquare {
-            value: assemble(constant[m], single[m], diag[m], off, nf),
+            value: assemble(constant[m], middle(m, single[m]), diag[m], off, nf),
             standard_error: 2.0 * count / (nf * nf) * sd / t.count.sqrt(),
         }
     })
