@@ -54,8 +54,7 @@ fn the_standard_error_is_the_spread_of_the_estimates() {
         .map(|seed| sampled_squared_discrepancies(&p, 20_000, seed)[1])
         .collect();
     let mean = runs.iter().map(|e| e.value).sum::<f64>() / runs.len() as f64;
-    let sd = (runs.iter().map(|e| (e.value - mean).powi(2)).sum::<f64>()
-        / (runs.len() - 1) as f64)
+    let sd = (runs.iter().map(|e| (e.value - mean).powi(2)).sum::<f64>() / (runs.len() - 1) as f64)
         .sqrt();
     let stated = runs.iter().map(|e| e.standard_error).sum::<f64>() / runs.len() as f64;
     assert!(
@@ -158,8 +157,17 @@ fn eval_estimates_above_the_threshold_deterministically_and_exact_below() {
     let a = eval(&[big.to_str().unwrap(), "--json"]);
     assert_eq!(a, eval(&[big.to_str().unwrap(), "--json"]));
     let v: serde_json::Value = serde_json::from_str(&a).unwrap();
-    assert_eq!(v["estimate"]["pairs"], stillpoint::quality::metrics::ESTIMATE_PAIRS);
-    for k in ["star_l2", "modified_l2", "centered_l2", "wrap_around_l2", "mixture"] {
+    assert_eq!(
+        v["estimate"]["pairs"],
+        stillpoint::quality::metrics::ESTIMATE_PAIRS
+    );
+    for k in [
+        "star_l2",
+        "modified_l2",
+        "centered_l2",
+        "wrap_around_l2",
+        "mixture",
+    ] {
         assert!(v["estimate"]["standard_errors"][k].as_f64().unwrap() > 0.0);
         assert!(v["notes"][k].as_str().unwrap().contains("estimated"));
     }

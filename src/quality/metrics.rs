@@ -292,8 +292,7 @@ impl Metrics {
                 pairs: sums.pairs,
                 seed: sums.seed,
                 squared_standard_errors: sampled.map(|e| e.standard_error),
-                standard_errors: sampled
-                    .map(|e| Estimate::root_error(e.value, e.standard_error)),
+                standard_errors: sampled.map(|e| Estimate::root_error(e.value, e.standard_error)),
                 min_distances_exact: euclid.is_some() && periodic.is_some(),
             }),
         }

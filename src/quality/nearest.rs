@@ -166,8 +166,7 @@ mod tests {
     fn the_grid_finds_the_same_bits_as_the_pair_loop() {
         for (n, s, seed) in [(3000, 2, 1), (5000, 3, 2), (20_000, 5, 3)] {
             let p = crate::sequences::random(n, s, seed).unwrap();
-            let exact =
-                crate::energies::pairs::min_squared_distances(p.as_slice(), p.n(), p.s());
+            let exact = crate::energies::pairs::min_squared_distances(p.as_slice(), p.n(), p.s());
             let grid = min_squared_distances_by_cells(&p);
             for (g, e) in grid.iter().zip(exact) {
                 assert_eq!(g.map(f64::to_bits), Some(e.to_bits()), "n = {n}, s = {s}");

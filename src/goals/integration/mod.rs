@@ -180,7 +180,12 @@ fn nested_report(
     let prefix = |k: usize| -> Result<Stage, Error> {
         let p = PointSet::new(k, cfg.s, nested.points.as_slice()[..k * cfg.s].to_vec())?;
         let stratified = is_stratified(&p);
-        Ok(figures(format!("first {k}"), &p, Some(stratified), cfg.sums))
+        Ok(figures(
+            format!("first {k}"),
+            &p,
+            Some(stratified),
+            cfg.sums,
+        ))
     };
     let first = cfg.nested[0];
     let mut stages = vec![
