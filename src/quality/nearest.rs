@@ -99,6 +99,7 @@ pub fn min_squared_distances_by_cells(points: &PointSet) -> [Option<f64>; 2] {
                     o /= 3;
                     d
                 })
+                .rev()
                 .collect()
         })
         .collect();
@@ -130,13 +131,16 @@ pub fn min_squared_distances_by_cells(points: &PointSet) -> [Option<f64>; 2] {
                     inside &= (0..m).contains(&v);
                     *ci = v.rem_euclid(m) as usize;
                 }
+                // Each pair of cells once, from the lower index (adjacency is symmetric,
+                // and so is whether it wraps).
                 let other = grid.index(&c);
+                if other < cell {
+                    continue;
+                }
                 for a in start[cell]..start[cell + 1] {
                     let x = &sorted[a * s..(a + 1) * s];
-                    for b in start[other]..start[other + 1] {
-                        if b == a {
-                            continue;
-                        }
+                    let from = if other == cell { a + 1 } else { start[other] };
+                    for b in from..start[other + 1] {
                         let [de, dp] = squared_pair(x, &sorted[b * s..(b + 1) * s]);
                         if inside {
                             best[0] = best[0].min(de);
