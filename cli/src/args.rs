@@ -183,6 +183,10 @@ pub(crate) struct GenerateArgs {
     #[arg(long, value_name = "FILE", num_args = 0..=1)]
     #[arg(help_heading = EXPERT)]
     pub(crate) resume: Option<Option<PathBuf>>,
+    /// Exact O(n²) metrics in the report at every size; by default they are estimated
+    /// from random pairs above 50 000 points, each with its standard error.
+    #[arg(long)]
+    pub(crate) exact: bool,
     /// Print the report as one JSON object instead of a table.
     #[arg(long)]
     pub(crate) json: bool,
@@ -253,6 +257,10 @@ pub(crate) enum Command {
         /// mapped back to [0, 1]^s before they are measured.
         #[arg(long, value_name = "LO1,HI1,...", allow_hyphen_values = true)]
         bounds: Option<String>,
+        /// Exact O(n²) figures at every size; by default they are estimated from random
+        /// pairs above 50 000 points, each with its standard error.
+        #[arg(long)]
+        exact: bool,
     },
     /// Compare the DEM and L-BFGS on U_{q,p} and on a discrepancy energy, for a list of
     /// (s, n); writes comparison.md, comparison.json and convergence pictures.

@@ -49,10 +49,12 @@ const MAX_THREADS: usize = 1024;
 
 /// `stillpoint eval`.
 fn eval_command(c: Command) -> Result<()> {
+    use stillpoint::quality::metrics::Sums;
     let Command::Eval {
         files,
         json,
         bounds,
+        exact,
     } = c
     else {
         bail!("eval: not this subcommand");
@@ -67,7 +69,8 @@ fn eval_command(c: Command) -> Result<()> {
         points
             .check_unit_cube()
             .with_context(|| format!("{}", file.display()))?;
-        let v = stillpoint::quality::evaluate::eval_json(&points);
+        let sums = if exact { Sums::EXACT } else { Sums::AUTO };
+        let v = stillpoint::quality::evaluate::eval_json_with(&points, sums);
         evaluated.push((file.clone(), points, v));
     }
     match (json, evaluated.as_slice()) {

@@ -157,6 +157,7 @@ fn request_of(a: &GenerateArgs) -> Result<Request> {
         polish: text(&a.polish),
         shifts: text(&a.shifts),
         log_every: text(&a.log_every),
+        exact: a.exact.then_some(Arg::Bool(true)),
         trajectory: a.trajectory.is_some(),
         checkpoint: a.checkpoint.is_some() || a.resume.is_some(),
     })

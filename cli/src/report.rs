@@ -380,6 +380,9 @@ pub(crate) fn report_table(
         gap(&r.output.points),
         false,
     );
+    if let Some(e) = &m1.estimate {
+        t += &estimate_lines(m1, e, cfg.sums.estimate_above);
+    }
     if let Some(sh) = &r.shift {
         t += &format!(
             "\n  shift selection: D_MD {:.6} after the {} → {:.6} with shift ({}) ({} evaluations)\n",
@@ -413,11 +416,45 @@ pub(crate) fn report_table(
     Ok(t)
 }
 
+/// What an estimate of a report's metrics rests on, with each discrepancy's standard
+/// error and, when the distances could not be proven, why they are missing.
+fn estimate_lines(m: &Metrics, e: &stillpoint::quality::metrics::Estimate, above: usize) -> String {
+    let values = [
+        ("D_L2*", m.star_l2),
+        ("D_MD", m.modified_l2),
+        ("CD", m.centered_l2),
+        ("WD", m.wrap_around_l2),
+        ("mixture", m.mixture),
+    ];
+    let each: Vec<String> = values
+        .iter()
+        .zip(e.standard_errors)
+        .map(|((name, v), se)| format!("{name} ≈ {v:.6} ± {se:.6}"))
+        .collect();
+    let mut t = format!(
+        "\n  above n = {above} the discrepancies are estimated from {} random pairs (one \
+         standard error, the roots' by the delta method); the result's: {}; an error above \
+         the value means the set is more even than the sample can resolve; --exact for the \
+         exact sums (O(n² s))\n",
+        e.pairs,
+        each.join(", ")
+    );
+    if !e.min_distances_exact {
+        t += "  minimum distances not computed (NaN): the grid of cells could not prove the \
+              closest pair; --exact computes them\n";
+    }
+    t
+}
+
 pub(crate) fn eval_table(file: &std::path::Path, points: &PointSet, v: &Value) -> String {
     let num = |k: &str| v[k].as_f64().unwrap_or(f64::NAN);
     // A value JSON holds as null is shown by its note, never as NaN.
     let show = |k: &str, digits: usize, sci: bool| -> String {
+        let se = v["estimate"]["standard_errors"][k].as_f64();
         match (v[k].as_f64(), v["notes"][k].as_str()) {
+            (Some(x), _) if se.is_some() => {
+                format!("≈ {x:.digits$} ± {:.digits$}", se.unwrap_or(f64::NAN))
+            }
             (Some(x), _) if sci => format!("{x:.digits$e}"),
             (Some(x), _) => format!("{x:.digits$}"),
             (None, Some(note)) => note.to_string(),
@@ -467,6 +504,13 @@ pub(crate) fn eval_table(file: &std::path::Path, points: &PointSet, v: &Value) -
         "energy U_{E,∞} = 1/d_min",
         show("energy_e_inf", 6, false)
     );
+    if let Some(pairs) = v["estimate"]["pairs"].as_u64() {
+        t += &format!(
+            "\n  ≈: estimated, ± one standard error: the pair sums from {pairs} random pairs \
+             (above n = {}; the roots' errors by the delta method); --exact for the exact sums\n",
+            v["estimate"]["above_n"]
+        );
+    }
     t
 }
 

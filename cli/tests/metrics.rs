@@ -510,6 +510,7 @@ fn metrics_fields_equal_the_single_functions() {
         mixture: mixture(&p),
         min_distance: min_distance_euclidean(&p),
         min_distance_periodic: min_distance_periodic(&p),
+        estimate: None,
     };
     assert_eq!(bits(&m), bits(&single));
     let (a, b) = discrepancies(&p);

@@ -340,12 +340,16 @@ fn randomize<'py>(
     to_array(py, points)
 }
 
-/// Every figure of `stillpoint eval --json` for points in [0, 1]^d, as JSON text.
+/// Every figure of `stillpoint eval --json` for points in [0, 1]^d, as JSON text; with
+/// `exact`, the O(n²) figures exact at every size (`eval --exact`).
 #[pyfunction]
-fn metrics_json(py: Python<'_>, x: PyReadonlyArray2<'_, f64>) -> PyResult<String> {
+#[pyo3(signature = (x, exact=false))]
+fn metrics_json(py: Python<'_>, x: PyReadonlyArray2<'_, f64>, exact: bool) -> PyResult<String> {
+    use stillpoint::quality::metrics::Sums;
     let p = unit_points("x", &x)?;
+    let sums = if exact { Sums::EXACT } else { Sums::AUTO };
     detached(py, move || {
-        serde_json::to_string(&stillpoint::quality::evaluate::eval_json(&p))
+        serde_json::to_string(&stillpoint::quality::evaluate::eval_json_with(&p, sums))
             .map_err(|e| e.to_string())
     })
 }

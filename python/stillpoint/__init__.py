@@ -211,8 +211,10 @@ def generate(
         ``'cells'`` or ``'shift'`` randomise the optimised set), ``extend`` (see :func:`extend`), ``nested`` (see :func:`nested`);
         and the paper's options, passed through to the library: ``q``, ``p``,
         ``precision``, ``init`` (``'halton'``, ``'random'`` or an (n, d) array),
-        ``kappa``, ``restart``, ``tolerance``, ``polish``, ``shifts``, ``log_every``.
-        An unknown name is a ``ValueError`` listing the accepted ones.
+        ``kappa``, ``restart``, ``tolerance``, ``polish``, ``shifts``, ``log_every``;
+        ``exact`` (``generate --exact``: the run's report computes its O(n^2) metrics
+        exactly at every size; the points are the same, and :func:`metrics` takes
+        ``exact`` for the figures of any array). An unknown name is a ``ValueError`` listing the accepted ones.
 
     Raises
     ------
@@ -271,15 +273,19 @@ def nested(sizes: Any, d: int, **kwargs: Any) -> np.ndarray:
     return generate(None, d, nested=sizes, names={"nested": "sizes"}, **kwargs)
 
 
-def metrics(x: Any) -> Dict[str, Any]:
+def metrics(x: Any, exact: bool = False) -> Dict[str, Any]:
     """Every figure ``stillpoint eval --json`` prints for points in [0, 1]^d, as a dict
     with the same keys and values: ``n``, ``s``, the discrepancies ``star_l2``,
     ``modified_l2``, ``centered_l2``, ``wrap_around_l2`` (roots), ``min_distance``,
     ``min_distance_periodic``, ``energy_uqp`` (with ``energy_uqp_q``, ``energy_uqp_p``),
     ``energy_e_inf``, ``mean_gap`` and ``notes`` (what each ``None`` stands for).
-    O(n^2 d) time; the GIL is released meanwhile.
+    O(n^2 d) time up to 50 000 points; above, as ``eval``, the discrepancies are
+    estimated from random pairs (an ``estimate`` dict gives each one's standard error),
+    the minimum distances come from a grid of cells (``None`` where it cannot prove
+    them) and ``energy_uqp`` is ``None``. ``exact=True`` (``eval --exact``) computes
+    every figure exactly at any size. The GIL is released meanwhile.
     """
-    return json.loads(_core.metrics_json(_points(x)))
+    return json.loads(_core.metrics_json(_points(x), bool(exact)))
 
 
 def discrepancy(x: Any, kind: str = "md") -> float:

@@ -40,7 +40,7 @@ def randomize(
 def tent_lattice(n: int, d: int) -> npt.NDArray[np.float64]:
     """The lattice ``generate(n, d, randomize='tent')`` randomises, unrandomised."""
 
-def metrics_json(x: npt.NDArray[np.float64]) -> str:
+def metrics_json(x: npt.NDArray[np.float64], exact: bool = False) -> str:
     """Every figure ``stillpoint eval --json`` prints for points in [0, 1]^d, as the same
     JSON object (compact text). Refuses a coordinate outside [0, 1]."""
 

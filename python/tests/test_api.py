@@ -214,3 +214,17 @@ def test_long_calls_release_the_gil():
     elapsed = time.perf_counter() - start
     # With the GIL held through each call, this thread could not run meanwhile.
     assert elapsed > 0.02 and ticks > 100
+
+
+def test_metrics_estimate_above_the_threshold_and_exact_on_request():
+    rng = np.random.default_rng(3)
+    small = rng.random((400, 3))
+    assert sp.metrics(small) == sp.metrics(small, exact=True)
+    assert "estimate" not in sp.metrics(small)
+    big = rng.random((50_001, 2))
+    m = sp.metrics(big)
+    assert m == sp.metrics(big)  # the same pairs for the same points
+    assert m["estimate"]["pairs"] == 4_000_000
+    for k in ("star_l2", "modified_l2", "centered_l2", "wrap_around_l2", "mixture"):
+        assert m["estimate"]["standard_errors"][k] > 0
+    assert m["energy_uqp"] is None and "--exact" in m["notes"]["energy_uqp"]

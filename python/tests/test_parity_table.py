@@ -71,10 +71,12 @@ SAME_POINTS = [
     (["--nested", "8,16", "-s", "2", "-n", "16"], {"nested": "8,16", "d": 2, "n": 16}),
     (["-n", "16", "-s", "2", "--bounds", "-1,1,0,10"], {"n": 16, "d": 2, "bounds": ([-1, 0], [1, 10])}),
     (["-n", "16", "-s", "2", "--method", "sobol", "--seed", "4"], {"n": 16, "d": 2, "method": "sobol", "seed": 4}),
+    (["-n", "24", "-s", "2", "--exact"], {"n": 24, "d": 2, "exact": True}),
 ]
 
 # Refused by both, with the same message.
 REFUSED = [
+    (["-n", "16", "-s", "2", "--method", "sobol", "--exact"], {"n": 16, "d": 2, "method": "sobol", "exact": True}),
     (["-n", "0", "-s", "2"], {"n": 0, "d": 2}),
     (["-n", "5", "-s", "0"], {"n": 5, "d": 0}),
     (["-n", "5"], {"n": 5}),

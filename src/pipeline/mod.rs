@@ -189,8 +189,8 @@ pub fn generate_with(
         // is evaluated again on the randomised points.
         report.energy.1 = match &cfg.goal {
             Goal::Integration(target) => {
-                report.energy.0 = target.value(&report.start);
-                target.value(&report.output.points)
+                report.energy.0 = target.value_with(&report.start, cfg.sums);
+                target.value_with(&report.output.points, cfg.sums)
             }
             Goal::SpaceFilling => {
                 crate::quality::metrics::min_distance_euclidean(&report.output.points)

@@ -148,6 +148,9 @@ pub struct Request {
     pub shifts: Option<Arg>,
     /// Log discrepancies every this many steps.
     pub log_every: Option<Arg>,
+    /// Exact O(n²) metrics in the report at every size (`true`), or estimated from random
+    /// pairs above [`crate::quality::metrics::ESTIMATE_ABOVE`] points (the default).
+    pub exact: Option<Arg>,
     /// The run's trajectory is to be recorded (the paper's pipeline only).
     pub trajectory: bool,
     /// The run is checkpointed or resumed (the paper's pipeline, or a region run).
@@ -253,6 +256,7 @@ impl Request {
             "polish" => &mut self.polish,
             "shifts" => &mut self.shifts,
             "log_every" => &mut self.log_every,
+            "exact" => &mut self.exact,
             other => {
                 return Err(Error::invalid(
                     "keyword argument",
@@ -294,6 +298,7 @@ impl Request {
             "polish",
             "shifts",
             "log_every",
+            "exact",
         ]
     }
 
@@ -344,6 +349,21 @@ enum GoalName {
 }
 
 impl Resolver<'_> {
+    /// A yes/no option: `true`/`false` (as a boolean, or as text, ASCII case ignored);
+    /// absent is no.
+    fn flag(&self, name: &str, arg: &Option<Arg>) -> Result<bool, Error> {
+        match arg {
+            None | Some(Arg::Bool(false)) => Ok(false),
+            Some(Arg::Bool(true)) => Ok(true),
+            Some(a @ Arg::Text(t)) => match t.trim().to_ascii_lowercase().as_str() {
+                "true" => Ok(true),
+                "false" => Ok(false),
+                _ => Err(self.bad(name, a, "true or false")),
+            },
+            Some(a) => Err(self.bad(name, a, "true or false")),
+        }
+    }
+
     fn bad(&self, name: &str, value: impl std::fmt::Display, expected: impl Into<String>) -> Error {
         Error::invalid((self.spell)(name), value, expected)
     }
@@ -440,6 +460,9 @@ impl Resolver<'_> {
             g => g,
         };
         self.common(&mut cfg)?;
+        if self.flag("exact", &r.exact)? {
+            cfg.sums = crate::quality::metrics::Sums::EXACT;
+        }
         sequences::check_size(cfg.n, cfg.s).map_err(|e| match e {
             Error::InvalidArgument {
                 name,
@@ -497,6 +520,7 @@ impl Resolver<'_> {
             ("box", r.bbox.is_some()),
             ("shape", r.shape.is_some()),
             ("steps", r.steps.is_some()),
+            ("exact", r.exact.is_some()),
         ];
         let paper = PAPER_OPTIONS.iter().find(|o| r.given(o));
         if let Some(name) = others

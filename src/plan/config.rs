@@ -150,6 +150,8 @@ pub struct GenerateConfig {
     /// Sizes N1 < N2 < … = n of a nested set, each prefix made for its size (the
     /// integration goal in the cube): [`crate::goals::integration::nested_set`]. Empty: one set.
     pub nested: Vec<usize>,
+    /// How the report's O(n²) metrics are formed: exact, or estimated above a size.
+    pub sums: crate::quality::metrics::Sums,
 }
 
 impl GenerateConfig {
@@ -188,6 +190,7 @@ impl GenerateConfig {
             randomize: None,
             extend: None,
             nested: Vec::new(),
+            sums: crate::quality::metrics::Sums::AUTO,
         }
     }
 

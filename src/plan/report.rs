@@ -92,7 +92,7 @@ impl GenerateReport {
 pub(crate) fn quality(cfg: &GenerateConfig, points: &PointSet) -> Result<Quality, Error> {
     Ok(match cfg.region() {
         Some(domain) => Quality::Region(RegionMetrics::compute(domain, points)?),
-        None => Quality::Cube(Metrics::compute(points)),
+        None => Quality::Cube(Metrics::compute_with(points, cfg.sums)),
     })
 }
 

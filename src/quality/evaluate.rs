@@ -3,7 +3,7 @@
 //! two give the same keys and the same numbers.
 
 use crate::energies::{paper_qp, Distance, Energy, Uqp};
-use crate::quality::metrics::Metrics;
+use crate::quality::metrics::{Metrics, Sums};
 use crate::PointSet;
 use serde_json::{json, Value};
 
@@ -22,19 +22,28 @@ fn finite_or_null(v: f64) -> Value {
 /// distances, U_{q,p} at the paper's fit for (n, s), E_∞, the largest gap between a
 /// coordinate's mean and ½, and `notes` saying what each `null` stands for.
 pub fn eval_json(points: &PointSet) -> Value {
-    let m = Metrics::compute(points);
+    eval_json_with(points, Sums::EXACT)
+}
+
+/// [`eval_json`] with the O(n²) figures as `sums` asks: above its size the discrepancies
+/// are estimated from random pairs, with an `estimate` object (the pairs, the seed and
+/// each discrepancy's standard error), the minimum distances come from a grid of cells
+/// (null where it cannot prove them) and U_{q,p} is not computed (null); `notes` says so.
+pub fn eval_json_with(points: &PointSet, sums: Sums) -> Value {
+    let m = Metrics::compute_with(points, sums);
     let star = crate::quality::star_inf::star_discrepancy(points);
     let (one, two) = crate::quality::star_inf::worst_projections(points);
     let fit = paper_qp(points.n(), points.s());
     let uqp = Uqp::new(Distance::Q(fit.q), fit.p)
-        .map(|e| e.value(points))
-        .ok();
+        .ok()
+        .filter(|_| m.estimate.is_none())
+        .map(|e| e.value(points));
     let mean_gap = points
         .mean()
         .iter()
         .map(|v| (v - 0.5).abs())
         .fold(0.0, f64::max);
-    json!({
+    let mut v = json!({
         "n": points.n(),
         "s": points.s(),
         "star_l2": m.star_l2,
@@ -54,8 +63,35 @@ pub fn eval_json(points: &PointSet) -> Value {
         "energy_e_inf": finite_or_null(1.0 / m.min_distance),
         "mean_gap": mean_gap,
         "notes": value_notes(points, &m, uqp, star.is_some(), two.is_some()),
-    })
+    });
+    if let Some(e) = &m.estimate {
+        let by_key = |errors: &[f64; 5]| -> Value {
+            DISCREPANCY_KEYS
+                .iter()
+                .zip(errors)
+                .map(|(k, &se)| (k.to_string(), finite_or_null(se)))
+                .collect::<serde_json::Map<_, _>>()
+                .into()
+        };
+        v["estimate"] = json!({
+            "pairs": e.pairs,
+            "seed": e.seed,
+            "above_n": sums.estimate_above,
+            "standard_errors": by_key(&e.standard_errors),
+            "squared_standard_errors": by_key(&e.squared_standard_errors),
+        });
+    }
+    v
 }
+
+/// The keys of the five discrepancies, in the order of [`Metrics::estimate`]'s errors.
+pub const DISCREPANCY_KEYS: [&str; 5] = [
+    "star_l2",
+    "modified_l2",
+    "centered_l2",
+    "wrap_around_l2",
+    "mixture",
+];
 
 /// What a value that JSON cannot hold (null) stands for: a single point has no pair
 /// (no distance, energies 0), coinciding points have distance 0 and infinite energies
@@ -87,6 +123,25 @@ fn value_notes(
                 } else {
                     "infinite: two points coincide on the torus (0 and 1 are one coordinate)"
                 },
+            );
+        }
+    }
+    if m.estimate.is_some() {
+        let skipped = "not computed: above the size where the O(n² s) sums are estimated, \
+                       this pair sum is skipped (--exact computes it)";
+        note("energy_uqp", skipped);
+        if m.min_distance.is_nan() {
+            let why = "not computed: the grid of cells could not prove the closest pair and \
+                       the pair loop is O(n² s) (--exact computes it)";
+            note("min_distance", why);
+            note("min_distance_periodic", why);
+            note("energy_e_inf", why);
+        }
+        for k in DISCREPANCY_KEYS {
+            note(
+                k,
+                "estimated from random pairs; its standard error is in `estimate` \
+                 (--exact for the exact sum)",
             );
         }
     }

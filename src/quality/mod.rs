@@ -1,5 +1,6 @@
-//! Measures of a point set: the L2 discrepancies and distances ([`metrics`]), the exact
-//! star L∞ discrepancy ([`star_inf`]), stratification ([`stratification`]), the
+//! Measures of a point set: the L2 discrepancies and distances ([`metrics`]; exact, or
+//! estimated above a size, with the grid search of [`nearest`]), the exact star L∞
+//! discrepancy ([`star_inf`]), stratification ([`stratification`]), the
 //! integration goal's criterion ([`target`]), the figures of a set in a region
 //! ([`region`]), the paper's test integrands ([`integrands`]), and every figure of
 //! `eval` in one JSON object ([`evaluate`]).
@@ -7,6 +8,7 @@
 pub mod evaluate;
 pub mod integrands;
 pub mod metrics;
+pub mod nearest;
 pub mod region;
 pub mod star_inf;
 pub mod stratification;

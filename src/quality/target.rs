@@ -107,6 +107,23 @@ impl Target {
             .sum()
     }
 
+    /// [`Target::value`] where `sums` asks for exact sums; above its size, the weighted
+    /// sum of the squared discrepancies estimated from random pairs
+    /// ([`crate::quality::metrics::Metrics::compute_with`]), O(n s + pairs · s).
+    pub fn value_with(&self, points: &PointSet, sums: crate::quality::metrics::Sums) -> f64 {
+        if !sums.estimates(points.n()) {
+            return self.value(points);
+        }
+        let sampled = crate::energies::discrepancy::sampled_squared_discrepancies(
+            points, sums.pairs, sums.seed,
+        );
+        self.parts
+            .iter()
+            // The estimates come in the order of `DiscrepancyKind`'s variants.
+            .map(|&(k, w)| w * sampled[k as usize].value)
+            .sum()
+    }
+
     /// The same target with each weight divided by its discrepancy at `points`, so every
     /// part starts at its weight.
     pub fn normalised_at(&self, points: &PointSet) -> Target {

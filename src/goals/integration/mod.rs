@@ -10,15 +10,15 @@ pub use descent::*;
 use crate::energies::PointSet;
 use crate::goals::goal_report;
 use crate::plan::*;
-use crate::quality::metrics::Metrics;
+use crate::quality::metrics::{Metrics, Sums};
 use crate::quality::stratification::is_stratified;
 use crate::quality::target::Target;
 use crate::solve::Event;
 use crate::Error;
 
 /// The figures of a part of a result, as a report stage.
-fn figures(of: String, p: &PointSet, stratified: Option<bool>) -> Stage {
-    let m = Metrics::compute(p);
+fn figures(of: String, p: &PointSet, stratified: Option<bool>, sums: Sums) -> Stage {
+    let m = Metrics::compute_with(p, sums);
     Stage::Figures {
         of,
         modified_l2: m.modified_l2,
@@ -62,7 +62,10 @@ pub(crate) fn integration_run(
         name: "stratified descent",
         steps: None,
     });
-    let effort = crate::goals::integration::Effort::default();
+    let effort = crate::goals::integration::Effort {
+        sums: cfg.sums,
+        ..Default::default()
+    };
     if let Some(old) = &cfg.extend {
         return extension_run(cfg, old, target, &effort);
     }
@@ -106,7 +109,7 @@ pub(crate) fn tent_lattice_run(
         weight: lattices::TENT_WEIGHT,
         generator,
     }];
-    let value = target.value(&points);
+    let value = target.value_with(&points, cfg.sums);
     goal_report(
         cfg,
         points.clone(),
@@ -147,11 +150,14 @@ fn extension_run(
             stratified: ext.stratified,
             collisions: ext.collisions,
         },
-        figures("old points".into(), old, None),
-        figures("new points alone".into(), &new, None),
-        figures("union".into(), &ext.points, None),
+        figures("old points".into(), old, None, cfg.sums),
+        figures("new points alone".into(), &new, None, cfg.sums),
+        figures("union".into(), &ext.points, None, cfg.sums),
     ];
-    let (a, b) = (target.value(&ext.start), target.value(&ext.points));
+    let (a, b) = (
+        target.value_with(&ext.start, cfg.sums),
+        target.value_with(&ext.points, cfg.sums),
+    );
     goal_report(cfg, ext.start, ext.points, (a, b), target.name(), stages)
 }
 
@@ -174,7 +180,12 @@ fn nested_report(
     let prefix = |k: usize| -> Result<Stage, Error> {
         let p = PointSet::new(k, cfg.s, nested.points.as_slice()[..k * cfg.s].to_vec())?;
         let stratified = is_stratified(&p);
-        Ok(figures(format!("first {k}"), &p, Some(stratified)))
+        Ok(figures(
+            format!("first {k}"),
+            &p,
+            Some(stratified),
+            cfg.sums,
+        ))
     };
     let first = cfg.nested[0];
     let mut stages = vec![
@@ -187,7 +198,10 @@ fn nested_report(
         stages.push(Stage::Descent(ext.descent.clone()));
         stages.push(prefix(k)?);
     }
-    let (a, b) = (target.value(&nested.start), target.value(&nested.points));
+    let (a, b) = (
+        target.value_with(&nested.start, cfg.sums),
+        target.value_with(&nested.points, cfg.sums),
+    );
     goal_report(
         cfg,
         nested.start,
