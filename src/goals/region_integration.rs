@@ -4,7 +4,7 @@
 //!
 //! The set minimises its energy distance to a reference sample of Ω
 //! ([`crate::energies::energy_distance`]): a pair repulsion −|x_i − x_j| balanced by an
-//! attraction to Ω's mass. The reference is m = 16·n (at least 4096, at most 32 768)
+//! attraction to Ω's mass. The reference is m = 8·n (at least 4096, at most 16 384)
 //! scrambled Sobol' points of the bounding box that lie inside, a far closer picture of
 //! uniform on Ω than n points can be, so the set does not fit its error; where Ω fills too
 //! little of its box, the region's own uniform sampler gives it. The start is Sobol' +
@@ -24,18 +24,18 @@ use serde_json::Value;
 use std::sync::Arc;
 
 /// Reference points per set point.
-const REFERENCE_PER_POINT: usize = 16;
+const REFERENCE_PER_POINT: usize = 8;
 
 /// Bounds on the reference's size: enough for small sets, and an O(n·m·s) attraction
 /// that stays affordable for large ones.
-const REFERENCE_RANGE: (usize, usize) = (4096, 32_768);
+const REFERENCE_RANGE: (usize, usize) = (4096, 16_384);
 
 /// L-BFGS iterations at most.
 const MAX_ITERATIONS: usize = 400;
 
-/// Work budget n·m·s × iterations (about 15 s on two cores): large sets get fewer
+/// Work budget n·m·s × iterations (about 30 s on two cores): large sets get fewer
 /// iterations, never fewer than [`MIN_ITERATIONS`].
-const WORK_BUDGET: f64 = 1.3e10;
+const WORK_BUDGET: f64 = 2e10;
 
 /// Iterations every set gets.
 const MIN_ITERATIONS: usize = 20;
