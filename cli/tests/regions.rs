@@ -188,8 +188,8 @@ fn bad_regions_are_refused_and_write_nothing() {
 /// it closer to uniform on the region than as many uniform points.
 #[test]
 fn readme_region_integration_example_runs() {
-    let readme = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md"))
-        .unwrap();
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md")).unwrap();
     let lines: Vec<&str> = readme
         .lines()
         .filter(|l| l.starts_with("cargo run --release -- ") && l.contains("design.csv"))
@@ -249,7 +249,8 @@ fn readme_region_integration_example_runs() {
     .domain(&|n| n.to_string())
     .unwrap();
     let uniform = domain.sample(64, 9).unwrap();
-    stillpoint::io::write_points(&dir.join("uniform.csv"), &uniform, &serde_json::Value::Null).unwrap();
+    stillpoint::io::write_points(&dir.join("uniform.csv"), &uniform, &serde_json::Value::Null)
+        .unwrap();
     let theirs = eval("uniform.csv");
     assert!(
         ours["energy_distance"].as_f64().unwrap() < theirs["energy_distance"].as_f64().unwrap(),

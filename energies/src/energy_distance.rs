@@ -220,16 +220,15 @@ mod tests {
         let v = e.value_and_gradient(&x, &mut g);
         assert!((v - e.value(&x)).abs() < 1e-12 * v.abs().max(1.0));
         let h = 1e-6;
-        for c in 0..x.coordinate_count() {
+        for (c, gc) in g.iter().enumerate() {
             let mut up = x.clone();
             up.as_mut_slice()[c] += h;
             let mut down = x.clone();
             down.as_mut_slice()[c] -= h;
             let fd = (e.value(&up) - e.value(&down)) / (2.0 * h);
             assert!(
-                (fd - g[c]).abs() < 1e-6 * (1.0 + g[c].abs()),
-                "coordinate {c}: analytic {} finite difference {fd}",
-                g[c]
+                (fd - gc).abs() < 1e-6 * (1.0 + gc.abs()),
+                "coordinate {c}: analytic {gc} finite difference {fd}"
             );
         }
     }

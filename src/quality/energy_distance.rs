@@ -14,7 +14,7 @@ use crate::Error;
 use std::sync::Arc;
 
 /// Independent batches of the uniform sample: the standard error is their spread.
-const BATCHES: usize = 8;
+pub const BATCHES: usize = 8;
 
 /// Uniform points per batch (each batch's E|Y − Y′| costs O(BATCH² s)).
 pub const BATCH: usize = 4096;
@@ -75,7 +75,7 @@ pub fn fraction_inside(domain: &Arc<dyn Domain>, points: &PointSet) -> f64 {
 
 /// Most coordinates (candidates × s) one Sobol' draw for [`sobol_inside`] may hold; past
 /// it the region fills too little of its box for rejection and its own sampler is used.
-const MAX_CANDIDATE_COORDINATES: usize = 1 << 25;
+pub const MAX_CANDIDATE_COORDINATES: usize = 1 << 25;
 
 /// The first `m` points of an Owen-scrambled Sobol' sequence (seeded by `seed`), scaled to
 /// the domain's bounding box, that lie inside; `None` when the region fills so little of

@@ -1,8 +1,9 @@
 //! Measures of a point set: the L2 discrepancies and distances ([`metrics`]), the exact
 //! star L∞ discrepancy ([`star_inf`]), stratification ([`stratification`]), the
 //! integration goal's criterion ([`target`]), the figures of a set in a region
-//! ([`region`], with its [`energy_distance`] to the region's uniform distribution), the paper's test integrands ([`integrands`]), and every figure of
-//! `eval` in one JSON object ([`evaluate`]).
+//! ([`region`], with its [`energy_distance`] to the region's uniform distribution), the
+//! paper's test integrands ([`integrands`]), and every figure of `eval` in one JSON
+//! object ([`evaluate`]).
 
 pub mod energy_distance;
 pub mod evaluate;
