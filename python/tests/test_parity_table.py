@@ -112,7 +112,7 @@ REFUSED = [
     (["--shape", "ball:1", "-s", "2", "-n", "5", "--randomize", "cells"], {"shape": "ball:1", "d": 2, "n": 5, "randomize": "cells"}),
     (["--shape", "ball:1", "-s", "2", "-n", "5", "--bounds", "0,1,0,1"], {"shape": "ball:1", "d": 2, "n": 5, "bounds": "0,1,0,1"}),
     (["--shape", "ball:1", "-s", "2", "-n", "5", "--goal", "integration", "--target", "md"], {"shape": "ball:1", "d": 2, "n": 5, "goal": "integration", "target": "md"}),
-    (["--shape", "ball:1", "-s", "2", "-n", "5", "--goal", "integration", "--randomize"], {"shape": "ball:1", "d": 2, "n": 5, "goal": "integration", "randomize": True}),
+    (["--shape", "ball:1", "-s", "2", "-n", "5", "--goal", "integration", "--randomize", "cells"], {"shape": "ball:1", "d": 2, "n": 5, "goal": "integration", "randomize": "cells"}),
     (["--shape", "ball:1", "-s", "3", "-n", "5", "--nested", "2,5"], {"shape": "ball:1", "d": 3, "n": 5, "nested": "2,5"}),
     (["--shape", "ball:1@0,0", "-s", "3", "-n", "5"], {"shape": "ball:1@0,0", "d": 3, "n": 5}),
     (["--shape", "cube:1", "-s", "2", "-n", "5"], {"shape": "cube:1", "d": 2, "n": 5}),
