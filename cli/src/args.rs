@@ -261,6 +261,26 @@ pub(crate) enum Command {
         /// pairs above 50 000 points, each with its standard error.
         #[arg(long)]
         exact: bool,
+        /// Measure the points in the region {x : g(x) ≤ 0} (with --box), as in generate:
+        /// energy distance to uniform on it, minimum distance, share inside.
+        #[arg(
+            long,
+            value_name = "EXPR",
+            allow_hyphen_values = true,
+            conflicts_with = "bounds"
+        )]
+        region: Option<String>,
+        /// The bounding box of --region (or of a polytope): LO1,HI1,LO2,HI2,...
+        #[arg(long = "box", value_name = "LO1,HI1,...", allow_hyphen_values = true)]
+        bbox: Option<String>,
+        /// Measure the points in a built-in region, as in generate.
+        #[arg(
+            long,
+            value_name = "SHAPE",
+            allow_hyphen_values = true,
+            conflicts_with = "bounds"
+        )]
+        shape: Option<String>,
     },
     /// Compare the DEM and L-BFGS on U_{q,p} and on a discrepancy energy, for a list of
     /// (s, n); writes comparison.md, comparison.json and convergence pictures.

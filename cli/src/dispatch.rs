@@ -55,10 +55,25 @@ fn eval_command(c: Command) -> Result<()> {
         json,
         bounds,
         exact,
+        region,
+        bbox,
+        shape,
     } = c
     else {
         bail!("eval: not this subcommand");
     };
+    if region.is_some() || shape.is_some() {
+        return region_eval(
+            &files,
+            json,
+            region.as_deref(),
+            bbox.as_deref(),
+            shape.as_deref(),
+        );
+    }
+    if bbox.is_some() {
+        bail!("invalid --box: a box only with --region EXPR or --shape polytope:FILE (it bounds them)");
+    }
     let mut evaluated = Vec::new();
     for file in &files {
         let mut points = io::read_points(file)?;
@@ -88,6 +103,34 @@ fn eval_command(c: Command) -> Result<()> {
             outln!("{}", serde_json::to_string_pretty(&all)?)
         }
         (false, many) => out!("{}", eval_comparison(many)),
+    }
+    Ok(())
+}
+
+/// `stillpoint eval --region/--shape`: each file's figures in the region.
+fn region_eval(
+    files: &[PathBuf],
+    json: bool,
+    region: Option<&str>,
+    bbox: Option<&str>,
+    shape: Option<&str>,
+) -> Result<()> {
+    let mut all = Vec::new();
+    for file in files {
+        let points = io::read_points(file)?;
+        let domain = region_domain(region, bbox, shape, Some(points.s()))?;
+        let mut v = stillpoint::quality::region::region_eval_json(&domain, &points)
+            .with_context(|| format!("{}", file.display()))?;
+        v["file"] = json!(file.display().to_string());
+        if !json {
+            out!("{}", stillpoint::quality::region::region_eval_text(&v));
+        }
+        all.push(v);
+    }
+    match (json, all.as_slice()) {
+        (true, [v]) => outln!("{}", serde_json::to_string_pretty(v)?),
+        (true, many) => outln!("{}", serde_json::to_string_pretty(many)?),
+        (false, _) => {}
     }
     Ok(())
 }

@@ -656,7 +656,18 @@ pub(crate) fn region_table(
     let (a, b) = r.region_metrics()?;
     let domain = region_name(cfg);
     let solver = r.solver().map(solver_line).unwrap_or_default();
-    let mut t = format!(
+    // A goal's run in a region says what its stages did instead of the start it drew.
+    if let (run::Goal::Integration(_), false) = (&cfg.goal, r.stages.is_empty()) {
+        let stages: Vec<String> = r.stages.iter().map(|s| s.to_string()).collect();
+        return Ok(format!(
+            "stillpoint: n = {}, s = {} in {}, integration goal\n  {}\n\n",
+            cfg.n,
+            cfg.s,
+            region_name(cfg),
+            stages.join("\n  ")
+        ) + &region_rows(a, b, r, out));
+    }
+    let t = format!(
         "stillpoint: n = {}, s = {} in {}\n  {} from {}, {solver}\n\n",
         cfg.n,
         cfg.s,
@@ -668,7 +679,17 @@ pub(crate) fn region_table(
             Init::Points(_) => "points from file".into(),
         },
     );
-    t += &format!(
+    Ok(t + &region_rows(a, b, r, out))
+}
+
+/// The start and result figures of a region run, and its closing line.
+fn region_rows(
+    a: &stillpoint::quality::region::RegionMetrics,
+    b: &stillpoint::quality::region::RegionMetrics,
+    r: &GenerateReport,
+    out: Option<&PathBuf>,
+) -> String {
+    let mut t = format!(
         "  {:<36} {:>14} {:>14} {:>9}\n",
         "", "start", "result", "change"
     );
@@ -695,11 +716,15 @@ pub(crate) fn region_table(
         t += &format!("  {name:<36} {x:>14.6} {y:>14.6} {change}\n");
     }
     t += &format!(
+        "  {:<36} {:>14.4e} {:>14.4e}   (± {:.1e}; D² to uniform, not its root)\n",
+        "energy distance to uniform", a.energy_distance, b.energy_distance, b.energy_distance_se
+    );
+    t += &format!(
         "\n  U_{{E,∞,g}} reduction {:.1}%; time {:.2} s; points written to {}\n",
-        100.0 * r.reduction()?,
+        100.0 * r.reduction().unwrap_or(f64::NAN),
         r.seconds,
         out.map(|p| p.display().to_string())
             .unwrap_or_else(|| "standard output".into())
     );
-    Ok(t)
+    t
 }

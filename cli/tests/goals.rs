@@ -128,8 +128,19 @@ fn goal_options_are_checked() {
         (&["--goal", "banana"][..], "--goal"),
         (&["--randomize", "sometimes"][..], "--randomize"),
         (
-            &["--goal", "integration", "--shape", "ball:1"][..],
-            "integration in a region",
+            &[
+                "--goal",
+                "integration",
+                "--shape",
+                "ball:1",
+                "--target",
+                "md",
+            ][..],
+            "no target in a region",
+        ),
+        (
+            &["--goal", "integration", "--shape", "ball:1", "--randomize"][..],
+            "no randomisation in a region",
         ),
     ] {
         refused(args, needle);

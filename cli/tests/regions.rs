@@ -182,3 +182,78 @@ fn bad_regions_are_refused_and_write_nothing() {
         assert!(!f.exists(), "{args:?} wrote a file");
     }
 }
+
+/// The README's integration-in-a-region commands, run as written (without `cargo run
+/// --release --`): the design is inside its linear constraint and `eval --json` finds
+/// it closer to uniform on the region than as many uniform points.
+#[test]
+fn readme_region_integration_example_runs() {
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md")).unwrap();
+    let lines: Vec<&str> = readme
+        .lines()
+        .filter(|l| l.starts_with("cargo run --release -- ") && l.contains("design.csv"))
+        .collect();
+    assert_eq!(lines.len(), 2, "{lines:?}");
+    let dir = tmpdir("readme_region_integration");
+    let words = |line: &str| -> Vec<String> {
+        // The quoted expression is one argument.
+        let rest = line.trim_start_matches("cargo run --release -- ");
+        let mut out = Vec::new();
+        for (i, part) in rest.split('"').enumerate() {
+            if i % 2 == 1 {
+                out.push(part.to_string());
+            } else {
+                out.extend(part.split_whitespace().map(String::from));
+            }
+        }
+        out
+    };
+    let generate = bin()
+        .current_dir(&dir)
+        .args(words(lines[0]))
+        .arg("-q")
+        .output()
+        .unwrap();
+    assert!(
+        generate.status.success(),
+        "{}",
+        String::from_utf8_lossy(&generate.stderr)
+    );
+    let design = stillpoint::io::read_points(&dir.join("design.csv")).unwrap();
+    assert_eq!((design.n(), design.s()), (64, 3));
+    for x in design.rows() {
+        assert!(x.iter().all(|v| (0.0..=1.0).contains(v)), "{x:?}");
+        assert!(x[0] + 2.0 * x[1] + x[2] <= 1.5, "{x:?}");
+    }
+    let eval = |file: &str| -> serde_json::Value {
+        let mut args = words(lines[1]);
+        args[1] = file.to_string();
+        let o = bin()
+            .current_dir(&dir)
+            .args(args)
+            .arg("--json")
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let ours = eval("design.csv");
+    assert_eq!(ours["fraction_inside"], 1.0);
+    let domain = stillpoint::plan::space::RegionSpec {
+        expression: Some("x1 + 2*x2 + x3 - 1.5"),
+        bbox: Some(&[0.0, 1.0, 0.0, 1.0, 0.0, 1.0]),
+        shape: None,
+        s: None,
+    }
+    .domain(&|n| n.to_string())
+    .unwrap();
+    let uniform = domain.sample(64, 9).unwrap();
+    stillpoint::io::write_points(&dir.join("uniform.csv"), &uniform, &serde_json::Value::Null)
+        .unwrap();
+    let theirs = eval("uniform.csv");
+    assert!(
+        ours["energy_distance"].as_f64().unwrap() < theirs["energy_distance"].as_f64().unwrap(),
+        "{ours} {theirs}"
+    );
+}

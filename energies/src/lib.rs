@@ -14,6 +14,7 @@
 pub mod boundary;
 pub mod discrepancy;
 pub mod einf;
+pub mod energy_distance;
 pub mod fixed;
 pub mod pairs;
 mod uqp;

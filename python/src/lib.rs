@@ -354,6 +354,35 @@ fn metrics_json(py: Python<'_>, x: PyReadonlyArray2<'_, f64>, exact: bool) -> Py
     })
 }
 
+/// The figures of `stillpoint eval --region/--shape --json` for points in a region, as
+/// JSON text: `region` (an expression, with `bbox`) or `shape`.
+#[pyfunction]
+#[pyo3(signature = (x, region=None, bbox=None, shape=None))]
+fn region_metrics_json(
+    py: Python<'_>,
+    x: PyReadonlyArray2<'_, f64>,
+    region: Option<String>,
+    bbox: Option<Vec<f64>>,
+    shape: Option<String>,
+) -> PyResult<String> {
+    let p = point_set("x", &x)?;
+    let none = HashMap::new();
+    detached(py, move || {
+        let spec = stillpoint::plan::space::RegionSpec {
+            expression: region.as_deref(),
+            bbox: bbox.as_deref(),
+            shape: shape.as_deref(),
+            s: Some(p.s()),
+        };
+        let domain = spec
+            .domain(&|n| spell(n, &none))
+            .map_err(|e| spell_error(e, &none))?;
+        let v = stillpoint::quality::region::region_eval_json(&domain, &p)
+            .map_err(|e| spell_error(e, &none))?;
+        serde_json::to_string(&v).map_err(|e| e.to_string())
+    })
+}
+
 /// One L2 discrepancy (the root): `l2star`, `md` (modified), `cd` (centred) or `wd`
 /// (wrap-around).
 #[pyfunction]
@@ -391,6 +420,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check_generate, m)?)?;
     m.add_function(wrap_pyfunction!(estimate, m)?)?;
     m.add_function(wrap_pyfunction!(metrics_json, m)?)?;
+    m.add_function(wrap_pyfunction!(region_metrics_json, m)?)?;
     m.add_function(wrap_pyfunction!(discrepancy, m)?)?;
     m.add_function(wrap_pyfunction!(baselines, m)?)?;
     m.add_function(wrap_pyfunction!(integrate_json, m)?)?;

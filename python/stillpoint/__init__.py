@@ -273,7 +273,13 @@ def nested(sizes: Any, d: int, **kwargs: Any) -> np.ndarray:
     return generate(None, d, nested=sizes, names={"nested": "sizes"}, **kwargs)
 
 
-def metrics(x: Any, exact: bool = False) -> Dict[str, Any]:
+def metrics(
+    x: Any,
+    exact: bool = False,
+    region: Optional[str] = None,
+    box: Optional[Sequence[float]] = None,
+    shape: Optional[str] = None,
+) -> Dict[str, Any]:
     """Every figure ``stillpoint eval --json`` prints for points in [0, 1]^d, as a dict
     with the same keys and values: ``n``, ``s``, the discrepancies ``star_l2``,
     ``modified_l2``, ``centered_l2``, ``wrap_around_l2`` (roots), ``min_distance``,
@@ -284,7 +290,20 @@ def metrics(x: Any, exact: bool = False) -> Dict[str, Any]:
     the minimum distances come from a grid of cells (``None`` where it cannot prove
     them) and ``energy_uqp`` is ``None``. ``exact=True`` (``eval --exact``) computes
     every figure exactly at any size. The GIL is released meanwhile.
+
+    With ``region`` (an expression g, the region g <= 0 inside ``box``) or ``shape``
+    (as in :func:`generate`), the figures of ``stillpoint eval --region/--shape --json``
+    for points in that region instead: ``energy_distance`` (D^2 to the uniform
+    distribution on it, the square form) with ``energy_distance_se`` (its standard
+    error from an independent uniform sample of ``energy_distance_reference_points``
+    points), ``min_distance`` and ``fraction_inside``.
     """
+    if region is not None or shape is not None:
+        pts = _points(x)
+        bbox = None if box is None else [float(v) for v in box]
+        return json.loads(_core.region_metrics_json(pts, region, bbox, shape))
+    if box is not None:
+        raise ValueError("invalid box: a box only with region or shape='polytope:FILE' (it bounds them)")
     return json.loads(_core.metrics_json(_points(x), bool(exact)))
 
 

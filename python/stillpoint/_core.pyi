@@ -44,6 +44,15 @@ def metrics_json(x: npt.NDArray[np.float64], exact: bool = False) -> str:
     """Every figure ``stillpoint eval --json`` prints for points in [0, 1]^d, as the same
     JSON object (compact text). Refuses a coordinate outside [0, 1]."""
 
+def region_metrics_json(
+    x: npt.NDArray[np.float64],
+    region: Optional[str] = None,
+    bbox: Optional[Sequence[float]] = None,
+    shape: Optional[str] = None,
+) -> str:
+    """The figures of ``stillpoint eval --region/--shape --json`` for points in a region
+    (an expression g with its box, or a shape), as JSON text."""
+
 def discrepancy(x: npt.NDArray[np.float64], kind: str) -> float:
     """The root of one L2 discrepancy: ``'l2star'`` (SciPy's 'L2-star', a root there
     too), ``'md'`` (modified L2; not SciPy's 'MD', the mixture discrepancy), ``'cd'``

@@ -32,6 +32,15 @@ def test_readme_python_examples_run():
     assert scope["g"].shape == (75, 3)
     assert np.array_equal(scope["g"][:50], scope["x"])
     assert scope["h"].shape == (64, 2)
+    design = scope["design"]
+    assert design.shape == (64, 3) and (design >= 0).all() and (design <= 1).all()
+    assert (design[:, 0] + 2 * design[:, 1] + design[:, 2] <= 1.5).all()
+    assert scope["fit"]["fraction_inside"] == 1.0
+    # Closer to uniform on the region than the same number of uniform points.
+    rng = np.random.default_rng(0)
+    u = rng.random((20000, 3))
+    u = u[u[:, 0] + 2 * u[:, 1] + u[:, 2] <= 1.5][:64]
+    assert scope["fit"]["energy_distance"] < scope["sp"].metrics(u, region=scope["cut"], box=scope["unit"])["energy_distance"]
     assert abs(scope["res"].integral - (np.e**2 - 1) ** 3) < 4 * scope["res"].standard_error
     assert scope["res"].standard_error > 0
     assert [d.shape for d in scope["designs"]] == [(64, 2), (64, 2), (64, 3), (64, 3)]

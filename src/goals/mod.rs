@@ -1,8 +1,10 @@
 //! The goals: what a run is for decides its pipeline. [`integration`] (the cube's
-//! default), [`space_filling`] and the [`paper`]'s own pipeline.
+//! default; in a region [`region_integration`]), [`space_filling`] and the [`paper`]'s
+//! own pipeline.
 
 pub mod integration;
 pub mod paper;
+pub mod region_integration;
 pub mod space_filling;
 
 use crate::energies::PointSet;

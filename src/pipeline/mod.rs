@@ -161,13 +161,16 @@ pub fn generate_with(
         }
     }
     let mut report = match (&cfg.goal, cfg.region()) {
-        (Goal::Integration(_), Some(_)) => {
+        (Goal::Integration(_), Some(_)) if cfg.extend.is_some() => {
             return Err(Error::invalid(
-                "goal",
-                "integration in a region",
-                "the unit cube, where the discrepancies of integration are defined; in a \
-                 region the goal is space-filling",
+                "extend",
+                "given with the integration goal in a region",
+                "extend with the space-filling run in a region (the integration goal makes \
+                 the whole set)",
             ))
+        }
+        (Goal::Integration(_), Some(_)) => {
+            crate::goals::region_integration::region_integration_run(cfg, &mut on_event)?
         }
         (Goal::Integration(target), None) if cfg.randomize == Some(Randomize::Tent) => {
             crate::goals::integration::tent_lattice_run(cfg, target)?

@@ -664,12 +664,23 @@ impl Resolver<'_> {
                     ));
                 }
                 match g {
-                    GoalName::Integration if in_region => {
+                    GoalName::Integration if in_region && r.extend.is_some() => {
                         return Err(self.bad(
-                            "goal",
-                            "integration in a region",
-                            "space-filling in a region (the discrepancies of integration \
-                             are those of the unit cube)",
+                            "extend",
+                            "given with the integration goal in a region",
+                            format!(
+                                "{} only with the space-filling run in a region (the \
+                                 integration goal makes the whole set)",
+                                spell("extend")
+                            ),
+                        ))
+                    }
+                    GoalName::Integration if in_region && target.is_some() => {
+                        return Err(self.bad(
+                            "target",
+                            "given with the integration goal in a region",
+                            "no target in a region: its discrepancies are those of the unit \
+                             cube; the goal there lowers the energy distance",
                         ))
                     }
                     GoalName::Integration => Goal::Integration(Target::blend()),

@@ -215,6 +215,18 @@ pub enum Stage {
         /// The criterion: the randomised estimate's mean square error bound.
         criterion: f64,
     },
+    /// L-BFGS on the energy distance to a reference sample of a region's uniform
+    /// distribution (the integration goal in a region).
+    EnergyDescent {
+        /// How the start was made.
+        start: String,
+        /// How the reference sample was made.
+        reference: String,
+        /// L-BFGS iterations taken.
+        iterations: usize,
+        /// Why it stopped.
+        stop: StopReason,
+    },
     /// The result randomised after the goal's run.
     Randomized {
         /// How.
@@ -336,6 +348,16 @@ impl fmt::Display for Stage {
             } => write!(
                 f,
                 "DEM on {energy}: {steps} steps ({stop:?}), then stratified"
+            ),
+            Stage::EnergyDescent {
+                start,
+                reference,
+                iterations,
+                stop,
+            } => write!(
+                f,
+                "L-BFGS on the energy distance to {reference}: {iterations} iterations \
+                 ({stop:?}) from {start}"
             ),
             Stage::Maximin {
                 candidates,

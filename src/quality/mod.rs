@@ -2,9 +2,11 @@
 //! estimated above a size, with the grid search of [`nearest`]), the exact star L∞
 //! discrepancy ([`star_inf`]), stratification ([`stratification`]), the
 //! integration goal's criterion ([`target`]), the figures of a set in a region
-//! ([`region`]), the paper's test integrands ([`integrands`]), and every figure of
-//! `eval` in one JSON object ([`evaluate`]).
+//! ([`region`], with its [`energy_distance`] to the region's uniform distribution), the
+//! paper's test integrands ([`integrands`]), and every figure of `eval` in one JSON
+//! object ([`evaluate`]).
 
+pub mod energy_distance;
 pub mod evaluate;
 pub mod integrands;
 pub mod metrics;
