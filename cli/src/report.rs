@@ -316,7 +316,7 @@ pub(crate) fn report_table(
         "  {:<36} {:>14} {:>14} {:>9}\n",
         "", "start", "result", "change"
     );
-    let mut row = |name: &str, a: f64, b: f64, sci: bool| {
+    let row = |name: &str, a: f64, b: f64, sci: bool| -> String {
         let f = |v: f64| {
             if sci {
                 format!("{v:.6e}")
@@ -329,52 +329,83 @@ pub(crate) fn report_table(
         } else {
             "-".to_string()
         };
-        t += &format!("  {:<36} {:>14} {:>14} {:>9}\n", name, f(a), f(b), change);
+        format!("  {:<36} {:>14} {:>14} {:>9}\n", name, f(a), f(b), change)
     };
     let energy_label = match cfg.goal {
         run::Goal::Integration(_) => "target (sum of squares)".to_string(),
         run::Goal::SpaceFilling => "maximin search: min distance".to_string(),
         run::Goal::Paper => format!("energy {}", r.energy_name.split('(').next().unwrap_or("")),
     };
-    row(&energy_label, r.energy.0, r.energy.1, true);
-    row(
-        "star L2 discrepancy D_L2* (root)",
-        m0.star_l2,
-        m1.star_l2,
-        false,
-    );
-    row(
-        "modified L2 discrepancy D_MD (root)",
-        m0.modified_l2,
-        m1.modified_l2,
-        false,
-    );
-    row(
-        "centred L2 discrepancy (root)",
-        m0.centered_l2,
-        m1.centered_l2,
-        false,
-    );
-    row(
-        "wrap-around L2 discrepancy (root)",
-        m0.wrap_around_l2,
-        m1.wrap_around_l2,
-        false,
-    );
-    row(
+    if m1.estimate.is_some() && matches!(cfg.goal, run::Goal::Integration(_)) {
+        // The target from the same random pairs: a sum of squares at or below 0 is one
+        // the sample cannot resolve.
+        let shown = |v: f64| {
+            if v > 0.0 {
+                format!("≈ {v:.6e}")
+            } else {
+                "unresolved".to_string()
+            }
+        };
+        t += &format!(
+            "  {:<36} {:>14} {:>14} {:>9}\n",
+            energy_label,
+            shown(r.energy.0),
+            shown(r.energy.1),
+            "-"
+        );
+    } else {
+        t += &row(&energy_label, r.energy.0, r.energy.1, true);
+    }
+    // An estimated discrepancy is shown as such, and one within two standard errors of 0
+    // as unresolved: printing its value would claim a set more even than anyone measured.
+    let est = |m: &Metrics, k: usize, v: f64| -> (String, bool) {
+        match &m.estimate {
+            None => (format!("{v:.6}"), true),
+            Some(e) if v > 2.0 * e.standard_errors[k] => (format!("≈ {v:.6}"), true),
+            Some(_) => ("unresolved".to_string(), false),
+        }
+    };
+    let discrepancies = [
+        ("star L2 discrepancy D_L2* (root)", m0.star_l2, m1.star_l2),
+        (
+            "modified L2 discrepancy D_MD (root)",
+            m0.modified_l2,
+            m1.modified_l2,
+        ),
+        (
+            "centred L2 discrepancy (root)",
+            m0.centered_l2,
+            m1.centered_l2,
+        ),
+        (
+            "wrap-around L2 discrepancy (root)",
+            m0.wrap_around_l2,
+            m1.wrap_around_l2,
+        ),
+    ];
+    for (k, (name, a, b)) in discrepancies.into_iter().enumerate() {
+        let ((sa, ra), (sb, rb)) = (est(m0, k, a), est(m1, k, b));
+        let change = if ra && rb && a != 0.0 && a.is_finite() && b.is_finite() {
+            format!("{:+.1}%", 100.0 * (b - a) / a)
+        } else {
+            "-".to_string()
+        };
+        t += &format!("  {name:<36} {sa:>14} {sb:>14} {change:>9}\n");
+    }
+    t += &row(
         "minimum distance (Euclidean)",
         m0.min_distance,
         m1.min_distance,
         false,
     );
-    row(
+    t += &row(
         "minimum distance (periodic)",
         m0.min_distance_periodic,
         m1.min_distance_periodic,
         false,
     );
     let gap = |p: &PointSet| p.mean().iter().map(|v| (v - 0.5).abs()).fold(0.0, f64::max);
-    row(
+    t += &row(
         "mean gap max_k |mean_k − 0.5|",
         gap(&r.start),
         gap(&r.output.points),

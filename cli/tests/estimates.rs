@@ -183,3 +183,36 @@ fn eval_estimates_above_the_threshold_deterministically_and_exact_below() {
     assert!(!plain.contains("\"estimate\""));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn a_generate_report_never_prints_an_unresolved_estimate_as_a_value() {
+    // A stratified Sobol' set above the threshold is more even than 4·10⁶ random pairs can
+    // resolve: its rows must say so, not print the estimate's 0.000000.
+    let n = stillpoint::quality::metrics::ESTIMATE_ABOVE + 1;
+    let o = Command::new(env!("CARGO_BIN_EXE_stillpoint"))
+        .args(["generate", "-n", &n.to_string(), "-s", "5", "-q"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let report = String::from_utf8_lossy(&o.stderr);
+    let rows: Vec<&str> = report
+        .lines()
+        .filter(|l| {
+            l.contains("discrepancy") && l.contains("(root)")
+                || l.trim_start().starts_with("target (")
+        })
+        .collect();
+    assert_eq!(rows.len(), 5, "{report}");
+    for row in rows {
+        let cells: Vec<&str> = row.split("  ").filter(|c| !c.trim().is_empty()).collect();
+        let shown = &cells[cells.len() - 3..cells.len() - 1];
+        for cell in shown {
+            let cell = cell.trim();
+            assert!(
+                cell == "unresolved" || cell.starts_with('≈'),
+                "{row:?} in\n{report}"
+            );
+        }
+    }
+    assert!(report.contains("unresolved"), "{report}");
+}

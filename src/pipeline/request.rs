@@ -455,7 +455,7 @@ impl Resolver<'_> {
         cfg.goal = match goal {
             // The default target follows the dimension ([`Target::default_for`]).
             Goal::Integration(_) if r.target.is_none() => {
-                Goal::Integration(Target::default_for(cfg.s))
+                Goal::Integration(Target::default_for(cfg.n, cfg.s))
             }
             g => g,
         };

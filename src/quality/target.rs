@@ -55,10 +55,13 @@ impl Target {
         t
     }
 
-    /// The default target at dimension s: [`Target::smooth_blend`] from
-    /// [`SMOOTH_FROM_S`] on, [`Target::blend`] below.
-    pub fn default_for(s: usize) -> Target {
-        if s >= SMOOTH_FROM_S {
+    /// The default target for n points at dimension s: [`Target::smooth_blend`] from
+    /// [`SMOOTH_FROM_S`] on where the set is descended, [`Target::blend`] otherwise (a set
+    /// too large to descend is one scrambled Sobol' set, and its report's target is then
+    /// estimated from random pairs, which the smooth error has no form for).
+    pub fn default_for(n: usize, s: usize) -> Target {
+        use crate::goals::integration::{Budget, Effort};
+        if s >= SMOOTH_FROM_S && Budget::of(n, s, &Effort::default()).descends() {
             Target::smooth_blend()
         } else {
             Target::blend()
@@ -119,8 +122,18 @@ impl Target {
         );
         self.parts
             .iter()
-            // The estimates come in the order of `DiscrepancyKind`'s variants.
-            .map(|&(k, w)| w * sampled[k as usize].value)
+            .map(|&(k, w)| {
+                // The estimates are star, modified, centred, wrap-around (and mixture); the
+                // smoothness-2 error has no sampled form, so it is summed exactly.
+                let v = match k {
+                    DiscrepancyKind::StarL2 => sampled[0].value,
+                    DiscrepancyKind::ModifiedL2 => sampled[1].value,
+                    DiscrepancyKind::CenteredL2 => sampled[2].value,
+                    DiscrepancyKind::WrapAroundL2 => sampled[3].value,
+                    DiscrepancyKind::Smooth => squared_discrepancies(points, &[k])[0],
+                };
+                w * v
+            })
             .sum()
     }
 
