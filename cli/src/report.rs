@@ -312,6 +312,47 @@ pub(crate) fn report_table(
         }
         t += "\n";
     }
+    t += &figures_table(r, cfg, m0, m1);
+    if let Some(e) = &m1.estimate {
+        t += &estimate_lines(m1, e, cfg.sums.estimate_above);
+    }
+    if let Some(sh) = &r.shift {
+        t += &format!(
+            "\n  shift selection: D_MD {:.6} after the {} → {:.6} with shift ({}) ({} evaluations)\n",
+            sh.modified_l2_before,
+            match cfg.solver {
+                Solver::Dem => "DEM",
+                Solver::Lbfgs => "L-BFGS run",
+            },
+            sh.modified_l2_after,
+            sh.shift.iter().map(|c| format!("{c:.4}")).collect::<Vec<_>>().join(", "),
+            sh.evaluations
+        );
+    }
+    if goal_name(cfg).is_some() && cfg.region().is_none() {
+        let stratified = stillpoint::quality::stratification::is_stratified(&r.output.points);
+        t += &format!(
+            "\n  every coordinate stratified (one point in each [k/n, (k+1)/n)): {}\n",
+            if stratified { "yes" } else { "no" }
+        );
+    }
+    if let Some((a, b, it)) = r.polish {
+        t +=
+            &format!("  polish: squared discrepancy {a:.6e} → {b:.6e} in {it} L-BFGS iterations\n");
+    }
+    t += &format!(
+        "\n  time {:.2} s; points written to {}\n",
+        r.seconds,
+        out.map(|p| p.display().to_string())
+            .unwrap_or_else(|| "standard output".into())
+    );
+    Ok(t)
+}
+
+/// The start/result table of a run: its energy or target, the discrepancies, minimum
+/// distances and mean gap, each with its change.
+fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Metrics) -> String {
+    let mut t = String::new();
     t += &format!(
         "  {:<36} {:>14} {:>14} {:>9}\n",
         "", "start", "result", "change"
@@ -411,40 +452,7 @@ pub(crate) fn report_table(
         gap(&r.output.points),
         false,
     );
-    if let Some(e) = &m1.estimate {
-        t += &estimate_lines(m1, e, cfg.sums.estimate_above);
-    }
-    if let Some(sh) = &r.shift {
-        t += &format!(
-            "\n  shift selection: D_MD {:.6} after the {} → {:.6} with shift ({}) ({} evaluations)\n",
-            sh.modified_l2_before,
-            match cfg.solver {
-                Solver::Dem => "DEM",
-                Solver::Lbfgs => "L-BFGS run",
-            },
-            sh.modified_l2_after,
-            sh.shift.iter().map(|c| format!("{c:.4}")).collect::<Vec<_>>().join(", "),
-            sh.evaluations
-        );
-    }
-    if goal_name(cfg).is_some() && cfg.region().is_none() {
-        let stratified = stillpoint::quality::stratification::is_stratified(&r.output.points);
-        t += &format!(
-            "\n  every coordinate stratified (one point in each [k/n, (k+1)/n)): {}\n",
-            if stratified { "yes" } else { "no" }
-        );
-    }
-    if let Some((a, b, it)) = r.polish {
-        t +=
-            &format!("  polish: squared discrepancy {a:.6e} → {b:.6e} in {it} L-BFGS iterations\n");
-    }
-    t += &format!(
-        "\n  time {:.2} s; points written to {}\n",
-        r.seconds,
-        out.map(|p| p.display().to_string())
-            .unwrap_or_else(|| "standard output".into())
-    );
-    Ok(t)
+    t
 }
 
 /// What an estimate of a report's metrics rests on, with each discrepancy's standard
