@@ -39,6 +39,7 @@ pub use stillpoint_integrators as integrators;
 
 pub use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Uqp};
 
+pub mod design;
 pub mod expr;
 pub mod goals;
 pub mod io;
