@@ -66,6 +66,17 @@ pub(crate) struct GenerateArgs {
     /// only.
     #[arg(long, value_name = "LO1,HI1,...", allow_hyphen_values = true)]
     pub(crate) bounds: Option<String>,
+    /// A variable of a design space, repeatable, in column order: NAME=uniform(lo,hi),
+    /// normal(mu,sigma), truncnormal(mu,sigma,lo,hi), lognormal(mu,sigma),
+    /// beta(a,b[,lo,hi]), triangular(lo,mode,hi), int(lo,hi) (both ends included),
+    /// {a,b,c} (unordered levels) or ordered{low,mid,high}. -s is their count; the CSV
+    /// header holds the names and categorical columns their labels.
+    #[arg(long = "var", value_name = "NAME=TYPE", allow_hyphen_values = true)]
+    pub(crate) var: Vec<String>,
+    /// The design space's variables from a JSON file: an array of "NAME=TYPE" strings
+    /// (as --var takes), or an object whose "variables" is one.
+    #[arg(long, value_name = "FILE", conflicts_with = "var")]
+    pub(crate) space: Option<PathBuf>,
     /// Randomise from --seed, so that independent seeds give unbiased estimates with
     /// error bars. Alone, or `tent` (recommended): the set is a lattice made for this
     /// randomisation, shifted uniformly modulo 1 and then tent-transformed (x ↦ 1 − |2x −
@@ -281,6 +292,13 @@ pub(crate) enum Command {
             conflicts_with = "bounds"
         )]
         shape: Option<String>,
+        /// Measure a design written by `generate --var ...` (labels and all): the same
+        /// variables, repeatable; the file's values are mapped back to the unit scale.
+        #[arg(long = "var", value_name = "NAME=TYPE", allow_hyphen_values = true)]
+        var: Vec<String>,
+        /// The design's variables from a JSON file, as generate --space takes.
+        #[arg(long, value_name = "FILE", conflicts_with = "var")]
+        space: Option<PathBuf>,
     },
     /// Compare the DEM and L-BFGS on U_{q,p} and on a discrepancy energy, for a list of
     /// (s, n); writes comparison.md, comparison.json and convergence pictures.

@@ -58,10 +58,22 @@ fn eval_command(c: Command) -> Result<()> {
         region,
         bbox,
         shape,
+        var,
+        space,
     } = c
     else {
         bail!("eval: not this subcommand");
     };
+    if !var.is_empty() || space.is_some() {
+        if region.is_some() || shape.is_some() || bounds.is_some() || bbox.is_some() {
+            bail!("invalid --var/--space with --region, --shape, --box or --bounds: a design's variables carry their own ranges");
+        }
+        let items = match &space {
+            Some(path) => read_space(path)?,
+            None => var,
+        };
+        return design_eval(&files, json, &items);
+    }
     if region.is_some() || shape.is_some() {
         return region_eval(
             &files,

@@ -17,6 +17,9 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     check_outputs(&a)?;
     let request = request_of(&a)?;
     let resolved = request.resolve_as(&flag_name)?;
+    if let Some(space) = &resolved.design {
+        check_design_output(space, a.output.as_ref())?;
+    }
     let Job::Run(cfg) = &resolved.job else {
         return write_baseline(&a, &resolved);
     };
@@ -60,6 +63,17 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
             domain.as_ref(),
             old,
         )?;
+    }
+    if let Some(design) = &outcome.design {
+        meta["space"] = json!(design.space.texts());
+        let run_line = format!(
+            "dealt from {} points in [0, 1)^{} made by the {} in {:.2} s",
+            cfg.n,
+            cfg.s,
+            goal_name(cfg).map_or("paper's pipeline".into(), |g| format!("goal {g}")),
+            report.seconds
+        );
+        return emit_design(design, &meta, &run_line, a.output.as_ref(), a.json, staging);
     }
     let summary = match (a.json, cfg.region().is_some()) {
         (true, false) => report_json(&report, cfg)?,
@@ -160,7 +174,43 @@ fn request_of(a: &GenerateArgs) -> Result<Request> {
         exact: a.exact.then_some(Arg::Bool(true)),
         trajectory: a.trajectory.is_some(),
         checkpoint: a.checkpoint.is_some() || a.resume.is_some(),
+        space: space_of(a)?,
     })
+}
+
+/// `--var` as given, or the variables of the `--space` file.
+fn space_of(a: &GenerateArgs) -> Result<Option<Arg>> {
+    if let Some(path) = &a.space {
+        return Ok(Some(Arg::Texts(read_space(path)?)));
+    }
+    Ok((!a.var.is_empty()).then(|| Arg::Texts(a.var.clone())))
+}
+
+/// The variables of a space file: a JSON array of "NAME=TYPE" strings, or an object
+/// whose "variables" is one (read through the bounded reader, as every input).
+pub(crate) fn read_space(path: &std::path::Path) -> Result<Vec<String>> {
+    let bytes = io::read_bounded(path).with_context(|| format!("--space {}", path.display()))?;
+    let value: Value = serde_json::from_slice(&bytes).map_err(|e| {
+        anyhow::anyhow!(
+            "invalid --space {}: not JSON ({e}); expected an array of \"NAME=TYPE\" strings",
+            path.display()
+        )
+    })?;
+    let list = match &value {
+        Value::Object(m) => m.get("variables").cloned().unwrap_or(Value::Null),
+        v => v.clone(),
+    };
+    match list.as_array() {
+        Some(items) if items.iter().all(|v| v.is_string()) => Ok(items
+            .iter()
+            .filter_map(|v| v.as_str().map(str::to_string))
+            .collect()),
+        _ => bail!(
+            "invalid --space {}: expected a JSON array of \"NAME=TYPE\" strings (as --var \
+             takes), or an object whose \"variables\" is one",
+            path.display()
+        ),
+    }
 }
 
 /// `generate --method BASELINE`: the construction's points, written as `baseline` does.
@@ -180,6 +230,14 @@ fn write_baseline(a: &GenerateArgs, resolved: &Resolved) -> Result<()> {
         meta["bounds"] = json!(b.text());
     }
     let staging = io::Staging::begin();
+    if let Some(design) = &outcome.design {
+        meta["space"] = json!(design.space.texts());
+        let run_line = format!(
+            "dealt from the {} set",
+            a.method.as_deref().unwrap_or_default()
+        );
+        return emit_design(design, &meta, &run_line, a.output.as_ref(), false, staging);
+    }
     emit(
         &outcome.points,
         &meta,

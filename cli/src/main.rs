@@ -5,6 +5,7 @@
 //! clap, indicatif and the flags' names.
 
 mod args;
+mod design;
 mod dispatch;
 mod generate;
 mod output;
@@ -21,6 +22,7 @@ mod values;
 use {
     self::{
         args::*,
+        design::*,
         dispatch::*,
         generate::*,
         output::*,

@@ -1,5 +1,447 @@
 //! Design spaces as users have them: continuous variables with bounds or distributions,
 //! integer ranges, ordered and unordered categorical levels. A design is made in the
-//! unit cube, where the discrepancy is defined and optimised, and mapped to the space.
+//! unit cube, where the discrepancy is defined and optimised, then levels are dealt by
+//! rank (so every level count is as even as n allows), categorical slices are balanced
+//! and stratified ([`balance`]), and each continuous coordinate is mapped through its
+//! marginal's quantile function ([`dist`]). [`figures`] measures the result.
 
+pub mod balance;
 pub mod dist;
+pub mod figures;
+pub mod table;
+
+use crate::{Error, PointSet};
+pub use dist::Marginal;
+
+/// The most levels one categorical variable may list (a design with more levels than
+/// points cannot show each of them).
+const MAX_LEVELS: usize = 1 << 16;
+
+/// What one variable of a design space takes.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Kind {
+    /// A real number following a marginal distribution.
+    Continuous(Marginal),
+    /// A whole number in [lo, hi], both ends included.
+    Integer {
+        /// Lowest value.
+        lo: i64,
+        /// Highest value.
+        hi: i64,
+    },
+    /// One of a list of labels; `ordered` levels are spread like a coordinate, unordered
+    /// ones are balanced in pairs and slice the continuous part.
+    Levels {
+        /// The labels, in the order given.
+        labels: Vec<String>,
+        /// Whether the order of the labels means something (low < mid < high).
+        ordered: bool,
+    },
+}
+
+impl Kind {
+    /// The number of levels of a discrete variable; `None` for a continuous one.
+    pub fn levels(&self) -> Option<usize> {
+        match self {
+            Kind::Continuous(_) => None,
+            Kind::Integer { lo, hi } => Some((hi - lo) as usize + 1),
+            Kind::Levels { labels, .. } => Some(labels.len()),
+        }
+    }
+
+    /// Whether this is an unordered categorical factor (the ones that slice the design).
+    pub fn is_categorical(&self) -> bool {
+        matches!(self, Kind::Levels { ordered: false, .. })
+    }
+
+    /// The variable's type as a user writes it after `NAME=`.
+    pub fn text(&self) -> String {
+        match self {
+            Kind::Continuous(m) => m.text(),
+            Kind::Integer { lo, hi } => format!("int({lo},{hi})"),
+            Kind::Levels { labels, ordered } => {
+                format!(
+                    "{}{{{}}}",
+                    if *ordered { "ordered" } else { "" },
+                    labels.join(",")
+                )
+            }
+        }
+    }
+}
+
+/// One named variable.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Variable {
+    /// Its name: the CSV header and Python column.
+    pub name: String,
+    /// What it takes.
+    pub kind: Kind,
+}
+
+/// The variables of a design, in the order given: one column each.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DesignSpace {
+    /// The variables.
+    pub vars: Vec<Variable>,
+}
+
+impl DesignSpace {
+    /// Parses variables written `NAME=TYPE`: `uniform(lo,hi)`, `normal(mu,sigma)`,
+    /// `truncnormal(mu,sigma,lo,hi)`, `lognormal(mu,sigma)`, `beta(a,b[,lo,hi])`,
+    /// `triangular(lo,mode,hi)`, `int(lo,hi)`, `{a,b,c}` or `ordered{low,mid,high}`.
+    /// `option` names the option in refusals (`--var`, `space`).
+    pub fn parse<S: AsRef<str>>(option: &str, items: &[S]) -> Result<DesignSpace, Error> {
+        if items.is_empty() {
+            return Err(Error::invalid(
+                option,
+                "[]",
+                "at least one variable NAME=TYPE",
+            ));
+        }
+        let mut vars: Vec<Variable> = Vec::with_capacity(items.len());
+        for item in items {
+            let v = parse_variable(option, item.as_ref())?;
+            if vars.iter().any(|w| w.name == v.name) {
+                return Err(Error::invalid(
+                    option,
+                    item.as_ref(),
+                    format!("a new name: {} is already a variable", v.name),
+                ));
+            }
+            vars.push(v);
+        }
+        Ok(DesignSpace { vars })
+    }
+
+    /// The number of variables (the dimension of the unit-cube design).
+    pub fn dim(&self) -> usize {
+        self.vars.len()
+    }
+
+    /// The variables as `NAME=TYPE`, as they parse back.
+    pub fn texts(&self) -> Vec<String> {
+        self.vars
+            .iter()
+            .map(|v| format!("{}={}", v.name, v.kind.text()))
+            .collect()
+    }
+
+    /// Whether any variable writes labels rather than numbers.
+    pub fn has_labels(&self) -> bool {
+        self.vars
+            .iter()
+            .any(|v| matches!(v.kind, Kind::Levels { .. }))
+    }
+
+    /// Refuses an `n` too small for every label to appear at least once: a design that
+    /// never shows a level cannot say anything about it.
+    pub fn check_n(&self, option: &str, n: usize) -> Result<(), Error> {
+        for v in &self.vars {
+            if let Kind::Levels { labels, .. } = &v.kind {
+                if n < labels.len() {
+                    return Err(Error::invalid(
+                        "n",
+                        n,
+                        format!(
+                            "at least {} points, so that every level of {} ({} in {option}) \
+                             appears",
+                            labels.len(),
+                            v.name,
+                            v.kind.text()
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+fn parse_variable(option: &str, item: &str) -> Result<Variable, Error> {
+    let bad = |expected: String| Error::invalid(option, item, expected);
+    let Some((name, spec)) = item.split_once('=') else {
+        return Err(bad(
+            "NAME=TYPE, e.g. x=uniform(0,1), k=int(1,5) or c={a,b,c}".into(),
+        ));
+    };
+    let name = name.trim();
+    let first_ok = name
+        .chars()
+        .next()
+        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_');
+    if !first_ok
+        || !name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '.' | '-'))
+    {
+        return Err(bad(
+            "a NAME of letters, digits, '_', '.' or '-' starting with a letter or '_'".into(),
+        ));
+    }
+    let spec = spec.trim();
+    let kind = if let Some(body) = braces(spec.strip_prefix("ordered").unwrap_or("")) {
+        Kind::Levels {
+            labels: labels(option, item, name, body)?,
+            ordered: true,
+        }
+    } else if let Some(body) = braces(spec) {
+        Kind::Levels {
+            labels: labels(option, item, name, body)?,
+            ordered: false,
+        }
+    } else {
+        call(option, item, name, spec)?
+    };
+    Ok(Variable {
+        name: name.to_string(),
+        kind,
+    })
+}
+
+fn braces(spec: &str) -> Option<&str> {
+    spec.trim()
+        .strip_prefix('{')
+        .and_then(|b| b.strip_suffix('}'))
+}
+
+/// Labels are written bare in a CSV cell, so a comma, quote, brace or line break (which
+/// would change the file's columns or the grammar) is refused.
+fn labels(option: &str, item: &str, name: &str, body: &str) -> Result<Vec<String>, Error> {
+    let labels: Vec<String> = body.split(',').map(|l| l.trim().to_string()).collect();
+    if labels.iter().any(|l| l.is_empty()) {
+        return Err(Error::invalid(
+            option,
+            item,
+            format!("{name}={{a,b,...}}: one or more non-empty labels, comma-separated"),
+        ));
+    }
+    if let Some(l) = labels.iter().find(|l| {
+        l.chars()
+            .any(|c| matches!(c, '"' | '{' | '}' | '\n' | '\r' | '\t'))
+            || l.starts_with('#')
+    }) {
+        return Err(Error::invalid(
+            option,
+            item,
+            format!(
+                "labels without quotes, braces, tabs or line breaks, not starting with '#' ({l:?})"
+            ),
+        ));
+    }
+    if labels.len() > MAX_LEVELS {
+        return Err(Error::invalid(
+            option,
+            item,
+            format!("at most {MAX_LEVELS} levels"),
+        ));
+    }
+    for (i, l) in labels.iter().enumerate() {
+        if labels[..i].contains(l) {
+            return Err(Error::invalid(
+                option,
+                item,
+                format!("distinct labels, but {l} appears twice"),
+            ));
+        }
+    }
+    Ok(labels)
+}
+
+/// `FUNCTION(ARGS)`: a distribution or an integer range.
+fn call(option: &str, item: &str, name: &str, spec: &str) -> Result<Kind, Error> {
+    const TYPES: &str = "uniform(lo,hi), normal(mu,sigma), truncnormal(mu,sigma,lo,hi), \
+                         lognormal(mu,sigma), beta(a,b[,lo,hi]), triangular(lo,mode,hi), \
+                         int(lo,hi), {a,b,c} or ordered{low,mid,high}";
+    let bad = |expected: String| Error::invalid(option, item, expected);
+    let Some((func, rest)) = spec.split_once('(') else {
+        return Err(bad(format!("{name}= one of {TYPES}")));
+    };
+    let Some(args) = rest.trim_end().strip_suffix(')') else {
+        return Err(bad(format!(
+            "{name}={func}(...) with a closing parenthesis"
+        )));
+    };
+    let func = func.trim().to_ascii_lowercase();
+    if func == "int" || func == "integer" {
+        let ends: Vec<Option<i64>> = args.split(',').map(|a| a.trim().parse().ok()).collect();
+        return match ends.as_slice() {
+            [Some(lo), Some(hi)]
+                if lo <= hi
+                    && lo.abs() < 1 << 53
+                    && hi.abs() < 1 << 53
+                    && ((hi - lo) as u64) < MAX_LEVELS as u64 * 16 =>
+            {
+                Ok(Kind::Integer { lo: *lo, hi: *hi })
+            }
+            _ => Err(bad(format!(
+                "{name}=int(lo,hi): whole numbers lo ≤ hi below 2^53 in size, at most {} \
+                 values",
+                MAX_LEVELS * 16
+            ))),
+        };
+    }
+    let numbers: Vec<f64> = args
+        .split(',')
+        .map(|a| a.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad(format!("{name}={func}(...) with numbers as its parameters")))?;
+    let arity = |k: &[usize]| -> Result<(), Error> {
+        if k.contains(&numbers.len()) {
+            Ok(())
+        } else {
+            Err(bad(format!(
+                "{name}={func}(...) with {} parameters",
+                k.iter()
+                    .map(|k| k.to_string())
+                    .collect::<Vec<_>>()
+                    .join(" or ")
+            )))
+        }
+    };
+    let m = match func.as_str() {
+        "uniform" => {
+            arity(&[2])?;
+            Marginal::Uniform {
+                lo: numbers[0],
+                hi: numbers[1],
+            }
+        }
+        "normal" => {
+            arity(&[2])?;
+            Marginal::Normal {
+                mu: numbers[0],
+                sigma: numbers[1],
+            }
+        }
+        "truncnormal" => {
+            arity(&[4])?;
+            Marginal::TruncNormal {
+                mu: numbers[0],
+                sigma: numbers[1],
+                lo: numbers[2],
+                hi: numbers[3],
+            }
+        }
+        "lognormal" => {
+            arity(&[2])?;
+            Marginal::LogNormal {
+                mu: numbers[0],
+                sigma: numbers[1],
+            }
+        }
+        "beta" => {
+            arity(&[2, 4])?;
+            let (lo, hi) = if numbers.len() == 4 {
+                (numbers[2], numbers[3])
+            } else {
+                (0.0, 1.0)
+            };
+            Marginal::Beta {
+                a: numbers[0],
+                b: numbers[1],
+                lo,
+                hi,
+            }
+        }
+        "triangular" => {
+            arity(&[3])?;
+            Marginal::Triangular {
+                lo: numbers[0],
+                mode: numbers[1],
+                hi: numbers[2],
+            }
+        }
+        _ => return Err(bad(format!("{name}= one of {TYPES}"))),
+    };
+    m.check(&format!("{option} {name}"))?;
+    Ok(Kind::Continuous(m))
+}
+
+/// One column of a design as written.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Column {
+    /// A continuous variable's values.
+    Real(Vec<f64>),
+    /// An integer variable's values.
+    Int(Vec<i64>),
+    /// A categorical variable's labels.
+    Label(Vec<String>),
+}
+
+/// A design: its space, the unit-cube set it was made from (continuous coordinates as
+/// optimised; a discrete coordinate at the centre of its level's share of [0, 1)), and
+/// the level index of every discrete value.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Design {
+    /// The space.
+    pub space: DesignSpace,
+    /// The design on the unit scale, one coordinate per variable.
+    pub unit: PointSet,
+    /// Per variable, the level index of each point (empty for a continuous variable).
+    pub levels: Vec<Vec<usize>>,
+}
+
+impl Design {
+    /// Makes the design from a unit-cube set with one coordinate per variable (the
+    /// run's stratified set): levels dealt by rank, categorical pairs balanced, slices
+    /// stratified. `seed` drives the balancing's random order.
+    pub fn build(space: &DesignSpace, base: &PointSet, seed: u64) -> Result<Design, Error> {
+        if base.s() != space.dim() {
+            return Err(Error::invalid(
+                "space",
+                format!("{} variables", space.dim()),
+                format!(
+                    "one variable per coordinate of the {}-dimensional set",
+                    base.s()
+                ),
+            ));
+        }
+        let (unit, levels) = balance::arrange(space, base, seed);
+        Ok(Design {
+            space: space.clone(),
+            unit,
+            levels,
+        })
+    }
+
+    /// Number of points.
+    pub fn n(&self) -> usize {
+        self.unit.n()
+    }
+
+    /// Column `j` as written: continuous values through the marginal's quantile
+    /// function, integers, labels.
+    pub fn column(&self, j: usize) -> Column {
+        let n = self.n();
+        match &self.space.vars[j].kind {
+            Kind::Continuous(m) => {
+                Column::Real((0..n).map(|i| m.ppf(self.unit.point(i)[j])).collect())
+            }
+            Kind::Integer { lo, .. } => {
+                Column::Int(self.levels[j].iter().map(|&l| lo + l as i64).collect())
+            }
+            Kind::Levels { labels, .. } => {
+                Column::Label(self.levels[j].iter().map(|&l| labels[l].clone()).collect())
+            }
+        }
+    }
+
+    /// The design as numbers, one row per point: continuous values, integers, and a
+    /// label's index in its list (for formats without text).
+    pub fn numbers(&self) -> Result<PointSet, Error> {
+        let (n, s) = (self.n(), self.space.dim());
+        let mut data = vec![0.0; n * s];
+        for j in 0..s {
+            let values: Vec<f64> = match self.column(j) {
+                Column::Real(v) => v,
+                Column::Int(v) => v.into_iter().map(|x| x as f64).collect(),
+                Column::Label(_) => self.levels[j].iter().map(|&l| l as f64).collect(),
+            };
+            for (i, v) in values.into_iter().enumerate() {
+                data[i * s + j] = v;
+            }
+        }
+        PointSet::new(n, s, data)
+    }
+}

@@ -67,6 +67,9 @@ pub struct Outcome {
     pub points: PointSet,
     /// The run's report (none for a baseline).
     pub report: Option<GenerateReport>,
+    /// The design, for a request with a design space (then `points` holds its numbers:
+    /// values, integers, label indices).
+    pub design: Option<crate::design::Design>,
 }
 
 impl Resolved {
@@ -93,7 +96,23 @@ impl Resolved {
             Some(b) => b.scale(&points)?,
             None => points,
         };
-        Ok(Outcome { points, report })
+        let Some(space) = &self.design else {
+            return Ok(Outcome {
+                points,
+                report,
+                design: None,
+            });
+        };
+        let seed = match &self.job {
+            Job::Run(cfg) => cfg.seed,
+            Job::Baseline { seed, .. } => *seed,
+        };
+        let design = crate::design::Design::build(space, &points, seed)?;
+        Ok(Outcome {
+            points: design.numbers()?,
+            report,
+            design: Some(design),
+        })
     }
 }
 

@@ -9,6 +9,7 @@
 //!
 //! An option that would have no effect on the chosen run is refused, never ignored.
 
+use crate::design::DesignSpace;
 use crate::energies::discrepancy::DiscrepancyKind;
 use crate::energies::{Distance, Precision};
 use crate::integrators::{Kappa, Restart};
@@ -41,6 +42,8 @@ pub enum Arg {
     Counts(Vec<i128>),
     /// A point set (a start, or points to keep).
     Points(PointSet),
+    /// A list of texts (a design space's variables as `NAME=TYPE`).
+    Texts(Vec<String>),
 }
 
 impl std::fmt::Display for Arg {
@@ -57,6 +60,7 @@ impl std::fmt::Display for Arg {
                 f.write_str(&t.join(","))
             }
             Arg::Points(p) => write!(f, "{} points in {} dimensions", p.n(), p.s()),
+            Arg::Texts(v) => f.write_str(&v.join(" ")),
         }
     }
 }
@@ -155,6 +159,9 @@ pub struct Request {
     pub trajectory: bool,
     /// The run is checkpointed or resumed (the paper's pipeline, or a region run).
     pub checkpoint: bool,
+    /// A design space: its variables as `NAME=TYPE` ([`crate::design::DesignSpace`]);
+    /// the dimension is their count.
+    pub space: Option<Arg>,
 }
 
 /// What a resolved request runs.
@@ -182,6 +189,8 @@ pub struct Resolved {
     pub job: Job,
     /// Scaling of the written points (a cube run with `bounds`).
     pub bounds: Option<Bounds>,
+    /// The design space the set is dealt into (levels, slices, marginals).
+    pub design: Option<DesignSpace>,
 }
 
 /// The library's own spelling of a parameter: its name as the request writes it.
@@ -257,6 +266,7 @@ impl Request {
             "shifts" => &mut self.shifts,
             "log_every" => &mut self.log_every,
             "exact" => &mut self.exact,
+            "space" => &mut self.space,
             other => {
                 return Err(Error::invalid(
                     "keyword argument",
@@ -299,6 +309,7 @@ impl Request {
             "shifts",
             "log_every",
             "exact",
+            "space",
         ]
     }
 
@@ -435,6 +446,9 @@ impl Resolver<'_> {
 
     fn resolve(&self) -> Result<Resolved, Error> {
         let r = self.r;
+        if r.space.is_some() {
+            return self.design();
+        }
         let seed = match &r.seed {
             None => 0,
             Some(Arg::Int(v)) if (0..=u64::MAX as i128).contains(v) => *v as u64,
@@ -489,7 +503,73 @@ impl Resolver<'_> {
         Ok(Resolved {
             job: Job::Run(Box::new(cfg)),
             bounds,
+            design: None,
         })
+    }
+
+    /// A run in the unit cube of one coordinate per variable, dealt into the design
+    /// space afterwards: the options that place points elsewhere, grow a set or
+    /// randomise it (the dealing would undo the randomisation's promise) are refused.
+    fn design(&self) -> Result<Resolved, Error> {
+        let r = self.r;
+        let option = (self.spell)("space");
+        let items = match &r.space {
+            Some(Arg::Texts(v)) => v.clone(),
+            Some(Arg::Text(t)) => vec![t.clone()],
+            Some(other) => return Err(self.bad("space", other, "variables NAME=TYPE")),
+            None => Vec::new(),
+        };
+        let space = DesignSpace::parse(&option, &items)?;
+        let given = [
+            ("region", r.region.is_some()),
+            ("box", r.bbox.is_some()),
+            ("shape", r.shape.is_some()),
+            ("bounds", r.bounds.is_some()),
+            ("extend", r.extend.is_some()),
+            ("nested", r.nested.is_some()),
+            ("randomize", r.randomize.is_some()),
+        ];
+        if let Some((name, _)) = given.iter().find(|g| g.1) {
+            return Err(self.bad(
+                name,
+                "given with a design space",
+                format!(
+                    "no {} with {option}: a design's variables carry their own ranges and \
+                     distributions, and its levels and slices are dealt from one whole \
+                     unit-cube set",
+                    (self.spell)(name)
+                ),
+            ));
+        }
+        if let Some(a) = &r.s {
+            let s = self.count("s", a, 1, "at least 1 dimension")?;
+            if s != space.dim() {
+                return Err(self.bad(
+                    "s",
+                    a,
+                    format!(
+                        "the number of variables in {option}, {} (or no {})",
+                        space.dim(),
+                        (self.spell)("s")
+                    ),
+                ));
+            }
+        }
+        let mut inner = r.clone();
+        inner.space = None;
+        inner.s = Some(space.dim().into());
+        let mut resolved = Resolver {
+            r: &inner,
+            spell: self.spell,
+        }
+        .resolve()?;
+        let n = match &resolved.job {
+            Job::Run(cfg) => cfg.n,
+            Job::Baseline { n, .. } => *n,
+        };
+        space.check_n(&option, n)?;
+        resolved.design = Some(space);
+        Ok(resolved)
     }
 
     /// A baseline asked for by `method`, which takes only n, s, seed and bounds.
@@ -559,6 +639,7 @@ impl Resolver<'_> {
                 seed,
             },
             bounds,
+            design: None,
         }))
     }
 

@@ -1,0 +1,159 @@
+//! A design space's outputs on the command line: the labelled table (CSV or TSV; numeric
+//! formats only for a space without labels), the design's figures as a table or JSON,
+//! and `eval --space` of a labelled file.
+
+use super::*;
+use stillpoint::design::figures::DesignFigures;
+use stillpoint::design::{Design, DesignSpace};
+
+/// Refuses, before any work, an output format that cannot hold the space's labels.
+pub(crate) fn check_design_output(space: &DesignSpace, output: Option<&PathBuf>) -> Result<()> {
+    let Some(path) = output else { return Ok(()) };
+    let format = io::Format::from_path(path);
+    if space.has_labels() && !matches!(format, io::Format::Csv | io::Format::Tsv) {
+        bail!(
+            "invalid -o {}: a design with levels is written as .csv or .tsv (its labels are \
+             text; .npy and .json hold numbers)",
+            path.display()
+        );
+    }
+    Ok(())
+}
+
+/// Writes the design (to `output`, or as CSV to standard output) and its figures (a
+/// table on standard output, or standard error when the points went there; or JSON).
+pub(crate) fn emit_design(
+    design: &Design,
+    meta: &Value,
+    run_line: &str,
+    output: Option<&PathBuf>,
+    json_out: bool,
+    staging: io::Staging,
+) -> Result<()> {
+    let figures = DesignFigures::of(design);
+    // The header describes the written design: the unit-cube set's metrics would not.
+    let mut meta = meta.clone();
+    if let Some(m) = meta.as_object_mut() {
+        m.remove("metrics");
+        m.insert("figures".into(), json!(figures));
+    }
+    let meta = &meta;
+    if let Some(path) = output {
+        let bytes = match io::Format::from_path(path) {
+            io::Format::Csv => design.to_text(meta, ',').into_bytes(),
+            io::Format::Tsv => design.to_text(meta, '\t').into_bytes(),
+            other => io::encode(&design.numbers()?, meta, other),
+        };
+        io::write_atomic(path, &bytes)?;
+    }
+    staging.commit()?;
+    if json_out {
+        let mut v = json!({"run": run_line, "space": design.space.texts(), "figures": figures});
+        if output.is_none() {
+            v["rows"] = Value::String(design.to_text(&Value::Null, ','));
+        }
+        outln!("{}", serde_json::to_string_pretty(&v)?);
+        return Ok(());
+    }
+    let table = design_table(design, &figures, run_line);
+    match output {
+        Some(_) => out!("{table}"),
+        None => {
+            out!("{}", design.to_text(meta, ','));
+            note!("{table}");
+        }
+    }
+    Ok(())
+}
+
+/// The figures as a table: level counts, pair balance, slices, the continuous part.
+pub(crate) fn design_table(design: &Design, f: &DesignFigures, run_line: &str) -> String {
+    let mut t = format!(
+        "stillpoint: design of {} points in {} variables ({}); figures on the unit scale \
+         (continuous values through their CDF)\n",
+        f.n,
+        design.space.dim(),
+        design.space.texts().join(" ")
+    );
+    if !run_line.is_empty() {
+        t.push_str(&format!("  {run_line}\n"));
+    }
+    for l in &f.levels {
+        let counts: Vec<String> = l.counts.iter().map(|c| c.to_string()).collect();
+        t.push_str(&format!(
+            "  levels of {:<12} {}  (largest excess over ⌊n/L⌋..⌈n/L⌉: {})\n",
+            l.name,
+            counts.join(" "),
+            l.excess
+        ));
+    }
+    for p in &f.pairs {
+        t.push_str(&format!(
+            "  pairs {} × {}: largest excess over ⌊n/(L_a L_b)⌋..⌈n/(L_a L_b)⌉: {}\n",
+            p.names.0, p.names.1, p.excess
+        ));
+    }
+    for s in &f.slices {
+        let (mean, max) = mean_max(&s.centered_l2);
+        t.push_str(&format!(
+            "  slices of {}: stratified in {} of {} (slice, continuous column); centred L2 \
+             per slice mean {:.6}, max {:.6}\n",
+            s.name, s.stratified, s.columns, mean, max
+        ));
+    }
+    if f.continuous > 0 {
+        t.push_str(&format!(
+            "  continuous part: stratified in {} of {} columns; centred L2 {}\n",
+            f.stratified,
+            f.continuous,
+            f.centered_l2.map_or("-".into(), |v| format!("{v:.6}"))
+        ));
+    }
+    t.push_str(&format!(
+        "  minimum distance (unit scale; levels by rank, unordered levels 0/1): {:.6}\n",
+        f.min_distance
+    ));
+    t
+}
+
+fn mean_max(v: &[f64]) -> (f64, f64) {
+    if v.is_empty() {
+        return (f64::NAN, f64::NAN);
+    }
+    (
+        v.iter().sum::<f64>() / v.len() as f64,
+        v.iter().cloned().fold(f64::MIN, f64::max),
+    )
+}
+
+/// `stillpoint eval --var ... FILE` (or `--space`): each labelled file read back onto
+/// the unit scale and measured as a design.
+pub(crate) fn design_eval(files: &[PathBuf], json_out: bool, items: &[String]) -> Result<()> {
+    let space = DesignSpace::parse("--var", items)?;
+    let mut all = Vec::new();
+    for file in files {
+        let bytes = io::read_bounded(file).with_context(|| format!("{}", file.display()))?;
+        let text = String::from_utf8(bytes)
+            .map_err(|_| anyhow::anyhow!("invalid {}: not UTF-8 text", file.display()))?;
+        let design = Design::from_text(&space, &text, &file.display().to_string())?;
+        let figures = DesignFigures::of(&design);
+        if json_out {
+            all.push(json!({"file": file.display().to_string(), "figures": figures}));
+        } else {
+            out!(
+                "{}: {}",
+                file.display(),
+                design_table(&design, &figures, "")
+            );
+        }
+    }
+    if json_out {
+        let v = if all.len() == 1 {
+            all.remove(0)
+        } else {
+            Value::Array(all)
+        };
+        outln!("{}", serde_json::to_string_pretty(&v)?);
+    }
+    Ok(())
+}
