@@ -158,6 +158,9 @@ fn arg(key: &str, v: &Bound<'_, PyAny>) -> PyResult<Option<Arg>> {
     if let Ok(numbers) = v.extract::<Vec<f64>>() {
         return Ok(Some(Arg::Numbers(numbers)));
     }
+    if let Ok(texts) = v.extract::<Vec<String>>() {
+        return Ok(Some(Arg::Texts(texts)));
+    }
     // Pairs [(lo1, hi1), (lo2, hi2), ...], as a box is often written.
     if let Ok(pairs) = v.extract::<Vec<(f64, f64)>>() {
         return Ok(Some(Arg::Numbers(
@@ -297,6 +300,53 @@ fn generate<'py>(
     to_array(py, points)
 }
 
+/// A design: the run of the request (which holds `space`), dealt into the space, as
+/// JSON text: the variables, each column as written, the unit-scale set (row-major)
+/// and the design's figures.
+#[pyfunction]
+#[pyo3(signature = (**kwargs))]
+fn design_json(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<String> {
+    let resolved = resolve(kwargs)?;
+    detached(py, move || {
+        let outcome = resolved.run(None, |_| {}).map_err(|e| e.to_string())?;
+        let design = outcome
+            .design
+            .ok_or_else(|| "a design needs space=".to_string())?;
+        design_value(&design)
+    })
+}
+
+/// The figures of a design written as text (CSV or TSV with a header of names), read
+/// back onto the unit scale of `space`, as JSON text.
+#[pyfunction]
+fn design_figures_json(py: Python<'_>, space: Vec<String>, text: String) -> PyResult<String> {
+    let space = stillpoint::design::DesignSpace::parse("space", &space).map_err(value_error)?;
+    detached(py, move || {
+        let design = stillpoint::design::Design::from_text(&space, &text, "table")
+            .map_err(|e| e.to_string())?;
+        design_value(&design)
+    })
+}
+
+fn design_value(design: &stillpoint::design::Design) -> Result<String, String> {
+    use stillpoint::design::Column;
+    let columns: Vec<serde_json::Value> = (0..design.space.dim())
+        .map(|j| match design.column(j) {
+            Column::Real(v) => serde_json::json!(v),
+            Column::Int(v) => serde_json::json!(v),
+            Column::Label(v) => serde_json::json!(v),
+        })
+        .collect();
+    let v = serde_json::json!({
+        "space": design.space.texts(),
+        "names": design.space.vars.iter().map(|v| v.name.clone()).collect::<Vec<_>>(),
+        "columns": columns,
+        "unit": design.unit.as_slice(),
+        "figures": stillpoint::design::figures::DesignFigures::of(design),
+    });
+    serde_json::to_string(&v).map_err(|e| e.to_string())
+}
+
 /// Checks the keyword arguments of `generate` without running it.
 #[pyfunction]
 #[pyo3(signature = (**kwargs))]
@@ -418,6 +468,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(generate, m)?)?;
     m.add_function(wrap_pyfunction!(check_generate, m)?)?;
+    m.add_function(wrap_pyfunction!(design_json, m)?)?;
+    m.add_function(wrap_pyfunction!(design_figures_json, m)?)?;
     m.add_function(wrap_pyfunction!(estimate, m)?)?;
     m.add_function(wrap_pyfunction!(metrics_json, m)?)?;
     m.add_function(wrap_pyfunction!(region_metrics_json, m)?)?;

@@ -31,9 +31,12 @@ from . import _core
 __version__: str = _core.__version__
 
 __all__ = [
+    "Design",
     "Engine",
     "baseline",
     "baselines",
+    "design",
+    "design_figures",
     "discrepancy",
     "extend",
     "generate",
@@ -228,6 +231,17 @@ def generate(
         (on this machine's cores), with the estimate; ``warnings.filterwarnings``
         silences it or, with ``'error'``, turns it into an exception before any work.
     """
+    if later.get("space") is not None:
+        for name, value in (("method", method), ("energy", energy), ("integrator", integrator), ("steps", steps)):
+            if value is not None:
+                later[name] = value
+        for name, value in (("region", region), ("box", box), ("shape", shape), ("bounds", bounds)):
+            if value is not None:
+                raise ValueError(
+                    f"invalid {name} = {value!r}: expected no {name} with space "
+                    "(a design's variables carry their own ranges and distributions)"
+                )
+        return design(n, later.pop("space"), d=d, seed=seed, **later).table()
     kwargs = _arrays(
         {
             "n": n,
@@ -246,6 +260,134 @@ def generate(
     )
     _warn_if_long(kwargs)
     return _core.generate(**kwargs, progress=bool(progress))
+
+
+def _space_items(space: Any) -> Tuple[list, Dict[str, Any]]:
+    """A design space as the library's ``NAME=TYPE`` texts, and the variables whose
+    marginal is a SciPy frozen distribution (made uniform, then mapped by its ``ppf``)."""
+    if isinstance(space, str):
+        space = [space]
+    if isinstance(space, dict):
+        items = []
+        frozen: Dict[str, Any] = {}
+        for name, spec in space.items():
+            name = str(name)
+            if hasattr(spec, "ppf") and callable(spec.ppf):
+                frozen[name] = spec
+                items.append(f"{name}=uniform(0,1)")
+            elif isinstance(spec, str):
+                items.append(f"{name}={spec}")
+            elif isinstance(spec, range):
+                if spec.step != 1 or len(spec) == 0:
+                    raise ValueError(
+                        f"invalid space {name} = {spec!r}: expected a range with step 1 "
+                        "and at least one value"
+                    )
+                items.append(f"{name}=int({spec.start},{spec.stop - 1})")
+            elif isinstance(spec, (list, tuple)) and spec:
+                labels = [str(x) for x in spec]
+                if any("," in x for x in labels):
+                    raise ValueError(
+                        f"invalid space {name} = {spec!r}: expected labels without commas"
+                    )
+                items.append(f"{name}={{{','.join(labels)}}}")
+            else:
+                raise ValueError(
+                    f"invalid space {name} = {spec!r}: expected a type as text "
+                    "('normal(0,1)', 'int(1,5)', '{a,b}', 'ordered{lo,hi}'), a list of "
+                    "labels, a range, or a scipy.stats frozen distribution"
+                )
+        return items, frozen
+    if isinstance(space, (list, tuple)) and all(isinstance(x, str) for x in space):
+        return list(space), {}
+    raise ValueError(
+        f"invalid space = {space!r}: expected a list of 'NAME=TYPE' texts or a dict "
+        "{name: type}"
+    )
+
+
+class Design:
+    """A design in a mixed space: ``columns`` (name -> values: floats, integers or
+    labels), ``unit`` (the design on the unit scale, an (n, d) array: continuous
+    values before their marginal's quantile function, a level at the centre of its
+    share of [0, 1)), ``figures`` (level and pair balance, slice stratification,
+    centred L2 of the continuous part overall and per slice, minimum distance; all on
+    the unit scale) and ``space`` (the variables as ``NAME=TYPE``)."""
+
+    def __init__(self, raw: Dict[str, Any], frozen: Dict[str, Any]) -> None:
+        self.space: list = raw["space"]
+        self.names: list = raw["names"]
+        n = len(raw["columns"][0]) if raw["columns"] else 0
+        self.unit: np.ndarray = np.asarray(raw["unit"], dtype=np.float64).reshape(n, len(self.names))
+        self.figures: Dict[str, Any] = raw["figures"]
+        self.columns: Dict[str, np.ndarray] = {}
+        for j, (name, values) in enumerate(zip(self.names, raw["columns"])):
+            if name in frozen:
+                # The library made this coordinate uniform; its distribution maps it.
+                u = np.clip(self.unit[:, j], 2.0**-53, 1.0 - 2.0**-53)
+                self.columns[name] = np.asarray(frozen[name].ppf(u), dtype=np.float64)
+            elif values and isinstance(values[0], str):
+                self.columns[name] = np.asarray(values, dtype=object)
+            elif values and isinstance(values[0], int):
+                self.columns[name] = np.asarray(values, dtype=np.int64)
+            else:
+                self.columns[name] = np.asarray(values, dtype=np.float64)
+
+    def __len__(self) -> int:
+        return self.unit.shape[0]
+
+    def __repr__(self) -> str:
+        return f"Design({len(self)} points: {' '.join(self.space)})"
+
+    def to_frame(self) -> Any:
+        """The columns as a pandas DataFrame (needs pandas)."""
+        import pandas as pd  # optional: only this method needs it
+
+        return pd.DataFrame(self.columns, columns=self.names)
+
+    def table(self) -> Any:
+        """A pandas DataFrame when pandas is installed, else the dict of columns."""
+        try:
+            return self.to_frame()
+        except ImportError:
+            return dict(self.columns)
+
+
+def design(n: int, space: Any, **kwargs: Any) -> Design:
+    """A design of ``n`` points in a mixed space (``stillpoint generate --var ...``).
+
+    ``space`` is a list of ``'NAME=TYPE'`` texts as ``--var`` takes them
+    (``'x=uniform(0,1)'``, ``'y=normal(0,1)'``, ``'z=truncnormal(mu,sigma,lo,hi)'``,
+    ``'w=lognormal(mu,sigma)'``, ``'b=beta(a,b)'``, ``'t=triangular(lo,mode,hi)'``,
+    ``'k=int(1,5)'``, ``'c={a,b,c}'``, ``'q=ordered{low,mid,high}'``) or a dict from
+    names to such types, lists of labels, ranges, or ``scipy.stats`` frozen
+    distributions (mapped through their ``ppf``). The set is made in the unit cube with
+    every other option of :func:`generate` (``goal``, ``seed``, ...), then every level
+    count is made ⌊n/L⌋ or ⌈n/L⌉, pairs of unordered factors balanced, and the
+    continuous columns stratified within every level of every unordered factor.
+    """
+    items, frozen = _space_items(space)
+    kwargs = _arrays({"n": n, "space": items, **kwargs})
+    _warn_if_long(kwargs)
+    return Design(json.loads(_core.design_json(**kwargs)), frozen)
+
+
+def design_figures(table: Any, space: Any) -> Dict[str, Any]:
+    """The figures of any design (a DataFrame, or a dict of columns) in ``space``, as
+    :attr:`Design.figures` gives them: the same code measures ours and anyone's."""
+    items, frozen = _space_items(space)
+    if frozen:
+        raise ValueError("invalid space: design_figures takes texts, not frozen distributions")
+    columns = {str(k): list(v) for k, v in (table.items() if hasattr(table, "items") else table)}
+    names = [it.split("=", 1)[0].strip() for it in items]
+    missing = [m for m in names if m not in columns]
+    if missing:
+        raise ValueError(f"invalid table: expected a column for every variable, missing {missing}")
+    rows = len(columns[names[0]])
+    lines = [",".join(names)]
+    for i in range(rows):
+        lines.append(",".join(repr(float(columns[m][i])) if isinstance(columns[m][i], (float, np.floating)) else str(columns[m][i]) for m in names))
+    return json.loads(_core.design_figures_json(items, "\n".join(lines) + "\n"))["figures"]
 
 
 def extend(points: Any, m: int, **kwargs: Any) -> np.ndarray:
