@@ -90,7 +90,7 @@ fn polish_continuous(space: &DesignSpace, unit: &mut PointSet) {
     let cont: Vec<usize> = (0..space.dim())
         .filter(|&j| matches!(space.vars[j].kind, Kind::Continuous(_)))
         .collect();
-    if cont.is_empty() || n < 2 || n > POLISH_MAX_N {
+    if cont.is_empty() || !(2..=POLISH_MAX_N).contains(&n) {
         return;
     }
     let data: Vec<f64> = (0..n)
