@@ -84,6 +84,7 @@ impl Marginal {
         let unbounded = u.clamp(U_MIN, 1.0 - U_MIN);
         let u = u.clamp(0.0, 1.0);
         match *self {
+            // `min`: lo + (hi − lo)·1 may round past hi.
             Marginal::Uniform { lo, hi } => (lo + (hi - lo) * u).min(hi),
             Marginal::Normal { mu, sigma } => mu + sigma * norm_ppf(unbounded),
             Marginal::TruncNormal { mu, sigma, lo, hi } => {
@@ -198,8 +199,15 @@ impl Marginal {
                 }
             }
             Marginal::Normal { mu, sigma } => {
-                if !(mu.is_finite() && sigma.is_finite() && sigma > 0.0 && ends_finite()) {
+                if !(mu.is_finite() && sigma.is_finite() && sigma > 0.0) {
                     return refuse("normal(mu,sigma) with sigma > 0 and both finite".into());
+                }
+                if !ends_finite() {
+                    return refuse(
+                        "normal(mu,sigma) with mu ± 8.21 sigma finite (the extreme values a \
+                         design reaches)"
+                            .into(),
+                    );
                 }
             }
             Marginal::LogNormal { mu, sigma } => {
@@ -357,6 +365,7 @@ fn norm_ppf(p: f64) -> f64 {
 
 /// Φ⁻¹(0.5 + q) for |q| ≤ 0.425 (AS 241's central region), from q itself: a caller
 /// that has q with full relative precision gets x with it too, even very near 0.
+/// (0.180625 is 0.425², so r runs from 0 at the region's edges to 0.180625 at p = 0.5.)
 fn norm_ppf_central(q: f64) -> f64 {
     let r = 0.180_625 - q * q;
     q * poly(&as241::A, r) / poly(&as241::B, r)
