@@ -160,3 +160,54 @@ fn eval_refuses_a_cell_outside_its_variable_naming_the_line() {
     let o = bin().arg("eval").args(var_args()).arg(&f).output().unwrap();
     assert!(String::from_utf8_lossy(&o.stderr).contains("one of a, b, c"));
 }
+
+/// The README's design-space commands, run as written: the plan has the promised
+/// header, level counts and slices, and eval reads it back.
+#[test]
+fn readme_design_space_example_runs() {
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md")).unwrap();
+    let lines: Vec<&str> = readme
+        .lines()
+        .filter(|l| l.starts_with("stillpoint ") && l.contains("--var") && l.contains("plan.csv"))
+        .collect();
+    assert_eq!(lines.len(), 2, "{lines:?}");
+    // Single-quoted words are one argument each.
+    let words = |line: &str| -> Vec<String> {
+        let rest = line.trim_start_matches("stillpoint ");
+        let mut out = Vec::new();
+        for (i, part) in rest.split('\'').enumerate() {
+            if i % 2 == 1 {
+                out.push(part.to_string());
+            } else {
+                out.extend(part.split_whitespace().map(String::from));
+            }
+        }
+        out
+    };
+    let dir = TempDir::new("readme-design");
+    for line in &lines {
+        let o = bin()
+            .current_dir(&dir.0)
+            .args(words(line))
+            .output()
+            .unwrap();
+        assert!(
+            o.status.success(),
+            "{line}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+    let text = fs::read_to_string(dir.0.join("plan.csv")).unwrap();
+    let mut rows = text.lines().filter(|l| !l.starts_with('#'));
+    assert_eq!(rows.next(), Some("x,T,layers,catalyst"));
+    let rows: Vec<&str> = rows.collect();
+    for c in ["Pt", "Pd", "Ni"] {
+        assert_eq!(
+            rows.iter()
+                .filter(|r| r.ends_with(&format!(",{c}")))
+                .count(),
+            20
+        );
+    }
+}

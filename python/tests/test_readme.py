@@ -29,6 +29,11 @@ def test_readme_python_examples_run():
     for block in run:
         exec(compile(block, str(README), "exec"), scope)
     assert scope["x"].shape == (50, 3)
+    plan = scope["plan"]
+    plan = plan if isinstance(plan, dict) else {c: plan[c].to_numpy() for c in plan.columns}
+    assert sorted(list(plan["catalyst"]).count(c) for c in ("Pt", "Pd", "Ni")) == [20, 20, 20]
+    assert sorted(set(int(k) for k in plan["layers"])) == [1, 2, 3, 4, 5]
+    assert scope["d"].figures["slices"][0]["stratified"] == scope["d"].figures["slices"][0]["columns"]
     assert scope["g"].shape == (75, 3)
     assert np.array_equal(scope["g"][:50], scope["x"])
     assert scope["h"].shape == (64, 2)
