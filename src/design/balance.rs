@@ -19,7 +19,15 @@ use std::collections::BTreeSet;
 const SWAPS_PER_POINT: usize = 200;
 
 /// The unit-scale design and each discrete variable's level indices (see the module).
-pub fn arrange(space: &DesignSpace, base: &PointSet, seed: u64) -> (PointSet, Vec<Vec<usize>>) {
+/// With `descend`, the continuous part then goes through slice-keeping exchanges and an
+/// in-cell descent on its discrepancy (for a set made for integration; a space-filling
+/// set keeps its distances).
+pub fn arrange(
+    space: &DesignSpace,
+    base: &PointSet,
+    seed: u64,
+    descend: bool,
+) -> (PointSet, Vec<Vec<usize>>) {
     let (n, s) = (base.n(), base.s());
     let column = |j: usize| -> Vec<f64> { (0..n).map(|i| base.point(i)[j]).collect() };
     let mut levels: Vec<Vec<usize>> = space
@@ -68,8 +76,8 @@ pub fn arrange(space: &DesignSpace, base: &PointSet, seed: u64) -> (PointSet, Ve
             }
         }
     }
-    if !slices.is_empty() {
-        polish_continuous(space, &mut unit);
+    if descend && !slices.is_empty() {
+        polish_continuous(space, &mut unit, &slices, seed);
     }
     (unit, levels)
 }
@@ -85,7 +93,12 @@ const POLISH_MAX_N: usize = 4096;
 /// L-BFGS on the offsets of the continuous part within its cells (every cell, hence
 /// every slice's stratification, is kept), lowering the discrepancy that re-dealing the
 /// cells raised.
-fn polish_continuous(space: &DesignSpace, unit: &mut PointSet) {
+fn polish_continuous(
+    space: &DesignSpace,
+    unit: &mut PointSet,
+    slices: &[(&[usize], usize)],
+    seed: u64,
+) {
     let n = unit.n();
     let cont: Vec<usize> = (0..space.dim())
         .filter(|&j| matches!(space.vars[j].kind, Kind::Continuous(_)))
@@ -97,6 +110,8 @@ fn polish_continuous(space: &DesignSpace, unit: &mut PointSet) {
         .flat_map(|i| cont.iter().map(move |&j| (i, j)))
         .map(|(i, j)| unit.point(i)[j])
         .collect();
+    let mut data = data;
+    super::exchange::exchange(&mut data, cont.len(), slices, seed);
     let Ok(part) = PointSet::new(n, cont.len(), data) else {
         return;
     };

@@ -7,6 +7,7 @@
 
 pub mod balance;
 pub mod dist;
+pub mod exchange;
 pub mod figures;
 pub mod table;
 
@@ -385,8 +386,14 @@ pub struct Design {
 impl Design {
     /// Makes the design from a unit-cube set with one coordinate per variable (the
     /// run's stratified set): levels dealt by rank, categorical pairs balanced, slices
-    /// stratified. `seed` drives the balancing's random order.
-    pub fn build(space: &DesignSpace, base: &PointSet, seed: u64) -> Result<Design, Error> {
+    /// stratified. `seed` drives the balancing's random order; `descend` lowers the
+    /// continuous part's discrepancy afterwards (see [`balance::arrange`]).
+    pub fn build(
+        space: &DesignSpace,
+        base: &PointSet,
+        seed: u64,
+        descend: bool,
+    ) -> Result<Design, Error> {
         if base.s() != space.dim() {
             return Err(Error::invalid(
                 "space",
@@ -397,7 +404,7 @@ impl Design {
                 ),
             ));
         }
-        let (unit, levels) = balance::arrange(space, base, seed);
+        let (unit, levels) = balance::arrange(space, base, seed, descend);
         Ok(Design {
             space: space.clone(),
             unit,

@@ -103,11 +103,11 @@ impl Resolved {
                 design: None,
             });
         };
-        let seed = match &self.job {
-            Job::Run(cfg) => cfg.seed,
-            Job::Baseline { seed, .. } => *seed,
+        let (seed, descend) = match &self.job {
+            Job::Run(cfg) => (cfg.seed, matches!(cfg.goal, Goal::Integration(_))),
+            Job::Baseline { seed, .. } => (*seed, false),
         };
-        let design = crate::design::Design::build(space, &points, seed)?;
+        let design = crate::design::Design::build(space, &points, seed, descend)?;
         Ok(Outcome {
             points: design.numbers()?,
             report,
