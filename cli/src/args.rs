@@ -77,6 +77,11 @@ pub(crate) struct GenerateArgs {
     /// (as --var takes), or an object whose "variables" is one.
     #[arg(long, value_name = "FILE", conflicts_with = "var")]
     pub(crate) space: Option<PathBuf>,
+    /// The correlation of the space's continuous variables, in their order, as rows
+    /// `1,0.5;0.5,1` (a Gaussian copula; the figures are then those of the independent
+    /// scores the copula maps).
+    #[arg(long, value_name = "ROWS", allow_hyphen_values = true)]
+    pub(crate) correlation: Option<String>,
     /// Randomise from --seed, so that independent seeds give unbiased estimates with
     /// error bars. Alone, or `tent` (recommended): the set is a lattice made for this
     /// randomisation, shifted uniformly modulo 1 and then tent-transformed (x ↦ 1 − |2x −
@@ -299,6 +304,9 @@ pub(crate) enum Command {
         /// The design's variables from a JSON file, as generate --space takes.
         #[arg(long, value_name = "FILE", conflicts_with = "var")]
         space: Option<PathBuf>,
+        /// The correlation the design was made with (generate --correlation).
+        #[arg(long, value_name = "ROWS", allow_hyphen_values = true)]
+        correlation: Option<String>,
     },
     /// Compare the DEM and L-BFGS on U_{q,p} and on a discrepancy energy, for a list of
     /// (s, n); writes comparison.md, comparison.json and convergence pictures.

@@ -128,8 +128,25 @@ fn mean_max(v: &[f64]) -> (f64, f64) {
 
 /// `stillpoint eval --var ... FILE` (or `--space`): each labelled file read back onto
 /// the unit scale and measured as a design.
-pub(crate) fn design_eval(files: &[PathBuf], json_out: bool, items: &[String]) -> Result<()> {
-    let space = DesignSpace::parse("--var", items)?;
+pub(crate) fn design_eval(
+    files: &[PathBuf],
+    json_out: bool,
+    items: &[String],
+    correlation: Option<&str>,
+) -> Result<()> {
+    let mut space = DesignSpace::parse("--var", items)?;
+    if let Some(text) = correlation {
+        let matrix = text
+            .split([';', ','])
+            .map(|x| x.trim().parse::<f64>())
+            .collect::<Result<Vec<f64>, _>>()
+            .map_err(|_| {
+                anyhow::anyhow!(
+                    "invalid --correlation = {text}: expected rows of numbers: 1,0.5;0.5,1"
+                )
+            })?;
+        space.correlate("--correlation", text, matrix)?;
+    }
     let mut all = Vec::new();
     for file in files {
         let bytes = io::read_bounded(file).with_context(|| format!("{}", file.display()))?;

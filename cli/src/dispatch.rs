@@ -60,6 +60,7 @@ fn eval_command(c: Command) -> Result<()> {
         shape,
         var,
         space,
+        correlation,
     } = c
     else {
         bail!("eval: not this subcommand");
@@ -72,7 +73,10 @@ fn eval_command(c: Command) -> Result<()> {
             Some(path) => read_space(path)?,
             None => var,
         };
-        return design_eval(&files, json, &items);
+        return design_eval(&files, json, &items, correlation.as_deref());
+    }
+    if correlation.is_some() {
+        bail!("invalid --correlation without --var or --space: it correlates a design's continuous variables");
     }
     if region.is_some() || shape.is_some() {
         return region_eval(

@@ -175,6 +175,7 @@ fn request_of(a: &GenerateArgs) -> Result<Request> {
         trajectory: a.trajectory.is_some(),
         checkpoint: a.checkpoint.is_some() || a.resume.is_some(),
         space: space_of(a)?,
+        correlation: text(&a.correlation),
     })
 }
 

@@ -319,8 +319,20 @@ fn design_json(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<S
 /// The figures of a design written as text (CSV or TSV with a header of names), read
 /// back onto the unit scale of `space`, as JSON text.
 #[pyfunction]
-fn design_figures_json(py: Python<'_>, space: Vec<String>, text: String) -> PyResult<String> {
-    let space = stillpoint::design::DesignSpace::parse("space", &space).map_err(value_error)?;
+#[pyo3(signature = (space, text, correlation=None))]
+fn design_figures_json(
+    py: Python<'_>,
+    space: Vec<String>,
+    text: String,
+    correlation: Option<Vec<f64>>,
+) -> PyResult<String> {
+    let mut space = stillpoint::design::DesignSpace::parse("space", &space).map_err(value_error)?;
+    if let Some(m) = correlation {
+        let shown = format!("{m:?}");
+        space
+            .correlate("correlation", &shown, m)
+            .map_err(value_error)?;
+    }
     detached(py, move || {
         let design = stillpoint::design::Design::from_text(&space, &text, "table")
             .map_err(|e| e.to_string())?;

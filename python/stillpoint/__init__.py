@@ -361,20 +361,25 @@ def design(n: int, space: Any, **kwargs: Any) -> Design:
     ``'w=lognormal(mu,sigma)'``, ``'b=beta(a,b)'``, ``'t=triangular(lo,mode,hi)'``,
     ``'k=int(1,5)'``, ``'c={a,b,c}'``, ``'q=ordered{low,mid,high}'``) or a dict from
     names to such types, lists of labels, ranges, or ``scipy.stats`` frozen
-    distributions (mapped through their ``ppf``). The set is made in the unit cube with
+    distributions (mapped through their ``ppf``). ``correlation`` (a k × k matrix over
+    the continuous variables, in their order) correlates them by a Gaussian copula; the
+    figures are then those of the independent scores. The set is made in the unit cube with
     every other option of :func:`generate` (``goal``, ``seed``, ...), then every level
     count is made ⌊n/L⌋ or ⌈n/L⌉, pairs of unordered factors balanced, and the
     continuous columns stratified within every level of every unordered factor.
     """
     items, frozen = _space_items(space)
+    if kwargs.get("correlation") is not None and not isinstance(kwargs["correlation"], str):
+        kwargs["correlation"] = np.ascontiguousarray(kwargs["correlation"], dtype=np.float64)
     kwargs = _arrays({"n": n, "space": items, **kwargs})
     _warn_if_long(kwargs)
     return Design(json.loads(_core.design_json(**kwargs)), frozen)
 
 
-def design_figures(table: Any, space: Any) -> Dict[str, Any]:
-    """The figures of any design (a DataFrame, or a dict of columns) in ``space``, as
-    :attr:`Design.figures` gives them: the same code measures ours and anyone's."""
+def design_figures(table: Any, space: Any, correlation: Any = None) -> Dict[str, Any]:
+    """The figures of any design (a DataFrame, or a dict of columns) in ``space`` (and
+    the ``correlation`` it was made with, if any), as :attr:`Design.figures` gives them:
+    the same code measures ours and anyone's."""
     items, frozen = _space_items(space)
     if frozen:
         raise ValueError("invalid space: design_figures takes texts, not frozen distributions")
@@ -387,7 +392,8 @@ def design_figures(table: Any, space: Any) -> Dict[str, Any]:
     lines = [",".join(names)]
     for i in range(rows):
         lines.append(",".join(repr(float(columns[m][i])) if isinstance(columns[m][i], (float, np.floating)) else str(columns[m][i]) for m in names))
-    return json.loads(_core.design_figures_json(items, "\n".join(lines) + "\n"))["figures"]
+    matrix = None if correlation is None else [float(v) for v in np.ravel(np.asarray(correlation, dtype=np.float64))]
+    return json.loads(_core.design_figures_json(items, "\n".join(lines) + "\n", matrix))["figures"]
 
 
 def extend(points: Any, m: int, **kwargs: Any) -> np.ndarray:

@@ -103,3 +103,19 @@ def test_too_few_points_for_the_levels_is_refused():
         sp.design(3, ["c={a,b,c,d}"])
     with pytest.raises(ValueError, match="bounds"):
         sp.generate(10, space=["x=uniform(0,1)"], bounds=(0, 1))
+
+
+def test_a_correlation_is_kept_and_measured_on_the_independent_scores():
+    r = [[1.0, 0.7], [0.7, 1.0]]
+    d = sp.design(400, ["x=normal(0,1)", "y=lognormal(0,0.5)", "c={a,b}"], correlation=r)
+    z = np.corrcoef(d.columns["x"], np.log(d.columns["y"]))[0, 1]
+    assert abs(z - 0.7) < 0.02
+    # The written values go back to the same scores: the same figures.
+    f = sp.design_figures(d.columns, d.space, correlation=r)
+    assert abs(f["centered_l2"] - d.figures["centered_l2"]) < 1e-10
+    assert f["slices"][0]["stratified"] == f["slices"][0]["columns"]
+    with pytest.raises(ValueError, match="positive definite"):
+        sp.design(10, ["x=uniform(0,1)", "y=uniform(0,1)", "z=uniform(0,1)"],
+                  correlation=[[1, 0.9, -0.9], [0.9, 1, 0.9], [-0.9, 0.9, 1]])
+    with pytest.raises(ValueError, match="correlation"):
+        sp.generate(10, 2, correlation=r)

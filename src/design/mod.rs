@@ -6,6 +6,7 @@
 //! marginal's quantile function ([`dist`]). [`figures`] measures the result.
 
 pub mod balance;
+pub mod copula;
 pub mod dist;
 pub mod exchange;
 pub mod figures;
@@ -85,6 +86,8 @@ pub struct Variable {
 pub struct DesignSpace {
     /// The variables.
     pub vars: Vec<Variable>,
+    /// The continuous variables' correlation, if any (a Gaussian copula).
+    pub copula: Option<copula::Copula>,
 }
 
 impl DesignSpace {
@@ -112,7 +115,29 @@ impl DesignSpace {
             }
             vars.push(v);
         }
-        Ok(DesignSpace { vars })
+        Ok(DesignSpace { vars, copula: None })
+    }
+
+    /// Correlates the continuous variables (in their order) by a Gaussian copula with
+    /// this k × k correlation matrix, row-major; `option` and `shown` name it in refusals.
+    pub fn correlate(&mut self, option: &str, shown: &str, matrix: Vec<f64>) -> Result<(), Error> {
+        let k = self.continuous().len();
+        if k < 2 {
+            return Err(Error::invalid(
+                option,
+                shown,
+                format!("a space with two or more continuous variables to correlate (it has {k})"),
+            ));
+        }
+        self.copula = Some(copula::Copula::new(option, shown, k, matrix)?);
+        Ok(())
+    }
+
+    /// The indices of the continuous variables.
+    pub fn continuous(&self) -> Vec<usize> {
+        (0..self.dim())
+            .filter(|&j| matches!(self.vars[j].kind, Kind::Continuous(_)))
+            .collect()
     }
 
     /// The number of variables (the dimension of the unit-cube design).
@@ -422,9 +447,22 @@ impl Design {
     pub fn column(&self, j: usize) -> Column {
         let n = self.n();
         match &self.space.vars[j].kind {
-            Kind::Continuous(m) => {
-                Column::Real((0..n).map(|i| m.ppf(self.unit.point(i)[j])).collect())
-            }
+            Kind::Continuous(m) => match &self.space.copula {
+                None => Column::Real((0..n).map(|i| m.ppf(self.unit.point(i)[j])).collect()),
+                Some(c) => {
+                    let cont = self.space.continuous();
+                    let at = cont.iter().position(|&c| c == j).unwrap_or(0);
+                    Column::Real(
+                        (0..n)
+                            .map(|i| {
+                                let u: Vec<f64> =
+                                    cont.iter().map(|&c| self.unit.point(i)[c]).collect();
+                                m.ppf(c.correlate(&u)[at])
+                            })
+                            .collect(),
+                    )
+                }
+            },
             Kind::Integer { lo, .. } => {
                 Column::Int(self.levels[j].iter().map(|&l| lo + l as i64).collect())
             }

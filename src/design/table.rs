@@ -128,6 +128,15 @@ impl Design {
                 };
                 unit.push(u);
             }
+            if let Some(c) = &space.copula {
+                // The file holds correlated values: back to the independent scores.
+                let row = unit.len() - s;
+                let cont = space.continuous();
+                let v: Vec<f64> = cont.iter().map(|&j| unit[row + j]).collect();
+                for (k, u) in c.decorrelate(&v).into_iter().enumerate() {
+                    unit[row + cont[k]] = u;
+                }
+            }
         }
         let n = unit.len() / s.max(1);
         if n == 0 {

@@ -162,6 +162,9 @@ pub struct Request {
     /// A design space: its variables as `NAME=TYPE` ([`crate::design::DesignSpace`]);
     /// the dimension is their count.
     pub space: Option<Arg>,
+    /// The correlation matrix of the space's continuous variables (a Gaussian copula):
+    /// rows `1,0.5;0.5,1` as text, or numbers row-major, or a square point set.
+    pub correlation: Option<Arg>,
 }
 
 /// What a resolved request runs.
@@ -267,6 +270,7 @@ impl Request {
             "log_every" => &mut self.log_every,
             "exact" => &mut self.exact,
             "space" => &mut self.space,
+            "correlation" => &mut self.correlation,
             other => {
                 return Err(Error::invalid(
                     "keyword argument",
@@ -310,6 +314,7 @@ impl Request {
             "log_every",
             "exact",
             "space",
+            "correlation",
         ]
     }
 
@@ -449,6 +454,17 @@ impl Resolver<'_> {
         if r.space.is_some() {
             return self.design();
         }
+        if let Some(c) = &r.correlation {
+            return Err(self.bad(
+                "correlation",
+                c,
+                format!(
+                    "a correlation with a design space ({}) whose continuous variables it \
+                     correlates",
+                    (self.spell)("space")
+                ),
+            ));
+        }
         let seed = match &r.seed {
             None => 0,
             Some(Arg::Int(v)) if (0..=u64::MAX as i128).contains(v) => *v as u64,
@@ -519,7 +535,22 @@ impl Resolver<'_> {
             Some(other) => return Err(self.bad("space", other, "variables NAME=TYPE")),
             None => Vec::new(),
         };
-        let space = DesignSpace::parse(&option, &items)?;
+        let mut space = DesignSpace::parse(&option, &items)?;
+        if let Some(c) = &r.correlation {
+            let matrix = match c {
+                Arg::Points(p) => p.as_slice().to_vec(),
+                Arg::Numbers(v) => v.clone(),
+                Arg::Text(t) => t
+                    .split([';', ','])
+                    .map(|x| x.trim().parse::<f64>())
+                    .collect::<Result<Vec<f64>, _>>()
+                    .map_err(|_| self.bad("correlation", c, "rows of numbers: 1,0.5;0.5,1"))?,
+                other => {
+                    return Err(self.bad("correlation", other, "rows of numbers: 1,0.5;0.5,1"))
+                }
+            };
+            space.correlate(&(self.spell)("correlation"), &c.to_string(), matrix)?;
+        }
         let given = [
             ("region", r.region.is_some()),
             ("box", r.bbox.is_some()),
@@ -557,6 +588,7 @@ impl Resolver<'_> {
         }
         let mut inner = r.clone();
         inner.space = None;
+        inner.correlation = None;
         inner.s = Some(space.dim().into());
         let mut resolved = Resolver {
             r: &inner,
