@@ -207,3 +207,29 @@ fn kinds_report_their_levels() {
     assert!(matches!(s.vars[1].kind, Kind::Levels { ordered: true, .. }));
     let _ = PointSet::new(1, 1, vec![0.5]).unwrap();
 }
+
+#[test]
+fn a_space_filling_design_spreads_the_type_aware_distance_and_keeps_its_slices() {
+    let items = space_items(2, &[5], &[3]);
+    let mut r = Request::default();
+    r.set("n", Arg::Int(60)).unwrap();
+    r.set("space", Arg::Texts(items.clone())).unwrap();
+    r.set("goal", Arg::Text("space-filling".into())).unwrap();
+    let spread = r
+        .resolve()
+        .unwrap()
+        .run(None, |_| {})
+        .unwrap()
+        .design
+        .unwrap();
+    let f = DesignFigures::of(&spread);
+    let g = DesignFigures::of(&design(60, &items, 0));
+    assert!(
+        f.min_distance > 1.2 * g.min_distance,
+        "{} vs {}",
+        f.min_distance,
+        g.min_distance
+    );
+    assert_eq!(f.slices[0].stratified, f.slices[0].columns);
+    assert!(f.levels.iter().all(|l| l.excess == 0));
+}

@@ -19,14 +19,12 @@ use std::collections::BTreeSet;
 const SWAPS_PER_POINT: usize = 200;
 
 /// The unit-scale design and each discrete variable's level indices (see the module).
-/// With `descend`, the continuous part then goes through slice-keeping exchanges and an
-/// in-cell descent on its discrepancy (for a set made for integration; a space-filling
-/// set keeps its distances).
+/// Then the continuous part goes through slice-keeping exchanges as `finish` says.
 pub fn arrange(
     space: &DesignSpace,
     base: &PointSet,
     seed: u64,
-    descend: bool,
+    finish: Finish,
 ) -> (PointSet, Vec<Vec<usize>>) {
     let (n, s) = (base.n(), base.s());
     let column = |j: usize| -> Vec<f64> { (0..n).map(|i| base.point(i)[j]).collect() };
@@ -76,10 +74,82 @@ pub fn arrange(
             }
         }
     }
-    if descend && !slices.is_empty() {
-        polish_continuous(space, &mut unit, &slices, seed);
+    match finish {
+        Finish::Discrepancy if !slices.is_empty() => {
+            polish_continuous(space, &mut unit, &slices, seed)
+        }
+        Finish::Spread => spread_continuous(space, &mut unit, &levels, &slices, seed),
+        _ => {}
     }
     (unit, levels)
+}
+
+/// What the dealing does last, after the levels and slices.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Finish {
+    /// Nothing: the set as dealt (a baseline's, say).
+    Nothing,
+    /// Lower the continuous part's discrepancy (a set made for integration).
+    Discrepancy,
+    /// Widen the smallest type-aware distances (a space-filling set).
+    Spread,
+}
+
+/// The continuous part of `unit` as an n × k row-major block, and the columns it came
+/// from.
+fn continuous_block(space: &DesignSpace, unit: &PointSet) -> (Vec<f64>, Vec<usize>) {
+    let cont = space.continuous();
+    let data = (0..unit.n())
+        .flat_map(|i| cont.iter().map(move |&j| (i, j)))
+        .map(|(i, j)| unit.point(i)[j])
+        .collect();
+    (data, cont)
+}
+
+/// Slice-keeping exchanges on the Morris–Mitchell sum of the type-aware distance of
+/// [`crate::design::figures::DesignFigures::min_distance`].
+fn spread_continuous(
+    space: &DesignSpace,
+    unit: &mut PointSet,
+    levels: &[Vec<usize>],
+    slices: &[(&[usize], usize)],
+    seed: u64,
+) {
+    let n = unit.n();
+    let (mut data, cont) = continuous_block(space, unit);
+    if cont.is_empty() || !(3..=POLISH_MAX_N).contains(&n) {
+        return;
+    }
+    let discrete: Vec<(usize, bool, f64)> = space
+        .vars
+        .iter()
+        .enumerate()
+        .filter_map(|(j, v)| match &v.kind {
+            Kind::Continuous(_) => None,
+            Kind::Levels { ordered: false, .. } => Some((j, true, 1.0)),
+            k => Some((j, false, 1.0 / (k.levels().unwrap_or(2).max(2) - 1) as f64)),
+        })
+        .collect();
+    let extra = |a: usize, b: usize| -> f64 {
+        discrete
+            .iter()
+            .map(|&(j, unordered, scale)| {
+                let (la, lb) = (levels[j][a], levels[j][b]);
+                if unordered {
+                    f64::from(u8::from(la != lb))
+                } else {
+                    ((la as f64 - lb as f64) * scale).powi(2)
+                }
+            })
+            .sum()
+    };
+    let objective = super::exchange::Objective::Spread { extra: &extra };
+    super::exchange::exchange(&mut data, cont.len(), slices, &objective, seed);
+    for i in 0..n {
+        for (k, &j) in cont.iter().enumerate() {
+            unit.point_mut(i)[j] = data[i * cont.len() + k];
+        }
+    }
 }
 
 /// Iterations of the in-cell descent after the dealing: enough to take back most of the
@@ -111,7 +181,13 @@ fn polish_continuous(
         .map(|(i, j)| unit.point(i)[j])
         .collect();
     let mut data = data;
-    super::exchange::exchange(&mut data, cont.len(), slices, seed);
+    super::exchange::exchange(
+        &mut data,
+        cont.len(),
+        slices,
+        &super::exchange::Objective::CenteredL2,
+        seed,
+    );
     let Ok(part) = PointSet::new(n, cont.len(), data) else {
         return;
     };

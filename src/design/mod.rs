@@ -411,13 +411,13 @@ pub struct Design {
 impl Design {
     /// Makes the design from a unit-cube set with one coordinate per variable (the
     /// run's stratified set): levels dealt by rank, categorical pairs balanced, slices
-    /// stratified. `seed` drives the balancing's random order; `descend` lowers the
-    /// continuous part's discrepancy afterwards (see [`balance::arrange`]).
+    /// stratified. `seed` drives the balancing's random order; `finish` says what the
+    /// continuous part's exchanges lower afterwards (see [`balance::arrange`]).
     pub fn build(
         space: &DesignSpace,
         base: &PointSet,
         seed: u64,
-        descend: bool,
+        finish: balance::Finish,
     ) -> Result<Design, Error> {
         if base.s() != space.dim() {
             return Err(Error::invalid(
@@ -429,7 +429,7 @@ impl Design {
                 ),
             ));
         }
-        let (unit, levels) = balance::arrange(space, base, seed, descend);
+        let (unit, levels) = balance::arrange(space, base, seed, finish);
         Ok(Design {
             space: space.clone(),
             unit,

@@ -103,11 +103,19 @@ impl Resolved {
                 design: None,
             });
         };
-        let (seed, descend) = match &self.job {
-            Job::Run(cfg) => (cfg.seed, matches!(cfg.goal, Goal::Integration(_))),
-            Job::Baseline { seed, .. } => (*seed, false),
+        use crate::design::balance::Finish;
+        let (seed, finish) = match &self.job {
+            Job::Run(cfg) => (
+                cfg.seed,
+                match cfg.goal {
+                    Goal::Integration(_) => Finish::Discrepancy,
+                    Goal::SpaceFilling => Finish::Spread,
+                    Goal::Paper => Finish::Nothing,
+                },
+            ),
+            Job::Baseline { seed, .. } => (*seed, Finish::Nothing),
         };
-        let design = crate::design::Design::build(space, &points, seed, descend)?;
+        let design = crate::design::Design::build(space, &points, seed, finish)?;
         Ok(Outcome {
             points: design.numbers()?,
             report,
