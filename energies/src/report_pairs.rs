@@ -10,18 +10,30 @@
 //! operations in the same order, so fusing changes no value. What the figures share is
 //! formed once per pair and coordinate: the difference d = |x − y|, 1 − d, d(1 − d) (the
 //! wrap-around factor's and the q = 1 distance's h), ½d, and the torus difference
-//! min(d, 1 − d). Terms of one point only (1 + ½|x − ½| and 15/8 − ¼|x − ½|, the first
-//! steps of the centred and mixture factors) are formed once per point.
+//! min(d, 1 − d). Terms of one point only (1 − x, 2 − x, 1 + ½|x − ½| and
+//! 15/8 − ¼|x − ½|, the first steps of the factors) are formed once per point; the star
+//! and modified factors 1 − max(x, y) and 2 − max(x, y) are min(1 − x, 1 − y) and
+//! min(2 − x, 2 − y), the same bits since rounding is monotone.
 //!
-//! The tiles' 16 lanes are worked as four vectors of four, one after the other: eight
+//! The tiles' 16 lanes are worked as four vectors of four, one after the other: the
 //! running products and sums of four lanes fit the 16 vector registers, where 16 lanes of
 //! them would be spilled to memory at every coordinate. Each lane still accumulates the
-//! same pairs in the same order as in the 16-lane passes.
+//! same pairs in the same order as in the 16-lane passes. The powers d^{−p} of U_{q,p}
+//! (long chains of dependent operations) are taken a row at a time on all 16 lanes, so
+//! that independent chains overlap.
+//!
+//! Where the energy does not need every pair's distances (none, or q = 1), the two
+//! minimum distances are formed only for the groups of four pairs that may hold a pair
+//! closer than one already found: Σ_k h_k² with h = d(1 − d), which the pass forms anyway,
+//! is at most the squared torus distance, itself at most the Euclidean one, even after
+//! rounding. A minimum does not depend on which larger values were left out, so the
+//! result has the same bits whatever the order the tiles find their pairs in.
 
 use crate::discrepancy::squares_from_pair_sums;
 use crate::pairs::{sum_tiles, Blocks, Simd, SumTiles};
 use crate::uqp::PairPow;
 use crate::{Distance, Energy, PointSet, Uqp};
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The pair figures of a report; see [`pair_figures`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -143,6 +155,7 @@ fn pass<const E: u8>(blocks: &Blocks, points: &PointSet, p: f64) -> [f64; 8] {
     let x = points.as_slice();
     let tiles = Tiles::<E> {
         blocks,
+        bound: AtomicU64::new(f64::INFINITY.to_bits()),
         x,
         // The other point's y, ½|y − ½| and ½·½|y − ½|.
         lanes: Lanes::new(blocks, x, |v| [v, 1.0 - v, 2.0 - v, gap(v), 0.5 * gap(v)]),
@@ -164,6 +177,8 @@ fn pass<const E: u8>(blocks: &Blocks, points: &PointSet, p: f64) -> [f64; 8] {
 
 struct Tiles<'a, const E: u8> {
     blocks: &'a Blocks,
+    /// The smallest squared Euclidean distance the tiles have found, as f64 bits.
+    bound: AtomicU64,
     /// The points, row by row.
     x: &'a [f64],
     lanes: Lanes,
@@ -191,7 +206,7 @@ impl<const E: u8> SumTiles for Tiles<'_, E> {
         let s = bl.s;
         let parts = V::N / LANE;
         assert!(
-            <V::Base as Simd>::N == LANE && parts <= PARTS && parts * LANE == V::N,
+            <V::Base as Simd>::N == LANE && parts <= PARTS && parts * LANE == V::N && V::N <= 16,
             "a tile's lanes in parts of four"
         );
         let (zero, inf) = (V::Base::splat(0.0), V::Base::splat(f64::INFINITY));
@@ -206,6 +221,9 @@ impl<const E: u8> SumTiles for Tiles<'_, E> {
         // The energy's squared distances of a row, for its powers.
         let mut row = vec![0.0; bl.bs];
         let len_b = bl.len(b);
+        // The smallest squared Euclidean distance found so far, as non-negative f64 bits
+        // (whose order as integers is that of the values).
+        let mut bound = f64::from_bits(self.bound.load(Ordering::Relaxed));
         for ii in 0..bl.len(a) {
             // The lane groups of `Blocks::lanes`: from the group holding ii + 1 on the
             // diagonal; a part whose lanes are all masked would add 0 and take the
@@ -236,18 +254,35 @@ impl<const E: u8> SumTiles for Tiles<'_, E> {
                     let other = self.lanes.group(bl, b, j0);
                     let d2 = self.pair_terms::<V::Base>(&own, other, mask, acc);
                     d2.store(&mut row[j0..]);
+                    // Σ h² ≤ the squared torus distance ≤ the squared Euclidean one, term
+                    // by term and so after rounding (h = d(1 − d) ≤ min(d, 1 − d) ≤ d):
+                    // a group none of whose Σ h² is below a squared Euclidean distance
+                    // already found cannot lower either minimum.
+                    if Self::PRUNE && mask.select(d2, inf).hmin() < bound {
+                        let de = self.distances::<V::Base>(&own, other, mask, acc);
+                        bound = bound.min(de);
+                    }
                 }
             }
+            if Self::PRUNE {
+                // Share the bound with the other tiles. The minima do not depend on when
+                // it is read: any bound is a distance of a pair, at least the minimum.
+                let shared = self.bound.fetch_min(bound.to_bits(), Ordering::Relaxed);
+                bound = bound.min(f64::from_bits(shared));
+            }
             if E != NONE {
-                // The powers of the row after its sums: one long chain of dependent
-                // operations per group, which independent groups overlap.
+                // The powers of the row after its sums, on all the tile's lanes at once:
+                // a power is a long chain of dependent operations, and the parts' chains
+                // side by side overlap (the lanes' values are those of each part alone).
+                let mut powers = [0.0; 16];
                 for jj in (start..len_b).step_by(V::N) {
+                    self.pow.eval(V::load(&row[jj..])).store(&mut powers);
                     for (u, acc) in acc.iter_mut().enumerate().take(parts) {
                         let j0 = jj + u * LANE;
                         if j0 + LANE <= lo || j0 >= len_b {
                             continue;
                         }
-                        let e = self.pow.eval(V::Base::load(&row[j0..]));
+                        let e = V::Base::load(&powers[u * LANE..]);
                         let mask = group_mask::<V::Base>(j0, lo, len_b);
                         acc.energy = acc.energy.add(mask.select(e, zero));
                     }
@@ -269,6 +304,11 @@ impl<const E: u8> SumTiles for Tiles<'_, E> {
 }
 
 impl<const E: u8> Tiles<'_, E> {
+    /// Whether the minimum distances are formed only for the groups that may hold a
+    /// closer pair than one already found (see `tile`): where the energy does not need
+    /// the distances of every pair.
+    const PRUNE: bool = E == NONE || E == Q1;
+
     /// One point (`own`, see `tile`) against a group of four (`other`, a run of
     /// [`Lanes`]; the lanes of `mask`): every factor and distance term with the same
     /// operations as the passes of their own (`centered_factor`, `mixture_factor`,
@@ -296,29 +336,52 @@ impl<const E: u8> Tiles<'_, E> {
             let quad = d.mul(hd.sub(B::splat(0.75)));
             let mixed = field(o, 4).sub(field(c, 4));
             p[4] = p[4].mul(mixed.add(quad));
-            de = de.add(d.mul(d));
-            // min(d, 1 − d) is `d > ½ ? 1 − d : d` (1 − d is exact above ½), and for
-            // coordinates in [0, 1) the torus difference |δ| the energy forms.
-            let w = d.min(omd);
-            dp = dp.add(w.mul(w));
-            if E == Q1 {
+            if Self::PRUNE {
                 // h = |δ|(1 − |δ|) is d(1 − d) both below ½ and above (1 − (1 − d) = d
-                // exactly there).
+                // exactly there): U_{q,p}'s h for q = 1, and the bound of the distances.
                 du = du.add(t.mul(t));
+            } else {
+                de = de.add(d.mul(d));
+                // min(d, 1 − d) is `d > ½ ? 1 − d : d` (1 − d is exact above ½), and
+                // for coordinates in [0, 1) the torus difference |δ| the energy forms.
+                let w = d.min(omd);
+                dp = dp.add(w.mul(w));
             }
         }
         for (acc, v) in acc.products.iter_mut().zip(p) {
             *acc = acc.add(mask.select(v, zero));
         }
+        if Self::PRUNE {
+            return du;
+        }
         let inf = B::splat(f64::INFINITY);
         acc.mins[0] = acc.mins[0].min(mask.select(de, inf));
         acc.mins[1] = acc.mins[1].min(mask.select(dp, inf));
-        match E {
-            Q1 => du,
-            TORUS => dp,
-            EUCLIDEAN => de,
-            _ => zero,
+        if E == TORUS {
+            dp
+        } else {
+            de
         }
+    }
+
+    /// The squared Euclidean and torus distances of a group, with the operations of
+    /// `MinDistances`, into `acc`'s minima; returns the smallest Euclidean one.
+    #[inline(always)]
+    fn distances<B: Simd>(&self, own: &[f64], other: &[f64], mask: B, acc: &mut Acc<B>) -> f64 {
+        let one = B::splat(1.0);
+        let (mut de, mut dp) = (B::splat(0.0), B::splat(0.0));
+        let step = FIELDS * LANE;
+        for (o, c) in own.chunks_exact(step).zip(other.chunks_exact(step)) {
+            let d = B::load(&o[..LANE]).sub(B::load(&c[..LANE])).abs();
+            de = de.add(d.mul(d));
+            let w = d.min(one.sub(d));
+            dp = dp.add(w.mul(w));
+        }
+        let inf = B::splat(f64::INFINITY);
+        let de = mask.select(de, inf);
+        acc.mins[0] = acc.mins[0].min(de);
+        acc.mins[1] = acc.mins[1].min(mask.select(dp, inf));
+        de.hmin()
     }
 }
 
