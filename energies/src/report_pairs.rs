@@ -103,7 +103,7 @@ pub fn pair_figures(points: &PointSet, energy: Option<&Uqp>) -> PairFigures {
     }
 }
 
-/// Values per point and coordinate in [`Lanes`]: the coordinate and two terms of it.
+/// Values per point and coordinate in [`Lanes`]: the coordinate and four terms of it.
 const FIELDS: usize = 5;
 
 /// Lanes of the vectors the pass computes in.
@@ -157,7 +157,7 @@ fn pass<const E: u8>(blocks: &Blocks, points: &PointSet, p: f64) -> [f64; 8] {
         blocks,
         bound: AtomicU64::new(f64::INFINITY.to_bits()),
         x,
-        // The other point's y, ½|y − ½| and ½·½|y − ½|.
+        // The other point's y, 1 − y, 2 − y, ½|y − ½| and ½·½|y − ½|.
         lanes: Lanes::new(blocks, x, |v| [v, 1.0 - v, 2.0 - v, gap(v), 0.5 * gap(v)]),
         pow: PairPow::new(p),
     };
