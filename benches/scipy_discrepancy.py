@@ -13,15 +13,16 @@ times only the two
 discrepancies on the file's points.
 
 Then the whole of `stillpoint --threads 2 eval FILE` (a process: reading the file, the
-five discrepancies in one pass, the two minimum distances, U_{q,p}, the projections'
-L∞ star discrepancy) at n = 10 000, s = 20 (n = 1500 with --quick) is timed against
-SciPy's CD + L2-star (workers=2) together, and SciPy's 'MD' against our mixture
-discrepancy squared.
+five discrepancies, the two minimum distances and U_{q,p} in one pass over the pairs, the
+projections' L∞ star discrepancy) is timed against SciPy's CD + L2-star (workers=2)
+together on the same points, at each size of --eval-sizes (default n = 10 000, s = 20;
+n = 2000, s = 5; n = 10 000, s = 5; n = 1500, s = 20 with --quick), and SciPy's 'MD'
+against our mixture discrepancy squared.
 
 Usage:
     cargo build --release
     python3 benches/scipy_discrepancy.py [--stillpoint target/release/stillpoint]
-        [--quick] [--reps 3] [--eval-only]
+        [--quick] [--reps 3] [--eval-only] [--eval-sizes 10000x20,2000x5,10000x5]
 
 Skipped, with exit status 0 and a message, when NumPy or SciPy is not installed
 (`pip install scipy` installs both).
@@ -48,7 +49,12 @@ def main() -> int:
     ap.add_argument("--quick", action="store_true", help="n = 1500 only")
     ap.add_argument("--eval-only", action="store_true",
                     help="only the eval row (skip the table of the two discrepancies)")
+    ap.add_argument("--eval-sizes", default=None,
+                    help="n x s of the eval rows, comma-separated "
+                         "(default 10000x20,2000x5,10000x5; 1500x20 with --quick)")
     args = ap.parse_args()
+    sizes = args.eval_sizes or ("1500x20" if args.quick else "10000x20,2000x5,10000x5")
+    eval_sizes = [tuple(int(v) for v in size.split("x")) for size in sizes.split(",")]
 
     try:
         import numpy as np
@@ -108,7 +114,15 @@ def main() -> int:
                       f"| {t_cd / ours['centered_seconds']:.1f}× | {t_l2:.4f} "
                       f"| {ours['star_seconds']:.4f} | {t_l2 / ours['star_seconds']:.1f}× "
                       f"| {d_cd:.1e} | {d_l2:.1e} |", flush=True)
-        ok &= eval_row(args, np, qmc, tmp, 1500 if args.quick else 10_000, 20)
+        print("\n`stillpoint --threads 2 eval --json FILE` (every figure, one process) against "
+              "SciPy's CD + L2-star (workers=2) on the same points; each repetition runs SciPy "
+              "CD, eval, SciPy L2-star in turn, the speed-up is the median of the "
+              "repetitions' ratios:\n")
+        print("| n | s | SciPy CD s | SciPy L2-star s | SciPy CD + L2-star s | ours eval s "
+              "| eval speed-up (range) | SciPy MD s (one run) | MD² diff / (19/12)^s |")
+        print("|---|---|---|---|---|---|---|---|---|")
+        for n, s in eval_sizes:
+            ok &= eval_row(args, np, qmc, tmp, n, s)
     print("\nvalues agree (squares within 1e-11 of the constant term C_s)" if ok
           else "\nVALUES DISAGREE (a square differs by 1e-11·C_s or more)")
     return 0 if ok else 1
@@ -144,12 +158,7 @@ def eval_row(args, np, qmc, tmp, n, s):
     t_md, v_md = timed(lambda: qmc.discrepancy(x, method="MD", workers=2))
     ours = json.loads(out)
     d_md = abs(ours["mixture"] ** 2 - v_md) / (19 / 12) ** s
-    print(f"\n`stillpoint --threads 2 eval FILE` (every figure, one process) against SciPy, "
-          f"n = {n}, s = {s}:\n")
-    print("| SciPy CD s | SciPy L2-star s | SciPy CD + L2-star s | ours eval s "
-          "| eval speed-up (range) | SciPy MD s (one run) | MD² diff / (19/12)^s |")
-    print("|---|---|---|---|---|---|---|")
-    print(f"| {t_cd:.4f} | {t_l2:.4f} | {t_cd + t_l2:.4f} | {t_eval:.4f} "
+    print(f"| {n} | {s} | {t_cd:.4f} | {t_l2:.4f} | {t_cd + t_l2:.4f} | {t_eval:.4f} "
           f"| {statistics.median(ratios):.1f}× ({min(ratios):.1f}–{max(ratios):.1f}) "
           f"| {t_md:.4f} | {d_md:.1e} |", flush=True)
     return d_md < 1e-11

@@ -739,7 +739,13 @@ pub fn mixture_squared(points: &PointSet) -> f64 {
 /// (and [`mixture_squared`] for the fifth), so fusing changes no value. The points must
 /// lie in [0, 1]^s (not checked). O(n² s) time.
 pub fn squared_discrepancies_with_mixture(points: &PointSet) -> [f64; 5] {
-    let [star, modified, centered, wrap, mixture] = products::<AllFive, 5>(points);
+    squares_from_pair_sums(points, products::<AllFive, 5>(points))
+}
+
+/// The five squares of [`squared_discrepancies_with_mixture`] from their pair sums
+/// Σ_{i<l} Π_k K(x_ik, x_lk), in its order.
+pub(crate) fn squares_from_pair_sums(points: &PointSet, sums: [f64; 5]) -> [f64; 5] {
+    let [star, modified, centered, wrap, mixture] = sums;
     [
         closed_form::<Star>(points, star),
         closed_form::<Modified>(points, modified),

@@ -17,6 +17,7 @@ pub mod einf;
 pub mod energy_distance;
 pub mod fixed;
 pub mod pairs;
+pub mod report_pairs;
 mod uqp;
 
 pub use stillpoint_domains::{region, shapes};

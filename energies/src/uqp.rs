@@ -950,7 +950,7 @@ fn exp2<V: Simd>(y: V) -> V {
 
 /// d^{−p} from d² per pair: +∞ for d² below 2^{−1022} (coincident points).
 #[derive(Clone, Copy)]
-enum PairPow {
+pub(crate) enum PairPow {
     /// p = 1: 1/√d².
     InvSqrt,
     /// 2^{(−p/2)·log₂ d²}.
@@ -958,7 +958,7 @@ enum PairPow {
 }
 
 impl PairPow {
-    fn new(p: f64) -> Self {
+    pub(crate) fn new(p: f64) -> Self {
         if p == 1.0 {
             PairPow::InvSqrt
         } else {
@@ -967,7 +967,7 @@ impl PairPow {
     }
 
     #[inline(always)]
-    fn eval<V: Simd>(self, d2: V) -> V {
+    pub(crate) fn eval<V: Simd>(self, d2: V) -> V {
         let inf = V::splat(f64::INFINITY);
         let tiny = d2.lt(V::splat(f64::MIN_POSITIVE));
         let e = match self {

@@ -2,7 +2,7 @@
 //! prints, as one JSON object, shared by the command line and the Python package so the
 //! two give the same keys and the same numbers.
 
-use crate::energies::{paper_qp, Distance, Energy, Uqp};
+use crate::energies::{paper_qp, Distance, Uqp};
 use crate::quality::metrics::{Metrics, Sums};
 use crate::PointSet;
 use serde_json::{json, Value};
@@ -30,14 +30,12 @@ pub fn eval_json(points: &PointSet) -> Value {
 /// each discrepancy's standard error), the minimum distances come from a grid of cells
 /// (null where it cannot prove them) and U_{q,p} is not computed (null); `notes` says so.
 pub fn eval_json_with(points: &PointSet, sums: Sums) -> Value {
-    let m = Metrics::compute_with(points, sums);
+    let fit = paper_qp(points.n(), points.s());
+    let energy = Uqp::new(Distance::Q(fit.q), fit.p).ok();
+    // U_{q,p} at the fit shares the metrics' pass over the pairs where its distance allows.
+    let (m, uqp) = Metrics::compute_with_energy(points, sums, energy.as_ref());
     let star = crate::quality::star_inf::star_discrepancy(points);
     let (one, two) = crate::quality::star_inf::worst_projections(points);
-    let fit = paper_qp(points.n(), points.s());
-    let uqp = Uqp::new(Distance::Q(fit.q), fit.p)
-        .ok()
-        .filter(|_| m.estimate.is_none())
-        .map(|e| e.value(points));
     let mean_gap = points
         .mean()
         .iter()

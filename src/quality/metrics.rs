@@ -18,16 +18,20 @@
 //! sums run in the vectorised, tiled half loop of
 //! [`stillpoint_energies::discrepancy::pair_product_sums`] (the minimum distances in
 //! [`stillpoint_energies::pairs::min_squared_distances`]): each pair once, 16 pairs per
-//! vector, on all rayon threads. The results are the same bits whatever the number of
+//! vector, on all rayon threads. [`Metrics`] takes all of them, and U_{q,p} for the
+//! evaluation, from one pass over the pairs
+//! ([`stillpoint_energies::report_pairs::pair_figures`]) with the same bits. The results are the same bits whatever the number of
 //! threads (the tiles and the order their sums are added in depend on n only), and the
 //! same bits with or without AVX2 (no fused multiply-add). O(n² s) time, O(n s) memory.
 
 use crate::energies::discrepancy::{
     closed_form_fits, discrepancy_root, mixture_closed_form_fits, mixture_root,
     mixture_squared as mixture_closed_form, sampled_squared_discrepancies, squared_discrepancies,
-    squared_discrepancies_with_mixture, DiscrepancyKind,
+    DiscrepancyKind,
 };
 use crate::energies::pairs::min_squared_distances;
+use crate::energies::report_pairs::pair_figures;
+use crate::energies::{Energy, Uqp};
 use crate::{Error, PointSet};
 
 /// Star L2 discrepancy squared, the paper's eq. 46 (Warnock's formula):
@@ -263,10 +267,11 @@ impl Estimate {
 }
 
 impl Metrics {
-    /// Computes every figure: one pass over the pairs for the five discrepancies, one for
-    /// the two distances. O(n² s) time, O(n) memory; the points must lie in [0, 1]^s.
+    /// Computes every figure in one pass over the pairs (the five discrepancies and the
+    /// two distances, see [`pair_figures`]). O(n² s) time, O(n s) memory; the points must
+    /// lie in [0, 1]^s.
     pub fn compute(points: &PointSet) -> Metrics {
-        Metrics::compute_exact(points)
+        Metrics::compute_exact(points, None).0
     }
 
     /// [`Metrics::compute`] where `sums` asks for exact sums; above its size, the five
@@ -274,13 +279,26 @@ impl Metrics {
     /// standard errors in [`Metrics::estimate`], and the minimum distances from a grid of
     /// cells where it proves them (NaN otherwise). O(n s + pairs · s) then.
     pub fn compute_with(points: &PointSet, sums: Sums) -> Metrics {
+        Metrics::compute_with_energy(points, sums, None).0
+    }
+
+    /// [`Metrics::compute_with`], and the value of `energy` where the sums are exact
+    /// (`None` above the size where they are estimated, or without an energy): in the
+    /// same pass over the pairs when its distance is one the pass forms (U_{q,p} with
+    /// q = 1, q = ∞ or the Euclidean distance), in a pass of its own otherwise. Each
+    /// value has the same bits as [`Metrics::compute_with`]'s and [`Energy::value`]'s.
+    pub fn compute_with_energy(
+        points: &PointSet,
+        sums: Sums,
+        energy: Option<&Uqp>,
+    ) -> (Metrics, Option<f64>) {
         if !sums.estimates(points.n()) {
-            return Metrics::compute_exact(points);
+            return Metrics::compute_exact(points, energy);
         }
         let sampled = sampled_squared_discrepancies(points, sums.pairs, sums.seed);
         let root = sampled.map(|e| e.value.max(0.0).sqrt());
         let [euclid, periodic] = crate::quality::nearest::min_squared_distances_by_cells(points);
-        Metrics {
+        let metrics = Metrics {
             star_l2: root[0],
             modified_l2: root[1],
             centered_l2: root[2],
@@ -295,10 +313,11 @@ impl Metrics {
                 standard_errors: sampled.map(|e| Estimate::root_error(e.value, e.standard_error)),
                 min_distances_exact: euclid.is_some() && periodic.is_some(),
             }),
-        }
+        };
+        (metrics, None)
     }
 
-    fn compute_exact(points: &PointSet) -> Metrics {
+    fn compute_exact(points: &PointSet, energy: Option<&Uqp>) -> (Metrics, Option<f64>) {
         let s = points.s();
         let kinds = [
             DiscrepancyKind::StarL2,
@@ -306,16 +325,18 @@ impl Metrics {
             DiscrepancyKind::CenteredL2,
             DiscrepancyKind::WrapAroundL2,
         ];
-        // In very high dimension each root takes the logarithmic form of its own.
-        let [star, modified, centered, wrap, mixture] =
-            if kinds.iter().all(|&k| closed_form_fits(k, s)) && mixture_closed_form_fits(s) {
-                squared_discrepancies_with_mixture(points).map(|v| v.max(0.0).sqrt())
-            } else {
-                let [a, b, c, d] = kinds.map(|k| discrepancy_root(points, k));
-                [a, b, c, d, mixture_root(points)]
-            };
-        let [euclid, periodic] = pair_mins(points);
-        Metrics {
+        let fits = kinds.iter().all(|&k| closed_form_fits(k, s)) && mixture_closed_form_fits(s);
+        let ([star, modified, centered, wrap, mixture], [euclid, periodic], value) = if fits {
+            let f = pair_figures(points, energy);
+            let roots = f.squares.map(|v| v.max(0.0).sqrt());
+            (roots, f.min_squared_distances, f.energy)
+        } else {
+            // In very high dimension each root takes the logarithmic form of its own.
+            let [a, b, c, d] = kinds.map(|k| discrepancy_root(points, k));
+            let roots = [a, b, c, d, mixture_root(points)];
+            (roots, pair_mins(points), energy.map(|e| e.value(points)))
+        };
+        let metrics = Metrics {
             star_l2: star,
             modified_l2: modified,
             centered_l2: centered,
@@ -324,7 +345,8 @@ impl Metrics {
             min_distance: euclid.sqrt(),
             min_distance_periodic: periodic.sqrt(),
             estimate: None,
-        }
+        };
+        (metrics, value)
     }
 }
 
