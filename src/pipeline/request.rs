@@ -487,6 +487,10 @@ impl Resolver<'_> {
             Goal::Integration(_) if r.target.is_none() => {
                 Goal::Integration(Target::default_for(cfg.n, cfg.s))
             }
+            // `blend-smooth` by name weighs its smooth part as the default does at s.
+            Goal::Integration(t) if t == Target::smooth_blend() => {
+                Goal::Integration(Target::smooth_blend_for(cfg.s))
+            }
             g => g,
         };
         self.common(&mut cfg)?;

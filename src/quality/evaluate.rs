@@ -35,7 +35,13 @@ pub fn eval_json_with(points: &PointSet, sums: Sums) -> Value {
     // U_{q,p} at the fit shares the metrics' pass over the pairs where its distance allows.
     let (m, uqp) = Metrics::compute_with_energy(points, sums, energy.as_ref());
     let star = crate::quality::star_inf::star_discrepancy(points);
-    let (one, two) = crate::quality::star_inf::worst_projections(points);
+    // --exact asks for every figure whatever it costs, the 2-D projections among them.
+    let work = if sums == Sums::EXACT {
+        u64::MAX
+    } else {
+        crate::quality::star_inf::PROJECTION_WORK
+    };
+    let (one, two) = crate::quality::star_inf::worst_projections_within(points, work);
     let mean_gap = points
         .mean()
         .iter()
@@ -159,7 +165,8 @@ fn value_notes(
             if points.s() < 2 {
                 "none: the set has one coordinate"
             } else {
-                "not computed: s(s−1)/2 projections of n² work each exceed the budget"
+                "not computed: s(s−1)/2 projections of n² work each exceed the default \
+                 budget of 10^8 operations (--exact computes it)"
             },
         );
     }
