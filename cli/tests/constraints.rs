@@ -8,6 +8,7 @@ use stillpoint::PointSet;
 
 fn run(dir: &TempDir, out: &str, args: &[&str]) -> PointSet {
     let o = bin()
+        .arg("generate")
         .args(args)
         .args(["-q", "-o"])
         .arg(dir.path(out))
