@@ -509,12 +509,15 @@ impl ConstraintSpec<'_> {
                 b.push(row.b);
             }
         }
-        let polytope = Polytope::new(a, b, lo, hi).map_err(|e| {
+        // The rows and the box are checked above: the polytope refuses only a set
+        // without interior.
+        let polytope = Polytope::new(a, b, lo, hi).map_err(|_| {
             Error::invalid(
                 spell("constraints"),
                 self.texts.join("; "),
                 format!(
-                    "constraints that leave a set with interior inside the box {} ({e})",
+                    "constraints that leave a set with interior inside the box {}; these \
+                     leave it empty or flat",
                     numbers_text(v)
                 ),
             )
@@ -669,7 +672,8 @@ impl ConstraintSpec<'_> {
                 b.push(d);
             }
         }
-        let polytope = Polytope::new(a, b, lo, hi).map_err(|e| {
+        let bounds: Vec<f64> = m.lo.iter().zip(&m.hi).flat_map(|(a, b)| [*a, *b]).collect();
+        let polytope = Polytope::new(a, b, lo, hi).map_err(|_| {
             Error::invalid(
                 spell("constraints"),
                 if self.texts.is_empty() {
@@ -679,15 +683,9 @@ impl ConstraintSpec<'_> {
                 },
                 format!(
                     "constraints that leave mixtures with room within the component bounds \
-                     ({} {}, {}; {e})",
+                     ({} {}, {}); these leave none, or only a flat set",
                     spell("box"),
-                    numbers_text(
-                        &m.lo
-                            .iter()
-                            .zip(&m.hi)
-                            .flat_map(|(a, b)| [*a, *b])
-                            .collect::<Vec<_>>()
-                    ),
+                    numbers_text(&bounds),
                     spell("mixture")
                 ),
             )
