@@ -985,40 +985,14 @@ impl Resolver<'_> {
         Ok(Some((built, texts)))
     }
 
-    fn region_config(&self) -> Result<(GenerateConfig, Option<Mixture>), Error> {
-        let r = self.r;
-        let s = match &r.s {
-            Some(a) => Some(self.count("s", a, 1, "at least 1 dimension")?),
-            None => None,
-        };
-        let bbox = match &r.bbox {
-            Some(a) => Some(self.numbers("box", a)?),
-            None => None,
-        };
-        let spec = RegionSpec {
-            expression: self.text("region", &r.region)?,
-            bbox: bbox.as_deref(),
-            shape: self.text("shape", &r.shape)?,
-            s,
-        };
-        let constrained = self.constrained(s, bbox.as_deref())?;
-        if r.bbox.is_some()
-            && constrained.is_none()
-            && spec.expression.is_none()
-            && !spec.shape.is_some_and(|t| t.starts_with("polytope:"))
-        {
-            return Err(self.box_alone());
-        }
-        let (domain, mixture, texts): (Arc<dyn Domain>, _, _) = match constrained {
-            Some((c, texts)) => (Arc::new(c.polytope), c.mixture, Some(texts)),
-            None => (spec.domain(self.spell)?, None, None),
-        };
-        let dim = domain.dim();
-        // Options that mean nothing for a region's energies are refused, not ignored.
-        let energy_word = match &r.energy {
+    /// The energy asked for in a region, as a word; the options that mean nothing for a
+    /// region's energies are refused, not ignored.
+    fn region_energy_word(&self) -> Result<Option<String>, Error> {
+        let energy_word = match &self.r.energy {
             Some(a) => Some(self.word("energy", a, "e-inf-g, e-inf or e-p-g")?),
             None => None,
         };
+        let r = self.r;
         let is_epg = energy_word.as_deref() == Some("e-p-g");
         for (name, given, why) in [
             ("q", r.q.is_some(), "U_{q,p} is an energy of the cube"),
@@ -1062,6 +1036,39 @@ impl Resolver<'_> {
                 ));
             }
         }
+        Ok(energy_word)
+    }
+
+    fn region_config(&self) -> Result<(GenerateConfig, Option<Mixture>), Error> {
+        let r = self.r;
+        let s = match &r.s {
+            Some(a) => Some(self.count("s", a, 1, "at least 1 dimension")?),
+            None => None,
+        };
+        let bbox = match &r.bbox {
+            Some(a) => Some(self.numbers("box", a)?),
+            None => None,
+        };
+        let spec = RegionSpec {
+            expression: self.text("region", &r.region)?,
+            bbox: bbox.as_deref(),
+            shape: self.text("shape", &r.shape)?,
+            s,
+        };
+        let constrained = self.constrained(s, bbox.as_deref())?;
+        if r.bbox.is_some()
+            && constrained.is_none()
+            && spec.expression.is_none()
+            && !spec.shape.is_some_and(|t| t.starts_with("polytope:"))
+        {
+            return Err(self.box_alone());
+        }
+        let (domain, mixture, texts): (Arc<dyn Domain>, _, _) = match constrained {
+            Some((c, texts)) => (Arc::new(c.polytope), c.mixture, Some(texts)),
+            None => (spec.domain(self.spell)?, None, None),
+        };
+        let dim = domain.dim();
+        let energy_word = self.region_energy_word()?;
         let old = self.points("extend", &r.extend)?.cloned();
         let m = self.n_points()?;
         let n = match &old {
