@@ -671,10 +671,18 @@ pub(crate) fn region_json(r: &GenerateReport, cfg: &GenerateConfig) -> Result<Va
 /// Where a mixture's region figures are computed: the run's own coordinates.
 pub(crate) fn mixture_figures(components: usize) -> String {
     format!(
-        "the region figures are those of x1..x{} (the run's coordinates; x{components} = 1 \
+        "the region figures are those of {} (the run's coordinates; x{components} = 1 \
          minus their sum)",
-        components - 1
+        run_coordinates(components)
     )
+}
+
+/// The coordinates a mixture of `components` runs in: x1..x{S − 1}.
+fn run_coordinates(components: usize) -> String {
+    match components {
+        2 => "x1".into(),
+        k => format!("x1..x{}", k - 1),
+    }
 }
 
 /// A mixture's file header: the written set's S components, and where its figures live.
@@ -701,10 +709,10 @@ fn constrained_name(description: &Value) -> Option<String> {
     let b = description["box"].as_str();
     Some(match description["mixture"].as_u64() {
         Some(k) => format!(
-            "mixtures of {k} components (each ≥ 0, sum 1{}){cuts}; run in x1..x{}, x{k} = 1 − \
+            "mixtures of {k} components (each ≥ 0, sum 1{}){cuts}; run in {}, x{k} = 1 − \
              their sum",
             b.map(|b| format!(", bounds {b}")).unwrap_or_default(),
-            k - 1
+            run_coordinates(k as usize)
         ),
         None => format!(
             "{{x : {}}} within the box {}",

@@ -126,6 +126,18 @@ fn mixtures_sum_to_one_within_their_bounds() {
     let spread =
         last.iter().cloned().fold(0.0, f64::max) - last.iter().cloned().fold(1.0, f64::min);
     assert!(spread > 0.5, "{spread}");
+    // Eight components: the 7-simplex keeps 1 in 5040 draws of its box, so its uniform
+    // points come from the simplex itself.
+    let p = run(
+        &dir,
+        "eight.npy",
+        &["--mixture", "-s", "8", "-n", "20", "--goal", "integration"],
+    );
+    assert_eq!((p.n(), p.s()), (20, 8));
+    assert!(in_box(&p, &[0.0; 8], &[1.0; 8]));
+    assert!(p
+        .rows()
+        .all(|x| (x.iter().sum::<f64>() - 1.0).abs() <= 1e-12));
 }
 
 #[test]

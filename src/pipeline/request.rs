@@ -1064,7 +1064,7 @@ impl Resolver<'_> {
             return Err(self.box_alone());
         }
         let (domain, mixture, texts): (Arc<dyn Domain>, _, _) = match constrained {
-            Some((c, texts)) => (Arc::new(c.polytope), c.mixture, Some(texts)),
+            Some((c, texts)) => (c.domain, c.mixture, Some(texts)),
             None => (spec.domain(self.spell)?, None, None),
         };
         let dim = domain.dim();

@@ -8,7 +8,10 @@
 
 use crate::energies::shapes::Polytope;
 use crate::plan::space::{intervals, numbers_text};
-use crate::{Error, PointSet};
+use crate::{Domain, Error, PointSet};
+use rand::{RngExt, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use std::sync::Arc;
 
 /// One row a·x ≤ b (or a·x = b, which only a mixture's sum may be).
 #[derive(Debug, Clone, PartialEq)]
@@ -443,10 +446,96 @@ impl Mixture {
     }
 }
 
-/// A region given by linear constraints (and a mixture's sum), as a polytope.
+/// A mixture's polytope in its first S − 1 components, whose uniform draws come from
+/// the simplex {y ≥ 0, Σ y ≤ 1} when that is smaller than the polytope's box: with many
+/// components the simplex fills 1/(S − 1)! of the unit box, too little for rejection
+/// from the box (S = 8 keeps 1 draw in 5040).
+#[derive(Debug, Clone)]
+pub struct MixtureRegion {
+    polytope: Polytope,
+    from_simplex: bool,
+}
+
+impl MixtureRegion {
+    fn new(polytope: Polytope) -> MixtureRegion {
+        let (lo, hi) = polytope.bounding_box();
+        let s = lo.len();
+        let box_volume: f64 = lo.iter().zip(&hi).map(|(l, h)| h - l).product();
+        let simplex_volume = 1.0 / (1..=s).map(|k| k as f64).product::<f64>();
+        MixtureRegion {
+            polytope,
+            from_simplex: simplex_volume < box_volume,
+        }
+    }
+}
+
+impl Domain for MixtureRegion {
+    fn dim(&self) -> usize {
+        self.polytope.dim()
+    }
+
+    fn contains(&self, x: &[f64]) -> bool {
+        self.polytope.contains(x)
+    }
+
+    fn sample(&self, n: usize, seed: u64) -> Result<PointSet, Error> {
+        if !self.from_simplex {
+            return self.polytope.sample(n, seed);
+        }
+        if n == 0 {
+            return Err(Error::invalid("n", n, "at least 1 point"));
+        }
+        let s = self.dim();
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+        let max_draws = n.saturating_mul(1000).max(10_000);
+        let mut data = Vec::with_capacity(n * s);
+        let mut e = vec![0.0; s + 1];
+        for _ in 0..max_draws {
+            // Normalised exponentials are uniform on the simplex (a flat Dirichlet).
+            for v in e.iter_mut() {
+                *v = -(1.0 - rng.random::<f64>()).ln();
+            }
+            let total: f64 = e.iter().sum();
+            let y: Vec<f64> = e[..s].iter().map(|v| v / total).collect();
+            if self.polytope.contains(&y) {
+                data.extend_from_slice(&y);
+                if data.len() == n * s {
+                    return PointSet::new(n, s, data);
+                }
+            }
+        }
+        Err(Error::Numerical(format!(
+            "only {} of {max_draws} uniform mixtures met the bounds and constraints, and {n} \
+             points were asked for: they leave too little room; loosen them",
+            data.len() / s
+        )))
+    }
+
+    fn bring_back(&self, x: &mut [f64], prev: &mut [f64]) {
+        self.polytope.bring_back(x, prev)
+    }
+
+    fn keep_inside(&self, from: &[f64], to: &mut [f64], prev: &mut [f64]) -> bool {
+        self.polytope.keep_inside(from, to, prev)
+    }
+
+    fn closest_boundary_point(&self, x: &[f64], foot: &mut [f64]) -> Option<f64> {
+        self.polytope.closest_boundary_point(x, foot)
+    }
+
+    fn bounding_box(&self) -> (Vec<f64>, Vec<f64>) {
+        self.polytope.bounding_box()
+    }
+
+    fn level(&self, x: &[f64]) -> Option<f64> {
+        self.polytope.level(x)
+    }
+}
+
+/// A region given by linear constraints (and a mixture's sum).
 pub struct Constrained {
     /// The polytope the run spreads its points in (a mixture's first S − 1 components).
-    pub polytope: Polytope,
+    pub domain: Arc<dyn Domain>,
     /// The mixture whose last component is appended, if one.
     pub mixture: Option<Mixture>,
 }
@@ -523,7 +612,7 @@ impl ConstraintSpec<'_> {
             )
         })?;
         Ok(Constrained {
-            polytope,
+            domain: Arc::new(polytope),
             mixture: None,
         })
     }
@@ -691,7 +780,7 @@ impl ConstraintSpec<'_> {
             )
         })?;
         Ok(Constrained {
-            polytope,
+            domain: Arc::new(MixtureRegion::new(polytope)),
             mixture: Some(m),
         })
     }
@@ -700,7 +789,6 @@ impl ConstraintSpec<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Domain;
 
     fn rows(text: &str, s: usize) -> Vec<(Vec<f64>, f64)> {
         parse_constraint(text, s)
@@ -790,8 +878,8 @@ mod tests {
             mixture: false,
         };
         let c = spec.build(&spell).unwrap();
-        assert!(c.polytope.contains(&[0.5, 0.2]));
-        assert!(!c.polytope.contains(&[0.5, 0.3]));
+        assert!(c.domain.contains(&[0.5, 0.2]));
+        assert!(!c.domain.contains(&[0.5, 0.3]));
         let empty = vec!["x1 + x2 >= 3".to_string()];
         let e = ConstraintSpec {
             texts: &empty,
@@ -813,6 +901,30 @@ mod tests {
     }
 
     #[test]
+    fn many_components_are_drawn_from_the_simplex() {
+        let none: Vec<String> = Vec::new();
+        let c = ConstraintSpec {
+            texts: &none,
+            bbox: None,
+            s: Some(10),
+            mixture: true,
+        }
+        .build(&spell)
+        .unwrap();
+        // The 9-simplex keeps 1 in 362 880 uniform draws of its box.
+        let p = c.domain.sample(500, 1).unwrap();
+        let x = c.mixture.unwrap().lift(&p).unwrap();
+        assert_eq!((x.n(), x.s()), (500, 10));
+        for r in x.rows() {
+            assert!((r.iter().sum::<f64>() - 1.0).abs() <= 1e-12);
+            assert!(r.iter().all(|v| (0.0..=1.0).contains(v)), "{r:?}");
+        }
+        // Uniform on the simplex: each component's mean is 1/10.
+        let mean = x.rows().map(|r| r[9]).sum::<f64>() / 500.0;
+        assert!((mean - 0.1).abs() < 0.02, "{mean}");
+    }
+
+    #[test]
     fn a_mixture_is_run_in_its_first_components_and_lifted_to_sum_one() {
         let texts = vec!["x3 <= 0.5".to_string(), "x1 + x2 + x3 = 1".to_string()];
         let spec = ConstraintSpec {
@@ -823,12 +935,12 @@ mod tests {
         };
         let c = spec.build(&spell).unwrap();
         let m = c.mixture.clone().unwrap();
-        assert_eq!(c.polytope.dim(), 2);
+        assert_eq!(c.domain.dim(), 2);
         // x3 = 1 − x1 − x2 ≤ 0.5 ⇔ x1 + x2 ≥ 0.5; x3 ≥ 0.2 ⇔ x1 + x2 ≤ 0.8.
-        assert!(c.polytope.contains(&[0.3, 0.3]));
-        assert!(!c.polytope.contains(&[0.2, 0.2]));
-        assert!(!c.polytope.contains(&[0.5, 0.4]));
-        let p = c.polytope.sample(200, 3).unwrap();
+        assert!(c.domain.contains(&[0.3, 0.3]));
+        assert!(!c.domain.contains(&[0.2, 0.2]));
+        assert!(!c.domain.contains(&[0.5, 0.4]));
+        let p = c.domain.sample(200, 3).unwrap();
         let x = m.lift(&p).unwrap();
         for r in x.rows() {
             assert!((r.iter().sum::<f64>() - 1.0).abs() <= 1e-12);
