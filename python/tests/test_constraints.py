@@ -45,6 +45,11 @@ def test_pairs_mean_a_dot_x_at_most_b():
     assert same_bits(text, pairs)
 
 
+def test_no_constraint_is_the_box():
+    x = sp.generate(12, constraints=[], box=[0, 1, 0, 2], goal="integration")
+    assert x.shape == (12, 2) and x[:, 1].max() > 1
+
+
 def test_a_mixture_is_the_cli_npy_and_sums_to_one(cli, tmp_path):
     out = tmp_path / "m.npy"
     bounds = [0.1, 0.7, 0, 0.6, 0.05, 1, 0, 0.5]

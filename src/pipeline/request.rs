@@ -964,17 +964,17 @@ impl Resolver<'_> {
                 ),
             ));
         }
-        let texts =
-            match &r.constraints {
-                None => Vec::new(),
-                Some(Arg::Text(t)) => vec![t.clone()],
-                Some(Arg::Texts(v)) => v.clone(),
-                Some(other) => return Err(self.bad(
-                    "constraints",
-                    other,
-                    "a linear constraint as text, such as \"x1 + 2*x2 <= 1\", or a list of them",
-                )),
-            };
+        const EXPECTED: &str =
+            "a linear constraint as text, such as \"x1 + 2*x2 <= 1\", or a list of them";
+        let texts = match &r.constraints {
+            None => Vec::new(),
+            Some(Arg::Text(t)) => vec![t.clone()],
+            Some(Arg::Texts(v)) => v.clone(),
+            // An empty list reaches here typed as numbers: no constraint, the box alone.
+            Some(Arg::Counts(v)) if v.is_empty() => Vec::new(),
+            Some(Arg::Numbers(v)) if v.is_empty() => Vec::new(),
+            Some(other) => return Err(self.bad("constraints", other, EXPECTED)),
+        };
         let built = ConstraintSpec {
             texts: &texts,
             bbox,
