@@ -111,6 +111,16 @@ pub(crate) struct GenerateArgs {
     /// (rows a1 .. as b meaning a·x ≤ b; needs --box).
     #[arg(long, value_name = "SHAPE", allow_hyphen_values = true)]
     pub(crate) shape: Option<String>,
+    /// A linear constraint, repeatable: e.g. "x1 + 2*x2 <= 1" (numbers, x1..xs, + - * /,
+    /// parentheses; one of <=, >=, ≤, ≥, or a chain "0.2 <= x1 + x2 <= 0.8"). With --box,
+    /// which gives s and bounds the set: the region {A x ≤ b} ∩ box.
+    #[arg(long = "constraint", value_name = "EXPR", allow_hyphen_values = true)]
+    pub(crate) constraint: Vec<String>,
+    /// Mixtures: -s S components (S ≥ 2), each ≥ 0, summing to 1; --box LO1,HI1,... bounds
+    /// each component and --constraint adds cuts in x1..xS. The run spreads the first S − 1
+    /// components and appends x_S = 1 − Σ x_k to every point.
+    #[arg(long)]
+    pub(crate) mixture: bool,
     /// Draw the start beside the result, with the region's boundary (PNG or SVG by
     /// extension; the first two coordinates).
     #[arg(long, value_name = "FILE")]

@@ -40,8 +40,15 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     progress.finish();
     let report = outcome.report.context("a run's report")?;
     // How the command line named the region: recorded in the file header.
-    let given = json!({"--region": a.region, "--box": a.bbox, "--shape": a.shape});
+    let mut given = json!({"--region": a.region, "--box": a.bbox, "--shape": a.shape});
+    if !a.constraint.is_empty() || a.mixture {
+        given["--constraint"] = json!(a.constraint);
+        given["--mixture"] = json!(a.mixture);
+    }
     let mut meta = file_header(&report, cfg, &given)?;
+    if let Some(m) = &resolved.mixture {
+        mixture_header(&mut meta, m.components());
+    }
     if let Some(b) = &resolved.bounds {
         meta["parameters"]["bounds"] = json!(b.text());
     }
@@ -77,7 +84,14 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     }
     let summary = match (a.json, cfg.region().is_some()) {
         (true, false) => report_json(&report, cfg)?,
-        (true, true) => region_json(&report, cfg)?,
+        (true, true) => {
+            let mut v = region_json(&report, cfg)?;
+            if let Some(m) = &resolved.mixture {
+                v["s"] = json!(m.components());
+                v["figures_in"] = json!(mixture_figures(m.components()));
+            }
+            v
+        }
         (false, false) => Value::String(report_table(&report, cfg, a.output.as_ref())?),
         (false, true) => Value::String(region_table(&report, cfg, a.output.as_ref())?),
     };
@@ -158,6 +172,8 @@ fn request_of(a: &GenerateArgs) -> Result<Request> {
         region: text(&a.region),
         bbox: text(&a.bbox),
         shape: text(&a.shape),
+        constraints: (!a.constraint.is_empty()).then(|| Arg::Texts(a.constraint.clone())),
+        mixture: a.mixture.then_some(Arg::Bool(true)),
         energy: text(&a.energy),
         integrator: text(&a.integrator),
         q: text(&a.q),

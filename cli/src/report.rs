@@ -668,12 +668,69 @@ pub(crate) fn region_json(r: &GenerateReport, cfg: &GenerateConfig) -> Result<Va
     Ok(v)
 }
 
+/// Where a mixture's region figures are computed: the run's own coordinates.
+pub(crate) fn mixture_figures(components: usize) -> String {
+    format!(
+        "the region figures are those of {} (the run's coordinates; x{components} = 1 \
+         minus their sum)",
+        run_coordinates(components)
+    )
+}
+
+/// The coordinates a mixture of `components` runs in: x1..x{S − 1}.
+fn run_coordinates(components: usize) -> String {
+    match components {
+        2 => "x1".into(),
+        k => format!("x1..x{}", k - 1),
+    }
+}
+
+/// A mixture's file header: the written set's S components, and where its figures live.
+pub(crate) fn mixture_header(meta: &mut Value, components: usize) {
+    meta["parameters"]["s"] = json!(components);
+    meta["parameters"]["mixture"] = json!({
+        "components": components,
+        "figures_in": mixture_figures(components),
+    });
+}
+
+/// A region of linear constraints (a mixture's among them) as the user gave it.
+fn constrained_name(description: &Value) -> Option<String> {
+    let texts: Vec<&str> = description["constraints"]
+        .as_array()?
+        .iter()
+        .filter_map(|v| v.as_str())
+        .collect();
+    let cuts = if texts.is_empty() {
+        String::new()
+    } else {
+        format!(" with {}", texts.join(", "))
+    };
+    let b = description["box"].as_str();
+    Some(match description["mixture"].as_u64() {
+        Some(k) => format!(
+            "mixtures of {k} components (each ≥ 0, sum 1{}){cuts}; run in {}, x{k} = 1 − \
+             their sum",
+            b.map(|b| format!(", bounds {b}")).unwrap_or_default(),
+            run_coordinates(k as usize)
+        ),
+        None => format!(
+            "{{x : {}}} within the box {}",
+            texts.join(", "),
+            b.unwrap_or("")
+        ),
+    })
+}
+
 /// A region as the user gave it: `{x : EXPR ≤ 0} in the box …` or the shape's text,
 /// not the internal form.
 pub(crate) fn region_name(cfg: &GenerateConfig) -> String {
     let run::Space::Region { description, .. } = &cfg.space else {
         return "the unit cube".into();
     };
+    if let Some(name) = constrained_name(description) {
+        return name;
+    }
     match (
         description["expression"].as_str(),
         description["box"].as_str(),
@@ -695,13 +752,20 @@ pub(crate) fn region_table(
     let (a, b) = r.region_metrics()?;
     let domain = region_name(cfg);
     let solver = r.solver().map(solver_line).unwrap_or_default();
+    // A mixture's written points have one component more than the run's.
+    let shown_s = match &cfg.space {
+        run::Space::Region { description, .. } => description["mixture"]
+            .as_u64()
+            .map_or(cfg.s, |k| k as usize),
+        _ => cfg.s,
+    };
     // A goal's run in a region says what its stages did instead of the start it drew.
     if let (run::Goal::Integration(_), false) = (&cfg.goal, r.stages.is_empty()) {
         let stages: Vec<String> = r.stages.iter().map(|s| s.to_string()).collect();
         return Ok(format!(
             "stillpoint: n = {}, s = {} in {}, integration goal\n  {}\n\n",
             cfg.n,
-            cfg.s,
+            shown_s,
             region_name(cfg),
             stages.join("\n  ")
         ) + &region_rows(a, b, r, out));
@@ -709,7 +773,7 @@ pub(crate) fn region_table(
     let t = format!(
         "stillpoint: n = {}, s = {} in {}\n  {} from {}, {solver}\n\n",
         cfg.n,
-        cfg.s,
+        shown_s,
         domain,
         r.energy_name,
         match &cfg.init {

@@ -11,6 +11,8 @@ pub(crate) fn flag_name(parameter: &str) -> String {
         "bbox" => "--box".to_string(),
         "expression" => "--region".to_string(),
         "log_every" => "--log-every".to_string(),
+        "constraints" | "constraint" => "--constraint".to_string(),
+        "mixture" => "--mixture".to_string(),
         "resume checkpoint" => "--resume".to_string(),
         "energy" | "q" | "p" | "precision" | "init" | "seed" | "integrator" | "shifts"
         | "polish" | "steps" | "kappa" | "restart" | "tolerance" | "box" | "shape" | "goal"

@@ -101,6 +101,9 @@ def _arrays(options: Dict[str, Any]) -> Dict[str, Any]:
             out[key] = _points(value, key)
     if isinstance(out.get("nested"), (range, np.ndarray)):
         out["nested"] = [int(k) for k in out["nested"]]
+    for key in ("constraints", "constraint"):
+        if key in out:
+            out[key] = _constraint_texts(out[key], key)
     if isinstance(out.get("box"), np.ndarray):
         out["box"] = [float(v) for v in np.ravel(out["box"])]
     if isinstance(out.get("bounds"), np.ndarray):
@@ -110,6 +113,36 @@ def _arrays(options: Dict[str, Any]) -> Dict[str, Any]:
             np.asarray(v, dtype=np.float64).tolist() for v in out["bounds"]
         )
     return out
+
+
+def _constraint_texts(value: Any, key: str) -> Any:
+    """Constraints as the library reads them: text as given, and each pair ``(a, b)``
+    (meaning a·x <= b) written as the text ``a1*x1 + a2*x2 + ... <= b`` with every number
+    in the form that reads back exactly; the library checks them."""
+    if isinstance(value, str) or not isinstance(value, (list, tuple)):
+        return value
+
+    def text(item: Any) -> Any:
+        if isinstance(item, str):
+            return item
+        try:
+            a, b = item
+            a = np.asarray(a, dtype=np.float64).ravel()
+            b = float(b)
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"invalid {key} = {value!r}: expected constraints as text "
+                "('x1 + 2*x2 <= 1') or pairs (a, b) meaning a·x <= b"
+            ) from None
+        if not (np.all(np.isfinite(a)) and np.isfinite(b)) or a.size == 0:
+            raise ValueError(
+                f"invalid {key} = {value!r}: expected pairs (a, b) of finite numbers, "
+                "a with one coefficient per coordinate"
+            )
+        terms = " + ".join(f"{float(c)!r}*x{k + 1}" for k, c in enumerate(a))
+        return f"{terms} <= {b!r}"
+
+    return [text(item) for item in value]
 
 
 def _check_generate(n: Any = None, d: Any = None, **options: Any) -> None:
@@ -209,7 +242,11 @@ def generate(
         ``goal`` (``'integration'``, the cube's default, or ``'space-filling'``, a
         region's), ``target`` (``'blend'``, the default below d = 8,
         ``'blend-smooth'``, the default from d = 8, ``'md'``, ``'l2star'``, ``'cd'``,
-        ``'periodic'``, ``'smooth'``), ``randomize`` (``True`` or ``'tent'``, recommended for error
+        ``'periodic'``, ``'smooth'``), ``constraints`` (linear constraints with ``box``,
+        which gives d: a list of texts such as ``'x1 + 2*x2 <= 1'`` or of pairs ``(a, b)``
+        meaning a·x <= b; the region {A x <= b} within the box), ``mixture`` (``True``: d
+        components, each >= 0, summing to 1; ``box`` bounds each one and ``constraints``
+        add cuts; every row sums to 1 within 1e-12), ``randomize`` (``True`` or ``'tent'``, recommended for error
         bars: the lattice made for a uniform shift and the tent transform, randomised so;
         ``'cells'`` or ``'shift'`` randomise the optimised set), ``extend`` (see :func:`extend`), ``nested`` (see :func:`nested`);
         and the paper's options, passed through to the library: ``q``, ``p``,

@@ -16,7 +16,8 @@ __version__: str
 def generate(**kwargs: Any) -> npt.NDArray[np.float64]:
     """The points of the library's request made of the keyword arguments (``n``, ``d``,
     ``seed``, ``method``, ``goal``, ``target``, ``randomize``, ``extend``, ``nested``,
-    ``bounds``, ``region``, ``box``, ``shape`` and the paper's options): by default
+    ``bounds``, ``region``, ``box``, ``shape``, ``constraints``, ``mixture`` and the
+    paper's options): by default
     exactly ``stillpoint generate -n N -s D``; a baseline with ``method=NAME``. ``names``
     renames parameters in refusals; ``progress`` prints the stages. Returns an (n, d)
     array."""

@@ -60,7 +60,8 @@ pub fn region(n: usize, text: &str, bbox: &[f64]) -> Result<PointSet, Error> {
 }
 
 /// What a resolved request produced: the points as written (scaled to the bounds when
-/// asked), and for a run its report and configuration.
+/// asked, a mixture's last component appended), and for a run its report (on the run's
+/// own points: a mixture's first S − 1 components) and configuration.
 #[derive(Debug, Clone)]
 pub struct Outcome {
     /// The points as the caller receives them.
@@ -92,9 +93,10 @@ impl Resolved {
                 (report.output.points.clone(), Some(report))
             }
         };
-        let points = match &self.bounds {
-            Some(b) => b.scale(&points)?,
-            None => points,
+        let points = match (&self.bounds, &self.mixture) {
+            (Some(b), _) => b.scale(&points)?,
+            (None, Some(m)) => m.lift(&points)?,
+            (None, None) => points,
         };
         let Some(space) = &self.design else {
             return Ok(Outcome {

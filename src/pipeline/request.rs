@@ -11,8 +11,10 @@
 
 use crate::design::DesignSpace;
 use crate::energies::discrepancy::DiscrepancyKind;
+use crate::energies::Domain;
 use crate::energies::{Distance, Precision};
 use crate::integrators::{Kappa, Restart};
+use crate::plan::constraints::{Constrained, ConstraintSpec, Mixture};
 use crate::plan::space::{numbers_text, Bounds, RegionSpec};
 use crate::plan::{EnergyKind, GenerateConfig, Goal, Init, Solver, Space};
 use crate::post::randomize::Randomize;
@@ -20,6 +22,7 @@ use crate::quality::target::Target;
 use crate::sequences::{self, Baseline};
 use crate::{Error, PointSet};
 use serde_json::json;
+use std::sync::Arc;
 
 /// A value as a front end received it: the command line gives text, Python gives typed
 /// values; resolving gives either a meaning.
@@ -126,6 +129,11 @@ pub struct Request {
     pub bbox: Option<Arg>,
     /// A built-in shape.
     pub shape: Option<Arg>,
+    /// Linear constraints `a·x <= b` as text (one, or a list), with `bbox`: the region
+    /// {A x ≤ b} ∩ box ([`crate::plan::constraints`]).
+    pub constraints: Option<Arg>,
+    /// The components are ≥ 0 and sum to 1 (`s` of them, `bbox` their bounds).
+    pub mixture: Option<Arg>,
     /// The energy of the paper's pipeline.
     pub energy: Option<Arg>,
     /// `dem` or `lbfgs`.
@@ -194,6 +202,8 @@ pub struct Resolved {
     pub bounds: Option<Bounds>,
     /// The design space the set is dealt into (levels, slices, marginals).
     pub design: Option<DesignSpace>,
+    /// The mixture whose last component is appended to the run's points.
+    pub mixture: Option<Mixture>,
 }
 
 /// The library's own spelling of a parameter: its name as the request writes it.
@@ -255,6 +265,8 @@ impl Request {
             "region" => &mut self.region,
             "box" | "bbox" => &mut self.bbox,
             "shape" => &mut self.shape,
+            "constraints" | "constraint" => &mut self.constraints,
+            "mixture" => &mut self.mixture,
             "energy" => &mut self.energy,
             "integrator" => &mut self.integrator,
             "q" => &mut self.q,
@@ -299,6 +311,8 @@ impl Request {
             "region",
             "box",
             "shape",
+            "constraints",
+            "mixture",
             "energy",
             "integrator",
             "q",
@@ -474,12 +488,13 @@ impl Resolver<'_> {
         if let Some(job) = self.baseline(seed)? {
             return Ok(job);
         }
-        let in_region = r.region.is_some() || r.shape.is_some();
+        let constrained = r.constraints.is_some() || self.flag("mixture", &r.mixture)?;
+        let in_region = r.region.is_some() || r.shape.is_some() || constrained;
         let goal = self.goal(in_region)?;
-        let mut cfg = if in_region {
+        let (mut cfg, mixture) = if in_region {
             self.region_config()?
         } else {
-            self.cube_config(&goal)?
+            (self.cube_config(&goal)?, None)
         };
         cfg.seed = seed;
         cfg.goal = match goal {
@@ -524,6 +539,7 @@ impl Resolver<'_> {
             job: Job::Run(Box::new(cfg)),
             bounds,
             design: None,
+            mixture,
         })
     }
 
@@ -559,6 +575,8 @@ impl Resolver<'_> {
             ("region", r.region.is_some()),
             ("box", r.bbox.is_some()),
             ("shape", r.shape.is_some()),
+            ("constraints", r.constraints.is_some()),
+            ("mixture", r.mixture.is_some()),
             ("bounds", r.bounds.is_some()),
             ("extend", r.extend.is_some()),
             ("nested", r.nested.is_some()),
@@ -635,6 +653,8 @@ impl Resolver<'_> {
             ("region", r.region.is_some()),
             ("box", r.bbox.is_some()),
             ("shape", r.shape.is_some()),
+            ("constraints", r.constraints.is_some()),
+            ("mixture", r.mixture.is_some()),
             ("steps", r.steps.is_some()),
             ("exact", r.exact.is_some()),
         ];
@@ -676,6 +696,7 @@ impl Resolver<'_> {
             },
             bounds,
             design: None,
+            mixture: None,
         }))
     }
 
@@ -936,35 +957,78 @@ impl Resolver<'_> {
         Ok(())
     }
 
-    fn region_config(&self) -> Result<GenerateConfig, Error> {
+    /// The polytope of `constraints` and `mixture`, when either is given, with the
+    /// constraints' texts.
+    fn constrained(
+        &self,
+        s: Option<usize>,
+        bbox: Option<&[f64]>,
+    ) -> Result<Option<(Constrained, Vec<String>)>, Error> {
         let r = self.r;
-        let s = match &r.s {
-            Some(a) => Some(self.count("s", a, 1, "at least 1 dimension")?),
-            None => None,
-        };
-        let bbox = match &r.bbox {
-            Some(a) => Some(self.numbers("box", a)?),
-            None => None,
-        };
-        let spec = RegionSpec {
-            expression: self.text("region", &r.region)?,
-            bbox: bbox.as_deref(),
-            shape: self.text("shape", &r.shape)?,
-            s,
-        };
-        if r.bbox.is_some()
-            && spec.expression.is_none()
-            && !spec.shape.is_some_and(|t| t.starts_with("polytope:"))
-        {
-            return Err(self.box_alone());
+        let mixture = self.flag("mixture", &r.mixture)?;
+        if r.constraints.is_none() && !mixture {
+            return Ok(None);
         }
-        let domain = spec.domain(self.spell)?;
-        let dim = domain.dim();
-        // Options that mean nothing for a region's energies are refused, not ignored.
-        let energy_word = match &r.energy {
+        let name = if mixture { "mixture" } else { "constraints" };
+        for (other, given) in [("region", r.region.is_some()), ("shape", r.shape.is_some())] {
+            if given {
+                return Err(self.bad(
+                    other,
+                    format!("given with {}", (self.spell)(name)),
+                    format!(
+                        "no {} with {}: the constraints cut the box {} gives",
+                        (self.spell)(other),
+                        (self.spell)(name),
+                        (self.spell)("box")
+                    ),
+                ));
+            }
+        }
+        // A mixture runs in its first S − 1 components: points given in S would not fit.
+        let points = [
+            ("extend", r.extend.is_some()),
+            ("init", matches!(r.init, Some(Arg::Points(_)))),
+        ];
+        if let (true, Some((other, _))) = (mixture, points.iter().find(|p| p.1)) {
+            return Err(self.bad(
+                other,
+                format!("points given with {}", (self.spell)("mixture")),
+                format!(
+                    "no {} points with {}: the set is made whole, from a start of its own",
+                    (self.spell)(other),
+                    (self.spell)("mixture")
+                ),
+            ));
+        }
+        const EXPECTED: &str =
+            "a linear constraint as text, such as \"x1 + 2*x2 <= 1\", or a list of them";
+        let texts = match &r.constraints {
+            None => Vec::new(),
+            Some(Arg::Text(t)) => vec![t.clone()],
+            Some(Arg::Texts(v)) => v.clone(),
+            // An empty list reaches here typed as numbers: no constraint, the box alone.
+            Some(Arg::Counts(v)) if v.is_empty() => Vec::new(),
+            Some(Arg::Numbers(v)) if v.is_empty() => Vec::new(),
+            Some(other) => return Err(self.bad("constraints", other, EXPECTED)),
+        };
+        let built = ConstraintSpec {
+            texts: &texts,
+            bbox,
+            s,
+            mixture,
+        }
+        .build(self.spell)?;
+        Ok(Some((built, texts)))
+    }
+
+    /// The energy asked for in a region, as a word; the options that mean nothing for a
+    /// region's energies are refused, not ignored.
+    fn region_energy_word(&self) -> Result<Option<String>, Error> {
+        let energy_word = match &self.r.energy {
             Some(a) => Some(self.word("energy", a, "e-inf-g, e-inf or e-p-g")?),
             None => None,
         };
+        let r = self.r;
         let is_epg = energy_word.as_deref() == Some("e-p-g");
         for (name, given, why) in [
             ("q", r.q.is_some(), "U_{q,p} is an energy of the cube"),
@@ -1008,6 +1072,39 @@ impl Resolver<'_> {
                 ));
             }
         }
+        Ok(energy_word)
+    }
+
+    fn region_config(&self) -> Result<(GenerateConfig, Option<Mixture>), Error> {
+        let r = self.r;
+        let s = match &r.s {
+            Some(a) => Some(self.count("s", a, 1, "at least 1 dimension")?),
+            None => None,
+        };
+        let bbox = match &r.bbox {
+            Some(a) => Some(self.numbers("box", a)?),
+            None => None,
+        };
+        let spec = RegionSpec {
+            expression: self.text("region", &r.region)?,
+            bbox: bbox.as_deref(),
+            shape: self.text("shape", &r.shape)?,
+            s,
+        };
+        let constrained = self.constrained(s, bbox.as_deref())?;
+        if r.bbox.is_some()
+            && constrained.is_none()
+            && spec.expression.is_none()
+            && !spec.shape.is_some_and(|t| t.starts_with("polytope:"))
+        {
+            return Err(self.box_alone());
+        }
+        let (domain, mixture, texts): (Arc<dyn Domain>, _, _) = match constrained {
+            Some((c, texts)) => (c.domain, c.mixture, Some(texts)),
+            None => (spec.domain(self.spell)?, None, None),
+        };
+        let dim = domain.dim();
+        let energy_word = self.region_energy_word()?;
         let old = self.points("extend", &r.extend)?.cloned();
         let m = self.n_points()?;
         let n = match &old {
@@ -1031,16 +1128,21 @@ impl Resolver<'_> {
             None => m,
         };
         let mut cfg = GenerateConfig::in_region(domain, n);
+        let mut description = json!({
+            "expression": self.text("region", &r.region)?,
+            "box": bbox.as_deref().map(numbers_text),
+            "shape": self.text("shape", &r.shape)?,
+        });
+        if let Some(texts) = texts {
+            description["constraints"] = json!(texts);
+            description["mixture"] = json!(mixture.as_ref().map(|m| m.components()));
+        }
         cfg.space = Space::Region {
             domain: cfg
                 .region()
                 .cloned()
                 .ok_or_else(|| self.bad("region", "none", "a region"))?,
-            description: json!({
-                "expression": self.text("region", &r.region)?,
-                "box": bbox.as_deref().map(numbers_text),
-                "shape": self.text("shape", &r.shape)?,
-            }),
+            description,
         };
         cfg.energy = match energy_word.as_deref() {
             None | Some("e-inf-g") => EnergyKind::EInfG,
@@ -1076,7 +1178,7 @@ impl Resolver<'_> {
             },
         };
         cfg.extend = old;
-        Ok(cfg)
+        Ok((cfg, mixture))
     }
 
     fn box_alone(&self) -> Error {

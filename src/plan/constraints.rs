@@ -1,0 +1,990 @@
+//! Linear constraints as users write them (`x1 + 2*x2 <= 1`) and mixtures (components
+//! ≥ 0 that sum to one), read once for every front end into a polytope {A x ≤ b} ∩ box.
+//!
+//! A mixture of S components lives on a flat set of R^S, where no region run can spread
+//! points; it is run in its first S − 1 components instead, where x_S = 1 − Σ x_k turns
+//! the bounds of x_S into two cuts on the sum and every constraint mentioning x_S into one
+//! on the others. [`Mixture::lift`] appends x_S to every point afterwards.
+
+use crate::energies::shapes::Polytope;
+use crate::plan::space::{intervals, numbers_text};
+use crate::{Domain, Error, PointSet};
+use rand::{RngExt, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use std::sync::Arc;
+
+/// One row a·x ≤ b (or a·x = b, which only a mixture's sum may be).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Row {
+    /// Coefficients, one per coordinate.
+    pub a: Vec<f64>,
+    /// Right-hand side.
+    pub b: f64,
+    /// `=` rather than `≤`.
+    pub equality: bool,
+}
+
+/// Why a constraint's text was refused, and where (a character index).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParseError {
+    /// What is wrong.
+    pub message: String,
+    /// The character where it was found.
+    pub at: usize,
+}
+
+impl std::fmt::Display for ParseError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}, at character {}", self.message, self.at + 1)
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Cmp {
+    Le,
+    Ge,
+    Eq,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Tok {
+    Num(f64),
+    Var(usize),
+    Plus,
+    Minus,
+    Star,
+    Slash,
+    Caret,
+    Open,
+    Close,
+    Cmp(Cmp),
+}
+
+fn fail<T>(at: usize, message: impl Into<String>) -> Result<T, ParseError> {
+    Err(ParseError {
+        message: message.into(),
+        at,
+    })
+}
+
+/// The tokens of `text` with their character positions; variables are checked against s.
+fn lex(text: &str, s: usize) -> Result<Vec<(Tok, usize)>, ParseError> {
+    let chars: Vec<char> = text.chars().collect();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < chars.len() {
+        let c = chars[i];
+        let start = i;
+        let tok = match c {
+            c if c.is_whitespace() => {
+                i += 1;
+                continue;
+            }
+            '0'..='9' | '.' => {
+                while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.') {
+                    i += 1;
+                }
+                // An exponent only when digits follow, so that `2e` is not read as one.
+                if i < chars.len() && (chars[i] == 'e' || chars[i] == 'E') {
+                    let mut j = i + 1;
+                    if j < chars.len() && (chars[j] == '+' || chars[j] == '-') {
+                        j += 1;
+                    }
+                    if j < chars.len() && chars[j].is_ascii_digit() {
+                        i = j;
+                        while i < chars.len() && chars[i].is_ascii_digit() {
+                            i += 1;
+                        }
+                    }
+                }
+                let t: String = chars[start..i].iter().collect();
+                match t.parse::<f64>() {
+                    Ok(v) if v.is_finite() => Tok::Num(v),
+                    _ => return fail(start, format!("{t:?} is not a finite number")),
+                }
+            }
+            c if c.is_alphabetic() || c == '_' => {
+                while i < chars.len() && (chars[i].is_alphanumeric() || chars[i] == '_') {
+                    i += 1;
+                }
+                let word: String = chars[start..i].iter().collect();
+                if word == "pi" {
+                    Tok::Num(std::f64::consts::PI)
+                } else {
+                    Tok::Var(variable(&word, s, start)?)
+                }
+            }
+            '<' | '≤' | '>' | '≥' | '=' => {
+                let two = |n: char| chars.get(i + 1) == Some(&n);
+                let (cmp, len) = match c {
+                    '≤' => (Cmp::Le, 1),
+                    '≥' => (Cmp::Ge, 1),
+                    '<' if two('=') => (Cmp::Le, 2),
+                    '>' if two('=') => (Cmp::Ge, 2),
+                    '=' if two('=') => (Cmp::Eq, 2),
+                    '=' => (Cmp::Eq, 1),
+                    _ => {
+                        return fail(
+                            start,
+                            format!("{c:?}: the comparisons are <=, >=, ≤ and ≥ (not strict)"),
+                        )
+                    }
+                };
+                i += len - 1;
+                Tok::Cmp(cmp)
+            }
+            '+' => Tok::Plus,
+            '-' | '−' => Tok::Minus,
+            '*' | '·' | '×' => Tok::Star,
+            '/' => Tok::Slash,
+            '^' => Tok::Caret,
+            '(' => Tok::Open,
+            ')' => Tok::Close,
+            other => return fail(start, format!("unexpected {other:?}")),
+        };
+        if !matches!(tok, Tok::Num(_) | Tok::Var(_)) {
+            i += 1;
+        }
+        out.push((tok, start));
+    }
+    Ok(out)
+}
+
+/// The index (from 0) of a variable: `x<k>` for 1 ≤ k ≤ s, or `x`, `y`, `z`.
+fn variable(word: &str, s: usize, at: usize) -> Result<usize, ParseError> {
+    let lower = word.to_ascii_lowercase();
+    let k = match lower.as_str() {
+        "x" => Some(1),
+        "y" => Some(2),
+        "z" => Some(3),
+        w => w
+            .strip_prefix('x')
+            .filter(|d| !d.is_empty() && d.chars().all(|c| c.is_ascii_digit()))
+            .and_then(|d| d.parse::<usize>().ok()),
+    };
+    match k {
+        Some(k) if (1..=s).contains(&k) => Ok(k - 1),
+        Some(_) => fail(
+            at,
+            format!("{word} is not a variable of this space: x1..x{s} (s = {s})"),
+        ),
+        None if crate::expr::RegionExpr::parse(&format!("{word}(1)"), 1).is_ok() => fail(
+            at,
+            format!("{word}(...) is not linear: a function of a variable"),
+        ),
+        None => fail(at, format!("unknown variable {word:?}: x1..x{s}")),
+    }
+}
+
+/// c·x + k, and whether any variable was written (even with a zero coefficient).
+#[derive(Debug, Clone)]
+struct Affine {
+    c: Vec<f64>,
+    k: f64,
+    has_var: bool,
+}
+
+impl Affine {
+    fn constant(s: usize, k: f64) -> Affine {
+        Affine {
+            c: vec![0.0; s],
+            k,
+            has_var: false,
+        }
+    }
+
+    fn scale(mut self, f: f64) -> Affine {
+        self.c.iter_mut().for_each(|v| *v *= f);
+        self.k *= f;
+        self
+    }
+
+    fn add(mut self, o: &Affine, sign: f64) -> Affine {
+        self.c
+            .iter_mut()
+            .zip(&o.c)
+            .for_each(|(a, b)| *a += sign * b);
+        self.k += sign * o.k;
+        self.has_var |= o.has_var;
+        self
+    }
+}
+
+/// A recursive-descent reader of affine expressions over the tokens.
+struct Parser<'t> {
+    toks: &'t [(Tok, usize)],
+    pos: usize,
+    s: usize,
+    end: usize,
+}
+
+impl Parser<'_> {
+    fn peek(&self) -> Option<Tok> {
+        self.toks.get(self.pos).map(|t| t.0)
+    }
+
+    fn at(&self) -> usize {
+        self.toks.get(self.pos).map_or(self.end, |t| t.1)
+    }
+
+    fn expr(&mut self) -> Result<Affine, ParseError> {
+        let mut v = self.term()?;
+        while let Some(op @ (Tok::Plus | Tok::Minus)) = self.peek() {
+            self.pos += 1;
+            let t = self.term()?;
+            v = v.add(&t, if op == Tok::Plus { 1.0 } else { -1.0 });
+        }
+        Ok(v)
+    }
+
+    fn term(&mut self) -> Result<Affine, ParseError> {
+        let mut v = self.unary()?;
+        loop {
+            let at = self.at();
+            match self.peek() {
+                Some(Tok::Star) => {
+                    self.pos += 1;
+                    let w = self.unary()?;
+                    v = product(v, w, at)?;
+                }
+                // `2 x1`, `2x1`, `3(x1 + x2)`: a product without its star.
+                Some(Tok::Num(_) | Tok::Var(_) | Tok::Open) => {
+                    let w = self.power()?;
+                    v = product(v, w, at)?;
+                }
+                Some(Tok::Slash) => {
+                    self.pos += 1;
+                    let w = self.unary()?;
+                    if w.has_var {
+                        return fail(at, "dividing by a variable is not linear");
+                    }
+                    if w.k == 0.0 {
+                        return fail(at, "a division by zero");
+                    }
+                    v = v.scale(1.0 / w.k);
+                }
+                _ => return Ok(v),
+            }
+        }
+    }
+
+    fn unary(&mut self) -> Result<Affine, ParseError> {
+        match self.peek() {
+            Some(Tok::Minus) => {
+                self.pos += 1;
+                Ok(self.unary()?.scale(-1.0))
+            }
+            Some(Tok::Plus) => {
+                self.pos += 1;
+                self.unary()
+            }
+            _ => self.power(),
+        }
+    }
+
+    fn power(&mut self) -> Result<Affine, ParseError> {
+        let base = self.atom()?;
+        if self.peek() != Some(Tok::Caret) {
+            return Ok(base);
+        }
+        let at = self.at();
+        self.pos += 1;
+        let e = self.unary()?;
+        if base.has_var || e.has_var {
+            return fail(at, "a power of a variable is not linear");
+        }
+        Ok(Affine::constant(self.s, base.k.powf(e.k)))
+    }
+
+    fn atom(&mut self) -> Result<Affine, ParseError> {
+        let at = self.at();
+        let tok = self.peek();
+        self.pos += 1;
+        match tok {
+            Some(Tok::Num(v)) => Ok(Affine::constant(self.s, v)),
+            Some(Tok::Var(k)) => {
+                let mut a = Affine::constant(self.s, 0.0);
+                a.c[k] = 1.0;
+                a.has_var = true;
+                Ok(a)
+            }
+            Some(Tok::Open) => {
+                let v = self.expr()?;
+                if self.peek() != Some(Tok::Close) {
+                    return fail(self.at(), "a closing parenthesis");
+                }
+                self.pos += 1;
+                Ok(v)
+            }
+            Some(Tok::Cmp(_)) | None => fail(at, "a number or a variable is missing"),
+            Some(_) => fail(at, "a number, a variable or ( was expected"),
+        }
+    }
+}
+
+fn product(a: Affine, b: Affine, at: usize) -> Result<Affine, ParseError> {
+    match (a.has_var, b.has_var) {
+        (true, true) => fail(at, "a product of two variables is not linear"),
+        (_, false) => Ok(a.scale(b.k)),
+        (false, true) => Ok(b.scale(a.k)),
+    }
+}
+
+/// The rows of one constraint's text in s variables: linear expressions compared by
+/// `<=`, `>=`, `≤`, `≥` or `=` (a chain `0.2 <= x1 + x2 <= 0.8` gives a row per
+/// comparison), each as a·x ≤ b (`≥` flipped) or a·x = b.
+pub fn parse_constraint(text: &str, s: usize) -> Result<Vec<Row>, ParseError> {
+    let toks = lex(text, s)?;
+    let end = text.chars().count();
+    let mut p = Parser {
+        toks: &toks,
+        pos: 0,
+        s,
+        end,
+    };
+    let mut sides = vec![p.expr()?];
+    let mut cmps = Vec::new();
+    while let Some(Tok::Cmp(c)) = p.peek() {
+        cmps.push((c, p.at()));
+        p.pos += 1;
+        sides.push(p.expr()?);
+    }
+    if p.pos < toks.len() {
+        return fail(
+            p.at(),
+            "an operator (+, -, *, /) or a comparison was expected",
+        );
+    }
+    if cmps.is_empty() {
+        return fail(end, "a comparison <= or >= between two sides is missing");
+    }
+    let mut rows = Vec::new();
+    for (i, &(cmp, at)) in cmps.iter().enumerate() {
+        // left − right ≤ 0, i.e. c·x ≤ −k; `≥` is the same with the sides swapped.
+        let d = sides[i].clone().add(&sides[i + 1], -1.0);
+        let d = if cmp == Cmp::Ge { d.scale(-1.0) } else { d };
+        if !d.has_var {
+            return fail(at, "a comparison with no variable on either side");
+        }
+        if d.c.iter().all(|&v| v == 0.0) {
+            return fail(at, "the variables cancel: every coefficient is zero");
+        }
+        if d.c.iter().any(|v| !v.is_finite()) || !d.k.is_finite() {
+            return fail(at, "a coefficient overflows");
+        }
+        rows.push(Row {
+            a: d.c,
+            b: -d.k,
+            equality: cmp == Cmp::Eq,
+        });
+    }
+    Ok(rows)
+}
+
+/// A mixture's components: bounds [lo_k, hi_k] ⊆ [0, 1] for each of S components.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mixture {
+    /// Lower bounds of the S components.
+    pub lo: Vec<f64>,
+    /// Upper bounds.
+    pub hi: Vec<f64>,
+}
+
+/// How far the computed last component may fall outside its bounds by rounding (the
+/// sum of S − 1 numbers in [0, 1], checked by the polytope with unit normals) before it
+/// is a bug rather than rounding.
+fn lift_tolerance(components: usize) -> f64 {
+    1e-15 * (components as f64 / 8.0).max(1.0)
+}
+
+impl Mixture {
+    /// The number of components S.
+    pub fn components(&self) -> usize {
+        self.lo.len()
+    }
+
+    /// Points of the first S − 1 components with x_S = 1 − Σ x_k appended. A last
+    /// component outside its bounds by more than rounding, or a sum off 1 by more than
+    /// 1e-12, is refused rather than written.
+    pub fn lift(&self, p: &PointSet) -> Result<PointSet, Error> {
+        let big_s = self.components();
+        if p.s() + 1 != big_s {
+            return Err(Error::Numerical(format!(
+                "a mixture of {big_s} components from points of {} coordinates",
+                p.s()
+            )));
+        }
+        let (lo, hi) = (self.lo[big_s - 1], self.hi[big_s - 1]);
+        let tol = lift_tolerance(big_s);
+        let mut data = Vec::with_capacity(p.n() * big_s);
+        for (i, row) in p.rows().enumerate() {
+            let mut last = 1.0 - row.iter().sum::<f64>();
+            if (lo - tol..lo).contains(&last) {
+                last = lo;
+            } else if last > hi && last <= hi + tol {
+                last = hi;
+            }
+            let inside = row
+                .iter()
+                .enumerate()
+                .all(|(k, &v)| self.lo[k] <= v && v <= self.hi[k])
+                && lo <= last
+                && last <= hi;
+            let sum = row.iter().sum::<f64>() + last;
+            if !inside || (sum - 1.0).abs() > 1e-12 {
+                return Err(Error::Numerical(format!(
+                    "mixture point {}: components {:?} and {last:?} leave their bounds or \
+                     do not sum to 1 (a bug: the run keeps points inside)",
+                    i + 1,
+                    row
+                )));
+            }
+            data.extend_from_slice(row);
+            data.push(last);
+        }
+        PointSet::new(p.n(), big_s, data)
+    }
+}
+
+/// A mixture's polytope in its first S − 1 components, whose uniform draws come from
+/// the simplex {y ≥ 0, Σ y ≤ 1} when that is smaller than the polytope's box: with many
+/// components the simplex fills 1/(S − 1)! of the unit box, too little for rejection
+/// from the box (S = 8 keeps 1 draw in 5040).
+#[derive(Debug, Clone)]
+pub struct MixtureRegion {
+    polytope: Polytope,
+    from_simplex: bool,
+}
+
+impl MixtureRegion {
+    fn new(polytope: Polytope) -> MixtureRegion {
+        let (lo, hi) = polytope.bounding_box();
+        let s = lo.len();
+        let box_volume: f64 = lo.iter().zip(&hi).map(|(l, h)| h - l).product();
+        let simplex_volume = 1.0 / (1..=s).map(|k| k as f64).product::<f64>();
+        MixtureRegion {
+            polytope,
+            from_simplex: simplex_volume < box_volume,
+        }
+    }
+}
+
+impl Domain for MixtureRegion {
+    fn dim(&self) -> usize {
+        self.polytope.dim()
+    }
+
+    fn contains(&self, x: &[f64]) -> bool {
+        self.polytope.contains(x)
+    }
+
+    fn sample(&self, n: usize, seed: u64) -> Result<PointSet, Error> {
+        if !self.from_simplex {
+            return self.polytope.sample(n, seed);
+        }
+        if n == 0 {
+            return Err(Error::invalid("n", n, "at least 1 point"));
+        }
+        let s = self.dim();
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+        let max_draws = n.saturating_mul(1000).max(10_000);
+        let mut data = Vec::with_capacity(n * s);
+        let mut e = vec![0.0; s + 1];
+        for _ in 0..max_draws {
+            // Normalised exponentials are uniform on the simplex (a flat Dirichlet).
+            for v in e.iter_mut() {
+                *v = -(1.0 - rng.random::<f64>()).ln();
+            }
+            let total: f64 = e.iter().sum();
+            let y: Vec<f64> = e[..s].iter().map(|v| v / total).collect();
+            if self.polytope.contains(&y) {
+                data.extend_from_slice(&y);
+                if data.len() == n * s {
+                    return PointSet::new(n, s, data);
+                }
+            }
+        }
+        Err(Error::Numerical(format!(
+            "only {} of {max_draws} uniform mixtures met the bounds and constraints, and {n} \
+             points were asked for: they leave too little room; loosen them",
+            data.len() / s
+        )))
+    }
+
+    fn bring_back(&self, x: &mut [f64], prev: &mut [f64]) {
+        self.polytope.bring_back(x, prev)
+    }
+
+    fn keep_inside(&self, from: &[f64], to: &mut [f64], prev: &mut [f64]) -> bool {
+        self.polytope.keep_inside(from, to, prev)
+    }
+
+    fn closest_boundary_point(&self, x: &[f64], foot: &mut [f64]) -> Option<f64> {
+        self.polytope.closest_boundary_point(x, foot)
+    }
+
+    fn bounding_box(&self) -> (Vec<f64>, Vec<f64>) {
+        self.polytope.bounding_box()
+    }
+
+    fn level(&self, x: &[f64]) -> Option<f64> {
+        self.polytope.level(x)
+    }
+}
+
+/// A region given by linear constraints (and a mixture's sum).
+pub struct Constrained {
+    /// The polytope the run spreads its points in (a mixture's first S − 1 components).
+    pub domain: Arc<dyn Domain>,
+    /// The mixture whose last component is appended, if one.
+    pub mixture: Option<Mixture>,
+}
+
+/// What a constrained region is made from, as the caller gave it.
+pub struct ConstraintSpec<'a> {
+    /// The constraints' texts.
+    pub texts: &'a [String],
+    /// The box LO1,HI1,... (a mixture's per-component bounds).
+    pub bbox: Option<&'a [f64]>,
+    /// The dimension, if given (a mixture's number of components).
+    pub s: Option<usize>,
+    /// The components are ≥ 0 and sum to 1.
+    pub mixture: bool,
+}
+
+impl ConstraintSpec<'_> {
+    /// The polytope, or the refusal of the first bad part; `spell` writes a parameter's
+    /// name the caller's way (`--constraint`, `constraints`).
+    pub fn build(&self, spell: &dyn Fn(&str) -> String) -> Result<Constrained, Error> {
+        if self.mixture {
+            return self.mixture_polytope(spell);
+        }
+        let v = self.bbox.ok_or_else(|| {
+            Error::invalid(
+                spell("box"),
+                "none",
+                format!(
+                    "LO1,HI1,LO2,HI2,...: {} needs a box (it gives the dimension and \
+                     bounds the set)",
+                    spell("constraints")
+                ),
+            )
+        })?;
+        let (lo, hi) = intervals(&spell("box"), &numbers_text(v), v)?;
+        let s = lo.len();
+        if let Some(given) = self.s.filter(|&g| g != s) {
+            return Err(Error::invalid(
+                spell("s"),
+                given,
+                format!("the box's dimension, {s} (or no {})", spell("s")),
+            ));
+        }
+        let mut a = Vec::new();
+        let mut b = Vec::new();
+        for text in self.texts {
+            for row in self.rows(text, s, spell)? {
+                if row.equality {
+                    return Err(Error::invalid(
+                        spell("constraints"),
+                        text,
+                        format!(
+                            "an inequality (<= or >=): an equality leaves a flat set with no \
+                             room for points; for components that sum to 1 use {}",
+                            spell("mixture")
+                        ),
+                    ));
+                }
+                a.push(row.a);
+                b.push(row.b);
+            }
+        }
+        // The rows and the box are checked above: the polytope refuses only a set
+        // without interior.
+        let polytope = Polytope::new(a, b, lo, hi).map_err(|_| {
+            Error::invalid(
+                spell("constraints"),
+                self.texts.join("; "),
+                format!(
+                    "constraints that leave a set with interior inside the box {}; these \
+                     leave it empty or flat",
+                    numbers_text(v)
+                ),
+            )
+        })?;
+        Ok(Constrained {
+            domain: Arc::new(polytope),
+            mixture: None,
+        })
+    }
+
+    fn rows(
+        &self,
+        text: &str,
+        s: usize,
+        spell: &dyn Fn(&str) -> String,
+    ) -> Result<Vec<Row>, Error> {
+        parse_constraint(text, s).map_err(|e| {
+            Error::invalid(
+                spell("constraints"),
+                text,
+                format!(
+                    "a linear constraint in x1..x{s} such as \"x1 + 2*x2 <= 1\" (numbers, \
+                     variables, + - * /, parentheses, one of <= >= ≤ ≥): {e}"
+                ),
+            )
+        })
+    }
+
+    /// The mixture's bounds, checked: S pairs within [0, 1] whose lows sum below 1 and
+    /// highs above it.
+    fn mixture_bounds(&self, spell: &dyn Fn(&str) -> String) -> Result<Mixture, Error> {
+        let (lo, hi) = match self.bbox {
+            Some(v) => intervals(&spell("box"), &numbers_text(v), v)?,
+            None => {
+                let s = self.s.ok_or_else(|| {
+                    Error::invalid(
+                        spell("s"),
+                        "none",
+                        format!(
+                            "the number of components of {} (at least 2)",
+                            spell("mixture")
+                        ),
+                    )
+                })?;
+                (vec![0.0; s], vec![1.0; s])
+            }
+        };
+        let big_s = lo.len();
+        let shown = || numbers_text(self.bbox.unwrap_or_default());
+        if let Some(given) = self.s.filter(|&g| g != big_s) {
+            return Err(Error::invalid(
+                spell("s"),
+                given,
+                format!(
+                    "the number of components, {big_s} (one LO,HI pair of {} each)",
+                    spell("box")
+                ),
+            ));
+        }
+        if big_s < 2 {
+            return Err(Error::invalid(
+                spell("s"),
+                big_s,
+                format!("at least 2 components with {}", spell("mixture")),
+            ));
+        }
+        if let Some(k) = (0..big_s).find(|&k| lo[k] < 0.0 || hi[k] > 1.0) {
+            return Err(Error::invalid(
+                spell("box"),
+                shown(),
+                format!(
+                    "bounds of mixture components within [0, 1] ({}), but component {} has \
+                     [{}, {}]",
+                    spell("mixture"),
+                    k + 1,
+                    lo[k],
+                    hi[k]
+                ),
+            ));
+        }
+        let (sum_lo, sum_hi) = (lo.iter().sum::<f64>(), hi.iter().sum::<f64>());
+        if sum_lo >= 1.0 || sum_hi <= 1.0 {
+            return Err(Error::invalid(
+                spell("box"),
+                shown(),
+                format!(
+                    "component bounds that leave mixtures with room ({}: the lows must sum \
+                     below 1 and the highs above 1, but they sum to {sum_lo} and {sum_hi})",
+                    spell("mixture")
+                ),
+            ));
+        }
+        Ok(Mixture { lo, hi })
+    }
+
+    /// The polytope of a mixture in its first S − 1 components.
+    fn mixture_polytope(&self, spell: &dyn Fn(&str) -> String) -> Result<Constrained, Error> {
+        let m = self.mixture_bounds(spell)?;
+        let big_s = m.components();
+        let s = big_s - 1;
+        let (sum_lo, sum_hi) = (m.lo.iter().sum::<f64>(), m.hi.iter().sum::<f64>());
+        // Each component's range given the others' bounds: a tighter box, so that
+        // uniform draws in it fall inside more often.
+        let lo: Vec<f64> = (0..s)
+            .map(|k| m.lo[k].max(1.0 - (sum_hi - m.hi[k])))
+            .collect();
+        let hi: Vec<f64> = (0..s)
+            .map(|k| m.hi[k].min(1.0 - (sum_lo - m.lo[k])))
+            .collect();
+        // x_S = 1 − Σ x_k within [lo_S, hi_S].
+        let mut a = vec![vec![1.0; s], vec![-1.0; s]];
+        let mut b = vec![1.0 - m.lo[s], m.hi[s] - 1.0];
+        for text in self.texts {
+            for row in self.rows(text, big_s, spell)? {
+                let last = row.a[s];
+                let c: Vec<f64> = row.a[..s].iter().map(|v| v - last).collect();
+                let d = row.b - last;
+                let scale = row.a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                let tol = 1e-12 * scale.max(d.abs()).max(1.0);
+                if c.iter().all(|v| v.abs() <= tol) {
+                    // A multiple of the sum: always or never true of a mixture.
+                    let holds = if row.equality {
+                        d.abs() <= tol
+                    } else {
+                        d >= -tol
+                    };
+                    if holds {
+                        continue;
+                    }
+                    return Err(Error::invalid(
+                        spell("constraints"),
+                        text,
+                        format!(
+                            "a constraint some mixture meets: with {} the components sum \
+                             to 1, which this contradicts",
+                            spell("mixture")
+                        ),
+                    ));
+                }
+                if row.equality {
+                    return Err(Error::invalid(
+                        spell("constraints"),
+                        text,
+                        format!(
+                            "an inequality (<= or >=): {} holds the sum to 1 already, and \
+                             any other equality leaves a flat set with no room for points",
+                            spell("mixture")
+                        ),
+                    ));
+                }
+                a.push(c);
+                b.push(d);
+            }
+        }
+        let bounds: Vec<f64> = m.lo.iter().zip(&m.hi).flat_map(|(a, b)| [*a, *b]).collect();
+        let polytope = Polytope::new(a, b, lo, hi).map_err(|_| {
+            Error::invalid(
+                spell("constraints"),
+                if self.texts.is_empty() {
+                    "none".to_string()
+                } else {
+                    self.texts.join("; ")
+                },
+                format!(
+                    "constraints that leave mixtures with room within the component bounds \
+                     ({} {}, {}); these leave none, or only a flat set",
+                    spell("box"),
+                    numbers_text(&bounds),
+                    spell("mixture")
+                ),
+            )
+        })?;
+        Ok(Constrained {
+            domain: Arc::new(MixtureRegion::new(polytope)),
+            mixture: Some(m),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rows(text: &str, s: usize) -> Vec<(Vec<f64>, f64)> {
+        parse_constraint(text, s)
+            .unwrap_or_else(|e| panic!("{text}: {e}"))
+            .into_iter()
+            .map(|r| (r.a, r.b))
+            .collect()
+    }
+
+    fn refusal(text: &str, s: usize) -> String {
+        parse_constraint(text, s)
+            .map(|r| panic!("{text} was accepted as {r:?}"))
+            .unwrap_err()
+            .to_string()
+    }
+
+    #[test]
+    fn coefficients_are_read_in_every_spelling() {
+        assert_eq!(rows("x1 + 2*x2 <= 1", 2), vec![(vec![1.0, 2.0], 1.0)]);
+        assert_eq!(rows("x1+2x2<=1", 2), vec![(vec![1.0, 2.0], 1.0)]);
+        assert_eq!(
+            rows("2 x1 - x3 <= 0.5", 3),
+            vec![(vec![2.0, 0.0, -1.0], 0.5)]
+        );
+        assert_eq!(
+            rows("0.5*x2 + 1e-3*x1 ≤ 4", 2),
+            vec![(vec![1e-3, 0.5], 4.0)]
+        );
+        assert_eq!(rows("-x1 + -2*x2 <= 1", 2), vec![(vec![-1.0, -2.0], 1.0)]);
+        assert_eq!(
+            rows("x1/4 + 3(x2 - 1) <= 0", 2),
+            vec![(vec![0.25, 3.0], 3.0)]
+        );
+        assert_eq!(rows("x + 2*y <= 1", 2), vec![(vec![1.0, 2.0], 1.0)]);
+        assert_eq!(rows("2^2 * x1 <= 1", 1), vec![(vec![4.0], 1.0)]);
+    }
+
+    #[test]
+    fn both_sides_move_and_greater_is_flipped() {
+        assert_eq!(rows("x1 + 1 <= x2 - 2", 2), vec![(vec![1.0, -1.0], -3.0)]);
+        assert_eq!(rows("x1 + x2 >= 0.5", 2), vec![(vec![-1.0, -1.0], -0.5)]);
+        assert_eq!(rows("1 ≥ x2", 2), vec![(vec![0.0, 1.0], 1.0)]);
+        assert_eq!(
+            rows("0.2 <= x1 + x2 <= 0.8", 2),
+            vec![(vec![-1.0, -1.0], -0.2), (vec![1.0, 1.0], 0.8)]
+        );
+        let eq = parse_constraint("x1 + x2 = 1", 2).unwrap();
+        assert!(eq[0].equality);
+    }
+
+    #[test]
+    fn what_is_not_linear_or_not_a_variable_is_refused() {
+        for (text, s, says) in [
+            ("x1*x2 <= 1", 2, "product of two variables"),
+            ("x1^2 <= 1", 1, "power of a variable"),
+            ("1/x1 <= 1", 1, "dividing by a variable"),
+            ("sin(x1) <= 1", 1, "not linear"),
+            ("x3 <= 1", 2, "x1..x2"),
+            ("x0 <= 1", 2, "x1..x2"),
+            ("w1 <= 1", 2, "unknown variable"),
+            ("1 <= 2", 2, "no variable"),
+            ("x1 - x1 <= 2", 2, "cancel"),
+            ("x1 + x2", 2, "comparison"),
+            ("x1 < 1", 1, "not strict"),
+            ("x1 + <= 1", 1, "missing"),
+            ("x1 1 2 ) <= 1", 1, "expected"),
+            ("(x1 + 1 <= 2", 1, "closing"),
+            ("1e400*x1 <= 1", 1, "finite"),
+            ("x1 / 0 <= 1", 1, "division by zero"),
+        ] {
+            let e = refusal(text, s);
+            assert!(e.contains(says), "{text}: {e}");
+        }
+    }
+
+    fn spell(name: &str) -> String {
+        format!("--{name}")
+    }
+
+    #[test]
+    fn a_constrained_box_is_a_polytope_and_an_empty_one_is_refused() {
+        let texts = vec!["x1 + 2*x2 <= 1".to_string()];
+        let spec = ConstraintSpec {
+            texts: &texts,
+            bbox: Some(&[0.0, 1.0, 0.0, 1.0]),
+            s: None,
+            mixture: false,
+        };
+        let c = spec.build(&spell).unwrap();
+        assert!(c.domain.contains(&[0.5, 0.2]));
+        assert!(!c.domain.contains(&[0.5, 0.3]));
+        let empty = vec!["x1 + x2 >= 3".to_string()];
+        let e = ConstraintSpec {
+            texts: &empty,
+            ..spec
+        }
+        .build(&spell)
+        .err()
+        .unwrap()
+        .to_string();
+        assert!(e.starts_with("invalid --constraints = x1 + x2 >= 3"), "{e}");
+        assert!(e.contains("interior"), "{e}");
+        let eq = vec!["x1 + x2 = 1".to_string()];
+        let e = ConstraintSpec { texts: &eq, ..spec }
+            .build(&spell)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("--mixture"), "{e}");
+    }
+
+    #[test]
+    fn many_components_are_drawn_from_the_simplex() {
+        let none: Vec<String> = Vec::new();
+        let c = ConstraintSpec {
+            texts: &none,
+            bbox: None,
+            s: Some(10),
+            mixture: true,
+        }
+        .build(&spell)
+        .unwrap();
+        // The 9-simplex keeps 1 in 362 880 uniform draws of its box.
+        let p = c.domain.sample(500, 1).unwrap();
+        let x = c.mixture.unwrap().lift(&p).unwrap();
+        assert_eq!((x.n(), x.s()), (500, 10));
+        for r in x.rows() {
+            assert!((r.iter().sum::<f64>() - 1.0).abs() <= 1e-12);
+            assert!(r.iter().all(|v| (0.0..=1.0).contains(v)), "{r:?}");
+        }
+        // Uniform on the simplex: each component's mean is 1/10.
+        let mean = x.rows().map(|r| r[9]).sum::<f64>() / 500.0;
+        assert!((mean - 0.1).abs() < 0.02, "{mean}");
+    }
+
+    #[test]
+    fn a_mixture_is_run_in_its_first_components_and_lifted_to_sum_one() {
+        let texts = vec!["x3 <= 0.5".to_string(), "x1 + x2 + x3 = 1".to_string()];
+        let spec = ConstraintSpec {
+            texts: &texts,
+            bbox: Some(&[0.1, 0.8, 0.0, 1.0, 0.2, 1.0]),
+            s: Some(3),
+            mixture: true,
+        };
+        let c = spec.build(&spell).unwrap();
+        let m = c.mixture.clone().unwrap();
+        assert_eq!(c.domain.dim(), 2);
+        // x3 = 1 − x1 − x2 ≤ 0.5 ⇔ x1 + x2 ≥ 0.5; x3 ≥ 0.2 ⇔ x1 + x2 ≤ 0.8.
+        assert!(c.domain.contains(&[0.3, 0.3]));
+        assert!(!c.domain.contains(&[0.2, 0.2]));
+        assert!(!c.domain.contains(&[0.5, 0.4]));
+        let p = c.domain.sample(200, 3).unwrap();
+        let x = m.lift(&p).unwrap();
+        for r in x.rows() {
+            assert!((r.iter().sum::<f64>() - 1.0).abs() <= 1e-12);
+            assert!(
+                (0.2..=0.5).contains(&r[2]) && (0.1..=0.8).contains(&r[0]),
+                "{r:?}"
+            );
+        }
+        let far = PointSet::from_rows(&[[0.7, 0.3]]).unwrap();
+        assert!(m.lift(&far).is_err());
+        for (bbox, says) in [
+            (vec![0.5, 1.0, 0.6, 1.0, 0.0, 1.0], "sum below 1"),
+            (vec![0.0, 0.3, 0.0, 0.3, 0.0, 0.3], "sum below 1"),
+            (vec![-0.1, 1.0, 0.0, 1.0, 0.0, 1.0], "within [0, 1]"),
+        ] {
+            let e = ConstraintSpec {
+                bbox: Some(&bbox),
+                ..spec
+            }
+            .build(&spell)
+            .err()
+            .unwrap()
+            .to_string();
+            assert!(e.starts_with("invalid --box") && e.contains(says), "{e}");
+        }
+        let never = vec!["x1 + x2 + x3 >= 2".to_string()];
+        let e = ConstraintSpec {
+            texts: &never,
+            ..spec
+        }
+        .build(&spell)
+        .err()
+        .unwrap()
+        .to_string();
+        assert!(e.contains("contradicts"), "{e}");
+        let nothing = vec!["x1 >= 0.79".to_string(), "x2 >= 0.2".to_string()];
+        let e = ConstraintSpec {
+            texts: &nothing,
+            ..spec
+        }
+        .build(&spell)
+        .err()
+        .unwrap()
+        .to_string();
+        assert!(e.contains("room") && e.contains("--mixture"), "{e}");
+    }
+}
