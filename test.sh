@@ -18,7 +18,7 @@ export PYO3_PYTHON="$PWD/$venv/bin/python"
 # compare with).
 cargo test --release --workspace
 
-python -m pip install -q "maturin>=1.16,<2" numpy scipy pytest dask distributed
+python -m pip install -q "maturin>=1.16,<2" numpy scipy pytest dask distributed pandas
 # No build isolation: the venv's maturin builds in place, so cargo reuses target/.
 python -m pip install -q --no-build-isolation --no-deps --force-reinstall ./python
 test -x target/release/stillpoint || cargo build --release --bin stillpoint

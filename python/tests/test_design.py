@@ -119,3 +119,13 @@ def test_a_correlation_is_kept_and_measured_on_the_independent_scores():
                   correlation=[[1, 0.9, -0.9], [0.9, 1, 0.9], [-0.9, 0.9, 1]])
     with pytest.raises(ValueError, match="correlation"):
         sp.generate(10, 2, correlation=r)
+
+
+def test_without_pandas_a_table_is_a_dict_of_columns(monkeypatch):
+    import sys
+
+    # A module set to None makes its import raise ImportError, as when it is absent.
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    t = sp.generate(12, space={"x": "uniform(0,1)", "c": ["a", "b"]})
+    assert isinstance(t, dict) and list(t) == ["x", "c"]
+    assert sorted(t["c"].tolist()) == ["a"] * 6 + ["b"] * 6
