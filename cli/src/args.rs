@@ -317,6 +317,14 @@ pub(crate) enum Command {
         /// The correlation the design was made with (generate --correlation).
         #[arg(long, value_name = "ROWS", allow_hyphen_values = true)]
         correlation: Option<String>,
+        /// Measure the points in {A x ≤ b} ∩ --box, as generate --constraint makes them
+        /// (repeatable): energy distance to uniform on it, minimum distance, share inside.
+        #[arg(long = "constraint", value_name = "EXPR", allow_hyphen_values = true)]
+        constraint: Vec<String>,
+        /// The points are mixtures (generate --mixture): components summing to 1, within
+        /// the --box bounds and --constraint cuts; measured in the first S − 1 components.
+        #[arg(long)]
+        mixture: bool,
     },
     /// Compare the DEM and L-BFGS on U_{q,p} and on a discrepancy energy, for a list of
     /// (s, n); writes comparison.md, comparison.json and convergence pictures.

@@ -61,10 +61,18 @@ fn eval_command(c: Command) -> Result<()> {
         var,
         space,
         correlation,
+        constraint,
+        mixture,
     } = c
     else {
         bail!("eval: not this subcommand");
     };
+    if !constraint.is_empty() || mixture {
+        if region.is_some() || shape.is_some() || bounds.is_some() || !var.is_empty() {
+            bail!("invalid --constraint/--mixture with --region, --shape, --bounds or --var: give the region one way");
+        }
+        return constrained_eval(&files, json, &constraint, bbox.as_deref(), mixture);
+    }
     if !var.is_empty() || space.is_some() {
         if region.is_some() || shape.is_some() || bounds.is_some() || bbox.is_some() {
             bail!("invalid --var/--space with --region, --shape, --box or --bounds: a design's variables carry their own ranges");
@@ -123,6 +131,32 @@ fn eval_command(c: Command) -> Result<()> {
     Ok(())
 }
 
+/// `stillpoint eval --constraint ... --box ...` (or `--mixture`): each file's figures in
+/// the constrained region.
+fn constrained_eval(
+    files: &[PathBuf],
+    json: bool,
+    texts: &[String],
+    bbox: Option<&str>,
+    mixture: bool,
+) -> Result<()> {
+    let bbox = match bbox {
+        Some(text) => Some(stillpoint::plan::space::number_list("--box", text, text)?),
+        None => None,
+    };
+    each_in_region(files, json, |points| {
+        let spec = stillpoint::plan::constraints::ConstraintSpec {
+            texts,
+            bbox: bbox.as_deref(),
+            s: Some(points.s()),
+            mixture,
+        };
+        Ok(stillpoint::plan::constraints::constrained_eval_json(
+            &spec, points, &flag_name,
+        )?)
+    })
+}
+
 /// `stillpoint eval --region/--shape`: each file's figures in the region.
 fn region_eval(
     files: &[PathBuf],
@@ -131,12 +165,25 @@ fn region_eval(
     bbox: Option<&str>,
     shape: Option<&str>,
 ) -> Result<()> {
+    each_in_region(files, json, |points| {
+        let domain = region_domain(region, bbox, shape, Some(points.s()))?;
+        Ok(stillpoint::quality::region::region_eval_json(
+            &domain, points,
+        )?)
+    })
+}
+
+/// Each file's region figures from `figures`: a table per file, or JSON (one object, or
+/// an array of them for several files).
+fn each_in_region(
+    files: &[PathBuf],
+    json: bool,
+    figures: impl Fn(&PointSet) -> Result<Value>,
+) -> Result<()> {
     let mut all = Vec::new();
     for file in files {
         let points = io::read_points(file)?;
-        let domain = region_domain(region, bbox, shape, Some(points.s()))?;
-        let mut v = stillpoint::quality::region::region_eval_json(&domain, &points)
-            .with_context(|| format!("{}", file.display()))?;
+        let mut v = figures(&points).with_context(|| format!("{}", file.display()))?;
         v["file"] = json!(file.display().to_string());
         if !json {
             out!("{}", stillpoint::quality::region::region_eval_text(&v));

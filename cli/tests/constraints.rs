@@ -328,3 +328,69 @@ fn what_leaves_no_points_is_refused_naming_the_option() {
         assert!(!out.exists(), "{args:?} wrote a file");
     }
 }
+
+#[test]
+fn eval_measures_constrained_sets_and_mixtures_in_their_region() {
+    let dir = TempDir::new("eval-constraints");
+    let cut = "x1 + 2*x2 <= 1.5";
+    run(
+        &dir,
+        "c.csv",
+        &[
+            "-n",
+            "80",
+            "--goal",
+            "integration",
+            "--constraint",
+            cut,
+            "--box",
+            "0,1,0,1",
+        ],
+    );
+    let eval = |args: &[&str]| {
+        let o = bin()
+            .current_dir(&dir.0)
+            .arg("eval")
+            .args(args)
+            .output()
+            .unwrap();
+        (
+            o.status.success(),
+            String::from_utf8_lossy(&o.stdout).to_string(),
+            String::from_utf8_lossy(&o.stderr).to_string(),
+        )
+    };
+    let (ok, out, err) = eval(&["--json", "--constraint", cut, "--box", "0,1,0,1", "c.csv"]);
+    assert!(ok, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["fraction_inside"], 1.0);
+    assert!(v["energy_distance"].as_f64().unwrap() > 0.0);
+    // A cut that half the points break: the share inside says so.
+    let (ok, out, _) = eval(&[
+        "--json",
+        "--constraint",
+        "x1 <= 0.5",
+        "--box",
+        "0,1,0,1",
+        "c.csv",
+    ]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let inside = v["fraction_inside"].as_f64().unwrap();
+    assert!(ok && inside > 0.3 && inside < 0.7, "{inside}");
+    run(
+        &dir,
+        "m.csv",
+        &["-n", "60", "-s", "3", "--mixture", "--goal", "integration"],
+    );
+    let (ok, out, err) = eval(&["--json", "--mixture", "m.csv"]);
+    assert!(ok, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(
+        (v["mixture"].as_bool(), v["s"].as_u64()),
+        (Some(true), Some(2))
+    );
+    let (ok, _, err) = eval(&["--mixture", "c.csv"]);
+    assert!(!ok && err.contains("summing to 1"), "{err}");
+    let (ok, _, err) = eval(&["--constraint", cut, "--shape", "simplex", "c.csv"]);
+    assert!(!ok && err.contains("one way"), "{err}");
+}

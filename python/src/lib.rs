@@ -445,6 +445,33 @@ fn region_metrics_json(
     })
 }
 
+/// The region figures of points in {A x ≤ b} ∩ `bbox` (or of mixtures), as JSON text:
+/// what `stillpoint eval --constraint ... --box ...` (or `--mixture`) prints.
+#[pyfunction]
+#[pyo3(signature = (x, constraints, bbox=None, mixture=false))]
+fn constrained_metrics_json(
+    py: Python<'_>,
+    x: PyReadonlyArray2<'_, f64>,
+    constraints: Vec<String>,
+    bbox: Option<Vec<f64>>,
+    mixture: bool,
+) -> PyResult<String> {
+    let p = point_set("x", &x)?;
+    let none = HashMap::new();
+    detached(py, move || {
+        let spec = stillpoint::plan::constraints::ConstraintSpec {
+            texts: &constraints,
+            bbox: bbox.as_deref(),
+            s: Some(p.s()),
+            mixture,
+        };
+        let v =
+            stillpoint::plan::constraints::constrained_eval_json(&spec, &p, &|n| spell(n, &none))
+                .map_err(|e| spell_error(e, &none))?;
+        serde_json::to_string(&v).map_err(|e| e.to_string())
+    })
+}
+
 /// One L2 discrepancy (the root): `l2star`, `md` (modified), `cd` (centred) or `wd`
 /// (wrap-around).
 #[pyfunction]
@@ -485,6 +512,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(estimate, m)?)?;
     m.add_function(wrap_pyfunction!(metrics_json, m)?)?;
     m.add_function(wrap_pyfunction!(region_metrics_json, m)?)?;
+    m.add_function(wrap_pyfunction!(constrained_metrics_json, m)?)?;
     m.add_function(wrap_pyfunction!(discrepancy, m)?)?;
     m.add_function(wrap_pyfunction!(baselines, m)?)?;
     m.add_function(wrap_pyfunction!(integrate_json, m)?)?;

@@ -464,6 +464,8 @@ def metrics(
     region: Optional[str] = None,
     box: Optional[Sequence[float]] = None,
     shape: Optional[str] = None,
+    constraints: Any = None,
+    mixture: bool = False,
 ) -> Dict[str, Any]:
     """Every figure ``stillpoint eval --json`` prints for points in [0, 1]^d, as a dict
     with the same keys and values: ``n``, ``s``, the discrepancies ``star_l2``,
@@ -481,8 +483,18 @@ def metrics(
     for points in that region instead: ``energy_distance`` (D^2 to the uniform
     distribution on it, the square form) with ``energy_distance_se`` (its standard
     error from an independent uniform sample of ``energy_distance_reference_points``
-    points), ``min_distance`` and ``fraction_inside``.
+    points), ``min_distance`` and ``fraction_inside``. ``constraints`` (with ``box``) and
+    ``mixture`` measure points made with those options of :func:`generate` the same way
+    (``stillpoint eval --constraint/--mixture``; a mixture in its first d − 1
+    components).
     """
+    if constraints is not None or mixture:
+        if region is not None or shape is not None:
+            raise ValueError("invalid constraints with region or shape: give the region one way")
+        texts = _constraint_texts(constraints if constraints is not None else [], "constraints")
+        texts = [texts] if isinstance(texts, str) else list(texts)
+        bbox = None if box is None else [float(v) for v in np.ravel(np.asarray(box, dtype=np.float64))]
+        return json.loads(_core.constrained_metrics_json(_points(x), texts, bbox, bool(mixture)))
     if region is not None or shape is not None:
         pts = _points(x)
         bbox = None if box is None else [float(v) for v in box]

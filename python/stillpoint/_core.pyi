@@ -45,6 +45,14 @@ def metrics_json(x: npt.NDArray[np.float64], exact: bool = False) -> str:
     """Every figure ``stillpoint eval --json`` prints for points in [0, 1]^d, as the same
     JSON object (compact text). Refuses a coordinate outside [0, 1]."""
 
+def constrained_metrics_json(
+    x: npt.NDArray[np.float64],
+    constraints: Sequence[str],
+    bbox: Optional[Sequence[float]] = None,
+    mixture: bool = False,
+) -> str:
+    """The figures of ``stillpoint eval --constraint/--mixture --json``, as JSON text."""
+
 def region_metrics_json(
     x: npt.NDArray[np.float64],
     region: Optional[str] = None,

@@ -2,6 +2,7 @@
 constraints held, mixtures summing to 1, pairs (a, b) read as a·x <= b, refusals named
 as Python spells them, and the README's example."""
 
+import json
 import re
 
 import numpy as np
@@ -101,3 +102,23 @@ def test_the_readme_example_runs_as_written():
     assert (x @ np.array([0.0, 1.0, 1.0]) - 1.5).max() <= 1e-12
     assert (blend >= [0.1, 0, 0]).all() and (blend <= [0.8, 0.6, 1]).all()
     assert (0.3 - blend[:, 0] - blend[:, 1]).max() <= 1e-12
+
+
+def test_metrics_of_constrained_and_mixture_sets_are_the_cli_eval(cli, tmp_path):
+    cons = ["x1 + 2*x2 <= 1.5"]
+    x = sp.generate(80, constraints=cons, box=[0, 1, 0, 1], goal="integration")
+    path = tmp_path / "c.npy"
+    np.save(path, x)
+    want = json.loads(cli("eval", "--json", "--constraint", cons[0], "--box", "0,1,0,1", path))
+    got = sp.metrics(x, constraints=cons, box=[0, 1, 0, 1])
+    assert got["energy_distance"] == want["energy_distance"]
+    assert got["fraction_inside"] == 1.0
+    m = sp.generate(60, 3, mixture=True, goal="integration")
+    f = sp.metrics(m, mixture=True)
+    assert f["mixture"] is True and f["s"] == 2 and f["fraction_inside"] == 1.0
+    # Closer to uniform on the simplex than uniform points of it are.
+    rng = np.random.default_rng(0)
+    u = rng.dirichlet(np.ones(3), size=60)
+    assert f["energy_distance"] < sp.metrics(u, mixture=True)["energy_distance"]
+    with pytest.raises(ValueError, match="summing to 1"):
+        sp.metrics(np.full((4, 3), 0.2), mixture=True)

@@ -786,6 +786,59 @@ impl ConstraintSpec<'_> {
     }
 }
 
+/// `eval` of points in a constrained region: the region figures
+/// ([`crate::quality::region::region_eval_json`]) in the polytope of `spec`. For a
+/// mixture the points have its S components, each row summing to 1 within 1e-9 (refused
+/// otherwise, naming the row); the figures are taken in the first S − 1 components,
+/// where the region has an interior, as the run makes them.
+pub fn constrained_eval_json(
+    spec: &ConstraintSpec<'_>,
+    points: &PointSet,
+    spell: &dyn Fn(&str) -> String,
+) -> Result<serde_json::Value, Error> {
+    let built = spec.build(spell)?;
+    let inner = match &built.mixture {
+        None => points.clone(),
+        Some(m) => {
+            let big_s = m.components();
+            if points.s() != big_s {
+                return Err(Error::invalid(
+                    "points",
+                    format!("{} coordinates", points.s()),
+                    format!("the mixture's {big_s} components"),
+                ));
+            }
+            if let Some(i) = points
+                .rows()
+                .position(|r| (r.iter().sum::<f64>() - 1.0).abs() > 1e-9)
+            {
+                return Err(Error::invalid(
+                    format!("point {}", i + 1),
+                    format!(
+                        "components summing to {}",
+                        points.point(i).iter().sum::<f64>()
+                    ),
+                    "components summing to 1 (within 1e-9), as a mixture's do",
+                ));
+            }
+            let data: Vec<f64> = points
+                .rows()
+                .flat_map(|r| r[..big_s - 1].to_vec())
+                .collect();
+            PointSet::new(points.n(), big_s - 1, data)?
+        }
+    };
+    let mut v = crate::quality::region::region_eval_json(&built.domain, &inner)?;
+    if built.mixture.is_some() {
+        v["mixture"] = serde_json::json!(true);
+        v["note"] = serde_json::json!(
+            "a mixture's figures are taken in its first S − 1 components (the last is 1 minus \
+             their sum)"
+        );
+    }
+    Ok(v)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
