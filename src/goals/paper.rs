@@ -86,51 +86,8 @@ pub(crate) fn paper_run(
             &mut observer,
         )?
     };
-    // The energies reported for the start and the DEM's result, at full precision when
-    // the run used the fast table.
-    let full_energies = match (&cfg.space, cfg.energy) {
-        (Space::Cube, EnergyKind::Uqp) if cfg.precision != Precision::Full => {
-            let (e, _) = choose_energy(cfg.n, cfg.s, cfg.q, cfg.p)?;
-            match e.distance() {
-                Distance::Q(q) if Precision::fast_applies(q) => {
-                    Some((e.value(&start), e.value(&output.points)))
-                }
-                _ => None,
-            }
-        }
-        _ => None,
-    };
-    let (mut shift, mut polish) = (None, None);
-    for step in cfg.post_steps() {
-        match step {
-            // A shift is a motion the energy does not see only on the torus.
-            PostStep::Shift(candidates) if domain.is_periodic() => {
-                on_event(Event::Stage {
-                    name: "shift selection",
-                    steps: None,
-                });
-                let (points, outcome) = shift::best_shift(&output.points, candidates);
-                output.points = points;
-                shift = Some(outcome);
-            }
-            PostStep::Shift(_) => {}
-            PostStep::Polish(kind) => {
-                on_event(Event::Stage {
-                    name: "polish",
-                    steps: Some(cfg.steps as u64),
-                });
-                let p = crate::post::polish::polish(
-                    &output.points,
-                    kind,
-                    cfg.steps,
-                    &cfg.lbfgs,
-                    |step| on_event(Event::Progress(step)),
-                )?;
-                output.points = p.points;
-                polish = Some((p.before, p.after, p.iterations));
-            }
-        }
-    }
+    let full_energies = full_energies(cfg, &start, &output.points)?;
+    let (shift, polish) = post_steps(cfg, domain.is_periodic(), &mut output, &mut on_event)?;
     debug_assert!(output.points.rows().all(|r| domain.contains(r)));
     output.points = with_old(&output.points)?;
     let start = with_old(&start)?;
@@ -169,4 +126,67 @@ pub(crate) fn paper_run(
         stages: Vec::new(),
         seconds: clock.elapsed().as_secs_f64(),
     })
+}
+
+/// The energies reported for the start and the DEM's result, at full precision when the
+/// run used the fast table (`None`: the run's own values are already exact).
+fn full_energies(
+    cfg: &GenerateConfig,
+    start: &PointSet,
+    result: &PointSet,
+) -> Result<Option<(f64, f64)>, Error> {
+    Ok(match (&cfg.space, cfg.energy) {
+        (Space::Cube, EnergyKind::Uqp) if cfg.precision != Precision::Full => {
+            let (e, _) = choose_energy(cfg.n, cfg.s, cfg.q, cfg.p)?;
+            match e.distance() {
+                Distance::Q(q) if Precision::fast_applies(q) => {
+                    Some((e.value(start), e.value(result)))
+                }
+                _ => None,
+            }
+        }
+        _ => None,
+    })
+}
+
+/// The configured post-steps on the solver's result, in order: the best periodic shift
+/// (on the torus only, where a shift is a motion the energy does not see) and the polish.
+#[allow(clippy::type_complexity)]
+fn post_steps(
+    cfg: &GenerateConfig,
+    periodic: bool,
+    output: &mut crate::integrators::RunOutput,
+    on_event: &mut impl FnMut(Event),
+) -> Result<(Option<shift::ShiftOutcome>, Option<(f64, f64, usize)>), Error> {
+    let (mut shift, mut polish) = (None, None);
+    for step in cfg.post_steps() {
+        match step {
+            PostStep::Shift(candidates) if periodic => {
+                on_event(Event::Stage {
+                    name: "shift selection",
+                    steps: None,
+                });
+                let (points, outcome) = shift::best_shift(&output.points, candidates);
+                output.points = points;
+                shift = Some(outcome);
+            }
+            PostStep::Shift(_) => {}
+            PostStep::Polish(kind) => {
+                on_event(Event::Stage {
+                    name: "polish",
+                    steps: Some(cfg.steps as u64),
+                });
+                let p = crate::post::polish::polish(
+                    &output.points,
+                    kind,
+                    cfg.steps,
+                    &cfg.lbfgs,
+                    |step| on_event(Event::Progress(step)),
+                )?;
+                output.points = p.points;
+                polish = Some((p.before, p.after, p.iterations));
+            }
+        }
+    }
+    Ok((shift, polish))
 }

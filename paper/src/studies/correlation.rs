@@ -287,43 +287,7 @@ fn table(
         ));
         // Fig. 3: the evolution of P_{2,20} (the paper's example of a negative ρ).
         if by_n && n == 20 {
-            let chart = |title: &str, y: &str, series: Vec<Series>| LineChart {
-                title: title.into(),
-                x_label: "step".into(),
-                y_label: y.into(),
-                log_y: true,
-                series,
-            };
-            let zip = |v: &[f64]| t1.steps.iter().copied().zip(v.iter().copied()).collect();
-            let path = opts.out.join("fig3_p2_20.png");
-            save_charts(
-                &path,
-                &[
-                    chart(
-                        "P_{2,20}: discrepancies along the DEM on U_{1,1}",
-                        "discrepancy",
-                        vec![
-                            Series {
-                                name: "D_L2*".into(),
-                                points: zip(&t1.star),
-                            },
-                            Series {
-                                name: "D_MD".into(),
-                                points: zip(&t1.modified),
-                            },
-                        ],
-                    ),
-                    chart(
-                        "P_{2,20}: U_{1,1}",
-                        "U_{1,1}",
-                        vec![Series {
-                            name: "U_{1,1}".into(),
-                            points: zip(&t1.energy),
-                        }],
-                    ),
-                ],
-                files,
-            )?;
+            fig3(&t1, opts, files)?;
         }
     }
     text += &render(
@@ -337,6 +301,48 @@ fn table(
         files,
     )?;
     Ok(text)
+}
+
+/// Fig. 3: discrepancies and U_{1,1} along the DEM on P_{2,20}.
+fn fig3(t1: &Trajectory, opts: &StudyOptions, files: &mut Vec<std::path::PathBuf>) -> Result<()> {
+    let chart = |title: &str, y: &str, series: Vec<Series>| LineChart {
+        title: title.into(),
+        x_label: "step".into(),
+        y_label: y.into(),
+        log_y: true,
+        series,
+    };
+    let zip = |v: &[f64]| t1.steps.iter().copied().zip(v.iter().copied()).collect();
+    let path = opts.out.join("fig3_p2_20.png");
+    save_charts(
+        &path,
+        &[
+            chart(
+                "P_{2,20}: discrepancies along the DEM on U_{1,1}",
+                "discrepancy",
+                vec![
+                    Series {
+                        name: "D_L2*".into(),
+                        points: zip(&t1.star),
+                    },
+                    Series {
+                        name: "D_MD".into(),
+                        points: zip(&t1.modified),
+                    },
+                ],
+            ),
+            chart(
+                "P_{2,20}: U_{1,1}",
+                "U_{1,1}",
+                vec![Series {
+                    name: "U_{1,1}".into(),
+                    points: zip(&t1.energy),
+                }],
+            ),
+        ],
+        files,
+    )?;
+    Ok(())
 }
 
 /// The markdown and the figure of one table from its rows and series.
