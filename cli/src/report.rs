@@ -777,7 +777,7 @@ pub(crate) fn region_table(
         domain,
         r.energy_name,
         match &cfg.init {
-            Init::Random => format!("random start (seed {}, first n inside the box)", cfg.seed),
+            Init::Random => format!("random start (seed {}, uniform in the region)", cfg.seed),
             Init::Halton => "Halton start (first n inside the box)".into(),
             Init::Points(_) => "points from file".into(),
         },

@@ -4,7 +4,9 @@ The points are the static solution of a damped many-body problem (the dynamical
 evolutionary model): :func:`generate` gives exactly what ``stillpoint generate -n N -s D``
 writes, :func:`metrics` what ``stillpoint eval --json`` prints, :func:`baseline` the
 classic sequences (scrambled Sobol', Halton, lattices, Latin hypercubes, ...),
-:func:`integrate` the paper's test integrals, and :class:`Engine` a SciPy
+:func:`integrate` the paper's test integrals, :func:`design` a design in a mixed space
+(distributions, integer and categorical factors; ``generate(n, space=...)`` as a table),
+and :class:`Engine` a SciPy
 ``scipy.stats.qmc.QMCEngine`` that draws randomised copies of an optimised set
 (usable with ``scipy.integrate.qmc_quad``).
 
