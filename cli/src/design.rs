@@ -136,16 +136,7 @@ pub(crate) fn design_eval(
 ) -> Result<()> {
     let mut space = DesignSpace::parse("--var", items)?;
     if let Some(text) = correlation {
-        let matrix = text
-            .split([';', ','])
-            .map(|x| x.trim().parse::<f64>())
-            .collect::<Result<Vec<f64>, _>>()
-            .map_err(|_| {
-                anyhow::anyhow!(
-                    "invalid --correlation = {text}: expected rows of numbers: 1,0.5;0.5,1"
-                )
-            })?;
-        space.correlate("--correlation", text, matrix)?;
+        space.correlate_rows("--correlation", text)?;
     }
     let mut all = Vec::new();
     for file in files {

@@ -271,15 +271,12 @@ def generate(
         silences it or, with ``'error'``, turns it into an exception before any work.
     """
     if later.get("space") is not None:
-        for name, value in (("method", method), ("energy", energy), ("integrator", integrator), ("steps", steps)):
+        # Every option goes to the library, which refuses those a space does not take.
+        for name, value in (("method", method), ("energy", energy), ("integrator", integrator),
+                            ("steps", steps), ("region", region), ("box", box), ("shape", shape),
+                            ("bounds", bounds)):
             if value is not None:
                 later[name] = value
-        for name, value in (("region", region), ("box", box), ("shape", shape), ("bounds", bounds)):
-            if value is not None:
-                raise ValueError(
-                    f"invalid {name} = {value!r}: expected no {name} with space "
-                    "(a design's variables carry their own ranges and distributions)"
-                )
         return design(n, later.pop("space"), d=d, seed=seed, **later).table()
     kwargs = _arrays(
         {

@@ -133,6 +133,17 @@ impl DesignSpace {
         Ok(())
     }
 
+    /// [`DesignSpace::correlate`] with the matrix written as rows, `1,0.5;0.5,1` (as the
+    /// command line and the request's text take it).
+    pub fn correlate_rows(&mut self, option: &str, text: &str) -> Result<(), Error> {
+        let matrix = text
+            .split([';', ','])
+            .map(|x| x.trim().parse::<f64>())
+            .collect::<Result<Vec<f64>, _>>()
+            .map_err(|_| Error::invalid(option, text, "rows of numbers: 1,0.5;0.5,1"))?;
+        self.correlate(option, text, matrix)
+    }
+
     /// The indices of the continuous variables.
     pub fn continuous(&self) -> Vec<usize> {
         (0..self.dim())

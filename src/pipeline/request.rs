@@ -556,20 +556,17 @@ impl Resolver<'_> {
             None => Vec::new(),
         };
         let mut space = DesignSpace::parse(&option, &items)?;
-        if let Some(c) = &r.correlation {
-            let matrix = match c {
-                Arg::Points(p) => p.as_slice().to_vec(),
-                Arg::Numbers(v) => v.clone(),
-                Arg::Text(t) => t
-                    .split([';', ','])
-                    .map(|x| x.trim().parse::<f64>())
-                    .collect::<Result<Vec<f64>, _>>()
-                    .map_err(|_| self.bad("correlation", c, "rows of numbers: 1,0.5;0.5,1"))?,
-                other => {
-                    return Err(self.bad("correlation", other, "rows of numbers: 1,0.5;0.5,1"))
-                }
-            };
-            space.correlate(&(self.spell)("correlation"), &c.to_string(), matrix)?;
+        let corr = (self.spell)("correlation");
+        match &r.correlation {
+            None => {}
+            Some(Arg::Text(text)) => space.correlate_rows(&corr, text)?,
+            Some(c @ Arg::Points(p)) => {
+                space.correlate(&corr, &c.to_string(), p.as_slice().to_vec())?
+            }
+            Some(c @ Arg::Numbers(v)) => space.correlate(&corr, &c.to_string(), v.clone())?,
+            Some(other) => {
+                return Err(self.bad("correlation", other, "rows of numbers: 1,0.5;0.5,1"))
+            }
         }
         let given = [
             ("region", r.region.is_some()),
