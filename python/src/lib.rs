@@ -342,8 +342,10 @@ fn design_figures_json(
 
 fn design_value(design: &stillpoint::design::Design) -> Result<String, String> {
     use stillpoint::design::Column;
-    let columns: Vec<serde_json::Value> = (0..design.space.dim())
-        .map(|j| match design.column(j) {
+    let columns: Vec<serde_json::Value> = design
+        .columns()
+        .into_iter()
+        .map(|c| match c {
             Column::Real(v) => serde_json::json!(v),
             Column::Int(v) => serde_json::json!(v),
             Column::Label(v) => serde_json::json!(v),

@@ -120,36 +120,11 @@ fn spread_continuous(
     if cont.is_empty() || !(3..=POLISH_MAX_N).contains(&n) {
         return;
     }
-    let discrete: Vec<(usize, bool, f64)> = space
-        .vars
-        .iter()
-        .enumerate()
-        .filter_map(|(j, v)| match &v.kind {
-            Kind::Continuous(_) => None,
-            Kind::Levels { ordered: false, .. } => Some((j, true, 1.0)),
-            k => Some((j, false, 1.0 / (k.levels().unwrap_or(2).max(2) - 1) as f64)),
-        })
-        .collect();
-    let extra = |a: usize, b: usize| -> f64 {
-        discrete
-            .iter()
-            .map(|&(j, unordered, scale)| {
-                let (la, lb) = (levels[j][a], levels[j][b]);
-                if unordered {
-                    f64::from(u8::from(la != lb))
-                } else {
-                    ((la as f64 - lb as f64) * scale).powi(2)
-                }
-            })
-            .sum()
-    };
+    let discrete = super::figures::DiscreteDistance::new(space, levels);
+    let extra = |a: usize, b: usize| discrete.squared(a, b);
     let objective = super::exchange::Objective::Spread { extra: &extra };
     super::exchange::exchange(&mut data, cont.len(), slices, &objective, seed);
-    for i in 0..n {
-        for (k, &j) in cont.iter().enumerate() {
-            unit.point_mut(i)[j] = data[i * cont.len() + k];
-        }
-    }
+    put_continuous(unit, &cont, &data);
 }
 
 /// Iterations of the in-cell descent after the dealing: enough to take back most of the
@@ -170,17 +145,10 @@ fn polish_continuous(
     seed: u64,
 ) {
     let n = unit.n();
-    let cont: Vec<usize> = (0..space.dim())
-        .filter(|&j| matches!(space.vars[j].kind, Kind::Continuous(_)))
-        .collect();
+    let (mut data, cont) = continuous_block(space, unit);
     if cont.is_empty() || !(2..=POLISH_MAX_N).contains(&n) {
         return;
     }
-    let data: Vec<f64> = (0..n)
-        .flat_map(|i| cont.iter().map(move |&j| (i, j)))
-        .map(|(i, j)| unit.point(i)[j])
-        .collect();
-    let mut data = data;
     super::exchange::exchange(
         &mut data,
         cont.len(),
@@ -193,13 +161,16 @@ fn polish_continuous(
     };
     let target = crate::quality::target::Target::default_for(n, cont.len());
     let lbfgs = crate::integrators::lbfgs::Lbfgs::default();
-    if let Ok(better) =
-        crate::goals::integration::descend_in_cells(&part, &target, POLISH_STEPS, &lbfgs)
-    {
-        for i in 0..n {
-            for (k, &j) in cont.iter().enumerate() {
-                unit.point_mut(i)[j] = better.point(i)[k];
-            }
+    let better = crate::goals::integration::descend_in_cells(&part, &target, POLISH_STEPS, &lbfgs)
+        .unwrap_or(part);
+    put_continuous(unit, &cont, better.as_slice());
+}
+
+/// Writes an n × k block back into the continuous columns `cont` of `unit`.
+fn put_continuous(unit: &mut PointSet, cont: &[usize], data: &[f64]) {
+    for i in 0..unit.n() {
+        for (k, &j) in cont.iter().enumerate() {
+            unit.point_mut(i)[j] = data[i * cont.len() + k];
         }
     }
 }

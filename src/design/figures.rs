@@ -4,7 +4,7 @@
 //! overall, and the smallest distance between two points with every variable counted
 //! by its type.
 
-use super::{Design, Kind};
+use super::{Design, DesignSpace, Kind};
 use crate::quality::metrics::centered_l2;
 use crate::PointSet;
 use serde::Serialize;
@@ -181,39 +181,59 @@ impl DesignFigures {
     }
 }
 
+/// The discrete variables' share of the type-aware squared distance of
+/// [`DesignFigures::min_distance`]: an integer or ordered level counts as its rank over
+/// L − 1, an unordered factor 1 when the two points differ.
+pub struct DiscreteDistance<'a> {
+    /// Per discrete variable, its column and the scale of its rank (`None`: unordered).
+    parts: Vec<(usize, Option<f64>)>,
+    levels: &'a [Vec<usize>],
+}
+
+impl<'a> DiscreteDistance<'a> {
+    /// The distance of `space`'s discrete variables, whose levels per point are `levels`.
+    pub fn new(space: &DesignSpace, levels: &'a [Vec<usize>]) -> DiscreteDistance<'a> {
+        let parts = space
+            .vars
+            .iter()
+            .enumerate()
+            .filter_map(|(j, v)| match &v.kind {
+                Kind::Continuous(_) => None,
+                Kind::Levels { ordered: false, .. } => Some((j, None)),
+                k => Some((j, Some(1.0 / (k.levels().unwrap_or(2).max(2) - 1) as f64))),
+            })
+            .collect();
+        DiscreteDistance { parts, levels }
+    }
+
+    /// The squared share between points `a` and `b`.
+    pub fn squared(&self, a: usize, b: usize) -> f64 {
+        self.parts
+            .iter()
+            .map(|&(j, scale)| {
+                let (la, lb) = (self.levels[j][a], self.levels[j][b]);
+                match scale {
+                    None => f64::from(u8::from(la != lb)),
+                    Some(w) => ((la as f64 - lb as f64) * w).powi(2),
+                }
+            })
+            .sum()
+    }
+}
+
 /// The smallest distance of [`DesignFigures::min_distance`], over every pair: O(n² s),
 /// for the sizes designs have.
 fn min_mixed_distance(design: &Design) -> f64 {
     let n = design.n();
-    let vars = &design.space.vars;
-    // Per variable, a point's coordinate on the distance's scale, and whether a
-    // difference counts as 0/1 (unordered levels).
-    let scale: Vec<(bool, f64)> = vars
-        .iter()
-        .map(|v| match &v.kind {
-            Kind::Continuous(_) => (false, 1.0),
-            Kind::Levels { ordered: false, .. } => (true, 1.0),
-            k => (false, 1.0 / (k.levels().unwrap_or(2).max(2) - 1) as f64),
-        })
-        .collect();
-    let coord = |i: usize, j: usize| -> f64 {
-        match vars[j].kind {
-            Kind::Continuous(_) => design.unit.point(i)[j],
-            _ => design.levels[j][i] as f64 * scale[j].1,
-        }
-    };
+    let cont = design.space.continuous();
+    let discrete = DiscreteDistance::new(&design.space, &design.levels);
     let mut best = f64::INFINITY;
     for a in 0..n {
-        for b in a + 1..n {
-            let d2: f64 = (0..vars.len())
-                .map(|j| {
-                    if scale[j].0 {
-                        f64::from(u8::from(design.levels[j][a] != design.levels[j][b]))
-                    } else {
-                        (coord(a, j) - coord(b, j)).powi(2)
-                    }
-                })
-                .sum();
+        let (pa, rest) = (design.unit.point(a), a + 1..n);
+        for b in rest {
+            let pb = design.unit.point(b);
+            let d2: f64 =
+                cont.iter().map(|&j| (pa[j] - pb[j]).powi(2)).sum::<f64>() + discrete.squared(a, b);
             best = best.min(d2);
         }
     }

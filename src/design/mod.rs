@@ -453,34 +453,46 @@ impl Design {
         self.unit.n()
     }
 
-    /// Column `j` as written: continuous values through the marginal's quantile
-    /// function, integers, labels.
-    pub fn column(&self, j: usize) -> Column {
+    /// The columns as written: continuous values through the copula (if any) and the
+    /// marginal's quantile function, integers, labels.
+    pub fn columns(&self) -> Vec<Column> {
         let n = self.n();
-        match &self.space.vars[j].kind {
-            Kind::Continuous(m) => match &self.space.copula {
-                None => Column::Real((0..n).map(|i| m.ppf(self.unit.point(i)[j])).collect()),
-                Some(c) => {
-                    let cont = self.space.continuous();
-                    let at = cont.iter().position(|&c| c == j).unwrap_or(0);
-                    Column::Real(
-                        (0..n)
-                            .map(|i| {
-                                let u: Vec<f64> =
-                                    cont.iter().map(|&c| self.unit.point(i)[c]).collect();
-                                m.ppf(c.correlate(&u)[at])
-                            })
-                            .collect(),
-                    )
+        let cont = self.space.continuous();
+        // Each continuous variable's uniform score per point, correlated once per point.
+        let mut scores: Vec<Vec<f64>> = cont
+            .iter()
+            .map(|&j| (0..n).map(|i| self.unit.point(i)[j]).collect())
+            .collect();
+        if let Some(c) = &self.space.copula {
+            for i in 0..n {
+                let u: Vec<f64> = scores.iter().map(|col| col[i]).collect();
+                for (col, v) in scores.iter_mut().zip(c.correlate(&u)) {
+                    col[i] = v;
                 }
-            },
-            Kind::Integer { lo, .. } => {
-                Column::Int(self.levels[j].iter().map(|&l| lo + l as i64).collect())
-            }
-            Kind::Levels { labels, .. } => {
-                Column::Label(self.levels[j].iter().map(|&l| labels[l].clone()).collect())
             }
         }
+        let mut scores = scores.into_iter();
+        self.space
+            .vars
+            .iter()
+            .enumerate()
+            .map(|(j, v)| match &v.kind {
+                Kind::Continuous(m) => Column::Real(
+                    scores
+                        .next()
+                        .unwrap_or_default()
+                        .into_iter()
+                        .map(|u| m.ppf(u))
+                        .collect(),
+                ),
+                Kind::Integer { lo, .. } => {
+                    Column::Int(self.levels[j].iter().map(|&l| lo + l as i64).collect())
+                }
+                Kind::Levels { labels, .. } => {
+                    Column::Label(self.levels[j].iter().map(|&l| labels[l].clone()).collect())
+                }
+            })
+            .collect()
     }
 
     /// The design as numbers, one row per point: continuous values, integers, and a
@@ -488,8 +500,8 @@ impl Design {
     pub fn numbers(&self) -> Result<PointSet, Error> {
         let (n, s) = (self.n(), self.space.dim());
         let mut data = vec![0.0; n * s];
-        for j in 0..s {
-            let values: Vec<f64> = match self.column(j) {
+        for (j, column) in self.columns().into_iter().enumerate() {
+            let values: Vec<f64> = match column {
                 Column::Real(v) => v,
                 Column::Int(v) => v.into_iter().map(|x| x as f64).collect(),
                 Column::Label(_) => self.levels[j].iter().map(|&l| l as f64).collect(),

@@ -19,7 +19,7 @@ impl Design {
         let names: Vec<&str> = self.space.vars.iter().map(|v| v.name.as_str()).collect();
         out.push_str(&names.join(&sep));
         out.push('\n');
-        let columns: Vec<super::Column> = (0..self.space.dim()).map(|j| self.column(j)).collect();
+        let columns = self.columns();
         for i in 0..self.n() {
             let cells: Vec<String> = columns
                 .iter()
