@@ -130,6 +130,22 @@ def figures(binary, path, variables):
     }
 
 
+def rounded_columns(x, variables, continuous):
+    """Columns of a design whose discrete columns hold level numbers (rounded to the
+    nearest; a label's index) and whose continuous ones ``continuous(kind, p, column)``
+    maps."""
+    cols = {}
+    for j, var in enumerate(variables):
+        name, kind, p = parse(var)
+        if kind == "int":
+            cols[name] = np.round(x[:, j]).astype(int)
+        elif kind == "cat":
+            cols[name] = [p[int(round(v))] for v in x[:, j]]
+        else:
+            cols[name] = continuous(kind, p, x[:, j])
+    return cols
+
+
 def smt_design(variables, n, seed):
     from smt.applications.mixed_integer import MixedIntegerSamplingMethod
     from smt.design_space import (
@@ -153,16 +169,10 @@ def smt_design(variables, n, seed):
     space = DesignSpace(spec, seed=seed)
     sampling = MixedIntegerSamplingMethod(LHS, space, criterion="ese", seed=seed)
     x = sampling(n)
-    cols = {}
-    for j, var in enumerate(variables):
-        name, kind, p = parse(var)
-        if kind == "int":
-            cols[name] = np.round(x[:, j]).astype(int)
-        elif kind == "cat":
-            cols[name] = [p[int(round(v))] for v in x[:, j]]
-        else:
-            cols[name] = marginal(kind, p).ppf(np.clip(x[:, j], 1e-12, 1 - 1e-12))
-    return cols
+    # SMT's continuous columns are unit scores: the marginal's quantiles map them.
+    return rounded_columns(
+        x, variables, lambda kind, p, v: marginal(kind, p).ppf(np.clip(v, 1e-12, 1 - 1e-12))
+    )
 
 
 def openturns_design(variables, n, seed):
@@ -186,16 +196,7 @@ def openturns_design(variables, n, seed):
         else:
             margins.append(ot.Uniform(p[0], p[1]))
     x = np.array(ot.LHSExperiment(ot.JointDistribution(margins), n).generate())
-    cols = {}
-    for j, var in enumerate(variables):
-        name, kind, p = parse(var)
-        if kind == "int":
-            cols[name] = np.round(x[:, j]).astype(int)
-        elif kind == "cat":
-            cols[name] = [p[int(round(v))] for v in x[:, j]]
-        else:
-            cols[name] = x[:, j]
-    return cols
+    return rounded_columns(x, variables, lambda kind, p, v: v)
 
 
 def sobol_design(variables, n, seed):

@@ -194,15 +194,7 @@ fn the_readme_examples_run_as_written() {
     assert_eq!(lines.len(), 2, "{lines:?}");
     let dir = TempDir::new("readme");
     for line in &lines {
-        let rest = line.trim_start_matches("cargo run --release -- ");
-        let mut words = Vec::new();
-        for (i, part) in rest.split('"').enumerate() {
-            if i % 2 == 1 {
-                words.push(part.to_string());
-            } else {
-                words.extend(part.split_whitespace().map(String::from));
-            }
-        }
+        let words = common::shell_words(line.trim_start_matches("cargo run --release -- "), '"');
         let o = bin()
             .current_dir(&dir.0)
             .args(&words)

@@ -172,19 +172,7 @@ fn readme_design_space_example_runs() {
         .filter(|l| l.starts_with("stillpoint ") && l.contains("--var") && l.contains("plan.csv"))
         .collect();
     assert_eq!(lines.len(), 2, "{lines:?}");
-    // Single-quoted words are one argument each.
-    let words = |line: &str| -> Vec<String> {
-        let rest = line.trim_start_matches("stillpoint ");
-        let mut out = Vec::new();
-        for (i, part) in rest.split('\'').enumerate() {
-            if i % 2 == 1 {
-                out.push(part.to_string());
-            } else {
-                out.extend(part.split_whitespace().map(String::from));
-            }
-        }
-        out
-    };
+    let words = |line: &str| shell_words(line.trim_start_matches("stillpoint "), '\'');
     let dir = TempDir::new("readme-design");
     for line in &lines {
         let o = bin()

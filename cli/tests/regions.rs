@@ -9,7 +9,7 @@ use stillpoint::energies::{Domain, Energy};
 use stillpoint::pipeline::{run_config, EnergyKind, GenerateConfig, Init};
 
 mod common;
-use common::{bin, tmpdir};
+use common::{bin, shell_words, tmpdir};
 
 fn g4(x: &[f64]) -> f64 {
     x[0].abs() + 2.0 * x[1].abs() - 5.0
@@ -196,19 +196,8 @@ fn readme_region_integration_example_runs() {
         .collect();
     assert_eq!(lines.len(), 2, "{lines:?}");
     let dir = tmpdir("readme_region_integration");
-    let words = |line: &str| -> Vec<String> {
-        // The quoted expression is one argument.
-        let rest = line.trim_start_matches("cargo run --release -- ");
-        let mut out = Vec::new();
-        for (i, part) in rest.split('"').enumerate() {
-            if i % 2 == 1 {
-                out.push(part.to_string());
-            } else {
-                out.extend(part.split_whitespace().map(String::from));
-            }
-        }
-        out
-    };
+    // The quoted expression is one argument.
+    let words = |line: &str| shell_words(line.trim_start_matches("cargo run --release -- "), '"');
     let generate = bin()
         .current_dir(&dir)
         .args(words(lines[0]))

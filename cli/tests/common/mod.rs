@@ -69,3 +69,17 @@ pub fn random_set(n: usize, s: usize, seed: u64) -> PointSet {
 pub fn bits(p: &PointSet) -> Vec<u64> {
     p.as_slice().iter().map(|v| v.to_bits()).collect()
 }
+
+/// A README command line's arguments: words split at spaces, except that a part between
+/// two `quote` characters is one argument (as a shell reads the README's examples).
+pub fn shell_words(line: &str, quote: char) -> Vec<String> {
+    let mut out = Vec::new();
+    for (i, part) in line.split(quote).enumerate() {
+        if i % 2 == 1 {
+            out.push(part.to_string());
+        } else {
+            out.extend(part.split_whitespace().map(String::from));
+        }
+    }
+    out
+}
