@@ -72,6 +72,11 @@ const REPORT: Affine = Affine {
     b: 1.6e-9,
 };
 
+/// Seconds per unit of [`Effort::block_work`] (pair-factor products of the block
+/// exchanges that run where no descent fits): 6·10¹⁰ units at n = 10⁵, d = 10 took 82 s
+/// of wall time while other work shared the machine, about 45 s alone.
+const BLOCK_UNIT_SECONDS: f64 = 1.0e-9;
+
 /// Seconds per unit of [`Effort::work`] (pairs × coordinates × L-BFGS iterations): three
 /// rounds of 30 iterations at n = 8 192, d = 5 (3.0·10¹⁰ units with their rounds'
 /// overhead) took 31 s. Where the budget caps the descent, its cost is the cap's, plus a
@@ -193,7 +198,7 @@ fn integration_seconds(n: usize, s: usize, forms: usize) -> f64 {
     let report = nf * nf * REPORT.at(sf);
     let effort = Effort::default();
     if !Budget::of(n, s, &effort).descends() {
-        return report + linear;
+        return report + linear + effort.block_work as f64 * BLOCK_UNIT_SECONDS;
     }
     let fitted = fit.c
         + fit.e * exchange_work(n, s, forms) * nf / (nf + fit.n0)
@@ -261,9 +266,9 @@ mod tests {
 
     #[test]
     fn grows_with_n_within_each_regime_and_with_s() {
-        // The real cost falls where the pipeline stops doing a part of its work (the
-        // exchanges above EXCHANGE_MAX_N, the whole descent where its budget allows no
-        // round); the estimate falls there too and grows everywhere else.
+        // The real cost changes where the pipeline changes what it does (no exchanges
+        // above EXCHANGE_MAX_N, block exchanges where its budget allows no round); the
+        // estimate grows everywhere else.
         let regime = |n: usize, s: usize| {
             (
                 n <= EXCHANGE_MAX_N,
@@ -284,7 +289,13 @@ mod tests {
                 .rev()
                 .find(|&n| regime(n, s).1)
                 .expect("small sets descend");
-            assert!(default_run(last + 1, s) < default_run(last, s), "s {s}");
+            // Where the descent stops fitting, the block exchanges take about as long:
+            // no cliff either way.
+            let (before, after) = (default_run(last, s), default_run(last + 1, s));
+            assert!(
+                after < 3.0 * before && before < 3.0 * after,
+                "s {s}: {before} s then {after} s"
+            );
         }
         for n in [1, 2, 10, 256, 4096, 16_000, 50_000] {
             let mut last = (0.0, regime(n, 1));

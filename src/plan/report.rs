@@ -131,6 +131,46 @@ pub struct Descent {
     pub skipped: Option<String>,
     /// Why the rounds made no exchanges, when they ran without.
     pub exchanges_skipped: Option<String>,
+    /// The block exchanges run where no round fits the work cap.
+    pub blocks: Option<BlockExchanges>,
+}
+
+/// The exchanges of a set too large for the descent, a block of points at a time
+/// ([`crate::goals::integration::blocks`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BlockExchanges {
+    /// Points per block.
+    pub block: usize,
+    /// Blocks loaded.
+    pub blocks: usize,
+    /// Proposals evaluated.
+    pub proposals: usize,
+    /// Swaps accepted, each because it lowered every discrepancy of the target.
+    pub accepted: usize,
+    /// Each discrepancy of the target (by its `--target` name) and the exact change of
+    /// its square over the accepted swaps.
+    pub changes: Vec<(String, f64)>,
+}
+
+impl fmt::Display for BlockExchanges {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let changes: Vec<String> = self
+            .changes
+            .iter()
+            .map(|(name, d)| format!("{name} {d:+.3e}"))
+            .collect();
+        write!(
+            f,
+            "block exchanges ({} blocks of {} points, their pair rows held instead of the \
+             n² table): {} of {} swaps accepted, each lowering every discrepancy of the \
+             target; exact changes of the squares: {}",
+            self.blocks,
+            self.block,
+            self.accepted,
+            self.proposals,
+            changes.join(", ")
+        )
+    }
 }
 
 impl Descent {
@@ -254,7 +294,11 @@ fn candidates_text(c: &[Candidate], kept: usize, sci: bool) -> String {
 impl fmt::Display for Descent {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if let Some(why) = &self.skipped {
-            return write!(f, "descent skipped: {why}; columns centred");
+            write!(f, "descent skipped: {why}; columns centred")?;
+            if let Some(b) = &self.blocks {
+                write!(f, "; then {b}")?;
+            }
+            return Ok(());
         }
         let stops: Vec<String> = self
             .rounds

@@ -385,6 +385,9 @@ pub struct Effort {
     /// A cap on the L-BFGS work of the whole run, and through it on the starts compared,
     /// in pairs × coordinates × iterations (see [`Budget`]).
     pub work: u64,
+    /// Where no L-BFGS iteration fits the cap, the work of the block exchanges that run
+    /// instead ([`super::blocks`]), in pair-factor products.
+    pub block_work: u64,
     /// How the target is evaluated where no descent runs (exact, or estimated above a
     /// size): the values a report shows, not what the run compares.
     pub sums: crate::quality::metrics::Sums,
@@ -401,6 +404,9 @@ impl Default for Effort {
             // Three rounds of 30 iterations up to n = 8 192 at s = 5 (n²·s = 3.4·10⁸),
             // which took 31 s on the 2-core machine: about 1 ns per unit.
             work: 35_000_000_000,
+            // About as long as the L-BFGS cap where it stops fitting (no cliff in time at
+            // that n): about 0.6 ns per product on the 2-core machine.
+            block_work: 60_000_000_000,
             sums: crate::quality::metrics::Sums::AUTO,
         }
     }
@@ -501,7 +507,8 @@ pub fn integration_set(
     if !budget.descends() && budget.starts == 1 && s <= sequences::SOBOL_MAX_S {
         let sd = sequences::stream_seed(seed, 0);
         let start_points = stratify(&sequences::sobol_scrambled(n, s, sd)?);
-        let p = center_columns(&start_points);
+        let (p, blocks) = block_pass(&center_columns(&start_points), target, seed, effort);
+        crate::solve::stop_if_cancelled()?;
         let (before, after) = (
             target.value_with(&start_points, effort.sums),
             target.value_with(&p, effort.sums),
@@ -527,7 +534,10 @@ pub fn integration_set(
                     value: before,
                 }],
                 kept: 0,
-                descent: skipped_descent(n, s, n, effort),
+                descent: Descent {
+                    blocks,
+                    ..skipped_descent(n, s, n, effort)
+                },
                 start,
                 start_points,
                 before,
@@ -715,6 +725,7 @@ fn skipped_descent(n: usize, s: usize, moving: usize, effort: &Effort) -> Descen
             effort.work as f64
         )),
         exchanges_skipped: None,
+        blocks: None,
     }
 }
 
@@ -736,6 +747,7 @@ fn descend(
         rounds: Vec::new(),
         skipped: None,
         exchanges_skipped: None,
+        blocks: None,
     };
     let budget = Budget::of(n, s, effort);
     if !budget.descends() {
@@ -789,7 +801,49 @@ fn descend(
             });
         }
     }
-    Ok((center_columns_after(&points, first_movable), descent))
+    let mut points = center_columns_after(&points, first_movable);
+    if !budget.descends() && first_movable == 0 {
+        (points, descent.blocks) = block_pass(&points, target, seed, effort);
+    }
+    Ok((points, descent))
+}
+
+/// Where no round of the descent fits, the block exchanges of [`super::blocks`] on the
+/// balanced set (swaps keep every column's values, so its balance too), within the
+/// effort's block work; `None` when they cannot run (the target's products leave the
+/// range of f64, or fewer than two points).
+fn block_pass(
+    points: &PointSet,
+    target: &Target,
+    seed: u64,
+    effort: &Effort,
+) -> (PointSet, Option<crate::plan::report::BlockExchanges>) {
+    if points.n() < 2 || !target.fits(points.s()) || effort.block_work == 0 {
+        return (points.clone(), None);
+    }
+    let forms: Vec<Form> = target.parts.iter().map(|&(k, _)| Form::from(k)).collect();
+    let (p, o) = super::blocks::block_exchanges(
+        points,
+        &forms,
+        effort.block_work,
+        sequences::stream_seed(seed, 2000),
+    );
+    let changes = target
+        .parts
+        .iter()
+        .zip(&o.changes)
+        .map(|(&(k, _), &d)| (k.label().to_string(), d))
+        .collect();
+    (
+        p,
+        Some(crate::plan::report::BlockExchanges {
+            block: o.block,
+            blocks: o.blocks,
+            proposals: o.proposals,
+            accepted: o.accepted,
+            changes,
+        }),
+    )
 }
 
 /// What [`extend_set`] did, for reports.
@@ -861,6 +915,7 @@ pub fn extend_set(
                 rounds: Vec::new(),
                 skipped: Some("nothing to move".into()),
                 exchanges_skipped: None,
+                blocks: None,
             },
         });
     }
@@ -1114,6 +1169,51 @@ mod tests {
         assert!(full.after < outcome.after);
     }
     use crate::energies::discrepancy::{squared_discrepancies, DiscrepancyKind};
+
+    #[test]
+    fn where_no_round_fits_block_exchanges_lower_every_discrepancy_below_the_start() {
+        let small = Effort {
+            work: 1_000,
+            block_work: 300_000_000,
+            ..Effort::default()
+        };
+        let kinds = [
+            DiscrepancyKind::ModifiedL2,
+            DiscrepancyKind::StarL2,
+            DiscrepancyKind::CenteredL2,
+        ];
+        for (n, s) in [(500, 3), (301, 7)] {
+            let (points, o) = integration_set(n, s, &Target::blend(), 9, &small).unwrap();
+            assert!(is_stratified(&points), "n = {n}");
+            let blocks = o.descent.blocks.clone().expect("block exchanges ran");
+            assert!(blocks.accepted > 0, "{blocks:?}");
+            // Below the stratified Sobol' start in each discrepancy, by the stated change
+            // up to the centring's own (tiny) one.
+            let before = squared_discrepancies(&o.start_points, &kinds);
+            let centred = squared_discrepancies(&center_columns(&o.start_points), &kinds);
+            let after = squared_discrepancies(&points, &kinds);
+            for (f, kind) in kinds.iter().enumerate() {
+                assert!(
+                    after[f] < before[f],
+                    "{kind:?}: {} vs {}",
+                    after[f],
+                    before[f]
+                );
+                let (stated, real) = (blocks.changes[f].1, after[f] - centred[f]);
+                // The sums of n² terms near 1 carry a rounding of about 1e-13.
+                assert!(
+                    (stated - real).abs() <= 1e-12 + 1e-6 * real.abs(),
+                    "{kind:?}: stated {stated:e}, recomputed {real:e}"
+                );
+                assert_eq!(blocks.changes[f].0, kind.label());
+            }
+            let line = o.descent.to_string();
+            assert!(
+                line.contains("block exchanges") && line.contains("md -"),
+                "{line}"
+            );
+        }
+    }
 
     #[test]
     fn stratify_gives_one_point_per_cell_and_keeps_order() {

@@ -76,7 +76,7 @@ impl Form {
     }
 
     /// Whether the form has the single sum Σ_i Π_k g.
-    fn has_single(self) -> bool {
+    pub fn has_single(self) -> bool {
         !matches!(self, Form::WrapAround | Form::Smooth)
     }
 
@@ -113,6 +113,87 @@ impl Form {
             }
         }
     }
+}
+
+impl Form {
+    /// Σ_l p_i[l]·(h(x_j, c_l)/h(x_i, c_l) − 1) + p_j[l]·(h(x_i, c_l)/h(x_j, c_l) − 1) over
+    /// the slices: the pair part of a swap of x_i and x_j in one coordinate whose values are
+    /// `column`, for the points whose pair products with i and j are `pi` and `pj`. h is
+    /// dispatched once, outside the loop, so the loop has no branch and vectorises.
+    pub fn swap_sum(self, xi: f64, xj: f64, pi: &[f64], pj: &[f64], column: &[f64]) -> f64 {
+        match self {
+            Form::Star => swap_sum_with(xi, xj, pi, pj, column, |x, y| 1.0 - x.max(y)),
+            Form::Modified => swap_sum_with(xi, xj, pi, pj, column, |x, y| 2.0 - x.max(y)),
+            Form::Centered => swap_sum_with(xi, xj, pi, pj, column, |x, y| Form::Centered.h(x, y)),
+            Form::WrapAround => {
+                swap_sum_with(xi, xj, pi, pj, column, |x, y| Form::WrapAround.h(x, y))
+            }
+            Form::Mixture => swap_sum_with(xi, xj, pi, pj, column, |x, y| Form::Mixture.h(x, y)),
+            Form::Smooth => swap_sum_with(xi, xj, pi, pj, column, |x, y| Form::Smooth.h(x, y)),
+        }
+    }
+}
+
+/// Two points i ≠ j about to swap their values xi ≠ xj of one coordinate, with their single
+/// products Π_k g (0 for a form without the single sum).
+#[derive(Debug, Clone, Copy)]
+pub struct Swap {
+    /// The first point.
+    pub i: usize,
+    /// The second point.
+    pub j: usize,
+    /// The first point's value of the coordinate.
+    pub xi: f64,
+    /// The second point's value.
+    pub xj: f64,
+    /// The single products of i and j.
+    pub singles: (f64, f64),
+}
+
+impl Form {
+    /// The change of the squared discrepancy of n = `column.len()` points under `swap`,
+    /// from the pair-product rows `pi`, `pj` of its two points (over all n points) and
+    /// `sum`, [`Form::swap_sum`] over all of them (which callers may form in parts). The
+    /// sum's terms of l = i and l = j are taken out again and the diagonal put in.
+    pub fn swap_delta(self, swap: &Swap, pi: &[f64], pj: &[f64], column: &[f64], sum: f64) -> f64 {
+        let Swap { i, j, xi, xj, .. } = *swap;
+        let n = column.len();
+        let (gi, gj) = (self.g(xi), self.g(xj));
+        let single = if self.has_single() {
+            swap.singles.0 * (gj / gi - 1.0) + swap.singles.1 * (gi / gj - 1.0)
+        } else {
+            0.0
+        };
+        let term = |l: usize| {
+            let xl = column[l];
+            let (hi, hj) = (self.h(xi, xl), self.h(xj, xl));
+            (pi[l] * hj * hj + pj[l] * hi * hi) / (hi * hj) - pi[l] - pj[l]
+        };
+        let off = sum - (term(i) + term(j));
+        let diag = pi[i] * (self.h(xj, xj) / self.h(xi, xi) - 1.0)
+            + pj[j] * (self.h(xi, xi) / self.h(xj, xj) - 1.0);
+        let nf = n as f64;
+        -2.0 / nf * single + (2.0 * off + diag) / (nf * nf)
+    }
+}
+
+/// [`Form::swap_sum`] with h known at compile time. One division per l:
+/// pi·(hj/hi − 1) + pj·(hi/hj − 1) = (pi·hj² + pj·hi²)/(hi·hj) − pi − pj.
+#[inline(always)]
+fn swap_sum_with(
+    xi: f64,
+    xj: f64,
+    pi: &[f64],
+    pj: &[f64],
+    column: &[f64],
+    h: impl Fn(f64, f64) -> f64,
+) -> f64 {
+    let mut off = 0.0;
+    for ((&a, &b), &xl) in pi.iter().zip(pj).zip(column) {
+        let (hi, hj) = (h(xi, xl), h(xj, xl));
+        off += (a * hj * hj + b * hi * hi) / (hi * hj) - a - b;
+    }
+    off
 }
 
 /// The squared discrepancy of `points` in the form's closed form, clamped at 0 against
@@ -243,56 +324,19 @@ impl Exchange {
         if i == j || xi == xj {
             return 0.0;
         }
-        let (gi, gj) = (form.g(xi), form.g(xj));
-        let single = if form.has_single() {
-            self.single[i] * (gj / gi - 1.0) + self.single[j] * (gi / gj - 1.0)
-        } else {
-            0.0
-        };
-        let (pi, pj) = (
-            &self.pairs[i * n..(i + 1) * n],
-            &self.pairs[j * n..(j + 1) * n],
-        );
-        // Over every l (a loop without branches, which vectorises), one division each:
-        // pi·(hj/hi − 1) + pj·(hi/hj − 1) = (pi·hj² + pj·hi²)/(hi·hj) − pi − pj. The terms
-        // of l = i and l = j are then taken out again.
-        let term = |l: usize| {
-            let xl = self.x[l * s + k];
-            let (hi, hj) = (form.h(xi, xl), form.h(xj, xl));
-            (pi[l] * hj * hj + pj[l] * hi * hi) / (hi * hj) - pi[l] - pj[l]
-        };
-        let mut off = match form {
-            Form::Star => self.off_sum(i, j, k, |x, y| 1.0 - x.max(y)),
-            Form::Modified => self.off_sum(i, j, k, |x, y| 2.0 - x.max(y)),
-            Form::Centered => self.off_sum(i, j, k, |x, y| Form::Centered.h(x, y)),
-            Form::WrapAround => self.off_sum(i, j, k, |x, y| Form::WrapAround.h(x, y)),
-            Form::Mixture => self.off_sum(i, j, k, |x, y| Form::Mixture.h(x, y)),
-            Form::Smooth => self.off_sum(i, j, k, |x, y| Form::Smooth.h(x, y)),
-        };
-        off -= term(i) + term(j);
-        let diag = pi[i] * (form.h(xj, xj) / form.h(xi, xi) - 1.0)
-            + pj[j] * (form.h(xi, xi) / form.h(xj, xj) - 1.0);
-        let nf = n as f64;
-        -2.0 / nf * single + (2.0 * off + diag) / (nf * nf)
-    }
-
-    /// Σ over every l of pi·(hj/hi − 1) + pj·(hi/hj − 1), with h known at compile time so
-    /// the loop has no branch and vectorises.
-    #[inline(always)]
-    fn off_sum(&self, i: usize, j: usize, k: usize, h: impl Fn(f64, f64) -> f64) -> f64 {
-        let (n, s) = (self.n, self.s);
-        let (xi, xj) = (self.x[i * s + k], self.x[j * s + k]);
         let (pi, pj) = (
             &self.pairs[i * n..(i + 1) * n],
             &self.pairs[j * n..(j + 1) * n],
         );
         let column = &self.columns[k * n..(k + 1) * n];
-        let mut off = 0.0;
-        for ((&a, &b), &xl) in pi.iter().zip(pj).zip(column) {
-            let (hi, hj) = (h(xi, xl), h(xj, xl));
-            off += (a * hj * hj + b * hi * hi) / (hi * hj) - a - b;
-        }
-        off
+        let swap = Swap {
+            i,
+            j,
+            xi,
+            xj,
+            singles: (self.single[i], self.single[j]),
+        };
+        form.swap_delta(&swap, pi, pj, column, form.swap_sum(xi, xj, pi, pj, column))
     }
 
     /// Swaps coordinate `k` of points `i` and `j`, updating the tables by `delta`, which

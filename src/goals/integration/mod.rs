@@ -2,6 +2,7 @@
 //! with the exchange move of [`exchange`]), one set, an extension of a given one, or a
 //! nested sequence, each reported stage by stage.
 
+pub mod blocks;
 pub mod descent;
 pub mod exchange;
 
