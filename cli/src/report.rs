@@ -358,8 +358,12 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
         "", "start", "result", "change"
     );
     let row = |name: &str, a: f64, b: f64, sci: bool| -> String {
+        // A value the run could not compute (NaN: the note below the table says why)
+        // reads as such, not as a number.
         let f = |v: f64| {
-            if sci {
+            if v.is_nan() {
+                "not computed".to_string()
+            } else if sci {
                 format!("{v:.6e}")
             } else {
                 format!("{v:.6}")
@@ -479,7 +483,7 @@ fn estimate_lines(m: &Metrics, e: &stillpoint::quality::metrics::Estimate, above
         each.join(", ")
     );
     if !e.min_distances_exact {
-        t += "  minimum distances not computed (NaN): the grid of cells could not prove the \
+        t += "  minimum distances not computed: the grid of cells could not prove the \
               closest pair; --exact computes them\n";
     }
     t
