@@ -169,11 +169,11 @@ fn core_seconds(cfg: &GenerateConfig) -> f64 {
     }
     match &cfg.goal {
         Goal::Integration(_) if cfg.randomize == Some(crate::post::randomize::Randomize::Tent) => {
-            n / 2.0 * n * s * LATTICE_STEP + n * n * REPORT.at(s) + INTEGRATION.l * n * s
+            n / 2.0 * n * s * LATTICE_STEP + report_seconds(cfg, cfg.n) + INTEGRATION.l * n * s
         }
         Goal::Integration(target) => {
             let forms = target.parts.len().max(1);
-            let one = |n: usize| integration_seconds(n, cfg.s, forms);
+            let one = |n: usize| integration_seconds(n, cfg.s, forms, report_seconds(cfg, n));
             match (cfg.nested.split_first(), &cfg.extend) {
                 (Some((&first, rest)), _) => {
                     one(first) + rest.iter().map(|&k| EXTENSION_FACTOR * one(k)).sum::<f64>()
@@ -189,16 +189,28 @@ fn core_seconds(cfg: &GenerateConfig) -> f64 {
     }
 }
 
+/// The report of a set of `n` points: its exact O(n² s) passes up to where its metrics are
+/// estimated (unless `--exact`), about the cost at that size above (the estimates'
+/// random pairs are a fixed number; the grid search for the distances is O(n)).
+fn report_seconds(cfg: &GenerateConfig, n: usize) -> f64 {
+    let exact = if cfg.sums.estimates(n) {
+        cfg.sums.estimate_above
+    } else {
+        n
+    } as f64;
+    exact * exact * REPORT.at(cfg.s as f64)
+}
+
 /// The integration goal for one set of `n` points in `s` dimensions with a target of
-/// `forms` discrepancies.
-fn integration_seconds(n: usize, s: usize, forms: usize) -> f64 {
+/// `forms` discrepancies and a report of `report` seconds.
+fn integration_seconds(n: usize, s: usize, forms: usize, report: f64) -> f64 {
     let (nf, sf) = (n as f64, s as f64);
     let fit = &INTEGRATION;
     let linear = fit.l * nf * sf;
-    let report = nf * nf * REPORT.at(sf);
     let effort = Effort::default();
     if !Budget::of(n, s, &effort).descends() {
-        return report + linear + effort.block_work as f64 * BLOCK_UNIT_SECONDS;
+        let fade = (crate::goals::integration::BLOCKS_FADE_FROM as f64 / nf).min(1.0);
+        return report + linear + effort.block_work as f64 * fade * BLOCK_UNIT_SECONDS;
     }
     let fitted = fit.c
         + fit.e * exchange_work(n, s, forms) * nf / (nf + fit.n0)
@@ -229,7 +241,7 @@ fn paper_seconds(cfg: &GenerateConfig) -> f64 {
     let (n, s) = (cfg.n as f64, cfg.s as f64);
     let polish_steps = if cfg.polish.is_some() { cfg.steps } else { 0 };
     let steps = (cfg.steps + polish_steps) as f64;
-    steps * n * n * PAPER_STEP.at(s) + n * n * REPORT.at(s) + INTEGRATION.l * n * s
+    steps * n * n * PAPER_STEP.at(s) + report_seconds(cfg, cfg.n) + INTEGRATION.l * n * s
 }
 
 /// A baseline of `n` points in `s` dimensions.

@@ -125,50 +125,39 @@ impl Blocks {
         }
     }
 
-    /// The change of each form's squared discrepancy if block members i and j swapped
-    /// coordinate k, with a bound on its rounding; `None` when the swap changes nothing.
-    fn deltas(&self, i: usize, j: usize, k: usize) -> Option<Vec<(f64, f64)>> {
-        let (n, s) = (self.n, self.s);
+    /// The change of form f's squared discrepancy if block members i and j swapped
+    /// coordinate k (whose values differ), with a bound on its rounding.
+    fn delta(&self, f: usize, i: usize, j: usize, k: usize) -> (f64, f64) {
+        let (n, s, form) = (self.n, self.s, self.forms[f]);
         let (xi, xj) = (self.x[i * s + k], self.x[j * s + k]);
-        if i == j || xi == xj {
-            return None;
-        }
         let column = &self.columns[k * n..(k + 1) * n];
         let (ti, tj) = (self.slot[i], self.slot[j]);
-        let deltas = self
-            .forms
+        let rows = &self.rows[f];
+        let (pi, pj) = (&rows[ti * n..(ti + 1) * n], &rows[tj * n..(tj + 1) * n]);
+        let sum: f64 = pi
+            .par_chunks(CHUNK)
+            .zip(pj.par_chunks(CHUNK))
+            .zip(column.par_chunks(CHUNK))
+            .map(|((a, b), c)| form.swap_sum(xi, xj, a, b, c))
+            .collect::<Vec<f64>>()
             .iter()
-            .enumerate()
-            .map(|(f, &form)| {
-                let rows = &self.rows[f];
-                let (pi, pj) = (&rows[ti * n..(ti + 1) * n], &rows[tj * n..(tj + 1) * n]);
-                let sum: f64 = pi
-                    .par_chunks(CHUNK)
-                    .zip(pj.par_chunks(CHUNK))
-                    .zip(column.par_chunks(CHUNK))
-                    .map(|((a, b), c)| form.swap_sum(xi, xj, a, b, c))
-                    .collect::<Vec<f64>>()
-                    .iter()
-                    .sum();
-                let swap = Swap {
-                    i,
-                    j,
-                    xi,
-                    xj,
-                    singles: (self.singles[f][i], self.singles[f][j]),
-                };
-                let delta = form.swap_delta(&swap, pi, pj, column, sum);
-                // The sum's terms are about as large as the rows' entries; its rounding is
-                // far below a few hundred ulps of their total (chunked, so about √n of
-                // them at worst in practice). The single products' part is bounded alike.
-                let scale = self.row_sums[f][ti] + self.row_sums[f][tj];
-                let nf = n as f64;
-                let single = (self.singles[f][i] + self.singles[f][j]).abs();
-                let bound = 512.0 * f64::EPSILON * (4.0 * scale / (nf * nf) + 4.0 * single / nf);
-                (delta, bound)
-            })
-            .collect();
-        Some(deltas)
+            .sum();
+        let swap = Swap {
+            i,
+            j,
+            xi,
+            xj,
+            singles: (self.singles[f][i], self.singles[f][j]),
+        };
+        let delta = form.swap_delta(&swap, pi, pj, column, sum);
+        // The sum's terms are about as large as the rows' entries; its rounding is far
+        // below a few hundred ulps of their total (chunked, so about √n of them at worst
+        // in practice). The single products' part is bounded alike.
+        let scale = self.row_sums[f][ti] + self.row_sums[f][tj];
+        let nf = n as f64;
+        let single = (self.singles[f][i] + self.singles[f][j]).abs();
+        let bound = 512.0 * f64::EPSILON * (4.0 * scale / (nf * nf) + 4.0 * single / nf);
+        (delta, bound)
     }
 
     /// Swaps coordinate k of block members i and j: their rows, the other members'
@@ -285,6 +274,8 @@ pub fn block_exchanges(
         (b * n * s * forms.len()) as u64,
         (2 * n * forms.len()) as u64,
     );
+    let form_cost = 2 * n as u64;
+    let mut refusals = vec![0usize; forms.len()];
     while outcome.work + load_cost + proposal_cost <= work {
         if crate::solve::cancelled() {
             break;
@@ -299,14 +290,29 @@ pub fn block_exchanges(
             let k = rng.random_range(0..s);
             let (a, c) = (rng.random_range(0..b), rng.random_range(0..b));
             let (i, j) = (state.members[a], state.members[c]);
-            let Some(deltas) = state.deltas(i, j, k) else {
+            if i == j || state.x[i * s + k] == state.x[j * s + k] {
                 continue;
-            };
+            }
             outcome.proposals += 1;
-            outcome.work += proposal_cost;
-            if deltas.iter().all(|&(d, bound)| d < -bound) {
+            // Every form must fall: the one that refused most often so far is asked
+            // first, and a refusal ends the proposal (most are refused, most by one form).
+            let mut order: Vec<usize> = (0..forms.len()).collect();
+            order.sort_by_key(|&f| std::cmp::Reverse(refusals[f]));
+            let mut deltas = vec![0.0; forms.len()];
+            let mut refused = false;
+            for &f in &order {
+                outcome.work += form_cost;
+                let (d, bound) = state.delta(f, i, j, k);
+                if d >= -bound {
+                    refusals[f] += 1;
+                    refused = true;
+                    break;
+                }
+                deltas[f] = d;
+            }
+            if !refused {
                 state.swap(i, j, k);
-                for (total, (d, _)) in outcome.changes.iter_mut().zip(&deltas) {
+                for (total, d) in outcome.changes.iter_mut().zip(&deltas) {
                     *total += d;
                 }
                 outcome.accepted += 1;

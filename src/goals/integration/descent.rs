@@ -808,6 +808,9 @@ fn descend(
     Ok((points, descent))
 }
 
+/// Above this many points the block exchanges get less work (see [`block_pass`]).
+pub const BLOCKS_FADE_FROM: usize = 200_000;
+
 /// Where no round of the descent fits, the block exchanges of [`super::blocks`] on the
 /// balanced set (swaps keep every column's values, so its balance too), within the
 /// effort's block work; `None` when they cannot run (the target's products leave the
@@ -822,12 +825,13 @@ fn block_pass(
         return (points.clone(), None);
     }
     let forms: Vec<Form> = target.parts.iter().map(|&(k, _)| Form::from(k)).collect();
-    let (p, o) = super::blocks::block_exchanges(
-        points,
-        &forms,
-        effort.block_work,
-        sequences::stream_seed(seed, 2000),
-    );
+    // Above BLOCKS_FADE_FROM the work shrinks as 1/n: a proposal costs O(n) and a block
+    // holds fewer points, so the same time buys less, while the rest of the run (the
+    // start, the report's estimates) stays about a minute at 10⁶ points.
+    let work =
+        (effort.block_work as f64 * (BLOCKS_FADE_FROM as f64 / points.n() as f64).min(1.0)) as u64;
+    let (p, o) =
+        super::blocks::block_exchanges(points, &forms, work, sequences::stream_seed(seed, 2000));
     let changes = target
         .parts
         .iter()
