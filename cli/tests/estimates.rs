@@ -215,4 +215,17 @@ fn a_generate_report_never_prints_an_unresolved_estimate_as_a_value() {
         }
     }
     assert!(report.contains("unresolved"), "{report}");
+    // No descent fits at this size: block exchanges ran instead, and the exact changes
+    // they state lower every discrepancy of the target.
+    let line = report
+        .lines()
+        .find(|l| l.contains("block exchanges"))
+        .unwrap_or_else(|| panic!("no block exchanges in\n{report}"));
+    let changes = line.split("exact changes of the squares: ").nth(1).expect(line);
+    let values: Vec<f64> = changes
+        .split(", ")
+        .map(|c| c.split(' ').nth(1).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(values.len(), 3, "{line}");
+    assert!(values.iter().all(|&v| v < 0.0), "{line}");
 }

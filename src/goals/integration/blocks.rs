@@ -284,7 +284,10 @@ pub fn block_exchanges(
         outcome.blocks += 1;
         outcome.work += load_cost;
         for _ in 0..PROPOSALS_PER_POINT * b {
-            if outcome.work + proposal_cost > work {
+            // A stop request is seen within a few dozen proposals (each O(n)).
+            if outcome.work + proposal_cost > work
+                || (outcome.proposals % 64 == 0 && crate::solve::cancelled())
+            {
                 break;
             }
             let k = rng.random_range(0..s);
