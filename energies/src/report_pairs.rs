@@ -27,7 +27,7 @@
 //! running products and sums of four lanes fit the 16 vector registers, where 16 lanes of
 //! them would be spilled to memory at every coordinate. Each lane still accumulates the
 //! same pairs in the same order as in the 16-lane passes. The powers d^{−p} of U_{q,p}
-//! (long chains of dependent operations) are taken a row at a time on all 16 lanes, so
+//! (long chains of dependent operations) are taken a row at a time, 32 lanes at once, so
 //! that independent chains overlap.
 //!
 //! Where the energy does not need every pair's distances (none, or q = 1), the two
@@ -38,7 +38,7 @@
 //! result has the same bits whatever the order the tiles find their pairs in.
 
 use crate::discrepancy::squares_from_pair_sums;
-use crate::pairs::{sum_tiles, Blocks, Simd, SumTiles};
+use crate::pairs::{sum_tiles, Blocks, Simd, SumTiles, Wide};
 use crate::uqp::PairPow;
 use crate::{Distance, Energy, PointSet, Uqp};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -228,6 +228,8 @@ impl<const E: u8> SumTiles for Tiles<'_, E> {
         let mut own = vec![0.0; s * FIELDS * LANE];
         // The energy's squared distances of a row, for its powers.
         let mut row = vec![0.0; bl.bs];
+        // Their powers d^{−p}.
+        let mut powers = vec![0.0; bl.bs];
         let len_b = bl.len(b);
         // The smallest squared Euclidean distance found so far, as non-negative f64 bits
         // (whose order as integers is that of the values).
@@ -279,18 +281,28 @@ impl<const E: u8> SumTiles for Tiles<'_, E> {
                 bound = bound.min(f64::from_bits(shared));
             }
             if E != NONE {
-                // The powers of the row after its sums, on all the tile's lanes at once:
-                // a power is a long chain of dependent operations, and the parts' chains
-                // side by side overlap (the lanes' values are those of each part alone).
-                let mut powers = [0.0; 16];
+                // The powers of the row after its sums, on twice the tile's lanes at once
+                // where the row allows: a power is a long chain of dependent operations,
+                // and the chains side by side overlap (each lane's value is its own).
+                let mut jj = start;
+                while jj < len_b {
+                    let two = jj + 2 * V::N <= row.len();
+                    if two {
+                        self.pow
+                            .eval(Wide::<V, 2>::load(&row[jj..]))
+                            .store(&mut powers[jj..]);
+                    } else {
+                        self.pow.eval(V::load(&row[jj..])).store(&mut powers[jj..]);
+                    }
+                    jj += if two { 2 * V::N } else { V::N };
+                }
                 for jj in (start..len_b).step_by(V::N) {
-                    self.pow.eval(V::load(&row[jj..])).store(&mut powers);
                     for (u, acc) in acc.iter_mut().enumerate().take(parts) {
                         let j0 = jj + u * LANE;
                         if j0 + LANE <= lo || j0 >= len_b {
                             continue;
                         }
-                        let e = V::Base::load(&powers[u * LANE..]);
+                        let e = V::Base::load(&powers[j0..]);
                         let mask = group_mask::<V::Base>(j0, lo, len_b);
                         acc.energy = acc.energy.add(mask.select(e, zero));
                     }
