@@ -8,18 +8,26 @@
 //! [`crate::pairs::min_squared_distances`], [`Energy::value`] of [`Uqp`]): the same
 //! tiles, added in the same order, each lane forming its products and sums with the same
 //! operations in the same order, so fusing changes no value. What the figures share is
-//! formed once per pair and coordinate: the difference d = |x − y|, 1 − d, d(1 − d) (the
-//! wrap-around factor's and the q = 1 distance's h), ½d, and the torus difference
-//! min(d, 1 − d). Terms of one point only (1 − x, 2 − x, 1 + ½|x − ½| and
-//! 15/8 − ¼|x − ½|, the first steps of the factors) are formed once per point; the star
-//! and modified factors 1 − max(x, y) and 2 − max(x, y) are min(1 − x, 1 − y) and
-//! min(2 − x, 2 − y), the same bits since rounding is monotone.
+//! formed once per pair and coordinate: the difference d = |x − y|, max(x, y) (the star
+//! and modified factors are 1 − max(x, y) and 2 − max(x, y), as in their own passes),
+//! 1 − d, d(1 − d) (the wrap-around factor's and the q = 1 distance's h), and the torus
+//! difference min(d, 1 − d). Terms of one point only (1 + ½|x − ½| and 15/8 − ¼|x − ½|,
+//! the first steps of the centred and mixture factors) are formed once per point.
+//!
+//! The centred and mixture factors take ½d in a − ½d and ½d − ¾, with
+//! a = 1 + ½|x − ½| + ½|y − ½| ≥ 1. The pass forms each as one multiply-add, fused on
+//! AVX2 and not on the portable path, and both have the bits of the passes of their own,
+//! which round ½d first: ½d is exact unless d < 2^−1021, and then both exact results lie
+//! within 2^−1022 of a (or of −¾), far inside half a unit in its last place, so both
+//! round to it. Fusing saves an operation per pair and coordinate, and reading
+//! max(x, y) rather than min(1 − x, 1 − y) and min(2 − x, 2 − y) saves the four loads of
+//! 1 − x, 1 − y, 2 − x and 2 − y: the loop is bound by its loads and its additions.
 //!
 //! The tiles' 16 lanes are worked as four vectors of four, one after the other: the
 //! running products and sums of four lanes fit the 16 vector registers, where 16 lanes of
 //! them would be spilled to memory at every coordinate. Each lane still accumulates the
 //! same pairs in the same order as in the 16-lane passes. The powers d^{−p} of U_{q,p}
-//! (long chains of dependent operations) are taken a row at a time on all 16 lanes, so
+//! (long chains of dependent operations) are taken a row at a time, 32 lanes at once, so
 //! that independent chains overlap.
 //!
 //! Where the energy does not need every pair's distances (none, or q = 1), the two
@@ -30,7 +38,7 @@
 //! result has the same bits whatever the order the tiles find their pairs in.
 
 use crate::discrepancy::squares_from_pair_sums;
-use crate::pairs::{sum_tiles, Blocks, Simd, SumTiles};
+use crate::pairs::{sum_tiles, Blocks, Simd, SumTiles, Wide};
 use crate::uqp::PairPow;
 use crate::{Distance, Energy, PointSet, Uqp};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -104,7 +112,7 @@ pub fn pair_figures(points: &PointSet, energy: Option<&Uqp>) -> PairFigures {
 }
 
 /// Values per point and coordinate in [`Lanes`]: the coordinate and four terms of it.
-const FIELDS: usize = 5;
+const FIELDS: usize = 3;
 
 /// Lanes of the vectors the pass computes in.
 const LANE: usize = 4;
@@ -157,8 +165,8 @@ fn pass<const E: u8>(blocks: &Blocks, points: &PointSet, p: f64) -> [f64; 8] {
         blocks,
         bound: AtomicU64::new(f64::INFINITY.to_bits()),
         x,
-        // The other point's y, 1 − y, 2 − y, ½|y − ½| and ½·½|y − ½|.
-        lanes: Lanes::new(blocks, x, |v| [v, 1.0 - v, 2.0 - v, gap(v), 0.5 * gap(v)]),
+        // The other point's y, ½|y − ½| and ½·½|y − ½|.
+        lanes: Lanes::new(blocks, x, |v| [v, gap(v), 0.5 * gap(v)]),
         pow: PairPow::new(p),
     };
     let zero = [0.0, 0.0, 0.0, 0.0, 0.0, f64::INFINITY, f64::INFINITY, 0.0];
@@ -220,6 +228,8 @@ impl<const E: u8> SumTiles for Tiles<'_, E> {
         let mut own = vec![0.0; s * FIELDS * LANE];
         // The energy's squared distances of a row, for its powers.
         let mut row = vec![0.0; bl.bs];
+        // Their powers d^{−p}.
+        let mut powers = vec![0.0; bl.bs];
         let len_b = bl.len(b);
         // The smallest squared Euclidean distance found so far, as non-negative f64 bits
         // (whose order as integers is that of the values).
@@ -238,7 +248,7 @@ impl<const E: u8> SumTiles for Tiles<'_, E> {
                 .zip(&self.x[i * s..(i + 1) * s])
             {
                 let g = gap(v);
-                let fields = [v, 1.0 - v, 2.0 - v, 1.0 + g, 1.875 - 0.5 * g];
+                let fields = [v, 1.0 + g, 1.875 - 0.5 * g];
                 for (f, value) in o.chunks_exact_mut(LANE).zip(fields) {
                     f.fill(value);
                 }
@@ -271,18 +281,28 @@ impl<const E: u8> SumTiles for Tiles<'_, E> {
                 bound = bound.min(f64::from_bits(shared));
             }
             if E != NONE {
-                // The powers of the row after its sums, on all the tile's lanes at once:
-                // a power is a long chain of dependent operations, and the parts' chains
-                // side by side overlap (the lanes' values are those of each part alone).
-                let mut powers = [0.0; 16];
+                // The powers of the row after its sums, on twice the tile's lanes at once
+                // where the row allows: a power is a long chain of dependent operations,
+                // and the chains side by side overlap (each lane's value is its own).
+                let mut jj = start;
+                while jj < len_b {
+                    let two = jj + 2 * V::N <= row.len();
+                    if two {
+                        self.pow
+                            .eval(Wide::<V, 2>::load(&row[jj..]))
+                            .store(&mut powers[jj..]);
+                    } else {
+                        self.pow.eval(V::load(&row[jj..])).store(&mut powers[jj..]);
+                    }
+                    jj += if two { 2 * V::N } else { V::N };
+                }
                 for jj in (start..len_b).step_by(V::N) {
-                    self.pow.eval(V::load(&row[jj..])).store(&mut powers);
                     for (u, acc) in acc.iter_mut().enumerate().take(parts) {
                         let j0 = jj + u * LANE;
                         if j0 + LANE <= lo || j0 >= len_b {
                             continue;
                         }
-                        let e = V::Base::load(&powers[u * LANE..]);
+                        let e = V::Base::load(&powers[j0..]);
                         let mask = group_mask::<V::Base>(j0, lo, len_b);
                         acc.energy = acc.energy.add(mask.select(e, zero));
                     }
@@ -316,7 +336,8 @@ impl<const E: u8> Tiles<'_, E> {
     /// energy's squared distances (0 without an energy).
     #[inline(always)]
     fn pair_terms<B: Simd>(&self, own: &[f64], other: &[f64], mask: B, acc: &mut Acc<B>) -> B {
-        let (one, half) = (B::splat(1.0), B::splat(0.5));
+        let (one, two) = (B::splat(1.0), B::splat(2.0));
+        let (half, minus_half) = (B::splat(0.5), B::splat(-0.5));
         let zero = B::splat(0.0);
         let mut p = [one; 5];
         let (mut de, mut dp, mut du) = (zero, zero, zero);
@@ -325,16 +346,18 @@ impl<const E: u8> Tiles<'_, E> {
             let field = |f: &[f64], k: usize| B::load(&f[k * LANE..(k + 1) * LANE]);
             let (x, y) = (field(o, 0), field(c, 0));
             let d = x.sub(y).abs();
-            // 1 − max(x, y) is min(1 − x, 1 − y), the same bits (rounding is monotone).
-            p[0] = p[0].mul(field(o, 1).min(field(c, 1)));
-            p[1] = p[1].mul(field(o, 2).min(field(c, 2)));
-            let hd = half.mul(d);
-            p[2] = p[2].mul(field(o, 3).add(field(c, 3)).sub(hd));
+            let m = x.max(y);
+            p[0] = p[0].mul(one.sub(m));
+            p[1] = p[1].mul(two.sub(m));
+            // a − ½d and ½d − ¾ as one multiply-add each, fused or not: the same bits as
+            // rounding ½d first (see the module documentation).
+            let sum = field(o, 1).add(field(c, 1));
+            p[2] = p[2].mul(minus_half.mul_add(d, sum));
             let omd = one.sub(d);
             let t = d.mul(omd);
             p[3] = p[3].mul(B::splat(1.5).sub(t));
-            let quad = d.mul(hd.sub(B::splat(0.75)));
-            let mixed = field(o, 4).sub(field(c, 4));
+            let quad = d.mul(half.mul_add(d, B::splat(-0.75)));
+            let mixed = field(o, 2).sub(field(c, 2));
             p[4] = p[4].mul(mixed.add(quad));
             if Self::PRUNE {
                 // h = |δ|(1 − |δ|) is d(1 − d) both below ½ and above (1 − (1 − d) = d

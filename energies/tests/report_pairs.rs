@@ -91,6 +91,31 @@ fn coordinates_at_one_and_coinciding_points_keep_the_bits() {
 }
 
 #[test]
+fn tiny_coordinates_keep_the_bits() {
+    // Differences below 2^−1021, whose halves round (subnormal), where the pass's
+    // multiply-adds take ½d unrounded; equal and reversed pairs of tiny values.
+    let tiny = [
+        0.0,
+        f64::from_bits(1),
+        f64::from_bits(3),
+        f64::MIN_POSITIVE,
+        f64::MIN_POSITIVE + f64::from_bits(1),
+        3.0 * f64::MIN_POSITIVE,
+        1e-310,
+    ];
+    let mut x = random_set(60, 3, 5).as_slice().to_vec();
+    for (i, v) in x.iter_mut().enumerate().filter(|(i, _)| i % 3 != 1) {
+        *v = tiny[i % tiny.len()];
+    }
+    let p = PointSet::new(60, 3, x).unwrap();
+    assert_eq!(bits(&pair_figures(&p, None)), alone(&p, None));
+    for e in energies() {
+        let f = pair_figures(&p, Some(&e));
+        assert_eq!(bits(&f), alone(&p, Some(&e)), "{}", e.name());
+    }
+}
+
+#[test]
 fn a_single_point_has_no_pair() {
     let p = PointSet::new(1, 3, vec![0.2, 0.5, 0.9]).unwrap();
     let e = Uqp::new(Distance::Q(1.0), 0.5).unwrap();
