@@ -3,21 +3,17 @@
 //! the refusals of what has no points.
 
 mod common;
-use common::{bin, TempDir};
+use common::{bin, succeeded, TempDir};
 use stillpoint::PointSet;
 
 fn run(dir: &TempDir, out: &str, args: &[&str]) -> PointSet {
-    let o = bin()
-        .arg("generate")
-        .args(args)
-        .args(["-q", "-o"])
-        .arg(dir.path(out))
-        .output()
-        .unwrap();
-    assert!(
-        o.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
+    succeeded(
+        bin()
+            .arg("generate")
+            .args(args)
+            .args(["-q", "-o"])
+            .arg(dir.path(out)),
+        &args,
     );
     stillpoint::io::read_points(&dir.path(out)).unwrap()
 }

@@ -2,7 +2,8 @@
 //! the exact values, the same bits for a seed, exact again with `--exact`; the fused
 //! mixture kernel against its formula written out.
 
-use std::process::Command;
+mod common;
+use common::succeeded;
 use stillpoint::energies::discrepancy::{
     sampled_squared_discrepancies, squared_discrepancies_with_mixture,
 };
@@ -133,17 +134,7 @@ fn the_fused_mixture_equals_its_formula_written_out() {
 }
 
 fn eval(args: &[&str]) -> String {
-    let o = Command::new(env!("CARGO_BIN_EXE_stillpoint"))
-        .arg("eval")
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        o.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    String::from_utf8_lossy(&o.stdout).to_string()
+    succeeded(common::bin().arg("eval").args(args), &args).0
 }
 
 #[test]
@@ -189,7 +180,7 @@ fn a_generate_report_never_prints_an_unresolved_estimate_as_a_value() {
     // A stratified Sobol' set above the threshold is more even than 4·10⁶ random pairs can
     // resolve: its rows must say so, not print the estimate's 0.000000.
     let n = stillpoint::quality::metrics::ESTIMATE_ABOVE + 1;
-    let o = Command::new(env!("CARGO_BIN_EXE_stillpoint"))
+    let o = common::bin()
         .args(["generate", "-n", &n.to_string(), "-s", "5", "-q"])
         .output()
         .unwrap();
@@ -221,7 +212,10 @@ fn a_generate_report_never_prints_an_unresolved_estimate_as_a_value() {
         .lines()
         .find(|l| l.contains("block exchanges"))
         .unwrap_or_else(|| panic!("no block exchanges in\n{report}"));
-    let changes = line.split("exact changes of the squares: ").nth(1).expect(line);
+    let changes = line
+        .split("exact changes of the squares: ")
+        .nth(1)
+        .expect(line);
     let values: Vec<f64> = changes
         .split(", ")
         .map(|c| c.split(' ').nth(1).unwrap().parse().unwrap())

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{bin, TempDir};
+use common::{bin, succeeded, TempDir};
 use std::process::Output;
 
 fn run(args: &[&str]) -> Output {
@@ -11,10 +11,7 @@ fn run(args: &[&str]) -> Output {
 }
 
 fn ok(args: &[&str]) -> (String, String) {
-    let o = run(args);
-    let err = String::from_utf8_lossy(&o.stderr).into_owned();
-    assert!(o.status.success(), "{args:?}: {err}");
-    (String::from_utf8_lossy(&o.stdout).into_owned(), err)
+    succeeded(bin().args(args), &args)
 }
 
 #[test]

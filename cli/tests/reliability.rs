@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{bin, TempDir};
+use common::{bin, succeeded, TempDir};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -42,16 +42,9 @@ fn refused(dir: &Path, args: &[&str], needle: &str) -> usize {
 }
 
 fn write(dir: &Path, name: &str, args: &[&str]) {
-    let o = bin()
-        .current_dir(dir)
-        .args(args)
-        .args(["-o", name, "-q"])
-        .output()
-        .unwrap();
-    assert!(
-        o.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
+    succeeded(
+        bin().current_dir(dir).args(args).args(["-o", name, "-q"]),
+        &args,
     );
 }
 

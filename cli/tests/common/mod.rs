@@ -16,6 +16,15 @@ pub fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_stillpoint"))
 }
 
+/// Runs `cmd` and returns its standard output and standard error, failing the test with
+/// `what` and the standard error when the command fails.
+pub fn succeeded(cmd: &mut Command, what: &dyn std::fmt::Debug) -> (String, String) {
+    let o = cmd.output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert!(o.status.success(), "{what:?}: {err}");
+    (String::from_utf8_lossy(&o.stdout).into_owned(), err)
+}
+
 /// A fresh, empty directory `stillpoint-<test file>-<pid>-<name>` in the temporary
 /// directory (left in place afterwards).
 pub fn tmpdir(name: &str) -> PathBuf {
