@@ -7,7 +7,7 @@
 //! D² is reported as it is defined (the square form, not its root): it is O(1/n) for
 //! uniform random points and lower for a set that represents Ω better.
 
-use crate::energies::energy_distance::{distance, pair_distance_sum};
+use crate::energies::energy_distance::{cross_distance_sum, pair_distance_sum};
 use crate::energies::{Domain, PointSet};
 use crate::sequences::{sobol_scrambled, stream_seed};
 use crate::Error;
@@ -39,7 +39,7 @@ pub fn energy_distance(
     seed: u64,
 ) -> Result<EnergyDistanceEstimate, Error> {
     let n = points.n() as f64;
-    let within = 2.0 * pair_distance_sum(points, None, 0.0) / (n * n);
+    let within = 2.0 * pair_distance_sum(points) / (n * n);
     let mut estimates = Vec::with_capacity(BATCHES);
     for b in 0..BATCHES {
         let y = domain.sample(BATCH, stream_seed(seed, b as u64))?;
@@ -58,12 +58,8 @@ pub fn energy_distance(
 /// 2·mean|x − y| − `within` − the U-statistic of |y − y′| over the batch.
 fn batch_estimate(points: &PointSet, y: &PointSet, within: f64) -> f64 {
     let m = y.n() as f64;
-    let cross = points
-        .rows()
-        .map(|x| y.rows().map(|yk| distance(x, yk)).sum::<f64>())
-        .sum::<f64>()
-        / (points.n() as f64 * m);
-    let yy = 2.0 * pair_distance_sum(y, None, 0.0) / (m * (m - 1.0));
+    let cross = cross_distance_sum(points, y) / (points.n() as f64 * m);
+    let yy = 2.0 * pair_distance_sum(y) / (m * (m - 1.0));
     2.0 * cross - within - yy
 }
 
