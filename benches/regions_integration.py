@@ -409,7 +409,7 @@ def main():
     ap.add_argument("--resume", action="store_true",
                     help="keep the rows already in OUT and run only the cases after them")
     args = ap.parse_args()
-    # The long-call warning is expected at n = 1000, s = 8.
+    # stillpoint's long-call warnings and BoTorch's deprecation notices.
     warnings.filterwarnings("ignore", category=RuntimeWarning)
     warnings.filterwarnings("ignore", category=UserWarning)
     warnings.filterwarnings("ignore", category=FutureWarning)
