@@ -116,26 +116,53 @@ pub fn sobol_inside(
 }
 
 /// `m` points representing the uniform distribution on `domain`: Sobol' + rejection
-/// ([`sobol_inside`]) where the region fills enough of its box, else the region's own
-/// uniform sampler. The text says which.
+/// ([`sobol_inside`]) where the region fills enough of its box, else scrambled Sobol'
+/// points carried onto it by [`Domain::map_from_cube`] where it has that map (the
+/// simplex), else the region's own uniform sampler, whose random error a large set would
+/// fit. The text says which.
 pub fn uniform_reference(
     domain: &Arc<dyn Domain>,
     m: usize,
     seed: u64,
 ) -> Result<(PointSet, String), Error> {
-    Ok(match sobol_inside(domain, m, seed)? {
-        Some(p) => (p, format!("{m} scrambled Sobol' points of the box inside")),
-        None => (
-            domain.sample(m, seed)?,
-            format!("{m} uniform random points (the region fills too little of its box)"),
-        ),
-    })
+    if let Some(p) = sobol_inside(domain, m, seed)? {
+        return Ok((p, format!("{m} scrambled Sobol' points of the box inside")));
+    }
+    let s = domain.dim();
+    let cube = sobol_scrambled(m, s, seed)?;
+    let mut mapped = vec![0.0; m * s];
+    if cube
+        .rows()
+        .zip(mapped.chunks_exact_mut(s))
+        .all(|(u, x)| domain.map_from_cube(u, x))
+    {
+        return Ok((
+            PointSet::new(m, s, mapped)?,
+            format!("{m} scrambled Sobol' points mapped onto the region"),
+        ));
+    }
+    Ok((
+        domain.sample(m, seed)?,
+        format!("{m} uniform random points (the region fills too little of its box)"),
+    ))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::energies::shapes::{Ball, Simplex};
+
+    #[test]
+    fn a_thin_simplex_is_pictured_by_mapped_sobol_points() {
+        let simplex: Arc<dyn Domain> = Arc::new(Simplex::new(8).unwrap());
+        let (p, text) = uniform_reference(&simplex, 2000, 1).unwrap();
+        assert!(text.contains("mapped"), "{text}");
+        assert!(p.rows().all(|x| simplex.contains(x)));
+        let mapped = energy_distance(&simplex, &p, 9).unwrap().value;
+        let random = simplex.sample(2000, 1).unwrap();
+        let random = energy_distance(&simplex, &random, 9).unwrap().value;
+        assert!(mapped < random / 2.0, "mapped {mapped}, random {random}");
+    }
 
     #[test]
     fn a_growing_uniform_sample_tends_to_zero() {
@@ -177,6 +204,11 @@ mod tests {
         assert!(sobol_inside(&thin, 5000, 3).unwrap().is_none());
         let (q, how) = uniform_reference(&thin, 100, 3).unwrap();
         assert!(q.rows().all(|x| thin.contains(x)));
+        assert!(how.contains("mapped"), "{how}");
+        // A ball fills 2.5e-8 of its box at s = 20 and has no map from the cube.
+        let ball: Arc<dyn Domain> = Arc::new(Ball::new(vec![0.0; 20], 1.0).unwrap());
+        let (q, how) = uniform_reference(&ball, 100, 3).unwrap();
+        assert!(q.rows().all(|x| ball.contains(x)));
         assert!(how.contains("random"), "{how}");
     }
 }
