@@ -20,7 +20,7 @@ Chebyshev centre it finds by linear programming. For the regions that are not po
 coordinates, the next point uniform on the line's part inside the region (uniform on its
 part inside the box, rejected until inside), the same burn-in and thinning.
 
-    python3 benches/regions_integration.py [--quick] [--resume] [--out DIR]
+    python3 benches/regions_integration.py [--quick] [--resume] [--only NAME] [--out DIR]
 
 Needs the built package, SciPy and (for the polytopes' hit-and-run) BoTorch; without
 BoTorch the polytopes' hit-and-run column is left empty. The space-filling anchor runs
@@ -354,6 +354,8 @@ def outcome(rows):
 
 
 def write(out, rows):
+    order = {make()["name"]: i for i, (make, _) in enumerate(CASES)}
+    rows.sort(key=lambda r: (order.get(r["region"], len(order)), r["n"]))
     (out / "regions_integration.json").write_text(json.dumps(rows, indent=1))
     lines = [
         "| region | n | energy distance D²: ours / Sobol'+rej. / hit-and-run / uniform / "
@@ -408,6 +410,8 @@ def main():
     ap.add_argument("--out", default="results/regions-integration")
     ap.add_argument("--resume", action="store_true",
                     help="keep the rows already in OUT and run only the cases after them")
+    ap.add_argument("--only", action="append", default=[],
+                    help="run only the region of this name (repeatable), e.g. 'simplex s=6'")
     args = ap.parse_args()
     # stillpoint's long-call warnings and BoTorch's deprecation notices.
     warnings.filterwarnings("ignore", category=RuntimeWarning)
@@ -426,6 +430,8 @@ def main():
     done = {(r["region"], r["n"]) for r in rows}
     for make, ns in cases:
         reg = make()
+        if args.only and reg["name"] not in args.only:
+            continue
         ns = [n for n in ns if (reg["name"], n) not in done]
         if not ns:
             continue

@@ -7,7 +7,8 @@
 //! attraction to Ω's mass. The reference is m = 8·n (at least 4096, at most 16 384)
 //! scrambled Sobol' points of the bounding box that lie inside, a far closer picture of
 //! uniform on Ω than n points can be, so the set does not fit its error; where Ω fills too
-//! little of its box, the region's own uniform sampler gives it. The start is Sobol' +
+//! little of its box, scrambled Sobol' points mapped onto it (the simplex) or, without such
+//! a map, the region's own uniform sampler give it. The start is Sobol' +
 //! rejection (another scramble), the usual quasi-Monte Carlo set in a region; L-BFGS runs
 //! through the executor with the region's domain, which projects every iterate back inside.
 //!
