@@ -115,19 +115,17 @@ pub fn sobol_inside(
     }
 }
 
-/// `m` points representing the uniform distribution on `domain`: Sobol' + rejection
-/// ([`sobol_inside`]) where the region fills enough of its box, else scrambled Sobol'
-/// points carried onto it by [`Domain::map_from_cube`] where it has that map (the
-/// simplex), else the region's own uniform sampler, whose random error a large set would
-/// fit. The text says which.
+/// `m` points representing the uniform distribution on `domain`: scrambled Sobol' points
+/// carried onto it by [`Domain::map_from_cube`] where it has that map (the simplex, which
+/// fills 1/s! of its box, so that rejection would draw s!·m points), else Sobol' +
+/// rejection ([`sobol_inside`]) where the region fills enough of its box, else the
+/// region's own uniform sampler, whose random error a large set would fit. The text says
+/// which.
 pub fn uniform_reference(
     domain: &Arc<dyn Domain>,
     m: usize,
     seed: u64,
 ) -> Result<(PointSet, String), Error> {
-    if let Some(p) = sobol_inside(domain, m, seed)? {
-        return Ok((p, format!("{m} scrambled Sobol' points of the box inside")));
-    }
     let s = domain.dim();
     let cube = sobol_scrambled(m, s, seed)?;
     let mut mapped = vec![0.0; m * s];
@@ -140,6 +138,9 @@ pub fn uniform_reference(
             PointSet::new(m, s, mapped)?,
             format!("{m} scrambled Sobol' points mapped onto the region"),
         ));
+    }
+    if let Some(p) = sobol_inside(domain, m, seed)? {
+        return Ok((p, format!("{m} scrambled Sobol' points of the box inside")));
     }
     Ok((
         domain.sample(m, seed)?,
