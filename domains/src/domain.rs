@@ -64,6 +64,14 @@ pub trait Domain: Send + Sync + std::fmt::Debug {
         false
     }
 
+    /// Maps `u` in [0, 1)^s to `x` in the domain so that uniform u gives uniform x, by a
+    /// piecewise smooth map that keeps a low-discrepancy set's evenness (a quasi-Monte
+    /// Carlo picture of a region that fills too little of its box for rejection); false,
+    /// with `x` untouched, where the domain has no such map (the default).
+    fn map_from_cube(&self, _u: &[f64], _x: &mut [f64]) -> bool {
+        false
+    }
+
     /// True for a domain without boundary whose translates tile space (the torus).
     fn is_periodic(&self) -> bool {
         false

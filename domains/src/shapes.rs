@@ -651,6 +651,18 @@ impl Domain for Simplex {
         project_back(self, &self.centroid(), 2f64.sqrt(), x, prev);
     }
 
+    /// The spacings of the sorted coordinates: for uniform u, (u_(1), u_(2) − u_(1), …,
+    /// 1 − u_(s)) is uniform on the simplex of s + 1 coordinates summing to 1, and its
+    /// first s coordinates are uniform on this one.
+    fn map_from_cube(&self, u: &[f64], x: &mut [f64]) -> bool {
+        x.copy_from_slice(u);
+        x.sort_unstable_by(f64::total_cmp);
+        for k in (1..x.len()).rev() {
+            x[k] -= x[k - 1];
+        }
+        true
+    }
+
     fn closest_boundary_point(&self, x: &[f64], foot: &mut [f64]) -> Option<f64> {
         let s = self.s;
         if !usable(s, x, foot) {

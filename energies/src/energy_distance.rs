@@ -13,8 +13,9 @@
 //! low-discrepancy reference of m ≫ n points the set cannot fit the reference's own
 //! error, which is far below the n-point set's distance to μ.
 //!
-//! Cost: O(n·m·s) for the attraction (in parallel over the points, each point's sums in a
-//! fixed order, so the bits do not depend on the thread count) and O(n²·s) for the pairs.
+//! Cost: O(n·m·s) for the attraction and O(n²·s) for the pairs, both in parallel over the
+//! points (each point's sums in a fixed order, so the bits do not depend on the thread
+//! count).
 
 use crate::{Energy, Error, PointSet, Result};
 use rayon::prelude::*;
@@ -25,17 +26,29 @@ use rayon::prelude::*;
 #[derive(Debug, Clone)]
 pub struct EnergyDistance {
     reference: PointSet,
-    /// The reference coordinate by coordinate (coordinate c of point k at c·m + k), so
-    /// that the kernel reads [`BLOCK`] consecutive reference points per load.
+    /// The reference coordinate by coordinate, for [`row_sum`].
     columns: Vec<f64>,
 }
 
-/// Reference points handled together by the kernel: independent lanes the compiler
-/// turns into vector instructions.
+/// Points handled together by [`row_sum`]: independent lanes the compiler turns into
+/// vector instructions.
 const BLOCK: usize = 64;
 
 /// Independent partial sums of a block's reductions (a fixed order, so fixed bits).
 const LANES: usize = 8;
+
+/// `points` coordinate by coordinate (coordinate c of point k at c·m + k), so that
+/// [`row_sum`] reads [`BLOCK`] consecutive points per load.
+fn columns_of(points: &PointSet) -> Vec<f64> {
+    let (m, s) = (points.n(), points.s());
+    let mut columns = vec![0.0; m * s];
+    for (k, y) in points.rows().enumerate() {
+        for (c, v) in y.iter().enumerate() {
+            columns[c * m + k] = *v;
+        }
+    }
+    columns
+}
 
 impl EnergyDistance {
     /// The energy distance to the distribution of `reference` (at least one point).
@@ -47,13 +60,7 @@ impl EnergyDistance {
                 "at least 1 point",
             ));
         }
-        let (m, s) = (reference.n(), reference.s());
-        let mut columns = vec![0.0; m * s];
-        for (k, y) in reference.rows().enumerate() {
-            for (c, v) in y.iter().enumerate() {
-                columns[c * m + k] = *v;
-            }
-        }
+        let columns = columns_of(&reference);
         Ok(EnergyDistance { reference, columns })
     }
 
@@ -62,90 +69,127 @@ impl EnergyDistance {
         &self.reference
     }
 
-    /// Σ_i (1/m) Σ_k |x_i − y_k|, with the gradient of each term written to `grad` when
-    /// given, scaled by `scale`.
-    fn attraction(&self, points: &PointSet, grad: Option<&mut [f64]>, scale: f64) -> f64 {
-        let s = points.s();
-        let m = self.reference.n() as f64;
-        let row_mean = |x: &[f64], g: Option<&mut [f64]>| -> f64 {
-            let total = match g {
-                None => self.row_sum(x, None),
-                Some(g) => {
-                    let total = self.row_sum(x, Some(&mut *g));
-                    g.iter_mut().for_each(|v| *v *= scale / m);
-                    total
-                }
-            };
-            total / m
-        };
-        let rows: Vec<f64> = match grad {
+    /// The energy and, when `grad` is given, its gradient written there. Attraction and
+    /// repulsion are summed point by point in one parallel pass; each point's whole row
+    /// of pairs is summed (every pair twice, halved), which costs twice the pairs of a
+    /// triangle but runs on every core in [`row_sum`]'s vector lanes. Each point's sums
+    /// have a fixed order and the points' totals are added in index order, so the bits do
+    /// not depend on the thread count.
+    fn evaluate(&self, points: &PointSet, grad: Option<&mut [f64]>) -> f64 {
+        let (n, s) = (points.n(), points.s());
+        let (nf, m) = (n as f64, self.reference.n() as f64);
+        let (attract, repel) = (2.0 / (nf * m), 2.0 / (nf * nf));
+        let own = columns_of(points);
+        let reference = (self.columns.as_slice(), self.reference.as_slice());
+        let pairs = (own.as_slice(), points.as_slice());
+        let rows: Vec<(f64, f64)> = match grad {
             None => points
                 .as_slice()
                 .par_chunks_exact(s)
-                .map(|x| row_mean(x, None))
+                .map(|x| (row_sum(reference, x, None), row_sum(pairs, x, None)))
                 .collect(),
             Some(grad) => points
                 .as_slice()
                 .par_chunks_exact(s)
                 .zip(grad.par_chunks_exact_mut(s))
-                .map(|(x, g)| row_mean(x, Some(g)))
+                .map(|(x, g)| {
+                    let mut gp = vec![0.0; s];
+                    let a = row_sum(reference, x, Some(&mut *g));
+                    let p = row_sum(pairs, x, Some(&mut gp));
+                    for (gk, pk) in g.iter_mut().zip(&gp) {
+                        *gk = attract * *gk - repel * pk;
+                    }
+                    (a, p)
+                })
                 .collect(),
         };
-        rows.iter().sum()
+        let a: f64 = rows.iter().map(|r| r.0).sum();
+        let p: f64 = rows.iter().map(|r| r.1).sum();
+        attract * a - 0.5 * repel * p
     }
 }
 
-impl EnergyDistance {
-    /// Σ_k |x − y_k|, and Σ_k (x − y_k)/|x − y_k| written to `g` when given: whole
-    /// blocks of [`BLOCK`] reference points in lanes, the rest one by one.
-    fn row_sum(&self, x: &[f64], mut g: Option<&mut [f64]>) -> f64 {
-        let (m, s) = (self.reference.n(), self.reference.s());
-        if let Some(g) = g.as_deref_mut() {
-            g.iter_mut().for_each(|v| *v = 0.0);
-        }
-        let mut totals = [0.0; BLOCK];
-        let mut d2 = [0.0; BLOCK];
-        let mut inv = [0.0; BLOCK];
-        let full = m / BLOCK * BLOCK;
-        for base in (0..full).step_by(BLOCK) {
-            d2.fill(0.0);
-            for (c, xc) in x.iter().enumerate() {
-                let col = &self.columns[c * m + base..c * m + base + BLOCK];
-                for (d, y) in d2.iter_mut().zip(col) {
-                    let t = xc - y;
-                    *d += t * t;
-                }
-            }
-            for ((d, i), tot) in d2.iter().zip(inv.iter_mut()).zip(totals.iter_mut()) {
-                let r = d.sqrt();
-                *tot += r;
-                *i = if r > 0.0 { 1.0 / r } else { 0.0 };
-            }
-            if let Some(g) = g.as_deref_mut() {
-                for (c, xc) in x.iter().enumerate() {
-                    let col = &self.columns[c * m + base..c * m + base + BLOCK];
-                    let mut acc = [0.0; LANES];
-                    for (yc, ic) in col.chunks_exact(LANES).zip(inv.chunks_exact(LANES)) {
-                        for ((a, y), i) in acc.iter_mut().zip(yc).zip(ic) {
-                            *a += (xc - y) * i;
-                        }
-                    }
-                    g[c] += acc.iter().sum::<f64>();
-                }
-            }
-        }
-        let mut total: f64 = totals.iter().sum();
-        for yk in self.reference.as_slice()[full * s..].chunks_exact(s) {
-            let d = distance(x, yk);
-            total += d;
-            if let (Some(g), true) = (g.as_deref_mut(), d > 0.0) {
-                for ((gk, a), b) in g.iter_mut().zip(x).zip(yk) {
-                    *gk += (a - b) / d;
-                }
-            }
-        }
-        total
+/// Σ_k |x − y_k| over the points y of (`columns`, `rows`) (one set, coordinate by
+/// coordinate and point by point), and Σ_k (x − y_k)/|x − y_k| written to `g` when given.
+/// Compiled twice, for AVX2 where the processor has it and portably: the lanes are
+/// explicit and no multiply–add is fused, so both give the same bits, twice the lanes
+/// for AVX2.
+fn row_sum(set: (&[f64], &[f64]), x: &[f64], g: Option<&mut [f64]>) -> f64 {
+    #[cfg(target_arch = "x86_64")]
+    if avx2() {
+        // SAFETY: the processor has AVX2 (checked by `avx2`).
+        return unsafe { row_sum_avx2(set, x, g) };
     }
+    row_sum_lanes(set, x, g)
+}
+
+/// Whether [`row_sum`] takes its AVX2 build; `STILLPOINT_PORTABLE=1` (read once) forces
+/// the portable one, as for the pair kernels.
+#[cfg(target_arch = "x86_64")]
+fn avx2() -> bool {
+    static AVX2: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *AVX2.get_or_init(|| {
+        let forced = std::env::var("STILLPOINT_PORTABLE").is_ok_and(|v| !v.is_empty() && v != "0");
+        !forced && is_x86_feature_detected!("avx2")
+    })
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn row_sum_avx2(set: (&[f64], &[f64]), x: &[f64], g: Option<&mut [f64]>) -> f64 {
+    row_sum_lanes(set, x, g)
+}
+
+/// [`row_sum`]'s body: whole blocks of [`BLOCK`] points in lanes, the rest one by one.
+#[inline(always)]
+fn row_sum_lanes((columns, rows): (&[f64], &[f64]), x: &[f64], mut g: Option<&mut [f64]>) -> f64 {
+    let s = x.len();
+    let m = rows.len() / s;
+    if let Some(g) = g.as_deref_mut() {
+        g.iter_mut().for_each(|v| *v = 0.0);
+    }
+    let mut totals = [0.0; BLOCK];
+    let mut d2 = [0.0; BLOCK];
+    let mut inv = [0.0; BLOCK];
+    let full = m / BLOCK * BLOCK;
+    for base in (0..full).step_by(BLOCK) {
+        d2.fill(0.0);
+        for (c, xc) in x.iter().enumerate() {
+            let col = &columns[c * m + base..c * m + base + BLOCK];
+            for (d, y) in d2.iter_mut().zip(col) {
+                let t = xc - y;
+                *d += t * t;
+            }
+        }
+        for ((d, i), tot) in d2.iter().zip(inv.iter_mut()).zip(totals.iter_mut()) {
+            let r = d.sqrt();
+            *tot += r;
+            *i = if r > 0.0 { 1.0 / r } else { 0.0 };
+        }
+        if let Some(g) = g.as_deref_mut() {
+            for (c, xc) in x.iter().enumerate() {
+                let col = &columns[c * m + base..c * m + base + BLOCK];
+                let mut acc = [0.0; LANES];
+                for (yc, ic) in col.chunks_exact(LANES).zip(inv.chunks_exact(LANES)) {
+                    for ((a, y), i) in acc.iter_mut().zip(yc).zip(ic) {
+                        *a += (xc - y) * i;
+                    }
+                }
+                g[c] += acc.iter().sum::<f64>();
+            }
+        }
+    }
+    let mut total: f64 = totals.iter().sum();
+    for yk in rows[full * s..].chunks_exact(s) {
+        let d = distance(x, yk);
+        total += d;
+        if let (Some(g), true) = (g.as_deref_mut(), d > 0.0) {
+            for ((gk, a), b) in g.iter_mut().zip(x).zip(yk) {
+                *gk += (a - b) / d;
+            }
+        }
+    }
+    total
 }
 
 /// Euclidean distance.
@@ -158,29 +202,24 @@ pub fn distance(a: &[f64], b: &[f64]) -> f64 {
         .sqrt()
 }
 
-/// Σ_{i<j} |x_i − x_j|, with `scale` × its gradient added to `grad` when given. One
-/// thread, in a fixed order: at n ≤ a few thousand this is a small part of the
-/// attraction's O(n·m·s).
-pub fn pair_distance_sum(points: &PointSet, mut grad: Option<&mut [f64]>, scale: f64) -> f64 {
-    let (n, s) = (points.n(), points.s());
-    let x = points.as_slice();
-    let mut total = 0.0;
-    for i in 0..n {
-        let xi = &x[i * s..(i + 1) * s];
-        for j in i + 1..n {
-            let xj = &x[j * s..(j + 1) * s];
-            let d = distance(xi, xj);
-            total += d;
-            if let (Some(g), true) = (grad.as_deref_mut(), d > 0.0) {
-                for k in 0..s {
-                    let f = scale * (xi[k] - xj[k]) / d;
-                    g[i * s + k] += f;
-                    g[j * s + k] -= f;
-                }
-            }
-        }
-    }
-    total
+/// Σ_{i<j} |x_i − x_j|: every point's row of distances in parallel ([`row_sum`]'s lanes),
+/// halved; the rows are added in index order, so the bits do not depend on the thread
+/// count.
+pub fn pair_distance_sum(points: &PointSet) -> f64 {
+    0.5 * cross_distance_sum(points, points)
+}
+
+/// Σ_i Σ_k |x_i − y_k| over two sets of the same dimension, in parallel over the x_i and
+/// added in index order (fixed bits).
+pub fn cross_distance_sum(x: &PointSet, y: &PointSet) -> f64 {
+    let columns = columns_of(y);
+    let set = (columns.as_slice(), y.as_slice());
+    let rows: Vec<f64> = x
+        .as_slice()
+        .par_chunks_exact(x.s())
+        .map(|xi| row_sum(set, xi, None))
+        .collect();
+    rows.iter().sum()
 }
 
 impl Energy for EnergyDistance {
@@ -192,16 +231,11 @@ impl Energy for EnergyDistance {
     }
 
     fn value(&self, points: &PointSet) -> f64 {
-        let n = points.n() as f64;
-        2.0 / n * self.attraction(points, None, 0.0)
-            - 2.0 / (n * n) * pair_distance_sum(points, None, 0.0)
+        self.evaluate(points, None)
     }
 
     fn value_and_gradient(&self, points: &PointSet, grad: &mut [f64]) -> f64 {
-        let n = points.n() as f64;
-        let a = self.attraction(points, Some(&mut *grad), 2.0 / n);
-        let p = pair_distance_sum(points, Some(grad), -2.0 / (n * n));
-        2.0 / n * a - 2.0 / (n * n) * p
+        self.evaluate(points, Some(grad))
     }
 }
 
@@ -234,12 +268,31 @@ mod tests {
     }
 
     #[test]
+    fn every_build_of_the_row_kernel_gives_the_same_bits() {
+        let cube = PeriodicCube::new(5).unwrap();
+        let y = cube.sample(300, 3).unwrap();
+        let columns = columns_of(&y);
+        let set = (columns.as_slice(), y.as_slice());
+        for x in cube.sample(7, 4).unwrap().rows() {
+            let (mut g1, mut g2) = (vec![0.0; 5], vec![0.0; 5]);
+            let a = row_sum(set, x, Some(&mut g1));
+            let b = row_sum_lanes(set, x, Some(&mut g2));
+            assert_eq!(a.to_bits(), b.to_bits());
+            assert_eq!(g1, g2);
+            assert!(a > 0.0 && g1.iter().any(|v| *v != 0.0));
+        }
+    }
+
+    #[test]
     fn pair_sum_counts_each_pair_once() {
         let x = PointSet::from_rows(&[[0.0, 0.0], [3.0, 4.0], [0.0, 1.0]]).unwrap();
         let brute: f64 = (0..3)
             .flat_map(|i| (0..3).map(move |j| (i, j)))
             .map(|(i, j)| distance(x.point(i), x.point(j)))
             .sum();
-        assert!((pair_distance_sum(&x, None, 0.0) - brute / 2.0).abs() < 1e-12);
+        assert!((pair_distance_sum(&x) - brute / 2.0).abs() < 1e-12);
+        let y = PointSet::from_rows(&[[1.0, 0.0]]).unwrap();
+        let cross = 1.0 + (4.0f64 + 16.0).sqrt() + 2.0f64.sqrt();
+        assert!((cross_distance_sum(&x, &y) - cross).abs() < 1e-12);
     }
 }

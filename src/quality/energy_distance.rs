@@ -7,7 +7,7 @@
 //! D² is reported as it is defined (the square form, not its root): it is O(1/n) for
 //! uniform random points and lower for a set that represents Ω better.
 
-use crate::energies::energy_distance::{distance, pair_distance_sum};
+use crate::energies::energy_distance::{cross_distance_sum, pair_distance_sum};
 use crate::energies::{Domain, PointSet};
 use crate::sequences::{sobol_scrambled, stream_seed};
 use crate::Error;
@@ -39,7 +39,7 @@ pub fn energy_distance(
     seed: u64,
 ) -> Result<EnergyDistanceEstimate, Error> {
     let n = points.n() as f64;
-    let within = 2.0 * pair_distance_sum(points, None, 0.0) / (n * n);
+    let within = 2.0 * pair_distance_sum(points) / (n * n);
     let mut estimates = Vec::with_capacity(BATCHES);
     for b in 0..BATCHES {
         let y = domain.sample(BATCH, stream_seed(seed, b as u64))?;
@@ -58,12 +58,8 @@ pub fn energy_distance(
 /// 2·mean|x − y| − `within` − the U-statistic of |y − y′| over the batch.
 fn batch_estimate(points: &PointSet, y: &PointSet, within: f64) -> f64 {
     let m = y.n() as f64;
-    let cross = points
-        .rows()
-        .map(|x| y.rows().map(|yk| distance(x, yk)).sum::<f64>())
-        .sum::<f64>()
-        / (points.n() as f64 * m);
-    let yy = 2.0 * pair_distance_sum(y, None, 0.0) / (m * (m - 1.0));
+    let cross = cross_distance_sum(points, y) / (points.n() as f64 * m);
+    let yy = 2.0 * pair_distance_sum(y) / (m * (m - 1.0));
     2.0 * cross - within - yy
 }
 
@@ -119,27 +115,55 @@ pub fn sobol_inside(
     }
 }
 
-/// `m` points representing the uniform distribution on `domain`: Sobol' + rejection
-/// ([`sobol_inside`]) where the region fills enough of its box, else the region's own
-/// uniform sampler. The text says which.
+/// `m` points representing the uniform distribution on `domain`: scrambled Sobol' points
+/// carried onto it by [`Domain::map_from_cube`] where it has that map (the simplex, which
+/// fills 1/s! of its box, so that rejection would draw s!·m points), else Sobol' +
+/// rejection ([`sobol_inside`]) where the region fills enough of its box, else the
+/// region's own uniform sampler, whose random error a large set would fit. The text says
+/// which.
 pub fn uniform_reference(
     domain: &Arc<dyn Domain>,
     m: usize,
     seed: u64,
 ) -> Result<(PointSet, String), Error> {
-    Ok(match sobol_inside(domain, m, seed)? {
-        Some(p) => (p, format!("{m} scrambled Sobol' points of the box inside")),
-        None => (
-            domain.sample(m, seed)?,
-            format!("{m} uniform random points (the region fills too little of its box)"),
-        ),
-    })
+    let s = domain.dim();
+    let cube = sobol_scrambled(m, s, seed)?;
+    let mut mapped = vec![0.0; m * s];
+    if cube
+        .rows()
+        .zip(mapped.chunks_exact_mut(s))
+        .all(|(u, x)| domain.map_from_cube(u, x))
+    {
+        return Ok((
+            PointSet::new(m, s, mapped)?,
+            format!("{m} scrambled Sobol' points mapped onto the region"),
+        ));
+    }
+    if let Some(p) = sobol_inside(domain, m, seed)? {
+        return Ok((p, format!("{m} scrambled Sobol' points of the box inside")));
+    }
+    Ok((
+        domain.sample(m, seed)?,
+        format!("{m} uniform random points (the region fills too little of its box)"),
+    ))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::energies::shapes::{Ball, Simplex};
+
+    #[test]
+    fn a_thin_simplex_is_pictured_by_mapped_sobol_points() {
+        let simplex: Arc<dyn Domain> = Arc::new(Simplex::new(8).unwrap());
+        let (p, text) = uniform_reference(&simplex, 2000, 1).unwrap();
+        assert!(text.contains("mapped"), "{text}");
+        assert!(p.rows().all(|x| simplex.contains(x)));
+        let mapped = energy_distance(&simplex, &p, 9).unwrap().value;
+        let random = simplex.sample(2000, 1).unwrap();
+        let random = energy_distance(&simplex, &random, 9).unwrap().value;
+        assert!(mapped < random / 2.0, "mapped {mapped}, random {random}");
+    }
 
     #[test]
     fn a_growing_uniform_sample_tends_to_zero() {
@@ -181,6 +205,11 @@ mod tests {
         assert!(sobol_inside(&thin, 5000, 3).unwrap().is_none());
         let (q, how) = uniform_reference(&thin, 100, 3).unwrap();
         assert!(q.rows().all(|x| thin.contains(x)));
+        assert!(how.contains("mapped"), "{how}");
+        // A ball fills 2.5e-8 of its box at s = 20 and has no map from the cube.
+        let ball: Arc<dyn Domain> = Arc::new(Ball::new(vec![0.0; 20], 1.0).unwrap());
+        let (q, how) = uniform_reference(&ball, 100, 3).unwrap();
+        assert!(q.rows().all(|x| ball.contains(x)));
         assert!(how.contains("random"), "{how}");
     }
 }
