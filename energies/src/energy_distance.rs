@@ -202,7 +202,7 @@ pub fn distance(a: &[f64], b: &[f64]) -> f64 {
         .sqrt()
 }
 
-/// Σ_{i<j} |x_i − x_j|: every point's row of distances in parallel ([`row_sum`]'s lanes),
+/// Σ_{i<j} |x_i − x_j|: every point's row of distances in parallel (`row_sum`'s lanes),
 /// halved; the rows are added in index order, so the bits do not depend on the thread
 /// count.
 pub fn pair_distance_sum(points: &PointSet) -> f64 {

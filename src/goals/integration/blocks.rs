@@ -286,7 +286,7 @@ pub fn block_exchanges(
         for _ in 0..PROPOSALS_PER_POINT * b {
             // A stop request is seen within a few dozen proposals (each O(n)).
             if outcome.work + proposal_cost > work
-                || (outcome.proposals % 64 == 0 && crate::solve::cancelled())
+                || (outcome.proposals.is_multiple_of(64) && crate::solve::cancelled())
             {
                 break;
             }

@@ -808,7 +808,8 @@ fn descend(
     Ok((points, descent))
 }
 
-/// Above this many points the block exchanges get less work (see [`block_pass`]).
+/// Above this many points the block exchanges get less work, as 1/n: a proposal costs
+/// O(n) and a block holds fewer points, so the same time buys less.
 pub const BLOCKS_FADE_FROM: usize = 200_000;
 
 /// Where no round of the descent fits, the block exchanges of [`super::blocks`] on the

@@ -116,7 +116,7 @@ impl Form {
 }
 
 impl Form {
-    /// Σ_l p_i[l]·(h(x_j, c_l)/h(x_i, c_l) − 1) + p_j[l]·(h(x_i, c_l)/h(x_j, c_l) − 1) over
+    /// Σ_l p_il·(h(x_j, c_l)/h(x_i, c_l) − 1) + p_jl·(h(x_i, c_l)/h(x_j, c_l) − 1) over
     /// the slices: the pair part of a swap of x_i and x_j in one coordinate whose values are
     /// `column`, for the points whose pair products with i and j are `pi` and `pj`. h is
     /// dispatched once, outside the loop, so the loop has no branch and vectorises.
