@@ -475,10 +475,12 @@ fn estimate_lines(m: &Metrics, e: &stillpoint::quality::metrics::Estimate, above
         .map(|((name, v), se)| format!("{name} ≈ {v:.6} ± {se:.6}"))
         .collect();
     let mut t = format!(
-        "\n  above n = {above} the discrepancies are estimated from {} random pairs (one \
-         standard error, the roots' by the delta method); the result's: {}; an error above \
-         the value means the set is more even than the sample can resolve; --exact for the \
-         exact sums (O(n² s))\n",
+        "\n  above n = {above} the discrepancies and the target are estimated from {} random \
+         pairs (one standard error, the roots' by the delta method); the result's: {}; an \
+         error above the value means the set is more even than the sample can resolve, and \
+         the start's and the result's estimates differ by that error, not by what the run \
+         changed (the descent line states exact changes where it made any); --exact for \
+         the exact sums (O(n² s))\n",
         e.pairs,
         each.join(", ")
     );
