@@ -8,6 +8,7 @@
 //!   of each unordered factor, the points fall one per 1/m-th of [0, 1) (a sliced Latin
 //!   hypercube when m = n/L is whole), moving each point as little as that allows.
 
+use super::slices::{SliceCounts, Slices};
 use super::{DesignSpace, Kind};
 use crate::PointSet;
 use rand::{RngExt, SeedableRng};
@@ -362,35 +363,9 @@ const UNTANGLE_PER_POINT: usize = 400;
 /// when that lowers the number of points sharing a 1/m-th of [0, 1) with another point
 /// of their slice, summed over every factor, so that a design of nested or balanced
 /// factors is stratified within every slice of every factor where such a dealing exists.
-fn untangle(cell: &mut [usize], values: &[f64], slices: &[(&[usize], usize)], seed: u64) {
+fn untangle(cell: &mut [usize], values: &[f64], slices: &Slices<'_>, seed: u64) {
     let n = cell.len();
-    let sizes: Vec<Vec<usize>> = slices
-        .iter()
-        .map(|&(labels, l)| {
-            let mut m = vec![0usize; l];
-            for &k in labels {
-                m[k] += 1;
-            }
-            m
-        })
-        .collect();
-    let block = |f: usize, i: usize, c: usize| -> usize {
-        let m = sizes[f][slices[f].0[i]];
-        c * m / n
-    };
-    // counts[f][level][block]
-    let mut counts: Vec<Vec<Vec<u32>>> = sizes
-        .iter()
-        .map(|m| m.iter().map(|&mk| vec![0u32; mk.max(1)]).collect())
-        .collect();
-    for i in 0..n {
-        for f in 0..slices.len() {
-            counts[f][slices[f].0[i]][block(f, i, cell[i])] += 1;
-        }
-    }
-    let crowded = |counts: &Vec<Vec<Vec<u32>>>, i: usize, c: usize| -> bool {
-        (0..slices.len()).any(|f| counts[f][slices[f].0[i]][block(f, i, c)] > 1)
-    };
+    let mut counts = SliceCounts::new(slices, n, |i| cell[i]);
     let mut at = vec![0usize; n];
     for i in 0..n {
         at[cell[i]] = i;
@@ -405,7 +380,7 @@ fn untangle(cell: &mut [usize], values: &[f64], slices: &[(&[usize], usize)], se
     for phase in 0..2 {
         for _ in 0..UNTANGLE_PER_POINT * n {
             let p = rng.random_range(0..n);
-            if phase == 0 && !crowded(&counts, p, cell[p]) {
+            if phase == 0 && !counts.crowded(p, cell[p]) {
                 continue;
             }
             let lo = cell[p].saturating_sub(reach);
@@ -419,22 +394,9 @@ fn untangle(cell: &mut [usize], values: &[f64], slices: &[(&[usize], usize)], se
             // Excess over one per block, before and after the swap, for the blocks
             // touched.
             let mut delta: i64 = 0;
-            for f in 0..slices.len() {
-                let (lp, lq) = (slices[f].0[p], slices[f].0[q]);
-                let moves = [
-                    (lp, block(f, p, cp), block(f, p, cq)),
-                    (lq, block(f, q, cq), block(f, q, cp)),
-                ];
-                for &(l, from, to) in &moves {
-                    if from == to {
-                        continue;
-                    }
-                    let c = &mut counts[f][l];
-                    delta -= i64::from(c[from] > 1);
-                    c[from] -= 1;
-                    delta += i64::from(c[to] >= 1);
-                    c[to] += 1;
-                }
+            for f in 0..counts.factors() {
+                delta += counts.shift(f, p, cp, cq);
+                delta += counts.shift(f, q, cq, cp);
             }
             let take = if phase == 0 {
                 delta <= 0
@@ -447,18 +409,9 @@ fn untangle(cell: &mut [usize], values: &[f64], slices: &[(&[usize], usize)], se
                 at[cq] = p;
                 continue;
             }
-            for f in 0..slices.len() {
-                let (lp, lq) = (slices[f].0[p], slices[f].0[q]);
-                let moves = [
-                    (lp, block(f, p, cp), block(f, p, cq)),
-                    (lq, block(f, q, cq), block(f, q, cp)),
-                ];
-                for &(l, from, to) in moves.iter().rev() {
-                    if from != to {
-                        counts[f][l][to] -= 1;
-                        counts[f][l][from] += 1;
-                    }
-                }
+            for f in 0..counts.factors() {
+                counts.shift(f, q, cp, cq);
+                counts.shift(f, p, cq, cp);
             }
         }
     }

@@ -5,6 +5,7 @@
 //! objective: the centred L2 discrepancy (a design for integration) or the
 //! Morris–Mitchell sum Σ d^{-q} over the type-aware distance (a space-filling design).
 
+use super::slices::{SliceCounts, Slices};
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
@@ -94,7 +95,7 @@ fn share(x: &[f64], k: usize, p: usize, q: usize, rp: &[f64], rq: &[f64]) -> f64
 pub fn exchange(
     x: &mut [f64],
     k: usize,
-    slices: &[(&[usize], usize)],
+    slices: &Slices<'_>,
     objective: &Objective<'_>,
     seed: u64,
 ) {
@@ -102,32 +103,9 @@ pub fn exchange(
     if k == 0 || n < 3 {
         return;
     }
-    let sizes: Vec<Vec<usize>> = slices
-        .iter()
-        .map(|&(labels, l)| {
-            let mut m = vec![0usize; l];
-            for &v in labels {
-                m[v] += 1;
-            }
-            m
-        })
-        .collect();
     let cell = |v: f64| ((v * n as f64) as usize).min(n - 1);
-    let block = |f: usize, i: usize, c: usize| c * sizes[f][slices[f].0[i]] / n;
-    // counts[j][f][level][block]
-    let mut counts: Vec<Vec<Vec<Vec<u32>>>> = (0..k)
-        .map(|j| {
-            let mut t: Vec<Vec<Vec<u32>>> = sizes
-                .iter()
-                .map(|m| m.iter().map(|&mk| vec![0u32; mk.max(1)]).collect())
-                .collect();
-            for i in 0..n {
-                for (f, tf) in t.iter_mut().enumerate() {
-                    tf[slices[f].0[i]][block(f, i, cell(x[i * k + j]))] += 1;
-                }
-            }
-            t
-        })
+    let mut counts: Vec<SliceCounts> = (0..k)
+        .map(|j| SliceCounts::new(slices, n, |i| cell(x[i * k + j])))
         .collect();
     let proposals = ((PROPOSALS_PER_VALUE * n * k) as f64).min(WORK_CAP / (n * k) as f64) as usize;
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed ^ 0xe8c4_a2d1_9f3b_7c65);
@@ -141,14 +119,13 @@ pub fn exchange(
         let (vp, vq) = (x[p * k + j], x[q * k + j]);
         let (cp, cq) = (cell(vp), cell(vq));
         // The swap may not put two points of a slice in one of its 1/m-ths.
-        let crowds = (0..slices.len()).any(|f| {
-            let (lp, lq) = (slices[f].0[p], slices[f].0[q]);
-            if lp == lq {
+        let t = &counts[j];
+        let crowds = (0..t.factors()).any(|f| {
+            if t.level(f, p) == t.level(f, q) {
                 return false;
             }
-            let t = &counts[j][f];
-            t[lp][block(f, p, cq)] > u32::from(block(f, p, cq) == block(f, p, cp))
-                || t[lq][block(f, q, cp)] > u32::from(block(f, q, cp) == block(f, q, cq))
+            t.count(f, p, cq) > u32::from(t.block(f, p, cq) == t.block(f, p, cp))
+                || t.count(f, q, cp) > u32::from(t.block(f, q, cp) == t.block(f, q, cq))
         });
         if crowds {
             continue;
@@ -163,12 +140,8 @@ pub fn exchange(
             x[p * k + j] = vq;
             x[q * k + j] = vp;
             for f in 0..slices.len() {
-                let (lp, lq) = (slices[f].0[p], slices[f].0[q]);
-                let t = &mut counts[j][f];
-                t[lp][block(f, p, cp)] -= 1;
-                t[lp][block(f, p, cq)] += 1;
-                t[lq][block(f, q, cq)] -= 1;
-                t[lq][block(f, q, cp)] += 1;
+                counts[j].shift(f, p, cp, cq);
+                counts[j].shift(f, q, cq, cp);
             }
         }
     }

@@ -10,6 +10,7 @@ pub mod copula;
 pub mod dist;
 pub mod exchange;
 pub mod figures;
+pub mod slices;
 pub mod table;
 
 use crate::{Error, PointSet};
