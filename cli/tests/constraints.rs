@@ -3,7 +3,7 @@
 //! the refusals of what has no points.
 
 mod common;
-use common::{bin, succeeded, TempDir};
+use common::{bin, readme_lines, succeeded, TempDir};
 use stillpoint::PointSet;
 
 fn run(dir: &TempDir, out: &str, args: &[&str]) -> PointSet {
@@ -178,30 +178,15 @@ fn a_mixture_report_describes_the_written_components() {
 
 #[test]
 fn the_readme_examples_run_as_written() {
-    let readme =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md")).unwrap();
-    let lines: Vec<&str> = readme
-        .lines()
-        .filter(|l| {
-            l.starts_with("cargo run --release -- ")
-                && (l.contains("initial.csv") || l.contains("blend.csv"))
-        })
-        .collect();
+    let lines = readme_lines(|l| {
+        l.starts_with("cargo run --release -- ")
+            && (l.contains("initial.csv") || l.contains("blend.csv"))
+    });
     assert_eq!(lines.len(), 2, "{lines:?}");
     let dir = TempDir::new("readme");
     for line in &lines {
         let words = common::shell_words(line.trim_start_matches("cargo run --release -- "), '"');
-        let o = bin()
-            .current_dir(&dir.0)
-            .args(&words)
-            .arg("-q")
-            .output()
-            .unwrap();
-        assert!(
-            o.status.success(),
-            "{line}: {}",
-            String::from_utf8_lossy(&o.stderr)
-        );
+        succeeded(bin().current_dir(&dir.0).args(&words).arg("-q"), line);
     }
     let initial = stillpoint::io::read_points(&dir.path("initial.csv")).unwrap();
     assert_eq!((initial.n(), initial.s()), (32, 3));

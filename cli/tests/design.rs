@@ -165,12 +165,9 @@ fn eval_refuses_a_cell_outside_its_variable_naming_the_line() {
 /// header, level counts and slices, and eval reads it back.
 #[test]
 fn readme_design_space_example_runs() {
-    let readme =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md")).unwrap();
-    let lines: Vec<&str> = readme
-        .lines()
-        .filter(|l| l.starts_with("stillpoint ") && l.contains("--var") && l.contains("plan.csv"))
-        .collect();
+    let lines = readme_lines(|l| {
+        l.starts_with("stillpoint ") && l.contains("--var") && l.contains("plan.csv")
+    });
     assert_eq!(lines.len(), 2, "{lines:?}");
     let words = |line: &str| shell_words(line.trim_start_matches("stillpoint "), '\'');
     let dir = TempDir::new("readme-design");

@@ -9,7 +9,7 @@ use stillpoint::energies::{Domain, Energy};
 use stillpoint::pipeline::{run_config, EnergyKind, GenerateConfig, Init};
 
 mod common;
-use common::{bin, shell_words, tmpdir};
+use common::{bin, readme_lines, shell_words, tmpdir};
 
 fn g4(x: &[f64]) -> f64 {
     x[0].abs() + 2.0 * x[1].abs() - 5.0
@@ -188,19 +188,15 @@ fn bad_regions_are_refused_and_write_nothing() {
 /// it closer to uniform on the region than as many uniform points.
 #[test]
 fn readme_region_integration_example_runs() {
-    let readme =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md")).unwrap();
-    let lines: Vec<&str> = readme
-        .lines()
-        .filter(|l| l.starts_with("cargo run --release -- ") && l.contains("design.csv"))
-        .collect();
+    let lines =
+        readme_lines(|l| l.starts_with("cargo run --release -- ") && l.contains("design.csv"));
     assert_eq!(lines.len(), 2, "{lines:?}");
     let dir = tmpdir("readme_region_integration");
     // The quoted expression is one argument.
     let words = |line: &str| shell_words(line.trim_start_matches("cargo run --release -- "), '"');
     let generate = bin()
         .current_dir(&dir)
-        .args(words(lines[0]))
+        .args(words(&lines[0]))
         .arg("-q")
         .output()
         .unwrap();
@@ -216,7 +212,7 @@ fn readme_region_integration_example_runs() {
         assert!(x[0] + 2.0 * x[1] + x[2] <= 1.5, "{x:?}");
     }
     let eval = |file: &str| -> serde_json::Value {
-        let mut args = words(lines[1]);
+        let mut args = words(&lines[1]);
         args[1] = file.to_string();
         let o = bin()
             .current_dir(&dir)

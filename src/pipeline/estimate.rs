@@ -225,8 +225,7 @@ fn integration_seconds(n: usize, s: usize, forms: usize, report: f64) -> f64 {
     let linear = fit.l * nf * sf;
     let effort = Effort::default();
     if !Budget::of(n, s, &effort).descends() {
-        let fade = (crate::goals::integration::BLOCKS_FADE_FROM as f64 / nf).min(1.0);
-        return report + linear + effort.block_work as f64 * fade * BLOCK_UNIT_SECONDS;
+        return report + linear + effort.block_work_at(n) as f64 * BLOCK_UNIT_SECONDS;
     }
     let fitted = fit.c
         + fit.e * exchange_work(n, s, forms) * nf / (nf + fit.n0)

@@ -25,6 +25,16 @@ pub fn succeeded(cmd: &mut Command, what: &dyn std::fmt::Debug) -> (String, Stri
     (String::from_utf8_lossy(&o.stdout).into_owned(), err)
 }
 
+/// The README's lines that `keep` selects (commands a test runs as written).
+pub fn readme_lines(keep: impl Fn(&str) -> bool) -> Vec<String> {
+    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md"))
+        .unwrap()
+        .lines()
+        .filter(|l| keep(l))
+        .map(str::to_string)
+        .collect()
+}
+
 /// A fresh, empty directory `stillpoint-<test file>-<pid>-<name>` in the temporary
 /// directory (left in place afterwards).
 pub fn tmpdir(name: &str) -> PathBuf {

@@ -393,6 +393,15 @@ pub struct Effort {
     pub sums: crate::quality::metrics::Sums,
 }
 
+impl Effort {
+    /// The block exchanges' work for n points: `block_work`, shrinking as 1/n above
+    /// [`BLOCKS_FADE_FROM`] (a proposal costs O(n) and a block holds fewer points, so the
+    /// same time buys less, while the rest of a run of 10⁶ points stays about a minute).
+    pub fn block_work_at(&self, n: usize) -> u64 {
+        (self.block_work as f64 * (BLOCKS_FADE_FROM as f64 / n.max(1) as f64).min(1.0)) as u64
+    }
+}
+
 impl Default for Effort {
     fn default() -> Self {
         Effort {
@@ -826,11 +835,7 @@ fn block_pass(
         return (points.clone(), None);
     }
     let forms: Vec<Form> = target.parts.iter().map(|&(k, _)| Form::from(k)).collect();
-    // Above BLOCKS_FADE_FROM the work shrinks as 1/n: a proposal costs O(n) and a block
-    // holds fewer points, so the same time buys less, while the rest of the run (the
-    // start, the report's estimates) stays about a minute at 10⁶ points.
-    let work =
-        (effort.block_work as f64 * (BLOCKS_FADE_FROM as f64 / points.n() as f64).min(1.0)) as u64;
+    let work = effort.block_work_at(points.n());
     let (p, o) =
         super::blocks::block_exchanges(points, &forms, work, sequences::stream_seed(seed, 2000));
     let changes = target
