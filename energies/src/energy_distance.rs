@@ -116,22 +116,12 @@ impl EnergyDistance {
 /// for AVX2.
 fn row_sum(set: (&[f64], &[f64]), x: &[f64], g: Option<&mut [f64]>) -> f64 {
     #[cfg(target_arch = "x86_64")]
-    if avx2() {
-        // SAFETY: the processor has AVX2 (checked by `avx2`).
+    if crate::pairs::use_avx2() {
+        // SAFETY: the processor has AVX2 (checked by `use_avx2`, which also honours
+        // `STILLPOINT_PORTABLE`).
         return unsafe { row_sum_avx2(set, x, g) };
     }
     row_sum_lanes(set, x, g)
-}
-
-/// Whether [`row_sum`] takes its AVX2 build; `STILLPOINT_PORTABLE=1` (read once) forces
-/// the portable one, as for the pair kernels.
-#[cfg(target_arch = "x86_64")]
-fn avx2() -> bool {
-    static AVX2: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *AVX2.get_or_init(|| {
-        let forced = std::env::var("STILLPOINT_PORTABLE").is_ok_and(|v| !v.is_empty() && v != "0");
-        !forced && is_x86_feature_detected!("avx2")
-    })
 }
 
 #[cfg(target_arch = "x86_64")]

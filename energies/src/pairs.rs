@@ -467,7 +467,9 @@ pub fn vector_path() -> &'static str {
     }
 }
 
-fn use_avx2() -> bool {
+/// Whether the AVX2 builds run (see [`vector_path`]): the one decision every kernel with
+/// an AVX2 build follows.
+pub(crate) fn use_avx2() -> bool {
     static AVX2: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
     *AVX2.get_or_init(|| {
         let forced = std::env::var("STILLPOINT_PORTABLE").is_ok_and(|v| !v.is_empty() && v != "0");
