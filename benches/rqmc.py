@@ -146,12 +146,16 @@ def quad_table(reps):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
-    ap.add_argument("--reps", type=int, default=16)
-    ap.add_argument("--per-family", type=int, default=8)
+    ap.add_argument("--reps", type=int, default=32)
+    ap.add_argument("--per-family", type=int, default=16)
+    ap.add_argument("--cells", default=None,
+                    help="cells as s:n pairs, e.g. 15:32,20:64 (default: the full grid)")
     ap.add_argument("--out", default="results/rqmc")
     args = ap.parse_args()
     warnings.filterwarnings("ignore")
     cells = QUICK if args.quick else [(s, n) for s in S_FULL for n in N_FULL]
+    if args.cells:
+        cells = [tuple(int(v) for v in c.split(":")) for c in args.cells.split(",")]
     names = None
     lines = []
     record = {"reps": args.reps, "per_family": args.per_family, "cells": []}

@@ -148,6 +148,48 @@ fn goal_options_are_checked() {
 }
 
 #[test]
+fn where_a_lattice_must_share_generators_the_randomised_set_is_the_descended_one() {
+    use stillpoint::goals::integration::tent::{tent_set, TentDescent};
+    // 32 points have 8 generators up to sign: 15 coordinates must share them.
+    let dir = TempDir::new("tent-shared");
+    let path = dir.path("x.csv");
+    let o = bin()
+        .args([
+            "generate",
+            "-n",
+            "32",
+            "-s",
+            "15",
+            "--randomize",
+            "--seed",
+            "5",
+            "-o",
+        ])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let report = String::from_utf8_lossy(&o.stdout);
+    assert!(report.contains("coordinates share generators"), "{report}");
+    let set = tent_set(32, 15).unwrap();
+    assert!(matches!(
+        set.descent,
+        TentDescent::Descended { kept: true, .. }
+    ));
+    let written = stillpoint::io::read_points(&path).unwrap();
+    let expected = randomize(&set.points, Randomize::Tent, 5);
+    for (a, b) in written.as_slice().iter().zip(expected.as_slice()) {
+        assert!((a - b).abs() <= 1e-15, "{a} vs {b}");
+    }
+    // Every draw stays stratified and in [0, 1).
+    for seed in 0..50 {
+        let q = randomize(&set.points, Randomize::Tent, seed);
+        assert!(q.as_slice().iter().all(|v| (0.0..1.0).contains(v)));
+        assert!(is_stratified(&q), "seed {seed}");
+    }
+}
+
+#[test]
 fn cell_randomisation_keeps_the_stratification_and_spreads_each_point_uniformly() {
     let p = integration(20, 3, 0);
     let reps = 2000;

@@ -18,6 +18,7 @@ pub mod energy_distance;
 pub mod fixed;
 pub mod pairs;
 pub mod report_pairs;
+pub mod tent_kernel;
 mod uqp;
 
 pub use stillpoint_domains::{region, shapes};

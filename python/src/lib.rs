@@ -368,11 +368,13 @@ fn check_generate(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
     resolve(kwargs).map(|_| ())
 }
 
-/// The lattice `generate(n, d, randomize='tent')` randomises, unrandomised.
+/// The set `generate(n, d, randomize='tent')` randomises, unrandomised.
 #[pyfunction]
-fn tent_lattice<'py>(py: Python<'py>, n: usize, d: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
+fn tent_set<'py>(py: Python<'py>, n: usize, d: usize) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let points = detached(py, move || {
-        stillpoint::sequences::tent_lattice(n, d).map_err(|e| e.to_string())
+        stillpoint::goals::integration::tent::tent_set(n, d)
+            .map(|t| t.points)
+            .map_err(|e| e.to_string())
     })?;
     to_array(py, points)
 }
@@ -519,6 +521,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(baselines, m)?)?;
     m.add_function(wrap_pyfunction!(integrate_json, m)?)?;
     m.add_function(wrap_pyfunction!(randomize, m)?)?;
-    m.add_function(wrap_pyfunction!(tent_lattice, m)?)?;
+    m.add_function(wrap_pyfunction!(tent_set, m)?)?;
     Ok(())
 }

@@ -596,14 +596,14 @@ def _frozen(value: Any) -> Any:
         return repr(value)
 
 
-def _tent_lattice(n: int, d: int) -> np.ndarray:
-    """The lattice for the tent randomisation, computed once per process (read-only)."""
+def _tent_set(n: int, d: int) -> np.ndarray:
+    """The set for the tent randomisation, computed once per process (read-only)."""
     key = ("tent", n, d)
     with _cache_lock:
         hit = _cache.get(key)
     if hit is not None:
         return hit
-    x = _core.tent_lattice(n, d)
+    x = _core.tent_set(n, d)
     x.flags.writeable = False
     with _cache_lock:
         return _cache.setdefault(key, x)
@@ -721,7 +721,7 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
         if n == 0:
             return np.empty((0, self.d))
         if self._randomize == "tent":
-            base = _tent_lattice(n, self.d)
+            base = _tent_set(n, self.d)
         else:
             base = _optimised(n, self.d, self._generate_kwargs)
         seed = int(self.rng.integers(0, 2**64, dtype=np.uint64))

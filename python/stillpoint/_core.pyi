@@ -38,8 +38,8 @@ def randomize(
     """``x`` randomised from ``seed`` as ``generate(..., randomize=kind)`` does:
     ``'tent'``, ``'cells'`` or ``'shift'``."""
 
-def tent_lattice(n: int, d: int) -> npt.NDArray[np.float64]:
-    """The lattice ``generate(n, d, randomize='tent')`` randomises, unrandomised."""
+def tent_set(n: int, d: int) -> npt.NDArray[np.float64]:
+    """The set ``generate(n, d, randomize='tent')`` randomises, unrandomised."""
 
 def metrics_json(x: npt.NDArray[np.float64], exact: bool = False) -> str:
     """Every figure ``stillpoint eval --json`` prints for points in [0, 1]^d, as the same

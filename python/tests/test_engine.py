@@ -47,7 +47,7 @@ def test_cell_draws_are_stratified_randomisations_of_the_optimised_set():
 def test_default_draws_are_the_tent_lattice_shifted_and_folded():
     d, n = 3, 50
     e = sp.Engine(d, seed=4)
-    lattice = sp._core.tent_lattice(n, d)
+    lattice = sp._core.tent_set(n, d)
     draws = [e.random(n) for _ in range(300)]
     for x in draws[:20]:
         assert np.all((x >= 0) & (x < 1))

@@ -96,11 +96,9 @@ pub(crate) fn region_integration_run(
         name: "L-BFGS",
         steps: Some(iterations as u64),
     });
-    let mut observer = Stall {
-        inner: LoggingObserver::new(0, |r: &Record| on_event(Event::Progress(r.step as u64))),
-        energies: Vec::new(),
-        stalled: false,
-    };
+    let mut observer = Stall::new(LoggingObserver::new(0, |r: &Record| {
+        on_event(Event::Progress(r.step as u64))
+    }));
     let run = Solve {
         problem: &problem,
         steps: iterations,
@@ -143,11 +141,22 @@ pub(crate) fn region_integration_run(
 
 /// Forwards each record to `inner` and asks the run to stop once the energy has stopped
 /// moving ([`STALL_WINDOW`], [`STALL_SHARE`]). The records' energies never rise.
-struct Stall<O> {
-    inner: O,
+pub(crate) struct Stall<O> {
+    pub(crate) inner: O,
     /// The energy after each accepted iteration, the start first.
-    energies: Vec<f64>,
-    stalled: bool,
+    pub(crate) energies: Vec<f64>,
+    pub(crate) stalled: bool,
+}
+
+impl<O> Stall<O> {
+    /// Watches a run whose records `inner` sees first.
+    pub(crate) fn new(inner: O) -> Stall<O> {
+        Stall {
+            inner,
+            energies: Vec::new(),
+            stalled: false,
+        }
+    }
 }
 
 impl<O: Observer> Observer for Stall<O> {

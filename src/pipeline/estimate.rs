@@ -88,6 +88,23 @@ const UNIT_SECONDS: f64 = 1.0e-9;
 /// few nanoseconds each.
 const LATTICE_STEP: f64 = 2.0e-9;
 
+/// A descent of the tent criterion ([`crate::goals::integration::tent`]): about 5 ns per
+/// pair and coordinate of an iteration on two cores, and it stalls after about 100
+/// iterations (46–114 measured at n = 32–64, s = 12–20).
+const TENT_DESCENT_STEP: f64 = 5.0e-9;
+const TENT_DESCENT_ITERATIONS: usize = 100;
+
+/// The tent set's descent, when its lattice must share generators (more coordinates than
+/// the φ(n)/2 generators that differ up to sign) and the descent fits its budget.
+fn tent_descent_seconds(n: usize, s: usize) -> f64 {
+    use crate::goals::integration::tent::descent_iterations;
+    if n < 4 || s <= crate::sequences::distinct_generators(n) {
+        return 0.0;
+    }
+    let iterations = descent_iterations(n, s).min(TENT_DESCENT_ITERATIONS);
+    iterations as f64 * n as f64 * n as f64 * s as f64 * TENT_DESCENT_STEP
+}
+
 /// A grown set costs about twice a set of its final size made at once (its placement
 /// and descent keep the old points fixed): `extend` of 1000 + 1000 and 1000 + 3000
 /// points at d = 3 took 21.8 s and 50.9 s against 12.2 s and 25.2 s for 2000 and 4000.
@@ -185,7 +202,10 @@ fn core_seconds(cfg: &GenerateConfig) -> f64 {
     }
     match &cfg.goal {
         Goal::Integration(_) if cfg.randomize == Some(crate::post::randomize::Randomize::Tent) => {
-            n / 2.0 * n * s * LATTICE_STEP + report_seconds(cfg, cfg.n) + INTEGRATION.l * n * s
+            n / 2.0 * n * s * LATTICE_STEP
+                + tent_descent_seconds(cfg.n, cfg.s)
+                + report_seconds(cfg, cfg.n)
+                + INTEGRATION.l * n * s
         }
         Goal::Integration(target) => {
             let forms = target.parts.len().max(1);

@@ -254,6 +254,9 @@ pub enum Stage {
         weight: f64,
         /// The criterion: the randomised estimate's mean square error bound.
         criterion: f64,
+        /// Whether the set was descended from the lattice (coordinates sharing
+        /// generators).
+        descent: crate::goals::integration::tent::TentDescent,
     },
     /// L-BFGS on the energy distance to a reference sample of a region's uniform
     /// distribution (the integration goal in a region).
@@ -423,14 +426,44 @@ impl fmt::Display for Stage {
                 generator,
                 weight,
                 criterion,
+                descent,
             } => {
+                use crate::goals::integration::tent::TentDescent;
                 let z: Vec<String> = generator.iter().map(|v| v.to_string()).collect();
                 write!(
                     f,
                     "rank-1 lattice for the tent randomisation, built component by \
                      component: z = ({}), criterion {criterion:.4e} (weight {weight})",
                     z.join(", ")
-                )
+                )?;
+                match descent {
+                    TentDescent::NotNeeded => Ok(()),
+                    TentDescent::TooCostly { work } => write!(
+                        f,
+                        "; coordinates share generators, but a descent ({work:.1e} pair \
+                         terms per iteration) is past its budget: the lattice is kept"
+                    ),
+                    TentDescent::Descended {
+                        criterion: after,
+                        iterations,
+                        kept: true,
+                    } => write!(
+                        f,
+                        "; coordinates share generators, so the set was descended on the \
+                         criterion ({iterations} L-BFGS iterations) and each column \
+                         replaced by its ranks: criterion {after:.4e}"
+                    ),
+                    TentDescent::Descended {
+                        criterion: after,
+                        iterations,
+                        kept: false,
+                    } => write!(
+                        f,
+                        "; coordinates share generators, but the descended set \
+                         ({iterations} iterations, criterion {after:.4e}) was no lower: \
+                         the lattice is kept"
+                    ),
+                }
             }
             Stage::Randomized { how, seed } => write!(f, "randomised ({how}) from seed {seed}"),
         }

@@ -24,12 +24,12 @@ pub enum Randomize {
     Cells,
     /// x ↦ 1 − |2((x + c) mod 1) − 1| with c uniform in [0, 1)^s: a uniform shift, then
     /// the tent (baker's) transform, which keeps the uniform distribution. Every point
-    /// becomes uniform in the cube. Made for the lattice of
-    /// [`crate::sequences::tent_lattice`], whose criterion is this
-    /// randomisation's mean square error: the estimate's error decays like n⁻² for smooth
-    /// integrands (Hickernell 2002), and each column of the lattice stays stratified
-    /// (the shifted column is equally spaced, and the tent folds its two halves onto
-    /// alternate cells).
+    /// becomes uniform in the cube. Made for the set of
+    /// [`crate::goals::integration::tent::tent_set`] (a lattice, or a set descended from
+    /// one), whose criterion is this randomisation's mean square error: the estimate's
+    /// error decays like n⁻² for smooth integrands (Hickernell 2002), and each column of
+    /// that set stays stratified (its columns are the n multiples of 1/n: the shifted
+    /// column is equally spaced, and the tent folds its two halves onto alternate cells).
     Tent,
 }
 

@@ -284,6 +284,13 @@ pub fn tent_criterion(n: usize, z: &[u64]) -> Result<f64, Error> {
     Ok(p2_with_factors(z, &tent_factors(n, TENT_WEIGHT)))
 }
 
+/// How many generators of an n-point rank-1 lattice differ up to sign (φ(n)/2 for
+/// n ≥ 3): with more coordinates than this, two must share one.
+pub fn distinct_generators(n: usize) -> usize {
+    let n64 = n as u64;
+    (1..=(n64 / 2).max(1)).filter(|&a| gcd(a, n64) == 1).count()
+}
+
 /// The generating vector of [`tent_lattice`], built component by component (Sloan, Kuo
 /// and Joe 2002): z_1 = 1, then each z_j the value coprime to n, 1 ≤ z_j ≤ n/2, that
 /// makes [`tent_criterion`] of (z_1, …, z_j) smallest (ties to the smaller; z and n − z

@@ -27,8 +27,8 @@ mod sobol_owen;
 pub use baseline::Baseline;
 pub use latin::{lhs, lhs_maximin, maximin_search, LHS_MAXIMIN_MAX_N};
 pub use lattices::{
-    hua_wang, korobov_p2, lattice, lattice_generator, rank1_lattice, tent_criterion, tent_lattice,
-    tent_lattice_generator, TENT_WEIGHT,
+    distinct_generators, hua_wang, korobov_p2, lattice, lattice_generator, rank1_lattice,
+    tent_criterion, tent_lattice, tent_lattice_generator, TENT_WEIGHT,
 };
 pub use scrambled_halton::{halton_scrambled, HALTON_SCRAMBLED_MAX_S};
 pub use sobol_owen::{sobol_plain, sobol_scrambled, SOBOL_MAX_N, SOBOL_MAX_S};

@@ -5,6 +5,7 @@
 pub mod blocks;
 pub mod descent;
 pub mod exchange;
+pub mod tent;
 
 pub use descent::*;
 
@@ -94,27 +95,25 @@ pub(crate) fn integration_run(
     )
 }
 
-/// The set `--randomize tent` randomises: the lattice made for that randomisation
-/// ([`crate::sequences::tent_lattice`]), in place of the descent. Descending the
-/// lattice's own criterion from it does not lower it (the lattice is a stationary point,
-/// and every descent tried from perturbed lattices ended above it), so it is kept as built.
+/// The set `--randomize tent` randomises: [`tent::tent_set`] (the lattice made for that
+/// randomisation, descended on its criterion where coordinates share generators), in
+/// place of the descent.
 pub(crate) fn tent_lattice_run(
     cfg: &GenerateConfig,
     target: &Target,
 ) -> Result<GenerateReport, Error> {
-    use crate::sequences as lattices;
-    let generator = lattices::tent_lattice_generator(cfg.n, cfg.s)?;
-    let points = lattices::rank1_lattice(cfg.n, &generator)?;
+    let set = tent::tent_set(cfg.n, cfg.s)?;
     let stages = vec![Stage::Lattice {
-        criterion: lattices::tent_criterion(cfg.n, &generator)?,
-        weight: lattices::TENT_WEIGHT,
-        generator,
+        criterion: set.lattice_criterion,
+        weight: crate::sequences::TENT_WEIGHT,
+        generator: set.generator,
+        descent: set.descent,
     }];
-    let value = target.value_with(&points, cfg.sums);
+    let value = target.value_with(&set.points, cfg.sums);
     goal_report(
         cfg,
-        points.clone(),
-        points,
+        set.points.clone(),
+        set.points,
         (value, value),
         target.name(),
         stages,
