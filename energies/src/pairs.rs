@@ -622,6 +622,8 @@ pub(crate) trait Simd: Copy + Send + Sync + 'static {
     fn or(self, o: Self) -> Self;
     /// Lanes of `a` where the mask `self` is set, else of `b`.
     fn select(self, a: Self, b: Self) -> Self;
+    /// Whether the mask `self` is set in any lane (its sign bit, as `select` reads it).
+    fn any(self) -> bool;
     /// Lane-wise u64 shift right / left by 52 bits (46 for `shr46`) and u64 addition of the
     /// bit patterns.
     fn shr52(self) -> Self;
@@ -756,6 +758,10 @@ impl Simd for Portable {
         }))
     }
     #[inline(always)]
+    fn any(self) -> bool {
+        self.0.iter().any(|v| v.is_sign_negative())
+    }
+    #[inline(always)]
     fn shr52(self) -> Self {
         self.map(|a| f64::from_bits(a.to_bits() >> 52))
     }
@@ -875,6 +881,10 @@ impl<V: Simd, const U: usize> Simd for Wide<V, U> {
         r
     }
     #[inline(always)]
+    fn any(self) -> bool {
+        self.0.iter().any(|v| v.any())
+    }
+    #[inline(always)]
     fn rows4(table: &[[f64; 4]; 2048], idx: &[f64]) -> [Self; 4] {
         let mut r = [Wide([V::splat(0.0); U]); 4];
         for u in 0..U {
@@ -992,6 +1002,10 @@ mod avx2 {
         #[inline(always)]
         fn select(self, a: Self, b: Self) -> Self {
             unsafe { Avx2(_mm256_blendv_pd(b.0, a.0, self.0)) }
+        }
+        #[inline(always)]
+        fn any(self) -> bool {
+            unsafe { _mm256_movemask_pd(self.0) != 0 }
         }
         #[inline(always)]
         fn shr52(self) -> Self {
@@ -1200,6 +1214,10 @@ mod avx512 {
                 let k = _mm512_movepi64_mask(_mm512_castpd_si512(self.0));
                 Avx512(_mm512_mask_blend_pd(k, b.0, a.0))
             }
+        }
+        #[inline(always)]
+        fn any(self) -> bool {
+            unsafe { _mm512_movepi64_mask(_mm512_castpd_si512(self.0)) != 0 }
         }
         #[inline(always)]
         fn shr52(self) -> Self {
