@@ -20,7 +20,9 @@
 //! operations in the same order except `Simd::mul_add`, which is fused on AVX2 and a
 //! rounded product plus a sum otherwise; so a kernel that avoids `mul_add` gives the same
 //! bits on every machine, and one that uses it may differ in the last bits between
-//! machines, never between thread counts. The kernels read block-transposed copies of the
+//! machines, never between thread counts. A third build, AVX-512 with eight lanes, runs
+//! only the kernels written for it (`sum_tiles_on`): the others' arguments (horizontal
+//! sums, `rows4`) are made for four lanes. The kernels read block-transposed copies of the
 //! coordinates (`Blocks`: per block, coordinate k of its points is contiguous), so the
 //! lanes are consecutive points j and one load fetches them.
 
@@ -358,9 +360,28 @@ pub(crate) fn sum_tiles<K: SumTiles>(
     zero: impl Fn() -> K::Out,
     add: impl Fn(&K::Out, &K::Out) -> K::Out,
 ) -> K::Out {
+    let build = if use_avx2() {
+        Build::Avx2
+    } else {
+        Build::Portable
+    };
+    sum_tiles_on(build, blocks, kernel, zero, add)
+}
+
+/// [`sum_tiles`] on the given build, which must be available (panics otherwise). Only a
+/// kernel whose tiles have the same bits with base vectors of eight lanes may be run on
+/// [`Build::Avx512`]: the other kernels' arguments are made for four.
+pub(crate) fn sum_tiles_on<K: SumTiles>(
+    build: Build,
+    blocks: &Blocks,
+    kernel: &K,
+    zero: impl Fn() -> K::Out,
+    add: impl Fn(&K::Out, &K::Out) -> K::Out,
+) -> K::Out {
+    assert!(build.available(), "{build:?} is not available here");
     let rounds = schedule(blocks.real);
     let flat: Vec<(usize, usize)> = rounds.iter().flatten().copied().collect();
-    let run = |&(a, b): &(usize, usize)| run_sum_tile(kernel, a, b);
+    let run = |&(a, b): &(usize, usize)| run_sum_tile(build, kernel, a, b);
     let parts: Vec<K::Out> = if blocks.parallel() {
         flat.par_iter().map(run).collect()
     } else {
@@ -458,7 +479,9 @@ pub(crate) fn give_scratch(v: AlignedBuf) {
 
 /// Which implementation of `Simd` the kernels use: `"avx2+fma"` or `"portable"`.
 /// The environment variable `STILLPOINT_PORTABLE=1` (read once) forces the portable one,
-/// so that it can be tested and timed on a machine that has AVX2.
+/// so that it can be tested and timed on a machine that has AVX2. The kernels that run on
+/// AVX-512 where the processor has it (see `use_avx512`) give the bits of their AVX2
+/// build, so the name stays that of the bits.
 pub fn vector_path() -> &'static str {
     if use_avx2() {
         "avx2+fma"
@@ -485,13 +508,64 @@ pub(crate) fn use_avx2() -> bool {
     })
 }
 
-fn run_sum_tile<K: SumTiles>(kernel: &K, a: usize, b: usize) -> K::Out {
-    #[cfg(target_arch = "x86_64")]
-    if use_avx2() {
-        // SAFETY: the processor has AVX2 and FMA (checked by `use_avx2`).
-        return unsafe { avx2::sum_tile(kernel, a, b) };
+/// Whether the AVX-512 build of the kernels that allow it runs: where the AVX2 builds
+/// run (see [`use_avx2`]), the processor has AVX-512 F and DQ, and the environment
+/// variable `STILLPOINT_NO_AVX512=1` (read once) does not ask for the AVX2 build, so that
+/// the two can be compared and timed on one machine. Its results have the bits of the
+/// AVX2 build, so [`vector_path`] does not tell them apart.
+pub(crate) fn use_avx512() -> bool {
+    static AVX512: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *AVX512.get_or_init(|| {
+        let off = std::env::var("STILLPOINT_NO_AVX512").is_ok_and(|v| !v.is_empty() && v != "0");
+        !off && use_avx2() && Build::Avx512.available()
+    })
+}
+
+/// The builds of a value-only kernel (see [`sum_tiles_on`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Build {
+    /// Four-lane plain arrays.
+    Portable,
+    /// Four-lane AVX2 + FMA vectors.
+    Avx2,
+    /// Eight-lane AVX-512 vectors.
+    Avx512,
+}
+
+impl Build {
+    /// Whether the processor runs this build.
+    pub(crate) fn available(self) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        {
+            let avx2 = || is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma");
+            match self {
+                Build::Portable => true,
+                Build::Avx2 => avx2(),
+                Build::Avx512 => {
+                    avx2()
+                        && is_x86_feature_detected!("avx512f")
+                        && is_x86_feature_detected!("avx512dq")
+                }
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            self == Build::Portable
+        }
     }
-    kernel.tile::<Wide<Portable, WIDE>>(a, b)
+}
+
+fn run_sum_tile<K: SumTiles>(build: Build, kernel: &K, a: usize, b: usize) -> K::Out {
+    match build {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: the processor has AVX2 and FMA (`sum_tiles_on` checked the build).
+        Build::Avx2 => unsafe { avx2::sum_tile(kernel, a, b) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: the processor has AVX-512 F and DQ, AVX2 and FMA (`sum_tiles_on`
+        // checked the build).
+        Build::Avx512 => unsafe { avx512::sum_tile(kernel, a, b) },
+        _ => kernel.tile::<Wide<Portable, WIDE>>(a, b),
+    }
 }
 
 fn run_grad_tile<K: GradTiles>(
@@ -548,6 +622,8 @@ pub(crate) trait Simd: Copy + Send + Sync + 'static {
     fn or(self, o: Self) -> Self;
     /// Lanes of `a` where the mask `self` is set, else of `b`.
     fn select(self, a: Self, b: Self) -> Self;
+    /// Whether the mask `self` is set in any lane (its sign bit, as `select` reads it).
+    fn any(self) -> bool;
     /// Lane-wise u64 shift right / left by 52 bits (46 for `shr46`) and u64 addition of the
     /// bit patterns.
     fn shr52(self) -> Self;
@@ -682,6 +758,10 @@ impl Simd for Portable {
         }))
     }
     #[inline(always)]
+    fn any(self) -> bool {
+        self.0.iter().any(|v| v.is_sign_negative())
+    }
+    #[inline(always)]
     fn shr52(self) -> Self {
         self.map(|a| f64::from_bits(a.to_bits() >> 52))
     }
@@ -799,6 +879,10 @@ impl<V: Simd, const U: usize> Simd for Wide<V, U> {
             r.0[u] = self.0[u].select(a.0[u], b.0[u]);
         }
         r
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        self.0.iter().any(|v| v.any())
     }
     #[inline(always)]
     fn rows4(table: &[[f64; 4]; 2048], idx: &[f64]) -> [Self; 4] {
@@ -920,6 +1004,10 @@ mod avx2 {
             unsafe { Avx2(_mm256_blendv_pd(b.0, a.0, self.0)) }
         }
         #[inline(always)]
+        fn any(self) -> bool {
+            unsafe { _mm256_movemask_pd(self.0) != 0 }
+        }
+        #[inline(always)]
         fn shr52(self) -> Self {
             unsafe {
                 Avx2(_mm256_castsi256_pd(_mm256_srli_epi64::<52>(
@@ -986,6 +1074,178 @@ mod avx2 {
         gb: Option<&mut [f64]>,
     ) -> f64 {
         k.tile::<Wide<Avx2, WIDE>>(a, b, ga, gb)
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+mod avx512 {
+    //! The AVX-512 implementation of [`Simd`], eight lanes, and the entry point compiled
+    //! with it. Every lane does the IEEE operation of the AVX2 build (`mul_add` fused as
+    //! there), so a lane's value is the same in both; only the order of a horizontal sum
+    //! is the build's own (see `hsum`). Only reached after `Build::available` has checked
+    //! the processor.
+
+    use super::{Simd, SumTiles, Wide};
+    use std::arch::x86_64::*;
+
+    #[derive(Clone, Copy)]
+    pub(crate) struct Avx512(__m512d);
+
+    /// The vector mask of a comparison's mask register: all bits set where it holds.
+    #[inline(always)]
+    fn mask(k: __mmask8) -> Avx512 {
+        // SAFETY: as for the intrinsics of `impl Simd for Avx512`.
+        unsafe { Avx512(_mm512_castsi512_pd(_mm512_movm_epi64(k))) }
+    }
+
+    /// Lane-wise u64 operation `f` on the bit patterns.
+    #[inline(always)]
+    fn bits(a: Avx512, b: Avx512, f: impl Fn(__m512i, __m512i) -> __m512i) -> Avx512 {
+        // SAFETY: as for the intrinsics of `impl Simd for Avx512`.
+        unsafe {
+            Avx512(_mm512_castsi512_pd(f(
+                _mm512_castpd_si512(a.0),
+                _mm512_castpd_si512(b.0),
+            )))
+        }
+    }
+
+    // SAFETY (every `unsafe` block below): the intrinsics are only executed inside
+    // `sum_tile`, which carries the target features and is called after the run-time
+    // check; `#[inline(always)]` puts every use inside it. The loads and stores are of
+    // slices cut to eight values first.
+    impl Simd for Avx512 {
+        const N: usize = 8;
+        // SAFETY: `__m512d` is 64 bytes of which every pattern is valid, as `[u64; 8]`.
+        const TRUE: Self =
+            Avx512(unsafe { std::mem::transmute::<[u64; 8], __m512d>([u64::MAX; 8]) });
+        type Base = Self;
+        #[inline(always)]
+        fn splat(x: f64) -> Self {
+            unsafe { Avx512(_mm512_set1_pd(x)) }
+        }
+        #[inline(always)]
+        fn load(s: &[f64]) -> Self {
+            let s = &s[..8];
+            unsafe { Avx512(_mm512_loadu_pd(s.as_ptr())) }
+        }
+        #[inline(always)]
+        fn store(self, s: &mut [f64]) {
+            let s = &mut s[..8];
+            unsafe { _mm512_storeu_pd(s.as_mut_ptr(), self.0) }
+        }
+        #[inline(always)]
+        fn from_fn(f: impl Fn(usize) -> f64) -> Self {
+            Self::load(&std::array::from_fn::<f64, 8, _>(f))
+        }
+        /// The four-lane halves each summed as the AVX2 build sums a vector, low half
+        /// first, then added.
+        #[inline(always)]
+        fn hsum(self) -> f64 {
+            let mut a = [0.0; 8];
+            self.store(&mut a);
+            let half = |h: &[f64]| (h[0] + h[1]) + (h[2] + h[3]);
+            half(&a[..4]) + half(&a[4..])
+        }
+        #[inline(always)]
+        fn hmin(self) -> f64 {
+            let mut a = [0.0; 8];
+            self.store(&mut a);
+            a.iter().fold(f64::INFINITY, |m, &v| m.min(v))
+        }
+        #[inline(always)]
+        fn add(self, o: Self) -> Self {
+            unsafe { Avx512(_mm512_add_pd(self.0, o.0)) }
+        }
+        #[inline(always)]
+        fn sub(self, o: Self) -> Self {
+            unsafe { Avx512(_mm512_sub_pd(self.0, o.0)) }
+        }
+        #[inline(always)]
+        fn mul(self, o: Self) -> Self {
+            unsafe { Avx512(_mm512_mul_pd(self.0, o.0)) }
+        }
+        #[inline(always)]
+        fn div(self, o: Self) -> Self {
+            unsafe { Avx512(_mm512_div_pd(self.0, o.0)) }
+        }
+        #[inline(always)]
+        fn mul_add(self, b: Self, c: Self) -> Self {
+            unsafe { Avx512(_mm512_fmadd_pd(self.0, b.0, c.0)) }
+        }
+        // `vminpd`/`vmaxpd` as on AVX2: the second operand unless the first is strictly
+        // smaller/larger.
+        #[inline(always)]
+        fn min(self, o: Self) -> Self {
+            unsafe { Avx512(_mm512_min_pd(self.0, o.0)) }
+        }
+        #[inline(always)]
+        fn max(self, o: Self) -> Self {
+            unsafe { Avx512(_mm512_max_pd(self.0, o.0)) }
+        }
+        #[inline(always)]
+        fn sqrt(self) -> Self {
+            unsafe { Avx512(_mm512_sqrt_pd(self.0)) }
+        }
+        #[inline(always)]
+        fn lt(self, o: Self) -> Self {
+            mask(unsafe { _mm512_cmp_pd_mask::<_CMP_LT_OQ>(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn gt(self, o: Self) -> Self {
+            mask(unsafe { _mm512_cmp_pd_mask::<_CMP_GT_OQ>(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn eq(self, o: Self) -> Self {
+            mask(unsafe { _mm512_cmp_pd_mask::<_CMP_EQ_OQ>(self.0, o.0) })
+        }
+        #[inline(always)]
+        fn and(self, o: Self) -> Self {
+            bits(self, o, |a, b| unsafe { _mm512_and_si512(a, b) })
+        }
+        #[inline(always)]
+        fn or(self, o: Self) -> Self {
+            bits(self, o, |a, b| unsafe { _mm512_or_si512(a, b) })
+        }
+        /// By the sign bit of each lane, as `vblendvpd` reads a mask.
+        #[inline(always)]
+        fn select(self, a: Self, b: Self) -> Self {
+            unsafe {
+                let k = _mm512_movepi64_mask(_mm512_castpd_si512(self.0));
+                Avx512(_mm512_mask_blend_pd(k, b.0, a.0))
+            }
+        }
+        #[inline(always)]
+        fn any(self) -> bool {
+            unsafe { _mm512_movepi64_mask(_mm512_castpd_si512(self.0)) != 0 }
+        }
+        #[inline(always)]
+        fn shr52(self) -> Self {
+            bits(self, self, |a, _| unsafe { _mm512_srli_epi64::<52>(a) })
+        }
+        #[inline(always)]
+        fn shr46(self) -> Self {
+            bits(self, self, |a, _| unsafe { _mm512_srli_epi64::<46>(a) })
+        }
+        #[inline(always)]
+        fn shl52(self) -> Self {
+            bits(self, self, |a, _| unsafe { _mm512_slli_epi64::<52>(a) })
+        }
+        #[inline(always)]
+        fn add_bits(self, o: Self) -> Self {
+            bits(self, o, |a, b| unsafe { _mm512_add_epi64(a, b) })
+        }
+        #[inline(always)]
+        fn rows4(table: &[[f64; 4]; 2048], idx: &[f64]) -> [Self; 4] {
+            let rows: [&[f64; 4]; 8] =
+                std::array::from_fn(|l| &table[(idx[l].to_bits() & 2047) as usize]);
+            std::array::from_fn(|k| Self::from_fn(|l| rows[l][k]))
+        }
+    }
+
+    #[target_feature(enable = "avx2,fma,avx512f,avx512dq")]
+    pub(super) unsafe fn sum_tile<K: SumTiles>(k: &K, a: usize, b: usize) -> K::Out {
+        k.tile::<Wide<Avx512, 2>>(a, b)
     }
 }
 
