@@ -628,9 +628,11 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
     independent draws for an error estimate.
 
     By default (``randomize='tent'``) the set is the rank-1 lattice made for this
-    randomisation (``generate(n, d, randomize='tent')``): a uniform shift modulo 1, then
-    the tent transform x ↦ 1 − |2x − 1|. Its error decays like n⁻² on smooth integrands,
-    and each coordinate of a draw stays stratified (one point in each [k/n, (k+1)/n)). ``randomize='cells'`` or ``'shift'`` randomise the optimised set
+    randomisation (``generate(n, d, randomize='tent')``; where d exceeds the lattice's
+    φ(n)/2 distinct generators, a set descended from it on the same criterion): a uniform
+    shift modulo 1, then the tent transform x ↦ 1 − |2x − 1|. Its error decays like n⁻²
+    on smooth integrands, and each coordinate of a draw stays stratified (one point in
+    each [k/n, (k+1)/n)). ``randomize='cells'`` or ``'shift'`` randomise the optimised set
     :func:`generate` ``(n, d, **generate_kwargs)`` instead (cells rotated and offsets
     shifted in them, or a plain shift). Each n's set is computed on its first draw and
     cached for the process, so later draws cost one randomisation. With
