@@ -62,6 +62,23 @@ def test_default_draws_are_the_tent_lattice_shifted_and_folded():
     assert abs(est.mean() - 0.125) < 4 * se
 
 
+def test_draws_stay_stratified_and_unbiased_where_a_lattice_must_share_generators():
+    # 32 points have 8 lattice generators up to sign: in 12 dimensions the set is the one
+    # descended from the lattice, each column still the 32 multiples of 1/32.
+    d, n = 12, 32
+    base = sp._core.tent_set(n, d)
+    assert all(np.array_equal(np.sort(np.round(base[:, j] * n)), np.arange(n)) for j in range(d))
+    e = sp.Engine(d, seed=2)
+    draws = [e.random(n) for _ in range(300)]
+    for x in draws[:20]:
+        assert np.all((x >= 0) & (x < 1))
+        assert sp.metrics(x)["stratified"]
+    # Unbiased: prod(1 + (x - 1/2)) integrates to 1.
+    est = np.array([np.prod(0.5 + x, axis=1).mean() for x in draws])
+    se = est.std(ddof=1) / np.sqrt(len(est))
+    assert abs(est.mean() - 1.0) < 4 * se
+
+
 def test_reset_and_fast_forward():
     e = sp.Engine(2, seed=3)
     first, second = e.random(32), e.random(32)
