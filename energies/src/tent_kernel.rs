@@ -50,8 +50,8 @@ impl TentKernel {
         (f, df)
     }
 
-    /// Σ_l Π_j F(x_kj − x_lj) for point k, and with `grad` its gradient's row
-    /// 2 Σ_l P_kl F′/F (the factor 2: the pair (k, l) appears as (l, k) too).
+    /// Σ_l Π_j F(x_kj − x_lj) for point k, and with `grad` Σ_l P_kl F′/F, its gradient's
+    /// row up to the factor 2/n² (2: the pair (k, l) appears as (l, k) too).
     fn row(&self, x: &[f64], s: usize, k: usize, grad: Option<&mut [f64]>) -> f64 {
         let own = &x[k * s..(k + 1) * s];
         let mut sum = 0.0;
@@ -78,7 +78,7 @@ impl TentKernel {
                     }
                     sum += p;
                     for (gj, r) in g.iter_mut().zip(&ratios) {
-                        *gj += 2.0 * p * r;
+                        *gj += p * r;
                     }
                 }
             }
@@ -104,7 +104,7 @@ impl TentKernel {
                 .map(|(k, gk)| {
                     let r = self.row(x, s, k, Some(&mut *gk));
                     for v in gk.iter_mut() {
-                        *v *= scale;
+                        *v *= 2.0 * scale;
                     }
                     r
                 })

@@ -287,8 +287,13 @@ pub fn tent_criterion(n: usize, z: &[u64]) -> Result<f64, Error> {
 /// How many generators of an n-point rank-1 lattice differ up to sign (φ(n)/2 for
 /// n ≥ 3): with more coordinates than this, two must share one.
 pub fn distinct_generators(n: usize) -> usize {
-    let n64 = n as u64;
-    (1..=(n64 / 2).max(1)).filter(|&a| gcd(a, n64) == 1).count()
+    generators(n as u64).len()
+}
+
+/// The generators 1 ≤ a ≤ n/2 coprime to n: one of each pair a, n − a, which give the
+/// same lattice coordinate up to sign.
+fn generators(n: u64) -> Vec<u64> {
+    (1..=(n / 2).max(1)).filter(|&a| gcd(a, n) == 1).collect()
 }
 
 /// The generating vector of [`tent_lattice`], built component by component (Sloan, Kuo
@@ -302,8 +307,7 @@ pub fn distinct_generators(n: usize) -> usize {
 pub fn tent_lattice_generator(n: usize, s: usize) -> Result<Vec<u64>, Error> {
     check_shape(n, s)?;
     let n64 = n as u64;
-    let half = (n64 / 2).max(1);
-    let coprime: Vec<u64> = (1..=half).filter(|&a| gcd(a, n64) == 1).collect();
+    let coprime = generators(n64);
     let candidates: Vec<u64> = if coprime.len() as u128 * n as u128 <= KOROBOV_SEARCH_BUDGET {
         coprime
     } else {

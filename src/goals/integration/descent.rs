@@ -46,7 +46,7 @@ use std::sync::Arc;
 
 /// The cells of a stratified-to-be set: in each column, the rank of each point's value
 /// (ties broken by row), so cell c goes to the c-th smallest value.
-fn ranks(points: &PointSet) -> Vec<usize> {
+pub(crate) fn ranks(points: &PointSet) -> Vec<usize> {
     let (n, s) = (points.n(), points.s());
     let x = points.as_slice();
     let mut cells = vec![0; n * s];

@@ -160,17 +160,12 @@ pub fn tent_set(n: usize, s: usize) -> Result<TentSet, Error> {
 /// Each column replaced by the ranks of its values over n (ties by row): every
 /// coordinate becomes the n multiples of 1/n once each.
 fn ranks(points: &PointSet) -> PointSet {
-    let (n, s) = (points.n(), points.s());
-    let x = points.as_slice();
-    let mut out = vec![0.0; n * s];
-    let mut order: Vec<usize> = (0..n).collect();
-    for j in 0..s {
-        order.sort_by(|&a, &b| x[a * s + j].total_cmp(&x[b * s + j]).then(a.cmp(&b)));
-        for (rank, &i) in order.iter().enumerate() {
-            out[i * s + j] = rank as f64 / n as f64;
-        }
-    }
-    PointSet::new(n, s, out).expect("the shape of a valid set")
+    let n = points.n() as f64;
+    let x = super::descent::ranks(points)
+        .into_iter()
+        .map(|c| c as f64 / n)
+        .collect();
+    PointSet::new(points.n(), points.s(), x).expect("the shape of a valid set")
 }
 
 #[cfg(test)]
