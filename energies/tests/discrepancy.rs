@@ -10,17 +10,26 @@ use stillpoint_energies::{Energy, PointSet};
 mod common;
 use common::{fd_gradient, random_set, rel_err};
 
-const KINDS: [DiscrepancyKind; 5] = [
+const KINDS: [DiscrepancyKind; 6] = [
     DiscrepancyKind::StarL2,
     DiscrepancyKind::ModifiedL2,
     DiscrepancyKind::CenteredL2,
     DiscrepancyKind::WrapAroundL2,
     DiscrepancyKind::Smooth,
+    DiscrepancyKind::Curved,
 ];
 
 /// γ of the smoothness-2 kernel, and its Bernoulli polynomials as Dick, Kuo and Sloan
 /// print them.
 const GAMMA: f64 = stillpoint_energies::discrepancy::SMOOTH_WEIGHT;
+/// The coefficient of B₂(x)B₂(y): 1/4 in the standard space (Dick, Kuo and Sloan), the
+/// curvature weight times that in the curved one.
+fn b2b2(kind: DiscrepancyKind) -> f64 {
+    match kind {
+        DiscrepancyKind::Curved => stillpoint_energies::discrepancy::CURVATURE_WEIGHT as f64 / 4.0,
+        _ => 1.0 / 4.0,
+    }
+}
 fn b1(t: f64) -> f64 {
     t - 0.5
 }
@@ -78,7 +87,7 @@ fn bf_constant(kind: DiscrepancyKind, s: usize) -> f64 {
         DiscrepancyKind::ModifiedL2 => (4.0f64 / 3.0).powi(s),
         DiscrepancyKind::CenteredL2 => (13.0f64 / 12.0).powi(s),
         DiscrepancyKind::WrapAroundL2 => -(4.0f64 / 3.0).powi(s),
-        DiscrepancyKind::Smooth => -1.0,
+        DiscrepancyKind::Smooth | DiscrepancyKind::Curved => -1.0,
     }
 }
 
@@ -98,7 +107,7 @@ fn bf_single_term(kind: DiscrepancyKind, xi: &[f64]) -> f64 {
                 1.0 + a / 2.0 - a * a / 2.0
             })
             .product(),
-        DiscrepancyKind::WrapAroundL2 | DiscrepancyKind::Smooth => 0.0,
+        DiscrepancyKind::WrapAroundL2 | DiscrepancyKind::Smooth | DiscrepancyKind::Curved => 0.0,
     }
 }
 
@@ -113,8 +122,8 @@ fn bf_k(kind: DiscrepancyKind, x: f64, y: f64) -> f64 {
             let d = (x - y).abs();
             1.5 - d + d * d
         }
-        DiscrepancyKind::Smooth => {
-            1.0 + GAMMA * (b1(x) * b1(y) + b2(x) * b2(y) / 4.0 - b4((x - y).abs()) / 24.0)
+        DiscrepancyKind::Smooth | DiscrepancyKind::Curved => {
+            1.0 + GAMMA * (b1(x) * b1(y) + b2b2(kind) * b2(x) * b2(y) - b4((x - y).abs()) / 24.0)
         }
     }
 }
@@ -131,10 +140,10 @@ fn bf_dk_dx(kind: DiscrepancyKind, x: f64, y: f64) -> f64 {
         }
         DiscrepancyKind::CenteredL2 => 0.5 * (x - 0.5).signum() - 0.5 * (x - y).signum(),
         DiscrepancyKind::WrapAroundL2 => (x - y).signum() * (2.0 * (x - y).abs() - 1.0),
-        DiscrepancyKind::Smooth => {
+        DiscrepancyKind::Smooth | DiscrepancyKind::Curved => {
             let d = (x - y).abs();
             let db4 = 4.0 * d.powi(3) - 6.0 * d * d + 2.0 * d;
-            GAMMA * (b1(y) + (2.0 * x - 1.0) * b2(y) / 4.0 - (x - y).signum() * db4 / 24.0)
+            GAMMA * (b1(y) + b2b2(kind) * (2.0 * x - 1.0) * b2(y) - (x - y).signum() * db4 / 24.0)
         }
     }
 }
@@ -144,7 +153,7 @@ fn bf_dg(kind: DiscrepancyKind, x: f64) -> f64 {
     match kind {
         DiscrepancyKind::StarL2 | DiscrepancyKind::ModifiedL2 => -x,
         DiscrepancyKind::CenteredL2 => (x - 0.5).signum() * (0.5 - (x - 0.5).abs()),
-        DiscrepancyKind::WrapAroundL2 | DiscrepancyKind::Smooth => 0.0,
+        DiscrepancyKind::WrapAroundL2 | DiscrepancyKind::Smooth | DiscrepancyKind::Curved => 0.0,
     }
 }
 
@@ -156,7 +165,7 @@ fn bf_g(kind: DiscrepancyKind, x: f64) -> f64 {
             let a = (x - 0.5).abs();
             1.0 + a / 2.0 - a * a / 2.0
         }
-        DiscrepancyKind::WrapAroundL2 | DiscrepancyKind::Smooth => 1.0,
+        DiscrepancyKind::WrapAroundL2 | DiscrepancyKind::Smooth | DiscrepancyKind::Curved => 1.0,
     }
 }
 
@@ -221,8 +230,10 @@ fn diag_second_arg(kind: DiscrepancyKind, x: f64) -> f64 {
         DiscrepancyKind::StarL2 | DiscrepancyKind::ModifiedL2 => -1.0,
         DiscrepancyKind::CenteredL2 => (x - 0.5).signum(),
         DiscrepancyKind::WrapAroundL2 => 0.0,
-        // d/dx of γ(B₁(x)² + B₂(x)²/4) (B₄(0) is a constant).
-        DiscrepancyKind::Smooth => GAMMA * (2.0 * b1(x) + (2.0 * x - 1.0) * b2(x) / 2.0),
+        // d/dx of γ(B₁(x)² + c B₂(x)²) (B₄(0) is a constant).
+        DiscrepancyKind::Smooth | DiscrepancyKind::Curved => {
+            GAMMA * (2.0 * b1(x) + 2.0 * b2b2(kind) * (2.0 * x - 1.0) * b2(x))
+        }
     };
     // `bf_dk_dx` at x = y takes the "x ≤ y" branch (0) for max, and signum(0) = +1 for
     // centred and wrap-around; give the diagonal term its true total derivative.
@@ -325,11 +336,13 @@ fn values_match_brute_force() {
             let got = energy(kind).value(&x);
             let want = bf_value(kind, &x);
             // The smoothness-2 error is −1 plus terms near 1: accurate to rounding of 1.
-            let scale = want.abs().max(if kind == DiscrepancyKind::Smooth {
-                1.0
-            } else {
-                0.0
-            });
+            let scale = want.abs().max(
+                if matches!(kind, DiscrepancyKind::Smooth | DiscrepancyKind::Curved) {
+                    1.0
+                } else {
+                    0.0
+                },
+            );
             assert!(
                 (got - want).abs() < 1e-12 * scale,
                 "{kind:?}: n={n} s={s}: {got} vs {want}"
@@ -708,4 +721,47 @@ fn mixture_root_takes_the_logarithmic_form_beyond_s_954() {
     assert!(!mixture_squared(&x).is_finite());
     let root = mixture_root(&x);
     assert!(root.is_finite() && root > 1e100, "{root}");
+}
+
+#[test]
+fn reflection_changes_only_the_anchored_kinds() {
+    // x ↦ 1 − x in one coordinate maps B₁ to −B₁ in both arguments and keeps B₂, |x − y|
+    // and |x − ½|: the centred, wrap-around and both smoothness-2 kernels are unchanged,
+    // while the star and modified L2, anchored at the origin, are not.
+    let x = random_set(40, 6, 91);
+    let mut y = x.clone();
+    for i in 0..40 {
+        let v = y.point(i)[2];
+        y.point_mut(i)[2] = 1.0 - v;
+    }
+    for &kind in &KINDS {
+        let (a, b) = (energy(kind).value(&x), energy(kind).value(&y));
+        let anchored = matches!(kind, DiscrepancyKind::StarL2 | DiscrepancyKind::ModifiedL2);
+        if anchored {
+            assert!(rel(a, b) > 1e-3, "{kind:?}: {a} vs {b}");
+        } else {
+            assert!(
+                (a - b).abs() <= 1e-13 * a.abs().max(1.0),
+                "{kind:?}: {a} vs {b}"
+            );
+        }
+    }
+}
+
+#[test]
+fn curved_and_standard_differ_by_the_weighted_second_moment_in_one_dimension() {
+    // At s = 1 the two kernels differ only in B₂(x)B₂(y)'s coefficient, so
+    // D²_curved − D²_smooth = γ (c_curved − c_smooth) (mean of B₂(x_k))².
+    for (n, seed) in [(1usize, 3u64), (7, 4), (50, 5)] {
+        let x = random_set(n, 1, seed);
+        let mean_b2 = (0..n).map(|k| b2(x.point(k)[0])).sum::<f64>() / n as f64;
+        let want = GAMMA
+            * (b2b2(DiscrepancyKind::Curved) - b2b2(DiscrepancyKind::Smooth))
+            * mean_b2
+            * mean_b2;
+        let got =
+            energy(DiscrepancyKind::Curved).value(&x) - energy(DiscrepancyKind::Smooth).value(&x);
+        assert!((got - want).abs() < 1e-14, "n={n}: {got} vs {want}");
+        assert!(want > 0.0);
+    }
 }

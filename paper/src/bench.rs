@@ -30,7 +30,9 @@
 
 use std::io::Write;
 use std::time::Instant;
-use stillpoint::energies::discrepancy::{DiscrepancyEnergy, DiscrepancyKind, SMOOTH_WEIGHT};
+use stillpoint::energies::discrepancy::{
+    DiscrepancyEnergy, DiscrepancyKind, CURVATURE_WEIGHT, SMOOTH_WEIGHT,
+};
 use stillpoint::energies::pairs::vector_path;
 use stillpoint::energies::{Distance, Energy, PointSet, Precision, Uqp};
 use stillpoint::quality::metrics::{self, Metrics};
@@ -89,6 +91,14 @@ pub fn naive_uqp_gradient(points: &PointSet, q: f64, p: f64, grad: &mut [f64]) -
     sum.powf(1.0 / p)
 }
 
+/// The smoothness-2 pair factor with `b2b2` the coefficient of B₂(x)B₂(y).
+fn smooth_factor(x: f64, y: f64, b2b2: f64) -> f64 {
+    let b2 = |t: f64| t * t - t + 1.0 / 6.0;
+    let e = (x - y).abs() * (1.0 - (x - y).abs());
+    1.0 + SMOOTH_WEIGHT
+        * ((x - 0.5) * (y - 0.5) + b2b2 * b2(x) * b2(y) + 1.0 / 720.0 - e * e / 24.0)
+}
+
 /// The squared star or centred L2 discrepancy as a plain double loop over all ordered
 /// pairs (i, l), one thread: the baseline of the vectorised half loop.
 pub fn naive_discrepancy_squared(points: &PointSet, kind: DiscrepancyKind) -> f64 {
@@ -121,15 +131,11 @@ pub fn naive_discrepancy_squared(points: &PointSet, kind: DiscrepancyKind) -> f6
                 1.5 - d * (1.0 - d)
             },
         ),
-        DiscrepancyKind::Smooth => (
+        DiscrepancyKind::Smooth => (-1.0, |_| 0.0, |x, y| smooth_factor(x, y, 0.25)),
+        DiscrepancyKind::Curved => (
             -1.0,
             |_| 0.0,
-            |x, y| {
-                let b2 = |t: f64| t * t - t + 1.0 / 6.0;
-                let e = (x - y).abs() * (1.0 - (x - y).abs());
-                1.0 + SMOOTH_WEIGHT
-                    * ((x - 0.5) * (y - 0.5) + 0.25 * b2(x) * b2(y) + 1.0 / 720.0 - e * e / 24.0)
-            },
+            |x, y| smooth_factor(x, y, CURVATURE_WEIGHT as f64 * 0.25),
         ),
     };
     let mut singles = 0.0;

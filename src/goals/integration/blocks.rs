@@ -239,6 +239,7 @@ fn fill_row(form: Form, xi: &[f64], columns: &[f64], row: &mut [f64]) {
         Form::WrapAround => fill(xi, columns, row, |x, y| Form::WrapAround.h(x, y)),
         Form::Mixture => fill(xi, columns, row, |x, y| Form::Mixture.h(x, y)),
         Form::Smooth => fill(xi, columns, row, |x, y| Form::Smooth.h(x, y)),
+        Form::Curved => fill(xi, columns, row, |x, y| Form::Curved.h(x, y)),
     }
 }
 

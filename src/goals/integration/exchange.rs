@@ -27,7 +27,7 @@
 //! SciPy's `qmc.discrepancy(method='MD')` returns. On [0, 1) every h is positive, which
 //! the swap update relies on (it rescales pair products by ratios of h).
 
-use crate::energies::discrepancy::{DiscrepancyKind, SMOOTH_WEIGHT};
+use crate::energies::discrepancy::{DiscrepancyKind, CURVATURE_WEIGHT, SMOOTH_WEIGHT};
 use crate::PointSet;
 use rayon::prelude::*;
 
@@ -47,6 +47,8 @@ pub enum Form {
     /// The worst-case error for integrands of smoothness 2 (Bernoulli polynomials B₁,
     /// B₂, B₄; product weight γ = [`SMOOTH_WEIGHT`]).
     Smooth,
+    /// [`Form::Smooth`] with the mean curvature weighed [`CURVATURE_WEIGHT`] times more.
+    Curved,
 }
 
 impl From<DiscrepancyKind> for Form {
@@ -57,6 +59,7 @@ impl From<DiscrepancyKind> for Form {
             DiscrepancyKind::CenteredL2 => Form::Centered,
             DiscrepancyKind::WrapAroundL2 => Form::WrapAround,
             DiscrepancyKind::Smooth => Form::Smooth,
+            DiscrepancyKind::Curved => Form::Curved,
         }
     }
 }
@@ -71,13 +74,13 @@ impl Form {
             Form::Centered => (13.0f64 / 12.0).powi(s),
             Form::WrapAround => -(4.0f64 / 3.0).powi(s),
             Form::Mixture => (19.0f64 / 12.0).powi(s),
-            Form::Smooth => -1.0,
+            Form::Smooth | Form::Curved => -1.0,
         }
     }
 
     /// Whether the form has the single sum Σ_i Π_k g.
     pub fn has_single(self) -> bool {
-        !matches!(self, Form::WrapAround | Form::Smooth)
+        !matches!(self, Form::WrapAround | Form::Smooth | Form::Curved)
     }
 
     /// The factor g of the single sum.
@@ -88,7 +91,7 @@ impl Form {
             Form::Star => 0.5 * (1.0 - x * x),
             Form::Modified => 0.5 * (3.0 - x * x),
             Form::Centered => 1.0 + 0.5 * a - 0.5 * a * a,
-            Form::WrapAround | Form::Smooth => 0.0,
+            Form::WrapAround | Form::Smooth | Form::Curved => 0.0,
             Form::Mixture => 5.0 / 3.0 - 0.25 * a - 0.25 * a * a,
         }
     }
@@ -105,14 +108,19 @@ impl Form {
             Form::Mixture => {
                 1.875 - 0.25 * (x - 0.5).abs() - 0.25 * (y - 0.5).abs() - 0.75 * d + 0.5 * d * d
             }
-            Form::Smooth => {
-                let b2 = |t: f64| t * t - t + 1.0 / 6.0;
-                let e = d * (1.0 - d);
-                1.0 + SMOOTH_WEIGHT
-                    * ((x - 0.5) * (y - 0.5) + 0.25 * b2(x) * b2(y) + 1.0 / 720.0 - e * e / 24.0)
-            }
+            Form::Smooth => smooth_h(x, y, d, 0.25),
+            Form::Curved => smooth_h(x, y, d, CURVATURE_WEIGHT as f64 * 0.25),
         }
     }
+}
+
+/// The smoothness-2 factor with `b2b2` the coefficient of B₂(x)B₂(y), d = |x − y|.
+#[inline]
+fn smooth_h(x: f64, y: f64, d: f64, b2b2: f64) -> f64 {
+    let b2 = |t: f64| t * t - t + 1.0 / 6.0;
+    let e = d * (1.0 - d);
+    1.0 + SMOOTH_WEIGHT
+        * ((x - 0.5) * (y - 0.5) + b2b2 * b2(x) * b2(y) + 1.0 / 720.0 - e * e / 24.0)
 }
 
 impl Form {
@@ -130,6 +138,7 @@ impl Form {
             }
             Form::Mixture => swap_sum_with(xi, xj, pi, pj, column, |x, y| Form::Mixture.h(x, y)),
             Form::Smooth => swap_sum_with(xi, xj, pi, pj, column, |x, y| Form::Smooth.h(x, y)),
+            Form::Curved => swap_sum_with(xi, xj, pi, pj, column, |x, y| Form::Curved.h(x, y)),
         }
     }
 }
@@ -406,6 +415,10 @@ mod tests {
                     Form::Smooth,
                     crate::energies::discrepancy::discrepancy_root(&p, DiscrepancyKind::Smooth),
                 ),
+                (
+                    Form::Curved,
+                    crate::energies::discrepancy::discrepancy_root(&p, DiscrepancyKind::Curved),
+                ),
             ] {
                 let got = root(&p, form);
                 assert!(
@@ -450,6 +463,7 @@ mod tests {
             Form::WrapAround,
             Form::Mixture,
             Form::Smooth,
+            Form::Curved,
         ] {
             let p = sample(30, 4, 11);
             let mut e = Exchange::new(&p, form);
@@ -463,7 +477,7 @@ mod tests {
                 let want = squared(&PointSet::new(30, 4, q).unwrap(), form);
                 e.swap(i, j, k, d);
                 // The smoothness-2 error is −1 plus terms near 1: exact to rounding of 1.
-                let scale = if form == Form::Smooth {
+                let scale = if matches!(form, Form::Smooth | Form::Curved) {
                     1.0
                 } else {
                     want.abs().max(1e-6)
