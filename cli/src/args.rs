@@ -49,9 +49,9 @@ pub(crate) struct GenerateArgs {
     /// What the integration goal lowers: `blend` (D²_MD + D²_L2* + D²_CD, each relative
     /// to the start; the default below s = 8), `blend-smooth` (the blend and, with weight
     /// ¼, the worst-case error for integrands of smoothness 2, from the lattice of the tent
-    /// randomisation; the default for s = 8 to 14), `curved` (D²_CD, ¾ of that error with
-    /// the mean curvature weighed 24×, and 1.5 % of D²_L2*: no preferred corner; the
-    /// default from s = 15), `md`, `l2star`, `cd`, `periodic` or `smooth`.
+    /// randomisation; the default above 1 500 points for s = 8 to 14), `curved` (D²_CD, ¾ of
+    /// that error with the mean curvature weighed 24×, and 1.5 % of D²_L2*: no preferred
+    /// corner; the default from s = 8), `md`, `l2star`, `cd`, `periodic` or `smooth`.
     #[arg(long, value_name = "KIND")]
     pub(crate) target: Option<String>,
     /// Grow an existing set: keep the points of FILE first and unchanged and add -n M new

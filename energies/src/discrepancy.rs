@@ -126,9 +126,10 @@ pub const SMOOTH_WEIGHT: f64 = 0.1;
 /// locally quadratic) cheap, so the rule must integrate them well: their error is the
 /// degree-2 moments Σ_k B₂(x_kj)B₂(x_kl)… of the set, which the L2 discrepancies and the
 /// standard weight (β = 1, where B₂B₂ counts 1/25 of B₁B₁ in a pair) barely see. 24
-/// (a coefficient 6 on B₂B₂) was chosen among ¼, 1, 3 and 6 times 4 at s = 15 and 20
-/// (the integration benchmark's anchors at s ≥ 15): product peak and Gaussian fell from
-/// 1.6 and 1.2 times scrambled Sobol's error to 0.6 and 0.4 (geometric means).
+/// (a coefficient 6 on B₂B₂) was chosen among 1, 4, 12 and 24 on 12 cells of the
+/// integration benchmark at s = 15 and 20: product peak and Gaussian fell from 1.6 and
+/// 1.2 times scrambled Sobol's error to 0.6 and 0.4 (geometric means; 0.85 and 0.6 with
+/// 12).
 pub const CURVATURE_WEIGHT: u32 = 24;
 
 /// The names [`DiscrepancyKind::parse`] accepts, as an error message lists them.

@@ -243,8 +243,8 @@ def generate(
     **later
         ``goal`` (``'integration'``, the cube's default, or ``'space-filling'``, a
         region's), ``target`` (``'blend'``, the default below d = 8,
-        ``'blend-smooth'``, the default for d = 8 to 14, ``'curved'``, the default from
-        d = 15, ``'md'``, ``'l2star'``, ``'cd'``,
+        ``'blend-smooth'``, ``'curved'``, the default from d = 8, ``'md'``, ``'l2star'``,
+        ``'cd'``,
         ``'periodic'``, ``'smooth'``), ``constraints`` (linear constraints with ``box``,
         which gives d: a list of texts such as ``'x1 + 2*x2 <= 1'`` or of pairs ``(a, b)``
         meaning a·x <= b; the region {A x <= b} within the box), ``mixture`` (``True``: d

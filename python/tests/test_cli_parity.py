@@ -43,6 +43,14 @@ def test_default_generate_is_the_cli_npy(cli, tmp_path):
             dict(n=32, d=3, q="inf", p=2, polish="cd", steps=100),
         ),
         (
+            ["-n", 40, "-s", 3, "--target", "curved"],
+            dict(n=40, d=3, target="curved"),
+        ),
+        (
+            ["-n", 48, "-s", 8],
+            dict(n=48, d=8),
+        ),
+        (
             ["-n", 20, "--shape", "ball:1@0,0", "--steps", 300],
             dict(n=20, shape="ball:1@0,0", steps=300),
         ),

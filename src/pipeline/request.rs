@@ -232,9 +232,9 @@ const PAPER_OPTIONS: [&str; 14] = [
 /// The most points a single run accepts (beyond it a set of f64 cannot be addressed).
 /// The words `target` takes, as a refusal lists them.
 const TARGETS: &str = "blend (D²_MD + D²_L2* + D²_CD), blend-smooth (the blend and the \
-                       smoothness-2 error; the default for s = 8 to 14), curved (D²_CD, the \
-                       smoothness-2 error with curvature weighed more and a trace of D²_L2*; \
-                       the default from s = 15), md, l2star, cd, periodic or smooth";
+                       smoothness-2 error), curved (D²_CD, the smoothness-2 error with \
+                       curvature weighed more and a trace of D²_L2*; the default from s = 8), \
+                       md, l2star, cd, periodic or smooth";
 
 const MAX_COUNT: i128 = u32::MAX as i128 * 16;
 

@@ -4,19 +4,27 @@ use crate::energies::discrepancy::{squared_discrepancies, DiscrepancyEnergy, Dis
 use crate::energies::Energy;
 use crate::PointSet;
 
-/// From this dimension on the default target adds the smoothness-2 error: below it the
-/// blend's sets already integrate the smooth test integrands at least as well as
-/// scrambled Sobol' (the integration benchmark), above it they do not.
+/// From this dimension on the default target is [`Target::curved`], with the smoothness-2
+/// error: below it the blend's sets already integrate the smooth test integrands at least
+/// as well as scrambled Sobol' (the integration benchmark), above it they do not.
 pub const SMOOTH_FROM_S: usize = 8;
 
-/// Up to this many points the default target adds the smoothness-2 error (from
+/// Up to this many points the default target has the smoothness-2 error (from
 /// [`SMOOTH_FROM_S`]). Its sets were measured up to n = 2048; above, where one descent
 /// takes most of the run's work cap, trying the smooth target and then, when its set is
-/// not below a stratified Sobol' set in all three discrepancies, descending the blend
+/// not below stratified Sobol' sets in all three discrepancies, descending another target
 /// again would double the time (n = 20 000, s = 10: 208 s instead of about 60 s).
 pub const SMOOTH_MAX_N: usize = 4096;
 
-/// The weight of the smoothness-2 error in [`Target::smooth_blend`], against 1 for each
+/// Below [`SMOOTH_HIGH_FROM_S`] the default is [`Target::curved`] up to this many points
+/// and [`Target::smooth_blend_for`] above. The curved sets were measured up to n = 1500;
+/// above, at n = 2000, s = 12 and n = 4000, s = 10, the check against Sobol' sets refused
+/// them (D_MD 0.5 % above), and each refusal costs a whole descent (4000 × 10: 87 s
+/// instead of 55 s).
+pub const CURVED_MAX_N_BELOW_HIGH_S: usize = 1500;
+
+/// The weight of the smoothness-2 error in [`Target::smooth_blend`] (`--target
+/// blend-smooth`, and the curved target's fallback below s = 15), against 1 for each
 /// discrepancy (all relative to the start). With 1 the sets integrated the smooth test
 /// integrands best, but their D_MD and CD rose to those of scrambled Sobol' or of
 /// SciPy's random-cd Latin hypercube in some cells (n = 32–1024 at s = 8, 10; n = 128,
@@ -24,7 +32,8 @@ pub const SMOOTH_MAX_N: usize = 4096;
 /// benchmark and integrated almost as well at s = 8 and 10 (less well at 15 and 20).
 pub const SMOOTH_SHARE: f64 = 0.25;
 
-/// From this dimension on the smoothness-2 error weighs [`SMOOTH_SHARE_HIGH_S`]: at s = 15
+/// From this dimension on the smoothness-2 error of [`Target::smooth_blend_for`] weighs
+/// [`SMOOTH_SHARE_HIGH_S`]: at s = 15
 /// and 20, with 1/4 the sets still integrated the smooth Genz families worse than
 /// scrambled Sobol' (geometric means 1.34, 1.54, 1.53, 1.14 for oscillatory, product
 /// peak, corner peak, Gaussian), with 1/2 less so (1.15, 1.36, 1.38, 1.04), with 3/4
@@ -34,7 +43,7 @@ pub const SMOOTH_SHARE: f64 = 0.25;
 pub const SMOOTH_HIGH_FROM_S: usize = 15;
 
 /// The smoothness-2 error's weight in [`Target::smooth_blend_for`] from
-/// [`SMOOTH_HIGH_FROM_S`] on.
+/// [`SMOOTH_HIGH_FROM_S`] on, and the curved error's in [`Target::curved`] at every s.
 pub const SMOOTH_SHARE_HIGH_S: f64 = 0.75;
 
 /// The weight of D²_L2* in [`Target::curved`], against 1 for CD (both relative to the
@@ -44,7 +53,8 @@ pub const SMOOTH_SHARE_HIGH_S: f64 = 0.75;
 /// Π_j (2 − x_j), grows like 2^s near it: at s = 20 the sets lowered on them (the blend)
 /// kept out of that corner, and integrated Genz's corner peak, which sits there, 12–39 %
 /// too low. With weight 0.015 its geometric-mean error against Sobol' went from 1.22 to
-/// 0.71; with 0.05, 0.79; with 0.25, 1.03.
+/// 0.69; with 0.05, 0.79; with 0.25, 1.03 (12 cells at s = 15 and 20, the curvature
+/// weighed 12×).
 pub const STAR_TRACE: f64 = 0.015;
 
 /// What the integration goal lowers: a weighted sum of squared L2 discrepancies.
@@ -75,8 +85,8 @@ impl Target {
     }
 
     /// The blend with the worst-case error for integrands of smoothness 2 added
-    /// ([`DiscrepancyKind::Smooth`]), each part relative to the start: the default from
-    /// s = [`SMOOTH_FROM_S`] on. The three discrepancies weigh interactions of every order
+    /// ([`DiscrepancyKind::Smooth`]), each part relative to the start: `--target
+    /// blend-smooth`, and the fallback of [`Target::curved`]. The three discrepancies weigh interactions of every order
     /// alike; at high s the integrands users have are dominated by low orders, and sets
     /// lowered on the blend alone integrate them worse than scrambled Sobol'.
     pub fn smooth_blend() -> Target {
@@ -98,7 +108,7 @@ impl Target {
         t
     }
 
-    /// The default from [`SMOOTH_HIGH_FROM_S`] on: D²_CD, the smoothness-2 error with the
+    /// The default from [`SMOOTH_FROM_S`] on: D²_CD, the smoothness-2 error with the
     /// mean curvature weighed more ([`DiscrepancyKind::Curved`]) at
     /// [`SMOOTH_SHARE_HIGH_S`], and a trace of D²_L2* ([`STAR_TRACE`]), each relative to the
     /// start. Its parts but the trace are unchanged when a coordinate is reflected
@@ -115,8 +125,9 @@ impl Target {
     }
 
     /// The default target for n points at dimension s, where the set is descended and
-    /// n ≤ [`SMOOTH_MAX_N`]: [`Target::smooth_blend_for`] from [`SMOOTH_FROM_S`] on,
-    /// [`Target::curved`] from [`SMOOTH_HIGH_FROM_S`] on; [`Target::blend`] otherwise (a set too large to descend is one scrambled Sobol' set,
+    /// n ≤ [`SMOOTH_MAX_N`]: [`Target::curved`] from [`SMOOTH_FROM_S`] on (below
+    /// [`SMOOTH_HIGH_FROM_S`] only up to [`CURVED_MAX_N_BELOW_HIGH_S`] points, then
+    /// [`Target::smooth_blend_for`]); [`Target::blend`] otherwise (a set too large to descend is one scrambled Sobol' set,
     /// and its report's target is then estimated from random pairs, which the smooth error
     /// has no form for).
     pub fn default_for(n: usize, s: usize) -> Target {
@@ -125,10 +136,10 @@ impl Target {
             && n <= SMOOTH_MAX_N
             && Budget::of(n, s, &Effort::default()).descends()
         {
-            if s >= SMOOTH_HIGH_FROM_S {
-                Target::curved()
-            } else {
+            if s < SMOOTH_HIGH_FROM_S && n > CURVED_MAX_N_BELOW_HIGH_S {
                 Target::smooth_blend_for(s)
+            } else {
+                Target::curved()
             }
         } else {
             Target::blend()
@@ -246,13 +257,21 @@ mod tests {
     }
 
     #[test]
-    fn the_smooth_error_weighs_more_from_s_15_and_the_anchored_parts_give_way() {
-        assert_eq!(smooth_share(&Target::default_for(200, 7)), None);
+    fn from_s_8_the_default_is_curved_and_the_anchored_parts_give_way() {
+        assert_eq!(Target::default_for(200, 7), Target::blend());
         assert_eq!(
-            smooth_share(&Target::default_for(200, 10)),
+            smooth_share(&Target::smooth_blend_for(10)),
             Some(SMOOTH_SHARE)
         );
-        for s in [15, 20] {
+        assert_eq!(
+            Target::default_for(CURVED_MAX_N_BELOW_HIGH_S + 1, 10),
+            Target::smooth_blend_for(10)
+        );
+        assert_eq!(
+            Target::default_for(CURVED_MAX_N_BELOW_HIGH_S + 1, 15),
+            Target::curved()
+        );
+        for s in [8, 10, 15, 20] {
             let t = Target::default_for(200, s);
             assert_eq!(t, Target::curved());
             assert!(t.is_smooth() && t.is_curved());

@@ -501,9 +501,11 @@ pub struct Outcome {
 /// (scrambled Sobol' with `effort.starts` seeds derived from `seed`, scrambled Halton;
 /// for a target with the smoothness-2 part, the lattice of the tent randomisation under
 /// as many shifts), then rounds of exchanges and offset descent. A smooth target's set is
-/// kept only if its D_MD, D_L2* and CD are below a stratified scrambled Sobol' set's;
-/// otherwise, and at powers of two from [`SOBOL_NET_FROM_N`] below s = 15, the blend's
-/// set is made instead. Deterministic for a seed, whatever the thread count.
+/// kept only if its D_MD, D_L2* and CD are below the mean of [`GUARD_SOBOL_SETS`]
+/// stratified scrambled Sobol' sets'; otherwise, and at powers of two from
+/// [`SOBOL_NET_FROM_N`] below s = 15, the blend's set is made instead (for the curved
+/// target, the smooth blend's, which falls back in turn). Deterministic for a seed,
+/// whatever the thread count.
 pub fn integration_set(
     n: usize,
     s: usize,
@@ -581,27 +583,39 @@ pub fn integration_set(
         return Ok((points, outcome));
     }
     // The smooth target trades some of the discrepancies for integration. The trade is
-    // kept only while every discrepancy stays below a stratified scrambled Sobol' set's,
-    // what users would take instead.
+    // kept only while every discrepancy stays below stratified scrambled Sobol' sets',
+    // what users would take instead: below the mean of several, because one set's D_L2*
+    // varies by tens of per cent between seeds, and a set below one draw was above the
+    // mean of 16 (n = 50, s = 8, by 3 %).
     let kinds = [
         DiscrepancyKind::ModifiedL2,
         DiscrepancyKind::StarL2,
         DiscrepancyKind::CenteredL2,
     ];
-    let reference = stratify(&sequences::sobol_scrambled(
-        n,
-        s,
-        sequences::stream_seed(seed, 0),
-    )?);
-    let ours = squared_discrepancies(&points, &kinds);
-    let theirs = squared_discrepancies(&reference, &kinds);
-    if ours.iter().zip(&theirs).all(|(a, b)| a < b) {
+    let roots = |p: &PointSet| -> Vec<f64> {
+        squared_discrepancies(p, &kinds)
+            .into_iter()
+            .map(|v| v.max(0.0).sqrt())
+            .collect()
+    };
+    let mut theirs = vec![0.0; kinds.len()];
+    for k in 0..GUARD_SOBOL_SETS {
+        let reference = stratify(&sequences::sobol_scrambled(
+            n,
+            s,
+            sequences::stream_seed(seed, k),
+        )?);
+        for (t, r) in theirs.iter_mut().zip(roots(&reference)) {
+            *t += r / GUARD_SOBOL_SETS as f64;
+        }
+    }
+    if roots(&points).iter().zip(&theirs).all(|(a, b)| a < b) {
         return Ok((points, outcome));
     }
     crate::solve::stop_if_cancelled()?;
     let why = "the set descended on the smooth target from the lattice of the tent \
-               randomisation was not below a stratified scrambled Sobol' set in D_MD, D_L2* \
-               and CD";
+               randomisation was not below the mean of stratified scrambled Sobol' sets in \
+               D_MD, D_L2* and CD";
     if !target.is_curved() {
         return blend_instead(why);
     }
@@ -614,11 +628,17 @@ pub fn integration_set(
     Ok((points, o))
 }
 
+/// How many stratified scrambled Sobol' sets a smooth target's set must be below on
+/// average (their root discrepancies' mean), in D_MD, D_L2* and CD each.
+pub const GUARD_SOBOL_SETS: u64 = 8;
+
 /// From this n on, where n is a power of two, the smooth target is not tried below
 /// s = 15: scrambled Sobol' sets are (t, m, s)-nets there, and in the integration
 /// benchmark (n = 1024, s = 8 and 10) the smooth target's sets stayed 4–7 % above their
 /// mean D_MD and CD. At s = 15 and 20 its sets (with the heavier smooth weight) were 5–8 %
 /// below both means and integrated the Genz families up to 2× better than the blend's.
+/// The curved target's sets at n = 1024, s = 8 and 10 were not below the Sobol' sets
+/// either (tried: the check refused them, at twice the time).
 pub const SOBOL_NET_FROM_N: usize = 1024;
 
 /// [`integration_set`] from the best of its candidate starts: the lattice of the tent
