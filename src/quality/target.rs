@@ -298,5 +298,16 @@ mod tests {
             smooth_share(&Target::smooth_blend_for(15)),
             Some(SMOOTH_SHARE_HIGH_S)
         );
+        // A nested set, which no check against Sobol' sets guards, keeps the smooth blend.
+        let mut r = crate::Request::new(0, 10);
+        r.n = None;
+        r.nested = Some("16,32".into());
+        let crate::pipeline::Job::Run(cfg) = r.resolve().unwrap().job else {
+            panic!("a run")
+        };
+        assert_eq!(
+            cfg.goal,
+            crate::plan::Goal::Integration(Target::smooth_blend_for(10))
+        );
     }
 }

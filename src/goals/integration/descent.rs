@@ -619,8 +619,8 @@ pub fn integration_set(
     if !target.is_curved() {
         return blend_instead(why);
     }
-    // The curved target's fallback is the smooth blend, the default below s = 15, which
-    // keeps the discrepancies by its anchored parts (and falls back to the blend itself).
+    // The curved target's fallback is the smooth blend, which keeps the discrepancies by
+    // its anchored parts (and falls back to the blend itself).
     let (points, mut o) = integration_set(n, s, &Target::smooth_blend_for(s), seed, effort)?;
     o.made = format!("{}; the smooth blend was descended: {why}", o.made);
     o.before = target.value(&o.start_points);
