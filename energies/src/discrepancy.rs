@@ -515,6 +515,9 @@ impl<const C: u32> SmoothOf<C> {
     /// for every C, so C = 1 keeps the standard kernel's bits).
     const B2B2: f64 = C as f64 * 0.25;
     const B2B2_TWICE: f64 = C as f64 * 0.5;
+    /// The largest factor: the bracket is at most ¼ + C/144 + 1/720 (|B₁| ≤ ½,
+    /// |B₂| ≤ 1/6, −B₄(d)/24 ≤ 1/720).
+    const LARGEST_FACTOR: f64 = 1.0 + SMOOTH_WEIGHT * (0.25 + C as f64 / 144.0 + 1.0 / 720.0);
 }
 
 impl<const C: u32> Kernel for SmoothOf<C> {
@@ -587,12 +590,6 @@ fn smooth_parts<V: Simd>(x: V, y: V) -> [V; 6] {
         d,
         d.mul(V::splat(1.0).sub(d)),
     ]
-}
-
-/// The largest factor of [`SmoothOf`]: the bracket is at most ¼ + C/144 + 1/720
-/// (|B₁| ≤ ½, |B₂| ≤ 1/6, −B₄(d)/24 ≤ 1/720).
-const fn smooth_largest_factor(c: u32) -> f64 {
-    1.0 + SMOOTH_WEIGHT * (0.25 + c as f64 / 144.0 + 1.0 / 720.0)
 }
 
 /// The mixture's pair factor 15/8 − ¼|x − ½| − ¼|y − ½| − ¾d + ½d² from `gx` = ½|x − ½|
@@ -727,8 +724,8 @@ fn largest_factor(kind: DiscrepancyKind) -> f64 {
         DiscrepancyKind::StarL2 => 1.0,
         DiscrepancyKind::ModifiedL2 => 2.0,
         DiscrepancyKind::CenteredL2 | DiscrepancyKind::WrapAroundL2 => 1.5,
-        DiscrepancyKind::Smooth => smooth_largest_factor(1),
-        DiscrepancyKind::Curved => smooth_largest_factor(CURVATURE_WEIGHT),
+        DiscrepancyKind::Smooth => Smooth::LARGEST_FACTOR,
+        DiscrepancyKind::Curved => Curved::LARGEST_FACTOR,
     }
 }
 

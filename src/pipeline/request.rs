@@ -499,17 +499,13 @@ impl Resolver<'_> {
         };
         cfg.seed = seed;
         cfg.goal = match goal {
-            // The default target follows the dimension ([`Target::default_for`]).
+            // The default target follows the dimension ([`Target::default_for`], for a
+            // grown set [`Target::default_grown_for`]).
             Goal::Integration(_) if r.target.is_none() => {
-                let t = Target::default_for(cfg.n, cfg.s);
-                // A grown set has no check against Sobol' sets to fall back on, and the
-                // curved target's nested prefixes at s = 10 were 11 % above their D_MD at
-                // 1024 points (the smooth blend's 3.5 %).
-                let grown = cfg.extend.is_some() || !cfg.nested.is_empty();
-                Goal::Integration(if grown && t.is_curved() {
-                    Target::smooth_blend_for(cfg.s)
+                Goal::Integration(if cfg.extend.is_some() || !cfg.nested.is_empty() {
+                    Target::default_grown_for(cfg.n, cfg.s)
                 } else {
-                    t
+                    Target::default_for(cfg.n, cfg.s)
                 })
             }
             // `blend-smooth` by name weighs its smooth part for s ([`Target::smooth_blend_for`]).
