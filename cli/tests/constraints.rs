@@ -1,9 +1,9 @@
 //! Linear constraints and mixtures from the command line: every point inside and every
-//! constraint held, mixtures that sum to 1 within their bounds, the README's examples, and
+//! constraint held, mixtures that sum to 1 within their bounds, the guide's examples, and
 //! the refusals of what has no points.
 
 mod common;
-use common::{bin, readme_lines, succeeded, TempDir};
+use common::{bin, doc_lines, succeeded, TempDir};
 use stillpoint::PointSet;
 
 fn run(dir: &TempDir, out: &str, args: &[&str]) -> PointSet {
@@ -177,15 +177,14 @@ fn a_mixture_report_describes_the_written_components() {
 }
 
 #[test]
-fn the_readme_examples_run_as_written() {
-    let lines = readme_lines(|l| {
-        l.starts_with("cargo run --release -- ")
-            && (l.contains("initial.csv") || l.contains("blend.csv"))
+fn the_guides_examples_run_as_written() {
+    let lines = doc_lines("docs/regions.md", |l| {
+        l.starts_with("stillpoint ") && (l.contains("initial.csv") || l.contains("blend.csv"))
     });
     assert_eq!(lines.len(), 2, "{lines:?}");
-    let dir = TempDir::new("readme");
+    let dir = TempDir::new("guide");
     for line in &lines {
-        let words = common::shell_words(line.trim_start_matches("cargo run --release -- "), '"');
+        let words = common::shell_words(line.trim_start_matches("stillpoint "), '"');
         succeeded(bin().current_dir(&dir.0).args(&words).arg("-q"), line);
     }
     let initial = stillpoint::io::read_points(&dir.path("initial.csv")).unwrap();

@@ -161,16 +161,16 @@ fn eval_refuses_a_cell_outside_its_variable_naming_the_line() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("one of a, b, c"));
 }
 
-/// The README's design-space commands, run as written: the plan has the promised
-/// header, level counts and slices, and eval reads it back.
+/// The guide's design-space commands (docs/design.md), run as written: the plan has the
+/// promised header, level counts and slices, and eval reads it back.
 #[test]
-fn readme_design_space_example_runs() {
-    let lines = readme_lines(|l| {
+fn guide_design_space_example_runs() {
+    let lines = doc_lines("docs/design.md", |l| {
         l.starts_with("stillpoint ") && l.contains("--var") && l.contains("plan.csv")
     });
     assert_eq!(lines.len(), 2, "{lines:?}");
     let words = |line: &str| shell_words(line.trim_start_matches("stillpoint "), '\'');
-    let dir = TempDir::new("readme-design");
+    let dir = TempDir::new("guide-design");
     for line in &lines {
         let o = bin()
             .current_dir(&dir.0)

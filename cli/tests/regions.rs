@@ -9,7 +9,7 @@ use stillpoint::energies::{Domain, Energy};
 use stillpoint::pipeline::{run_config, EnergyKind, GenerateConfig, Init};
 
 mod common;
-use common::{bin, readme_lines, shell_words, tmpdir};
+use common::{bin, doc_lines, shell_words, tmpdir};
 
 fn g4(x: &[f64]) -> f64 {
     x[0].abs() + 2.0 * x[1].abs() - 5.0
@@ -183,17 +183,18 @@ fn bad_regions_are_refused_and_write_nothing() {
     }
 }
 
-/// The README's integration-in-a-region commands, run as written (without `cargo run
-/// --release --`): the design is inside its linear constraint and `eval --json` finds
-/// it closer to uniform on the region than as many uniform points.
+/// The guide's integration-in-a-region commands (docs/regions.md), run as written: the
+/// design is inside its linear constraint and `eval --json` finds it closer to uniform on
+/// the region than as many uniform points.
 #[test]
-fn readme_region_integration_example_runs() {
-    let lines =
-        readme_lines(|l| l.starts_with("cargo run --release -- ") && l.contains("design.csv"));
+fn guide_region_integration_example_runs() {
+    let lines = doc_lines("docs/regions.md", |l| {
+        l.starts_with("stillpoint ") && l.contains("design.csv")
+    });
     assert_eq!(lines.len(), 2, "{lines:?}");
-    let dir = tmpdir("readme_region_integration");
+    let dir = tmpdir("guide_region_integration");
     // The quoted expression is one argument.
-    let words = |line: &str| shell_words(line.trim_start_matches("cargo run --release -- "), '"');
+    let words = |line: &str| shell_words(line.trim_start_matches("stillpoint "), '"');
     let generate = bin()
         .current_dir(&dir)
         .args(words(&lines[0]))

@@ -1,6 +1,6 @@
 """Linear constraints and mixtures from Python: the command line's points bit for bit,
 constraints held, mixtures summing to 1, pairs (a, b) read as a·x <= b, refusals named
-as Python spells them, and the README's example."""
+as Python spells them, and the guide's example."""
 
 import json
 import re
@@ -89,13 +89,13 @@ def test_refusals_name_the_keyword(kwargs, says):
     assert "--" not in str(e.value), str(e.value)
 
 
-def test_the_readme_example_runs_as_written():
-    readme = (ROOT / "README.md").read_text()
-    section = readme.split("### Linear constraints and mixtures", 1)[1].split("\n### ", 1)[0]
+def test_the_guides_example_runs_as_written():
+    page = (ROOT / "docs" / "regions.md").read_text()
+    section = page.split("## Linear constraints and mixtures", 1)[1].split("\n## ", 1)[0]
     blocks = re.findall(r"```python\n(.*?)```", section, re.S)
     assert len(blocks) == 1
     scope: dict = {}
-    exec(compile(blocks[0], "README.md", "exec"), scope)
+    exec(compile(blocks[0], "docs/regions.md", "exec"), scope)
     x, blend = scope["x"], scope["blend"]
     assert x.shape == (32, 3) and blend.shape == (20, 3)
     assert (x @ np.array([1.0, 2.0, 0.0]) - 1).max() <= 1e-12

@@ -1,33 +1,43 @@
-"""The Python examples of the README's "Python" section run as written."""
+"""The Python examples of the README and of the guide's Python pages (docs/python.md, then
+docs/clusters.md, in one namespace as a reader would run them) run as written."""
 
 import pathlib
 import re
 
 import numpy as np
 
-README = pathlib.Path(__file__).resolve().parents[2] / "README.md"
-
-
-def python_section() -> str:
-    text = README.read_text(encoding="utf-8")
-    start = text.index("\n## Python\n")
-    end = text.index("\n## ", start + 1)
-    return text[start:end]
-
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+README = ROOT / "README.md"
+GUIDE = [ROOT / "docs" / "python.md", ROOT / "docs" / "clusters.md"]
 
 # A block whose first line starts so needs what CI has not (a Slurm cluster).
 NOT_RUN = "# Needs a Slurm cluster"
 
 
-def test_readme_python_examples_run():
-    blocks = re.findall(r"```python\n(.*?)```", python_section(), flags=re.S)
-    run = [b for b in blocks if not b.startswith(NOT_RUN)]
-    assert len(run) >= 4 and len(blocks) - len(run) == 1
-    for block in blocks:  # the block not run is still valid Python
-        compile(block, str(README), "exec")
+def python_blocks(path: pathlib.Path) -> list:
+    return re.findall(r"```python\n(.*?)```", path.read_text(encoding="utf-8"), flags=re.S)
+
+
+def test_readme_python_example_runs():
+    blocks = python_blocks(README)
+    assert len(blocks) == 1
     scope = {}
-    for block in run:
-        exec(compile(block, str(README), "exec"), scope)
+    exec(compile(blocks[0], str(README), "exec"), scope)
+    assert scope["x"].shape == (50, 3)
+    res = scope["res"]
+    assert abs(res.integral - (np.e**2 - 1) ** 3) < 4 * res.standard_error
+    assert res.standard_error > 0
+
+
+def test_guide_python_examples_run():
+    blocks = [(path, b) for path in GUIDE for b in python_blocks(path)]
+    run = [(path, b) for path, b in blocks if not b.startswith(NOT_RUN)]
+    assert len(run) >= 6 and len(blocks) - len(run) == 1
+    for path, block in blocks:  # the block not run is still valid Python
+        compile(block, str(path), "exec")
+    scope = {}
+    for path, block in run:
+        exec(compile(block, str(path), "exec"), scope)
     assert scope["x"].shape == (50, 3)
     plan = scope["plan"]
     plan = plan if isinstance(plan, dict) else {c: plan[c].to_numpy() for c in plan.columns}

@@ -25,10 +25,14 @@ pub fn succeeded(cmd: &mut Command, what: &dyn std::fmt::Debug) -> (String, Stri
     (String::from_utf8_lossy(&o.stdout).into_owned(), err)
 }
 
-/// The README's lines that `keep` selects (commands a test runs as written).
-pub fn readme_lines(keep: impl Fn(&str) -> bool) -> Vec<String> {
-    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../README.md"))
-        .unwrap()
+/// The lines that `keep` selects of a page of the documentation, `path` relative to the
+/// repository (`README.md`, `docs/regions.md`): commands a test runs as written.
+pub fn doc_lines(path: &str, keep: impl Fn(&str) -> bool) -> Vec<String> {
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("..")
+        .join(path);
+    std::fs::read_to_string(&file)
+        .unwrap_or_else(|e| panic!("{}: {e}", file.display()))
         .lines()
         .filter(|l| keep(l))
         .map(str::to_string)
