@@ -30,7 +30,9 @@ pub(crate) fn emit_design(
     json_out: bool,
     staging: io::Staging,
 ) -> Result<()> {
-    let figures = DesignFigures::of(design);
+    // The figures are those of the values as written (and read back by `eval`): a value
+    // rounded to a float, a correlated column decorrelated again.
+    let figures = DesignFigures::of(&design.as_written()?);
     // The header describes the written design: the unit-cube set's metrics would not.
     let mut meta = meta.clone();
     if let Some(m) = meta.as_object_mut() {
@@ -49,6 +51,9 @@ pub(crate) fn emit_design(
     staging.commit()?;
     if json_out {
         let mut v = json!({"run": run_line, "space": design.space.texts(), "figures": figures});
+        if let Some(c) = design.space.correlation_text() {
+            v["correlation"] = json!(c);
+        }
         if output.is_none() {
             v["rows"] = Value::String(design.to_text(&Value::Null, ','));
         }
@@ -79,11 +84,10 @@ pub(crate) fn design_table(design: &Design, f: &DesignFigures, run_line: &str) -
         t.push_str(&format!("  {run_line}\n"));
     }
     for l in &f.levels {
-        let counts: Vec<String> = l.counts.iter().map(|c| c.to_string()).collect();
         t.push_str(&format!(
             "  levels of {:<12} {}  (largest excess over ⌊n/L⌋..⌈n/L⌉: {})\n",
             l.name,
-            counts.join(" "),
+            level_counts(&l.counts),
             l.excess
         ));
     }
@@ -94,12 +98,17 @@ pub(crate) fn design_table(design: &Design, f: &DesignFigures, run_line: &str) -
         ));
     }
     for s in &f.slices {
-        let (mean, max) = mean_max(&s.centered_l2);
-        t.push_str(&format!(
-            "  slices of {}: stratified in {} of {} (slice, continuous column); centred L2 \
-             per slice mean {:.6}, max {:.6}\n",
-            s.name, s.stratified, s.columns, mean, max
-        ));
+        match mean_max(&s.centered_l2) {
+            Some((mean, max)) => t.push_str(&format!(
+                "  slices of {}: stratified in {} of {} (slice, continuous column); centred \
+                 L2 per slice mean {:.6}, max {:.6}\n",
+                s.name, s.stratified, s.columns, mean, max
+            )),
+            None => t.push_str(&format!(
+                "  slices of {}: no continuous column to stratify within its levels\n",
+                s.name
+            )),
+        }
     }
     if f.continuous > 0 {
         t.push_str(&format!(
@@ -109,21 +118,49 @@ pub(crate) fn design_table(design: &Design, f: &DesignFigures, run_line: &str) -
             f.centered_l2.map_or("-".into(), |v| format!("{v:.6}"))
         ));
     }
-    t.push_str(&format!(
-        "  minimum distance (unit scale; levels by rank, unordered levels 0/1): {:.6}\n",
-        f.min_distance
-    ));
+    if f.n > 1 {
+        t.push_str(&format!(
+            "  minimum distance (unit scale; levels by rank, unordered levels 0/1): {:.6}\n",
+            f.min_distance
+        ));
+    } else {
+        t.push_str("  minimum distance: none (a single point has no pair)\n");
+    }
     t
 }
 
-fn mean_max(v: &[f64]) -> (f64, f64) {
-    if v.is_empty() {
-        return (f64::NAN, f64::NAN);
+/// The most level counts a table line lists one by one; past it, a summary (a line per
+/// level of `int(0,1000000)` would be megabytes long).
+const MAX_COUNTS_SHOWN: usize = 32;
+
+/// A variable's level counts as one line of bounded length.
+fn level_counts(counts: &[usize]) -> String {
+    if counts.len() <= MAX_COUNTS_SHOWN {
+        return counts
+            .iter()
+            .map(|c| c.to_string())
+            .collect::<Vec<_>>()
+            .join(" ");
     }
-    (
+    let lo = counts.iter().min().copied().unwrap_or(0);
+    let hi = counts.iter().max().copied().unwrap_or(0);
+    let taken = counts.iter().filter(|&&c| c > 0).count();
+    format!(
+        "{} levels, {taken} taken, counts {lo} to {hi} (--json lists each)",
+        counts.len()
+    )
+}
+
+/// The mean and largest of the slices' figures; `None` without any (no continuous
+/// column), never NaN.
+fn mean_max(v: &[f64]) -> Option<(f64, f64)> {
+    if v.is_empty() {
+        return None;
+    }
+    Some((
         v.iter().sum::<f64>() / v.len() as f64,
         v.iter().cloned().fold(f64::MIN, f64::max),
-    )
+    ))
 }
 
 /// `stillpoint eval --var ... FILE` (or `--space`): each labelled file read back onto
@@ -140,10 +177,27 @@ pub(crate) fn design_eval(
     }
     let mut all = Vec::new();
     for file in files {
-        let bytes = io::read_bounded(file).with_context(|| format!("{}", file.display()))?;
-        let text = String::from_utf8(bytes)
-            .map_err(|_| anyhow::anyhow!("invalid {}: not UTF-8 text", file.display()))?;
-        let design = Design::from_text(&space, &text, &file.display().to_string())?;
+        let source = file.display().to_string();
+        let design = match io::Format::from_path(file) {
+            // The numeric formats hold a space without labels, one column per variable.
+            io::Format::Npy | io::Format::Json => {
+                Design::from_numbers(&space, &io::read_points(file)?, &source)?
+            }
+            _ => {
+                let bytes = io::read_bounded(file).with_context(|| source.clone())?;
+                if bytes.starts_with(b"\x93NUMPY") {
+                    Design::from_numbers(&space, &io::read_points(file)?, &source)?
+                } else {
+                    let text = String::from_utf8(bytes).map_err(|_| {
+                        anyhow::anyhow!(
+                            "invalid {source}: not UTF-8 text (expected a design as .csv or \
+                             .tsv, or .npy or .json for a space without labels)"
+                        )
+                    })?;
+                    Design::from_text(&space, &text, &source)?
+                }
+            }
+        };
         let figures = DesignFigures::of(&design);
         if json_out {
             all.push(json!({"file": file.display().to_string(), "figures": figures}));

@@ -1,6 +1,7 @@
 //! `stillpoint generate`: arguments to a run configuration, the run, its outputs.
 
 use super::*;
+use serde::Deserialize as _;
 
 /// A run estimated to take longer than this says so before it starts.
 const LONG_RUN_SECONDS: f64 = 30.0;
@@ -16,7 +17,10 @@ pub(crate) const METRICS_LIMIT: usize = 20_000;
 pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     check_outputs(&a)?;
     let request = request_of(&a)?;
-    let resolved = request.resolve_as(&flag_name)?;
+    let resolved = request.resolve_as(&|p| match p {
+        "space" if a.space.is_some() => "--space".to_string(),
+        other => flag_name(other),
+    })?;
     if let Some(space) = &resolved.design {
         check_design_output(space, a.output.as_ref())?;
     }
@@ -57,7 +61,10 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     if let Some(path) = &a.trajectory {
         write_trajectory(path, &report.energy_name, &report.output)?;
     }
-    if let Some(path) = &a.plot {
+    // The picture is drawn after the points are in place: a picture that cannot be
+    // written (a full disk) must not lose the computed points with it.
+    let plot = || -> Result<()> {
+        let Some(path) = &a.plot else { return Ok(()) };
         let domain: Arc<dyn Domain> = match cfg.region() {
             Some(d) => d.clone(),
             None => Arc::new(stillpoint::PeriodicCube::new(cfg.s)?),
@@ -69,10 +76,13 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
             &report.output.points,
             domain.as_ref(),
             old,
-        )?;
-    }
+        )
+    };
     if let Some(design) = &outcome.design {
         meta["space"] = json!(design.space.texts());
+        if let Some(c) = design.space.correlation_text() {
+            meta["correlation"] = json!(c);
+        }
         let run_line = format!(
             "dealt from {} points in [0, 1)^{} made by the {} in {:.2} s",
             cfg.n,
@@ -80,7 +90,8 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
             goal_name(cfg).map_or("paper's pipeline".into(), |g| format!("goal {g}")),
             report.seconds
         );
-        return emit_design(design, &meta, &run_line, a.output.as_ref(), a.json, staging);
+        emit_design(design, &meta, &run_line, a.output.as_ref(), a.json, staging)?;
+        return plot();
     }
     let summary = match (a.json, cfg.region().is_some()) {
         (true, false) => report_json(&report, cfg)?,
@@ -96,7 +107,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         (false, true) => Value::String(region_table(&report, cfg, a.output.as_ref())?),
     };
     emit(&outcome.points, &meta, a.output.as_ref(), summary, staging)?;
-    Ok(())
+    plot()
 }
 
 /// Every output path checked (writable, a known extension, no two the same, none an
@@ -140,6 +151,7 @@ fn check_outputs(a: &GenerateArgs) -> Result<()> {
             ("--extend", a.extend.as_deref()),
             ("--resume", resume_file),
             ("--shape polytope", polytope),
+            ("--space", a.space.as_deref()),
         ],
     )
 }
@@ -204,29 +216,101 @@ fn space_of(a: &GenerateArgs) -> Result<Option<Arg>> {
 }
 
 /// The variables of a space file: a JSON array of "NAME=TYPE" strings, or an object
-/// whose "variables" is one (read through the bounded reader, as every input).
+/// whose "variables" is one (read through the bounded reader, as every input). A key
+/// given twice, or any key but "variables", is refused by name: JSON leaves a repeated
+/// key's meaning open, and an ignored key is a setting the user believes was applied.
 pub(crate) fn read_space(path: &std::path::Path) -> Result<Vec<String>> {
     let bytes = io::read_bounded(path).with_context(|| format!("--space {}", path.display()))?;
-    let value: Value = serde_json::from_slice(&bytes).map_err(|e| {
+    let text = std::str::from_utf8(&bytes).unwrap_or_default();
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let shape = || {
         anyhow::anyhow!(
-            "invalid --space {}: not JSON ({e}); expected an array of \"NAME=TYPE\" strings",
-            path.display()
-        )
-    })?;
-    let list = match &value {
-        Value::Object(m) => m.get("variables").cloned().unwrap_or(Value::Null),
-        v => v.clone(),
-    };
-    match list.as_array() {
-        Some(items) if items.iter().all(|v| v.is_string()) => Ok(items
-            .iter()
-            .filter_map(|v| v.as_str().map(str::to_string))
-            .collect()),
-        _ => bail!(
             "invalid --space {}: expected a JSON array of \"NAME=TYPE\" strings (as --var \
              takes), or an object whose \"variables\" is one",
             path.display()
-        ),
+        )
+    };
+    let file: SpaceFile = serde_json::from_str(text).map_err(|e| {
+        if e.is_data() {
+            anyhow::anyhow!("invalid --space {}: {e}", path.display())
+        } else {
+            anyhow::anyhow!(
+                "invalid --space {}: not JSON ({e}); expected an array of \"NAME=TYPE\" \
+                 strings",
+                path.display()
+            )
+        }
+    })?;
+    match file.0 {
+        Some(Value::Array(items)) if items.iter().all(|v| v.is_string()) => Ok(items
+            .iter()
+            .filter_map(|v| v.as_str().map(str::to_string))
+            .collect()),
+        _ => Err(shape()),
+    }
+}
+
+/// A space file's top level: the variables list (from the array itself or the object's
+/// "variables"), `None` for any other shape.
+struct SpaceFile(Option<Value>);
+
+impl<'de> serde::Deserialize<'de> for SpaceFile {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct Top;
+        impl<'de> serde::de::Visitor<'de> for Top {
+            type Value = SpaceFile;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("an array of \"NAME=TYPE\" strings or an object with \"variables\"")
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(
+                self,
+                seq: A,
+            ) -> std::result::Result<SpaceFile, A::Error> {
+                let v = Value::deserialize(serde::de::value::SeqAccessDeserializer::new(seq))?;
+                Ok(SpaceFile(Some(v)))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                mut map: A,
+            ) -> std::result::Result<SpaceFile, A::Error> {
+                use serde::de::Error as _;
+                let mut variables = None;
+                while let Some(key) = map.next_key::<String>()? {
+                    if key != "variables" {
+                        return Err(A::Error::custom(format!(
+                            "unknown key \"{key}\"; a space file has only \"variables\" \
+                             (an array of \"NAME=TYPE\" strings)"
+                        )));
+                    }
+                    if variables.is_some() {
+                        return Err(A::Error::custom(
+                            "duplicate key \"variables\"; a space file has each key once",
+                        ));
+                    }
+                    variables = Some(map.next_value::<Value>()?);
+                }
+                Ok(SpaceFile(variables))
+            }
+            fn visit_str<E: serde::de::Error>(self, _: &str) -> std::result::Result<SpaceFile, E> {
+                Ok(SpaceFile(None))
+            }
+            fn visit_f64<E: serde::de::Error>(self, _: f64) -> std::result::Result<SpaceFile, E> {
+                Ok(SpaceFile(None))
+            }
+            fn visit_i64<E: serde::de::Error>(self, _: i64) -> std::result::Result<SpaceFile, E> {
+                Ok(SpaceFile(None))
+            }
+            fn visit_u64<E: serde::de::Error>(self, _: u64) -> std::result::Result<SpaceFile, E> {
+                Ok(SpaceFile(None))
+            }
+            fn visit_bool<E: serde::de::Error>(self, _: bool) -> std::result::Result<SpaceFile, E> {
+                Ok(SpaceFile(None))
+            }
+            fn visit_unit<E: serde::de::Error>(self) -> std::result::Result<SpaceFile, E> {
+                Ok(SpaceFile(None))
+            }
+        }
+        d.deserialize_any(Top)
     }
 }
 
@@ -249,6 +333,9 @@ fn write_baseline(a: &GenerateArgs, resolved: &Resolved) -> Result<()> {
     let staging = io::Staging::begin();
     if let Some(design) = &outcome.design {
         meta["space"] = json!(design.space.texts());
+        if let Some(c) = design.space.correlation_text() {
+            meta["correlation"] = json!(c);
+        }
         let run_line = format!(
             "dealt from the {} set",
             a.method.as_deref().unwrap_or_default()

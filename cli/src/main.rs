@@ -64,16 +64,41 @@ fn main() {
         io::abandon_writes();
         std::process::exit(130);
     });
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        // Help and version go to standard output, which may fail like any result.
+        Err(e)
+            if matches!(
+                e.kind(),
+                clap::error::ErrorKind::DisplayHelp | clap::error::ErrorKind::DisplayVersion
+            ) =>
+        {
+            let printed = e
+                .print()
+                .map_err(|io| anyhow::Error::new(io).context("cannot write to standard output"))
+                .and_then(|()| streams::flush_out());
+            std::process::exit(match printed {
+                Ok(()) => 0,
+                Err(e) => fail(e),
+            })
+        }
+        Err(e) => e.exit(),
+    };
     let done = real_main(cli).and_then(|()| streams::flush_out());
     if let Err(e) = done.map_err(with_flag_names) {
-        if streams::is_closed_pipe(&e) {
-            std::process::exit(streams::CLOSED_PIPE_STATUS);
-        }
-        // Not eprintln!: a closed standard error (`2>&1 | head`) must not turn a refusal
-        // into a panic.
-        use std::io::Write;
-        let _ = writeln!(std::io::stderr(), "error: {e:#}");
-        std::process::exit(1);
+        std::process::exit(fail(e));
     }
+}
+
+/// Reports a failed command on standard error and gives its exit status: 1, or that of
+/// a program killed by SIGPIPE when the reader closed the pipe.
+fn fail(e: anyhow::Error) -> i32 {
+    if streams::is_closed_pipe(&e) {
+        return streams::CLOSED_PIPE_STATUS;
+    }
+    // Not eprintln!: a closed standard error (`2>&1 | head`) must not turn a refusal
+    // into a panic.
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "error: {e:#}");
+    1
 }

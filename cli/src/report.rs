@@ -363,6 +363,9 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
         let f = |v: f64| {
             if v.is_nan() {
                 "not computed".to_string()
+            } else if v.is_infinite() {
+                // A single point has no pair: no distance, no pair energy.
+                "none".to_string()
             } else if sci {
                 format!("{v:.6e}")
             } else {
@@ -398,6 +401,9 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
             shown(r.energy.1),
             "-"
         );
+    } else if r.output.points.n() < 2 && !matches!(cfg.goal, run::Goal::Integration(_)) {
+        // An energy of pairs is 0 for a single point, which says nothing about it.
+        t += &row(&energy_label, f64::INFINITY, f64::INFINITY, true);
     } else {
         t += &row(&energy_label, r.energy.0, r.energy.1, true);
     }
@@ -774,7 +780,7 @@ pub(crate) fn region_table(
             shown_s,
             region_name(cfg),
             stages.join("\n  ")
-        ) + &region_rows(a, b, r, out));
+        ) + &region_rows(a, b, r, out, true));
     }
     let t = format!(
         "stillpoint: n = {}, s = {} in {}\n  {} from {}, {solver}\n\n",
@@ -788,7 +794,8 @@ pub(crate) fn region_table(
             Init::Points(_) => "points from file".into(),
         },
     );
-    Ok(t + &region_rows(a, b, r, out))
+    let integration = matches!(cfg.goal, run::Goal::Integration(_));
+    Ok(t + &region_rows(a, b, r, out, integration))
 }
 
 /// The start and result figures of a region run, and its closing line.
@@ -797,11 +804,24 @@ fn region_rows(
     b: &stillpoint::quality::region::RegionMetrics,
     r: &GenerateReport,
     out: Option<&PathBuf>,
+    integration: bool,
 ) -> String {
     let mut t = format!(
         "  {:<36} {:>14} {:>14} {:>9}\n",
         "", "start", "result", "change"
     );
+    let cell = |v: f64| {
+        if v.is_finite() && v != 0.0 && !(1e-3..1e7).contains(&v.abs()) {
+            // A region of radius 1e-90 has distances that six decimals show as 0, and
+            // energies of ninety digits.
+            format!("{v:>14.6e}")
+        } else if v.is_finite() {
+            format!("{v:>14.6}")
+        } else {
+            // A single point has no pair: its distances are infinite.
+            format!("{:>14}", "none")
+        }
+    };
     for (name, x, y) in [
         (
             "energy U_{E,∞,g} (eq. 56)",
@@ -822,15 +842,22 @@ fn region_rows(
         } else {
             format!("{:>9}", "-")
         };
-        t += &format!("  {name:<36} {x:>14.6} {y:>14.6} {change}\n");
+        t += &format!("  {name:<36} {} {} {change}\n", cell(x), cell(y));
     }
     t += &format!(
         "  {:<36} {:>14.4e} {:>14.4e}   (± {:.1e}; D² to uniform, not its root)\n",
         "energy distance to uniform", a.energy_distance, b.energy_distance, b.energy_distance_se
     );
+    // The energy's reduction is the objective of a space-filling run only: an
+    // integration goal does not lower it, and a point near the boundary can make it
+    // any size at all.
+    let reduction = r.reduction().ok().filter(|v| v.is_finite() && !integration);
     t += &format!(
-        "\n  U_{{E,∞,g}} reduction {:.1}%; time {:.2} s; points written to {}\n",
-        100.0 * r.reduction().unwrap_or(f64::NAN),
+        "\n  {}time {:.2} s; points written to {}\n",
+        reduction.map_or(String::new(), |v| format!(
+            "U_{{E,∞,g}} reduction {:.1}%; ",
+            100.0 * v
+        )),
         r.seconds,
         out.map(|p| p.display().to_string())
             .unwrap_or_else(|| "standard output".into())

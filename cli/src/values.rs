@@ -14,6 +14,9 @@ pub(crate) fn flag_name(parameter: &str) -> String {
         "constraints" | "constraint" => "--constraint".to_string(),
         "mixture" => "--mixture".to_string(),
         "resume checkpoint" => "--resume".to_string(),
+        // A design's variables come from --var (or a --space file, which its caller names).
+        "space" => "--var".to_string(),
+        "correlation" => "--correlation".to_string(),
         "energy" | "q" | "p" | "precision" | "init" | "seed" | "integrator" | "shifts"
         | "polish" | "steps" | "kappa" | "restart" | "tolerance" | "box" | "shape" | "goal"
         | "method" | "target" | "randomize" | "extend" | "nested" | "bounds" | "region"

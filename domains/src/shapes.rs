@@ -61,15 +61,23 @@ pub const MAX_SCALE: f64 = 1e150;
 /// Refuses a length (radius, semi-axis) that is not finite, not positive, or so large
 /// that its square overflows.
 fn check_length(name: &str, v: f64) -> Result<()> {
-    if !(v.is_finite() && v > 0.0 && v <= MAX_SCALE) {
+    if !(v.is_finite() && v >= MIN_SCALE && v <= MAX_SCALE) {
         return Err(Error::invalid(
             name,
             format!("{v:?}"),
-            format!("a number > 0 and at most {MAX_SCALE:e} (squares must stay finite)"),
+            format!(
+                "a number in [{MIN_SCALE:e}, {MAX_SCALE:e}] (squares of lengths and of the \
+                 distances between points must stay finite and nonzero)"
+            ),
         ));
     }
     Ok(())
 }
+
+/// The smallest length (radius, semi-axis) a shape may have: the distances between n
+/// points in it are smaller still, and their squares (and the energies' powers of
+/// them) must not underflow to 0 or overflow to ∞.
+pub const MIN_SCALE: f64 = 1e-100;
 
 /// Whether x and foot have s coordinates and x is finite: the shapes answer nothing else.
 fn usable(s: usize, x: &[f64], foot: &[f64]) -> bool {

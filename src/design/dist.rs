@@ -172,16 +172,23 @@ impl Marginal {
 
     /// The distribution as a user writes it, e.g. `normal(0,1)` or `beta(2,5)`.
     pub fn text(&self) -> String {
+        let (f, g) = (num, num);
         match *self {
-            Marginal::Uniform { lo, hi } => format!("uniform({lo},{hi})"),
-            Marginal::Normal { mu, sigma } => format!("normal({mu},{sigma})"),
+            Marginal::Uniform { lo, hi } => format!("uniform({},{})", f(lo), g(hi)),
+            Marginal::Normal { mu, sigma } => format!("normal({},{})", f(mu), g(sigma)),
             Marginal::TruncNormal { mu, sigma, lo, hi } => {
-                format!("truncnormal({mu},{sigma},{lo},{hi})")
+                format!("truncnormal({},{},{},{})", f(mu), f(sigma), f(lo), f(hi))
             }
-            Marginal::LogNormal { mu, sigma } => format!("lognormal({mu},{sigma})"),
-            Marginal::Beta { a, b, lo, hi } if lo == 0.0 && hi == 1.0 => format!("beta({a},{b})"),
-            Marginal::Beta { a, b, lo, hi } => format!("beta({a},{b},{lo},{hi})"),
-            Marginal::Triangular { lo, mode, hi } => format!("triangular({lo},{mode},{hi})"),
+            Marginal::LogNormal { mu, sigma } => format!("lognormal({},{})", f(mu), g(sigma)),
+            Marginal::Beta { a, b, lo, hi } if lo == 0.0 && hi == 1.0 => {
+                format!("beta({},{})", f(a), g(b))
+            }
+            Marginal::Beta { a, b, lo, hi } => {
+                format!("beta({},{},{},{})", f(a), f(b), f(lo), f(hi))
+            }
+            Marginal::Triangular { lo, mode, hi } => {
+                format!("triangular({},{},{})", f(lo), f(mode), f(hi))
+            }
         }
     }
 
@@ -680,5 +687,17 @@ mod tests {
             let back = norm_cdf(norm_ppf(p));
             assert!((back / p - 1.0).abs() < 1e-12, "{p}: {back}");
         }
+    }
+}
+
+/// A parameter as a user writes it: plainly (`0.25`, `1000`) while that is short, in
+/// scientific notation past 17 characters (`1e300`, not 301 digits); both read back to
+/// the same float.
+pub fn num(x: f64) -> String {
+    let plain = format!("{x}");
+    if plain.len() <= 17 {
+        plain
+    } else {
+        format!("{x:e}")
     }
 }

@@ -145,6 +145,26 @@ impl DesignSpace {
         self.correlate(option, text, matrix)
     }
 
+    /// The correlation as `--correlation` takes it (`1,0.7;0.7,1`, each number in the
+    /// form that reads back to the same bits), or `None` without one: a file's header
+    /// records it so that its figures can be reproduced from the file alone.
+    pub fn correlation_text(&self) -> Option<String> {
+        let c = self.copula.as_ref()?;
+        let k = c.k();
+        Some(
+            c.matrix
+                .chunks(k)
+                .map(|row| {
+                    row.iter()
+                        .map(|v| format!("{v:?}"))
+                        .collect::<Vec<_>>()
+                        .join(",")
+                })
+                .collect::<Vec<_>>()
+                .join(";"),
+        )
+    }
+
     /// The indices of the continuous variables.
     pub fn continuous(&self) -> Vec<usize> {
         (0..self.dim())
@@ -174,7 +194,35 @@ impl DesignSpace {
 
     /// Refuses an `n` too small for every label to appear at least once: a design that
     /// never shows a level cannot say anything about it.
+    /// Refuses as well a continuous variable whose range cannot hold n distinct values in
+    /// floating point (`uniform(1e15,1e15+0.1)` at n = 20): its written column would
+    /// collapse into ties that no figure on the unit scale could show.
     pub fn check_n(&self, option: &str, n: usize) -> Result<(), Error> {
+        for v in &self.vars {
+            if let Kind::Continuous(m) = &v.kind {
+                // The n cell centres, where a stratified column's values sit.
+                let mut distinct = 0usize;
+                let mut last = f64::NAN;
+                for k in 0..n {
+                    let x = m.ppf((k as f64 + 0.5) / n as f64);
+                    if x != last && x.is_finite() {
+                        distinct += 1;
+                    }
+                    last = x;
+                }
+                if distinct < n {
+                    return Err(Error::invalid(
+                        format!("{option} {}", v.name),
+                        v.kind.text(),
+                        format!(
+                            "a range that holds n = {n} distinct values in floating point \
+                             (its quantiles at the n cell centres take only {distinct} \
+                             distinct values); widen the range or move it nearer 0"
+                        ),
+                    ));
+                }
+            }
+        }
         for v in &self.vars {
             if let Kind::Levels { labels, .. } = &v.kind {
                 if n < labels.len() {

@@ -54,7 +54,8 @@ impl std::fmt::Display for Arg {
         match self {
             Arg::Text(t) => f.write_str(t),
             Arg::Int(i) => write!(f, "{i}"),
-            Arg::Float(v) => write!(f, "{v}"),
+            // Python's 1e300 is echoed as written, not as 301 digits.
+            Arg::Float(v) => f.write_str(&crate::design::dist::num(*v)),
             Arg::Bool(b) => write!(f, "{b}"),
             Arg::Numbers(v) => f.write_str(&numbers_text(v)),
             Arg::Pair(lo, hi) => write!(f, "({}; {})", numbers_text(lo), numbers_text(hi)),
@@ -483,6 +484,12 @@ impl Resolver<'_> {
         let seed = match &r.seed {
             None => 0,
             Some(Arg::Int(v)) if (0..=u64::MAX as i128).contains(v) => *v as u64,
+            // A whole float (7.0) is the whole number it says; below 2^64 it is exact.
+            Some(Arg::Float(f))
+                if f.fract() == 0.0 && (0.0..18446744073709551616.0).contains(f) =>
+            {
+                *f as u64
+            }
             Some(Arg::Text(t)) if t.trim().parse::<u64>().is_ok() => t.trim().parse().unwrap_or(0),
             Some(other) => return Err(self.bad("seed", other, "a whole number in [0, 2^64)")),
         };

@@ -381,6 +381,75 @@ pub fn parse_constraint(text: &str, s: usize) -> Result<Vec<Row>, ParseError> {
     Ok(rows)
 }
 
+/// The fewest of [`ACCEPTANCE_PROBE`] uniform draws in the box that must fall in the
+/// polytope for the box to be kept as given; a smaller share (a simplex of side 1e-6 in
+/// [0, 1]^6) would make every run draw millions of points in vain.
+const MIN_INSIDE: usize = 100;
+
+/// How many uniform draws in the box measure the polytope's share of it.
+const ACCEPTANCE_PROBE: usize = 100_000;
+
+/// The box shrunk to bounds the rows imply, when the polytope fills too small a share
+/// of it for drawing in the box to find points: for each row a·x ≤ b and coordinate j,
+/// a_j x_j ≤ b − Σ_{k≠j} min(a_k x_k) over the box, repeated while it shrinks. The set
+/// {A x ≤ b} ∩ box is the same; a box the polytope fills well is kept exactly, so that
+/// such runs draw what they always drew.
+fn tightened(a: &[Vec<f64>], b: &[f64], lo: Vec<f64>, hi: Vec<f64>) -> (Vec<f64>, Vec<f64>) {
+    let s = lo.len();
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(0x5eed_b0c5);
+    let mut x = vec![0.0; s];
+    let mut inside = 0;
+    for _ in 0..ACCEPTANCE_PROBE {
+        for j in 0..s {
+            x[j] = lo[j] + (hi[j] - lo[j]) * rng.random::<f64>();
+        }
+        let ok = a
+            .iter()
+            .zip(b)
+            .all(|(row, &bi)| row.iter().zip(&x).map(|(c, v)| c * v).sum::<f64>() <= bi);
+        inside += usize::from(ok);
+        if inside >= MIN_INSIDE {
+            return (lo, hi);
+        }
+    }
+    let (mut lo2, mut hi2) = (lo.clone(), hi.clone());
+    for _ in 0..(4 * s).max(8) {
+        let mut shrunk = false;
+        for (row, &bi) in a.iter().zip(b) {
+            let least: Vec<f64> = (0..s)
+                .map(|k| (row[k] * lo2[k]).min(row[k] * hi2[k]))
+                .collect();
+            let total: f64 = least.iter().sum();
+            for j in 0..s {
+                if row[j] == 0.0 {
+                    continue;
+                }
+                let bound = (bi - (total - least[j])) / row[j];
+                if !bound.is_finite() {
+                    continue;
+                }
+                if row[j] > 0.0 && bound < hi2[j] {
+                    hi2[j] = bound.max(lo2[j]);
+                    shrunk = true;
+                } else if row[j] < 0.0 && bound > lo2[j] {
+                    lo2[j] = bound.min(hi2[j]);
+                    shrunk = true;
+                }
+            }
+        }
+        if !shrunk {
+            break;
+        }
+    }
+    // A box shrunk to nothing in some coordinate is left to the polytope's own refusal
+    // of a set without interior, which names the user's box.
+    if lo2.iter().zip(&hi2).all(|(l, h)| l < h) {
+        (lo2, hi2)
+    } else {
+        (lo, hi)
+    }
+}
+
 /// A mixture's components: bounds [lo_k, hi_k] ⊆ [0, 1] for each of S components.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mixture {
@@ -594,10 +663,20 @@ impl ConstraintSpec<'_> {
                         ),
                     ));
                 }
-                a.push(row.a);
-                b.push(row.b);
+                // A row of huge or tiny coefficients (1e300*x1 <= 1e299, that is
+                // x1 <= 0.1) is divided by its largest one: the polytope squares its
+                // normals, which would overflow or underflow.
+                let big = row.a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                let f = if (1e-50..=1e50).contains(&big) {
+                    1.0
+                } else {
+                    big
+                };
+                a.push(row.a.iter().map(|v| v / f).collect());
+                b.push(row.b / f);
             }
         }
+        let (lo, hi) = tightened(&a, &b, lo, hi);
         // The rows and the box are checked above: the polytope refuses only a set
         // without interior.
         let polytope = Polytope::new(a, b, lo, hi).map_err(|_| {
