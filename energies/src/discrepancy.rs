@@ -1286,6 +1286,10 @@ pub fn sampled_squared_discrepancies(
         .map(|c| {
             let mut rng = SplitMix(seed ^ (c as u64).wrapping_mul(0xd1b5_4a32_d192_ed03));
             let mut acc = [Moments::default(); 5];
+            if crate::stop::requested() {
+                // Ctrl-C in Python: the caller discards this estimate.
+                return acc;
+            }
             let len = SAMPLE_CHUNK.min(pairs - c * SAMPLE_CHUNK);
             for _ in 0..len {
                 let i = rng.below(n);

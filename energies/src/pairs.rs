@@ -102,8 +102,15 @@ where
                 (a, b, ga, gb)
             })
             .collect();
-        let run =
-            |(a, b, ga, gb): (usize, usize, &mut [f64], Option<&mut [f64]>)| tile(a, b, ga, gb);
+        // A stop request (Ctrl-C in Python) skips the tiles left: the caller discards
+        // the partial sum.
+        let run = |(a, b, ga, gb): (usize, usize, &mut [f64], Option<&mut [f64]>)| {
+            if crate::stop::requested() {
+                0.0
+            } else {
+                tile(a, b, ga, gb)
+            }
+        };
         let parts: Vec<f64> = if parallel {
             tasks.into_par_iter().map(run).collect()
         } else {
@@ -381,13 +388,17 @@ pub(crate) fn sum_tiles_on<K: SumTiles>(
     assert!(build.available(), "{build:?} is not available here");
     let rounds = schedule(blocks.real);
     let flat: Vec<(usize, usize)> = rounds.iter().flatten().copied().collect();
-    let run = |&(a, b): &(usize, usize)| run_sum_tile(build, kernel, a, b);
-    let parts: Vec<K::Out> = if blocks.parallel() {
+    // A stop request (Ctrl-C in Python) skips the tiles left: the caller discards the
+    // partial sum.
+    let run = |&(a, b): &(usize, usize)| {
+        (!crate::stop::requested()).then(|| run_sum_tile(build, kernel, a, b))
+    };
+    let parts: Vec<Option<K::Out>> = if blocks.parallel() {
         flat.par_iter().map(run).collect()
     } else {
         flat.iter().map(run).collect()
     };
-    let mut parts = parts.into_iter();
+    let mut parts = parts.into_iter().map(|p| p.unwrap_or_else(&zero));
     let mut total = zero();
     for round in &rounds {
         let mut r = zero();

@@ -29,42 +29,56 @@ fn value_error(message: impl std::fmt::Display) -> PyErr {
     PyValueError::new_err(message.to_string())
 }
 
+/// How long a call waits for its worker after Ctrl-C before it raises
+/// `KeyboardInterrupt` anyway: the runs and the pair sums stop within a step or a tile,
+/// but a computation without such checks must not keep the user waiting.
+const STOP_GRACE: std::time::Duration = std::time::Duration::from_millis(300);
+
 /// Runs `f` on a worker thread without the GIL, while this thread watches for signals:
-/// Ctrl-C asks the library's runs to stop ([`stillpoint::solve::cancel`]) and raises
-/// `KeyboardInterrupt` as soon as the worker has stopped. A library refusal becomes a
-/// `ValueError`, a panic a `RuntimeError`.
-fn detached<T: Send>(py: Python<'_>, f: impl FnOnce() -> Result<T, String> + Send) -> PyResult<T> {
+/// Ctrl-C asks the library's runs and pair sums to stop ([`stillpoint::solve::cancel`])
+/// and raises `KeyboardInterrupt` as soon as the worker has stopped, or after
+/// [`STOP_GRACE`] at the latest (the worker's result, when it comes, is dropped). A
+/// library refusal becomes a `ValueError`, a panic a `RuntimeError`.
+fn detached<T: Send + 'static>(
+    py: Python<'_>,
+    f: impl FnOnce() -> Result<T, String> + Send + 'static,
+) -> PyResult<T> {
     stillpoint::solve::clear_cancel();
-    let mut signal = None;
-    let outcome = std::thread::scope(|scope| {
-        let (done, mut finished) = std::sync::mpsc::channel();
-        scope.spawn(move || {
-            let _ = done.send(catch_unwind(AssertUnwindSafe(f)));
-        });
-        loop {
-            // Back as soon as the worker is done; otherwise look at the signals every
-            // 50 ms (with the GIL, which the check needs).
-            let wait = std::time::Duration::from_millis(50);
-            let (got, back) = py.detach(move || (finished.recv_timeout(wait), finished));
-            finished = back;
-            match got {
-                Ok(result) => break result,
-                Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
-                    break Err(Box::new("the worker thread ended without a result")
-                        as Box<dyn std::any::Any + Send>)
-                }
-                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
+    let mut signal: Option<(PyErr, Instant)> = None;
+    let (done, mut finished) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = done.send(catch_unwind(AssertUnwindSafe(f)));
+    });
+    let outcome = loop {
+        // Back as soon as the worker is done; otherwise look at the signals every
+        // 50 ms (with the GIL, which the check needs).
+        let wait = std::time::Duration::from_millis(50);
+        let (got, back) = py.detach(move || (finished.recv_timeout(wait), finished));
+        finished = back;
+        match got {
+            Ok(result) => break result,
+            Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+                break Err(Box::new("the worker thread ended without a result")
+                    as Box<dyn std::any::Any + Send>)
             }
-            if signal.is_none() {
+            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {}
+        }
+        match &signal {
+            None => {
                 if let Err(e) = py.check_signals() {
                     stillpoint::solve::cancel();
-                    signal = Some(e);
+                    signal = Some((e, Instant::now()));
                 }
             }
+            Some((_, since)) if since.elapsed() >= STOP_GRACE => {
+                break Err(Box::new("interrupted") as Box<dyn std::any::Any + Send>)
+            }
+            Some(_) => {}
         }
-    });
-    if let Some(e) = signal {
-        stillpoint::solve::clear_cancel();
+    };
+    if let Some((e, _)) = signal {
+        // The stop request stays set until the next call clears it, so that a worker
+        // still running winds down meanwhile.
         return Err(e);
     }
     match outcome {
@@ -116,18 +130,34 @@ fn arg(key: &str, v: &Bound<'_, PyAny>) -> PyResult<Option<Arg>> {
     if v.is_none() {
         return Ok(None);
     }
-    if v.is_instance_of::<PyBool>() {
-        return Ok(Some(Arg::Bool(v.extract()?)));
+    // NumPy's booleans (`numpy.bool_`) are truth values too, never the numbers 0 and 1.
+    let numpy_bool = v
+        .get_type()
+        .name()
+        .is_ok_and(|t| t.to_string() == "bool" || t.to_string() == "bool_");
+    if v.is_instance_of::<PyBool>() || numpy_bool {
+        return Ok(Some(Arg::Bool(v.is_truthy()?)));
     }
     if v.is_instance_of::<PyString>() {
         return Ok(Some(Arg::Text(v.extract()?)));
     }
-    if v.is_instance_of::<PyInt>() || v.hasattr("__index__")? && !v.hasattr("shape")? {
-        return v
+    // A NumPy integer scalar has a shape (`()`) like an array; it is still one integer,
+    // and goes through `__index__` exactly (a float would lose bits above 2^53). A 0-d
+    // array of floats has `__index__` too, which refuses: it goes on as a number.
+    let scalar = !v.hasattr("shape")? || v.getattr("ndim")?.extract::<usize>().ok() == Some(0);
+    if v.is_instance_of::<PyInt>() || v.hasattr("__index__")? && scalar {
+        match v
             .call_method0("__index__")
             .and_then(|i| i.extract::<i128>())
-            .map(|i| Some(Arg::Int(i)))
-            .map_err(|_| value_error(format!("invalid {key} = {}: expected an integer", shown())));
+        {
+            Ok(i) => return Ok(Some(Arg::Int(i))),
+            // Too large for any count or seed: its digits, which the library refuses
+            // with the argument's own range.
+            Err(_) if v.is_instance_of::<PyInt>() => {
+                return Ok(Some(Arg::Text(v.str()?.to_string())))
+            }
+            Err(_) => {}
+        }
     }
     if v.is_instance_of::<PyFloat>() {
         return Ok(Some(Arg::Float(v.extract()?)));
@@ -312,18 +342,21 @@ fn design_json(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<S
         let design = outcome
             .design
             .ok_or_else(|| "a design needs space=".to_string())?;
-        design_value(&design)
+        let written = design.as_written().map_err(|e| e.to_string())?;
+        design_value(&design, &written)
     })
 }
 
-/// The figures of a design written as text (CSV or TSV with a header of names), read
-/// back onto the unit scale of `space`, as JSON text.
+/// The figures of a design given as named columns of cells (each value as text: a
+/// label, a whole number or a number that reads back to the same float), read back onto
+/// the unit scale of `space`, as JSON text. The cells cross as values, never as one CSV
+/// text, so a label holding a comma or a line break is a label, not a new cell or row.
 #[pyfunction]
-#[pyo3(signature = (space, text, correlation=None))]
+#[pyo3(signature = (space, columns, correlation=None))]
 fn design_figures_json(
     py: Python<'_>,
     space: Vec<String>,
-    text: String,
+    columns: Vec<(String, Vec<String>)>,
     correlation: Option<Vec<f64>>,
 ) -> PyResult<String> {
     let mut space = stillpoint::design::DesignSpace::parse("space", &space).map_err(value_error)?;
@@ -334,13 +367,18 @@ fn design_figures_json(
             .map_err(value_error)?;
     }
     detached(py, move || {
-        let design = stillpoint::design::Design::from_text(&space, &text, "table")
+        let design = stillpoint::design::Design::from_columns(&space, &columns, "table")
             .map_err(|e| e.to_string())?;
-        design_value(&design)
+        design_value(&design, &design)
     })
 }
 
-fn design_value(design: &stillpoint::design::Design) -> Result<String, String> {
+/// A design as JSON text, its figures those of `written` (the design as its values are
+/// written and read back, which a report describes).
+fn design_value(
+    design: &stillpoint::design::Design,
+    written: &stillpoint::design::Design,
+) -> Result<String, String> {
     use stillpoint::design::Column;
     let columns: Vec<serde_json::Value> = design
         .columns()
@@ -356,7 +394,7 @@ fn design_value(design: &stillpoint::design::Design) -> Result<String, String> {
         "names": design.space.vars.iter().map(|v| v.name.clone()).collect::<Vec<_>>(),
         "columns": columns,
         "unit": design.unit.as_slice(),
-        "figures": stillpoint::design::figures::DesignFigures::of(design),
+        "figures": stillpoint::design::figures::DesignFigures::of(written),
     });
     serde_json::to_string(&v).map_err(|e| e.to_string())
 }

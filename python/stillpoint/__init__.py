@@ -69,10 +69,6 @@ def _int(name: str, value: Any, lowest: int, highest: Optional[int] = 2**63 - 1)
     return v
 
 
-def _seed(value: Any) -> int:
-    return _int("seed", value, 0, 2**64 - 1)
-
-
 def _points(x: Any, name: str = "x") -> np.ndarray:
     """`x` as a C-ordered float64 array of shape (n, d)."""
     try:
@@ -148,8 +144,29 @@ def _constraint_texts(value: Any, key: str) -> Any:
 
 
 def _check_generate(n: Any = None, d: Any = None, **options: Any) -> None:
-    """Refuses what :func:`generate` would refuse before its run, without running."""
+    """Refuses what :func:`generate` would refuse before its run, without running (a
+    space in any form :func:`generate` takes, a dict with SciPy laws among them)."""
+    if options.get("space") is not None:
+        _core.check_generate(**_design_kwargs(n, options.pop("space"), {"d": d, **options}))
+        return
     _core.check_generate(**_arrays({"n": n, "d": d, **options}))
+
+
+def _design_kwargs(n: Any, space: Any, kwargs: Dict[str, Any]) -> Dict[str, Any]:
+    """The library's keyword arguments for a design of ``n`` points in ``space``: the
+    variables as ``NAME=TYPE`` texts (a SciPy law as the uniform it is mapped from), the
+    correlation as an array."""
+    items, _frozen_laws = _space_items(space)
+    kwargs = dict(kwargs)
+    if kwargs.get("correlation") is not None and not isinstance(kwargs["correlation"], str):
+        try:
+            kwargs["correlation"] = np.ascontiguousarray(kwargs["correlation"], dtype=np.float64)
+        except (TypeError, ValueError) as e:
+            raise ValueError(
+                f"invalid correlation = {kwargs['correlation']!r}: expected a k × k matrix "
+                f"of numbers ({e})"
+            ) from None
+    return _arrays({"n": n, "space": items, **kwargs})
 
 
 # A call estimated to take longer than this warns before it starts.
@@ -310,12 +327,14 @@ def _space_items(space: Any) -> Tuple[list, Dict[str, Any]]:
         for name, spec in space.items():
             name = str(name)
             if hasattr(spec, "ppf") and callable(spec.ppf):
-                frozen[name] = spec
+                frozen[name] = _continuous_law(name, spec)
                 items.append(f"{name}=uniform(0,1)")
             elif isinstance(spec, str):
                 items.append(f"{name}={spec}")
             elif isinstance(spec, range):
-                if spec.step != 1 or len(spec) == 0:
+                # Not len(spec): a range wider than 2^63 has no len (OverflowError); the
+                # library refuses its size with the accepted one.
+                if spec.step != 1 or spec.stop <= spec.start:
                     raise ValueError(
                         f"invalid space {name} = {spec!r}: expected a range with step 1 "
                         "and at least one value"
@@ -343,6 +362,46 @@ def _space_items(space: Any) -> Tuple[list, Dict[str, Any]]:
     )
 
 
+def _law_name(law: Any) -> str:
+    """A frozen SciPy law as its maker wrote it: ``norm(0, -1)``."""
+    dist = getattr(law, "dist", None)
+    name = getattr(dist, "name", type(law).__name__)
+    args = [repr(a) for a in getattr(law, "args", ())]
+    args += [f"{k}={v!r}" for k, v in getattr(law, "kwds", {}).items()]
+    return f"{name}({', '.join(args)})"
+
+
+def _continuous_law(name: str, law: Any) -> Any:
+    """A frozen SciPy law a continuous variable can follow: refuses a discrete one (its
+    quantiles are whole numbers, with ties no stratification can show) and one whose
+    quantile function gives NaN or ±inf inside (0, 1) (invalid parameters, an infinite
+    scale)."""
+    try:
+        from scipy import stats as _stats
+
+        discrete = isinstance(getattr(law, "dist", None), _stats.rv_discrete)
+    except ImportError:  # pragma: no cover - a law without SciPy is a duck-typed one
+        discrete = False
+    if discrete:
+        raise ValueError(
+            f"invalid space {name} = {_law_name(law)}: a discrete law takes whole values with "
+            "ties; expected a continuous law, or write the variable as 'int(lo,hi)' or as "
+            "a list of levels"
+        )
+    probe = np.array([2.0**-53, 1e-6, 0.25, 0.5, 0.75, 1 - 1e-6, 1 - 2.0**-53])
+    try:
+        values = np.asarray(law.ppf(probe), dtype=np.float64)
+    except Exception as e:  # a law's own failure, whatever its type
+        raise ValueError(f"invalid space {name} = {_law_name(law)}: its ppf fails ({e})") from None
+    if values.shape != probe.shape or not np.all(np.isfinite(values)):
+        raise ValueError(
+            f"invalid space {name} = {_law_name(law)}: its quantile function (ppf) gives "
+            f"{values.tolist()} at {probe.tolist()}; expected finite values (valid "
+            "parameters, a finite scale)"
+        )
+    return law
+
+
 class Design:
     """A design in a mixed space: ``columns`` (name -> values: floats, integers or
     labels), ``unit`` (the design on the unit scale, an (n, d) array: continuous
@@ -362,7 +421,23 @@ class Design:
             if name in frozen:
                 # The library made this coordinate uniform; its distribution maps it.
                 u = np.clip(self.unit[:, j], 2.0**-53, 1.0 - 2.0**-53)
-                self.columns[name] = np.asarray(frozen[name].ppf(u), dtype=np.float64)
+                x = np.asarray(frozen[name].ppf(u), dtype=np.float64)
+                self.columns[name] = x
+                # The figures are of u: they hold for the written x only where the law
+                # kept the points apart (a finite value for each, no ties made).
+                if x.shape != u.shape or not np.all(np.isfinite(x)):
+                    raise ValueError(
+                        f"invalid space {name} = {_law_name(frozen[name])}: its ppf gives a "
+                        "value that is not finite at a point of the design; expected a law "
+                        "with finite quantiles"
+                    )
+                if np.unique(x).size < np.unique(u).size:
+                    raise ValueError(
+                        f"invalid space {name} = {_law_name(frozen[name])}: its quantiles at "
+                        f"the design's {len(u)} points take only {np.unique(x).size} distinct "
+                        "values in floating point; expected a law whose range holds n "
+                        "distinct values"
+                    )
             elif values and isinstance(values[0], str):
                 self.columns[name] = np.asarray(values, dtype=object)
             elif values and isinstance(values[0], int):
@@ -405,10 +480,8 @@ def design(n: int, space: Any, **kwargs: Any) -> Design:
     count is made ⌊n/L⌋ or ⌈n/L⌉, pairs of unordered factors balanced, and the
     continuous columns stratified within every level of every unordered factor.
     """
-    items, frozen = _space_items(space)
-    if kwargs.get("correlation") is not None and not isinstance(kwargs["correlation"], str):
-        kwargs["correlation"] = np.ascontiguousarray(kwargs["correlation"], dtype=np.float64)
-    kwargs = _arrays({"n": n, "space": items, **kwargs})
+    _items, frozen = _space_items(space)
+    kwargs = _design_kwargs(n, space, kwargs)
     _warn_if_long(kwargs)
     return Design(json.loads(_core.design_json(**kwargs)), frozen)
 
@@ -420,17 +493,45 @@ def design_figures(table: Any, space: Any, correlation: Any = None) -> Dict[str,
     items, frozen = _space_items(space)
     if frozen:
         raise ValueError("invalid space: design_figures takes texts, not frozen distributions")
-    columns = {str(k): list(v) for k, v in (table.items() if hasattr(table, "items") else table)}
+    try:
+        pairs = table.items() if hasattr(table, "items") else table
+        columns = {str(k): list(v) for k, v in pairs}
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"invalid table = {table!r}: expected a DataFrame or a dict of columns"
+        ) from None
     names = [it.split("=", 1)[0].strip() for it in items]
     missing = [m for m in names if m not in columns]
     if missing:
         raise ValueError(f"invalid table: expected a column for every variable, missing {missing}")
-    rows = len(columns[names[0]])
-    lines = [",".join(names)]
-    for i in range(rows):
-        lines.append(",".join(repr(float(columns[m][i])) if isinstance(columns[m][i], (float, np.floating)) else str(columns[m][i]) for m in names))
-    matrix = None if correlation is None else [float(v) for v in np.ravel(np.asarray(correlation, dtype=np.float64))]
-    return json.loads(_core.design_figures_json(items, "\n".join(lines) + "\n", matrix))["figures"]
+    lengths = {m: len(columns[m]) for m in names}
+    if len(set(lengths.values())) > 1:
+        raise ValueError(
+            f"invalid table: expected columns of equal length (one value per point), got "
+            f"{lengths}"
+        )
+
+    def cell(v: Any) -> str:
+        # Each value as the library reads a cell: a float in the form that reads back to
+        # the same bits, an integer's digits, a label as it is.
+        if isinstance(v, (bool, np.bool_)):
+            return str(v)
+        if isinstance(v, (float, np.floating)):
+            return repr(float(v))
+        if isinstance(v, (int, np.integer)):
+            return str(int(v))
+        return str(v)
+
+    cells = [(m, [cell(v) for v in columns[m]]) for m in names]
+    matrix = None
+    if correlation is not None:
+        try:
+            matrix = [float(v) for v in np.ravel(np.asarray(correlation, dtype=np.float64))]
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"invalid correlation = {correlation!r}: expected a k × k matrix of numbers"
+            ) from None
+    return json.loads(_core.design_figures_json(items, cells, matrix))["figures"]
 
 
 def extend(points: Any, m: int, **kwargs: Any) -> np.ndarray:
@@ -675,7 +776,7 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
         d = _int("d", d, 1)
         if seed is not None and rng is not None:
             raise ValueError("invalid seed and rng: give one of them (rng is the newer name)")
-        rng = seed if rng is None else rng
+        rng = _engine_seed("seed" if rng is None else "rng", seed if rng is None else rng)
         for key in _ENGINE_REFUSES:
             if key in generate_kwargs:
                 raise ValueError(
@@ -788,6 +889,31 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
     # keeps the post-processing's generator the same object as ``rng`` when it is one.
     # The cached optimised set is not carried; each process computes it on its first draw.
     __hash__ = None  # type: ignore[assignment]
+
+
+def _engine_seed(name: str, value: Any) -> Any:
+    """An engine's seed as NumPy's ``default_rng`` takes it: None, a generator (or bit
+    generator, seed sequence) as given, or a whole number >= 0 (any integer type);
+    anything else refused naming the argument, before NumPy's TypeError would."""
+    if value is None or isinstance(
+        value, (np.random.Generator, np.random.BitGenerator, np.random.SeedSequence)
+    ):
+        return value
+    if isinstance(value, (bool, np.bool_)):
+        raise ValueError(
+            f"invalid {name} = {value!r}: expected None, a whole number >= 0 or a "
+            "numpy.random.Generator"
+        )
+    try:
+        v = operator.index(value)
+    except TypeError:
+        raise ValueError(
+            f"invalid {name} = {value!r}: expected None, a whole number >= 0 or a "
+            "numpy.random.Generator"
+        ) from None
+    if v < 0:
+        raise ValueError(f"invalid {name} = {v}: expected a whole number >= 0")
+    return v
 
 
 def _optimizer_rng_state(engine: Engine) -> Any:

@@ -38,10 +38,12 @@ def _checked(requests: Any) -> List[Dict[str, Any]]:
         )
     out = []
     for i, req in enumerate(requests):
-        if not isinstance(req, Mapping) or "n" not in req or "d" not in req:
+        # n is the one argument generate cannot do without; d may come from a space, a
+        # region or a shape, which the check below asks the library about.
+        if not isinstance(req, Mapping) or "n" not in req:
             raise ValueError(
                 f"invalid requests[{i}] = {req!r}: expected a dict of generate's keyword "
-                "arguments with n and d"
+                "arguments with n (and d, unless space, region or shape gives it)"
             )
         req = dict(req)
         try:

@@ -63,7 +63,8 @@ def test_dask_distributed_executor_gives_the_sequential_results(one_by_one):
         ({"n": 16, "d": 2, "steps": 0}, r"^invalid requests\[2\]: invalid steps = 0: "),
         ({"n": 0, "d": 2}, r"^invalid requests\[2\]: invalid n = 0"),
         ({"n": 16, "d": 2, "colour": 1}, r"^invalid requests\[2\]: .*colour"),
-        ({"n": 16}, r"^invalid requests\[2\] = \{'n': 16\}: expected a dict .* n and d"),
+        ({"n": 16}, r"^invalid requests\[2\]: invalid d = none: expected the dimension"),
+        ({"d": 2}, r"^invalid requests\[2\] = \{'d': 2\}: expected a dict .* with n"),
         ([16, 2], r"^invalid requests\[2\] = \[16, 2\]: expected a dict"),
     ],
 )

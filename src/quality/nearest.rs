@@ -115,6 +115,10 @@ pub fn min_squared_distances_by_cells(points: &PointSet) -> [Option<f64>; 2] {
         .into_par_iter()
         .filter(|&cell| start[cell] < start[cell + 1])
         .map(|cell| {
+            if crate::energies::stop::requested() {
+                // Ctrl-C in Python: the caller discards this minimum.
+                return [f64::INFINITY; 2];
+            }
             let mut home = vec![0usize; grid.k];
             let mut rest = cell;
             for h in home.iter_mut().rev() {

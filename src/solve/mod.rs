@@ -57,14 +57,16 @@ impl<F: FnMut(&Record)> Observer for LoggingObserver<F> {
 /// pipeline returns [`interrupted`] instead of a result. Process-wide, as a signal is.
 static CANCEL: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
-/// Asks every run under way to stop.
+/// Asks every run under way to stop, and the pair sums of the metrics with it.
 pub fn cancel() {
     CANCEL.store(true, std::sync::atomic::Ordering::SeqCst);
+    crate::energies::stop::request();
 }
 
 /// Clears a stop request (before a new run).
 pub fn clear_cancel() {
     CANCEL.store(false, std::sync::atomic::Ordering::SeqCst);
+    crate::energies::stop::clear();
 }
 
 /// Whether a stop was asked for.
