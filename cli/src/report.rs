@@ -88,6 +88,7 @@ fn goal_json(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Metric
         "metrics_start": metrics_json(m0),
         "metrics_result": metrics_json(m1),
         "seconds": r.seconds,
+        "timings": r.timings.iter().map(|(k, v)| json!({"phase": k, "seconds": v})).collect::<Vec<_>>(),
     })
 }
 
@@ -217,6 +218,9 @@ pub(crate) fn file_header(
 pub(crate) fn goal_name(cfg: &GenerateConfig) -> Option<String> {
     match &cfg.goal {
         run::Goal::Paper => None,
+        run::Goal::Integration(_) if cfg.lattice => Some(
+            "integration (the shifted tent lattice: one construction, no target or descent)".into(),
+        ),
         run::Goal::Integration(t) => Some(format!("integration (target {})", t.name())),
         run::Goal::SpaceFilling => Some("space-filling".into()),
     }
@@ -340,8 +344,18 @@ pub(crate) fn report_table(
         t +=
             &format!("  polish: squared discrepancy {a:.6e} → {b:.6e} in {it} L-BFGS iterations\n");
     }
+    let phases: Vec<String> = r
+        .timings
+        .iter()
+        .map(|(k, v)| format!("{k} {v:.2} s"))
+        .collect();
+    let phases = if phases.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", phases.join(", "))
+    };
     t += &format!(
-        "\n  time {:.2} s; points written to {}\n",
+        "\n  time {:.2} s{phases}; points written to {}\n",
         r.seconds,
         out.map(|p| p.display().to_string())
             .unwrap_or_else(|| "standard output".into())
@@ -380,11 +394,12 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
         format!("  {:<36} {:>14} {:>14} {:>9}\n", name, f(a), f(b), change)
     };
     let energy_label = match cfg.goal {
+        run::Goal::Integration(_) if cfg.lattice => "shift criterion e²₂".to_string(),
         run::Goal::Integration(_) => "target (sum of squares)".to_string(),
         run::Goal::SpaceFilling => "maximin search: min distance".to_string(),
         run::Goal::Paper => format!("energy {}", r.energy_name.split('(').next().unwrap_or("")),
     };
-    if m1.estimate.is_some() && matches!(cfg.goal, run::Goal::Integration(_)) {
+    if m1.estimate.is_some() && matches!(cfg.goal, run::Goal::Integration(_)) && !cfg.lattice {
         // The target from the same random pairs: a sum of squares at or below 0 is one
         // the sample cannot resolve.
         let shown = |v: f64| {

@@ -125,6 +125,7 @@ pub(crate) fn paper_run(
         polish,
         stages: Vec::new(),
         seconds: clock.elapsed().as_secs_f64(),
+        timings: Vec::new(),
     })
 }
 

@@ -13,6 +13,7 @@ use crate::design::DesignSpace;
 use crate::energies::discrepancy::DiscrepancyKind;
 use crate::energies::Domain;
 use crate::energies::{Distance, Precision};
+use crate::goals::integration::lattice::LATTICE_FROM_N;
 use crate::integrators::{Kappa, Restart};
 use crate::plan::constraints::{Constrained, ConstraintSpec, Mixture};
 use crate::plan::space::{numbers_text, Bounds, RegionSpec};
@@ -234,8 +235,10 @@ const PAPER_OPTIONS: [&str; 14] = [
 /// The words `target` takes, as a refusal lists them.
 const TARGETS: &str = "blend (D²_MD + D²_L2* + D²_CD), blend-smooth (the blend and the \
                        smoothness-2 error), curved (D²_CD, the smoothness-2 error with \
-                       curvature weighed more and a trace of D²_L2*; the default from s = 8), \
-                       md, l2star, cd, periodic or smooth";
+                       curvature weighed more and a trace of D²_L2*; the default from s = 8 \
+                       below 500 points), lattice (the shifted tent lattice, no descent; the \
+                       default from 500 points on and at s = 1), md, l2star, cd, periodic or \
+                       smooth";
 
 const MAX_COUNT: i128 = u32::MAX as i128 * 16;
 
@@ -522,6 +525,7 @@ impl Resolver<'_> {
             g => g,
         };
         self.common(&mut cfg)?;
+        self.lattice(&mut cfg, in_region)?;
         if self.flag("exact", &r.exact)? {
             cfg.sums = crate::quality::metrics::Sums::EXACT;
         }
@@ -767,6 +771,9 @@ impl Resolver<'_> {
                 "blend" => Target::blend(),
                 "blend-smooth" => Target::smooth_blend(),
                 "curved" => Target::curved(),
+                // The lattice has no target: `resolve` sets `lattice`, and the blend only
+                // names the discrepancies a caller would compare.
+                "lattice" => Target::blend(),
                 w => Target::single(
                     DiscrepancyKind::parse(w).map_err(|_| self.bad("target", a, TARGETS))?,
                 ),
@@ -965,6 +972,34 @@ impl Resolver<'_> {
             }
             cfg.randomize = Some(kind);
         }
+        Ok(())
+    }
+
+    /// Whether the integration goal's set is the shifted tent lattice: `target` lattice,
+    /// or by default from [`LATTICE_FROM_N`] points on and at s = 1 (any n: the
+    /// midpoints), where no target, set to extend, nested sizes or randomisation is given
+    /// (`randomize` tent has its own lattice; cells and shift randomise the descent's set).
+    fn lattice(&self, cfg: &mut GenerateConfig, in_region: bool) -> Result<(), Error> {
+        let r = self.r;
+        let asked = match &r.target {
+            Some(a) => self.word("target", a, TARGETS)? == "lattice",
+            None => false,
+        };
+        let plain = cfg.extend.is_none() && cfg.nested.is_empty() && cfg.randomize.is_none();
+        if asked && (in_region || !plain) {
+            return Err(self.bad(
+                "target",
+                "lattice with a region, a set to extend, nested sizes or a randomisation",
+                format!(
+                    "lattice alone in the cube: it is one set made for its size ({} \
+                     tent randomises the lattice made for it)",
+                    (self.spell)("randomize")
+                ),
+            ));
+        }
+        cfg.lattice = matches!(cfg.goal, Goal::Integration(_))
+            && !in_region
+            && (asked || (plain && r.target.is_none() && (cfg.n >= LATTICE_FROM_N || cfg.s == 1)));
         Ok(())
     }
 

@@ -152,6 +152,11 @@ pub struct GenerateConfig {
     pub nested: Vec<usize>,
     /// How the report's O(n²) metrics are formed: exact, or estimated above a size.
     pub sums: crate::quality::metrics::Sums,
+    /// The integration goal's set is the shifted tent lattice
+    /// ([`crate::goals::integration::lattice::lattice_rule`]) instead of a descent on the
+    /// target: the default from [`crate::goals::integration::lattice::LATTICE_FROM_N`]
+    /// points on and at s = 1, or `--target lattice`.
+    pub lattice: bool,
 }
 
 impl GenerateConfig {
@@ -191,6 +196,7 @@ impl GenerateConfig {
             extend: None,
             nested: Vec::new(),
             sums: crate::quality::metrics::Sums::AUTO,
+            lattice: false,
         }
     }
 

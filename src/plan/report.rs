@@ -46,6 +46,8 @@ pub struct GenerateReport {
     pub stages: Vec<Stage>,
     /// Wall time of the whole run in seconds.
     pub seconds: f64,
+    /// Where the time went: each phase of the run with its wall seconds, in order.
+    pub timings: Vec<(String, f64)>,
 }
 
 impl GenerateReport {
@@ -270,6 +272,22 @@ pub enum Stage {
         /// Why it stopped.
         stop: StopReason,
     },
+    /// The default set from [`crate::goals::integration::lattice::LATTICE_FROM_N`] points
+    /// on: the tent lattice under a shift chosen coordinate by coordinate, tent-transformed.
+    LatticeRule {
+        /// Its generating vector z.
+        generator: Vec<u64>,
+        /// The shift's numerators q_j: point k is φ(frac(k z_j/n + q_j/(4n))).
+        shift: Vec<u64>,
+        /// The coordinates' weight γ in the criterion.
+        weight: f64,
+        /// Candidate shifts tried per coordinate.
+        candidates: usize,
+        /// The criterion of the seed's first draw of shifts.
+        drawn: f64,
+        /// The criterion of the set kept.
+        criterion: f64,
+    },
     /// The result randomised after the goal's run.
     Randomized {
         /// How.
@@ -464,6 +482,31 @@ impl fmt::Display for Stage {
                          the lattice is kept"
                     ),
                 }
+            }
+            Stage::LatticeRule {
+                generator,
+                shift,
+                weight,
+                candidates,
+                drawn,
+                criterion,
+            } => {
+                let list = |v: &[u64]| {
+                    v.iter()
+                        .map(|x| x.to_string())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                };
+                write!(
+                    f,
+                    "rank-1 lattice built component by component, z = ({}); shift q/(4n) with \
+                     q = ({}) (every column the midpoints (i + ½)/n after the tent transform), \
+                     chosen coordinate by coordinate among {candidates} candidates on the \
+                     order-2 cosine-space error (weight {weight}): {criterion:.4e}, the seed's \
+                     drawn shift {drawn:.4e}; then the tent transform x ↦ 1 − |2x − 1|",
+                    list(generator),
+                    list(shift)
+                )
             }
             Stage::Randomized { how, seed } => write!(f, "randomised ({how}) from seed {seed}"),
         }
