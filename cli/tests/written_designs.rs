@@ -247,7 +247,7 @@ fn the_space_file_is_an_input_no_output_replaces() {
     fs::write(&space, body).unwrap();
     let link = d.path("link.csv");
     std::os::unix::fs::symlink(&space, &link).unwrap();
-    for flag in ["-o", "--trajectory", "--plot"] {
+    for flag in ["-o", "--trajectory", "--plot", "--checkpoint"] {
         let target = if flag == "--plot" {
             d.path("s.png")
         } else {

@@ -61,7 +61,7 @@ pub const MAX_SCALE: f64 = 1e150;
 /// Refuses a length (radius, semi-axis) that is not finite, not positive, or so large
 /// that its square overflows.
 fn check_length(name: &str, v: f64) -> Result<()> {
-    if !(v.is_finite() && v >= MIN_SCALE && v <= MAX_SCALE) {
+    if !(v.is_finite() && (MIN_SCALE..=MAX_SCALE).contains(&v)) {
         return Err(Error::invalid(
             name,
             format!("{v:?}"),

@@ -17,8 +17,8 @@ pub mod einf;
 pub mod energy_distance;
 pub mod fixed;
 pub mod pairs;
-pub mod stop;
 pub mod report_pairs;
+pub mod stop;
 pub mod tent_kernel;
 mod uqp;
 

@@ -134,7 +134,7 @@ fn arg(key: &str, v: &Bound<'_, PyAny>) -> PyResult<Option<Arg>> {
     let numpy_bool = v
         .get_type()
         .name()
-        .is_ok_and(|t| t.to_string() == "bool" || t.to_string() == "bool_");
+        .is_ok_and(|t| t == "bool" || t == "bool_");
     if v.is_instance_of::<PyBool>() || numpy_bool {
         return Ok(Some(Arg::Bool(v.is_truthy()?)));
     }
@@ -391,6 +391,7 @@ fn design_value(
         .collect();
     let v = serde_json::json!({
         "space": design.space.texts(),
+        "correlation": design.space.correlation_text(),
         "names": design.space.vars.iter().map(|v| v.name.clone()).collect::<Vec<_>>(),
         "columns": columns,
         "unit": design.unit.as_slice(),

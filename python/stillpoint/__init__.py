@@ -412,6 +412,9 @@ class Design:
 
     def __init__(self, raw: Dict[str, Any], frozen: Dict[str, Any]) -> None:
         self.space: list = raw["space"]
+        # The correlation as the command line writes it ("1.0,0.7;0.7,1.0"), or None:
+        # with the space, all that design_figures needs to reproduce the figures.
+        self.correlation: Optional[str] = raw.get("correlation")
         self.names: list = raw["names"]
         n = len(raw["columns"][0]) if raw["columns"] else 0
         self.unit: np.ndarray = np.asarray(raw["unit"], dtype=np.float64).reshape(n, len(self.names))
@@ -524,6 +527,9 @@ def design_figures(table: Any, space: Any, correlation: Any = None) -> Dict[str,
 
     cells = [(m, [cell(v) for v in columns[m]]) for m in names]
     matrix = None
+    if isinstance(correlation, str):
+        # The rows as Design.correlation and the command line write them.
+        correlation = [[float(v) for v in row.split(",")] for row in correlation.split(";")]
     if correlation is not None:
         try:
             matrix = [float(v) for v in np.ravel(np.asarray(correlation, dtype=np.float64))]

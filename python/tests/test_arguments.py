@@ -224,6 +224,28 @@ def test_extreme_parameters_are_echoed_short():
         sp.generate(8, 2, method="paper", p=-1e300)
 
 
+@pytest.mark.parametrize(
+    "space, correlation",
+    [
+        (["x=normal(0,1)", "y=normal(0,1)"], [[1, 0.7], [0.7, 1]]),
+        (["a=uniform(0,1)", "k=int(1,3)", "b=lognormal(0,0.5)"], "1,-0.4;-0.4,1"),
+        (["x=uniform(-1,1)", "g={p,q}", "y=beta(2,3)"], np.array([[1, 0.9], [0.9, 1]])),
+    ],
+)
+def test_a_correlated_design_records_what_reproduces_its_figures(space, correlation):
+    d = sp.design(24, space, correlation=correlation, seed=2)
+    assert d.correlation is not None
+    assert sp.design_figures(d.columns, d.space, d.correlation) == d.figures
+
+
+@pytest.mark.parametrize("shape", ["ball:1e-300", "ball:1e-120@0,0", "ellipsoid:1,1e-200"])
+def test_a_shape_too_small_for_finite_energies_is_refused(shape):
+    with pytest.raises(ValueError, match=r"^invalid shape = "):
+        sp.generate(10, 2, shape=shape)
+    with pytest.raises(ValueError, match=r"^invalid shape = "):
+        sp.metrics(np.zeros((3, 2)), shape=shape)
+
+
 # --- Ctrl-C ----------------------------------------------------------------------------
 
 _INTERRUPT = r"""

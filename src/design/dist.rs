@@ -626,6 +626,18 @@ fn bisect(lo: f64, hi: f64) -> f64 {
     }
 }
 
+/// A parameter as a user writes it: plainly (`0.25`, `1000`) while that is short, in
+/// scientific notation past 17 characters (`1e300`, not 301 digits); both read back to
+/// the same float.
+pub fn num(x: f64) -> String {
+    let plain = format!("{x}");
+    if plain.len() <= 17 {
+        plain
+    } else {
+        format!("{x:e}")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -687,17 +699,5 @@ mod tests {
             let back = norm_cdf(norm_ppf(p));
             assert!((back / p - 1.0).abs() < 1e-12, "{p}: {back}");
         }
-    }
-}
-
-/// A parameter as a user writes it: plainly (`0.25`, `1000`) while that is short, in
-/// scientific notation past 17 characters (`1e300`, not 301 digits); both read back to
-/// the same float.
-pub fn num(x: f64) -> String {
-    let plain = format!("{x}");
-    if plain.len() <= 17 {
-        plain
-    } else {
-        format!("{x:e}")
     }
 }
