@@ -85,7 +85,7 @@ def test_ctrl_c_stops_a_long_generate_within_seconds():
         "import sys, time, stillpoint as sp\n"
         "print('ready', flush=True)\n"
         "try:\n"
-        "    sp.generate(8000, 5)\n"
+        "    sp.generate(8000, 5, target='blend')\n"
         "    print('finished', flush=True)\n"
         "except KeyboardInterrupt:\n"
         "    print('interrupted', sp.generate(16, 2).shape, flush=True)\n"
