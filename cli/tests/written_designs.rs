@@ -75,6 +75,23 @@ fn a_continuous_range_without_n_distinct_floats_is_refused() {
 }
 
 #[test]
+fn extreme_parameters_are_echoed_in_scientific_notation() {
+    for var in [
+        "x=uniform(1e300,1e300)",
+        "x=normal(1e300,-1)",
+        "x=uniform(1000000000000000,1000000000000000.1)",
+    ] {
+        let err = refused(&run(&["generate", "-n", "20", "--var", var]), "--var");
+        let longest = err
+            .split(|c: char| !c.is_ascii_digit())
+            .map(str::len)
+            .max()
+            .unwrap_or(0);
+        assert!(longest <= 17, "a number of {longest} digits: {err}");
+    }
+}
+
+#[test]
 fn a_design_without_a_continuous_column_prints_no_nan_and_bounded_lines() {
     for (n, vars) in [
         ("12", vec!["k=int(1,3)", "c={a,b}"]),

@@ -97,8 +97,15 @@ def _arrays(options: Dict[str, Any]) -> Dict[str, Any]:
         value = out.get(key)
         if value is not None and not isinstance(value, str):
             out[key] = _points(value, key)
-    if isinstance(out.get("nested"), (range, np.ndarray)):
-        out["nested"] = [int(k) for k in out["nested"]]
+    if isinstance(out.get("nested"), (range, np.ndarray, list, tuple)):
+        # Sizes as the integers they hold (NumPy integers, anything with __index__); a
+        # fraction or a bool stays as given, for the library to refuse by name.
+        sizes = list(out["nested"])
+        if all(not isinstance(k, (bool, np.bool_)) for k in sizes):
+            try:
+                out["nested"] = [operator.index(k) for k in sizes]
+            except TypeError:
+                out["nested"] = sizes
     for key in ("constraints", "constraint"):
         if key in out:
             out[key] = _constraint_texts(out[key], key)

@@ -54,6 +54,19 @@ def test_a_seed_loop_over_arange_runs_in_every_entry_point():
     np.testing.assert_array_equal(out[1], sp.generate(8, 2, seed=1))
 
 
+def test_integer_likes_are_counts_in_every_function():
+    x = sp.generate(8, 2)
+    assert sp.extend(x, np.int64(4)).shape == (12, 2)
+    np.testing.assert_array_equal(sp.nested(np.array([4, 8]), np.int64(2)),
+                                  sp.nested([np.int64(4), Index(8)], 2))
+    assert sp.baseline("sobol", np.int64(8), np.uint8(2), seed=np.uint64(3)).shape == (8, 2)
+    assert sp.generate(np.int32(8), 2, steps=np.int64(5), method="paper").shape == (8, 2)
+    with pytest.raises(ValueError, match=r"^invalid n = "):
+        sp.generate(np.float64(8.5), 2)
+    with pytest.raises(ValueError, match=r"^invalid d = "):
+        sp.generate(8, np.True_)
+
+
 @pytest.mark.parametrize("seed", [True, np.True_, 1.5, "x", -1, 2**64, np.float64(2.5)])
 def test_bools_fractions_and_out_of_range_seeds_are_refused_by_name(seed):
     with pytest.raises(ValueError, match=r"^invalid seed = "):
@@ -244,6 +257,18 @@ def test_a_shape_too_small_for_finite_energies_is_refused(shape):
         sp.generate(10, 2, shape=shape)
     with pytest.raises(ValueError, match=r"^invalid shape = "):
         sp.metrics(np.zeros((3, 2)), shape=shape)
+
+
+@pytest.mark.parametrize(
+    "constraint", [([1e300, 0.0], 1e299), "1e-300*x1 <= 1e-301", ([-1e300, 0.0], -1e299)]
+)
+def test_extreme_coefficients_are_the_constraint_they_write(constraint):
+    x = sp.generate(10, box=[0, 1, 0, 1], constraints=[constraint])
+    lower = isinstance(constraint, tuple) and constraint[0][0] < 0
+    if lower:
+        assert np.all(x[:, 0] >= 0.1 - 1e-12)
+    else:
+        assert np.all(x[:, 0] <= 0.1 + 1e-12)
 
 
 # --- Ctrl-C ----------------------------------------------------------------------------
