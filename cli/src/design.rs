@@ -87,7 +87,7 @@ pub(crate) fn design_table(design: &Design, f: &DesignFigures, run_line: &str) -
         t.push_str(&format!(
             "  levels of {:<12} {}  (largest excess over ⌊n/L⌋..⌈n/L⌉: {})\n",
             l.name,
-            level_counts(&l.counts),
+            level_counts(l),
             l.excess
         ));
     }
@@ -134,21 +134,18 @@ pub(crate) fn design_table(design: &Design, f: &DesignFigures, run_line: &str) -
 const MAX_COUNTS_SHOWN: usize = 32;
 
 /// A variable's level counts as one line of bounded length.
-fn level_counts(counts: &[usize]) -> String {
-    if counts.len() <= MAX_COUNTS_SHOWN {
-        return counts
+fn level_counts(l: &stillpoint::design::figures::LevelCounts) -> String {
+    match &l.counts {
+        Some(counts) if counts.len() <= MAX_COUNTS_SHOWN => counts
             .iter()
             .map(|c| c.to_string())
             .collect::<Vec<_>>()
-            .join(" ");
+            .join(" "),
+        _ => format!(
+            "{} levels, {} taken, counts {} to {}",
+            l.levels, l.taken, l.least, l.most
+        ),
     }
-    let lo = counts.iter().min().copied().unwrap_or(0);
-    let hi = counts.iter().max().copied().unwrap_or(0);
-    let taken = counts.iter().filter(|&&c| c > 0).count();
-    format!(
-        "{} levels, {taken} taken, counts {lo} to {hi} (--json lists each)",
-        counts.len()
-    )
 }
 
 /// The mean and largest of the slices' figures; `None` without any (no continuous

@@ -111,6 +111,12 @@ fn a_design_without_a_continuous_column_prints_no_nan_and_bounded_lines() {
             longest.unwrap_or(0) < 300,
             "a line of {longest:?} characters"
         );
+        // The design on standard output, with its header of figures.
+        let longest = text(&o.stdout).lines().map(|l| l.chars().count()).max();
+        assert!(
+            longest.unwrap_or(0) < 4000,
+            "a line of {longest:?} characters"
+        );
     }
 }
 

@@ -21,13 +21,26 @@ fn excess(counts: &[usize], n: usize) -> usize {
         .unwrap_or(0)
 }
 
+/// The most levels whose counts are listed one by one: `int(0,1000000)` has a million,
+/// and a list of them would make a file header line megabytes long.
+pub const MAX_LISTED_LEVELS: usize = 1024;
+
 /// One discrete variable's level counts.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct LevelCounts {
     /// The variable.
     pub name: String,
-    /// How many points take each level, in the order of the levels.
-    pub counts: Vec<usize>,
+    /// Its number of levels L.
+    pub levels: usize,
+    /// How many levels at least one point takes.
+    pub taken: usize,
+    /// The smallest and the largest count.
+    pub least: usize,
+    /// See `least`.
+    pub most: usize,
+    /// How many points take each level, in the order of the levels (`None` above
+    /// [`MAX_LISTED_LEVELS`] levels).
+    pub counts: Option<Vec<usize>>,
     /// The largest distance of a count from ⌊n/L⌋ or ⌈n/L⌉ (0: as even as n allows).
     pub excess: usize,
 }
@@ -123,8 +136,12 @@ impl DesignFigures {
                 }
                 levels.push(LevelCounts {
                     name: v.name.clone(),
+                    levels: l,
+                    taken: counts.iter().filter(|&&c| c > 0).count(),
+                    least: counts.iter().copied().min().unwrap_or(0),
+                    most: counts.iter().copied().max().unwrap_or(0),
                     excess: excess(&counts, n),
-                    counts,
+                    counts: (l <= MAX_LISTED_LEVELS).then_some(counts),
                 });
                 if v.kind.is_categorical() {
                     factors.push((j, l));
