@@ -371,6 +371,15 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
         "  {:<36} {:>14} {:>14} {:>9}\n",
         "", "start", "result", "change"
     );
+    let energy_label = match cfg.goal {
+        run::Goal::Integration(_) if cfg.lattice => "shift criterion e²₂".to_string(),
+        run::Goal::Integration(_) => "target (sum of squares)".to_string(),
+        run::Goal::SpaceFilling => "maximin search: min distance".to_string(),
+        run::Goal::Paper => format!("energy {}", r.energy_name.split('(').next().unwrap_or("")),
+    };
+    // A construction with no start of its own (the lattice) has one set: its figures are
+    // shown once, the start column only for the value it chose by.
+    let same = r.start == r.output.points;
     let row = |name: &str, a: f64, b: f64, sci: bool| -> String {
         // A value the run could not compute (NaN: the note below the table says why)
         // reads as such, not as a number.
@@ -391,13 +400,10 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
         } else {
             "-".to_string()
         };
+        if same && !name.starts_with(energy_label.as_str()) {
+            return format!("  {:<36} {:>14} {:>14}\n", name, "", f(b));
+        }
         format!("  {:<36} {:>14} {:>14} {:>9}\n", name, f(a), f(b), change)
-    };
-    let energy_label = match cfg.goal {
-        run::Goal::Integration(_) if cfg.lattice => "shift criterion e²₂".to_string(),
-        run::Goal::Integration(_) => "target (sum of squares)".to_string(),
-        run::Goal::SpaceFilling => "maximin search: min distance".to_string(),
-        run::Goal::Paper => format!("energy {}", r.energy_name.split('(').next().unwrap_or("")),
     };
     if m1.estimate.is_some() && matches!(cfg.goal, run::Goal::Integration(_)) && !cfg.lattice {
         // The target from the same random pairs: a sum of squares at or below 0 is one
@@ -456,7 +462,11 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
         } else {
             "-".to_string()
         };
-        t += &format!("  {name:<36} {sa:>14} {sb:>14} {change:>9}\n");
+        if same {
+            t += &format!("  {name:<36} {:>14} {sb:>14}\n", "");
+        } else {
+            t += &format!("  {name:<36} {sa:>14} {sb:>14} {change:>9}\n");
+        }
     }
     t += &row(
         "minimum distance (Euclidean)",
