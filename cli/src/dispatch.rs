@@ -446,6 +446,20 @@ fn plot_command(c: Command) -> Result<()> {
     };
     check_writable(&output, "-o")?;
     check_picture_extension(&output, "-o")?;
+    // The picture never replaces what it draws (a point file named .png is read by its
+    // content, and would be lost).
+    let polytope = shape
+        .as_deref()
+        .and_then(|t| t.strip_prefix("polytope:"))
+        .map(std::path::Path::new);
+    check_distinct(
+        &[("-o", Some(output.as_path()))],
+        &[
+            ("FILE", file.as_deref()),
+            ("--trajectory", trajectory.as_deref()),
+            ("--shape polytope", polytope),
+        ],
+    )?;
     match (trajectory, file) {
         (Some(traj), _) => plot_trajectory(&traj, &output, title)?,
         (None, Some(file)) => {

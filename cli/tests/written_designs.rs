@@ -302,6 +302,44 @@ fn the_space_file_is_an_input_no_output_replaces() {
 }
 
 #[test]
+fn plot_never_draws_over_its_input() {
+    let d = TempDir::new("plot-input");
+    let csv = d.path("p.csv");
+    succeeded(
+        bin()
+            .args(["generate", "-q", "-n", "10", "-s", "2", "-o"])
+            .arg(&csv),
+        &"generate",
+    );
+    let body = fs::read(&csv).unwrap();
+    // A point file named like a picture, a link to it, and a trajectory.
+    let named = d.path("p.png");
+    fs::write(&named, &body).unwrap();
+    let link = d.path("link.svg");
+    std::os::unix::fs::symlink(&csv, &link).unwrap();
+    let traj = d.path("t.svg");
+    fs::write(&traj, r#"{"energy": "e", "records": []}"#).unwrap();
+    for (args, input) in [
+        (vec![named.clone(), "-o".into(), named.clone()], &named),
+        (vec![csv.clone(), "-o".into(), link.clone()], &csv),
+        (
+            vec![
+                "--trajectory".into(),
+                traj.clone(),
+                "-o".into(),
+                traj.clone(),
+            ],
+            &traj,
+        ),
+    ] {
+        let before = fs::read(input).unwrap();
+        let o = bin().arg("plot").args(&args).output().unwrap();
+        refused(&o, "which the run reads");
+        assert_eq!(fs::read(input).unwrap(), before);
+    }
+}
+
+#[test]
 fn help_and_version_to_a_full_output_fail_with_one_line() {
     if !std::path::Path::new("/dev/full").exists() {
         return;
