@@ -86,7 +86,13 @@ impl EnergyDistance {
             None => points
                 .as_slice()
                 .par_chunks_exact(s)
-                .map(|x| (row_sum(reference, x, None), row_sum(pairs, x, None)))
+                .map(|x| {
+                    // Ctrl-C in Python: the caller discards the partial sum.
+                    if crate::stop::requested() {
+                        return (0.0, 0.0);
+                    }
+                    (row_sum(reference, x, None), row_sum(pairs, x, None))
+                })
                 .collect(),
             Some(grad) => points
                 .as_slice()
@@ -207,7 +213,13 @@ pub fn cross_distance_sum(x: &PointSet, y: &PointSet) -> f64 {
     let rows: Vec<f64> = x
         .as_slice()
         .par_chunks_exact(x.s())
-        .map(|xi| row_sum(set, xi, None))
+        .map(|xi| {
+            // Ctrl-C in Python: the caller discards the partial sum.
+            if crate::stop::requested() {
+                return 0.0;
+            }
+            row_sum(set, xi, None)
+        })
         .collect();
     rows.iter().sum()
 }
