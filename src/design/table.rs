@@ -180,7 +180,14 @@ impl Design {
             for (j, v) in space.vars.iter().enumerate() {
                 let cell = cells[at[j]].as_str();
                 let bad = |expected: String| {
-                    Error::invalid(format!("{place}, {}", v.name), cell, expected)
+                    // A cell with a line break (a label from Python) is shown quoted,
+                    // so that the refusal stays one line.
+                    let shown = if cell.chars().any(char::is_control) {
+                        format!("{cell:?}")
+                    } else {
+                        cell.to_string()
+                    };
+                    Error::invalid(format!("{place}, {}", v.name), shown, expected)
                 };
                 let u = match &v.kind {
                     Kind::Continuous(m) => {
