@@ -25,7 +25,7 @@
 //!
 //! Among the best few shifts for each coordinate, and their reflections (x ↦ 1 − x, which
 //! the cosine kernel cannot see), the one kept gives the smallest errors for the
-//! exponential test functions e^{−c Σ_j x_j} peaked at the origin ([`Corner`]): the
+//! exponential test functions e^{−c Σ_j x_j} peaked at the origin (`Corner`): the
 //! integrands users bring are often peaked at a corner, and which points come near it
 //! is what decides their error.
 //!
