@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The large-n benchmark (issue 34, item 6): stillpoint's deterministic default from
+"""The large-n benchmark: stillpoint's deterministic default from
 512 to 10^6 points against scrambled Sobol', QMCPy's tent-transformed lattice, QMCPy's
 order-2 interlaced digital net and SciPy's random-cd Latin hypercube, on Genz's six
 families.
@@ -31,7 +31,7 @@ the full grid (76 cells) about 4 h: SciPy's random-cd LHS ~2 h of it (~5 s a set
 1 000 points, ~50 s at 10^4 × 10, ~5 min at 10^4 × 50), the integrands ~1 h (51 sets
 per cell, 96 instances; each cell at 10^6 points ~15 min at s = 10), the discrepancies
 ~0.5 h (`eval --exact` at 65 536 and 10^5 points, s ≤ 2: ~40–90 s a set); plus the
-default's own time, 3 runs per cell (issue 34 asks ≤ 10 s a run up to 10^5 points at
+default's own time, 3 runs per cell (the targets: ≤ 10 s a run up to 10^5 points at
 s ≤ 10, ≤ 20 s at s ≤ 20, ≤ 60 s at 10^6 × 5). With --skip-peers about 1 h. The sweep
 (101 n) takes ~1 min plus 303 runs of the default (~0.05 s each at 1 000 × 8 now).
 
@@ -66,7 +66,7 @@ What it measures, per cell (s, n), with the same metric code for every method:
 
 A peer that fails at a size is recorded with its reason and shown as "—". The report has
 per-cell tables, per s and family the geometric mean of each method's ratio, the bounds of
-issue 34's Proof section (which one is missed and by how much), the times of item 3 and
+the bounds (which one is missed and by how much), the times and
 the sweep with its flags (an n whose ratio is above 1.3× the median of its ±5
 neighbours).
 """
@@ -112,7 +112,7 @@ LABEL = {
     "lhs-random-cd": "SciPy LHS random-cd",
 }
 LHS_MAX_N = 10000
-# Proof section of issue 34: bound on the geometric mean over the cells of one s, and
+# The bounds: on the geometric mean over the cells of one s, and
 # on every cell.
 GM_BOUND = {0: 0.5, 1: 0.5, 3: 0.5, 2: 0.8, 4: 0.8}
 CELL_BOUND = {0: 1.0, 1: 1.0, 2: 1.0, 3: 1.0, 4: 1.0, 5: 1.1}
@@ -454,7 +454,7 @@ def disc_ratio(cell, field):
 def report(data, current_sha):
     cells = sorted_cells(data.get("cells", {}))
     lines = ["# Large-n benchmark: the default against scrambled Sobol' and its peers", ""]
-    lines.append("Made by `benches/large_n.py` (issue 34, item 6). Runs that wrote "
+    lines.append("Made by `benches/large_n.py`. Runs that wrote "
                  "`large_n.json` (newest last):")
     lines.append("")
     for run in data.get("runs", []):
@@ -553,7 +553,7 @@ def report(data, current_sha):
     lines.append("")
 
     # bounds of the Proof section
-    lines += ["## Bounds (issue 34, Proof) for the default", "",
+    lines += ["## Bounds for the default", "",
               "Geometric mean over the cells of each s ≤ 0.5 (oscillatory, product peak, "
               "Gaussian), ≤ 0.8 (corner peak, continuous); no cell of these five above "
               "1.0; the discontinuous family ≤ 1.1 in every cell.", ""]
