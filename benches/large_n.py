@@ -65,8 +65,8 @@ What it measures, per cell (s, n), with the same metric code for every method:
   (--disc-exact-max-s), the other cells say so and show "—".
 
 A peer that fails at a size is recorded with its reason and shown as "—". The report has
-per-cell tables, per s and family the geometric mean of each method's ratio, the bounds of
-the bounds (which one is missed and by how much), the times and
+per-cell tables, per s and family the geometric mean of each method's ratio, the bounds
+(which one is missed and by how much), the times and
 the sweep with its flags (an n whose ratio is above 1.3× the median of its ±5
 neighbours).
 """
