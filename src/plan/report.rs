@@ -353,6 +353,35 @@ impl fmt::Display for Descent {
     }
 }
 
+/// The [`Stage::LatticeRule`] line: generator, shift numerators and the criterion chosen
+/// by (`values`: the seed's drawn shift's, then the kept one's).
+fn lattice_rule_text(
+    f: &mut fmt::Formatter<'_>,
+    generator: &[u64],
+    shift: &[u64],
+    weight: f64,
+    candidates: usize,
+    values: (f64, f64),
+) -> fmt::Result {
+    let list = |v: &[u64]| {
+        v.iter()
+            .map(|x| x.to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let (drawn, criterion) = values;
+    write!(
+        f,
+        "rank-1 lattice built component by component, z = ({}); shift q/(4n) with \
+         q = ({}) (every column the midpoints (i + ½)/n after the tent transform), \
+         chosen coordinate by coordinate among {candidates} candidates on the \
+         order-2 cosine-space error (weight {weight}): {criterion:.4e}, the seed's \
+         drawn shift {drawn:.4e}; then the tent transform x ↦ 1 − |2x − 1|",
+        list(generator),
+        list(shift)
+    )
+}
+
 impl fmt::Display for Stage {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -490,24 +519,14 @@ impl fmt::Display for Stage {
                 candidates,
                 drawn,
                 criterion,
-            } => {
-                let list = |v: &[u64]| {
-                    v.iter()
-                        .map(|x| x.to_string())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                };
-                write!(
-                    f,
-                    "rank-1 lattice built component by component, z = ({}); shift q/(4n) with \
-                     q = ({}) (every column the midpoints (i + ½)/n after the tent transform), \
-                     chosen coordinate by coordinate among {candidates} candidates on the \
-                     order-2 cosine-space error (weight {weight}): {criterion:.4e}, the seed's \
-                     drawn shift {drawn:.4e}; then the tent transform x ↦ 1 − |2x − 1|",
-                    list(generator),
-                    list(shift)
-                )
-            }
+            } => lattice_rule_text(
+                f,
+                generator,
+                shift,
+                *weight,
+                *candidates,
+                (*drawn, *criterion),
+            ),
             Stage::Randomized { how, seed } => write!(f, "randomised ({how}) from seed {seed}"),
         }
     }
