@@ -224,16 +224,16 @@ fn tent_point(r: u64, q: u64, n: u64) -> f64 {
     odd as f64 / (2 * n) as f64
 }
 
-/// The points x_kj = φ(frac(k z_j/n + q_j/(4n))).
+/// The points x_kj = φ(frac(k z_j/n + q_j/(4n))), row by row from [`column`]s.
 fn points(n: usize, z: &[u64], q: &[u64]) -> Result<PointSet, Error> {
-    let nn = n as u128;
-    let mut data = Vec::with_capacity(n * z.len());
-    for k in 0..nn {
-        for (&zj, &qj) in z.iter().zip(q) {
-            let r = ((k * u128::from(zj)) % nn) as u64;
-            data.push(tent_point(r, qj, n as u64));
-        }
-    }
+    let cols: Vec<Vec<f64>> = z
+        .iter()
+        .zip(q)
+        .map(|(&zj, &qj)| column(n, zj, qj))
+        .collect();
+    let data = (0..n)
+        .flat_map(|k| cols.iter().map(move |c| c[k]))
+        .collect();
     PointSet::new(n, z.len(), data)
 }
 
