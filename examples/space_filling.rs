@@ -6,7 +6,8 @@
 
 use std::fmt::Write as _;
 use std::time::Instant;
-use stillpoint::pipeline::{self as run, GenerateConfig, Goal};
+use stillpoint::config::{GenerateConfig, Goal};
+use stillpoint::pipeline::{self as run};
 use stillpoint::quality::metrics::min_distance_euclidean;
 use stillpoint::quality::stratification::is_stratified;
 use stillpoint::sequences;

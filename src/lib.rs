@@ -24,7 +24,8 @@
 //! ([`pipeline::request`]); the command line and the Python package are front ends to it.
 //!
 //! The layout follows the roles: [`pipeline`] (request → configuration → run),
-//! [`plan`] (what a run is: configuration, start, problem, report), [`goals`]
+//! [`config`] (a run's settings), [`plan`] (what a run is made of: space, start,
+//! problem), [`report`] (what a run did), [`goals`]
 //! (integration, space-filling, the paper's), [`post`] (shift, polish, randomise),
 //! [`solve`] (the executor and checkpoints), [`quality`] (metrics, closed forms,
 //! star L∞, region measures, integrands), [`sequences`] (the classic sets), [`io`],
@@ -39,6 +40,7 @@ pub use stillpoint_integrators as integrators;
 
 pub use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Uqp};
 
+pub mod config;
 pub mod design;
 pub mod expr;
 pub mod goals;
@@ -48,6 +50,7 @@ pub mod plan;
 pub mod plot;
 pub mod post;
 pub mod quality;
+pub mod report;
 pub mod sequences;
 pub mod solve;
 

@@ -4,7 +4,7 @@
 use proptest::prelude::*;
 use stillpoint::design::figures::{stratified, DesignFigures};
 use stillpoint::design::{Design, DesignSpace, Kind};
-use stillpoint::pipeline::Arg;
+use stillpoint::pipeline::request::Arg;
 use stillpoint::{PointSet, Request};
 
 /// The design the library's pipeline makes for `items` at `n` points.

@@ -354,7 +354,7 @@ fn write_baseline(a: &GenerateArgs, resolved: &Resolved) -> Result<()> {
 /// Says what is unusual, and how long a long run may take, before it starts (the notes
 /// print even with -q, which hides progress only).
 fn notes_before(cfg: &GenerateConfig, quiet: bool) -> Result<()> {
-    if cfg.goal == run::Goal::Paper {
+    if cfg.goal == Goal::Paper {
         if matches!(cfg.energy, EnergyKind::Discrepancy(_)) && cfg.solver == Solver::Dem {
             note(
                 "note: the DEM is unstable on a discrepancy energy and returns its lowest early \
@@ -380,8 +380,8 @@ fn notes_before(cfg: &GenerateConfig, quiet: bool) -> Result<()> {
             ));
         }
     }
-    if !quiet && !matches!(cfg.goal, run::Goal::Integration(_)) {
-        let estimate = run::estimate_seconds(cfg)?;
+    if !quiet && !matches!(cfg.goal, Goal::Integration(_)) {
+        let estimate = estimate_seconds(cfg)?;
         if estimate > LONG_RUN_SECONDS {
             note(&format!(
                 "note: this run may take about {} (n = {}, s = {}, up to {} steps, timed on \
@@ -410,7 +410,7 @@ pub(crate) fn checkpoint_plan(
     resume: Option<Option<PathBuf>>,
     extra: Value,
     quiet: bool,
-) -> Result<Option<run::CheckpointPlan>> {
+) -> Result<Option<CheckpointPlan>> {
     // `--resume` without a value means "the --checkpoint file".
     let resume_path = match (&resume, &checkpoint) {
         (None, _) => None,
@@ -440,7 +440,7 @@ pub(crate) fn checkpoint_plan(
     check_writable(&path, "--checkpoint")?;
     // Only a checkpoint is replaced: any other file there (a point set, a report) is
     // someone's result, not this run's state.
-    if resume_path.is_none() && path.exists() && run::read_checkpoint(&path).is_err() {
+    if resume_path.is_none() && path.exists() && read_checkpoint(&path).is_err() {
         bail!(
             "invalid --checkpoint {}: the file exists and is not a checkpoint (expected a new \
              path, or a checkpoint of an earlier run to replace)",
@@ -454,7 +454,7 @@ pub(crate) fn checkpoint_plan(
             path.display()
         );
     }
-    Ok(Some(run::CheckpointPlan {
+    Ok(Some(CheckpointPlan {
         path,
         every,
         resume: resume_path,

@@ -1,7 +1,7 @@
 //! The `stillpoint` command: generate evenly spread point sets, evaluate and integrate
 //! with any point file, write the classic sequences, reproduce the paper's studies, and
 //! benchmark the kernels. A thin binary: clap's arguments become one library request
-//! (`stillpoint::pipeline::Request`), which the library resolves; only this crate knows
+//! (`stillpoint::Request`), which the library resolves; only this crate knows
 //! clap, indicatif and the flags' names.
 
 mod args;
@@ -40,17 +40,21 @@ use {
     std::io::IsTerminal,
     std::path::PathBuf,
     std::sync::Arc,
+    stillpoint::config::{points_fingerprint, EnergyKind, GenerateConfig, Goal, Init, Space},
     stillpoint::energies::discrepancy::DiscrepancyKind,
     stillpoint::energies::region::ImplicitRegion,
     stillpoint::energies::shapes::{Ball, BoxRegion, Ellipsoid, Polytope, Simplex},
     stillpoint::energies::{paper_qp, Distance, Domain, Energy, Precision, Uqp},
     stillpoint::integrators::{Kappa, Restart},
-    stillpoint::pipeline::{
-        self as run, Arg, EnergyKind, GenerateConfig, GenerateReport, Init, Job, Request, Resolved,
-        Solver,
-    },
+    stillpoint::pipeline::request::{Arg, Job, Resolved},
+    stillpoint::pipeline::{self as run},
+    stillpoint::plan::problem::estimate_seconds,
     stillpoint::quality::metrics::Metrics,
+    stillpoint::report::GenerateReport,
     stillpoint::sequences::Baseline,
+    stillpoint::solve::checkpoint::{read_checkpoint, CheckpointPlan},
+    stillpoint::solve::{Event, Solver},
+    stillpoint::Request,
     stillpoint::{io, PointSet},
     stillpoint_paper::bench,
     stillpoint_paper::studies::{self, Study, StudyOptions},

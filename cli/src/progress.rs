@@ -104,8 +104,8 @@ impl Progress {
         self.last_line = Some(std::time::Instant::now());
     }
 
-    pub(crate) fn event(&mut self, e: run::Event) {
-        if let run::Event::Stage { name, steps } = e {
+    pub(crate) fn event(&mut self, e: Event) {
+        if let Event::Stage { name, steps } = e {
             self.stage = name;
             self.len = steps;
             self.started = std::time::Instant::now();
@@ -115,8 +115,8 @@ impl Progress {
         match self.mode {
             ProgressMode::None => {}
             ProgressMode::Plain => match e {
-                run::Event::Stage { .. } => self.plain_line(None),
-                run::Event::Progress(p) => {
+                Event::Stage { .. } => self.plain_line(None),
+                Event::Progress(p) => {
                     if self.origin.is_none() {
                         self.origin = Some((std::time::Instant::now(), p));
                     }
@@ -124,16 +124,16 @@ impl Progress {
                         self.plain_line(Some(p));
                     }
                 }
-                run::Event::Record(_) => {}
+                Event::Record(_) => {}
             },
             ProgressMode::Bar => self.bar_event(e),
         }
     }
 
-    fn bar_event(&mut self, e: run::Event) {
+    fn bar_event(&mut self, e: Event) {
         const WITHOUT_ETA: &str = "{msg:>15} {wide_bar} {pos}/{len} steps, {elapsed} elapsed";
         match e {
-            run::Event::Stage {
+            Event::Stage {
                 name,
                 steps: Some(len),
             } => {
@@ -151,7 +151,7 @@ impl Progress {
                 self.fresh = true;
                 self.show();
             }
-            run::Event::Stage { name, steps: None } => {
+            Event::Stage { name, steps: None } => {
                 self.bar.set_style(
                     ProgressStyle::with_template("{msg:>15} {spinner} {elapsed}")
                         .unwrap_or_else(|_| ProgressStyle::default_spinner()),
@@ -162,7 +162,7 @@ impl Progress {
                 self.bar
                     .enable_steady_tick(std::time::Duration::from_millis(120));
             }
-            run::Event::Progress(p) => {
+            Event::Progress(p) => {
                 if self.origin.is_none() {
                     self.origin = Some((std::time::Instant::now(), p));
                 }
@@ -179,7 +179,7 @@ impl Progress {
                     self.eta_shown = true;
                 }
             }
-            run::Event::Record(_) => {}
+            Event::Record(_) => {}
         }
     }
 

@@ -61,7 +61,7 @@ pub(crate) fn report_json(r: &GenerateReport, cfg: &GenerateConfig) -> Result<Va
 /// and the metrics of the start and the result.
 fn goal_json(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Metrics) -> Value {
     let descents = r.stages.iter().filter_map(|st| match st {
-        stillpoint::plan::Stage::Descent(d) => Some(d),
+        stillpoint::report::Stage::Descent(d) => Some(d),
         _ => None,
     });
     let (mut accepted, mut iterations, mut skipped) = (0, 0, Vec::new());
@@ -122,7 +122,7 @@ pub(crate) fn file_header(
     let init = match &cfg.init {
         Init::Halton => "halton".to_string(),
         Init::Random => "random".to_string(),
-        Init::Points(p) => format!("file: {}", run::points_fingerprint(p)),
+        Init::Points(p) => format!("file: {}", points_fingerprint(p)),
     };
     let integrator = match cfg.solver {
         Solver::Dem => "dem",
@@ -217,12 +217,12 @@ pub(crate) fn file_header(
 /// The goal of a goal run, as the report names it; `None` for the paper's pipeline.
 pub(crate) fn goal_name(cfg: &GenerateConfig) -> Option<String> {
     match &cfg.goal {
-        run::Goal::Paper => None,
-        run::Goal::Integration(_) if cfg.lattice => Some(
+        Goal::Paper => None,
+        Goal::Integration(_) if cfg.lattice => Some(
             "integration (the shifted tent lattice: one construction, no target or descent)".into(),
         ),
-        run::Goal::Integration(t) => Some(format!("integration (target {})", t.name())),
-        run::Goal::SpaceFilling => Some("space-filling".into()),
+        Goal::Integration(t) => Some(format!("integration (target {})", t.name())),
+        Goal::SpaceFilling => Some("space-filling".into()),
     }
 }
 
@@ -372,10 +372,10 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
         "", "start", "result", "change"
     );
     let energy_label = match cfg.goal {
-        run::Goal::Integration(_) if cfg.lattice => "shift criterion e²₂".to_string(),
-        run::Goal::Integration(_) => "target (sum of squares)".to_string(),
-        run::Goal::SpaceFilling => "maximin search: min distance".to_string(),
-        run::Goal::Paper => format!("energy {}", r.energy_name.split('(').next().unwrap_or("")),
+        Goal::Integration(_) if cfg.lattice => "shift criterion e²₂".to_string(),
+        Goal::Integration(_) => "target (sum of squares)".to_string(),
+        Goal::SpaceFilling => "maximin search: min distance".to_string(),
+        Goal::Paper => format!("energy {}", r.energy_name.split('(').next().unwrap_or("")),
     };
     // A construction with no start of its own (the lattice) has one set: its figures are
     // shown once, the start column only for the value it chose by.
@@ -405,7 +405,7 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
         }
         format!("  {:<36} {:>14} {:>14} {:>9}\n", name, f(a), f(b), change)
     };
-    if m1.estimate.is_some() && matches!(cfg.goal, run::Goal::Integration(_)) && !cfg.lattice {
+    if m1.estimate.is_some() && matches!(cfg.goal, Goal::Integration(_)) && !cfg.lattice {
         // The target from the same random pairs: a sum of squares at or below 0 is one
         // the sample cannot resolve.
         let shown = |v: f64| {
@@ -422,7 +422,7 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
             shown(r.energy.1),
             "-"
         );
-    } else if r.output.points.n() < 2 && !matches!(cfg.goal, run::Goal::Integration(_)) {
+    } else if r.output.points.n() < 2 && !matches!(cfg.goal, Goal::Integration(_)) {
         // An energy of pairs is 0 for a single point, which says nothing about it.
         t += &row(&energy_label, f64::INFINITY, f64::INFINITY, true);
     } else {
@@ -762,7 +762,7 @@ fn constrained_name(description: &Value) -> Option<String> {
 /// A region as the user gave it: `{x : EXPR ≤ 0} in the box …` or the shape's text,
 /// not the internal form.
 pub(crate) fn region_name(cfg: &GenerateConfig) -> String {
-    let run::Space::Region { description, .. } = &cfg.space else {
+    let Space::Region { description, .. } = &cfg.space else {
         return "the unit cube".into();
     };
     if let Some(name) = constrained_name(description) {
@@ -791,13 +791,13 @@ pub(crate) fn region_table(
     let solver = r.solver().map(solver_line).unwrap_or_default();
     // A mixture's written points have one component more than the run's.
     let shown_s = match &cfg.space {
-        run::Space::Region { description, .. } => description["mixture"]
+        Space::Region { description, .. } => description["mixture"]
             .as_u64()
             .map_or(cfg.s, |k| k as usize),
         _ => cfg.s,
     };
     // A goal's run in a region says what its stages did instead of the start it drew.
-    if let (run::Goal::Integration(_), false) = (&cfg.goal, r.stages.is_empty()) {
+    if let (Goal::Integration(_), false) = (&cfg.goal, r.stages.is_empty()) {
         let stages: Vec<String> = r.stages.iter().map(|s| s.to_string()).collect();
         return Ok(format!(
             "stillpoint: n = {}, s = {} in {}, integration goal\n  {}\n\n",
@@ -819,7 +819,7 @@ pub(crate) fn region_table(
             Init::Points(_) => "points from file".into(),
         },
     );
-    let integration = matches!(cfg.goal, run::Goal::Integration(_));
+    let integration = matches!(cfg.goal, Goal::Integration(_));
     Ok(t + &region_rows(a, b, r, out, integration))
 }
 

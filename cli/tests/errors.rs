@@ -572,9 +572,10 @@ fn cli_refuses_bad_input_clearly_and_touches_no_file() {
 
 #[test]
 fn library_refuses_bad_input_clearly() {
+    use stillpoint::config::{GenerateConfig, Init};
     use stillpoint::energies::region::ImplicitRegion;
     use stillpoint::integrators::{Dem, Kappa};
-    use stillpoint::pipeline::{run_config, GenerateConfig, Init};
+    use stillpoint::pipeline::run_config;
     let d = tmpdir("lib");
     let msg = |r: Result<(), String>| r.unwrap_err();
     let gen = |cfg: GenerateConfig| {
@@ -663,7 +664,7 @@ fn library_refuses_bad_input_clearly() {
     std::fs::write(&garbage, b"\x00\x01not json").unwrap();
     cases.push((
         "corrupted checkpoint",
-        msg(stillpoint::pipeline::read_checkpoint(&garbage)
+        msg(stillpoint::solve::checkpoint::read_checkpoint(&garbage)
             .map(|_| ())
             .map_err(|e| e.to_string())),
         "damaged or truncated",

@@ -6,11 +6,14 @@
 mod common;
 
 use common::{bin, TempDir};
+use stillpoint::config::{GenerateConfig, Goal};
 use stillpoint::energies::discrepancy::DiscrepancyKind;
-use stillpoint::pipeline::{self as run, GenerateConfig, Goal, Randomize, Target};
+use stillpoint::pipeline::{self as run};
 use stillpoint::post::randomize::randomize;
+use stillpoint::post::randomize::Randomize;
 use stillpoint::quality::metrics::{self, Metrics};
 use stillpoint::quality::stratification::is_stratified;
+use stillpoint::quality::target::Target;
 use stillpoint::sequences;
 use stillpoint::PointSet;
 
@@ -149,7 +152,8 @@ fn goal_options_are_checked() {
 
 #[test]
 fn where_a_lattice_must_share_generators_the_randomised_set_is_the_descended_one() {
-    use stillpoint::goals::integration::tent::{tent_set, TentDescent};
+    use stillpoint::goals::integration::tent::tent_set;
+    use stillpoint::report::TentDescent;
     // 32 points have 8 generators up to sign: 15 coordinates must share them.
     let dir = TempDir::new("tent-shared");
     let path = dir.path("x.csv");

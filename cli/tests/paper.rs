@@ -4,7 +4,8 @@
 //! the full P_{2,1500} and P_{3,1500} runs are `#[ignore]`d and run with
 //! `cargo test --release --test paper -- --ignored --nocapture`.
 
-use stillpoint::pipeline::{run_config, GenerateConfig};
+use stillpoint::config::GenerateConfig;
+use stillpoint::pipeline::run_config;
 use stillpoint::quality::metrics;
 
 struct Outcome {

@@ -92,7 +92,8 @@ type Edit = Box<dyn Fn(&mut serde_json::Value)>;
 fn forge(file: &Path, edit: impl Fn(&mut serde_json::Value)) {
     let mut v: serde_json::Value = serde_json::from_slice(&std::fs::read(file).unwrap()).unwrap();
     edit(&mut v["state"]);
-    let checksum = stillpoint::pipeline::fnv1a64(&serde_json::to_vec(&v["state"]).unwrap());
+    let checksum =
+        stillpoint::solve::checkpoint::fnv1a64(&serde_json::to_vec(&v["state"]).unwrap());
     v["checksum"] = format!("{checksum:016x}").into();
     std::fs::write(file, serde_json::to_vec(&v).unwrap()).unwrap();
 }

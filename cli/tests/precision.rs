@@ -1,8 +1,10 @@
 //! The DEM's `--precision`: the fast table drives the run by default, the energies a run
 //! reports are the full formulas', and full precision is one option away.
 
+use stillpoint::config::GenerateConfig;
 use stillpoint::energies::{Distance, Energy, Precision};
-use stillpoint::pipeline::{choose_energy, run_config, GenerateConfig};
+use stillpoint::pipeline::run_config;
+use stillpoint::plan::problem::choose_energy;
 
 #[test]
 fn a_fast_run_reports_full_precision_energies() {
@@ -41,7 +43,7 @@ fn full_precision_runs_the_formulas_and_differs_from_fast() {
     assert_eq!(fast.energy.0.to_bits(), full.energy.0.to_bits());
     assert_ne!(fast.output.points.as_slice(), full.output.points.as_slice());
     // Both runs lower the energy from the same start by about as much.
-    let drop = |r: &stillpoint::pipeline::GenerateReport| (r.energy.0 - r.energy.1) / r.energy.0;
+    let drop = |r: &stillpoint::report::GenerateReport| (r.energy.0 - r.energy.1) / r.energy.0;
     let (a, b) = (drop(&fast), drop(&full));
     assert!(a > 0.0 && b > 0.0);
     assert!((a - b).abs() <= 0.05 * b, "{a} vs {b}");

@@ -233,7 +233,7 @@ proptest! {
         if let Ok(p) = io::read_points(&path) {
             prop_assert!(p.as_slice().iter().all(|v| v.is_finite()));
         }
-        let _ = stillpoint::pipeline::read_checkpoint(&path);
+        let _ = stillpoint::solve::checkpoint::read_checkpoint(&path);
         let _ = std::fs::remove_file(&path);
     }
 }

@@ -2,11 +2,12 @@
 //! reproducible, and bad regions are refused.
 
 use std::sync::Arc;
+use stillpoint::config::{EnergyKind, GenerateConfig, Init};
 use stillpoint::energies::boundary::UEpG;
 use stillpoint::energies::region::paper_region;
 use stillpoint::energies::shapes::Ball;
 use stillpoint::energies::{Domain, Energy};
-use stillpoint::pipeline::{run_config, EnergyKind, GenerateConfig, Init};
+use stillpoint::pipeline::run_config;
 
 mod common;
 use common::{bin, doc_lines, shell_words, tmpdir};

@@ -10,9 +10,10 @@ use std::sync::Arc;
 use stillpoint::energies::shapes::Ball;
 use stillpoint::io::{encode, Format};
 
-use stillpoint::pipeline::{
-    generate_with, read_checkpoint, run_config, CheckpointPlan, Event, GenerateConfig, Init,
-};
+use stillpoint::config::{GenerateConfig, Init};
+use stillpoint::pipeline::{generate_with, run_config};
+use stillpoint::solve::checkpoint::{read_checkpoint, CheckpointPlan};
+use stillpoint::solve::Event;
 
 mod common;
 use common::{bin, tmpdir};
@@ -95,7 +96,7 @@ fn library_resume_of_a_cube_run_is_bit_identical() {
         reference.shift.as_ref().map(|s| s.shift.clone())
     );
     // Logged discrepancies of the steps before the checkpoint come from the file.
-    let logged = |r: &stillpoint::pipeline::GenerateReport| {
+    let logged = |r: &stillpoint::report::GenerateReport| {
         r.output
             .trajectory
             .iter()
@@ -189,7 +190,7 @@ fn library_refuses_other_configurations_and_damaged_checkpoints() {
     assert!(resume_err(&cfg, &d.join("missing.ckpt")).contains("cannot read"));
     // A checkpoint of the DEM is not resumed by L-BFGS.
     let mut lbfgs = cfg.clone();
-    lbfgs.solver = stillpoint::pipeline::Solver::Lbfgs;
+    lbfgs.solver = stillpoint::solve::Solver::Lbfgs;
     let e = resume_err(&lbfgs, &ck);
     assert!(e.contains("integrator = Dem (this run: Lbfgs)"), "{e}");
     // The good checkpoint was never touched by the refusals.

@@ -5,10 +5,12 @@
 use anyhow::Result;
 use std::fmt::Write as _;
 use std::path::Path;
+use stillpoint::config::{EnergyKind, GenerateConfig};
 use stillpoint::energies::discrepancy::DiscrepancyKind;
-use stillpoint::pipeline::{run_config, EnergyKind, GenerateConfig, Solver};
+use stillpoint::pipeline::run_config;
 use stillpoint::plot::{self, LineChart, Series};
 use stillpoint::quality::metrics;
+use stillpoint::solve::Solver;
 
 /// The paper's cases (Table 5) and two smaller ones: (s, n).
 pub const DEFAULT_CASES: [(usize, usize); 6] = [

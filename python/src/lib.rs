@@ -20,8 +20,10 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
 
 use std::collections::HashMap;
-use stillpoint::pipeline::{Arg, Event, Request, Resolved};
+use stillpoint::pipeline::request::{Arg, Resolved};
 use stillpoint::sequences::Baseline;
+use stillpoint::solve::Event;
+use stillpoint::Request;
 use stillpoint::{metrics, PointSet};
 
 /// A refusal as Python sees it.

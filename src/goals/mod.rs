@@ -7,10 +7,10 @@ pub mod paper;
 pub mod region_integration;
 pub mod space_filling;
 
+use crate::config::GenerateConfig;
 use crate::energies::PointSet;
 use crate::integrators::RunOutput;
-use crate::plan::report::quality;
-use crate::plan::*;
+use crate::report::{quality, GenerateReport, Stage};
 use crate::Error;
 
 /// A goal's run as a report: the start and the result with their quality, the value the

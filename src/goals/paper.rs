@@ -1,12 +1,14 @@
 //! The paper's pipeline.
 
+use crate::config::{config_json, EnergyKind, GenerateConfig, PostStep, Space};
 use crate::energies::{Distance, Energy, PeriodicCube, PointSet, Precision};
 use crate::integrators::Record;
-use crate::plan::problem::build_problem;
-use crate::plan::report::quality;
-use crate::plan::*;
+use crate::plan::problem::{build_problem, choose_energy};
+use crate::plan::start::start_set;
 use crate::post::shift::{self};
+use crate::report::{quality, GenerateReport};
 use crate::solve::checkpoint::CheckpointPlan;
+use crate::solve::Solver;
 use crate::solve::{Event, LoggingObserver, Solve};
 use crate::Error;
 use std::time::Instant;

@@ -19,12 +19,13 @@
 //! distance to uniform is within 0.4 % of the long run's and the minimum distance is not
 //! lower, at a fifth of the cost.
 
+use crate::config::GenerateConfig;
 use crate::energies::energy_distance::EnergyDistance;
 use crate::energies::Domain;
 use crate::goals::goal_report;
 use crate::integrators::{Control, Observer, Problem, Record, StopReason};
-use crate::plan::*;
 use crate::quality::energy_distance::uniform_reference;
+use crate::report::{GenerateReport, Stage};
 use crate::sequences::stream_seed;
 use crate::solve::{Event, LoggingObserver, Solve};
 use crate::Error;
@@ -183,7 +184,7 @@ impl<O: Observer> Observer for Stall<O> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pipeline::Request;
+    use crate::Request;
 
     fn run(shape: &str, s: usize, n: usize, seed: u64) -> GenerateReport {
         let r = Request {
@@ -194,7 +195,7 @@ mod tests {
             seed: Some(seed.into()),
             ..Request::default()
         };
-        let crate::pipeline::Job::Run(cfg) = r.resolve().unwrap().job else {
+        let crate::pipeline::request::Job::Run(cfg) = r.resolve().unwrap().job else {
             panic!("a run")
         };
         crate::pipeline::generate_with(&cfg, None, |_| {}).unwrap()

@@ -1,10 +1,11 @@
 //! The space-filling goal in the cube.
 
+use crate::config::{GenerateConfig, Goal};
 use crate::energies::PointSet;
 use crate::goals::goal_report;
 use crate::goals::paper::paper_run;
-use crate::plan::*;
 use crate::quality::metrics::{self};
+use crate::report::{Candidate, GenerateReport, Stage};
 use crate::sequences;
 use crate::solve::Event;
 use crate::Error;

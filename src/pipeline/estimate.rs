@@ -9,10 +9,10 @@
 //! core). The fitted model is within a factor of 2 of every measured run (most within
 //! 30 %); it is a warning's estimate, not a benchmark.
 
-use super::{Job, Resolved};
+use super::request::{Job, Resolved};
+use crate::config::{GenerateConfig, Goal};
 use crate::goals::integration::exchange::EXCHANGE_MAX_N;
 use crate::goals::integration::{Budget, Effort};
-use crate::plan::{GenerateConfig, Goal};
 use crate::sequences::Baseline;
 
 /// The thread count the constants were measured with; a larger pool is taken to divide
@@ -319,8 +319,9 @@ fn baseline_seconds(baseline: Baseline, n: f64, s: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::pipeline::{Arg, Request};
+    use crate::pipeline::request::Arg;
     use crate::quality::target::Target;
+    use crate::Request;
 
     /// The default run's estimate (the configuration a default request resolves to,
     /// built directly so that no memory check refuses the largest sizes).

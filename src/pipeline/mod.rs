@@ -11,15 +11,12 @@ use crate::integrators::Record;
 use crate::{Error, PointSet};
 use std::time::Instant;
 
-pub use crate::plan::*;
-pub use crate::post::randomize::Randomize;
-pub use crate::quality::target::Target;
-pub use crate::solve::checkpoint::{
-    encode_checkpoint, fnv1a64, read_checkpoint, Checkpoint, CheckpointPlan, CHECKPOINT_FORMAT,
-    CHECKPOINT_VERSION,
-};
-pub use crate::solve::{Event, LoggingObserver};
-pub use request::*;
+use crate::config::{GenerateConfig, Goal};
+use crate::post::randomize::Randomize;
+use crate::report::{quality, GenerateReport, Stage};
+use crate::solve::checkpoint::CheckpointPlan;
+use crate::solve::Event;
+use request::{Arg, Job, Request, Resolved};
 
 /// The default set: `n` points in [0, 1)^`s` for integration, stratified in every
 /// coordinate with the discrepancy as low as the descent reaches (what `stillpoint

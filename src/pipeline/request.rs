@@ -9,6 +9,7 @@
 //!
 //! An option that would have no effect on the chosen run is refused, never ignored.
 
+use crate::config::{EnergyKind, GenerateConfig, Goal, Init, Space};
 use crate::design::DesignSpace;
 use crate::energies::discrepancy::DiscrepancyKind;
 use crate::energies::Domain;
@@ -17,10 +18,11 @@ use crate::goals::integration::lattice::LATTICE_FROM_N;
 use crate::integrators::{Kappa, Restart};
 use crate::plan::constraints::{Constrained, ConstraintSpec, Mixture};
 use crate::plan::space::{numbers_text, Bounds, RegionSpec};
-use crate::plan::{EnergyKind, GenerateConfig, Goal, Init, Solver, Space};
+use crate::plan::start::MAX_SHIFTS;
 use crate::post::randomize::Randomize;
 use crate::quality::target::Target;
 use crate::sequences::{self, Baseline};
+use crate::solve::Solver;
 use crate::{Error, PointSet};
 use serde_json::json;
 use std::sync::Arc;
@@ -1453,16 +1455,13 @@ impl Resolver<'_> {
                 "shifts",
                 a,
                 0,
-                &format!(
-                    "a whole number of shifts in [0, {}]",
-                    crate::plan::MAX_SHIFTS
-                ),
+                &format!("a whole number of shifts in [0, {}]", MAX_SHIFTS),
             )?;
-            if cfg.shifts > crate::plan::MAX_SHIFTS {
+            if cfg.shifts > MAX_SHIFTS {
                 return Err(self.bad(
                     "shifts",
                     a,
-                    format!("at most {} candidate shifts", crate::plan::MAX_SHIFTS),
+                    format!("at most {} candidate shifts", MAX_SHIFTS),
                 ));
             }
         }

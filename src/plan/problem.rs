@@ -1,13 +1,14 @@
 //! The energy and domain of a configuration (its [`Problem`]), with how U_{q,p}'s (q, p)
 //! were chosen, and a rough time estimate for warning before a long run.
 
+use crate::config::{EnergyKind, GenerateConfig, Init, Space};
 use crate::energies::boundary::{UEInfG, UEpG};
 use crate::energies::discrepancy::DiscrepancyEnergy;
 use crate::energies::einf::UEInf;
 use crate::energies::shapes::BoxRegion;
 use crate::energies::{paper_qp, Distance, Domain, Energy, PeriodicCube, Uqp};
 use crate::integrators::Problem;
-use crate::plan::*;
+use crate::plan::start::start_set;
 use crate::sequences;
 use crate::Error;
 use serde::Serialize;

@@ -1,7 +1,7 @@
 //! The start set of a run, in the cube or in a region.
 
+use crate::config::{GenerateConfig, Init};
 use crate::energies::{Domain, PointSet};
-use crate::plan::*;
 use crate::sequences;
 use crate::Error;
 

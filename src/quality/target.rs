@@ -302,10 +302,10 @@ mod tests {
         ] {
             let mut r = crate::Request::new(200, 15);
             r.target = Some(word.into());
-            let crate::pipeline::Job::Run(cfg) = r.resolve().unwrap().job else {
+            let crate::pipeline::request::Job::Run(cfg) = r.resolve().unwrap().job else {
                 panic!("a run")
             };
-            assert_eq!(cfg.goal, crate::plan::Goal::Integration(want));
+            assert_eq!(cfg.goal, crate::config::Goal::Integration(want));
         }
         assert_eq!(
             smooth_share(&Target::smooth_blend_for(15)),
@@ -315,12 +315,12 @@ mod tests {
         let mut r = crate::Request::new(0, 10);
         r.n = None;
         r.nested = Some("16,32".into());
-        let crate::pipeline::Job::Run(cfg) = r.resolve().unwrap().job else {
+        let crate::pipeline::request::Job::Run(cfg) = r.resolve().unwrap().job else {
             panic!("a run")
         };
         assert_eq!(
             cfg.goal,
-            crate::plan::Goal::Integration(Target::smooth_blend_for(10))
+            crate::config::Goal::Integration(Target::smooth_blend_for(10))
         );
     }
 }

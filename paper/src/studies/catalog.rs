@@ -14,8 +14,9 @@ use serde_json::json;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
+use stillpoint::config::GenerateConfig;
 use stillpoint::io;
-use stillpoint::pipeline::{run_config, GenerateConfig};
+use stillpoint::pipeline::run_config;
 use stillpoint::quality::metrics::Metrics;
 use stillpoint::PointSet;
 

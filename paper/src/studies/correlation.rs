@@ -5,9 +5,10 @@
 use super::{fmt_opt, markdown_table, save_charts, spearman, Body, StudyOptions};
 use anyhow::Result;
 use serde_json::json;
+use stillpoint::config::{EnergyKind, GenerateConfig, Init};
 use stillpoint::energies::einf::UEInf;
 use stillpoint::energies::{Distance, Energy, PointSet, Uqp};
-use stillpoint::pipeline::{run_config, EnergyKind, GenerateConfig, Init};
+use stillpoint::pipeline::run_config;
 use stillpoint::plot::{LineChart, Series};
 use stillpoint::quality::metrics;
 use stillpoint::sequences::Baseline;

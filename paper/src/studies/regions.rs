@@ -7,9 +7,10 @@ use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde_json::json;
 use std::sync::Arc;
+use stillpoint::config::GenerateConfig;
 use stillpoint::energies::region::paper_region;
 use stillpoint::energies::Domain;
-use stillpoint::pipeline::{run_config, GenerateConfig};
+use stillpoint::pipeline::run_config;
 use stillpoint::{io, plot, PointSet};
 
 /// The paper's reductions of U_{E,∞,g} (only g1 and g4 are given).

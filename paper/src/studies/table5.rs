@@ -4,8 +4,9 @@
 use super::{markdown_table, Body, StudyOptions};
 use anyhow::Result;
 use serde_json::json;
+use stillpoint::config::GenerateConfig;
 use stillpoint::energies::discrepancy::DiscrepancyKind;
-use stillpoint::pipeline::{run_config, GenerateConfig};
+use stillpoint::pipeline::run_config;
 use stillpoint::quality::metrics;
 use stillpoint::sequences::Baseline;
 

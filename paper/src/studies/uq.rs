@@ -10,7 +10,8 @@ use crate::uq::{
 use anyhow::Result;
 use serde_json::json;
 use std::time::Instant;
-use stillpoint::pipeline::{run_config, GenerateConfig};
+use stillpoint::config::GenerateConfig;
+use stillpoint::pipeline::run_config;
 use stillpoint::plot::{LineChart, Series};
 use stillpoint::sequences::Baseline;
 use stillpoint::PointSet;

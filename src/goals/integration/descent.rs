@@ -32,10 +32,10 @@ use crate::energies::Energy;
 use crate::goals::integration::exchange::{Exchange, Form, EXCHANGE_MAX_N};
 use crate::integrators::lbfgs::Lbfgs;
 use crate::integrators::{Problem, Record, StopReason};
-use crate::plan::report::{Candidate, Descent, Round};
 use crate::post::randomize::Randomize;
 use crate::quality::stratification::{cell_of, in_cell, is_stratified};
 use crate::quality::target::Target;
+use crate::report::{Candidate, Descent, Round};
 use crate::sequences;
 use crate::solve::{LoggingObserver, Solve};
 use crate::{Error, PointSet};
@@ -861,7 +861,7 @@ fn block_pass(
     target: &Target,
     seed: u64,
     effort: &Effort,
-) -> (PointSet, Option<crate::plan::report::BlockExchanges>) {
+) -> (PointSet, Option<crate::report::BlockExchanges>) {
     if points.n() < 2 || !target.fits(points.s()) || effort.block_work == 0 {
         return (points.clone(), None);
     }
@@ -877,7 +877,7 @@ fn block_pass(
         .collect();
     (
         p,
-        Some(crate::plan::report::BlockExchanges {
+        Some(crate::report::BlockExchanges {
             block: o.block,
             blocks: o.blocks,
             proposals: o.proposals,

@@ -1,21 +1,27 @@
-//! The integration goal: stratified sets with a low squared L2 discrepancy ([`descent`],
-//! with the exchange move of [`exchange`]), one set, an extension of a given one, or a
-//! nested sequence, each reported stage by stage.
+//! The integration goal: stratified sets with a low squared L2 discrepancy
+//! ([`integration_set`], with the exchange move of [`exchange`]), one set, an extension of
+//! a given one, or a nested sequence, each reported stage by stage.
 
 pub mod blocks;
-pub mod descent;
+mod descent;
 pub mod exchange;
 pub mod lattice;
 pub mod tent;
 
-pub use descent::*;
+pub use descent::{
+    center_columns, center_columns_after, descend_in_cells, descend_in_cells_after,
+    exchange_descent, exchange_descent_after, extend_set, integration_set, nested_run, nested_set,
+    stratify, Budget, Effort, Extension, Nested, Outcome, BLOCKS_FADE_FROM, GUARD_SOBOL_SETS,
+    ROUND_OVERHEAD, SOBOL_NET_FROM_N,
+};
 
+use crate::config::GenerateConfig;
 use crate::energies::PointSet;
 use crate::goals::goal_report;
-use crate::plan::*;
 use crate::quality::metrics::{Metrics, Sums};
 use crate::quality::stratification::is_stratified;
 use crate::quality::target::Target;
+use crate::report::{GenerateReport, Stage};
 use crate::solve::Event;
 use crate::Error;
 

@@ -23,6 +23,7 @@ use crate::energies::{Energy, PeriodicCube, PointSet};
 use crate::goals::region_integration::Stall;
 use crate::integrators::lbfgs::Lbfgs;
 use crate::integrators::{Problem, Record};
+use crate::report::TentDescent;
 use crate::sequences::{self, TENT_WEIGHT};
 use crate::solve::{LoggingObserver, Solve};
 use crate::Error;
@@ -59,29 +60,6 @@ pub struct TentSet {
     pub lattice_criterion: f64,
     /// What became of the lattice.
     pub descent: TentDescent,
-}
-
-/// Whether the lattice was descended from ([`tent_set`]).
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-#[serde(tag = "descent", rename_all = "snake_case")]
-pub enum TentDescent {
-    /// Every coordinate has a generator of its own: the lattice is the set.
-    NotNeeded,
-    /// Coordinates share generators, but a descent would take more than its budget
-    /// (`work` pair-coordinate terms per iteration): the lattice is the set.
-    TooCostly {
-        /// n²·s.
-        work: f64,
-    },
-    /// Coordinates share generators and the set was descended from the lattice.
-    Descended {
-        /// The criterion of the set kept (the descended set's ranks).
-        criterion: f64,
-        /// L-BFGS iterations taken.
-        iterations: usize,
-        /// Whether the result was kept (its criterion below the lattice's).
-        kept: bool,
-    },
 }
 
 /// Whether two coordinates of the generator z (mod n) are the same up to sign.

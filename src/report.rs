@@ -1,8 +1,9 @@
 //! What a run reports: the start and the result with their quality, and what each stage did.
 
+use crate::config::GenerateConfig;
 use crate::energies::PointSet;
 use crate::integrators::{RunOutput, StopReason};
-use crate::plan::*;
+use crate::plan::problem::EnergyChoice;
 use crate::post::shift::ShiftOutcome;
 use crate::quality::metrics::Metrics;
 use crate::quality::region::RegionMetrics;
@@ -41,8 +42,9 @@ pub struct GenerateReport {
     pub shift: Option<ShiftOutcome>,
     /// The polish, when it ran: (squared discrepancy before, after, L-BFGS iterations).
     pub polish: Option<(f64, f64, usize)>,
-    /// What a goal's pipeline did, stage by stage (empty for [`Goal::Paper`], whose
-    /// solver, shift and polish have fields of their own).
+    /// What a goal's pipeline did, stage by stage (empty for
+    /// [`crate::config::Goal::Paper`], whose solver, shift and polish have fields of
+    /// their own).
     pub stages: Vec<Stage>,
     /// Wall time of the whole run in seconds.
     pub seconds: f64,
@@ -187,6 +189,30 @@ impl Descent {
     }
 }
 
+/// Whether the lattice was descended from
+/// ([`crate::goals::integration::tent::tent_set`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "descent", rename_all = "snake_case")]
+pub enum TentDescent {
+    /// Every coordinate has a generator of its own: the lattice is the set.
+    NotNeeded,
+    /// Coordinates share generators, but a descent would take more than its budget
+    /// (`work` pair-coordinate terms per iteration): the lattice is the set.
+    TooCostly {
+        /// n²·s.
+        work: f64,
+    },
+    /// Coordinates share generators and the set was descended from the lattice.
+    Descended {
+        /// The criterion of the set kept (the descended set's ranks).
+        criterion: f64,
+        /// L-BFGS iterations taken.
+        iterations: usize,
+        /// Whether the result was kept (its criterion below the lattice's).
+        kept: bool,
+    },
+}
+
 /// What one stage of a goal's run did, as data; its [`fmt::Display`] is the report's line.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(tag = "stage", rename_all = "snake_case")]
@@ -258,7 +284,7 @@ pub enum Stage {
         criterion: f64,
         /// Whether the set was descended from the lattice (coordinates sharing
         /// generators).
-        descent: crate::goals::integration::tent::TentDescent,
+        descent: TentDescent,
     },
     /// L-BFGS on the energy distance to a reference sample of a region's uniform
     /// distribution (the integration goal in a region).
@@ -475,7 +501,6 @@ impl fmt::Display for Stage {
                 criterion,
                 descent,
             } => {
-                use crate::goals::integration::tent::TentDescent;
                 let z: Vec<String> = generator.iter().map(|v| v.to_string()).collect();
                 write!(
                     f,

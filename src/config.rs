@@ -7,7 +7,7 @@ use crate::integrators::lbfgs::Lbfgs;
 use crate::integrators::Dem;
 use crate::post::randomize::Randomize;
 use crate::quality::target::Target;
-pub use crate::solve::Solver;
+use crate::solve::Solver;
 use serde_json::{json, Value};
 use std::sync::Arc;
 
