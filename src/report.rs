@@ -408,6 +408,76 @@ fn lattice_rule_text(
     )
 }
 
+/// The [`Stage::Extension`] line: the union's sizes and whether it is stratified (else
+/// how many old values collide).
+fn extension_text(
+    f: &mut fmt::Formatter<'_>,
+    old: usize,
+    new: usize,
+    stratified: bool,
+    collisions: usize,
+) -> fmt::Result {
+    write!(
+        f,
+        "extended {old} old points (first, unchanged) by {new} new ones; union \
+         stratified on its {} cells per coordinate: ",
+        old + new
+    )?;
+    if stratified {
+        write!(f, "yes")
+    } else {
+        write!(
+            f,
+            "no (summed over the coordinates, {collisions} old values fall in a \
+             cell of the union's grid that another old point already takes, so \
+             as many cells stay empty)"
+        )
+    }
+}
+
+/// The tail of the [`Stage::Figures`] line: whether the part is stratified, when asked.
+fn stratified_text(f: &mut fmt::Formatter<'_>, stratified: Option<bool>) -> fmt::Result {
+    match stratified {
+        Some(yes) => write!(f, ", stratified: {}", if yes { "yes" } else { "no" }),
+        None => Ok(()),
+    }
+}
+
+/// The tail of the [`Stage::Lattice`] line: nothing when the lattice needed no descent,
+/// else why it was or was not descended from, after a semicolon.
+impl fmt::Display for TentDescent {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            TentDescent::NotNeeded => Ok(()),
+            TentDescent::TooCostly { work } => write!(
+                f,
+                "; coordinates share generators, but a descent ({work:.1e} pair \
+                 terms per iteration) is past its budget: the lattice is kept"
+            ),
+            TentDescent::Descended {
+                criterion,
+                iterations,
+                kept: true,
+            } => write!(
+                f,
+                "; coordinates share generators, so the set was descended on the \
+                 criterion ({iterations} L-BFGS iterations) and each column \
+                 replaced by its ranks: criterion {criterion:.4e}"
+            ),
+            TentDescent::Descended {
+                criterion,
+                iterations,
+                kept: false,
+            } => write!(
+                f,
+                "; coordinates share generators, but the descended set \
+                 ({iterations} iterations, criterion {criterion:.4e}) was no lower: \
+                 the lattice is kept"
+            ),
+        }
+    }
+}
+
 impl fmt::Display for Stage {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
@@ -427,24 +497,7 @@ impl fmt::Display for Stage {
                 new,
                 stratified,
                 collisions,
-            } => {
-                write!(
-                    f,
-                    "extended {old} old points (first, unchanged) by {new} new ones; union \
-                     stratified on its {} cells per coordinate: ",
-                    old + new
-                )?;
-                if *stratified {
-                    write!(f, "yes")
-                } else {
-                    write!(
-                        f,
-                        "no (summed over the coordinates, {collisions} old values fall in a \
-                         cell of the union's grid that another old point already takes, so \
-                         as many cells stay empty)"
-                    )
-                }
-            }
+            } => extension_text(f, *old, *new, *stratified, *collisions),
             Stage::Figures {
                 of,
                 modified_l2,
@@ -456,10 +509,7 @@ impl fmt::Display for Stage {
                     f,
                     "{of}: D_MD {modified_l2:.6}, D_L2* {star_l2:.6}, CD {centered_l2:.6}"
                 )?;
-                match stratified {
-                    Some(yes) => write!(f, ", stratified: {}", if *yes { "yes" } else { "no" }),
-                    None => Ok(()),
-                }
+                stratified_text(f, *stratified)
             }
             Stage::Dem {
                 energy,
@@ -505,37 +555,9 @@ impl fmt::Display for Stage {
                 write!(
                     f,
                     "rank-1 lattice for the tent randomisation, built component by \
-                     component: z = ({}), criterion {criterion:.4e} (weight {weight})",
+                     component: z = ({}), criterion {criterion:.4e} (weight {weight}){descent}",
                     z.join(", ")
-                )?;
-                match descent {
-                    TentDescent::NotNeeded => Ok(()),
-                    TentDescent::TooCostly { work } => write!(
-                        f,
-                        "; coordinates share generators, but a descent ({work:.1e} pair \
-                         terms per iteration) is past its budget: the lattice is kept"
-                    ),
-                    TentDescent::Descended {
-                        criterion: after,
-                        iterations,
-                        kept: true,
-                    } => write!(
-                        f,
-                        "; coordinates share generators, so the set was descended on the \
-                         criterion ({iterations} L-BFGS iterations) and each column \
-                         replaced by its ranks: criterion {after:.4e}"
-                    ),
-                    TentDescent::Descended {
-                        criterion: after,
-                        iterations,
-                        kept: false,
-                    } => write!(
-                        f,
-                        "; coordinates share generators, but the descended set \
-                         ({iterations} iterations, criterion {after:.4e}) was no lower: \
-                         the lattice is kept"
-                    ),
-                }
+                )
             }
             Stage::LatticeRule {
                 generator,
