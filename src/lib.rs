@@ -25,12 +25,12 @@
 //!
 //! The layout follows the roles: [`pipeline`] (request → configuration → run),
 //! [`config`] (a run's settings), [`plan`] (what a run is made of: space, start,
-//! problem), [`report`] (what a run did), [`goals`]
-//! (integration, space-filling, the paper's), [`post`] (shift, polish, randomise),
-//! [`solve`] (the executor and checkpoints), [`quality`] (metrics, closed forms,
-//! star L∞, region measures, integrands), [`sequences`] (the classic sets), [`io`],
-//! [`plot`]. The geometry is in [`domains`], the potentials in [`energies`], the solvers
-//! in [`integrators`].
+//! problem), [`report`] (what a run did), [`goals`] (integration, space-filling, the
+//! paper's), [`post`] (shift, polish, randomise), [`solve`] (the executor and
+//! checkpoints), [`quality`] (metrics, closed forms, star L∞, region measures,
+//! integrands), [`sequences`] (the classic sets), [`parse`] (expressions and constraints
+//! as typed), [`io`], [`plot`]. The geometry is in [`domains`], the potentials in
+//! [`energies`], the solvers in [`integrators`].
 
 #![deny(missing_docs)]
 
@@ -42,9 +42,9 @@ pub use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Uqp
 
 pub mod config;
 pub mod design;
-pub mod expr;
 pub mod goals;
 pub mod io;
+pub mod parse;
 pub mod pipeline;
 pub mod plan;
 pub mod plot;

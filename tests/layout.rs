@@ -216,7 +216,7 @@ fn path_starts_at(code: &str, at: usize) -> bool {
 }
 
 /// The top-level modules that the code of one file names, given the file's module path
-/// below src/ (`["plan", "report"]` for src/plan/report.rs).
+/// below src/ (`["parse", "expr"]` for src/parse/expr.rs).
 fn named_modules(code: &str, module: &[String], top: &BTreeSet<String>) -> BTreeSet<String> {
     let mut named = BTreeSet::new();
     for (at, _) in code.match_indices("crate::") {

@@ -624,7 +624,7 @@ fn library_refuses_bad_input_clearly() {
         "finite",
     ));
     let expr = |t: &str, s: usize| {
-        stillpoint::expr::RegionExpr::parse(t, s)
+        stillpoint::parse::expr::RegionExpr::parse(t, s)
             .map(|_| ())
             .map_err(|e| e.to_string())
     };

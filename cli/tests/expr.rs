@@ -1,7 +1,7 @@
-//! Region expressions: the grammar documented in `stillpoint::expr` holds, the paper's
+//! Region expressions: the grammar documented in `stillpoint::parse::expr` holds, the paper's
 //! regions evaluate as their closed forms, and every refusal names what is wrong.
 
-use stillpoint::expr::{ExprError, RegionExpr};
+use stillpoint::parse::expr::{ExprError, RegionExpr};
 
 fn eval(text: &str, s: usize, x: &[f64]) -> f64 {
     RegionExpr::parse(text, s)

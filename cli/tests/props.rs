@@ -197,7 +197,7 @@ proptest! {
 
     #[test]
     fn the_expression_parser_never_panics(text in any::<String>(), s in 0usize..4) {
-        if let Ok(g) = stillpoint::expr::RegionExpr::parse(&text, s) {
+        if let Ok(g) = stillpoint::parse::expr::RegionExpr::parse(&text, s) {
             let _ = g.eval(&[0.5; 4]);
         }
     }
@@ -208,7 +208,7 @@ proptest! {
         s in 1usize..4,
         x in prop::collection::vec(-10.0f64..10.0, 3),
     ) {
-        if let Ok(g) = stillpoint::expr::RegionExpr::parse(&text, s) {
+        if let Ok(g) = stillpoint::parse::expr::RegionExpr::parse(&text, s) {
             let _ = g.eval(&x);
             let _ = g.eval(&x[..s - 1]);
         }

@@ -195,7 +195,7 @@ impl RegionSpec<'_> {
         if let Some(expr) = self.expression {
             let (lo, hi) = box_of("a region expression")?;
             dim_check(lo.len())?;
-            let g = crate::expr::RegionExpr::parse(expr, lo.len()).map_err(|e| {
+            let g = crate::parse::expr::RegionExpr::parse(expr, lo.len()).map_err(|e| {
                 Error::invalid(spell("region"), expr, format!("an expression g(x): {e}"))
             })?;
             let r = ImplicitRegion::new(g.into_fn(), lo, hi)?;
