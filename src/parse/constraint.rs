@@ -2,6 +2,8 @@
 //! `x1 + x2 = 1`, read into rows a·x ≤ b (or a·x = b). The regions they cut are in
 //! [`crate::plan::constraints`].
 
+use super::lexer::{Kind, Lexer, Numbers};
+
 /// One row a·x ≤ b (or a·x = b, which only a mixture's sum may be).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Row {
@@ -56,55 +58,33 @@ fn fail<T>(at: usize, message: impl Into<String>) -> Result<T, ParseError> {
     })
 }
 
-/// The tokens of `text` with their character positions; variables are checked against s.
+/// The tokens of `text` with their character positions, as this grammar reads them:
+/// [`Lexer`]'s with runs of digits and points as numbers, `pi` and the variables (checked
+/// against s) as names, the comparisons as symbols of one or two characters.
 fn lex(text: &str, s: usize) -> Result<Vec<(Tok, usize)>, ParseError> {
-    let chars: Vec<char> = text.chars().collect();
+    let mut lexer = Lexer::new(text, Numbers::Run);
     let mut out = Vec::new();
-    let mut i = 0;
-    while i < chars.len() {
-        let c = chars[i];
-        let start = i;
-        let tok = match c {
-            c if c.is_whitespace() => {
-                i += 1;
-                continue;
-            }
-            '0'..='9' | '.' => {
-                while i < chars.len() && (chars[i].is_ascii_digit() || chars[i] == '.') {
-                    i += 1;
-                }
-                // An exponent only when digits follow, so that `2e` is not read as one.
-                if i < chars.len() && (chars[i] == 'e' || chars[i] == 'E') {
-                    let mut j = i + 1;
-                    if j < chars.len() && (chars[j] == '+' || chars[j] == '-') {
-                        j += 1;
-                    }
-                    if j < chars.len() && chars[j].is_ascii_digit() {
-                        i = j;
-                        while i < chars.len() && chars[i].is_ascii_digit() {
-                            i += 1;
-                        }
-                    }
-                }
-                let t: String = chars[start..i].iter().collect();
+    while let Some(token) = lexer.next() {
+        let start = token.start;
+        let tok = match token.kind {
+            // A run's exponent is taken only when digits follow, so it never stays open.
+            Kind::Number | Kind::OpenExponent => {
+                let t = lexer.slice(start, token.end);
                 match t.parse::<f64>() {
                     Ok(v) if v.is_finite() => Tok::Num(v),
                     _ => return fail(start, format!("{t:?} is not a finite number")),
                 }
             }
-            c if c.is_alphabetic() || c == '_' => {
-                while i < chars.len() && (chars[i].is_alphanumeric() || chars[i] == '_') {
-                    i += 1;
-                }
-                let word: String = chars[start..i].iter().collect();
+            Kind::Name => {
+                let word = lexer.slice(start, token.end);
                 if word == "pi" {
                     Tok::Num(std::f64::consts::PI)
                 } else {
                     Tok::Var(variable(&word, s, start)?)
                 }
             }
-            '<' | '≤' | '>' | '≥' | '=' => {
-                let two = |n: char| chars.get(i + 1) == Some(&n);
+            Kind::Symbol(c @ ('<' | '≤' | '>' | '≥' | '=')) => {
+                let two = |n: char| lexer.char_at(start + 1) == Some(n);
                 let (cmp, len) = match c {
                     '≤' => (Cmp::Le, 1),
                     '≥' => (Cmp::Ge, 1),
@@ -119,21 +99,18 @@ fn lex(text: &str, s: usize) -> Result<Vec<(Tok, usize)>, ParseError> {
                         )
                     }
                 };
-                i += len - 1;
+                lexer.widen(len - 1);
                 Tok::Cmp(cmp)
             }
-            '+' => Tok::Plus,
-            '-' | '−' => Tok::Minus,
-            '*' | '·' | '×' => Tok::Star,
-            '/' => Tok::Slash,
-            '^' => Tok::Caret,
-            '(' => Tok::Open,
-            ')' => Tok::Close,
-            other => return fail(start, format!("unexpected {other:?}")),
+            Kind::Symbol('+') => Tok::Plus,
+            Kind::Symbol('-' | '−') => Tok::Minus,
+            Kind::Symbol('*' | '·' | '×') => Tok::Star,
+            Kind::Symbol('/') => Tok::Slash,
+            Kind::Symbol('^') => Tok::Caret,
+            Kind::Symbol('(') => Tok::Open,
+            Kind::Symbol(')') => Tok::Close,
+            Kind::Symbol(other) => return fail(start, format!("unexpected {other:?}")),
         };
-        if !matches!(tok, Tok::Num(_) | Tok::Var(_)) {
-            i += 1;
-        }
         out.push((tok, start));
     }
     Ok(out)

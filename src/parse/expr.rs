@@ -44,6 +44,7 @@ use std::cell::RefCell;
 use std::fmt;
 use std::sync::Arc;
 
+use super::lexer::{Kind, Lexer, Numbers};
 use crate::energies::region::RegionFn;
 
 /// Why a region expression was refused. Messages name the problem and, for anything
@@ -456,80 +457,41 @@ fn syntax(text: &str, column: usize, width: usize, message: impl Into<String>) -
     }
 }
 
+/// The tokens of `text` as this grammar reads them: [`Lexer`]'s with strict numbers,
+/// `**` for `^`, and every symbol outside the grammar refused where it stands.
 fn lex(text: &str) -> Result<Vec<Token>, ExprError> {
-    let chars: Vec<char> = text.chars().collect();
+    let mut lexer = Lexer::new(text, Numbers::Strict);
     let mut tokens = Vec::new();
-    let mut i = 0usize;
-    while i < chars.len() {
-        let c = chars[i];
-        if c.is_whitespace() {
-            i += 1;
-            continue;
-        }
-        let start = i;
-        let digit_at = |k: usize| chars.get(k).is_some_and(|c| c.is_ascii_digit());
-        let kind = if c.is_ascii_digit() || (c == '.' && digit_at(i + 1)) {
-            while digit_at(i) {
-                i += 1;
+    while let Some(token) = lexer.next() {
+        let (start, mut end) = (token.start, token.end);
+        let lexeme = lexer.slice(start, end);
+        let kind = match token.kind {
+            Kind::OpenExponent => {
+                return Err(syntax(
+                    text,
+                    start + 1,
+                    end - start,
+                    format!("malformed number {lexeme:?}: the exponent needs digits, e.g. 2e-3"),
+                ))
             }
-            if chars.get(i) == Some(&'.') {
-                i += 1;
-                while digit_at(i) {
-                    i += 1;
-                }
-            }
-            if matches!(chars.get(i), Some('e' | 'E')) {
-                let sign = usize::from(matches!(chars.get(i + 1), Some('+' | '-')));
-                if digit_at(i + 1 + sign) {
-                    i += 1 + sign;
-                    while digit_at(i) {
-                        i += 1;
-                    }
-                } else if !chars
-                    .get(i + 1)
-                    .is_some_and(|c| c.is_alphanumeric() || *c == '_')
-                {
-                    // `2e`, `2e-`, `2e+x`: an exponent was begun and not finished. `2ex`
-                    // is left to the parser, which reports the missing operator.
-                    let end = i + 1 + sign;
-                    let lexeme: String = chars[start..end].iter().collect();
-                    return Err(syntax(
-                        text,
-                        start + 1,
-                        end - start,
-                        format!(
-                            "malformed number {lexeme:?}: the exponent needs digits, e.g. 2e-3"
-                        ),
-                    ));
-                }
-            }
-            let lexeme: String = chars[start..i].iter().collect();
-            match lexeme.parse::<f64>() {
+            Kind::Number => match lexeme.parse::<f64>() {
                 Ok(v) if v.is_finite() => Tok::Num(v),
                 _ => {
                     return Err(syntax(
                         text,
                         start + 1,
-                        i - start,
+                        end - start,
                         format!("number {lexeme} is out of the range of f64"),
                     ))
                 }
-            }
-        } else if c.is_alphabetic() || c == '_' {
-            while chars
-                .get(i)
-                .is_some_and(|c| c.is_alphanumeric() || *c == '_')
-            {
-                i += 1;
-            }
-            Tok::Name(chars[start..i].iter().collect())
-        } else {
-            i += 1;
-            match c {
+            },
+            Kind::Name => Tok::Name(lexeme),
+            Kind::Symbol(c) => match c {
                 '+' => Tok::Plus,
                 '-' | '−' => Tok::Minus,
-                '*' if chars.get(i) == Some(&'*') => {
-                    i += 1;
+                '*' if lexer.char_at(end) == Some('*') => {
+                    lexer.widen(1);
+                    end += 1;
                     Tok::Caret
                 }
                 '*' => Tok::Star,
@@ -558,18 +520,18 @@ fn lex(text: &str) -> Result<Vec<Token>, ExprError> {
                         format!("unexpected character {c:?}"),
                     ))
                 }
-            }
+            },
         };
         tokens.push(Token {
             kind,
             column: start + 1,
-            width: i - start,
-            lexeme: chars[start..i].iter().collect(),
+            width: end - start,
+            lexeme: lexer.slice(start, end),
         });
     }
     tokens.push(Token {
         kind: Tok::End,
-        column: chars.len() + 1,
+        column: lexer.len() + 1,
         width: 1,
         lexeme: String::new(),
     });
