@@ -10,9 +10,8 @@
 //! 30 %); it is a warning's estimate, not a benchmark.
 
 use super::{Job, Resolved};
-use crate::goals::integration::exchange::EXCHANGE_MAX_N;
-use crate::goals::integration::{Budget, Effort};
 use crate::plan::{GenerateConfig, Goal};
+use crate::quality::effort::{Budget, Effort, EXCHANGE_MAX_N};
 use crate::sequences::Baseline;
 
 /// The thread count the constants were measured with; a larger pool is taken to divide

@@ -13,6 +13,7 @@ pub use descent::*;
 use crate::energies::PointSet;
 use crate::goals::goal_report;
 use crate::plan::*;
+use crate::quality::effort::Effort;
 use crate::quality::metrics::{Metrics, Sums};
 use crate::quality::stratification::is_stratified;
 use crate::quality::target::Target;
@@ -65,7 +66,7 @@ pub(crate) fn integration_run(
         name: "stratified descent",
         steps: None,
     });
-    let effort = crate::goals::integration::Effort {
+    let effort = Effort {
         sums: cfg.sums,
         ..Default::default()
     };
