@@ -7,7 +7,8 @@
 
 use std::fmt::Write as _;
 use std::time::Instant;
-use stillpoint::goals::integration::{integration_set, nested_set, Effort};
+use stillpoint::goals::integration::{integration_set, nested_set};
+use stillpoint::quality::effort::Effort;
 use stillpoint::quality::metrics::Metrics;
 use stillpoint::quality::target::Target;
 use stillpoint::sequences;

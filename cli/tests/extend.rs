@@ -5,7 +5,8 @@
 mod common;
 
 use common::{bin, TempDir};
-use stillpoint::goals::integration::{extend_set, integration_set, nested_set, Effort};
+use stillpoint::goals::integration::{extend_set, integration_set, nested_set};
+use stillpoint::quality::effort::Effort;
 use stillpoint::quality::metrics::Metrics;
 use stillpoint::quality::stratification::is_stratified;
 use stillpoint::quality::target::Target;

@@ -5,7 +5,8 @@
 use rand::seq::SliceRandom;
 use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
-use stillpoint::goals::integration::exchange::{self as product_form, Form};
+use stillpoint::energies::discrepancy::Mixture;
+use stillpoint::goals::integration::exchange as product_form;
 use stillpoint::quality::metrics::{
     centered_l2, centered_l2_squared, discrepancies, min_distance_euclidean, min_distance_periodic,
     mixture, mixture_squared, modified_l2, modified_l2_squared, star_l2, star_l2_squared,
@@ -595,16 +596,16 @@ fn wrap_around_is_invariant_under_periodic_shift() {
 
 #[test]
 fn mixture_equals_the_scalar_closed_form() {
-    // `product_form` evaluates the same closed form in plain scalar code (its own factors,
+    // `product_form` evaluates the same closed form in plain scalar code (its own
     // operation order and summation order); at moderate s they agree to rounding.
     for s in 1..=30 {
         for (n, seed) in [(1, 1), (9, 2), (64, 3), (250, 4)] {
             let p = random(n, s, 1000 * s as u64 + seed).unwrap();
-            let want = product_form::squared(&p, Form::Mixture);
+            let want = product_form::squared::<Mixture>(&p);
             let got = mixture_squared(&p);
             assert!(rel_err(got, want) < 1e-12, "n={n} s={s}: {got} vs {want}");
             let m = Metrics::compute(&p);
-            let root = product_form::root(&p, Form::Mixture);
+            let root = product_form::root::<Mixture>(&p);
             assert!(rel_err(m.mixture, root) < 1e-12, "n={n} s={s}");
             assert_eq!(m.mixture.to_bits(), mixture(&p).to_bits(), "n={n} s={s}");
         }

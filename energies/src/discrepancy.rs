@@ -38,6 +38,15 @@
 //! ([`squared_discrepancies_with_mixture`] computes it with the other four in one pass)
 //! and the logarithmic form of very high dimension ([`mixture_root`]).
 //!
+//! **One table.** Each row is one [`DiscrepancyKernel`] (its constant, g, K, their
+//! derivatives, names and the flags the rest of the workspace asks about), and
+//! [`DiscrepancyKind`] lists the rows that are energies, each with its kernel, in one
+//! list (`discrepancy_kinds!` below), from which [`DiscrepancyKind::ALL`], the names
+//! [`DiscrepancyKind::parse`] accepts and [`with_kernel!`](crate::with_kernel) (kind →
+//! kernel type, for monomorphised loops here and in the root crate's exchanges) all
+//! follow. A new kind is its kernel's impls and one line of that list, in this file; a
+//! target that blends it names it there.
+//!
 //! The value is the *square* of the discrepancy: the closed forms give the square, and
 //! its gradient needs no division by the root, which vanishes for a perfect set. The
 //! metrics of the root crate take the same value ([`squared_discrepancies`]), clamp it at
@@ -92,24 +101,142 @@ use crate::pairs::{
 use crate::{Energy, Error, PointSet, Result};
 use std::marker::PhantomData;
 
-/// Which L2 discrepancy an energy squares.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum DiscrepancyKind {
+/// The one-dimensional factors of a discrepancy's closed form
+/// D² = C_s − (2/n) Σ_i Π_k g(x_ik) + (1/n²) Σ_{i,l} Π_k K(x_ik, x_lk), with what the
+/// energies, the exchanges, the reports and the targets need to know of it: one
+/// implementation per discrepancy (the rows of the module documentation's table), and
+/// [`DiscrepancyKind`] lists those that are energies.
+///
+/// The factors are written once, here; every loop that forms D² (the vectorised pair
+/// loops of this module, the O(n) swap updates of the root crate's exchanges, the plain
+/// double sums of the benchmarks) is generic over the kernel and monomorphised, so the
+/// factors inline into it.
+pub trait DiscrepancyKernel: Sync + Send + 'static {
+    /// The names [`DiscrepancyKind::parse`] accepts (lower case); the first is the one
+    /// [`DiscrepancyKind::label`] gives.
+    const NAMES: &'static [&'static str];
+    /// What the kernel measures, as a list of accepted names explains it (`star L2`).
+    const DESCRIPTION: &'static str;
+    /// The energy's name, [`Energy::name`] of [`DiscrepancyEnergy`].
+    const ENERGY_NAME: &'static str;
+    /// Per-coordinate factor of |C_s| = CONSTANT_BASE^s.
+    const CONSTANT_BASE: f64;
+    /// Sign of C_s (negative where the middle term has merged into it).
+    const CONSTANT_SIGN: f64;
+    /// Whether the closed form has the middle term −(2/n) Σ_i Π_k g(x_ik).
+    const HAS_SINGLE: bool;
+    /// The largest factor of the kernel's products (the pair factors and g): with
+    /// [`DiscrepancyKernel::CONSTANT_BASE`] it bounds how large the terms of the closed
+    /// form grow with s ([`closed_form_fits`]).
+    const LARGEST_FACTOR: f64;
+    /// Whether D² is unchanged by a periodic shift x → (x + c) mod 1 of the whole set.
+    const PERIODIC: bool = false;
+    /// The order of the derivatives of the integrands whose worst-case error D² is: 1
+    /// for the L2 discrepancies, 2 for the smoothness-2 errors (whose sets start from the
+    /// lattice of the tent randomisation).
+    const SMOOTHNESS: u32 = 1;
+    /// The kernel's place among the five squares a report forms in one pass over the
+    /// pairs ([`squared_discrepancies_with_mixture`], [`sampled_squared_discrepancies`]),
+    /// if it is one of them.
+    const REPORTED: Option<usize> = None;
+
+    /// g(x) and g'(x) (with the averaged one-sided derivative at a kink).
+    fn single(x: f64) -> (f64, f64);
+
+    /// K(x, y), ∂K/∂x and ∂K/∂y (averaged one-sided derivatives at a kink).
+    fn pair(x: f64, y: f64) -> (f64, f64, f64);
+
+    /// g(x) alone.
+    #[inline(always)]
+    fn single_factor(x: f64) -> f64 {
+        Self::single(x).0
+    }
+
+    /// K(x, y) alone.
+    #[inline(always)]
+    fn pair_factor(x: f64, y: f64) -> f64 {
+        Self::pair(x, y).0
+    }
+
+    /// C_s = ±CONSTANT_BASE^s, by repeated multiplication so that it is the same bits on
+    /// every platform (`powi` is left to the backend).
+    fn constant(s: usize) -> f64 {
+        Self::CONSTANT_SIGN * (0..s).fold(1.0, |p, _| p * Self::CONSTANT_BASE)
+    }
+}
+
+/// The lane-by-lane forms of a kernel's pair factor, for the vectorised pair loops: the
+/// same operations, in the same order, as [`DiscrepancyKernel::pair`].
+trait Lanes: DiscrepancyKernel {
+    /// Whether the pair factor uses ½|x − ½| (the centred L2; see [`Kinds::HALF_GAP`]).
+    const HALF_GAP: bool = false;
+
+    /// K(x, y) lane by lane: the same operations as `pair`'s value.
+    fn vpair<V: Simd>(x: V, y: V) -> V;
+
+    /// ∂K/∂x and ∂K/∂y lane by lane, as `pair` gives them.
+    fn vderiv<V: Simd>(x: V, y: V) -> (V, V);
+
+    /// K(x, y) lane by lane given `gx` = ½|x − ½| and `gy` = ½|y − ½|, which the value
+    /// loops precompute once per coordinate for the kernels with [`Lanes::HALF_GAP`]:
+    /// the same bits as `vpair`.
+    #[inline(always)]
+    fn vpair_gap<V: Simd>(x: V, y: V, _gx: V, _gy: V) -> V {
+        Self::vpair(x, y)
+    }
+}
+
+/// Declares [`DiscrepancyKind`], [`DiscrepancyKind::ALL`] and
+/// [`with_kernel!`](crate::with_kernel) from one list of kinds and their kernels.
+macro_rules! discrepancy_kinds {
+    ($d:tt $($(#[$doc:meta])* $variant:ident => $kernel:ident,)*) => {
+        /// Which discrepancy an energy squares (and an exchange, a polish or a target
+        /// lowers): one [`DiscrepancyKernel`] each, which
+        /// [`with_kernel!`](crate::with_kernel) finds.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+        pub enum DiscrepancyKind {
+            $($(#[$doc])* $variant,)*
+        }
+
+        impl DiscrepancyKind {
+            /// Every kind, in declaration order.
+            pub const ALL: &'static [DiscrepancyKind] = &[$(DiscrepancyKind::$variant),*];
+        }
+
+        /// `with_kernel!(kind, K => expr)`: `expr` with `K` the
+        /// [`DiscrepancyKernel`](crate::discrepancy::DiscrepancyKernel) of the
+        /// [`DiscrepancyKind`](crate::discrepancy::DiscrepancyKind) `kind`, one
+        /// monomorphised copy per kind, so the factors inline into `expr`'s loops.
+        #[macro_export]
+        macro_rules! with_kernel {
+            ($d kind:expr, $d k:ident => $d body:expr) => {
+                match $d kind {
+                    $($d crate::discrepancy::DiscrepancyKind::$variant => {
+                        type $d k = $d crate::discrepancy::$kernel;
+                        $d body
+                    })*
+                }
+            };
+        }
+    };
+}
+
+discrepancy_kinds! {$
     /// Star L2 (Warnock, the paper's eq. 46): boxes anchored at the origin.
-    StarL2,
+    StarL2 => Star,
     /// Modified L2 (Hickernell, the paper's eq. 47): the star L2 of every projection.
-    ModifiedL2,
+    ModifiedL2 => Modified,
     /// Centred L2 (Hickernell): boxes anchored at the nearest corner.
-    CenteredL2,
+    CenteredL2 => Centered,
     /// Wrap-around L2 (Hickernell): boxes wrap around the faces; periodic.
-    WrapAroundL2,
+    WrapAroundL2 => Wrap,
     /// The worst-case error for integrands of smoothness 2 with product weight
     /// [`SMOOTH_WEIGHT`] (the table's last row).
-    Smooth,
+    Smooth => Smooth,
     /// [`DiscrepancyKind::Smooth`] with the mean of the second derivative weighing
     /// [`CURVATURE_WEIGHT`] times more: B₂(x)B₂(y)/4 becomes
     /// [`CURVATURE_WEIGHT`]·B₂(x)B₂(y)/4.
-    Curved,
+    Curved => Curved,
 }
 
 /// γ, the product weight of [`DiscrepancyKind::Smooth`]: an interaction of order k counts
@@ -132,43 +259,62 @@ pub const SMOOTH_WEIGHT: f64 = 0.1;
 /// 12).
 pub const CURVATURE_WEIGHT: u32 = 24;
 
-/// The names [`DiscrepancyKind::parse`] accepts, as an error message lists them.
-const ACCEPTED: &str = "one of `l2star` (star L2), `md` (modified L2), `cd` (centred L2), \
-                        `periodic` or `wd` (wrap-around L2), `smooth` (smoothness 2), \
-                        `curved` (smoothness 2, curvature weighed more)";
-
 impl DiscrepancyKind {
-    /// Parses the name the CLI's `--energy` takes: `l2star`, `md`, `cd`, `periodic` or
-    /// its alias `wd` (ASCII case and surrounding spaces ignored).
+    /// Parses a name of a kind's [`DiscrepancyKernel::NAMES`], the names the CLI's
+    /// `--energy` takes: `l2star`, `md`, `cd`, `periodic` or its alias `wd`, `smooth`,
+    /// `curved` (ASCII case and surrounding spaces ignored).
     pub fn parse(name: &str) -> Result<Self> {
-        match name.trim().to_ascii_lowercase().as_str() {
-            "l2star" => Ok(DiscrepancyKind::StarL2),
-            "md" => Ok(DiscrepancyKind::ModifiedL2),
-            "cd" => Ok(DiscrepancyKind::CenteredL2),
-            "periodic" | "wd" => Ok(DiscrepancyKind::WrapAroundL2),
-            "smooth" => Ok(DiscrepancyKind::Smooth),
-            "curved" => Ok(DiscrepancyKind::Curved),
-            _ => Err(Error::invalid("discrepancy", format!("`{name}`"), ACCEPTED)),
-        }
+        let key = name.trim().to_ascii_lowercase();
+        DiscrepancyKind::ALL
+            .iter()
+            .copied()
+            .find(|k| k.names().contains(&key.as_str()))
+            .ok_or_else(|| Error::invalid("discrepancy", format!("`{name}`"), Self::accepted()))
+    }
+
+    /// The names [`DiscrepancyKind::parse`] accepts, as an error message lists them:
+    /// "one of `l2star` (star L2), `md` (modified L2), …".
+    pub fn accepted() -> String {
+        let each: Vec<String> = DiscrepancyKind::ALL
+            .iter()
+            .map(|k| {
+                let names: Vec<String> = k.names().iter().map(|n| format!("`{n}`")).collect();
+                format!("{} ({})", names.join(" or "), k.description())
+            })
+            .collect();
+        format!("one of {}", each.join(", "))
     }
 
     /// The CLI name, the one [`DiscrepancyKind::parse`] maps back to this kind.
     pub fn label(&self) -> &'static str {
-        match self {
-            DiscrepancyKind::StarL2 => "l2star",
-            DiscrepancyKind::ModifiedL2 => "md",
-            DiscrepancyKind::CenteredL2 => "cd",
-            DiscrepancyKind::WrapAroundL2 => "periodic",
-            DiscrepancyKind::Smooth => "smooth",
-            DiscrepancyKind::Curved => "curved",
-        }
+        self.names()[0]
+    }
+
+    /// Every name [`DiscrepancyKind::parse`] maps to this kind, the label first.
+    pub fn names(&self) -> &'static [&'static str] {
+        with_kernel!(*self, K => K::NAMES)
+    }
+
+    /// What the kind measures, as [`DiscrepancyKind::accepted`] explains it.
+    pub fn description(&self) -> &'static str {
+        with_kernel!(*self, K => K::DESCRIPTION)
     }
 
     /// Whether the discrepancy is unchanged by a periodic shift x → (x + c) mod 1 of the
     /// whole set: only the wrap-around L2. The others must be minimised in the closed
     /// cube, not on the torus.
     pub fn is_periodic(&self) -> bool {
-        matches!(self, DiscrepancyKind::WrapAroundL2)
+        with_kernel!(*self, K => K::PERIODIC)
+    }
+
+    /// [`DiscrepancyKernel::SMOOTHNESS`] of the kind's kernel.
+    pub fn smoothness(&self) -> u32 {
+        with_kernel!(*self, K => K::SMOOTHNESS)
+    }
+
+    /// [`DiscrepancyKernel::REPORTED`] of the kind's kernel.
+    pub fn reported(&self) -> Option<usize> {
+        with_kernel!(*self, K => K::REPORTED)
     }
 }
 
@@ -193,17 +339,7 @@ impl DiscrepancyEnergy {
 
 impl Energy for DiscrepancyEnergy {
     fn name(&self) -> String {
-        match self.kind {
-            DiscrepancyKind::StarL2 => "D²_L2 (squared star L2)",
-            DiscrepancyKind::ModifiedL2 => "D²_MD (squared modified L2)",
-            DiscrepancyKind::CenteredL2 => "D²_CD (squared centred L2)",
-            DiscrepancyKind::WrapAroundL2 => "D²_WD (squared wrap-around L2)",
-            DiscrepancyKind::Smooth => "D²_S2 (squared worst-case error, smoothness 2)",
-            DiscrepancyKind::Curved => {
-                "D²_S2c (squared worst-case error, smoothness 2, curvature weighed more)"
-            }
-        }
-        .to_string()
+        with_kernel!(self.kind, K => K::ENERGY_NAME).to_string()
     }
 
     fn value(&self, points: &PointSet) -> f64 {
@@ -226,46 +362,7 @@ impl Energy for DiscrepancyEnergy {
 
 fn dispatch(kind: DiscrepancyKind, points: &PointSet, grad: Option<&mut [f64]>) -> f64 {
     // One monomorphised copy per kind, so the 1-D factors inline into the pair loop.
-    match kind {
-        DiscrepancyKind::StarL2 => evaluate::<Star>(points, grad),
-        DiscrepancyKind::ModifiedL2 => evaluate::<Modified>(points, grad),
-        DiscrepancyKind::CenteredL2 => evaluate::<Centered>(points, grad),
-        DiscrepancyKind::WrapAroundL2 => evaluate::<Wrap>(points, grad),
-        DiscrepancyKind::Smooth => evaluate::<Smooth>(points, grad),
-        DiscrepancyKind::Curved => evaluate::<Curved>(points, grad),
-    }
-}
-
-/// The one-dimensional factors of a discrepancy's closed form.
-trait Kernel: Sync + Send + 'static {
-    /// Per-coordinate factor of |C_s| = CONSTANT_BASE^s.
-    const CONSTANT_BASE: f64;
-    /// Sign of C_s (negative for the wrap-around L2).
-    const CONSTANT_SIGN: f64;
-    /// Whether the closed form has the middle term −(2/n) Σ_i Π_k g(x_ik).
-    const HAS_SINGLE: bool;
-    /// Whether the pair factor uses ½|x − ½| (the centred L2; see [`Kinds::HALF_GAP`]).
-    const HALF_GAP: bool = false;
-
-    /// g(x) and g'(x) (with the averaged one-sided derivative at a kink).
-    fn single(x: f64) -> (f64, f64);
-
-    /// K(x, y), ∂K/∂x and ∂K/∂y (averaged one-sided derivatives at a kink).
-    fn pair(x: f64, y: f64) -> (f64, f64, f64);
-
-    /// K(x, y) lane by lane: the same operations as `pair`'s value.
-    fn vpair<V: Simd>(x: V, y: V) -> V;
-
-    /// ∂K/∂x and ∂K/∂y lane by lane, as `pair` gives them.
-    fn vderiv<V: Simd>(x: V, y: V) -> (V, V);
-
-    /// K(x, y) lane by lane given `gx` = ½|x − ½| and `gy` = ½|y − ½|, which the value
-    /// loops precompute once per coordinate for the kernels with [`Kernel::HALF_GAP`]:
-    /// the same bits as `vpair`.
-    #[inline(always)]
-    fn vpair_gap<V: Simd>(x: V, y: V, _gx: V, _gy: V) -> V {
-        Self::vpair(x, y)
-    }
+    with_kernel!(kind, K => evaluate::<K>(points, grad))
 }
 
 /// sgn(v)/2 with sgn(0) = 0, lane by lane.
@@ -307,17 +404,29 @@ fn dmax_dx(x: f64, y: f64) -> f64 {
     }
 }
 
-struct Star;
-struct Modified;
-struct Centered;
-struct Wrap;
-struct Mixture;
+/// The star L2 discrepancy's kernel.
+pub struct Star;
+/// The modified L2 discrepancy's kernel.
+pub struct Modified;
+/// The centred L2 discrepancy's kernel.
+pub struct Centered;
+/// The wrap-around L2 discrepancy's kernel.
+pub struct Wrap;
+/// The mixture discrepancy's kernel: a figure of merit, not a [`DiscrepancyKind`].
+pub struct Mixture;
 /// The smoothness-2 kernel whose B₂(x)B₂(y) carries C/4: C = 1 is the standard space.
-struct SmoothOf<const C: u32>;
-type Smooth = SmoothOf<1>;
-type Curved = SmoothOf<CURVATURE_WEIGHT>;
+pub struct SmoothOf<const C: u32>;
+/// The kernel of [`DiscrepancyKind::Smooth`].
+pub type Smooth = SmoothOf<1>;
+/// The kernel of [`DiscrepancyKind::Curved`].
+pub type Curved = SmoothOf<CURVATURE_WEIGHT>;
 
-impl Kernel for Star {
+impl DiscrepancyKernel for Star {
+    const NAMES: &'static [&'static str] = &["l2star"];
+    const DESCRIPTION: &'static str = "star L2";
+    const ENERGY_NAME: &'static str = "D²_L2 (squared star L2)";
+    const LARGEST_FACTOR: f64 = 1.0;
+    const REPORTED: Option<usize> = Some(0);
     const CONSTANT_BASE: f64 = 1.0 / 3.0;
     const CONSTANT_SIGN: f64 = 1.0;
     const HAS_SINGLE: bool = true;
@@ -333,7 +442,9 @@ impl Kernel for Star {
         // ∂max/∂x + ∂max/∂y = 1 in every case, including the tie.
         (1.0 - x.max(y), -dx, dx - 1.0)
     }
+}
 
+impl Lanes for Star {
     #[inline(always)]
     fn vpair<V: Simd>(x: V, y: V) -> V {
         V::splat(1.0).sub(x.max(y))
@@ -346,7 +457,12 @@ impl Kernel for Star {
     }
 }
 
-impl Kernel for Modified {
+impl DiscrepancyKernel for Modified {
+    const NAMES: &'static [&'static str] = &["md"];
+    const DESCRIPTION: &'static str = "modified L2";
+    const ENERGY_NAME: &'static str = "D²_MD (squared modified L2)";
+    const LARGEST_FACTOR: f64 = 2.0;
+    const REPORTED: Option<usize> = Some(1);
     const CONSTANT_BASE: f64 = 4.0 / 3.0;
     const CONSTANT_SIGN: f64 = 1.0;
     const HAS_SINGLE: bool = true;
@@ -363,7 +479,9 @@ impl Kernel for Modified {
         let dx = dmax_dx(x, y);
         (2.0 - x.max(y), -dx, dx - 1.0)
     }
+}
 
+impl Lanes for Modified {
     #[inline(always)]
     fn vpair<V: Simd>(x: V, y: V) -> V {
         V::splat(2.0).sub(x.max(y))
@@ -376,11 +494,15 @@ impl Kernel for Modified {
     }
 }
 
-impl Kernel for Centered {
+impl DiscrepancyKernel for Centered {
+    const NAMES: &'static [&'static str] = &["cd"];
+    const DESCRIPTION: &'static str = "centred L2";
+    const ENERGY_NAME: &'static str = "D²_CD (squared centred L2)";
+    const LARGEST_FACTOR: f64 = 1.5;
+    const REPORTED: Option<usize> = Some(2);
     const CONSTANT_BASE: f64 = 13.0 / 12.0;
     const CONSTANT_SIGN: f64 = 1.0;
     const HAS_SINGLE: bool = true;
-    const HALF_GAP: bool = true;
 
     #[inline(always)]
     fn single(x: f64) -> (f64, f64) {
@@ -394,6 +516,10 @@ impl Kernel for Centered {
         let sd = 0.5 * sgn(x - y);
         (v, 0.5 * sgn(x - 0.5) - sd, 0.5 * sgn(y - 0.5) + sd)
     }
+}
+
+impl Lanes for Centered {
+    const HALF_GAP: bool = true;
 
     #[inline(always)]
     fn vpair<V: Simd>(x: V, y: V) -> V {
@@ -419,7 +545,13 @@ impl Kernel for Centered {
     }
 }
 
-impl Kernel for Wrap {
+impl DiscrepancyKernel for Wrap {
+    const NAMES: &'static [&'static str] = &["periodic", "wd"];
+    const DESCRIPTION: &'static str = "wrap-around L2";
+    const ENERGY_NAME: &'static str = "D²_WD (squared wrap-around L2)";
+    const LARGEST_FACTOR: f64 = 1.5;
+    const PERIODIC: bool = true;
+    const REPORTED: Option<usize> = Some(3);
     const CONSTANT_BASE: f64 = 4.0 / 3.0;
     const CONSTANT_SIGN: f64 = -1.0;
     // ∫ K(x, y) dy = (4/3)^s for every x: the middle term merges into the constant.
@@ -436,7 +568,9 @@ impl Kernel for Wrap {
         let dx = -sgn(x - y) * (1.0 - 2.0 * d);
         (1.5 - d * (1.0 - d), dx, -dx)
     }
+}
 
+impl Lanes for Wrap {
     #[inline(always)]
     fn vpair<V: Simd>(x: V, y: V) -> V {
         let d = x.sub(y).abs();
@@ -456,11 +590,17 @@ impl Kernel for Wrap {
     }
 }
 
-impl Kernel for Mixture {
+impl DiscrepancyKernel for Mixture {
+    const NAMES: &'static [&'static str] = &["mixture"];
+    const DESCRIPTION: &'static str = "mixture";
+    const ENERGY_NAME: &'static str = "D²_MIX (squared mixture discrepancy)";
+    /// h(½, ½) = 15/8. Its smallest, h(0, 1) = 11/8 (g is at least 71/48), is above 1,
+    /// so its products only grow with s.
+    const LARGEST_FACTOR: f64 = 1.875;
+    const REPORTED: Option<usize> = Some(4);
     const CONSTANT_BASE: f64 = 19.0 / 12.0;
     const CONSTANT_SIGN: f64 = 1.0;
     const HAS_SINGLE: bool = true;
-    const HALF_GAP: bool = true;
 
     #[inline(always)]
     fn single(x: f64) -> (f64, f64) {
@@ -481,6 +621,10 @@ impl Kernel for Mixture {
         let sd = sgn(x - y) * (d - 0.75);
         (v, -0.25 * sgn(x - 0.5) + sd, -0.25 * sgn(y - 0.5) - sd)
     }
+}
+
+impl Lanes for Mixture {
+    const HALF_GAP: bool = true;
 
     #[inline(always)]
     fn vpair<V: Simd>(x: V, y: V) -> V {
@@ -515,12 +659,34 @@ impl<const C: u32> SmoothOf<C> {
     /// for every C, so C = 1 keeps the standard kernel's bits).
     const B2B2: f64 = C as f64 * 0.25;
     const B2B2_TWICE: f64 = C as f64 * 0.5;
-    /// The largest factor: the bracket is at most ¼ + C/144 + 1/720 (|B₁| ≤ ½,
-    /// |B₂| ≤ 1/6, −B₄(d)/24 ≤ 1/720).
-    const LARGEST_FACTOR: f64 = 1.0 + SMOOTH_WEIGHT * (0.25 + C as f64 / 144.0 + 1.0 / 720.0);
 }
 
-impl<const C: u32> Kernel for SmoothOf<C> {
+/// The names, description and energy name of the smoothness-2 kernel whose B₂(x)B₂(y)
+/// carries C/4 (a weight without a name is refused at compile time).
+const fn smooth_text(c: u32) -> (&'static [&'static str], &'static str, &'static str) {
+    match c {
+        1 => (
+            &["smooth"],
+            "smoothness 2",
+            "D²_S2 (squared worst-case error, smoothness 2)",
+        ),
+        CURVATURE_WEIGHT => (
+            &["curved"],
+            "smoothness 2, curvature weighed more",
+            "D²_S2c (squared worst-case error, smoothness 2, curvature weighed more)",
+        ),
+        _ => panic!("a smoothness-2 weight without a name"),
+    }
+}
+
+impl<const C: u32> DiscrepancyKernel for SmoothOf<C> {
+    const NAMES: &'static [&'static str] = smooth_text(C).0;
+    const DESCRIPTION: &'static str = smooth_text(C).1;
+    const ENERGY_NAME: &'static str = smooth_text(C).2;
+    /// The bracket is at most ¼ + C/144 + 1/720 (|B₁| ≤ ½, |B₂| ≤ 1/6,
+    /// −B₄(d)/24 ≤ 1/720).
+    const LARGEST_FACTOR: f64 = 1.0 + SMOOTH_WEIGHT * (0.25 + C as f64 / 144.0 + 1.0 / 720.0);
+    const SMOOTHNESS: u32 = 2;
     const CONSTANT_BASE: f64 = 1.0;
     // 1 − 2 (each factor integrates to 1): the middle term merges into the constant.
     const CONSTANT_SIGN: f64 = -1.0;
@@ -546,7 +712,9 @@ impl<const C: u32> Kernel for SmoothOf<C> {
             SMOOTH_WEIGHT * (bx + Self::B2B2_TWICE * by * cx + t),
         )
     }
+}
 
+impl<const C: u32> Lanes for SmoothOf<C> {
     #[inline(always)]
     fn vpair<V: Simd>(x: V, y: V) -> V {
         let one = V::splat(1.0);
@@ -606,7 +774,7 @@ fn mixture_factor<V: Simd>(x: V, y: V, gx: V, gy: V) -> V {
 }
 
 /// D² of the set, and its gradient into `grad` when given.
-fn evaluate<K: Kernel>(points: &PointSet, grad: Option<&mut [f64]>) -> f64 {
+fn evaluate<K: Lanes>(points: &PointSet, grad: Option<&mut [f64]>) -> f64 {
     let (n, s) = (points.n(), points.s());
     let nf = n as f64;
 
@@ -663,21 +831,15 @@ fn evaluate<K: Kernel>(points: &PointSet, grad: Option<&mut [f64]>) -> f64 {
                     gr[k] = g;
                 }
             }
-            assemble(constant::<K>(s), single, diag, off, nf)
+            assemble(K::constant(s), single, diag, off, nf)
         }
     }
-}
-
-/// C_s = ±CONSTANT_BASE^s, by repeated multiplication so that it is the same bits on
-/// every platform (`powi` is left to the backend).
-fn constant<K: Kernel>(s: usize) -> f64 {
-    K::CONSTANT_SIGN * (0..s).fold(1.0, |p, _| p * K::CONSTANT_BASE)
 }
 
 /// D² from the pair sum `off` = Σ_{i<l} Π_k K(x_ik, x_lk): the per-point sums
 /// Σ_i Π_k g(x_ik) and Σ_i Π_k K(x_ik, x_ik), each in index order from 1, then
 /// [`assemble`]. O(n s).
-fn closed_form<K: Kernel>(points: &PointSet, off: f64) -> f64 {
+fn closed_form<K: DiscrepancyKernel>(points: &PointSet, off: f64) -> f64 {
     let (mut single, mut diag) = (0.0, 0.0);
     for xi in points.rows() {
         if K::HAS_SINGLE {
@@ -686,7 +848,7 @@ fn closed_form<K: Kernel>(points: &PointSet, off: f64) -> f64 {
         diag += xi.iter().fold(1.0, |p, &a| p * K::pair(a, a).0);
     }
     assemble(
-        constant::<K>(points.s()),
+        K::constant(points.s()),
         single,
         diag,
         off,
@@ -706,32 +868,9 @@ pub fn squared_discrepancies(points: &PointSet, kinds: &[DiscrepancyKind]) -> Ve
     pair_product_sums(points, kinds)
         .into_iter()
         .zip(kinds)
-        .map(|(off, kind)| match kind {
-            DiscrepancyKind::StarL2 => closed_form::<Star>(points, off),
-            DiscrepancyKind::ModifiedL2 => closed_form::<Modified>(points, off),
-            DiscrepancyKind::CenteredL2 => closed_form::<Centered>(points, off),
-            DiscrepancyKind::WrapAroundL2 => closed_form::<Wrap>(points, off),
-            DiscrepancyKind::Smooth => closed_form::<Smooth>(points, off),
-            DiscrepancyKind::Curved => closed_form::<Curved>(points, off),
-        })
+        .map(|(off, &kind)| with_kernel!(kind, K => closed_form::<K>(points, off)))
         .collect()
 }
-
-/// The largest factor of a kernel's products (the pair factors and g): with
-/// [`Kernel::CONSTANT_BASE`] it bounds how large the terms of the closed form grow with s.
-fn largest_factor(kind: DiscrepancyKind) -> f64 {
-    match kind {
-        DiscrepancyKind::StarL2 => 1.0,
-        DiscrepancyKind::ModifiedL2 => 2.0,
-        DiscrepancyKind::CenteredL2 | DiscrepancyKind::WrapAroundL2 => 1.5,
-        DiscrepancyKind::Smooth => Smooth::LARGEST_FACTOR,
-        DiscrepancyKind::Curved => Curved::LARGEST_FACTOR,
-    }
-}
-
-/// The mixture's largest factor, h(½, ½) = 15/8. Its smallest, h(0, 1) = 11/8 (g is at
-/// least 71/48), is above 1, so its products only grow with s.
-const MIXTURE_LARGEST_FACTOR: f64 = 1.875;
 
 /// Whether base^s and every product of s factors of at most `largest` stay within e^±600.
 fn fits(base: f64, largest: f64, s: usize) -> bool {
@@ -743,20 +882,13 @@ fn fits(base: f64, largest: f64, s: usize) -> bool {
 /// base^s and every product of s factors within e^±600 (about 10^±260). Beyond, the
 /// terms overflow or vanish and [`discrepancy_root`] takes the logarithmic form.
 pub fn closed_form_fits(kind: DiscrepancyKind, s: usize) -> bool {
-    let base = match kind {
-        DiscrepancyKind::StarL2 => Star::CONSTANT_BASE,
-        DiscrepancyKind::ModifiedL2 => Modified::CONSTANT_BASE,
-        DiscrepancyKind::CenteredL2 => Centered::CONSTANT_BASE,
-        DiscrepancyKind::WrapAroundL2 => Wrap::CONSTANT_BASE,
-        DiscrepancyKind::Smooth | DiscrepancyKind::Curved => Smooth::CONSTANT_BASE,
-    };
-    fits(base, largest_factor(kind), s)
+    with_kernel!(kind, K => fits(K::CONSTANT_BASE, K::LARGEST_FACTOR, s))
 }
 
 /// [`closed_form_fits`] for the mixture discrepancy: s ≤ 954, where (15/8)^s, its
 /// largest product, is below e^600.
 pub fn mixture_closed_form_fits(s: usize) -> bool {
-    fits(Mixture::CONSTANT_BASE, MIXTURE_LARGEST_FACTOR, s)
+    fits(Mixture::CONSTANT_BASE, Mixture::LARGEST_FACTOR, s)
 }
 
 /// The squared mixture discrepancy (the table's last row): (19/12)^s − (2/n) Σ_i Π_k g +
@@ -833,19 +965,12 @@ pub fn discrepancy_root(points: &PointSet, kind: DiscrepancyKind) -> f64 {
 /// The logarithmic form of [`discrepancy_root`] at any dimension (slower: a logarithm
 /// per factor), for checking it against the plain form where both apply.
 pub fn discrepancy_root_by_logs(points: &PointSet, kind: DiscrepancyKind) -> f64 {
-    match kind {
-        DiscrepancyKind::StarL2 => root_by_logs::<Star>(points),
-        DiscrepancyKind::ModifiedL2 => root_by_logs::<Modified>(points),
-        DiscrepancyKind::CenteredL2 => root_by_logs::<Centered>(points),
-        DiscrepancyKind::WrapAroundL2 => root_by_logs::<Wrap>(points),
-        DiscrepancyKind::Smooth => root_by_logs::<Smooth>(points),
-        DiscrepancyKind::Curved => root_by_logs::<Curved>(points),
-    }
+    with_kernel!(kind, K => root_by_logs::<K>(points))
 }
 
 /// The closed form with each term as (sign × weight, ln of its product); see
 /// [`discrepancy_root`].
-fn root_by_logs<K: Kernel>(points: &PointSet) -> f64 {
+fn root_by_logs<K: DiscrepancyKernel>(points: &PointSet) -> f64 {
     let n = points.n() as f64;
     let s = points.s() as f64;
     let mut terms: Vec<(f64, f64)> = vec![(K::CONSTANT_SIGN, s * K::CONSTANT_BASE.ln())];
@@ -904,7 +1029,7 @@ fn centered_factor<V: Simd>(x: V, y: V, gx: V, gy: V) -> V {
 /// One kernel.
 struct Single<K>(PhantomData<K>);
 
-impl<K: Kernel> Kinds<1> for Single<K> {
+impl<K: Lanes> Kinds<1> for Single<K> {
     const HALF_GAP: bool = K::HALF_GAP;
     #[inline(always)]
     fn mul_factors<V: Simd>(x: V, y: V, gx: V, gy: V, p: &mut [V; 1]) {
@@ -971,14 +1096,7 @@ pub fn pair_product_sums(points: &PointSet, kinds: &[DiscrepancyKind]) -> Vec<f6
         [StarL2, ModifiedL2] => products::<StarModified, 2>(points).to_vec(),
         _ => kinds
             .iter()
-            .map(|k| match k {
-                StarL2 => products::<Single<Star>, 1>(points)[0],
-                ModifiedL2 => products::<Single<Modified>, 1>(points)[0],
-                CenteredL2 => products::<Single<Centered>, 1>(points)[0],
-                WrapAroundL2 => products::<Single<Wrap>, 1>(points)[0],
-                Smooth => products::<Single<self::Smooth>, 1>(points)[0],
-                Curved => products::<Single<self::Curved>, 1>(points)[0],
-            })
+            .map(|&k| with_kernel!(k, K => products::<Single<K>, 1>(points)[0]))
             .collect(),
     }
 }
@@ -1066,14 +1184,14 @@ struct GradPairs<K> {
     kernel: PhantomData<K>,
 }
 
-impl<K: Kernel> GradPairs<K> {
+impl<K: Lanes> GradPairs<K> {
     fn with_points(mut self, points: &PointSet) -> Self {
         self.xt = self.blocks.transpose(points.as_slice(), |v| v);
         self
     }
 }
 
-impl<K: Kernel> GradTiles for GradPairs<K> {
+impl<K: Lanes> GradTiles for GradPairs<K> {
     #[inline(always)]
     fn tile<V: Simd>(&self, a: usize, b: usize, ga: &mut [f64], mut gb: Option<&mut [f64]>) -> f64 {
         let bl = &self.blocks;
@@ -1246,11 +1364,11 @@ pub fn sampled_squared_discrepancies(
     use rayon::prelude::*;
     let (n, s) = (points.n(), points.s());
     let constant = [
-        constant::<Star>(s),
-        constant::<Modified>(s),
-        constant::<Centered>(s),
-        constant::<Wrap>(s),
-        constant::<Mixture>(s),
+        Star::constant(s),
+        Modified::constant(s),
+        Centered::constant(s),
+        Wrap::constant(s),
+        Mixture::constant(s),
     ];
     // ∫∫ K of each kernel: |C_s| (for the wrap-around L2, C_s = −(4/3)^s).
     let whole = constant.map(f64::abs);

@@ -30,9 +30,7 @@
 
 use std::io::Write;
 use std::time::Instant;
-use stillpoint::energies::discrepancy::{
-    DiscrepancyEnergy, DiscrepancyKind, CURVATURE_WEIGHT, SMOOTH_WEIGHT,
-};
+use stillpoint::energies::discrepancy::{DiscrepancyEnergy, DiscrepancyKernel, DiscrepancyKind};
 use stillpoint::energies::pairs::vector_path;
 use stillpoint::energies::{Distance, Energy, PointSet, Precision, Uqp};
 use stillpoint::quality::metrics::{self, Metrics};
@@ -91,53 +89,28 @@ pub fn naive_uqp_gradient(points: &PointSet, q: f64, p: f64, grad: &mut [f64]) -
     sum.powf(1.0 / p)
 }
 
-/// The smoothness-2 pair factor with `b2b2` the coefficient of B₂(x)B₂(y).
-fn smooth_factor(x: f64, y: f64, b2b2: f64) -> f64 {
-    let b2 = |t: f64| t * t - t + 1.0 / 6.0;
-    let e = (x - y).abs() * (1.0 - (x - y).abs());
-    1.0 + SMOOTH_WEIGHT
-        * ((x - 0.5) * (y - 0.5) + b2b2 * b2(x) * b2(y) + 1.0 / 720.0 - e * e / 24.0)
+/// The constant C_s (by `powi`, as a direct transcription takes it), g and h of a kernel,
+/// as plain functions: the naive loop calls them through pointers.
+type Factors = (f64, fn(f64) -> f64, fn(f64, f64) -> f64);
+
+fn factors<K: DiscrepancyKernel>(s: usize) -> Factors {
+    let single: fn(f64) -> f64 = if K::HAS_SINGLE {
+        K::single_factor
+    } else {
+        |_| 0.0
+    };
+    (
+        K::CONSTANT_SIGN * K::CONSTANT_BASE.powi(s as i32),
+        single,
+        K::pair_factor,
+    )
 }
 
-/// The squared star or centred L2 discrepancy as a plain double loop over all ordered
-/// pairs (i, l), one thread: the baseline of the vectorised half loop.
+/// The squared discrepancy of `kind` as a plain double loop over all ordered pairs (i, l),
+/// one thread: the baseline of the vectorised half loop.
 pub fn naive_discrepancy_squared(points: &PointSet, kind: DiscrepancyKind) -> f64 {
     let (n, s) = (points.n() as f64, points.s());
-    type Factors = (f64, fn(f64) -> f64, fn(f64, f64) -> f64);
-    let (constant, single, pair): Factors = match kind {
-        DiscrepancyKind::StarL2 => (
-            (1.0f64 / 3.0).powi(s as i32),
-            |x| 0.5 * (1.0 - x * x),
-            |x, y| 1.0 - x.max(y),
-        ),
-        DiscrepancyKind::ModifiedL2 => (
-            (4.0f64 / 3.0).powi(s as i32),
-            |x| 0.5 * (3.0 - x * x),
-            |x, y| 2.0 - x.max(y),
-        ),
-        DiscrepancyKind::CenteredL2 => (
-            (13.0f64 / 12.0).powi(s as i32),
-            |x| {
-                let a = (x - 0.5).abs();
-                1.0 + 0.5 * a - 0.5 * a * a
-            },
-            |x, y| 1.0 + 0.5 * (x - 0.5).abs() + 0.5 * (y - 0.5).abs() - 0.5 * (x - y).abs(),
-        ),
-        DiscrepancyKind::WrapAroundL2 => (
-            -(4.0f64 / 3.0).powi(s as i32),
-            |_| 0.0,
-            |x, y| {
-                let d = (x - y).abs();
-                1.5 - d * (1.0 - d)
-            },
-        ),
-        DiscrepancyKind::Smooth => (-1.0, |_| 0.0, |x, y| smooth_factor(x, y, 0.25)),
-        DiscrepancyKind::Curved => (
-            -1.0,
-            |_| 0.0,
-            |x, y| smooth_factor(x, y, CURVATURE_WEIGHT as f64 * 0.25),
-        ),
-    };
+    let (constant, single, pair) = stillpoint::energies::with_kernel!(kind, K => factors::<K>(s));
     let mut singles = 0.0;
     let mut pairs = 0.0;
     for a in points.rows() {

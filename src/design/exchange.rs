@@ -6,6 +6,7 @@
 //! Morris–Mitchell sum Σ d^{-q} over the type-aware distance (a space-filling design).
 
 use super::slices::{SliceCounts, Slices};
+use crate::energies::discrepancy::{Centered, DiscrepancyKernel};
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
@@ -17,14 +18,13 @@ const PROPOSALS_PER_VALUE: usize = 200;
 const WORK_CAP: f64 = 4e8;
 
 /// The centred L2 kernel's one-point factor and pair factor in one coordinate
-/// (Hickernell 1998): CD² = (13/12)^k − (2/n) Σ_i Π g(x_i) + (1/n²) Σ_{i,l} Π h(x_i, x_l).
+/// (Hickernell 1998): CD² = C^k − (2/n) Σ_i Π g(x_i) + (1/n²) Σ_{i,l} Π h(x_i, x_l).
 fn g(x: f64) -> f64 {
-    let a = (x - 0.5).abs();
-    1.0 + 0.5 * a - 0.5 * a * a
+    Centered::single_factor(x)
 }
 
 fn h(x: f64, y: f64) -> f64 {
-    1.0 + 0.5 * (x - 0.5).abs() + 0.5 * (y - 0.5).abs() - 0.5 * (x - y).abs()
+    Centered::pair_factor(x, y)
 }
 
 /// What the exchanges lower.
@@ -163,7 +163,7 @@ mod tests {
                     .product::<f64>();
             }
         }
-        (13.0f64 / 12.0).powi(k as i32) - 2.0 * s1 / n as f64 + s2 / (n * n) as f64
+        Centered::CONSTANT_BASE.powi(k as i32) - 2.0 * s1 / n as f64 + s2 / (n * n) as f64
     }
 
     #[test]

@@ -11,8 +11,7 @@
 
 use super::request::{Job, Resolved};
 use crate::config::{GenerateConfig, Goal};
-use crate::goals::integration::exchange::EXCHANGE_MAX_N;
-use crate::goals::integration::{Budget, Effort};
+use crate::quality::effort::{Budget, Effort, EXCHANGE_MAX_N};
 use crate::sequences::Baseline;
 
 /// The thread count the constants were measured with; a larger pool is taken to divide

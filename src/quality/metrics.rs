@@ -378,7 +378,7 @@ pub fn discrepancy_by_name(name: &str, kind: &str) -> Result<fn(&PointSet) -> f6
         Ok(DiscrepancyKind::ModifiedL2) => modified_l2,
         Ok(DiscrepancyKind::CenteredL2) => centered_l2,
         Ok(DiscrepancyKind::WrapAroundL2) => wrap_around_l2,
-        Ok(DiscrepancyKind::Smooth | DiscrepancyKind::Curved) | Err(_) => {
+        _ => {
             return Err(Error::invalid(
                 name,
                 kind,

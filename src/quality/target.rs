@@ -131,7 +131,7 @@ impl Target {
     /// descend is one scrambled Sobol' set, and its report's target is then estimated from
     /// random pairs, which the smooth error has no form for).
     pub fn default_for(n: usize, s: usize) -> Target {
-        use crate::goals::integration::{Budget, Effort};
+        use crate::quality::effort::{Budget, Effort};
         if s >= SMOOTH_FROM_S
             && n <= SMOOTH_MAX_N
             && Budget::of(n, s, &Effort::default()).descends()
@@ -162,9 +162,7 @@ impl Target {
     /// Whether the target has a smoothness-2 part, whose sets start from the lattice of
     /// the tent randomisation.
     pub fn is_smooth(&self) -> bool {
-        self.parts
-            .iter()
-            .any(|&(k, _)| matches!(k, DiscrepancyKind::Smooth | DiscrepancyKind::Curved))
+        self.parts.iter().any(|&(k, _)| k.smoothness() == 2)
     }
 
     /// Whether the target has the curved smoothness-2 part ([`Target::curved`]).
@@ -221,16 +219,11 @@ impl Target {
         self.parts
             .iter()
             .map(|&(k, w)| {
-                // The estimates are star, modified, centred, wrap-around (and mixture); the
-                // smoothness-2 errors have no sampled form, so they are summed exactly.
-                let v = match k {
-                    DiscrepancyKind::StarL2 => sampled[0].value,
-                    DiscrepancyKind::ModifiedL2 => sampled[1].value,
-                    DiscrepancyKind::CenteredL2 => sampled[2].value,
-                    DiscrepancyKind::WrapAroundL2 => sampled[3].value,
-                    DiscrepancyKind::Smooth | DiscrepancyKind::Curved => {
-                        squared_discrepancies(points, &[k])[0]
-                    }
+                // The estimates are the report's five squares; a kind without a sampled
+                // form (the smoothness-2 errors) is summed exactly.
+                let v = match k.reported() {
+                    Some(m) => sampled[m].value,
+                    None => squared_discrepancies(points, &[k])[0],
                 };
                 w * v
             })

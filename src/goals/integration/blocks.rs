@@ -15,7 +15,9 @@
 //! set it came from looks at. The changes are exact sums over all n points, so the report
 //! can state them without an O(n² s) evaluation of the set.
 
-use super::exchange::{Form, Swap};
+use super::exchange::{swap_delta, swap_sum, Swap};
+use crate::energies::discrepancy::{DiscrepancyKernel, DiscrepancyKind};
+use crate::energies::with_kernel;
 use crate::PointSet;
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -51,10 +53,10 @@ pub struct BlockOutcome {
     pub work: u64,
 }
 
-/// The state of the exchanges: the coordinates (by rows and by columns), each form's
+/// The state of the exchanges: the coordinates (by rows and by columns), each kind's
 /// single products, and the pair-product rows of the loaded block.
 struct Blocks {
-    forms: Vec<Form>,
+    kinds: Vec<DiscrepancyKind>,
     n: usize,
     s: usize,
     x: Vec<f64>,
@@ -63,32 +65,22 @@ struct Blocks {
     members: Vec<usize>,
     /// The slot of each point in `members`, or `usize::MAX`.
     slot: Vec<usize>,
-    /// Per form, the rows of the members: `rows[f][slot * n + l]`.
+    /// Per kind, the rows of the members: `rows[f][slot * n + l]`.
     rows: Vec<Vec<f64>>,
-    /// Per form, the sum of each member's row, for the rounding bound of a change.
+    /// Per kind, the sum of each member's row, for the rounding bound of a change.
     row_sums: Vec<Vec<f64>>,
 }
 
 impl Blocks {
-    fn new(points: &PointSet, forms: &[Form]) -> Blocks {
+    fn new(points: &PointSet, kinds: &[DiscrepancyKind]) -> Blocks {
         let (n, s) = (points.n(), points.s());
         let x = points.as_slice().to_vec();
-        let singles = forms
+        let singles = kinds
             .iter()
-            .map(|&f| {
-                (0..n)
-                    .map(|i| {
-                        if f.has_single() {
-                            x[i * s..(i + 1) * s].iter().map(|&v| f.g(v)).product()
-                        } else {
-                            0.0
-                        }
-                    })
-                    .collect()
-            })
+            .map(|&kind| with_kernel!(kind, K => singles::<K>(&x, n, s)))
             .collect();
         Blocks {
-            forms: forms.to_vec(),
+            kinds: kinds.to_vec(),
             n,
             s,
             columns: (0..s)
@@ -98,8 +90,8 @@ impl Blocks {
             singles,
             members: Vec::new(),
             slot: vec![usize::MAX; n],
-            rows: vec![Vec::new(); forms.len()],
-            row_sums: vec![Vec::new(); forms.len()],
+            rows: vec![Vec::new(); kinds.len()],
+            row_sums: vec![Vec::new(); kinds.len()],
         }
     }
 
@@ -114,21 +106,31 @@ impl Blocks {
         }
         self.members = members.to_vec();
         let (n, s) = (self.n, self.s);
-        for (f, &form) in self.forms.iter().enumerate() {
+        for (f, &kind) in self.kinds.iter().enumerate() {
             let rows = &mut self.rows[f];
             rows.resize(members.len() * n, 0.0);
             let (x, columns) = (&self.x, &self.columns);
-            rows.par_chunks_mut(n)
-                .zip(members)
-                .for_each(|(row, &i)| fill_row(form, &x[i * s..(i + 1) * s], columns, row));
+            with_kernel!(kind, K => rows.par_chunks_mut(n).zip(members).for_each(|(row, &i)| {
+                fill_row::<K>(&x[i * s..(i + 1) * s], columns, row)
+            }));
             self.row_sums[f] = rows.chunks(n).map(|r| r.iter().sum()).collect();
         }
     }
 
-    /// The change of form f's squared discrepancy if block members i and j swapped
+    /// The change of kind f's squared discrepancy if block members i and j swapped
     /// coordinate k (whose values differ), with a bound on its rounding.
     fn delta(&self, f: usize, i: usize, j: usize, k: usize) -> (f64, f64) {
-        let (n, s, form) = (self.n, self.s, self.forms[f]);
+        with_kernel!(self.kinds[f], K => self.delta_with::<K>(f, i, j, k))
+    }
+
+    fn delta_with<K: DiscrepancyKernel>(
+        &self,
+        f: usize,
+        i: usize,
+        j: usize,
+        k: usize,
+    ) -> (f64, f64) {
+        let (n, s) = (self.n, self.s);
         let (xi, xj) = (self.x[i * s + k], self.x[j * s + k]);
         let column = &self.columns[k * n..(k + 1) * n];
         let (ti, tj) = (self.slot[i], self.slot[j]);
@@ -138,7 +140,7 @@ impl Blocks {
             .par_chunks(CHUNK)
             .zip(pj.par_chunks(CHUNK))
             .zip(column.par_chunks(CHUNK))
-            .map(|((a, b), c)| form.swap_sum(xi, xj, a, b, c))
+            .map(|((a, b), c)| swap_sum::<K>(xi, xj, a, b, c))
             .collect::<Vec<f64>>()
             .iter()
             .sum();
@@ -149,7 +151,7 @@ impl Blocks {
             xj,
             singles: (self.singles[f][i], self.singles[f][j]),
         };
-        let delta = form.swap_delta(&swap, pi, pj, column, sum);
+        let delta = swap_delta::<K>(&swap, pi, pj, column, sum);
         // The sum's terms are about as large as the rows' entries; its rounding is far
         // below a few hundred ulps of their total (chunked, so about √n of them at worst
         // in practice). The single products' part is bounded alike.
@@ -163,56 +165,64 @@ impl Blocks {
     /// Swaps coordinate k of block members i and j: their rows, the other members'
     /// entries of i and j, the single products and the coordinates.
     fn swap(&mut self, i: usize, j: usize, k: usize) {
+        for f in 0..self.kinds.len() {
+            with_kernel!(self.kinds[f], K => self.swap_rows::<K>(f, i, j, k));
+        }
+        let (n, s) = (self.n, self.s);
+        self.x.swap(i * s + k, j * s + k);
+        self.columns.swap(k * n + i, k * n + j);
+    }
+
+    /// The part of [`Blocks::swap`] of kind f: its rows and single products.
+    fn swap_rows<K: DiscrepancyKernel>(&mut self, f: usize, i: usize, j: usize, k: usize) {
         let (n, s) = (self.n, self.s);
         let (xi, xj) = (self.x[i * s + k], self.x[j * s + k]);
         let (ti, tj) = (self.slot[i], self.slot[j]);
         let column = &self.columns[k * n..(k + 1) * n];
-        for (f, &form) in self.forms.iter().enumerate() {
-            if form.has_single() {
-                let singles = &mut self.singles[f];
-                singles[i] *= form.g(xj) / form.g(xi);
-                singles[j] *= form.g(xi) / form.g(xj);
-            }
-            let rows = &mut self.rows[f];
-            let (hii, hjj) = (form.h(xi, xi), form.h(xj, xj));
-            for (t, &m) in self.members.iter().enumerate() {
-                if m == i || m == j {
-                    continue;
-                }
-                let xm = column[m];
-                let (hi, hj) = (form.h(xi, xm), form.h(xj, xm));
-                rows[t * n + i] *= hj / hi;
-                rows[t * n + j] *= hi / hj;
-            }
-            let (lo, hi_rows) = rows.split_at_mut(ti.max(tj) * n);
-            let (row_a, row_b) = (
-                &mut lo[ti.min(tj) * n..(ti.min(tj) + 1) * n],
-                &mut hi_rows[..n],
-            );
-            let (ri, rj) = if ti < tj {
-                (row_a, row_b)
-            } else {
-                (row_b, row_a)
-            };
-            // The pair (i, j) keeps its product (h is symmetric) and the diagonal takes
-            // h(x, x) factors: the loop below would rescale them like the others.
-            let (pij, pii, pjj) = (ri[j], ri[i], rj[j]);
-            ri.par_chunks_mut(CHUNK)
-                .zip(rj.par_chunks_mut(CHUNK))
-                .zip(column.par_chunks(CHUNK))
-                .for_each(|((a, b), c)| {
-                    for ((p, q), &xl) in a.iter_mut().zip(b.iter_mut()).zip(c) {
-                        let (hi, hj) = (form.h(xi, xl), form.h(xj, xl));
-                        *p *= hj / hi;
-                        *q *= hi / hj;
-                    }
-                });
-            (ri[j], rj[i]) = (pij, pij);
-            ri[i] = pii * (hjj / hii);
-            rj[j] = pjj * (hii / hjj);
+        let h = K::pair_factor;
+        if K::HAS_SINGLE {
+            let g = K::single_factor;
+            let singles = &mut self.singles[f];
+            singles[i] *= g(xj) / g(xi);
+            singles[j] *= g(xi) / g(xj);
         }
-        self.x.swap(i * s + k, j * s + k);
-        self.columns.swap(k * n + i, k * n + j);
+        let rows = &mut self.rows[f];
+        let (hii, hjj) = (h(xi, xi), h(xj, xj));
+        for (t, &m) in self.members.iter().enumerate() {
+            if m == i || m == j {
+                continue;
+            }
+            let xm = column[m];
+            let (hi, hj) = (h(xi, xm), h(xj, xm));
+            rows[t * n + i] *= hj / hi;
+            rows[t * n + j] *= hi / hj;
+        }
+        let (lo, hi_rows) = rows.split_at_mut(ti.max(tj) * n);
+        let (row_a, row_b) = (
+            &mut lo[ti.min(tj) * n..(ti.min(tj) + 1) * n],
+            &mut hi_rows[..n],
+        );
+        let (ri, rj) = if ti < tj {
+            (row_a, row_b)
+        } else {
+            (row_b, row_a)
+        };
+        // The pair (i, j) keeps its product (h is symmetric) and the diagonal takes
+        // h(x, x) factors: the loop below would rescale them like the others.
+        let (pij, pii, pjj) = (ri[j], ri[i], rj[j]);
+        ri.par_chunks_mut(CHUNK)
+            .zip(rj.par_chunks_mut(CHUNK))
+            .zip(column.par_chunks(CHUNK))
+            .for_each(|((a, b), c)| {
+                for ((p, q), &xl) in a.iter_mut().zip(b.iter_mut()).zip(c) {
+                    let (hi, hj) = (h(xi, xl), h(xj, xl));
+                    *p *= hj / hi;
+                    *q *= hi / hj;
+                }
+            });
+        (ri[j], rj[i]) = (pij, pij);
+        ri[i] = pii * (hjj / hii);
+        rj[j] = pjj * (hii / hjj);
     }
 
     fn points(&self) -> PointSet {
@@ -220,41 +230,47 @@ impl Blocks {
     }
 }
 
-/// One row of pair products Π_k h(x_k, c_kl) over the points l, coordinate by coordinate
-/// (the form dispatched outside the loops, which vectorise).
-fn fill_row(form: Form, xi: &[f64], columns: &[f64], row: &mut [f64]) {
-    fn fill(xi: &[f64], columns: &[f64], row: &mut [f64], h: impl Fn(f64, f64) -> f64) {
-        let n = row.len();
-        row.fill(1.0);
-        for (k, &v) in xi.iter().enumerate() {
-            for (p, &c) in row.iter_mut().zip(&columns[k * n..(k + 1) * n]) {
-                *p *= h(v, c);
+/// The single products Π_k g(x_ik) of the n points `x` (rows of s), 0 for a kernel
+/// without the single sum.
+fn singles<K: DiscrepancyKernel>(x: &[f64], n: usize, s: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| {
+            if K::HAS_SINGLE {
+                x[i * s..(i + 1) * s]
+                    .iter()
+                    .map(|&v| K::single_factor(v))
+                    .product()
+            } else {
+                0.0
             }
+        })
+        .collect()
+}
+
+/// One row of pair products Π_k h(x_k, c_kl) over the points l, coordinate by coordinate
+/// (the kernel known at compile time, so the loops vectorise).
+fn fill_row<K: DiscrepancyKernel>(xi: &[f64], columns: &[f64], row: &mut [f64]) {
+    let n = row.len();
+    row.fill(1.0);
+    for (k, &v) in xi.iter().enumerate() {
+        for (p, &c) in row.iter_mut().zip(&columns[k * n..(k + 1) * n]) {
+            *p *= K::pair_factor(v, c);
         }
-    }
-    match form {
-        Form::Star => fill(xi, columns, row, |x, y| 1.0 - x.max(y)),
-        Form::Modified => fill(xi, columns, row, |x, y| 2.0 - x.max(y)),
-        Form::Centered => fill(xi, columns, row, |x, y| Form::Centered.h(x, y)),
-        Form::WrapAround => fill(xi, columns, row, |x, y| Form::WrapAround.h(x, y)),
-        Form::Mixture => fill(xi, columns, row, |x, y| Form::Mixture.h(x, y)),
-        Form::Smooth => fill(xi, columns, row, |x, y| Form::Smooth.h(x, y)),
-        Form::Curved => fill(xi, columns, row, |x, y| Form::Curved.h(x, y)),
     }
 }
 
 /// Swaps between points of blocks, each accepted only when it lowers every one of
-/// `forms` beyond rounding, until `work` (products of one pair factor) is spent or a stop
+/// `kinds` beyond rounding, until `work` (products of one pair factor) is spent or a stop
 /// is requested. `points` must lie in [0, 1)^s (where every h is positive). Deterministic
 /// for a seed, whatever the thread count.
 pub fn block_exchanges(
     points: &PointSet,
-    forms: &[Form],
+    kinds: &[DiscrepancyKind],
     work: u64,
     seed: u64,
 ) -> (PointSet, BlockOutcome) {
     let (n, s) = (points.n(), points.s());
-    let per_row = (n * forms.len().max(1) * 8) as u64;
+    let per_row = (n * kinds.len().max(1) * 8) as u64;
     let b = ((BLOCK_BYTES as u64 / per_row) as usize)
         .clamp(2, BLOCK_MAX)
         .min(n);
@@ -263,20 +279,20 @@ pub fn block_exchanges(
         blocks: 0,
         proposals: 0,
         accepted: 0,
-        changes: vec![0.0; forms.len()],
+        changes: vec![0.0; kinds.len()],
         work: 0,
     };
-    if n < 2 || s == 0 || forms.is_empty() {
+    if n < 2 || s == 0 || kinds.is_empty() {
         return (points.clone(), outcome);
     }
-    let mut state = Blocks::new(points, forms);
+    let mut state = Blocks::new(points, kinds);
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed ^ 0x426c_6f63_6b73);
     let (load_cost, proposal_cost) = (
-        (b * n * s * forms.len()) as u64,
-        (2 * n * forms.len()) as u64,
+        (b * n * s * kinds.len()) as u64,
+        (2 * n * kinds.len()) as u64,
     );
     let form_cost = 2 * n as u64;
-    let mut refusals = vec![0usize; forms.len()];
+    let mut refusals = vec![0usize; kinds.len()];
     while outcome.work + load_cost + proposal_cost <= work {
         if crate::solve::cancelled() {
             break;
@@ -300,9 +316,9 @@ pub fn block_exchanges(
             outcome.proposals += 1;
             // Every form must fall: the one that refused most often so far is asked
             // first, and a refusal ends the proposal (most are refused, most by one form).
-            let mut order: Vec<usize> = (0..forms.len()).collect();
+            let mut order: Vec<usize> = (0..kinds.len()).collect();
             order.sort_by_key(|&f| std::cmp::Reverse(refusals[f]));
-            let mut deltas = vec![0.0; forms.len()];
+            let mut deltas = vec![0.0; kinds.len()];
             let mut refused = false;
             for &f in &order {
                 outcome.work += form_cost;
@@ -338,20 +354,22 @@ mod tests {
     }
 
     #[test]
-    fn the_stated_changes_are_the_recomputed_ones_and_every_form_falls() {
-        let forms = [Form::Modified, Form::Star, Form::Centered];
+    fn the_stated_changes_are_the_recomputed_ones_and_every_kind_falls() {
+        use DiscrepancyKind::*;
+        let kinds = [ModifiedL2, StarL2, CenteredL2];
+        let squared = |p: &PointSet, kind| with_kernel!(kind, K => squared::<K>(p));
         for (n, s) in [(300, 3), (257, 6)] {
             let p = start(n, s);
-            let (q, o) = block_exchanges(&p, &forms, 2_000_000_000, 7);
+            let (q, o) = block_exchanges(&p, &kinds, 2_000_000_000, 7);
             assert!(o.accepted > 0, "n = {n}: {o:?}");
             assert!(crate::quality::stratification::is_stratified(&q));
-            for (f, &form) in forms.iter().enumerate() {
-                let (before, after) = (squared(&p, form), squared(&q, form));
-                assert!(after < before, "{form:?}: {after} vs {before}");
+            for (f, &kind) in kinds.iter().enumerate() {
+                let (before, after) = (squared(&p, kind), squared(&q, kind));
+                assert!(after < before, "{kind:?}: {after} vs {before}");
                 let change = after - before;
                 assert!(
                     (change - o.changes[f]).abs() <= 1e-9 * change.abs(),
-                    "{form:?}: recomputed {change:e}, stated {:e}",
+                    "{kind:?}: recomputed {change:e}, stated {:e}",
                     o.changes[f]
                 );
             }
@@ -361,13 +379,13 @@ mod tests {
     #[test]
     fn the_same_bits_for_any_thread_count_and_the_work_cap_holds() {
         let p = start(9000, 2);
-        let forms = [Form::Modified, Form::Centered];
+        let kinds = [DiscrepancyKind::ModifiedL2, DiscrepancyKind::CenteredL2];
         let run = |threads| {
             rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
                 .unwrap()
-                .install(|| block_exchanges(&p, &forms, 400_000_000, 11))
+                .install(|| block_exchanges(&p, &kinds, 400_000_000, 11))
         };
         let (a, oa) = run(1);
         let (b, ob) = run(3);

@@ -29,10 +29,11 @@ use crate::energies::discrepancy::{squared_discrepancies, DiscrepancyEnergy, Dis
 use crate::energies::fixed::WithFixed;
 use crate::energies::shapes::BoxRegion;
 use crate::energies::Energy;
-use crate::goals::integration::exchange::{Exchange, Form, EXCHANGE_MAX_N};
+use crate::goals::integration::exchange::Exchange;
 use crate::integrators::lbfgs::Lbfgs;
 use crate::integrators::{Problem, Record, StopReason};
 use crate::post::randomize::Randomize;
+use crate::quality::effort::{Budget, Effort, EXCHANGE_MAX_N, ROUND_OVERHEAD};
 use crate::quality::stratification::{cell_of, in_cell, is_stratified};
 use crate::quality::target::Target;
 use crate::report::{Candidate, Descent, Round};
@@ -262,29 +263,29 @@ fn cell_descent(
 }
 
 /// Greedy exchanges: up to `proposals` swaps of one coordinate between two points, each
-/// kept when it lowers the weighted sum of the squared discrepancies `forms`. Half the partners are drawn among
+/// kept when it lowers the weighted sum of the squared discrepancies `kinds`. Half the partners are drawn among
 /// the nearest cells of the column (where late improvements are), half anywhere. Stops
 /// early after `n·s` proposals in a row without a gain. Keeps a stratified set
 /// stratified; deterministic for a seed. n at most [`EXCHANGE_MAX_N`] (larger sets are
 /// returned unchanged).
 pub fn exchange_descent(
     points: &PointSet,
-    forms: &[(Form, f64)],
+    kinds: &[(DiscrepancyKind, f64)],
     proposals: usize,
     seed: u64,
 ) -> PointSet {
-    exchange_descent_after(points, 0, forms, proposals, seed)
+    exchange_descent_after(points, 0, kinds, proposals, seed)
 }
 
 /// [`exchange_descent`] among the points from index `first_movable` on only.
 pub fn exchange_descent_after(
     points: &PointSet,
     first_movable: usize,
-    forms: &[(Form, f64)],
+    kinds: &[(DiscrepancyKind, f64)],
     proposals: usize,
     seed: u64,
 ) -> PointSet {
-    exchanges_counted(points, first_movable, forms, proposals, seed).0
+    exchanges_counted(points, first_movable, kinds, proposals, seed).0
 }
 
 /// [`exchange_descent_after`], with the proposals it evaluated and the swaps it accepted
@@ -293,17 +294,17 @@ pub fn exchange_descent_after(
 fn exchanges_counted(
     points: &PointSet,
     first_movable: usize,
-    forms: &[(Form, f64)],
+    kinds: &[(DiscrepancyKind, f64)],
     proposals: usize,
     seed: u64,
 ) -> (PointSet, usize, usize) {
     let (n, s) = (points.n(), points.s());
-    if !(2..=EXCHANGE_MAX_N).contains(&n) || forms.is_empty() || first_movable + 2 > n {
+    if !(2..=EXCHANGE_MAX_N).contains(&n) || kinds.is_empty() || first_movable + 2 > n {
         return (points.clone(), 0, 0);
     }
-    let mut states: Vec<(Exchange, f64)> = forms
+    let mut states: Vec<(Exchange, f64)> = kinds
         .iter()
-        .map(|&(f, w)| (Exchange::new(points, f), w))
+        .map(|&(k, w)| (Exchange::new(points, k), w))
         .collect();
     let total =
         |states: &[(Exchange, f64)]| -> f64 { states.iter().map(|(e, w)| w * e.value()).sum() };
@@ -365,113 +366,6 @@ fn exchanges_counted(
         }
     }
     (states[0].0.points(), evaluated, accepted)
-}
-
-/// How much work [`integration_set`] spends.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Effort {
-    /// Scrambled Sobol' starts (scrambled Halton is one more).
-    pub starts: usize,
-    /// Rounds of exchanges then offsets.
-    pub rounds: usize,
-    /// Exchange proposals per round, per point and coordinate.
-    pub proposals: usize,
-    /// L-BFGS iterations per round.
-    pub lbfgs_steps: usize,
-    /// A cap on the exchange work of the whole run, in pair-factor updates (one proposal
-    /// costs n per discrepancy of the target, about 2.5 ns each on one core): what keeps
-    /// the largest sets within seconds.
-    pub exchange_work: u64,
-    /// A cap on the L-BFGS work of the whole run, and through it on the starts compared,
-    /// in pairs × coordinates × iterations (see [`Budget`]).
-    pub work: u64,
-    /// Where no L-BFGS iteration fits the cap, the work of the block exchanges that run
-    /// instead ([`super::blocks`]), in pair-factor products.
-    pub block_work: u64,
-    /// How the target is evaluated where no descent runs (exact, or estimated above a
-    /// size): the values a report shows, not what the run compares.
-    pub sums: crate::quality::metrics::Sums,
-}
-
-impl Effort {
-    /// The block exchanges' work for n points: `block_work`, shrinking as 1/n above
-    /// [`BLOCKS_FADE_FROM`] (a proposal costs O(n) and a block holds fewer points, so the
-    /// same time buys less, while the rest of a run of 10⁶ points stays about a minute).
-    pub fn block_work_at(&self, n: usize) -> u64 {
-        (self.block_work as f64 * (BLOCKS_FADE_FROM as f64 / n.max(1) as f64).min(1.0)) as u64
-    }
-}
-
-impl Default for Effort {
-    fn default() -> Self {
-        Effort {
-            starts: 8,
-            rounds: 3,
-            proposals: 20,
-            lbfgs_steps: 30,
-            exchange_work: 3_000_000_000,
-            // Three rounds of 30 iterations up to n = 8 192 at s = 5 (n²·s = 3.4·10⁸),
-            // which took 31 s on the 2-core machine: about 1 ns per unit.
-            work: 35_000_000_000,
-            // About as long as the L-BFGS cap where it stops fitting (no cliff in time at
-            // that n): about 0.6 ns per product on the 2-core machine.
-            block_work: 60_000_000_000,
-            sums: crate::quality::metrics::Sums::AUTO,
-        }
-    }
-}
-
-/// What the work cap of an [`Effort`] allows for n points in s dimensions. One L-BFGS
-/// iteration on the blended target costs about n²·s units (value and gradient of its
-/// discrepancies, with the line search), and each round about [`ROUND_OVERHEAD`]
-/// iterations more (its start, its end and the target's normalisation); one evaluation of
-/// the target to compare a start costs about n²·s·2/5. Above [`EXCHANGE_MAX_N`] points,
-/// where no exchanges run between rounds, there is one round. The rounds get the whole cap, the
-/// start comparisons a third of it more, so a run's cost grows smoothly with n and the
-/// descent fades out (fewer iterations, fewer rounds, then fewer starts) instead of
-/// stopping at one n.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Budget {
-    /// Rounds of exchanges then L-BFGS.
-    pub rounds: usize,
-    /// L-BFGS iterations per round.
-    pub steps: usize,
-    /// Candidate starts to compare (Sobol' sets, then Halton), at least 1.
-    pub starts: usize,
-}
-
-/// The cost of a round of the descent beyond its iterations, in iterations.
-pub const ROUND_OVERHEAD: usize = 3;
-
-impl Budget {
-    /// The budget of `effort` at n points in s dimensions.
-    pub fn of(n: usize, s: usize, effort: &Effort) -> Budget {
-        let unit = (n as u128 * n as u128 * s as u128).max(1);
-        let available = (u128::from(effort.work) / unit).min(1 << 20) as usize;
-        let fits = available / (1 + ROUND_OVERHEAD);
-        // Without exchanges between them (their tables stop at EXCHANGE_MAX_N), rounds
-        // would only restart L-BFGS: one round gets every iteration instead.
-        let (rounds, most) = if n > EXCHANGE_MAX_N {
-            (fits.min(1), effort.rounds * effort.lbfgs_steps)
-        } else {
-            (effort.rounds.min(fits), effort.lbfgs_steps)
-        };
-        let steps = available
-            .checked_div(rounds)
-            .map_or(0, |per| (per - ROUND_OVERHEAD).min(most));
-        let comparable = u128::from(effort.work) * 5 / (6 * unit);
-        let starts = comparable.clamp(1, effort.starts as u128 + 1) as usize;
-        Budget {
-            rounds,
-            steps,
-            starts,
-        }
-    }
-
-    /// Whether the descent runs at all (at least one L-BFGS iteration fits).
-    pub fn descends(&self) -> bool {
-        self.steps > 0
-    }
 }
 
 /// What [`integration_set`] did, for reports.
@@ -810,21 +704,16 @@ fn descend(
         }
         let target = target.normalised_at(&points);
         let lbfgs = Lbfgs::default();
-        let forms: Vec<(Form, f64)> = target
-            .parts
-            .iter()
-            .map(|&(k, w)| (Form::from(k), w))
-            .collect();
         let moving = (n - first_movable) as u64;
         let rounds = budget.rounds.max(1) as u64;
-        let affordable = effort.exchange_work / (rounds * forms.len() as u64 * n as u64);
+        let affordable = effort.exchange_work / (rounds * target.parts.len() as u64 * n as u64);
         let proposals = (effort.proposals as u64 * moving * s as u64).min(affordable) as usize;
         for round in 0..budget.rounds {
             crate::solve::stop_if_cancelled()?;
             let (exchanged, proposals, accepted) = exchanges_counted(
                 &points,
                 first_movable,
-                &forms,
+                &target.parts,
                 proposals,
                 sequences::stream_seed(seed, 1000 + round as u64),
             );
@@ -848,10 +737,6 @@ fn descend(
     Ok((points, descent))
 }
 
-/// Above this many points the block exchanges get less work, as 1/n: a proposal costs
-/// O(n) and a block holds fewer points, so the same time buys less.
-pub const BLOCKS_FADE_FROM: usize = 200_000;
-
 /// Where no round of the descent fits, the block exchanges of [`super::blocks`] on the
 /// balanced set (swaps keep every column's values, so its balance too), within the
 /// effort's block work; `None` when they cannot run (the target's products leave the
@@ -865,10 +750,13 @@ fn block_pass(
     if points.n() < 2 || !target.fits(points.s()) || effort.block_work == 0 {
         return (points.clone(), None);
     }
-    let forms: Vec<Form> = target.parts.iter().map(|&(k, _)| Form::from(k)).collect();
     let work = effort.block_work_at(points.n());
-    let (p, o) =
-        super::blocks::block_exchanges(points, &forms, work, sequences::stream_seed(seed, 2000));
+    let (p, o) = super::blocks::block_exchanges(
+        points,
+        &target.kinds(),
+        work,
+        sequences::stream_seed(seed, 2000),
+    );
     let changes = target
         .parts
         .iter()
@@ -1325,11 +1213,15 @@ mod tests {
     #[test]
     fn exchanges_descend_and_keep_the_stratification() {
         let p = sequences::lhs(60, 4, 3).unwrap();
-        let q = exchange_descent(&p, &[(Form::Centered, 1.0)], 5000, 1);
+        let q = exchange_descent(&p, &[(DiscrepancyKind::CenteredL2, 1.0)], 5000, 1);
         assert!(is_stratified(&q));
         let (a, b) = (
-            crate::goals::integration::exchange::squared(&p, Form::Centered),
-            crate::goals::integration::exchange::squared(&q, Form::Centered),
+            crate::goals::integration::exchange::squared::<crate::energies::discrepancy::Centered>(
+                &p,
+            ),
+            crate::goals::integration::exchange::squared::<crate::energies::discrepancy::Centered>(
+                &q,
+            ),
         );
         assert!(b < 0.8 * a, "{a} → {b}");
     }

@@ -11,13 +11,13 @@ pub mod tent;
 pub use descent::{
     center_columns, center_columns_after, descend_in_cells, descend_in_cells_after,
     exchange_descent, exchange_descent_after, extend_set, integration_set, nested_run, nested_set,
-    stratify, Budget, Effort, Extension, Nested, Outcome, BLOCKS_FADE_FROM, GUARD_SOBOL_SETS,
-    ROUND_OVERHEAD, SOBOL_NET_FROM_N,
+    stratify, Extension, Nested, Outcome, GUARD_SOBOL_SETS, SOBOL_NET_FROM_N,
 };
 
 use crate::config::GenerateConfig;
 use crate::energies::PointSet;
 use crate::goals::goal_report;
+use crate::quality::effort::Effort;
 use crate::quality::metrics::{Metrics, Sums};
 use crate::quality::stratification::is_stratified;
 use crate::quality::target::Target;
@@ -71,7 +71,7 @@ pub(crate) fn integration_run(
         name: "stratified descent",
         steps: None,
     });
-    let effort = crate::goals::integration::Effort {
+    let effort = Effort {
         sums: cfg.sums,
         ..Default::default()
     };
