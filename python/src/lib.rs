@@ -20,6 +20,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
 
 use std::collections::HashMap;
+use stillpoint::pipeline::options::{self as declared, OPTIONS};
 use stillpoint::pipeline::{Arg, Event, Request, Resolved};
 use stillpoint::sequences::Baseline;
 use stillpoint::{metrics, PointSet};
@@ -204,19 +205,26 @@ fn arg(key: &str, v: &Bound<'_, PyAny>) -> PyResult<Option<Arg>> {
     )))
 }
 
-/// The request of a call: every keyword argument through [`Request::set`], `d` as `s`.
+/// The request of a call: every keyword argument through [`Request::set`], each named by
+/// its Python keyword ([`stillpoint::pipeline::options::OPTIONS`]); `names` and
+/// `progress` are this front end's own.
 fn request(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Request> {
     let mut r = Request::default();
     if let Some(dict) = kwargs {
         for (k, v) in dict.iter() {
             let key: String = k.extract()?;
-            let name = match key.as_str() {
-                "d" => "s",
-                "names" | "progress" => continue,
-                other => other,
-            };
+            if key == "names" || key == "progress" {
+                continue;
+            }
+            let declared = declared::by_python(&key).ok_or_else(|| {
+                let accepted: Vec<&str> = OPTIONS.iter().filter_map(|d| d.python).collect();
+                value_error(format!(
+                    "invalid keyword argument = {key}: expected one of {}",
+                    accepted.join(", ")
+                ))
+            })?;
             if let Some(value) = arg(&key, &v)? {
-                r.set(name, value)
+                r.set(declared.name, value)
                     .map_err(|e| value_error(spell_error(e, &HashMap::new())))?;
             }
         }
@@ -224,16 +232,12 @@ fn request(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Request> {
     Ok(r)
 }
 
-/// Python's spelling of a parameter: `d` for the dimension, `box` for the bounding box,
-/// and the caller's own names where a wrapper renames one (`m`, `sizes`).
+/// Python's spelling of a parameter (its keyword argument in the option table), or the
+/// caller's own name where a wrapper renames one (`m`, `sizes`).
 fn spell(name: &str, renamed: &HashMap<String, String>) -> String {
-    if let Some(r) = renamed.get(name) {
-        return r.clone();
-    }
-    match name {
-        "s" => "d".into(),
-        "bbox" => "box".into(),
-        other => other.into(),
+    match renamed.get(name) {
+        Some(r) => r.clone(),
+        None => declared::python_name(name),
     }
 }
 
@@ -544,6 +548,26 @@ fn integrate_json(py: Python<'_>, x: PyReadonlyArray2<'_, f64>) -> PyResult<Stri
     })
 }
 
+/// Every option of `generate` as declared once in the library: a list of dicts with
+/// `name` (the library's), `cli` (the command line's flag), `python` (the keyword
+/// argument, `None` where Python has none), `doc` (one line) and `groups`.
+#[pyfunction]
+fn options<'py>(py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    OPTIONS
+        .iter()
+        .map(|d| {
+            let row = PyDict::new(py);
+            row.set_item("name", d.name)?;
+            row.set_item("cli", d.cli)?;
+            row.set_item("python", d.python)?;
+            row.set_item("doc", d.doc)?;
+            let groups: Vec<&str> = d.groups.iter().map(|g| g.name()).collect();
+            row.set_item("groups", groups)?;
+            Ok(row)
+        })
+        .collect()
+}
+
 /// The extension module.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -561,5 +585,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(integrate_json, m)?)?;
     m.add_function(wrap_pyfunction!(randomize, m)?)?;
     m.add_function(wrap_pyfunction!(tent_set, m)?)?;
+    m.add_function(wrap_pyfunction!(options, m)?)?;
     Ok(())
 }
