@@ -23,7 +23,7 @@ use std::collections::HashMap;
 use stillpoint::pipeline::options::{self as declared, OPTIONS};
 use stillpoint::pipeline::{Arg, Event, Request, Resolved};
 use stillpoint::sequences::Baseline;
-use stillpoint::{metrics, PointSet};
+use stillpoint::PointSet;
 
 /// A refusal as Python sees it.
 fn value_error(message: impl std::fmt::Display) -> PyErr {
@@ -519,11 +519,41 @@ fn constrained_metrics_json(
     })
 }
 
+/// The figures of points `x` as `stillpoint eval --json` prints them, as JSON text: the
+/// keyword arguments make `eval`'s request (`exact`, `bounds`, `region`, `box`, `shape`,
+/// `constraints`, `mixture`), which the library resolves and refuses by keyword.
+#[pyfunction]
+#[pyo3(signature = (x, **kwargs))]
+fn metrics(
+    py: Python<'_>,
+    x: PyReadonlyArray2<'_, f64>,
+    kwargs: Option<&Bound<'_, PyDict>>,
+) -> PyResult<String> {
+    let none = HashMap::new();
+    let measure = request(kwargs)?
+        .resolve_eval_as(&|n| spell(n, &none))
+        .map_err(|e| value_error(spell_error(e, &none)))?;
+    let p = point_set("x", &x)?;
+    detached(py, move || {
+        let spell = |n: &str| spell(n, &HashMap::new());
+        let p = measure
+            .unit_points(p, "x", &spell)
+            .map_err(|e| spell_error(e, &HashMap::new()))?;
+        if let stillpoint::pipeline::Measure::Cube { .. } = measure {
+            p.check_unit_cube().map_err(|e| format!("x: {e}"))?;
+        }
+        let v = measure
+            .json(&p, &spell)
+            .map_err(|e| spell_error(e, &HashMap::new()))?;
+        serde_json::to_string(&v).map_err(|e| e.to_string())
+    })
+}
+
 /// One L2 discrepancy (the root): `l2star`, `md` (modified), `cd` (centred) or `wd`
 /// (wrap-around).
 #[pyfunction]
 fn discrepancy(py: Python<'_>, x: PyReadonlyArray2<'_, f64>, kind: &str) -> PyResult<f64> {
-    let f = metrics::discrepancy_by_name("kind", kind).map_err(value_error)?;
+    let f = stillpoint::metrics::discrepancy_by_name("kind", kind).map_err(value_error)?;
     let p = unit_points("x", &x)?;
     detached(py, move || Ok(f(&p)))
 }
@@ -586,5 +616,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(randomize, m)?)?;
     m.add_function(wrap_pyfunction!(tent_set, m)?)?;
     m.add_function(wrap_pyfunction!(options, m)?)?;
+    m.add_function(wrap_pyfunction!(metrics, m)?)?;
     Ok(())
 }

@@ -5,6 +5,7 @@
 //! [`generate`], [`paper`] and [`region`] are the one-call entry points.
 
 pub mod estimate;
+pub mod evaluation;
 pub mod options;
 pub mod request;
 
@@ -20,6 +21,7 @@ pub use crate::solve::checkpoint::{
     CHECKPOINT_VERSION,
 };
 pub use crate::solve::{Event, LoggingObserver};
+pub use evaluation::Measure;
 pub use request::*;
 
 /// The default set: `n` points in [0, 1)^`s` for integration, stratified in every
