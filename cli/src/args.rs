@@ -290,23 +290,13 @@ pub(crate) enum Command {
         exact: bool,
         /// Measure the points in the region {x : g(x) ≤ 0} (with --box), as in generate:
         /// energy distance to uniform on it, minimum distance, share inside.
-        #[arg(
-            long,
-            value_name = "EXPR",
-            allow_hyphen_values = true,
-            conflicts_with = "bounds"
-        )]
+        #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
         region: Option<String>,
         /// The bounding box of --region (or of a polytope): LO1,HI1,LO2,HI2,...
         #[arg(long = "box", value_name = "LO1,HI1,...", allow_hyphen_values = true)]
         bbox: Option<String>,
         /// Measure the points in a built-in region, as in generate.
-        #[arg(
-            long,
-            value_name = "SHAPE",
-            allow_hyphen_values = true,
-            conflicts_with = "bounds"
-        )]
+        #[arg(long, value_name = "SHAPE", allow_hyphen_values = true)]
         shape: Option<String>,
         /// Measure a design written by `generate --var ...` (labels and all): the same
         /// variables, repeatable; the file's values are mapped back to the unit scale.
@@ -417,4 +407,97 @@ pub(crate) enum Command {
         #[arg(long, default_value_t = 5, value_name = "K")]
         reps: usize,
     },
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+    use stillpoint::pipeline::options::{Group, OPTIONS};
+
+    /// The flags of `generate` and `eval` that set no option of the request, each with
+    /// why it is the command line's own.
+    const FRONT_END: [(&str, &str); 9] = [
+        ("--output", "where the points are written"),
+        ("--json", "how the report is printed"),
+        ("--quiet", "whether progress is shown"),
+        ("--progress", "how progress is shown"),
+        ("--plot", "a picture drawn from the result"),
+        (
+            "--threads",
+            "the size of the thread pool, which changes no byte",
+        ),
+        (
+            "--checkpoint-every",
+            "how often the checkpoint file is written, which changes no byte",
+        ),
+        ("--help", "clap's own"),
+        ("--version", "clap's own"),
+    ];
+
+    /// Each flag of a subcommand as the user types it (`--box`, `-n`), read from clap's
+    /// own command; positional arguments have none.
+    fn flags(subcommand: &str) -> Vec<String> {
+        let mut cli = Cli::command();
+        cli.build();
+        let sub = cli
+            .find_subcommand(subcommand)
+            .unwrap_or_else(|| panic!("no {subcommand}"));
+        sub.get_arguments()
+            .filter_map(|a| match (a.get_long(), a.get_short()) {
+                (Some(long), _) => Some(format!("--{long}")),
+                (None, Some(short)) => Some(format!("-{short}")),
+                (None, None) => None,
+            })
+            .collect()
+    }
+
+    fn declared_flags(
+        keep: impl Fn(&stillpoint::pipeline::options::Declared) -> bool,
+    ) -> Vec<String> {
+        OPTIONS
+            .iter()
+            .filter(|d| keep(d))
+            .flat_map(|d| std::iter::once(d.cli).chain(d.cli_also.iter().copied()))
+            .map(str::to_string)
+            .collect()
+    }
+
+    #[test]
+    fn every_flag_of_generate_is_a_declared_option_or_the_front_ends_own() {
+        let declared = declared_flags(|_| true);
+        let flags = flags("generate");
+        for f in &flags {
+            assert!(
+                declared.contains(f) || FRONT_END.iter().any(|(g, _)| g == f),
+                "generate {f} is neither a declared option nor in FRONT_END"
+            );
+        }
+        for f in &declared {
+            assert!(
+                flags.contains(f),
+                "the declared {f} is not a flag of generate"
+            );
+        }
+    }
+
+    #[test]
+    fn every_flag_of_eval_is_an_option_of_eval_or_the_front_ends_own() {
+        let declared = declared_flags(|d| d.is(Group::Eval));
+        let others = declared_flags(|d| !d.is(Group::Eval));
+        let flags = flags("eval");
+        for f in &flags {
+            assert!(
+                declared.contains(f) || FRONT_END.iter().any(|(g, _)| g == f),
+                "eval {f} is neither an option of eval nor in FRONT_END"
+            );
+            assert!(
+                !others.contains(f),
+                "eval {f} is declared outside eval's group"
+            );
+        }
+        for f in &declared {
+            assert!(flags.contains(f), "the declared {f} is not a flag of eval");
+        }
+    }
 }

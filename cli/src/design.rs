@@ -162,28 +162,19 @@ fn mean_max(v: &[f64]) -> Option<(f64, f64)> {
 
 /// `stillpoint eval --var ... FILE` (or `--space`): each labelled file read back onto
 /// the unit scale and measured as a design.
-pub(crate) fn design_eval(
-    files: &[PathBuf],
-    json_out: bool,
-    items: &[String],
-    correlation: Option<&str>,
-) -> Result<()> {
-    let mut space = DesignSpace::parse("--var", items)?;
-    if let Some(text) = correlation {
-        space.correlate_rows("--correlation", text)?;
-    }
+pub(crate) fn design_eval(files: &[PathBuf], json_out: bool, space: &DesignSpace) -> Result<()> {
     let mut all = Vec::new();
     for file in files {
         let source = file.display().to_string();
         let design = match io::Format::from_path(file) {
             // The numeric formats hold a space without labels, one column per variable.
             io::Format::Npy | io::Format::Json => {
-                Design::from_numbers(&space, &io::read_points(file)?, &source)?
+                Design::from_numbers(space, &io::read_points(file)?, &source)?
             }
             _ => {
                 let bytes = io::read_bounded(file).with_context(|| source.clone())?;
                 if bytes.starts_with(b"\x93NUMPY") {
-                    Design::from_numbers(&space, &io::read_points(file)?, &source)?
+                    Design::from_numbers(space, &io::read_points(file)?, &source)?
                 } else {
                     let text = String::from_utf8(bytes).map_err(|_| {
                         anyhow::anyhow!(
@@ -191,7 +182,7 @@ pub(crate) fn design_eval(
                              .tsv, or .npy or .json for a space without labels)"
                         )
                     })?;
-                    Design::from_text(&space, &text, &source)?
+                    Design::from_text(space, &text, &source)?
                 }
             }
         };

@@ -47,9 +47,10 @@ const MAX_REPS: usize = 100_000;
 /// far beyond the cores they only cost).
 const MAX_THREADS: usize = 1024;
 
-/// `stillpoint eval`.
+/// `stillpoint eval`: the flags become one library [`Request`], whose resolution
+/// ([`Request::resolve_eval_as`]) says how the points are measured or refuses the
+/// combination; then each file's figures.
 fn eval_command(c: Command) -> Result<()> {
-    use stillpoint::quality::metrics::Sums;
     let Command::Eval {
         files,
         json,
@@ -67,49 +68,44 @@ fn eval_command(c: Command) -> Result<()> {
     else {
         bail!("eval: not this subcommand");
     };
-    if !constraint.is_empty() || mixture {
-        if region.is_some() || shape.is_some() || bounds.is_some() || !var.is_empty() {
-            bail!("invalid --constraint/--mixture with --region, --shape, --bounds or --var: give the region one way");
+    let text = |v: &Option<String>| v.as_deref().map(Arg::from);
+    let items = match &space {
+        Some(path) => Some(Arg::Texts(read_space(path)?)),
+        None => (!var.is_empty()).then(|| Arg::Texts(var.clone())),
+    };
+    let request = Request {
+        bounds: text(&bounds),
+        exact: exact.then_some(Arg::Bool(true)),
+        region: text(&region),
+        bbox: text(&bbox),
+        shape: text(&shape),
+        space: items,
+        correlation: text(&correlation),
+        constraints: (!constraint.is_empty()).then(|| Arg::Texts(constraint.clone())),
+        mixture: mixture.then_some(Arg::Bool(true)),
+        ..Request::default()
+    };
+    let spell = |p: &str| match p {
+        "space" if space.is_some() => "--space".to_string(),
+        other => flag_name(other),
+    };
+    let measure = request.resolve_eval_as(&spell)?;
+    match &measure {
+        stillpoint::pipeline::evaluation::Measure::Design(design) => {
+            return design_eval(&files, json, design)
         }
-        return constrained_eval(&files, json, &constraint, bbox.as_deref(), mixture);
-    }
-    if !var.is_empty() || space.is_some() {
-        if region.is_some() || shape.is_some() || bounds.is_some() || bbox.is_some() {
-            bail!("invalid --var/--space with --region, --shape, --box or --bounds: a design's variables carry their own ranges");
+        stillpoint::pipeline::evaluation::Measure::Region { .. }
+        | stillpoint::pipeline::evaluation::Measure::Constrained { .. } => {
+            return each_in_region(&files, json, |points| Ok(measure.json(points, &spell)?))
         }
-        let items = match &space {
-            Some(path) => read_space(path)?,
-            None => var,
-        };
-        return design_eval(&files, json, &items, correlation.as_deref());
-    }
-    if correlation.is_some() {
-        bail!("invalid --correlation without --var or --space: it correlates a design's continuous variables");
-    }
-    if region.is_some() || shape.is_some() {
-        return region_eval(
-            &files,
-            json,
-            region.as_deref(),
-            bbox.as_deref(),
-            shape.as_deref(),
-        );
-    }
-    if bbox.is_some() {
-        bail!("invalid --box: a box only with --region EXPR or --shape polytope:FILE (it bounds them)");
+        stillpoint::pipeline::evaluation::Measure::Cube { .. } => {}
     }
     let mut evaluated = Vec::new();
     for file in &files {
-        let mut points = io::read_points(file)?;
-        if let Some(text) = &bounds {
-            points =
-                parse_bounds(text, points.s())?.unscale(&points, &file.display().to_string())?;
-        }
-        points
-            .check_unit_cube()
-            .with_context(|| format!("{}", file.display()))?;
-        let sums = if exact { Sums::EXACT } else { Sums::AUTO };
-        let v = stillpoint::quality::evaluate::eval_json_with(&points, sums);
+        let source = file.display().to_string();
+        let points = measure.unit_points(io::read_points(file)?, &source, &spell)?;
+        points.check_unit_cube().with_context(|| source.clone())?;
+        let v = measure.json(&points, &spell)?;
         evaluated.push((file.clone(), points, v));
     }
     match (json, evaluated.as_slice()) {
@@ -129,48 +125,6 @@ fn eval_command(c: Command) -> Result<()> {
         (false, many) => out!("{}", eval_comparison(many)),
     }
     Ok(())
-}
-
-/// `stillpoint eval --constraint ... --box ...` (or `--mixture`): each file's figures in
-/// the constrained region.
-fn constrained_eval(
-    files: &[PathBuf],
-    json: bool,
-    texts: &[String],
-    bbox: Option<&str>,
-    mixture: bool,
-) -> Result<()> {
-    let bbox = match bbox {
-        Some(text) => Some(stillpoint::plan::space::number_list("--box", text, text)?),
-        None => None,
-    };
-    each_in_region(files, json, |points| {
-        let spec = stillpoint::plan::constraints::ConstraintSpec {
-            texts,
-            bbox: bbox.as_deref(),
-            s: Some(points.s()),
-            mixture,
-        };
-        Ok(stillpoint::plan::constraints::constrained_eval_json(
-            &spec, points, &flag_name,
-        )?)
-    })
-}
-
-/// `stillpoint eval --region/--shape`: each file's figures in the region.
-fn region_eval(
-    files: &[PathBuf],
-    json: bool,
-    region: Option<&str>,
-    bbox: Option<&str>,
-    shape: Option<&str>,
-) -> Result<()> {
-    each_in_region(files, json, |points| {
-        let domain = region_domain(region, bbox, shape, Some(points.s()))?;
-        Ok(stillpoint::quality::region::region_eval_json(
-            &domain, points,
-        )?)
-    })
 }
 
 /// Each file's region figures from `figures`: a table per file, or JSON (one object, or

@@ -200,8 +200,8 @@ fn request_of(a: &GenerateArgs) -> Result<Request> {
         shifts: text(&a.shifts),
         log_every: text(&a.log_every),
         exact: a.exact.then_some(Arg::Bool(true)),
-        trajectory: a.trajectory.is_some(),
-        checkpoint: a.checkpoint.is_some() || a.resume.is_some(),
+        trajectory: a.trajectory.is_some().then_some(Arg::Bool(true)),
+        checkpoint: (a.checkpoint.is_some() || a.resume.is_some()).then_some(Arg::Bool(true)),
         space: space_of(a)?,
         correlation: text(&a.correlation),
     })

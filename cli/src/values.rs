@@ -3,25 +3,13 @@
 //! names into flags, so a refusal reads as the command that was typed.
 
 /// The flag that sets a library parameter (as the library names it in its settings and
-/// errors), or the name itself when no flag sets it.
+/// errors, [`stillpoint::pipeline::options::OPTIONS`]), or the name itself when no flag
+/// sets it.
 pub(crate) fn flag_name(parameter: &str) -> String {
     match parameter {
-        "n" => "-n".to_string(),
-        "s" => "-s".to_string(),
-        "bbox" => "--box".to_string(),
-        "expression" => "--region".to_string(),
-        "log_every" => "--log-every".to_string(),
-        "constraints" | "constraint" => "--constraint".to_string(),
-        "mixture" => "--mixture".to_string(),
+        // The checkpoint a resume reads, named by a checkpoint's mismatch.
         "resume checkpoint" => "--resume".to_string(),
-        // A design's variables come from --var (or a --space file, which its caller names).
-        "space" => "--var".to_string(),
-        "correlation" => "--correlation".to_string(),
-        "energy" | "q" | "p" | "precision" | "init" | "seed" | "integrator" | "shifts"
-        | "polish" | "steps" | "kappa" | "restart" | "tolerance" | "box" | "shape" | "goal"
-        | "method" | "target" | "randomize" | "extend" | "nested" | "bounds" | "region"
-        | "trajectory" | "checkpoint" => format!("--{parameter}"),
-        other => other.to_string(),
+        other => stillpoint::pipeline::options::cli_name(other),
     }
 }
 

@@ -20,11 +20,12 @@ use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
 
 use std::collections::HashMap;
+use stillpoint::pipeline::options::{self as declared, OPTIONS};
 use stillpoint::pipeline::request::{Arg, Resolved};
 use stillpoint::sequences::Baseline;
 use stillpoint::solve::Event;
+use stillpoint::PointSet;
 use stillpoint::Request;
-use stillpoint::{metrics, PointSet};
 
 /// A refusal as Python sees it.
 fn value_error(message: impl std::fmt::Display) -> PyErr {
@@ -206,19 +207,26 @@ fn arg(key: &str, v: &Bound<'_, PyAny>) -> PyResult<Option<Arg>> {
     )))
 }
 
-/// The request of a call: every keyword argument through [`Request::set`], `d` as `s`.
+/// The request of a call: every keyword argument through [`Request::set`], each named by
+/// its Python keyword ([`stillpoint::pipeline::options::OPTIONS`]); `names` and
+/// `progress` are this front end's own.
 fn request(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Request> {
     let mut r = Request::default();
     if let Some(dict) = kwargs {
         for (k, v) in dict.iter() {
             let key: String = k.extract()?;
-            let name = match key.as_str() {
-                "d" => "s",
-                "names" | "progress" => continue,
-                other => other,
-            };
+            if key == "names" || key == "progress" {
+                continue;
+            }
+            let declared = declared::by_python(&key).ok_or_else(|| {
+                let accepted: Vec<&str> = OPTIONS.iter().filter_map(|d| d.python).collect();
+                value_error(format!(
+                    "invalid keyword argument = {key}: expected one of {}",
+                    accepted.join(", ")
+                ))
+            })?;
             if let Some(value) = arg(&key, &v)? {
-                r.set(name, value)
+                r.set(declared.name, value)
                     .map_err(|e| value_error(spell_error(e, &HashMap::new())))?;
             }
         }
@@ -226,16 +234,12 @@ fn request(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Request> {
     Ok(r)
 }
 
-/// Python's spelling of a parameter: `d` for the dimension, `box` for the bounding box,
-/// and the caller's own names where a wrapper renames one (`m`, `sizes`).
+/// Python's spelling of a parameter (its keyword argument in the option table), or the
+/// caller's own name where a wrapper renames one (`m`, `sizes`).
 fn spell(name: &str, renamed: &HashMap<String, String>) -> String {
-    if let Some(r) = renamed.get(name) {
-        return r.clone();
-    }
-    match name {
-        "s" => "d".into(),
-        "bbox" => "box".into(),
-        other => other.into(),
+    match renamed.get(name) {
+        Some(r) => r.clone(),
+        None => declared::python_name(name),
     }
 }
 
@@ -517,11 +521,41 @@ fn constrained_metrics_json(
     })
 }
 
+/// The figures of points `x` as `stillpoint eval --json` prints them, as JSON text: the
+/// keyword arguments make `eval`'s request (`exact`, `bounds`, `region`, `box`, `shape`,
+/// `constraints`, `mixture`), which the library resolves and refuses by keyword.
+#[pyfunction]
+#[pyo3(signature = (x, **kwargs))]
+fn metrics(
+    py: Python<'_>,
+    x: PyReadonlyArray2<'_, f64>,
+    kwargs: Option<&Bound<'_, PyDict>>,
+) -> PyResult<String> {
+    let none = HashMap::new();
+    let measure = request(kwargs)?
+        .resolve_eval_as(&|n| spell(n, &none))
+        .map_err(|e| value_error(spell_error(e, &none)))?;
+    let p = point_set("x", &x)?;
+    detached(py, move || {
+        let spell = |n: &str| spell(n, &HashMap::new());
+        let p = measure
+            .unit_points(p, "x", &spell)
+            .map_err(|e| spell_error(e, &HashMap::new()))?;
+        if let stillpoint::pipeline::evaluation::Measure::Cube { .. } = measure {
+            p.check_unit_cube().map_err(|e| format!("x: {e}"))?;
+        }
+        let v = measure
+            .json(&p, &spell)
+            .map_err(|e| spell_error(e, &HashMap::new()))?;
+        serde_json::to_string(&v).map_err(|e| e.to_string())
+    })
+}
+
 /// One L2 discrepancy (the root): `l2star`, `md` (modified), `cd` (centred) or `wd`
 /// (wrap-around).
 #[pyfunction]
 fn discrepancy(py: Python<'_>, x: PyReadonlyArray2<'_, f64>, kind: &str) -> PyResult<f64> {
-    let f = metrics::discrepancy_by_name("kind", kind).map_err(value_error)?;
+    let f = stillpoint::metrics::discrepancy_by_name("kind", kind).map_err(value_error)?;
     let p = unit_points("x", &x)?;
     detached(py, move || Ok(f(&p)))
 }
@@ -546,6 +580,26 @@ fn integrate_json(py: Python<'_>, x: PyReadonlyArray2<'_, f64>) -> PyResult<Stri
     })
 }
 
+/// Every option of `generate` as declared once in the library: a list of dicts with
+/// `name` (the library's), `cli` (the command line's flag), `python` (the keyword
+/// argument, `None` where Python has none), `doc` (one line) and `groups`.
+#[pyfunction]
+fn options<'py>(py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    OPTIONS
+        .iter()
+        .map(|d| {
+            let row = PyDict::new(py);
+            row.set_item("name", d.name)?;
+            row.set_item("cli", d.cli)?;
+            row.set_item("python", d.python)?;
+            row.set_item("doc", d.doc)?;
+            let groups: Vec<&str> = d.groups.iter().map(|g| g.name()).collect();
+            row.set_item("groups", groups)?;
+            Ok(row)
+        })
+        .collect()
+}
+
 /// The extension module.
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -563,5 +617,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(integrate_json, m)?)?;
     m.add_function(wrap_pyfunction!(randomize, m)?)?;
     m.add_function(wrap_pyfunction!(tent_set, m)?)?;
+    m.add_function(wrap_pyfunction!(options, m)?)?;
+    m.add_function(wrap_pyfunction!(metrics, m)?)?;
     Ok(())
 }

@@ -5,6 +5,8 @@
 //! [`generate`], [`paper`] and [`region`] are the one-call entry points.
 
 pub mod estimate;
+pub mod evaluation;
+pub mod options;
 pub mod request;
 
 use crate::integrators::Record;
@@ -145,56 +147,37 @@ pub fn generate_with(
     mut on_event: impl FnMut(Event),
 ) -> Result<GenerateReport, Error> {
     let clock = Instant::now();
-    if cfg.randomize.is_some() && cfg.region().is_some() {
-        return Err(Error::invalid(
-            "randomize",
-            format!("{:?}", cfg.randomize),
-            "no randomisation in a region (a shift would carry points out of it)",
-        ));
-    }
-    if cfg.goal != Goal::Paper && cfg.region().is_none() && checkpoint.is_some() {
-        return Err(Error::invalid(
-            "checkpoint",
-            "a goal run",
-            "checkpoints of the paper's pipeline (a goal's run takes seconds)",
-        ));
-    }
-    let cube_integration = matches!(cfg.goal, Goal::Integration(_)) && cfg.region().is_none();
-    if (!cfg.nested.is_empty() && !cube_integration)
-        || (cfg.extend.is_some() && !cube_integration && cfg.region().is_none())
-    {
-        return Err(Error::invalid(
-            "extend",
-            "a cube run that is not the integration goal",
-            "extend with the integration goal in the cube (the default) or in a region; \
-             nested with the integration goal",
-        ));
-    }
-    if let (Some(old), Some(domain)) = (&cfg.extend, cfg.region()) {
-        if old.s() != cfg.s || old.n() > cfg.n {
-            return Err(Error::invalid(
-                "extend",
-                format!("{} points in {} dimensions", old.n(), old.s()),
-                format!("at most n = {} points in s = {} dimensions", cfg.n, cfg.s),
-            ));
-        }
-        if let Some(i) = old.rows().position(|r| !domain.contains(r)) {
-            return Err(Error::invalid(
-                "extend",
-                format!("point {} outside the region", i + 1),
-                "old points inside the run's region",
-            ));
-        }
-    }
+    // The request's resolution refuses every combination below; a configuration made
+    // by hand is the caller's to keep valid.
+    debug_assert!(
+        cfg.randomize.is_none() || cfg.region().is_none(),
+        "randomisation in a region"
+    );
+    debug_assert!(
+        cfg.goal == Goal::Paper || cfg.region().is_some() || checkpoint.is_none(),
+        "a checkpoint of a goal's run in the cube"
+    );
+    debug_assert!(
+        cfg.nested.is_empty()
+            || (matches!(cfg.goal, Goal::Integration(_)) && cfg.region().is_none()),
+        "nested sizes outside the integration goal in the cube"
+    );
+    debug_assert!(
+        cfg.extend.is_none()
+            || match cfg.region() {
+                None => matches!(cfg.goal, Goal::Integration(_)),
+                Some(domain) => {
+                    !matches!(cfg.goal, Goal::Integration(_))
+                        && cfg.extend.as_ref().is_some_and(|old| {
+                            old.s() == cfg.s
+                                && old.n() <= cfg.n
+                                && old.rows().all(|r| domain.contains(r))
+                        })
+                }
+            },
+        "points to extend that the run cannot keep"
+    );
     let mut report = match (&cfg.goal, cfg.region()) {
-        (Goal::Integration(_), Some(_)) if cfg.extend.is_some() => {
-            return Err(Error::invalid(
-                "extend",
-                "given with the integration goal in a region",
-                "extend with the space-filling run in a region (the integration goal makes \
-                 the whole set)",
-            ))
-        }
         (Goal::Integration(_), Some(_)) => {
             crate::goals::region_integration::region_integration_run(cfg, &mut on_event)?
         }

@@ -103,81 +103,8 @@ impl From<PointSet> for Arg {
     }
 }
 
-/// Every user-settable option of a run; `None` takes the default. The field names are
-/// the parameters' names in errors (before a front end spells them).
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Request {
-    /// Number of points (with `extend`: the number to add).
-    pub n: Option<Arg>,
-    /// Dimension (a region, `extend` or `init` points may give it).
-    pub s: Option<Arg>,
-    /// Seed of every random choice.
-    pub seed: Option<Arg>,
-    /// `paper` (the paper's pipeline) or a baseline's name.
-    pub method: Option<Arg>,
-    /// `integration` or `space-filling`.
-    pub goal: Option<Arg>,
-    /// The integration goal's discrepancy: `blend`, `md`, `l2star`, `cd`, `periodic`.
-    pub target: Option<Arg>,
-    /// `cells` or `shift`.
-    pub randomize: Option<Arg>,
-    /// Points to keep, first and unchanged, while `n` more are added.
-    pub extend: Option<Arg>,
-    /// Increasing sizes N1,N2,...: every prefix a good set.
-    pub nested: Option<Arg>,
-    /// Scale the written points from the unit cube to LO1,HI1,...
-    pub bounds: Option<Arg>,
-    /// A region g(x) ≤ 0 as an expression.
-    pub region: Option<Arg>,
-    /// The bounding box of `region` (or of a polytope).
-    pub bbox: Option<Arg>,
-    /// A built-in shape.
-    pub shape: Option<Arg>,
-    /// Linear constraints `a·x <= b` as text (one, or a list), with `bbox`: the region
-    /// {A x ≤ b} ∩ box ([`crate::plan::constraints`]).
-    pub constraints: Option<Arg>,
-    /// The components are ≥ 0 and sum to 1 (`s` of them, `bbox` their bounds).
-    pub mixture: Option<Arg>,
-    /// The energy of the paper's pipeline.
-    pub energy: Option<Arg>,
-    /// `dem` or `lbfgs`.
-    pub integrator: Option<Arg>,
-    /// q of U_{q,p}.
-    pub q: Option<Arg>,
-    /// p of U_{q,p} (or of U_{E,p,g}).
-    pub p: Option<Arg>,
-    /// `fast` or `full`.
-    pub precision: Option<Arg>,
-    /// The step budget.
-    pub steps: Option<Arg>,
-    /// `halton`, `random` or points.
-    pub init: Option<Arg>,
-    /// κ: `auto` or a number ≥ 1.
-    pub kappa: Option<Arg>,
-    /// `auto`, `off` or ε_p > 0.
-    pub restart: Option<Arg>,
-    /// The DEM's stopping tolerance.
-    pub tolerance: Option<Arg>,
-    /// A last L-BFGS on a discrepancy: `md`, `l2star`, `cd`, `periodic`, `none`.
-    pub polish: Option<Arg>,
-    /// Candidate periodic shifts after the DEM.
-    pub shifts: Option<Arg>,
-    /// Log discrepancies every this many steps.
-    pub log_every: Option<Arg>,
-    /// Exact O(n²) metrics in the report at every size (`true`), or estimated from random
-    /// pairs above [`crate::quality::metrics::ESTIMATE_ABOVE`] points (the default).
-    pub exact: Option<Arg>,
-    /// The run's trajectory is to be recorded (the paper's pipeline only).
-    pub trajectory: bool,
-    /// The run is checkpointed or resumed (the paper's pipeline, or a region run).
-    pub checkpoint: bool,
-    /// A design space: its variables as `NAME=TYPE` ([`crate::design::DesignSpace`]);
-    /// the dimension is their count.
-    pub space: Option<Arg>,
-    /// The correlation matrix of the space's continuous variables (a Gaussian copula):
-    /// rows `1,0.5;0.5,1` as text, or numbers row-major, or a square point set.
-    pub correlation: Option<Arg>,
-}
+pub use super::options::Request;
+use super::options::{declared, in_group, Group, OPTIONS};
 
 /// What a resolved request runs.
 #[derive(Debug, Clone)]
@@ -215,24 +142,6 @@ pub fn plain(name: &str) -> String {
     name.to_string()
 }
 
-/// The options of the paper's pipeline, in the order they are reported.
-const PAPER_OPTIONS: [&str; 14] = [
-    "energy",
-    "integrator",
-    "q",
-    "p",
-    "precision",
-    "init",
-    "kappa",
-    "restart",
-    "polish",
-    "tolerance",
-    "shifts",
-    "log_every",
-    "trajectory",
-    "checkpoint",
-];
-
 /// The most points a single run accepts (beyond it a set of f64 cannot be addressed).
 /// The words `target` takes, as a refusal lists them.
 const TARGETS: &str = "blend (D²_MD + D²_L2* + D²_CD), blend-smooth (the blend and the \
@@ -258,85 +167,20 @@ impl Request {
     /// to `value`; an unknown name is refused with the accepted ones. This is how a front
     /// end with keyword arguments fills a request.
     pub fn set(&mut self, name: &str, value: Arg) -> Result<(), Error> {
-        let slot = match name {
-            "n" => &mut self.n,
-            "s" => &mut self.s,
-            "seed" => &mut self.seed,
-            "method" => &mut self.method,
-            "goal" => &mut self.goal,
-            "target" => &mut self.target,
-            "randomize" => &mut self.randomize,
-            "extend" => &mut self.extend,
-            "nested" => &mut self.nested,
-            "bounds" => &mut self.bounds,
-            "region" => &mut self.region,
-            "box" | "bbox" => &mut self.bbox,
-            "shape" => &mut self.shape,
-            "constraints" | "constraint" => &mut self.constraints,
-            "mixture" => &mut self.mixture,
-            "energy" => &mut self.energy,
-            "integrator" => &mut self.integrator,
-            "q" => &mut self.q,
-            "p" => &mut self.p,
-            "precision" => &mut self.precision,
-            "steps" => &mut self.steps,
-            "init" => &mut self.init,
-            "kappa" => &mut self.kappa,
-            "restart" => &mut self.restart,
-            "tolerance" => &mut self.tolerance,
-            "polish" => &mut self.polish,
-            "shifts" => &mut self.shifts,
-            "log_every" => &mut self.log_every,
-            "exact" => &mut self.exact,
-            "space" => &mut self.space,
-            "correlation" => &mut self.correlation,
-            other => {
-                return Err(Error::invalid(
-                    "keyword argument",
-                    other,
-                    format!("one of {}", Request::names().join(", ")),
-                ))
-            }
-        };
+        let slot = self.slot_mut(name).ok_or_else(|| {
+            Error::invalid(
+                "keyword argument",
+                name,
+                format!("one of {}", Request::names().join(", ")),
+            )
+        })?;
         *slot = Some(value);
         Ok(())
     }
 
-    /// The parameters [`Request::set`] accepts.
+    /// The parameters [`Request::set`] accepts (each option's name in [`OPTIONS`]).
     pub fn names() -> Vec<&'static str> {
-        vec![
-            "n",
-            "s",
-            "seed",
-            "method",
-            "goal",
-            "target",
-            "randomize",
-            "extend",
-            "nested",
-            "bounds",
-            "region",
-            "box",
-            "shape",
-            "constraints",
-            "mixture",
-            "energy",
-            "integrator",
-            "q",
-            "p",
-            "precision",
-            "steps",
-            "init",
-            "kappa",
-            "restart",
-            "tolerance",
-            "polish",
-            "shifts",
-            "log_every",
-            "exact",
-            "space",
-            "correlation",
-        ]
+        OPTIONS.iter().map(|d| d.name).collect()
     }
 
     /// Resolves the request with the library's own parameter names.
@@ -350,25 +194,14 @@ impl Request {
         Resolver { r: self, spell }.resolve()
     }
 
+    /// Whether the option named `name` is given.
     fn given(&self, name: &str) -> bool {
-        match name {
-            "energy" => self.energy.is_some(),
-            "integrator" => self.integrator.is_some(),
-            "q" => self.q.is_some(),
-            "p" => self.p.is_some(),
-            "precision" => self.precision.is_some(),
-            "init" => self.init.is_some(),
-            "kappa" => self.kappa.is_some(),
-            "restart" => self.restart.is_some(),
-            "polish" => self.polish.is_some(),
-            "tolerance" => self.tolerance.is_some(),
-            "shifts" => self.shifts.is_some(),
-            "log_every" => self.log_every.is_some(),
-            "trajectory" => self.trajectory,
-            "checkpoint" => self.checkpoint,
-            "steps" => self.steps.is_some(),
-            _ => false,
-        }
+        self.get(name).is_some()
+    }
+
+    /// The first given option of `group`, in [`OPTIONS`]' order.
+    fn first_given(&self, group: Group) -> Option<&'static str> {
+        in_group(group).map(|d| d.name).find(|n| self.given(n))
     }
 }
 
@@ -587,18 +420,7 @@ impl Resolver<'_> {
                 return Err(self.bad("correlation", other, "rows of numbers: 1,0.5;0.5,1"))
             }
         }
-        let given = [
-            ("region", r.region.is_some()),
-            ("box", r.bbox.is_some()),
-            ("shape", r.shape.is_some()),
-            ("constraints", r.constraints.is_some()),
-            ("mixture", r.mixture.is_some()),
-            ("bounds", r.bounds.is_some()),
-            ("extend", r.extend.is_some()),
-            ("nested", r.nested.is_some()),
-            ("randomize", r.randomize.is_some()),
-        ];
-        if let Some((name, _)) = given.iter().find(|g| g.1) {
+        if let Some(name) = r.first_given(Group::Placement) {
             return Err(self.bad(
                 name,
                 "given with a design space",
@@ -660,27 +482,14 @@ impl Resolver<'_> {
                  halton-scrambled, sobol, hua-wang, lattice, lhs, lhs-maximin",
             )
         })?;
-        let others = [
-            ("goal", r.goal.is_some()),
-            ("target", r.target.is_some()),
-            ("randomize", r.randomize.is_some()),
-            ("extend", r.extend.is_some()),
-            ("nested", r.nested.is_some()),
-            ("region", r.region.is_some()),
-            ("box", r.bbox.is_some()),
-            ("shape", r.shape.is_some()),
-            ("constraints", r.constraints.is_some()),
-            ("mixture", r.mixture.is_some()),
-            ("steps", r.steps.is_some()),
-            ("exact", r.exact.is_some()),
-        ];
-        let paper = PAPER_OPTIONS.iter().find(|o| r.given(o));
-        if let Some(name) = others
+        // Every option outside the baseline's own; a design space and its correlation
+        // were taken off the request before.
+        let refused = OPTIONS
             .iter()
-            .find(|(_, g)| *g)
-            .map(|(n, _)| *n)
-            .or(paper.copied())
-        {
+            .filter(|d| !d.is(Group::Baseline) && !d.is(Group::Design))
+            .map(|d| d.name)
+            .find(|n| r.given(n));
+        if let Some(name) = refused {
             return Err(self.bad(
                 name,
                 format!("given with the baseline {}", baseline.name()),
@@ -783,12 +592,15 @@ impl Resolver<'_> {
         };
         // `steps` feeds the DEM stage of the space-filling goal; elsewhere it belongs to
         // the paper's pipeline.
-        let expert: Vec<&str> = PAPER_OPTIONS
+        let expert: Vec<&str> = OPTIONS
             .iter()
-            .copied()
-            .chain(std::iter::once("steps"))
+            .filter(|d| d.is(Group::Paper) || d.is(Group::Descent))
+            .map(|d| d.name)
             .filter(|o| r.given(o))
-            .filter(|o| !(*o == "steps" && asked == Some(GoalName::SpaceFilling)))
+            .filter(|o| {
+                !(declared(o).is_some_and(|d| d.is(Group::Descent))
+                    && asked == Some(GoalName::SpaceFilling))
+            })
             .collect();
         let goal = match asked {
             Some(g) => {
@@ -1467,7 +1279,7 @@ impl Resolver<'_> {
         }
         cfg.log_every = match &r.log_every {
             Some(a) => self.count("log_every", a, 0, "a whole number of steps ≥ 0")?,
-            None if r.trajectory => 10,
+            None if r.trajectory.is_some() => 10,
             None => 0,
         };
         Ok(())
@@ -1573,6 +1385,84 @@ mod tests {
         assert!(e.starts_with("invalid s = 3"), "{e}");
         r.s = None;
         assert_eq!(config(&r).n, 5);
+    }
+
+    /// The combinations the pipeline and the goals assume away (they only
+    /// `debug_assert!` them) are each refused here, naming the option.
+    #[test]
+    fn the_combinations_the_pipeline_assumes_away_are_refused() {
+        let old = PointSet::from_rows(&[[0.1, 0.2], [0.6, 0.7]]).unwrap();
+        let far = PointSet::from_rows(&[[0.1, 0.2], [3.0, 0.7]]).unwrap();
+        let ball = || Request {
+            n: Some(Arg::Int(5)),
+            s: Some(Arg::Int(2)),
+            shape: Some("ball:1".into()),
+            ..Request::default()
+        };
+        let refusals: Vec<(&str, Request)> = vec![
+            ("randomize", {
+                let mut r = ball();
+                r.randomize = Some("shift".into());
+                r
+            }),
+            ("extend", {
+                let mut r = ball();
+                r.goal = Some("integration".into());
+                r.extend = Some(Arg::Points(old.clone()));
+                r
+            }),
+            ("extend", {
+                let mut r = ball();
+                r.extend = Some(Arg::Points(far.clone()));
+                r
+            }),
+            ("extend", {
+                let mut r = ball();
+                r.extend = Some(Arg::Points(
+                    PointSet::from_rows(&[[0.1, 0.2, 0.3]]).unwrap(),
+                ));
+                r
+            }),
+            ("extend", {
+                let mut r = Request::new(3, 2);
+                r.goal = Some("space-filling".into());
+                r.extend = Some(Arg::Points(old.clone()));
+                r
+            }),
+            ("extend", {
+                let mut r = Request::new(3, 2);
+                r.method = Some("paper".into());
+                r.extend = Some(Arg::Points(old.clone()));
+                r
+            }),
+            ("nested", {
+                let mut r = Request::new(8, 2);
+                r.n = None;
+                r.nested = Some("4,8".into());
+                r.goal = Some("space-filling".into());
+                r
+            }),
+            ("nested", {
+                let mut r = ball();
+                r.n = None;
+                r.nested = Some("4,8".into());
+                r
+            }),
+            ("checkpoint", {
+                let mut r = Request::new(8, 2);
+                r.goal = Some("integration".into());
+                r.checkpoint = Some(Arg::Bool(true));
+                r
+            }),
+        ];
+        for (name, r) in refusals {
+            let e = r.resolve().unwrap_err().to_string();
+            assert!(e.starts_with(&format!("invalid {name} = ")), "{name}: {e}");
+        }
+        // What the pipeline does accept: old points inside the region, grown there.
+        let mut r = ball();
+        r.extend = Some(Arg::Points(old));
+        assert_eq!(config(&r).n, 7);
     }
 
     #[test]

@@ -165,13 +165,11 @@ fn extension_run(
     target: &Target,
     effort: &Effort,
 ) -> Result<GenerateReport, Error> {
-    if old.s() != cfg.s || old.n() > cfg.n {
-        return Err(Error::invalid(
-            "extend",
-            format!("{} points in {} dimensions", old.n(), old.s()),
-            format!("at most n = {} points in s = {} dimensions", cfg.n, cfg.s),
-        ));
-    }
+    // The request's resolution gives the dimension of the kept points and n beyond them.
+    debug_assert!(
+        old.s() == cfg.s && old.n() <= cfg.n,
+        "points to extend that do not fit"
+    );
     let ext =
         crate::goals::integration::extend_set(old, cfg.n - old.n(), target, cfg.seed, effort)?;
     let new = PointSet::new(
@@ -206,13 +204,12 @@ fn nested_report(
     target: &Target,
     effort: &Effort,
 ) -> Result<GenerateReport, Error> {
-    if cfg.nested.last() != Some(&cfg.n) {
-        return Err(Error::invalid(
-            "nested",
-            format!("{:?}", cfg.nested),
-            format!("stages ending at n = {}", cfg.n),
-        ));
-    }
+    // The request's resolution makes n the last size.
+    debug_assert_eq!(
+        cfg.nested.last(),
+        Some(&cfg.n),
+        "nested sizes ending below n"
+    );
     let nested =
         crate::goals::integration::nested_run(&cfg.nested, cfg.s, target, cfg.seed, effort)?;
     let prefix = |k: usize| -> Result<Stage, Error> {
