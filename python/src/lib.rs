@@ -366,8 +366,8 @@ fn generate<'py>(
 }
 
 /// A design: the run of the request (which holds `space`), dealt into the space, as a
-/// dict: the variables, each column as written, the unit-scale set (row-major) and the
-/// design's figures.
+/// dict: the variables, each column as written, the unit-scale set (an (n, d) array)
+/// and the design's figures.
 #[pyfunction]
 #[pyo3(signature = (**kwargs))]
 fn design<'py>(
@@ -375,22 +375,24 @@ fn design<'py>(
     kwargs: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let resolved = resolve(kwargs)?;
-    let v = detached(py, move || {
+    let (v, unit) = detached(py, move || {
         let outcome = resolved.run(None, |_| {}).map_err(|e| e.to_string())?;
         let design = outcome
             .design
             .ok_or_else(|| "a design needs space=".to_string())?;
         let written = design.as_written().map_err(|e| e.to_string())?;
-        design_value(&design, &written)
+        Ok((design_value(&design, &written), design.unit))
     })?;
-    py_value(py, &v)
+    let out = py_value(py, &v)?;
+    out.set_item("unit", to_array(py, unit)?)?;
+    Ok(out)
 }
 
 /// The figures of a design given as named columns of cells (each value as text: a
 /// label, a whole number or a number that reads back to the same float), read back onto
-/// the unit scale of `space`, as a dict like [`design`]'s. The cells cross as values, never
-/// as one CSV text, so a label holding a comma or a line break is a label, not a new cell
-/// or row.
+/// the unit scale of `space`, as a dict (a design's `figures`). The cells cross as values,
+/// never as one CSV text, so a label holding a comma or a line break is a label, not a
+/// new cell or row.
 #[pyfunction]
 #[pyo3(signature = (space, columns, correlation=None))]
 fn design_figures<'py>(
@@ -409,17 +411,18 @@ fn design_figures<'py>(
     let v = detached(py, move || {
         let design = stillpoint::design::Design::from_columns(&space, &columns, "table")
             .map_err(|e| e.to_string())?;
-        design_value(&design, &design)
+        serde_json::to_value(stillpoint::design::figures::DesignFigures::of(&design))
+            .map_err(|e| e.to_string())
     })?;
     py_value(py, &v)
 }
 
-/// A design as a JSON value, its figures those of `written` (the design as its values are
-/// written and read back, which a report describes).
+/// A design as a JSON value (all but its unit-scale set), its figures those of `written`
+/// (the design as its values are written and read back, which a report describes).
 fn design_value(
     design: &stillpoint::design::Design,
     written: &stillpoint::design::Design,
-) -> Result<serde_json::Value, String> {
+) -> serde_json::Value {
     use stillpoint::design::Column;
     let columns: Vec<serde_json::Value> = design
         .columns()
@@ -430,15 +433,13 @@ fn design_value(
             Column::Label(v) => serde_json::json!(v),
         })
         .collect();
-    let v = serde_json::json!({
+    serde_json::json!({
         "space": design.space.texts(),
         "correlation": design.space.correlation_text(),
         "names": design.space.vars.iter().map(|v| v.name.clone()).collect::<Vec<_>>(),
         "columns": columns,
-        "unit": design.unit.as_slice(),
         "figures": stillpoint::design::figures::DesignFigures::of(written),
-    });
-    Ok(v)
+    })
 }
 
 /// Checks the keyword arguments of `generate` without running it.

@@ -80,7 +80,7 @@ def design(**kwargs: Any) -> Dict[str, Any]:
     """A design: :func:`generate`'s request with ``space`` (the ``NAME=TYPE`` texts), as a
     dict: ``space``, ``correlation`` (the command line's text or None), ``names``,
     ``columns`` (one list per variable: floats, ints or labels), ``unit`` (the unit-scale
-    set, row-major) and ``figures``."""
+    set, an (n, d) array) and ``figures``."""
 
 def design_figures(
     space: Sequence[str],
@@ -88,5 +88,5 @@ def design_figures(
     correlation: Optional[Sequence[float]] = None,
 ) -> Dict[str, Any]:
     """The design made of named columns of cells (each a label, an integer's digits or a
-    float's exact text) read back onto the unit scale of ``space``, as :func:`design`'s
-    dict; ``correlation`` is the matrix row-major."""
+    float's exact text) read back onto the unit scale of ``space``: the figures of
+    :func:`design`'s dict. ``correlation`` is the matrix row-major."""

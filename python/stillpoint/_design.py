@@ -27,8 +27,7 @@ class Design:
         # with the space, all that design_figures needs to reproduce the figures.
         self.correlation: Optional[str] = raw.get("correlation")
         self.names: list = raw["names"]
-        n = len(raw["columns"][0]) if raw["columns"] else 0
-        self.unit: np.ndarray = np.asarray(raw["unit"], dtype=np.float64).reshape(n, len(self.names))
+        self.unit: np.ndarray = raw["unit"]
         self.figures: Dict[str, Any] = raw["figures"]
         self.columns: Dict[str, np.ndarray] = {}
         for j, (name, values) in enumerate(zip(self.names, raw["columns"])):
@@ -148,4 +147,4 @@ def design_figures(table: Any, space: Any, correlation: Any = None) -> Dict[str,
             raise ValueError(
                 f"invalid correlation = {correlation!r}: expected a k × k matrix of numbers"
             ) from None
-    return _core.design_figures(items, cells, matrix)["figures"]
+    return _core.design_figures(items, cells, matrix)
