@@ -4,7 +4,9 @@
 //! Every function copies its input into a [`PointSet`], releases the GIL for the
 //! computation (other Python threads run meanwhile), and turns every refusal of the
 //! library into a `ValueError` carrying the library's message (a panic, which would be a
-//! bug, becomes a `RuntimeError`, never a crash). The Python package `stillpoint` wraps
+//! bug, becomes a `RuntimeError`, never a crash). Reports (metrics, test integrals,
+//! designs) come back as Python dicts and lists built here from the library's JSON
+//! values, never as text for Python to parse again. The Python package `stillpoint` wraps
 //! these functions: it casts any array-like to C-ordered float64, scales to bounds, and
 //! adds the SciPy engine.
 
