@@ -4,7 +4,9 @@
 //! Every function copies its input into a [`PointSet`], releases the GIL for the
 //! computation (other Python threads run meanwhile), and turns every refusal of the
 //! library into a `ValueError` carrying the library's message (a panic, which would be a
-//! bug, becomes a `RuntimeError`, never a crash). The Python package `stillpoint` wraps
+//! bug, becomes a `RuntimeError`, never a crash). Reports (metrics, test integrals,
+//! designs) come back as Python dicts and lists built here from the library's JSON
+//! values, never as text for Python to parse again. The Python package `stillpoint` wraps
 //! these functions: it casts any array-like to C-ordered float64, scales to bounds, and
 //! adds the SciPy engine.
 
@@ -17,7 +19,7 @@ use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString};
 
 use std::collections::HashMap;
 use stillpoint::pipeline::options::{self as declared, OPTIONS};
@@ -123,6 +125,41 @@ fn to_array<'py>(py: Python<'py>, p: PointSet) -> PyResult<Bound<'py, PyArray2<f
     let a = Array2::from_shape_vec((n, s), p.into_vec())
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     Ok(a.into_pyarray(py))
+}
+
+/// A JSON value as the Python object `json.loads` makes of its text: dicts (keys in the
+/// value's order), lists, `str`, `int` (a whole number), `float` (a number written with a
+/// fraction or exponent), `bool` and `None`. The library's reports are JSON values; they
+/// reach Python as objects, never as text to parse again.
+fn py_value<'py>(py: Python<'py>, v: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+    use serde_json::Value;
+    Ok(match v {
+        Value::Null => py.None().into_bound(py),
+        Value::Bool(b) => PyBool::new(py, *b).to_owned().into_any(),
+        Value::Number(x) => match (x.as_i64(), x.as_u64(), x.as_f64()) {
+            (Some(i), _, _) => i.into_pyobject(py)?.into_any(),
+            (None, Some(u), _) => u.into_pyobject(py)?.into_any(),
+            (None, None, Some(f)) => PyFloat::new(py, f).into_any(),
+            (None, None, None) => {
+                return Err(PyRuntimeError::new_err(format!("unreadable number {x}")))
+            }
+        },
+        Value::String(text) => PyString::new(py, text).into_any(),
+        Value::Array(items) => {
+            let items = items
+                .iter()
+                .map(|x| py_value(py, x))
+                .collect::<PyResult<Vec<_>>>()?;
+            PyList::new(py, items)?.into_any()
+        }
+        Value::Object(map) => {
+            let dict = PyDict::new(py);
+            for (key, x) in map {
+                dict.set_item(key, py_value(py, x)?)?;
+            }
+            dict.into_any()
+        }
+    })
 }
 
 /// A keyword argument as the library's request takes it; `None` means "not given".
@@ -336,35 +373,42 @@ fn generate<'py>(
     to_array(py, points)
 }
 
-/// A design: the run of the request (which holds `space`), dealt into the space, as
-/// JSON text: the variables, each column as written, the unit-scale set (row-major)
+/// A design: the run of the request (which holds `space`), dealt into the space, as a
+/// dict: the variables, each column as written, the unit-scale set (an (n, d) array)
 /// and the design's figures.
 #[pyfunction]
 #[pyo3(signature = (**kwargs))]
-fn design_json(py: Python<'_>, kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<String> {
+fn design<'py>(
+    py: Python<'py>,
+    kwargs: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyAny>> {
     let resolved = resolve(kwargs)?;
-    detached(py, move || {
+    let (v, unit) = detached(py, move || {
         let outcome = resolved.run(None, |_| {}).map_err(|e| e.to_string())?;
         let design = outcome
             .design
             .ok_or_else(|| "a design needs space=".to_string())?;
         let written = design.as_written().map_err(|e| e.to_string())?;
-        design_value(&design, &written)
-    })
+        Ok((design_value(&design, &written), design.unit))
+    })?;
+    let out = py_value(py, &v)?;
+    out.set_item("unit", to_array(py, unit)?)?;
+    Ok(out)
 }
 
 /// The figures of a design given as named columns of cells (each value as text: a
 /// label, a whole number or a number that reads back to the same float), read back onto
-/// the unit scale of `space`, as JSON text. The cells cross as values, never as one CSV
-/// text, so a label holding a comma or a line break is a label, not a new cell or row.
+/// the unit scale of `space`, as a dict (a design's `figures`). The cells cross as values,
+/// never as one CSV text, so a label holding a comma or a line break is a label, not a
+/// new cell or row.
 #[pyfunction]
 #[pyo3(signature = (space, columns, correlation=None))]
-fn design_figures_json(
-    py: Python<'_>,
+fn design_figures<'py>(
+    py: Python<'py>,
     space: Vec<String>,
     columns: Vec<(String, Vec<String>)>,
     correlation: Option<Vec<f64>>,
-) -> PyResult<String> {
+) -> PyResult<Bound<'py, PyAny>> {
     let mut space = stillpoint::design::DesignSpace::parse("space", &space).map_err(value_error)?;
     if let Some(m) = correlation {
         let shown = format!("{m:?}");
@@ -372,19 +416,21 @@ fn design_figures_json(
             .correlate("correlation", &shown, m)
             .map_err(value_error)?;
     }
-    detached(py, move || {
+    let v = detached(py, move || {
         let design = stillpoint::design::Design::from_columns(&space, &columns, "table")
             .map_err(|e| e.to_string())?;
-        design_value(&design, &design)
-    })
+        serde_json::to_value(stillpoint::design::figures::DesignFigures::of(&design))
+            .map_err(|e| e.to_string())
+    })?;
+    py_value(py, &v)
 }
 
-/// A design as JSON text, its figures those of `written` (the design as its values are
-/// written and read back, which a report describes).
+/// A design as a JSON value (all but its unit-scale set), its figures those of `written`
+/// (the design as its values are written and read back, which a report describes).
 fn design_value(
     design: &stillpoint::design::Design,
     written: &stillpoint::design::Design,
-) -> Result<String, String> {
+) -> serde_json::Value {
     use stillpoint::design::Column;
     let columns: Vec<serde_json::Value> = design
         .columns()
@@ -395,15 +441,13 @@ fn design_value(
             Column::Label(v) => serde_json::json!(v),
         })
         .collect();
-    let v = serde_json::json!({
+    serde_json::json!({
         "space": design.space.texts(),
         "correlation": design.space.correlation_text(),
         "names": design.space.vars.iter().map(|v| v.name.clone()).collect::<Vec<_>>(),
         "columns": columns,
-        "unit": design.unit.as_slice(),
         "figures": stillpoint::design::figures::DesignFigures::of(written),
-    });
-    serde_json::to_string(&v).map_err(|e| e.to_string())
+    })
 }
 
 /// Checks the keyword arguments of `generate` without running it.
@@ -451,34 +495,38 @@ fn randomize<'py>(
     to_array(py, points)
 }
 
-/// Every figure of `stillpoint eval --json` for points in [0, 1]^d, as JSON text; with
+/// Every figure of `stillpoint eval --json` for points in [0, 1]^d, as a dict; with
 /// `exact`, the O(n²) figures exact at every size (`eval --exact`).
 #[pyfunction]
-#[pyo3(signature = (x, exact=false))]
-fn metrics_json(py: Python<'_>, x: PyReadonlyArray2<'_, f64>, exact: bool) -> PyResult<String> {
+#[pyo3(name = "metrics", signature = (x, exact=false))]
+fn cube_metrics<'py>(
+    py: Python<'py>,
+    x: PyReadonlyArray2<'_, f64>,
+    exact: bool,
+) -> PyResult<Bound<'py, PyAny>> {
     use stillpoint::quality::metrics::Sums;
     let p = unit_points("x", &x)?;
     let sums = if exact { Sums::EXACT } else { Sums::AUTO };
-    detached(py, move || {
-        serde_json::to_string(&stillpoint::quality::evaluate::eval_json_with(&p, sums))
-            .map_err(|e| e.to_string())
-    })
+    let v = detached(py, move || {
+        Ok(stillpoint::quality::evaluate::eval_json_with(&p, sums))
+    })?;
+    py_value(py, &v)
 }
 
 /// The figures of `stillpoint eval --region/--shape --json` for points in a region, as
-/// JSON text: `region` (an expression, with `bbox`) or `shape`.
+/// a dict: `region` (an expression, with `bbox`) or `shape`.
 #[pyfunction]
 #[pyo3(signature = (x, region=None, bbox=None, shape=None))]
-fn region_metrics_json(
-    py: Python<'_>,
+fn region_metrics<'py>(
+    py: Python<'py>,
     x: PyReadonlyArray2<'_, f64>,
     region: Option<String>,
     bbox: Option<Vec<f64>>,
     shape: Option<String>,
-) -> PyResult<String> {
+) -> PyResult<Bound<'py, PyAny>> {
     let p = point_set("x", &x)?;
     let none = HashMap::new();
-    detached(py, move || {
+    let v = detached(py, move || {
         let spec = stillpoint::plan::space::RegionSpec {
             expression: region.as_deref(),
             bbox: bbox.as_deref(),
@@ -488,37 +536,36 @@ fn region_metrics_json(
         let domain = spec
             .domain(&|n| spell(n, &none))
             .map_err(|e| spell_error(e, &none))?;
-        let v = stillpoint::quality::region::region_eval_json(&domain, &p)
-            .map_err(|e| spell_error(e, &none))?;
-        serde_json::to_string(&v).map_err(|e| e.to_string())
-    })
+        stillpoint::quality::region::region_eval_json(&domain, &p)
+            .map_err(|e| spell_error(e, &none))
+    })?;
+    py_value(py, &v)
 }
 
-/// The region figures of points in {A x ≤ b} ∩ `bbox` (or of mixtures), as JSON text:
-/// what `stillpoint eval --constraint ... --box ...` (or `--mixture`) prints.
+/// The region figures of points in {A x ≤ b} ∩ `bbox` (or of mixtures), as a dict: what
+/// `stillpoint eval --constraint ... --box ...` (or `--mixture`) prints.
 #[pyfunction]
 #[pyo3(signature = (x, constraints, bbox=None, mixture=false))]
-fn constrained_metrics_json(
-    py: Python<'_>,
+fn constrained_metrics<'py>(
+    py: Python<'py>,
     x: PyReadonlyArray2<'_, f64>,
     constraints: Vec<String>,
     bbox: Option<Vec<f64>>,
     mixture: bool,
-) -> PyResult<String> {
+) -> PyResult<Bound<'py, PyAny>> {
     let p = point_set("x", &x)?;
     let none = HashMap::new();
-    detached(py, move || {
+    let v = detached(py, move || {
         let spec = stillpoint::plan::constraints::ConstraintSpec {
             texts: &constraints,
             bbox: bbox.as_deref(),
             s: Some(p.s()),
             mixture,
         };
-        let v =
-            stillpoint::plan::constraints::constrained_eval_json(&spec, &p, &|n| spell(n, &none))
-                .map_err(|e| spell_error(e, &none))?;
-        serde_json::to_string(&v).map_err(|e| e.to_string())
-    })
+        stillpoint::plan::constraints::constrained_eval_json(&spec, &p, &|n| spell(n, &none))
+            .map_err(|e| spell_error(e, &none))
+    })?;
+    py_value(py, &v)
 }
 
 /// The figures of points `x` as `stillpoint eval --json` prints them, as JSON text: the
@@ -569,15 +616,15 @@ fn baselines() -> Vec<(&'static str, &'static str, &'static str)> {
         .collect()
 }
 
-/// The F1–F8 test integrals of points in [0, 1]^d as JSON text (`stillpoint integrate
+/// The F1–F8 test integrals of points in [0, 1]^d as a dict (`stillpoint integrate
 /// --json` without the file name).
 #[pyfunction]
-fn integrate_json(py: Python<'_>, x: PyReadonlyArray2<'_, f64>) -> PyResult<String> {
+fn integrate<'py>(py: Python<'py>, x: PyReadonlyArray2<'_, f64>) -> PyResult<Bound<'py, PyAny>> {
     let p = unit_points("x", &x)?;
-    detached(py, move || {
-        let v = stillpoint::quality::integrands::report_json(&p).map_err(|e| e.to_string())?;
-        serde_json::to_string(&v).map_err(|e| e.to_string())
-    })
+    let v = detached(py, move || {
+        stillpoint::quality::integrands::report_json(&p).map_err(|e| e.to_string())
+    })?;
+    py_value(py, &v)
 }
 
 /// Every option of `generate` as declared once in the library: a list of dicts with
@@ -606,15 +653,15 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_function(wrap_pyfunction!(generate, m)?)?;
     m.add_function(wrap_pyfunction!(check_generate, m)?)?;
-    m.add_function(wrap_pyfunction!(design_json, m)?)?;
-    m.add_function(wrap_pyfunction!(design_figures_json, m)?)?;
+    m.add_function(wrap_pyfunction!(design, m)?)?;
+    m.add_function(wrap_pyfunction!(design_figures, m)?)?;
     m.add_function(wrap_pyfunction!(estimate, m)?)?;
-    m.add_function(wrap_pyfunction!(metrics_json, m)?)?;
-    m.add_function(wrap_pyfunction!(region_metrics_json, m)?)?;
-    m.add_function(wrap_pyfunction!(constrained_metrics_json, m)?)?;
+    m.add_function(wrap_pyfunction!(cube_metrics, m)?)?;
+    m.add_function(wrap_pyfunction!(region_metrics, m)?)?;
+    m.add_function(wrap_pyfunction!(constrained_metrics, m)?)?;
     m.add_function(wrap_pyfunction!(discrepancy, m)?)?;
     m.add_function(wrap_pyfunction!(baselines, m)?)?;
-    m.add_function(wrap_pyfunction!(integrate_json, m)?)?;
+    m.add_function(wrap_pyfunction!(integrate, m)?)?;
     m.add_function(wrap_pyfunction!(randomize, m)?)?;
     m.add_function(wrap_pyfunction!(tent_set, m)?)?;
     m.add_function(wrap_pyfunction!(options, m)?)?;

@@ -6,7 +6,7 @@ refusal of the library is a ``ValueError`` with the library's message, which nam
 argument.
 """
 
-from typing import Any, List, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
 import numpy.typing as npt
@@ -41,26 +41,26 @@ def randomize(
 def tent_set(n: int, d: int) -> npt.NDArray[np.float64]:
     """The set ``generate(n, d, randomize='tent')`` randomises, unrandomised."""
 
-def metrics_json(x: npt.NDArray[np.float64], exact: bool = False) -> str:
-    """Every figure ``stillpoint eval --json`` prints for points in [0, 1]^d, as the same
-    JSON object (compact text). Refuses a coordinate outside [0, 1]."""
+def metrics(x: npt.NDArray[np.float64], exact: bool = False) -> Dict[str, Any]:
+    """Every figure ``stillpoint eval --json`` prints for points in [0, 1]^d, as the dict
+    ``json.loads`` makes of it. Refuses a coordinate outside [0, 1]."""
 
-def constrained_metrics_json(
+def constrained_metrics(
     x: npt.NDArray[np.float64],
     constraints: Sequence[str],
     bbox: Optional[Sequence[float]] = None,
     mixture: bool = False,
-) -> str:
-    """The figures of ``stillpoint eval --constraint/--mixture --json``, as JSON text."""
+) -> Dict[str, Any]:
+    """The figures of ``stillpoint eval --constraint/--mixture --json``, as a dict."""
 
-def region_metrics_json(
+def region_metrics(
     x: npt.NDArray[np.float64],
     region: Optional[str] = None,
     bbox: Optional[Sequence[float]] = None,
     shape: Optional[str] = None,
-) -> str:
+) -> Dict[str, Any]:
     """The figures of ``stillpoint eval --region/--shape --json`` for points in a region
-    (an expression g with its box, or a shape), as JSON text."""
+    (an expression g with its box, or a shape), as a dict."""
 
 def discrepancy(x: npt.NDArray[np.float64], kind: str) -> float:
     """The root of one L2 discrepancy: ``'l2star'`` (SciPy's 'L2-star', a root there
@@ -71,7 +71,22 @@ def discrepancy(x: npt.NDArray[np.float64], kind: str) -> float:
 def baselines() -> List[Tuple[str, str, str]]:
     """Every baseline as (name, the paper's label, exact description)."""
 
-def integrate_json(x: npt.NDArray[np.float64]) -> str:
-    """The F1-F8 test integrals of points in [0, 1]^d as JSON text: ``n``, ``s``,
-    ``exact`` (0) and ``functions`` (function, formula, estimate, error), as
-    ``stillpoint integrate --json`` prints them without the file name."""
+def integrate(x: npt.NDArray[np.float64]) -> Dict[str, Any]:
+    """The F1-F8 test integrals of points in [0, 1]^d as a dict: ``n``, ``s``, ``exact``
+    (0) and ``functions`` (function, formula, estimate, error), as ``stillpoint integrate
+    --json`` prints them without the file name."""
+
+def design(**kwargs: Any) -> Dict[str, Any]:
+    """A design: :func:`generate`'s request with ``space`` (the ``NAME=TYPE`` texts), as a
+    dict: ``space``, ``correlation`` (the command line's text or None), ``names``,
+    ``columns`` (one list per variable: floats, ints or labels), ``unit`` (the unit-scale
+    set, an (n, d) array) and ``figures``."""
+
+def design_figures(
+    space: Sequence[str],
+    columns: Sequence[Tuple[str, Sequence[str]]],
+    correlation: Optional[Sequence[float]] = None,
+) -> Dict[str, Any]:
+    """The design made of named columns of cells (each a label, an integer's digits or a
+    float's exact text) read back onto the unit scale of ``space``: the figures of
+    :func:`design`'s dict. ``correlation`` is the matrix row-major."""

@@ -12,7 +12,8 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence
 
 import numpy as np
 
-from . import _check_generate, generate
+from ._generate import generate
+from ._request import _check_generate
 
 
 def _run(request: Dict[str, Any]) -> np.ndarray:

@@ -1,0 +1,247 @@
+"""The SciPy engine: :class:`Engine`, a ``scipy.stats.qmc.QMCEngine`` whose draws are
+randomised copies of a set computed once per process and cached."""
+
+from __future__ import annotations
+
+import copy
+import threading
+from typing import Any, Dict, Optional, Tuple
+
+import numpy as np
+
+from . import _core
+from ._generate import generate
+from ._request import _check_generate
+from ._validate import _engine_seed, _int
+
+# Arguments of `generate` that an Engine sets itself or cannot take (it draws in the
+# unit cube).
+_ENGINE_REFUSES = ("n", "d", "region", "box", "shape", "bounds")
+
+try:  # SciPy is optional: without it Engine is a plain class with the same methods.
+    from scipy.stats import qmc as _qmc
+
+    _EngineBase: type = _qmc.QMCEngine
+except ImportError:  # pragma: no cover - exercised only without SciPy
+    _qmc = None
+    _EngineBase = object
+
+_cache: Dict[Any, np.ndarray] = {}
+_cache_lock = threading.Lock()
+
+
+def _frozen(value: Any) -> Any:
+    """A hashable stand-in for a keyword value (arrays by shape and bytes)."""
+    if isinstance(value, np.ndarray):
+        return ("ndarray", value.shape, value.dtype.str, value.tobytes())
+    if isinstance(value, dict):
+        return tuple(sorted((k, _frozen(v)) for k, v in value.items()))
+    if isinstance(value, (list, tuple)):
+        return tuple(_frozen(v) for v in value)
+    try:
+        hash(value)
+        return value
+    except TypeError:
+        return repr(value)
+
+
+def _tent_set(n: int, d: int) -> np.ndarray:
+    """The set for the tent randomisation, computed once per process (read-only)."""
+    key = ("tent", n, d)
+    with _cache_lock:
+        hit = _cache.get(key)
+    if hit is not None:
+        return hit
+    x = _core.tent_set(n, d)
+    x.flags.writeable = False
+    with _cache_lock:
+        return _cache.setdefault(key, x)
+
+
+def _optimised(n: int, d: int, kwargs: Dict[str, Any]) -> np.ndarray:
+    """The optimised set for (n, d, kwargs), computed once per process (read-only)."""
+    key = (n, d, _frozen(kwargs))
+    with _cache_lock:
+        hit = _cache.get(key)
+    if hit is not None:
+        return hit
+    x = generate(n, d, **kwargs)
+    x.flags.writeable = False
+    with _cache_lock:
+        return _cache.setdefault(key, x)
+
+
+class Engine(_EngineBase):  # type: ignore[misc,valid-type]
+    """A randomised QMC engine: every :meth:`random` call returns a set for (n, d)
+    randomised so that each point is uniform in [0, 1)^d (an unbiased QMC rule), with
+    independent draws for an error estimate.
+
+    By default (``randomize='tent'``) the set is the rank-1 lattice made for this
+    randomisation (``generate(n, d, randomize='tent')``; where d exceeds the lattice's
+    φ(n)/2 distinct generators, a set descended from it on the same criterion): a uniform
+    shift modulo 1, then the tent transform x ↦ 1 − |2x − 1|. Its error decays like n⁻²
+    on smooth integrands, and each coordinate of a draw stays stratified (one point in
+    each [k/n, (k+1)/n)). ``randomize='cells'`` or ``'shift'`` randomise the optimised set
+    :func:`generate` ``(n, d, **generate_kwargs)`` instead (cells rotated and offsets
+    shifted in them, or a plain shift). Each n's set is computed on its first draw and
+    cached for the process, so later draws cost one randomisation. With
+    ``scipy.integrate.qmc_quad(f, a, b, qrng=stillpoint.Engine(d, seed=...))`` each
+    estimate uses a freshly seeded engine, hence a new randomisation, and the standard
+    error is that of the randomised rule.
+
+    A subclass of ``scipy.stats.qmc.QMCEngine`` when SciPy is installed (then
+    ``optimization='random-cd'`` or ``'lloyd'`` is applied after the shift, as SciPy
+    does for its engines); a plain class with the same methods otherwise.
+
+    Parameters
+    ----------
+    d : int
+        Dimension.
+    seed, rng : optional
+        Seed of the shifts: an int, a ``numpy.random.Generator`` or None (give one of
+        the two; ``rng`` is SciPy's newer name). The optimised set itself does not depend
+        on it (it is generated with ``generate``'s own ``seed``, default 0).
+    optimization : {None, 'random-cd', 'lloyd'}
+        SciPy's post-processing of each draw.
+    **generate_kwargs
+        ``randomize`` (``'tent'``, the default, ``'cells'`` or ``'shift'``; ``'cells'``
+        is the default when other options describe the set); the others are passed to
+        :func:`generate` (``method``, ``energy``, ``steps``, ``seed``
+        of the run as ``generate_seed``, the options); not ``region``, ``box``,
+        ``shape`` or ``bounds`` (the engine draws in the unit cube).
+    """
+
+    def __init__(
+        self,
+        d: int,
+        *,
+        seed: Any = None,
+        rng: Any = None,
+        optimization: Optional[str] = None,
+        **generate_kwargs: Any,
+    ) -> None:
+        d = _int("d", d, 1)
+        if seed is not None and rng is not None:
+            raise ValueError("invalid seed and rng: give one of them (rng is the newer name)")
+        rng = _engine_seed("seed" if rng is None else "rng", seed if rng is None else rng)
+        for key in _ENGINE_REFUSES:
+            if key in generate_kwargs:
+                raise ValueError(
+                    f"invalid {key} for Engine: it draws n points of [0, 1)^d "
+                    "(n from random(n), d from Engine(d)); scale the draws instead"
+                )
+        kwargs = dict(generate_kwargs)
+        # The recommended randomisation (the lattice made for the shift and tent
+        # transform) unless another is named, or options describe a set of generate's to
+        # randomise: then its cells are rotated, as before tent existed.
+        describes_a_set = any(k != "seed" for k in kwargs)
+        kind = kwargs.pop("randomize", None)
+        if kind is None or kind is True:
+            kind = "cells" if describes_a_set else "tent"
+        if kind is False:
+            raise ValueError(
+                "invalid randomize = False for Engine: its draws are randomised "
+                "('tent', 'cells' or 'shift')"
+            )
+        self._randomize = kind
+        if "generate_seed" in kwargs:
+            kwargs["seed"] = kwargs.pop("generate_seed")
+        # Refuse bad generate arguments now rather than at the first draw.
+        _check_generate(2, d, randomize=kind, **kwargs)
+        self._generate_kwargs = kwargs
+        if _qmc is not None:
+            super().__init__(d=d, optimization=optimization, rng=rng)
+        else:
+            if optimization is not None:
+                raise ValueError(
+                    f"invalid optimization = {optimization!r}: needs SciPy (not installed)"
+                )
+            self.d = d
+            self.rng = np.random.default_rng(rng)
+            self.rng_seed = copy.deepcopy(self.rng)
+            self.num_generated = 0
+            self.optimization_method = None
+        # What scipy.integrate.qmc_quad passes to build independent copies:
+        # type(engine)(seed=..., **engine._init_quad).
+        self._init_quad = {"d": d, "optimization": optimization, **generate_kwargs}
+
+    def _random(self, n: int = 1, *, workers: int = 1) -> np.ndarray:
+        """The cached set for n randomised as ``generate(randomize=...)`` does, seeded
+        from this engine's generator (see the class)."""
+        n = _int("n", n, 0)
+        if n == 0:
+            return np.empty((0, self.d))
+        if self._randomize == "tent":
+            base = _tent_set(n, self.d)
+        else:
+            base = _optimised(n, self.d, self._generate_kwargs)
+        seed = int(self.rng.integers(0, 2**64, dtype=np.uint64))
+        return _core.randomize(base, self._randomize, seed)
+
+    if _qmc is None:  # pragma: no cover - the methods QMCEngine provides otherwise
+
+        def random(self, n: int = 1, *, workers: int = 1) -> np.ndarray:
+            """n points: the optimised set shifted by a uniform random vector mod 1."""
+            x = self._random(n, workers=workers)
+            self.num_generated += n
+            return x
+
+        def reset(self) -> "Engine":
+            """Back to the first draw: the same shifts again."""
+            self.rng = copy.deepcopy(self.rng_seed)
+            self.num_generated = 0
+            return self
+
+    def fast_forward(self, n: int) -> "Engine":
+        """Skips one draw of n points cheaply: the random numbers it would have used are
+        drawn and dropped, without computing the optimised set."""
+        n = _int("n", n, 0)
+        if n > 0:
+            self.rng.integers(0, 2**64, dtype=np.uint64)
+        self.num_generated += n
+        return self
+
+    def __repr__(self) -> str:
+        extra = "".join(f", {k}={v!r}" for k, v in self._generate_kwargs.items())
+        if self._randomize != "tent":
+            extra = f", randomize={self._randomize!r}" + extra
+        return f"stillpoint.Engine(d={self.d}{extra})"
+
+    def _state(self) -> Tuple[Any, ...]:
+        """What decides the draws to come: the dimension, the run's arguments, SciPy's
+        post-processing, the generators' states (the current one and the one ``reset``
+        returns to) and the count drawn."""
+        return (
+            type(self),
+            self.d,
+            self._randomize,
+            _frozen(self._generate_kwargs),
+            getattr(self, "_optimization", None),
+            _frozen(self.rng.bit_generator.state),
+            _frozen(self.rng_seed.bit_generator.state),
+            _frozen(_optimizer_rng_state(self)),
+            self.num_generated,
+        )
+
+    def __eq__(self, other: object) -> bool:
+        """Engines are equal when they will draw the same points from now on (and after
+        ``reset``): a copy, or a pickled and loaded engine, equals its original."""
+        if not isinstance(other, Engine):
+            return NotImplemented
+        return self._state() == other._state()
+
+    # Equal engines stop being equal as either draws: no hash, as for any mutable value.
+    # Pickling needs nothing of its own: the instance's attributes (the generators with
+    # their states, the arguments, SciPy's post-processing) are all picklable, and pickle
+    # keeps the post-processing's generator the same object as ``rng`` when it is one.
+    # The cached optimised set is not carried; each process computes it on its first draw.
+    # A pickle names the class `stillpoint.Engine` (the package sets `__module__`), so
+    # it loads whichever module defines the class.
+    __hash__ = None  # type: ignore[assignment]
+
+
+def _optimizer_rng_state(engine: Engine) -> Any:
+    """The state of the generator SciPy's post-processing draws from (after ``reset``
+    no longer the engine's own ``rng``), or None without one."""
+    rng = getattr(getattr(engine, "optimization_method", None), "keywords", {}).get("rng")
+    return None if rng is None else rng.bit_generator.state
