@@ -495,89 +495,16 @@ fn randomize<'py>(
     to_array(py, points)
 }
 
-/// Every figure of `stillpoint eval --json` for points in [0, 1]^d, as a dict; with
-/// `exact`, the O(n²) figures exact at every size (`eval --exact`).
-#[pyfunction]
-#[pyo3(name = "metrics", signature = (x, exact=false))]
-fn cube_metrics<'py>(
-    py: Python<'py>,
-    x: PyReadonlyArray2<'_, f64>,
-    exact: bool,
-) -> PyResult<Bound<'py, PyAny>> {
-    use stillpoint::quality::metrics::Sums;
-    let p = unit_points("x", &x)?;
-    let sums = if exact { Sums::EXACT } else { Sums::AUTO };
-    let v = detached(py, move || {
-        Ok(stillpoint::quality::evaluate::eval_json_with(&p, sums))
-    })?;
-    py_value(py, &v)
-}
-
-/// The figures of `stillpoint eval --region/--shape --json` for points in a region, as
-/// a dict: `region` (an expression, with `bbox`) or `shape`.
-#[pyfunction]
-#[pyo3(signature = (x, region=None, bbox=None, shape=None))]
-fn region_metrics<'py>(
-    py: Python<'py>,
-    x: PyReadonlyArray2<'_, f64>,
-    region: Option<String>,
-    bbox: Option<Vec<f64>>,
-    shape: Option<String>,
-) -> PyResult<Bound<'py, PyAny>> {
-    let p = point_set("x", &x)?;
-    let none = HashMap::new();
-    let v = detached(py, move || {
-        let spec = stillpoint::plan::space::RegionSpec {
-            expression: region.as_deref(),
-            bbox: bbox.as_deref(),
-            shape: shape.as_deref(),
-            s: Some(p.s()),
-        };
-        let domain = spec
-            .domain(&|n| spell(n, &none))
-            .map_err(|e| spell_error(e, &none))?;
-        stillpoint::quality::region::region_eval_json(&domain, &p)
-            .map_err(|e| spell_error(e, &none))
-    })?;
-    py_value(py, &v)
-}
-
-/// The region figures of points in {A x ≤ b} ∩ `bbox` (or of mixtures), as a dict: what
-/// `stillpoint eval --constraint ... --box ...` (or `--mixture`) prints.
-#[pyfunction]
-#[pyo3(signature = (x, constraints, bbox=None, mixture=false))]
-fn constrained_metrics<'py>(
-    py: Python<'py>,
-    x: PyReadonlyArray2<'_, f64>,
-    constraints: Vec<String>,
-    bbox: Option<Vec<f64>>,
-    mixture: bool,
-) -> PyResult<Bound<'py, PyAny>> {
-    let p = point_set("x", &x)?;
-    let none = HashMap::new();
-    let v = detached(py, move || {
-        let spec = stillpoint::plan::constraints::ConstraintSpec {
-            texts: &constraints,
-            bbox: bbox.as_deref(),
-            s: Some(p.s()),
-            mixture,
-        };
-        stillpoint::plan::constraints::constrained_eval_json(&spec, &p, &|n| spell(n, &none))
-            .map_err(|e| spell_error(e, &none))
-    })?;
-    py_value(py, &v)
-}
-
-/// The figures of points `x` as `stillpoint eval --json` prints them, as JSON text: the
+/// The figures of points `x` as `stillpoint eval --json` prints them, as a dict: the
 /// keyword arguments make `eval`'s request (`exact`, `bounds`, `region`, `box`, `shape`,
 /// `constraints`, `mixture`), which the library resolves and refuses by keyword.
 #[pyfunction]
 #[pyo3(signature = (x, **kwargs))]
-fn metrics(
-    py: Python<'_>,
+fn metrics<'py>(
+    py: Python<'py>,
     x: PyReadonlyArray2<'_, f64>,
     kwargs: Option<&Bound<'_, PyDict>>,
-) -> PyResult<String> {
+) -> PyResult<Bound<'py, PyAny>> {
     let none = HashMap::new();
     let measure = request(kwargs)?
         .resolve_eval_as(&|n| spell(n, &none))
@@ -591,11 +518,11 @@ fn metrics(
         if let stillpoint::pipeline::evaluation::Measure::Cube { .. } = measure {
             p.check_unit_cube().map_err(|e| format!("x: {e}"))?;
         }
-        let v = measure
+        measure
             .json(&p, &spell)
-            .map_err(|e| spell_error(e, &HashMap::new()))?;
-        serde_json::to_string(&v).map_err(|e| e.to_string())
+            .map_err(|e| spell_error(e, &HashMap::new()))
     })
+    .and_then(|v| py_value(py, &v))
 }
 
 /// One L2 discrepancy (the root): `l2star`, `md` (modified), `cd` (centred) or `wd`
@@ -656,9 +583,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(design, m)?)?;
     m.add_function(wrap_pyfunction!(design_figures, m)?)?;
     m.add_function(wrap_pyfunction!(estimate, m)?)?;
-    m.add_function(wrap_pyfunction!(cube_metrics, m)?)?;
-    m.add_function(wrap_pyfunction!(region_metrics, m)?)?;
-    m.add_function(wrap_pyfunction!(constrained_metrics, m)?)?;
     m.add_function(wrap_pyfunction!(discrepancy, m)?)?;
     m.add_function(wrap_pyfunction!(baselines, m)?)?;
     m.add_function(wrap_pyfunction!(integrate, m)?)?;

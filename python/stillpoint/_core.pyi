@@ -41,26 +41,10 @@ def randomize(
 def tent_set(n: int, d: int) -> npt.NDArray[np.float64]:
     """The set ``generate(n, d, randomize='tent')`` randomises, unrandomised."""
 
-def metrics(x: npt.NDArray[np.float64], exact: bool = False) -> Dict[str, Any]:
-    """Every figure ``stillpoint eval --json`` prints for points in [0, 1]^d, as the dict
-    ``json.loads`` makes of it. Refuses a coordinate outside [0, 1]."""
-
-def constrained_metrics(
-    x: npt.NDArray[np.float64],
-    constraints: Sequence[str],
-    bbox: Optional[Sequence[float]] = None,
-    mixture: bool = False,
-) -> Dict[str, Any]:
-    """The figures of ``stillpoint eval --constraint/--mixture --json``, as a dict."""
-
-def region_metrics(
-    x: npt.NDArray[np.float64],
-    region: Optional[str] = None,
-    bbox: Optional[Sequence[float]] = None,
-    shape: Optional[str] = None,
-) -> Dict[str, Any]:
-    """The figures of ``stillpoint eval --region/--shape --json`` for points in a region
-    (an expression g with its box, or a shape), as a dict."""
+def metrics(x: npt.NDArray[np.float64], **kwargs: Any) -> Dict[str, Any]:
+    """Every figure ``stillpoint eval --json`` prints, as the dict ``json.loads`` makes of
+    it; the keywords (``exact``, ``region``, ``box``, ``shape``, ``constraints``,
+    ``mixture``) make ``eval``'s request, resolved and refused by the library."""
 
 def discrepancy(x: npt.NDArray[np.float64], kind: str) -> float:
     """The root of one L2 discrepancy: ``'l2star'`` (SciPy's 'L2-star', a root there
@@ -90,3 +74,7 @@ def design_figures(
     """The design made of named columns of cells (each a label, an integer's digits or a
     float's exact text) read back onto the unit scale of ``space``: the figures of
     :func:`design`'s dict. ``correlation`` is the matrix row-major."""
+
+def options() -> List[Dict[str, Any]]:
+    """Every option of ``generate`` as the library declares it: ``name``, ``cli``,
+    ``python`` (``None`` where Python has no keyword), ``doc`` and ``groups``."""

@@ -42,20 +42,19 @@ def metrics(
     (``stillpoint eval --constraint/--mixture``; a mixture in its first d − 1
     components).
     """
-    if constraints is not None or mixture:
-        if region is not None or shape is not None:
-            raise ValueError("invalid constraints with region or shape: give the region one way")
-        texts = _constraint_texts(constraints if constraints is not None else [], "constraints")
-        texts = [texts] if isinstance(texts, str) else list(texts)
-        bbox = None if box is None else [float(v) for v in np.ravel(np.asarray(box, dtype=np.float64))]
-        return _core.constrained_metrics(_points(x), texts, bbox, bool(mixture))
-    if region is not None or shape is not None:
-        pts = _points(x)
-        bbox = None if box is None else [float(v) for v in box]
-        return _core.region_metrics(pts, region, bbox, shape)
+    # The keywords make `eval`'s request, which the library resolves and refuses (each
+    # refusal names the keyword); only values Python alone can read are converted here.
+    request: Dict[str, Any] = {"exact": exact, "mixture": mixture}
+    if region is not None:
+        request["region"] = region
+    if shape is not None:
+        request["shape"] = shape
     if box is not None:
-        raise ValueError("invalid box: a box only with region or shape='polytope:FILE' (it bounds them)")
-    return _core.metrics(_points(x), bool(exact))
+        request["box"] = [float(v) for v in np.ravel(np.asarray(box, dtype=np.float64))]
+    if constraints is not None:
+        texts = _constraint_texts(constraints, "constraints")
+        request["constraints"] = [texts] if isinstance(texts, str) else list(texts)
+    return _core.metrics(_points(x), **request)
 
 
 def discrepancy(x: Any, kind: str = "md") -> float:
