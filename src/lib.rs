@@ -27,9 +27,9 @@
 //! [`plan`] (what a run is: configuration, start, problem, report), [`goals`]
 //! (integration, space-filling, the paper's), [`post`] (shift, polish, randomise),
 //! [`solve`] (the executor and checkpoints), [`quality`] (metrics, closed forms,
-//! star L∞, region measures, integrands), [`sequences`] (the classic sets), [`io`],
-//! [`plot`]. The geometry is in [`domains`], the potentials in [`energies`], the solvers
-//! in [`integrators`].
+//! star L∞, region measures, integrands), [`sequences`] (the classic sets), [`io`];
+//! pictures are the `stillpoint-plot` crate. The geometry is in [`domains`], the
+//! potentials in [`energies`], the solvers in [`integrators`].
 
 #![deny(missing_docs)]
 
@@ -45,7 +45,6 @@ pub mod goals;
 pub mod io;
 pub mod pipeline;
 pub mod plan;
-pub mod plot;
 pub mod post;
 pub mod quality;
 pub mod sequences;

@@ -7,8 +7,8 @@ use std::fmt::Write as _;
 use std::path::Path;
 use stillpoint::energies::discrepancy::DiscrepancyKind;
 use stillpoint::pipeline::{run_config, EnergyKind, GenerateConfig, Solver};
-use stillpoint::plot::{self, LineChart, Series};
 use stillpoint::quality::metrics;
+use stillpoint_plot::{self as plot, LineChart, Series};
 
 /// The paper's cases (Table 5) and two smaller ones: (s, n).
 pub const DEFAULT_CASES: [(usize, usize); 6] = [

@@ -10,7 +10,8 @@ use std::sync::Arc;
 use stillpoint::energies::region::paper_region;
 use stillpoint::energies::Domain;
 use stillpoint::pipeline::{run_config, GenerateConfig};
-use stillpoint::{io, plot, PointSet};
+use stillpoint::{io, PointSet};
+use stillpoint_plot as plot;
 
 /// The paper's reductions of U_{E,∞,g} (only g1 and g4 are given).
 const PAPER_REDUCTION: [Option<f64>; 4] = [Some(0.801), None, None, Some(0.893)];
