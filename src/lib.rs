@@ -29,8 +29,8 @@
 //! paper's), [`post`] (shift, polish, randomise), [`solve`] (the executor and
 //! checkpoints), [`quality`] (metrics, closed forms, star L∞, region measures,
 //! integrands), [`sequences`] (the classic sets), [`parse`] (expressions and constraints
-//! as typed), [`io`], [`plot`]. The geometry is in [`domains`], the potentials in
-//! [`energies`], the solvers in [`integrators`].
+//! as typed), [`io`]; pictures are the `stillpoint-plot` crate. The geometry is in
+//! [`domains`], the potentials in [`energies`], the solvers in [`integrators`].
 
 #![deny(missing_docs)]
 
@@ -47,7 +47,6 @@ pub mod io;
 pub mod parse;
 pub mod pipeline;
 pub mod plan;
-pub mod plot;
 pub mod post;
 pub mod quality;
 pub mod report;

@@ -53,7 +53,7 @@ pub(crate) fn plot_points(
     };
     if k == 2 && s == 2 {
         let boundary = match &domain {
-            Some(d) if d.level(&[lo[0], lo[1]]).is_some() => stillpoint::plot::boundary_polylines(
+            Some(d) if d.level(&[lo[0], lo[1]]).is_some() => stillpoint_plot::boundary_polylines(
                 &|x: &[f64]| d.level(x).unwrap_or(f64::NAN),
                 [lo[0], lo[1]],
                 [hi[0], hi[1]],
@@ -61,7 +61,7 @@ pub(crate) fn plot_points(
             ),
             _ => Vec::new(),
         };
-        let panel = stillpoint::plot::Panel {
+        let panel = stillpoint_plot::Panel {
             title,
             points: &points,
             lo: [lo[0], lo[1]],
@@ -69,9 +69,9 @@ pub(crate) fn plot_points(
             boundary,
             split,
         };
-        stillpoint::plot::save_panels(output, &[panel], 1)?;
+        stillpoint_plot::save_panels(output, &[panel], 1)?;
     } else {
-        stillpoint::plot::save_projection_matrix(output, &title, &points, k, &lo, &hi)?;
+        stillpoint_plot::save_projection_matrix(output, &title, &points, k, &lo, &hi)?;
     }
     Ok(())
 }
@@ -109,7 +109,7 @@ pub(crate) fn plot_trajectory(
     output: &std::path::Path,
     title: Option<String>,
 ) -> Result<()> {
-    use stillpoint::plot::{LineChart, Series};
+    use stillpoint_plot::{LineChart, Series};
     let refuse = |why: String| {
         anyhow::anyhow!(
             "invalid --trajectory {}: expected a trajectory written by generate --trajectory \
@@ -205,7 +205,7 @@ pub(crate) fn plot_trajectory(
             metric(&by_time),
         ));
     }
-    stillpoint::plot::save_line_chart_grid(output, &charts, 2)?;
+    stillpoint_plot::save_line_chart_grid(output, &charts, 2)?;
     Ok(())
 }
 
@@ -223,7 +223,7 @@ pub(crate) fn plot_start_result(
     let (lo, hi) = domain.bounding_box();
     let (lo2, hi2) = ([lo[0], lo[1]], [hi[0], hi[1]]);
     let boundary = if start.s() == 2 && domain.level(&[lo[0], lo[1]]).is_some() {
-        stillpoint::plot::boundary_polylines(
+        stillpoint_plot::boundary_polylines(
             &|x: &[f64]| domain.level(x).unwrap_or(f64::NAN),
             lo2,
             hi2,
@@ -233,7 +233,7 @@ pub(crate) fn plot_start_result(
         Vec::new()
     };
     let panels = [
-        stillpoint::plot::Panel {
+        stillpoint_plot::Panel {
             title: "start".into(),
             points: start,
             lo: lo2,
@@ -241,7 +241,7 @@ pub(crate) fn plot_start_result(
             boundary: boundary.clone(),
             split: old,
         },
-        stillpoint::plot::Panel {
+        stillpoint_plot::Panel {
             title: "result".into(),
             points: result,
             lo: lo2,
@@ -250,6 +250,6 @@ pub(crate) fn plot_start_result(
             split: old,
         },
     ];
-    stillpoint::plot::save_panels(path, &panels, 2)?;
+    stillpoint_plot::save_panels(path, &panels, 2)?;
     Ok(())
 }

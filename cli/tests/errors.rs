@@ -680,7 +680,7 @@ fn library_refuses_bad_input_clearly() {
     ));
     cases.push((
         "plot with too many dims",
-        msg(stillpoint::plot::save_projection_matrix(
+        msg(stillpoint_plot::save_projection_matrix(
             &d.join("m.png"),
             "t",
             &pts,

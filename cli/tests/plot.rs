@@ -4,10 +4,10 @@
 use std::f64::consts::PI;
 use std::fs;
 
-use stillpoint::plot::{
+use stillpoint::PointSet;
+use stillpoint_plot::{
     boundary_polylines, canvas_size, save_panels, Panel, PlotError, PANEL_HEIGHT, PANEL_WIDTH,
 };
-use stillpoint::PointSet;
 
 mod common;
 use common::TempDir;
@@ -369,7 +369,7 @@ fn boundary_lines_are_clipped_to_the_box() {
 
 #[test]
 fn line_charts_render_and_refuse_unknown_formats() {
-    use stillpoint::plot::{save_line_charts, LineChart, Series};
+    use stillpoint_plot::{save_line_charts, LineChart, Series};
     let dir = std::env::temp_dir().join(format!("stillpoint-lines-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let chart = LineChart {
@@ -425,7 +425,7 @@ fn blue_pixels(path: &std::path::Path) -> usize {
 
 #[test]
 fn projection_matrix_has_one_cell_per_pair_and_refuses_bad_input() {
-    use stillpoint::plot::{save_projection_matrix, MATRIX_CELL};
+    use stillpoint_plot::{save_projection_matrix, MATRIX_CELL};
     let dir = TempDir::new("matrix");
     let (_, result) = sample_sets();
     let path = dir.path("m.png");
@@ -460,7 +460,7 @@ fn projection_matrix_has_one_cell_per_pair_and_refuses_bad_input() {
 
 #[test]
 fn line_chart_grid_lays_charts_in_rows() {
-    use stillpoint::plot::{save_line_chart_grid, LineChart, Series};
+    use stillpoint_plot::{save_line_chart_grid, LineChart, Series};
     let dir = TempDir::new("grid");
     let chart = |t: &str| LineChart {
         title: t.into(),
@@ -512,7 +512,7 @@ fn plot_command_draws_scatter_matrix_region_and_trajectory() {
     assert!(cli(&["plot", f, "-o", m4.to_str().unwrap()])
         .status
         .success());
-    assert_eq!(png_size(&m4).0, 4 * stillpoint::plot::MATRIX_CELL);
+    assert_eq!(png_size(&m4).0, 4 * stillpoint_plot::MATRIX_CELL);
     let m2 = dir.path("m2.svg");
     assert!(cli(&["plot", f, "--dims", "2", "-o", m2.to_str().unwrap()])
         .status

@@ -8,9 +8,9 @@ use std::path::Path;
 use stillpoint::config::{EnergyKind, GenerateConfig};
 use stillpoint::energies::discrepancy::DiscrepancyKind;
 use stillpoint::pipeline::run_config;
-use stillpoint::plot::{self, LineChart, Series};
 use stillpoint::quality::metrics;
 use stillpoint::solve::Solver;
+use stillpoint_plot::{self as plot, LineChart, Series};
 
 /// The paper's cases (Table 5) and two smaller ones: (s, n).
 pub const DEFAULT_CASES: [(usize, usize); 6] = [

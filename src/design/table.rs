@@ -1,63 +1,79 @@
 //! A design as a table of text, both ways: written with a header of names and labels
 //! in their cells (numbers so that they read back to the same bits), and read back
 //! into the unit scale for `eval --space`, every cell checked against its variable.
+//! Cells are split by the csv crate, as point files are ([`crate::io::text`]).
 
 use super::{Design, DesignSpace, Kind};
+use crate::io::text::unquote;
 use crate::{Error, PointSet};
 
 impl Design {
     /// The design as text with `sep` between cells: `#` comment lines with `meta` (a JSON
-    /// object), the header of names, then one row per point.
+    /// object), the header of names, then one row per point. A cell that holds the
+    /// separator, a quote or a line break is quoted as RFC 4180 quotes it.
     pub fn to_text(&self, meta: &serde_json::Value, sep: char) -> String {
-        let mut out = format!("# stillpoint {}\n", env!("CARGO_PKG_VERSION"));
-        if let Some(map) = meta.as_object() {
-            for (k, v) in map {
-                out.push_str(&format!("# {k}: {v}\n"));
-            }
-        }
-        let sep = sep.to_string();
-        let names: Vec<&str> = self.space.vars.iter().map(|v| v.name.as_str()).collect();
-        out.push_str(&names.join(&sep));
-        out.push('\n');
+        let mut out = String::new();
+        crate::io::header::push_header(&mut out, meta);
+        let mut table = csv::WriterBuilder::new()
+            .delimiter(sep as u8)
+            .terminator(csv::Terminator::Any(b'\n'))
+            .from_writer(Vec::new());
         let columns = self.columns();
-        for i in 0..self.n() {
-            let cells: Vec<String> = columns
+        let rows = (0..self.n()).map(|i| {
+            columns
                 .iter()
                 .map(|c| match c {
                     super::Column::Real(v) => format!("{:?}", v[i]),
                     super::Column::Int(v) => v[i].to_string(),
                     super::Column::Label(v) => v[i].clone(),
                 })
-                .collect();
-            out.push_str(&cells.join(&sep));
-            out.push('\n');
+                .collect::<Vec<String>>()
+        });
+        let names = self.space.vars.iter().map(|v| v.name.clone()).collect();
+        for row in std::iter::once(names).chain(rows) {
+            // Writing to memory cannot fail.
+            let _ = table.write_record(&row);
         }
+        let bytes = table.into_inner().unwrap_or_default();
+        out.push_str(&String::from_utf8_lossy(&bytes));
         out
     }
 
     /// Reads a design written as [`Design::to_text`] writes it (comma- or tab-separated,
     /// `#` lines skipped, the header naming every variable of `space` once, in any
     /// order): continuous values go back to the unit scale through their CDF, integers
-    /// and labels to their levels. A leading byte-order mark is skipped and a cell may be
-    /// quoted as RFC 4180 quotes it (`"0.5"`, `""` for a quote inside), as spreadsheets
+    /// and labels to their levels. A leading byte-order mark is skipped, lines may end in
+    /// CRLF and a cell may be quoted as RFC 4180 quotes it (`"0.5"`, `""` for a quote
+    /// inside, a separator or a line break within the quotes), as spreadsheets and pandas
     /// write them. `source` names the input in refusals.
     pub fn from_text(space: &DesignSpace, text: &str, source: &str) -> Result<Design, Error> {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        let mut lines = text
+        let header = text
             .lines()
-            .enumerate()
-            .filter(|(_, l)| !l.trim_start().starts_with('#') && !l.trim().is_empty());
-        let Some((_, header)) = lines.next() else {
+            .find(|l| !l.trim_start().starts_with('#') && !l.trim().is_empty());
+        let Some(header) = header else {
             return Err(Error::invalid(
                 source,
                 "no rows",
                 "a header of names, then rows",
             ));
         };
-        let sep = if header.contains('\t') { '\t' } else { ',' };
-        let names = cells(header, sep);
-        let rows =
-            lines.map(|(line, row)| (format!("{source} line {}", line + 1), cells(row, sep)));
+        let sep = if header.contains('\t') { b'\t' } else { b',' };
+        let mut rows = crate::io::text::records(text, sep).map(|record| match record {
+            Ok((line, cells)) => Ok((
+                format!("{source} line {line}"),
+                cells.iter().map(|c| unquote(c).to_string()).collect(),
+            )),
+            Err((line, why)) => Err(Error::invalid(
+                format!("{source} line {line}"),
+                "text that cannot be split into cells",
+                why,
+            )),
+        });
+        let names = match rows.next() {
+            Some(header) => header?.1,
+            None => Vec::new(),
+        };
         Design::from_rows(space, &names, rows, source, &format!("header {header:?}"))
     }
 
@@ -82,13 +98,13 @@ impl Design {
         }
         let names: Vec<String> = columns.iter().map(|c| c.0.clone()).collect();
         let rows = (0..n).map(|i| {
-            (
+            Ok((
                 format!("{source} row {}", i + 1),
                 columns
                     .iter()
                     .map(|c| c.1[i].clone())
                     .collect::<Vec<String>>(),
-            )
+            ))
         });
         Design::from_rows(space, &names, rows, source, &format!("columns {names:?}"))
     }
@@ -142,7 +158,7 @@ impl Design {
     fn from_rows(
         space: &DesignSpace,
         names: &[String],
-        rows: impl Iterator<Item = (String, Vec<String>)>,
+        rows: impl Iterator<Item = Result<(String, Vec<String>), Error>>,
         source: &str,
         shown_header: &str,
     ) -> Result<Design, Error> {
@@ -169,7 +185,8 @@ impl Design {
         let s = space.dim();
         let mut unit = Vec::new();
         let mut levels: Vec<Vec<usize>> = vec![Vec::new(); s];
-        for (place, cells) in rows {
+        for row in rows {
+            let (place, cells) = row?;
             if cells.len() != names.len() {
                 return Err(Error::invalid(
                     place,
@@ -254,47 +271,58 @@ fn whole(cell: &str) -> Option<i64> {
     })
 }
 
-/// The cells of one line, trimmed, each unquoted as RFC 4180 quotes it (a cell in double
-/// quotes may hold the separator, and `""` for a quote).
-fn cells(line: &str, sep: char) -> Vec<String> {
-    let mut out = Vec::new();
-    let mut cell = String::new();
-    let mut chars = line.chars().peekable();
-    let mut quoted = false;
-    let mut was_quoted = false;
-    while let Some(c) = chars.next() {
-        if quoted {
-            if c == '"' {
-                if chars.peek() == Some(&'"') {
-                    chars.next();
-                    cell.push('"');
-                } else {
-                    quoted = false;
-                }
-            } else {
-                cell.push(c);
-            }
-        } else if c == sep {
-            out.push(finish(&cell, was_quoted));
-            cell.clear();
-            was_quoted = false;
-        } else if c == '"' && cell.trim().is_empty() {
-            cell.clear();
-            quoted = true;
-            was_quoted = true;
-        } else {
-            cell.push(c);
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A space of a continuous variable and one with labels, with `label` as level 1.
+    fn space_with(label: &str) -> DesignSpace {
+        let mut space = DesignSpace::parse("--var", &["x=uniform(0,1)", "c={a,b}"]).unwrap();
+        if let Kind::Levels { labels, .. } = &mut space.vars[1].kind {
+            labels[1] = label.to_string();
+        }
+        space
+    }
+
+    fn design(space: &DesignSpace) -> Design {
+        Design {
+            space: space.clone(),
+            unit: PointSet::new(3, 2, vec![0.125, 0.25, 0.5, 0.75, 0.875, 0.25]).unwrap(),
+            levels: vec![Vec::new(), vec![0, 1, 0]],
         }
     }
-    out.push(finish(&cell, was_quoted));
-    out
-}
 
-fn finish(cell: &str, quoted: bool) -> String {
-    if quoted {
-        // Spaces after the closing quote are padding; inside, they are the cell's.
-        cell.trim_end().to_string()
-    } else {
-        cell.trim().to_string()
+    #[test]
+    fn a_label_with_a_comma_a_quote_and_a_line_break_round_trips() {
+        let label = "dark, \"deep\"\nred";
+        let space = space_with(label);
+        let d = design(&space);
+        for sep in [',', '\t'] {
+            let text = d.to_text(&serde_json::json!({"note": "a, b"}), sep);
+            // Quoted as RFC 4180 quotes it: the quote doubled, the cell in quotes.
+            assert!(text.contains("\"dark, \"\"deep\"\"\nred\""), "{text}");
+            let back = Design::from_text(&space, &text, "t").unwrap();
+            assert_eq!(back.levels, d.levels);
+            assert_eq!(
+                back.to_text(&serde_json::Value::Null, sep),
+                d.to_text(&serde_json::Value::Null, sep)
+            );
+        }
+    }
+
+    #[test]
+    fn a_table_written_as_pandas_writes_it_reads_as_the_plain_one() {
+        let space = space_with("b");
+        let plain = "x,c\n0.125,a\n0.5,b\n0.875,a\n";
+        let pandas =
+            "\u{feff}\"x\",\"c\"\r\n\"0.125\",\"a\"\r\n\"0.5\",\"b\"\r\n\"0.875\",\"a\"\r\n";
+        let a = Design::from_text(&space, plain, "plain").unwrap();
+        let b = Design::from_text(&space, pandas, "pandas").unwrap();
+        assert_eq!(a.levels, b.levels);
+        assert_eq!(a.unit.as_slice(), b.unit.as_slice());
+        assert_eq!(a.levels[1], vec![0, 1, 0]);
+        // A refusal names the line the row starts on, comments and blank lines counted.
+        let e = Design::from_text(&space, "# c\nx,c\n\n0.5,\"z\"\r\n", "f.csv").unwrap_err();
+        assert!(e.to_string().contains("f.csv line 4, c"), "{e}");
     }
 }

@@ -9,9 +9,9 @@ use stillpoint::config::{EnergyKind, GenerateConfig, Init};
 use stillpoint::energies::einf::UEInf;
 use stillpoint::energies::{Distance, Energy, PointSet, Uqp};
 use stillpoint::pipeline::run_config;
-use stillpoint::plot::{LineChart, Series};
 use stillpoint::quality::metrics;
 use stillpoint::sequences::Baseline;
+use stillpoint_plot::{LineChart, Series};
 
 /// Table 1 (s = 2, by n) of the paper: ρ_{1,L2}, ρ_{1,MD}, ρ_{E,L2}, ρ_{E,MD}.
 const PAPER_T1: [(usize, [f64; 4]); 6] = [
@@ -383,7 +383,7 @@ fn render(
         })
         .collect();
     let path = opts.out.join(fig);
-    stillpoint::plot::save_line_chart_grid(&path, &charts, 2)?;
+    stillpoint_plot::save_line_chart_grid(&path, &charts, 2)?;
     files.push(path);
     text += &format!(
         "Final sets against the classic sequences (Fig. {}): [{fig}]({fig}). D_MD of each:\n\n",

@@ -272,10 +272,10 @@ pub(crate) fn pct2(v: f64) -> String {
 /// Saves line charts and records the file.
 pub(crate) fn save_charts(
     path: &Path,
-    charts: &[stillpoint::plot::LineChart],
+    charts: &[stillpoint_plot::LineChart],
     files: &mut Vec<PathBuf>,
 ) -> Result<()> {
-    stillpoint::plot::save_line_charts(path, charts)?;
+    stillpoint_plot::save_line_charts(path, charts)?;
     files.push(path.to_path_buf());
     Ok(())
 }

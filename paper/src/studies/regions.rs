@@ -11,7 +11,8 @@ use stillpoint::config::GenerateConfig;
 use stillpoint::energies::region::paper_region;
 use stillpoint::energies::Domain;
 use stillpoint::pipeline::run_config;
-use stillpoint::{io, plot, PointSet};
+use stillpoint::{io, PointSet};
+use stillpoint_plot as plot;
 
 /// The paper's reductions of U_{E,∞,g} (only g1 and g4 are given).
 const PAPER_REDUCTION: [Option<f64>; 4] = [Some(0.801), None, None, Some(0.893)];

@@ -6,10 +6,10 @@ use super::catalog;
 use super::{markdown_table, pct, save_charts, Body, StudyOptions};
 use anyhow::Result;
 use serde_json::json;
-use stillpoint::plot::{LineChart, Series};
 use stillpoint::quality::integrands as testfns;
 use stillpoint::quality::metrics;
 use stillpoint::sequences::Baseline;
+use stillpoint_plot::{LineChart, Series};
 
 /// The paper's Table 6: RAR of each method over F1..F8, D_MD, D_L2.
 const PAPER_TABLE6: [(&str, [f64; 10]); 5] = [

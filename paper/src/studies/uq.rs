@@ -12,9 +12,9 @@ use serde_json::json;
 use std::time::Instant;
 use stillpoint::config::GenerateConfig;
 use stillpoint::pipeline::run_config;
-use stillpoint::plot::{LineChart, Series};
 use stillpoint::sequences::Baseline;
 use stillpoint::PointSet;
+use stillpoint_plot::{LineChart, Series};
 
 /// Table 7 of the paper: relative errors (%) of the means and SDs of u1, u2, u3 for
 /// U_{q,p}, HSO, HS, HW, SS.

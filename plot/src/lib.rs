@@ -5,7 +5,13 @@
 //! Everything is drawn headless with the DejaVu Sans font compiled into the binary
 //! (registered with plotters on first use), so pictures come out the same on a machine
 //! with no system fonts and no fontconfig. Files are written with
-//! [`crate::io::write_atomic`], so a failed save never leaves a broken picture behind.
+//! [`stillpoint::io::write_atomic`], so a failed save never leaves a broken picture
+//! behind.
+//!
+//! A crate of its own, used by the command line and the paper's reproductions, so that
+//! the library and the Python extension do not link plotters, an image encoder and a font.
+
+#![deny(missing_docs)]
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -16,7 +22,7 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::FontStyle;
 
-use crate::PointSet;
+use stillpoint::PointSet;
 
 /// Width in pixels of one panel of [`save_panels`].
 pub const PANEL_WIDTH: u32 = 600;
@@ -111,7 +117,7 @@ pub enum PlotError {
     Encode(String),
     /// The file could not be written.
     #[error(transparent)]
-    Io(#[from] crate::io::IoError),
+    Io(#[from] stillpoint::io::IoError),
 }
 
 /// The zero level set {g = 0} of `level` over the box [lo, hi], traced by marching squares.
@@ -826,7 +832,7 @@ fn save_scene(
             svg.into_bytes()
         }
     };
-    crate::io::write_atomic(path, &bytes)?;
+    stillpoint::io::write_atomic(path, &bytes)?;
     Ok(())
 }
 

@@ -3,10 +3,11 @@
 //! region is a `Problem` (the boundary-aware energy tied to its domain) run through the
 //! executor.
 //!
-//! Run with `cargo run --release --example regions [-- OUTDIR]` (default `regions-output`).
-//! For each region it writes the points (CSV) and a picture of the start beside the result
-//! with the boundary drawn (PNG), and prints U_{E,∞,g} before and after with the reduction
-//! next to the paper's (80.1 % for g1 up to 89.3 % for g4).
+//! Run with `cargo run --release -p stillpoint-plot --example regions [-- OUTDIR]`
+//! (default `regions-output`). For each region it writes the points (CSV) and a picture
+//! of the start beside the result with the boundary drawn (PNG), and prints U_{E,∞,g}
+//! before and after with the reduction next to the paper's (80.1 % for g1 up to 89.3 %
+//! for g4).
 
 use serde_json::json;
 use std::path::PathBuf;
@@ -15,7 +16,8 @@ use stillpoint::energies::boundary::UEInfG;
 use stillpoint::energies::region::paper_region;
 use stillpoint::energies::Domain;
 use stillpoint::integrators::{Dem, Executor, Problem};
-use stillpoint::{io, plot};
+use stillpoint::io;
+use stillpoint_plot as plot;
 
 fn main() -> anyhow::Result<()> {
     let out = PathBuf::from(
