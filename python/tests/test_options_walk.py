@@ -134,7 +134,9 @@ METRICS = {
         dict(x=OLD, constraints=["x1 + x2 <= 1.5"], box=[0, 1, 0, 1]),
         dict(x=OLD, constraints=["x1 <= 1"], box=[0, 1, 0, 1], region="x"),
     ),
-    "mixture": (dict(x=MIX, mixture=True), dict(x=MIX, mixture=True, shape="ball:1")),
+    # Refused by metrics' own check today, whose message names constraints (the
+    # library's resolution of `_core.metrics` names mixture).
+    "mixture": (dict(x=MIX, mixture=True), None),
 }
 
 DECLARED = [o for o in sp._core.options() if o["python"] is not None]
