@@ -39,6 +39,7 @@ pub use stillpoint_integrators as integrators;
 
 pub use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Uqp};
 
+pub mod cubature;
 pub mod design;
 pub mod expr;
 pub mod goals;
@@ -51,6 +52,7 @@ pub mod quality;
 pub mod sequences;
 pub mod solve;
 
+pub use cubature::{quad, Cubature, QuadOptions, QuadResult};
 pub use pipeline::request::Request;
 pub use pipeline::{generate, paper, region};
 pub use quality::metrics;
