@@ -1,12 +1,12 @@
 //! Prints the table of the extensible lattice's generating vector
 //! (src/sequences/extensible_table.rs): `cargo run --release --example extensible_table
-//! [-- D] > src/sequences/extensible_table.rs`, D = 1000 by default.
+//! [-- D] > src/sequences/extensible_table.rs`, D = 100 by default (the table's size).
 
 fn main() -> Result<(), stillpoint::Error> {
     let d: usize = std::env::args()
         .nth(1)
         .and_then(|a| a.parse().ok())
-        .unwrap_or(1000);
+        .unwrap_or(100);
     let start = std::time::Instant::now();
     let z = stillpoint::sequences::embedded_tent_generator(d)?;
     eprintln!("{d} coordinates in {:.1} s", start.elapsed().as_secs_f64());

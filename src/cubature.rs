@@ -186,6 +186,11 @@ impl Cubature {
         self.per_replicate * self.options.replicates as u64
     }
 
+    /// Points per replicate of the batch handed out and not yet fed (0: none).
+    pub fn pending(&self) -> u64 {
+        self.pending
+    }
+
     /// Points evaluated per replicate so far.
     pub fn per_replicate(&self) -> u64 {
         self.per_replicate

@@ -10,6 +10,8 @@
 
 #![deny(missing_docs)]
 
+mod cubature;
+
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::time::Instant;
 
@@ -561,5 +563,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(integrate_json, m)?)?;
     m.add_function(wrap_pyfunction!(randomize, m)?)?;
     m.add_function(wrap_pyfunction!(tent_set, m)?)?;
+    m.add_function(wrap_pyfunction!(cubature::sequence_points, m)?)?;
+    m.add_class::<cubature::PyCubature>()?;
     Ok(())
 }
