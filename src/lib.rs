@@ -41,6 +41,7 @@ pub use stillpoint_integrators as integrators;
 pub use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Uqp};
 
 pub mod config;
+pub mod cubature;
 pub mod design;
 pub mod goals;
 pub mod io;
@@ -53,6 +54,7 @@ pub mod report;
 pub mod sequences;
 pub mod solve;
 
+pub use cubature::{quad, Cubature, QuadOptions, QuadResult};
 pub use pipeline::request::Request;
 pub use pipeline::{generate, paper, region};
 pub use quality::metrics;

@@ -366,13 +366,17 @@ pub(crate) enum Command {
         json: bool,
     },
     /// Integrate the eight test functions F1–F8 of eq. 49 (exact integrals 0) with the
-    /// points of a file and print each estimate, i.e. each integration error.
+    /// points of a file and print each estimate, i.e. each integration error; or, with
+    /// --expr, integrate an expression over the unit cube to a tolerance.
     Integrate {
         /// The point file (CSV, TSV, whitespace, JSON, .npy); coordinates in [0, 1].
-        file: PathBuf,
+        #[arg(required_unless_present = "expr", conflicts_with = "expr")]
+        file: Option<PathBuf>,
         /// Print one JSON object.
         #[arg(long)]
         json: bool,
+        #[command(flatten)]
+        quad: QuadArgs,
     },
     /// Reproduce one of the paper's studies: correlation (Tables 1–2, Figs. 3–5), table5,
     /// catalog (the 127 sets, resumable), table6 (Figs. 6–7), kraichnan-orszag (Table 7,

@@ -280,8 +280,11 @@ fn baseline_command(c: Command) -> Result<()> {
 
 /// `stillpoint integrate`.
 fn integrate_command(c: Command) -> Result<()> {
-    let Command::Integrate { file, json } = c else {
+    let Command::Integrate { file, json, quad } = c else {
         bail!("integrate: not this subcommand");
+    };
+    let Some(file) = file else {
+        return quad_command(quad, json);
     };
     let points = io::read_points(&file)?;
     points

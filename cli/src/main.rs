@@ -11,6 +11,8 @@ mod generate;
 mod output;
 mod plot;
 mod progress;
+mod quad;
+mod quad_args;
 mod region;
 mod report;
 mod streams;
@@ -28,6 +30,8 @@ use {
         output::*,
         plot::*,
         progress::*,
+        quad::*,
+        quad_args::*,
         region::*,
         report::*,
         streams::{note, noteln, out, outln},

@@ -12,6 +12,8 @@
 
 #![deny(missing_docs)]
 
+mod cubature;
+
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::time::Instant;
 
@@ -590,5 +592,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tent_set, m)?)?;
     m.add_function(wrap_pyfunction!(options, m)?)?;
     m.add_function(wrap_pyfunction!(metrics, m)?)?;
+    m.add_function(wrap_pyfunction!(cubature::sequence_points, m)?)?;
+    m.add_class::<cubature::PyCubature>()?;
     Ok(())
 }

@@ -60,7 +60,7 @@ impl Randomize {
 
 /// The tent transform x ↦ 1 − |2x − 1|, which maps the uniform distribution on [0, 1)
 /// onto itself; kept below 1 (x = ½ would map onto 1).
-fn tent(x: f64) -> f64 {
+pub(crate) fn tent(x: f64) -> f64 {
     let y = 1.0 - (2.0 * x - 1.0).abs();
     if y >= 1.0 {
         crate::sequences::prev_float(1.0)

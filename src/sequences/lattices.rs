@@ -260,7 +260,7 @@ pub const TENT_WEIGHT: f64 = 0.05;
 /// 1 + γ·(2π)⁴/24·(−B4(r/n)) for r = 0..n−1, with B4(x) = x⁴ − 2x³ + x² − 1/30: the
 /// one-dimensional factor of the kernel Σ_{h≠0} e^{2πihx}/h⁴ = −(2π)⁴ B4(x)/4! at the n
 /// values a lattice coordinate can take.
-fn tent_factors(n: usize, gamma: f64) -> Vec<f64> {
+pub(super) fn tent_factors(n: usize, gamma: f64) -> Vec<f64> {
     let c = (2.0 * std::f64::consts::PI).powi(4) / 24.0;
     (0..n)
         .map(|r| {

@@ -19,12 +19,17 @@ use crate::domains::halton::radical_inverse;
 use crate::{Error, PointSet};
 
 mod baseline;
+mod extensible;
 mod latin;
 mod lattices;
 mod scrambled_halton;
 mod sobol_owen;
 
 pub use baseline::Baseline;
+pub use extensible::{
+    embedded_tent_generator, extensible_shift, ExtensibleLattice, EXTENSIBLE_BITS,
+    EXTENSIBLE_MAX_D, EXTENSIBLE_MAX_POINTS,
+};
 pub use latin::{lhs, lhs_maximin, maximin_search, LHS_MAXIMIN_MAX_N};
 pub use lattices::{
     distinct_generators, hua_wang, korobov_p2, lattice, lattice_generator, rank1_lattice,
