@@ -58,17 +58,6 @@ impl Randomize {
     }
 }
 
-/// The tent transform x ↦ 1 − |2x − 1|, which maps the uniform distribution on [0, 1)
-/// onto itself; kept below 1 (x = ½ would map onto 1).
-pub(crate) fn tent(x: f64) -> f64 {
-    let y = 1.0 - (2.0 * x - 1.0).abs();
-    if y >= 1.0 {
-        crate::sequences::prev_float(1.0)
-    } else {
-        y
-    }
-}
-
 /// `points` randomised from `seed` as `kind` says (see [`Randomize`]): afterwards each
 /// point is uniformly distributed over [0, 1)^s.
 pub fn randomize(points: &PointSet, kind: Randomize, seed: u64) -> PointSet {
@@ -83,7 +72,11 @@ pub fn randomize(points: &PointSet, kind: Randomize, seed: u64) -> PointSet {
         Randomize::Tent => {
             let c: Vec<f64> = (0..s).map(|_| rng.random::<f64>()).collect();
             let shifted = crate::post::shift::shifted(points, &c);
-            let data = shifted.as_slice().iter().map(|&x| tent(x)).collect();
+            let data = shifted
+                .as_slice()
+                .iter()
+                .map(|&x| crate::sequences::tent(x))
+                .collect();
             PointSet::new(n, s, data).expect("same shape")
         }
         Randomize::Cells => {

@@ -261,7 +261,7 @@ impl ExtensibleLattice {
             self.unshifted_numerators(start + i as u64, &mut num);
             for ((x, &a), &c) in row.iter_mut().zip(&num).zip(&self.shift) {
                 let y = a as f64 * scale + c;
-                *x = crate::post::randomize::tent(if y >= 1.0 { y - 1.0 } else { y });
+                *x = super::tent(if y >= 1.0 { y - 1.0 } else { y });
             }
         }
         Ok(())

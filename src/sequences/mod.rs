@@ -149,6 +149,17 @@ pub(crate) fn substream(seed: u64, label: u64, index: u64) -> Xoshiro256PlusPlus
     Xoshiro256PlusPlus::seed_from_u64(hash2(hash2(mix64(seed), label), index))
 }
 
+/// The tent transform x ↦ 1 − |2x − 1|, which maps the uniform distribution on [0, 1)
+/// onto itself; kept below 1 (x = ½ would map onto 1).
+pub fn tent(x: f64) -> f64 {
+    let y = 1.0 - (2.0 * x - 1.0).abs();
+    if y >= 1.0 {
+        prev_float(1.0)
+    } else {
+        y
+    }
+}
+
 /// The largest f64 below `x` (for positive finite x): where a value that must stay inside
 /// a half-open interval is clamped when rounding carried it onto the right end.
 pub(crate) fn prev_float(x: f64) -> f64 {
