@@ -94,6 +94,28 @@ fn catalogue() -> Vec<Marginal> {
     all
 }
 
+/// Which variant a marginal is; exhaustive on purpose, so that a new variant does not
+/// compile here until [`catalogue`] is told of it.
+fn variant(m: &Marginal) -> usize {
+    match m {
+        Marginal::Uniform { .. } => 0,
+        Marginal::Normal { .. } => 1,
+        Marginal::TruncNormal { .. } => 2,
+        Marginal::LogNormal { .. } => 3,
+        Marginal::Beta { .. } => 4,
+        Marginal::Triangular { .. } => 5,
+    }
+}
+
+#[test]
+fn the_catalogue_holds_every_variant() {
+    let mut seen = [false; 6];
+    for m in catalogue() {
+        seen[variant(&m)] = true;
+    }
+    assert!(seen.iter().all(|&s| s), "variants missing from the catalogue: {seen:?}");
+}
+
 fn close(x: f64, y: f64, rel: f64) -> bool {
     (x - y).abs() <= rel * y.abs().max(f64::MIN_POSITIVE)
 }

@@ -17,6 +17,48 @@ pub(crate) struct Cli {
     pub(crate) command: Command,
 }
 
+impl Cli {
+    /// clap's command, with each declared option's short help (`-h`) taken from its
+    /// declaration ([`stillpoint::pipeline::options::OPTIONS`]), so that the command line
+    /// and Python describe an option in the same words; the doc comments below stay the
+    /// long help (`--help`).
+    pub(crate) fn command_with_declared_help() -> clap::Command {
+        use clap::CommandFactory;
+        use stillpoint::pipeline::options::OPTIONS;
+        let mut cli = Cli::command();
+        for sub in ["generate", "eval"] {
+            cli = cli.mut_subcommand(sub, |mut c| {
+                let declared: Vec<(String, &'static str)> = c
+                    .get_arguments()
+                    .filter_map(|a| {
+                        let flag = match (a.get_long(), a.get_short()) {
+                            (Some(long), _) => format!("--{long}"),
+                            (None, Some(short)) => format!("-{short}"),
+                            (None, None) => return None,
+                        };
+                        let d = OPTIONS
+                            .iter()
+                            .find(|d| d.cli == flag || d.cli_also.contains(&flag.as_str()))?;
+                        Some((a.get_id().to_string(), d.doc))
+                    })
+                    .collect();
+                for (id, doc) in declared {
+                    c = c.mut_arg(id, |a| {
+                        let long = a.get_long_help().or(a.get_help()).cloned();
+                        let a = a.help(doc);
+                        match long {
+                            Some(long) => a.long_help(long),
+                            None => a,
+                        }
+                    });
+                }
+                c
+            });
+        }
+        cli
+    }
+}
+
 /// The heading of the options of the paper's pipeline in `generate --help`, after the
 /// few that most runs need.
 const EXPERT: &str = "Expert options: the paper's pipeline (any of them selects --method paper)";
@@ -454,6 +496,30 @@ mod tests {
                 (None, None) => None,
             })
             .collect()
+    }
+
+    #[test]
+    fn short_help_is_the_declaration() {
+        let mut cli = Cli::command_with_declared_help();
+        cli.build();
+        for sub in ["generate", "eval"] {
+            let c = cli.find_subcommand(sub).unwrap();
+            for a in c.get_arguments() {
+                let flag = match (a.get_long(), a.get_short()) {
+                    (Some(long), _) => format!("--{long}"),
+                    (None, Some(short)) => format!("-{short}"),
+                    (None, None) => continue,
+                };
+                if let Some(d) = OPTIONS
+                    .iter()
+                    .find(|d| d.cli == flag || d.cli_also.contains(&flag.as_str()))
+                {
+                    let help = a.get_help().map(|h| h.to_string());
+                    assert_eq!(help.as_deref(), Some(d.doc), "{sub} {flag}");
+                    assert!(a.get_long_help().is_some(), "{sub} {flag} keeps a long help");
+                }
+            }
+        }
     }
 
     fn declared_flags(

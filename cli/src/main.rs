@@ -72,7 +72,10 @@ fn main() {
         io::abandon_writes();
         std::process::exit(130);
     });
-    let cli = match Cli::try_parse() {
+    let parsed = Cli::command_with_declared_help()
+        .try_get_matches()
+        .and_then(|m| <Cli as clap::FromArgMatches>::from_arg_matches(&m));
+    let cli = match parsed {
         Ok(cli) => cli,
         // Help and version go to standard output, which may fail like any result.
         Err(e)
