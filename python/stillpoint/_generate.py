@@ -153,3 +153,27 @@ def nested(sizes: Any, d: int, **kwargs: Any) -> np.ndarray:
     if not isinstance(sizes, str):
         sizes = list(sizes)
     return generate(None, d, nested=sizes, names={"nested": "sizes"}, **kwargs)
+
+
+def _option_table() -> str:
+    """The docstring's table of every keyword, from the library's one declaration of each
+    option (the command line's ``-h`` prints the same doc lines)."""
+    lines = [
+        "",
+        "    Options",
+        "    -------",
+        "    Every keyword as the library declares it (``stillpoint._core.options()``), with",
+        "    the command line's flag and the groups of rules it falls under:",
+        "",
+    ]
+    for o in _core.options():
+        if o["python"] is None:
+            continue
+        groups = ", ".join(o["groups"]) or "any run"
+        lines.append(f"    ``{o['python']}`` (``{o['cli']}``; {groups})")
+        lines.append(f"        {o['doc']}")
+    return "\n".join(lines) + "\n"
+
+
+if generate.__doc__ is not None:
+    generate.__doc__ = generate.__doc__.rstrip() + "\n" + _option_table()

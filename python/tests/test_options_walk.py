@@ -196,3 +196,13 @@ def test_generate_accepts_exactly_the_declared_keywords():
             assert "invalid keyword argument" not in str(e), f"{key}: {e}"
     with pytest.raises(ValueError, match="invalid keyword argument = colour"):
         sp.generate(8, 2, colour="blue")
+
+
+def test_the_docstring_table_is_the_declaration():
+    """generate's docstring lists every Python keyword with the declared doc line."""
+    doc = sp.generate.__doc__
+    for o in sp._core.options():
+        if o["python"] is None:
+            continue
+        assert f"``{o['python']}`` (``{o['cli']}``" in doc, o["python"]
+        assert o["doc"] in doc, o["python"]
