@@ -5,7 +5,8 @@
 #   (change, rebuild)
 #   benches/same_bytes.sh target/release/stillpoint /tmp/after
 #   diff /tmp/before/SHA256SUMS /tmp/after/SHA256SUMS
-# Lines of the headers that record times, and the version line (`# stillpoint X.Y.Z`), are
+# Lines of the headers that record times, and the version lines (`# stillpoint X.Y.Z`,
+# `# version: "X.Y.Z"`), are
 # dropped before hashing; nothing else is.
 set -euo pipefail
 bin=$(realpath "${1:?usage: same_bytes.sh BIN OUTDIR}")
@@ -49,6 +50,6 @@ for f in default-s8-n100 paper-s2-n50 randomize-tent default-s8-n1500; do
 done
 rm -f SHA256SUMS
 for f in *.csv *.json; do
-    printf '%s  %s\n' "$(grep -v -e '^# time' -e '"seconds"' -e '^# stillpoint [0-9]' "$f" | sha256sum | cut -d' ' -f1)" "$f"
+    printf '%s  %s\n' "$(grep -v -e '^# time' -e '"seconds"' -e '^# stillpoint [0-9]' -e '^# version: ' "$f" | sha256sum | cut -d' ' -f1)" "$f"
 done > SHA256SUMS
 wc -l < SHA256SUMS
