@@ -113,7 +113,10 @@ fn the_catalogue_holds_every_variant() {
     for m in catalogue() {
         seen[variant(&m)] = true;
     }
-    assert!(seen.iter().all(|&s| s), "variants missing from the catalogue: {seen:?}");
+    assert!(
+        seen.iter().all(|&s| s),
+        "variants missing from the catalogue: {seen:?}"
+    );
 }
 
 fn close(x: f64, y: f64, rel: f64) -> bool {

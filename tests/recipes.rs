@@ -17,11 +17,7 @@ fn goal_index(g: &Goal) -> usize {
 }
 
 /// One request per goal, in [`goal_index`]'s order.
-const REQUESTS: [&[(&str, &str)]; 3] = [
-    &[("method", "paper")],
-    &[],
-    &[("goal", "space-filling")],
-];
+const REQUESTS: [&[(&str, &str)]; 3] = [&[("method", "paper")], &[], &[("goal", "space-filling")]];
 
 #[test]
 fn every_goal_is_reached_by_a_request_and_runs() {

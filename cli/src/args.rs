@@ -516,7 +516,10 @@ mod tests {
                 {
                     let help = a.get_help().map(|h| h.to_string());
                     assert_eq!(help.as_deref(), Some(d.doc), "{sub} {flag}");
-                    assert!(a.get_long_help().is_some(), "{sub} {flag} keeps a long help");
+                    assert!(
+                        a.get_long_help().is_some(),
+                        "{sub} {flag} keeps a long help"
+                    );
                 }
             }
         }
