@@ -1,7 +1,7 @@
 //! A design as a table of text, both ways: written with a header of names and labels
 //! in their cells (numbers so that they read back to the same bits), and read back
 //! into the unit scale for `eval --space`, every cell checked against its variable.
-//! Cells are split by the csv crate, as point files are ([`crate::io::text`]).
+//! Cells are split by the csv crate, as point files are (`io::text`).
 
 use super::{Design, DesignSpace, Kind};
 use crate::io::text::unquote;

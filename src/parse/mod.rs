@@ -1,5 +1,5 @@
 //! Reading what users type: region expressions g(x) ≤ 0 ([`expr`]) and linear
-//! constraints ([`constraint`]), two grammars over one lexer ([`lexer`]). Each reports a
+//! constraints ([`constraint`]), two grammars over one lexer (`lexer`). Each reports a
 //! refusal at the place in the text where it was found.
 
 pub mod constraint;
