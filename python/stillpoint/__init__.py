@@ -9,8 +9,9 @@ classic sequences (scrambled Sobol', Halton, lattices, Latin hypercubes, ...),
 :func:`design` a design in a mixed space
 (distributions, integer and categorical factors; ``generate(n, space=...)`` as a table),
 and :class:`Engine` a SciPy
-``scipy.stats.qmc.QMCEngine`` that draws randomised copies of an optimised set
-(usable with ``scipy.integrate.qmc_quad``).
+``scipy.stats.qmc.QMCEngine`` whose draws continue one randomised extensible lattice
+sequence (or, by name, are independent randomised sets; usable with
+``scipy.integrate.qmc_quad``).
 
 Every function accepts any array-like of points (lists, float32, Fortran order: they are
 cast to C-ordered float64) and returns float64 arrays of shape (n, d). Every refusal is a
