@@ -3,6 +3,7 @@ outputs, expectations under a space's distributions, continuing from a result wi
 evaluating again, an executor giving the result of one process, and the refusals."""
 
 import concurrent.futures
+import logging
 import math
 import pickle
 import warnings
@@ -136,6 +137,21 @@ def test_a_process_pool_gives_the_result_of_one_process():
     with concurrent.futures.ProcessPoolExecutor(max_workers=2) as pool:
         procs = sp.quad(square_sum, 2, rel_tol=1e-3, seed=8, executor=pool)
     assert procs.n == alone.n and np.array_equal(procs.estimate, alone.estimate)
+
+
+def test_a_dask_executor_gives_the_result_of_one_process():
+    distributed = pytest.importorskip("dask.distributed")
+    alone = sp.quad(square_sum, 2, rel_tol=1e-3, seed=14)
+    with distributed.LocalCluster(
+        n_workers=2,
+        threads_per_worker=1,
+        processes=False,
+        dashboard_address=":0",
+        silence_logs=logging.ERROR,
+    ) as cluster, distributed.Client(cluster) as client:
+        with client.get_executor() as executor:
+            r = sp.quad(square_sum, 2, rel_tol=1e-3, seed=14, executor=executor)
+    assert r.n == alone.n and np.array_equal(r.estimate, alone.estimate)
 
 
 def test_a_nan_is_refused_naming_the_point():
