@@ -319,8 +319,16 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
             return NotImplemented
         return self._state() == other._state()
 
+    def __setstate__(self, state: Dict[str, Any]) -> None:
+        """The pickled attributes as they are; an engine pickled before the sequence
+        existed (no ``_draws``) keeps drawing independently, and so do the copies
+        ``scipy.integrate.qmc_quad`` builds from its ``_init_quad``."""
+        self.__dict__.update(state)
+        if "_draws" not in state and "_init_quad" in state:
+            self._init_quad = {**state["_init_quad"], "draws": "independent"}
+
     # Equal engines stop being equal as either draws: no hash, as for any mutable value.
-    # Pickling needs nothing of its own: the instance's attributes (the generators with
+    # Pickling needs nothing else of its own: the instance's attributes (the generators with
     # their states, the arguments, SciPy's post-processing) are all picklable, and pickle
     # keeps the post-processing's generator the same object as ``rng`` when it is one.
     # The cached optimised set is not carried; each process computes it on its first draw.
