@@ -259,7 +259,8 @@ def quad(
     start : QuadResult, optional
         An earlier result to continue from with the new ``abs_tol`` and ``rel_tol``: its
         evaluations are kept and only new points are evaluated. Its other settings (box,
-        space, seed, level, replicates, max_n) are kept; ``d`` must match. The earlier
+        space, seed, level, replicates, max_n) are kept; ``d`` must match and ``a``,
+        ``b``, ``space``, ``correlation`` and ``seed`` are refused with it. The earlier
         result is not changed.
 
     Returns
@@ -291,6 +292,13 @@ def quad(
             )
         if start.d != d:
             raise ValueError(f"invalid d = {d}: start was computed in {start.d} dimensions")
+        given = {"a": a, "b": b, "space": space, "correlation": correlation, "seed": seed}
+        for name, value in given.items():
+            if value is not None:
+                raise ValueError(
+                    f"invalid {name} with start: a continued integration keeps the earlier "
+                    f"one's {name}; give only the new abs_tol, rel_tol (and executor)"
+                )
         state = copy.deepcopy(start._state)
         setup = dict(start._setup)
         try:

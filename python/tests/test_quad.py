@@ -234,3 +234,5 @@ def test_start_keeps_its_dimension():
     r = sp.quad(product_peak, 2, rel_tol=1e-2, seed=13)
     with pytest.raises(ValueError, match=r"invalid d = 3"):
         sp.quad(product_peak, 3, start=r)
+    with pytest.raises(ValueError, match=r"invalid seed with start"):
+        sp.quad(product_peak, 2, start=r, seed=1)
