@@ -398,6 +398,22 @@ fn design<'py>(
     Ok(out)
 }
 
+/// A design space from its `NAME=TYPE` texts and, if given, the continuous variables'
+/// correlation (row-major).
+fn parsed_space(
+    space: &[String],
+    correlation: Option<Vec<f64>>,
+) -> PyResult<stillpoint::design::DesignSpace> {
+    let mut space = stillpoint::design::DesignSpace::parse("space", space).map_err(value_error)?;
+    if let Some(m) = correlation {
+        let shown = format!("{m:?}");
+        space
+            .correlate("correlation", &shown, m)
+            .map_err(value_error)?;
+    }
+    Ok(space)
+}
+
 /// The figures of a design given as named columns of cells (each value as text: a
 /// label, a whole number or a number that reads back to the same float), read back onto
 /// the unit scale of `space`, as a dict (a design's `figures`). The cells cross as values,
@@ -411,13 +427,7 @@ fn design_figures<'py>(
     columns: Vec<(String, Vec<String>)>,
     correlation: Option<Vec<f64>>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let mut space = stillpoint::design::DesignSpace::parse("space", &space).map_err(value_error)?;
-    if let Some(m) = correlation {
-        let shown = format!("{m:?}");
-        space
-            .correlate("correlation", &shown, m)
-            .map_err(value_error)?;
-    }
+    let space = parsed_space(&space, correlation)?;
     let v = detached(py, move || {
         let design = stillpoint::design::Design::from_columns(&space, &columns, "table")
             .map_err(|e| e.to_string())?;
@@ -425,6 +435,47 @@ fn design_figures<'py>(
             .map_err(|e| e.to_string())
     })?;
     py_value(py, &v)
+}
+
+/// Points of the unit cube mapped to the values of `space`, one row per point: each
+/// continuous variable through the copula (if any) and its marginal's quantile function,
+/// each discrete one to its level floor(u·L) (levels equally likely; a label as its index
+/// in the list). Integrating over the unit cube after this map is the expectation under
+/// the space's distributions.
+#[pyfunction]
+#[pyo3(signature = (space, x, correlation=None))]
+fn space_values<'py>(
+    py: Python<'py>,
+    space: Vec<String>,
+    x: PyReadonlyArray2<'py, f64>,
+    correlation: Option<Vec<f64>>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let space = parsed_space(&space, correlation)?;
+    let unit = unit_points("x", &x)?;
+    if unit.s() != space.dim() {
+        return Err(value_error(format!(
+            "x: {} coordinates per point; expected one per variable of space ({})",
+            unit.s(),
+            space.dim()
+        )));
+    }
+    let levels: Vec<Vec<usize>> = space
+        .vars
+        .iter()
+        .enumerate()
+        .map(|(j, v)| match v.kind.levels() {
+            None => Vec::new(),
+            Some(l) => (0..unit.n())
+                .map(|i| ((unit.point(i)[j] * l as f64) as usize).min(l - 1))
+                .collect(),
+        })
+        .collect();
+    let design = stillpoint::design::Design {
+        space,
+        unit,
+        levels,
+    };
+    to_array(py, design.numbers().map_err(value_error)?)
 }
 
 /// A design as a JSON value (all but its unit-scale set), its figures those of `written`
@@ -584,6 +635,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check_generate, m)?)?;
     m.add_function(wrap_pyfunction!(design, m)?)?;
     m.add_function(wrap_pyfunction!(design_figures, m)?)?;
+    m.add_function(wrap_pyfunction!(space_values, m)?)?;
     m.add_function(wrap_pyfunction!(estimate, m)?)?;
     m.add_function(wrap_pyfunction!(discrepancy, m)?)?;
     m.add_function(wrap_pyfunction!(baselines, m)?)?;

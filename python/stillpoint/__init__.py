@@ -4,11 +4,14 @@ The points are the static solution of a damped many-body problem (the dynamical
 evolutionary model): :func:`generate` gives exactly what ``stillpoint generate -n N -s D``
 writes, :func:`metrics` what ``stillpoint eval --json`` prints, :func:`baseline` the
 classic sequences (scrambled Sobol', Halton, lattices, Latin hypercubes, ...),
-:func:`integrate` the paper's test integrals, :func:`design` a design in a mixed space
+:func:`integrate` the paper's test integrals, :func:`quad` an integral to a tolerance
+(doubling n on an extensible randomised lattice until the interval is narrow enough),
+:func:`design` a design in a mixed space
 (distributions, integer and categorical factors; ``generate(n, space=...)`` as a table),
 and :class:`Engine` a SciPy
-``scipy.stats.qmc.QMCEngine`` that draws randomised copies of an optimised set
-(usable with ``scipy.integrate.qmc_quad``).
+``scipy.stats.qmc.QMCEngine`` whose draws continue one randomised extensible lattice
+sequence (or, by name, are independent randomised sets; usable with
+``scipy.integrate.qmc_quad``).
 
 Every function accepts any array-like of points (lists, float32, Fortran order: they are
 cast to C-ordered float64) and returns float64 arrays of shape (n, d). Every refusal is a
@@ -16,8 +19,8 @@ cast to C-ordered float64) and returns float64 arrays of shape (n, d). Every ref
 
 The package is laid out by concern, each in a private module: ``_generate`` (generate,
 extend, nested), ``_design`` (Design, design, design_figures), ``_metrics`` (metrics,
-discrepancy), ``_baselines``, ``_integrate``, ``_engine`` (Engine), ``_many``
-(generate_many), with the argument checks in ``_validate``, design spaces in ``_space``
+discrepancy), ``_baselines``, ``_integrate``, ``_quad`` (quad, QuadResult), ``_engine`` (Engine),
+``_many`` (generate_many), with the argument checks in ``_validate``, design spaces in ``_space``
 and the checks before a call in ``_request``. Every public name is this package's:
 import it from ``stillpoint``.
 """
@@ -30,12 +33,14 @@ from ._generate import extend, generate, nested
 from ._integrate import integrate
 from ._many import generate_many
 from ._metrics import discrepancy, metrics
+from ._quad import QuadResult, quad
 
 __version__: str = _core.__version__
 
 __all__ = [
     "Design",
     "Engine",
+    "QuadResult",
     "baseline",
     "baselines",
     "design",
@@ -47,6 +52,7 @@ __all__ = [
     "integrate",
     "metrics",
     "nested",
+    "quad",
 ]
 
 # Each public name says it is `stillpoint`'s, not its private module's: pickles of an

@@ -78,3 +78,48 @@ def design_figures(
 def options() -> List[Dict[str, Any]]:
     """Every option of ``generate`` as the library declares it: ``name``, ``cli``,
     ``python`` (``None`` where Python has no keyword), ``doc`` and ``groups``."""
+
+def space_values(
+    space: Sequence[str],
+    x: npt.NDArray[np.float64],
+    correlation: Optional[Sequence[float]] = None,
+) -> npt.NDArray[np.float64]:
+    """Unit-cube points mapped to the values of ``space``: continuous variables through
+    the copula and their quantile functions, discrete ones to level floor(u·L) (a label
+    as its index)."""
+
+def sequence_points(
+    d: int, seed: int = 0, replicate: int = 0, start: int = 0, count: int = 1
+) -> npt.NDArray[np.float64]:
+    """Points [start, start + count) of one replicate of the extensible randomised
+    lattice sequence."""
+
+class Cubature:
+    """The state of an integration to a tolerance (see ``stillpoint.quad``)."""
+
+    def __init__(
+        self,
+        d: int,
+        abs_tol: float = 0.0,
+        rel_tol: float = 1e-3,
+        level: float = 0.95,
+        replicates: int = 8,
+        max_n: int = 2**20,
+        start_n: int = 64,
+        seed: int = 0,
+        a: Optional[Sequence[float]] = None,
+        b: Optional[Sequence[float]] = None,
+    ) -> None: ...
+    def next_points(self) -> Optional[npt.NDArray[np.float64]]: ...
+    def feed(self, values: npt.NDArray[np.float64]) -> None: ...
+    def set_tolerance(self, abs_tol: float, rel_tol: float) -> None: ...
+    estimate: List[float]
+    half_width: List[float]
+    n: int
+    replicates: int
+    d: int
+    outputs: int
+    met: bool
+    exhausted: bool
+    warnings: List[str]
+    replicate_means: List[List[float]]

@@ -1,10 +1,13 @@
-"""The SciPy engine: :class:`Engine`, a ``scipy.stats.qmc.QMCEngine`` whose draws are
-randomised copies of a set computed once per process and cached."""
+"""The SciPy engine: :class:`Engine`, a ``scipy.stats.qmc.QMCEngine`` whose draws
+continue one extensible randomised lattice sequence (as SciPy's engines continue
+theirs), or, by name, are independent randomised copies of a set computed once per
+process and cached."""
 
 from __future__ import annotations
 
 import copy
 import threading
+import warnings
 from typing import Any, Dict, Optional, Tuple
 
 import numpy as np
@@ -17,6 +20,13 @@ from ._validate import _engine_seed, _int
 # Arguments of `generate` that an Engine sets itself or cannot take (it draws in the
 # unit cube).
 _ENGINE_REFUSES = ("n", "d", "region", "box", "shape", "bounds")
+
+# The extensible sequence's reach: its lattice has generators for this many dimensions,
+# and each replicate this many points.
+_SEQUENCE_MAX_D = 100
+_SEQUENCE_MAX_POINTS = 2**20
+
+_DRAWS = ("sequence", "independent")
 
 try:  # SciPy is optional: without it Engine is a plain class with the same methods.
     from scipy.stats import qmc as _qmc
@@ -72,18 +82,31 @@ def _optimised(n: int, d: int, kwargs: Dict[str, Any]) -> np.ndarray:
 
 
 class Engine(_EngineBase):  # type: ignore[misc,valid-type]
-    """A randomised QMC engine: every :meth:`random` call returns a set for (n, d)
-    randomised so that each point is uniform in [0, 1)^d (an unbiased QMC rule), with
-    independent draws for an error estimate.
+    """A randomised QMC engine whose points are each uniform in [0, 1)^d (an unbiased QMC
+    rule).
 
-    By default (``randomize='tent'``) the set is the rank-1 lattice made for this
+    By default (``draws='sequence'``) successive :meth:`random` calls continue one
+    sequence, as SciPy's engines do: ``random(64)`` twice gives the points of
+    ``random(128)`` of a fresh engine. The sequence is an extensible rank-1 lattice in
+    radical-inverse order (each prefix of 2^m points is a lattice of 2^m points) with one
+    uniform random shift per engine, drawn from ``seed``, and the tent transform
+    x ↦ 1 − |2x − 1|; up to 100 dimensions and 2^20 points. As for SciPy's Sobol',
+    the balance holds at powers of two: a draw that ends elsewhere warns. :meth:`reset`
+    goes back to the first point, :meth:`fast_forward` skips points. ``d = 0`` gives
+    (n, 0) arrays.
+
+    With ``draws='independent'`` every :meth:`random` call returns a new randomisation
+    of a set made for its n (the engine of earlier versions, which unpickled engines of
+    those versions keep): by default (``randomize='tent'``) the rank-1 lattice made for this
     randomisation (``generate(n, d, randomize='tent')``; where d exceeds the lattice's
     φ(n)/2 distinct generators, a set descended from it on the same criterion): a uniform
     shift modulo 1, then the tent transform x ↦ 1 − |2x − 1|. Its error decays like n⁻²
     on smooth integrands, and each coordinate of a draw stays stratified (one point in
     each [k/n, (k+1)/n)). ``randomize='cells'`` or ``'shift'`` randomise the optimised set
-    :func:`generate` ``(n, d, **generate_kwargs)`` instead (cells rotated and offsets
-    shifted in them, or a plain shift). Each n's set is computed on its first draw and
+    :func:`generate` ``(n, d, **generate_kwargs)`` instead (``'cells'``: the cells of
+    each coordinate rotated and the offsets shifted within them; ``'shift'``: one uniform
+    shift modulo 1); a set is made for each n, so these, and any options describing the
+    set, imply ``draws='independent'``. Each n's set is computed on its first draw and
     cached for the process, so later draws cost one randomisation. With
     ``scipy.integrate.qmc_quad(f, a, b, qrng=stillpoint.Engine(d, seed=...))`` each
     estimate uses a freshly seeded engine, hence a new randomisation, and the standard
@@ -96,7 +119,11 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
     Parameters
     ----------
     d : int
-        Dimension.
+        Dimension (0 to 100 for the sequence).
+    draws : {'sequence', 'independent'}, optional
+        Whether draws continue one sequence (the default) or are independent
+        randomisations of a set made for each n (the default when ``randomize`` is
+        ``'cells'`` or ``'shift'`` or options describe the set, which need it).
     seed, rng : optional
         Seed of the shifts: an int, a ``numpy.random.Generator`` or None (give one of
         the two; ``rng`` is SciPy's newer name). The optimised set itself does not depend
@@ -118,9 +145,10 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
         seed: Any = None,
         rng: Any = None,
         optimization: Optional[str] = None,
+        draws: Optional[str] = None,
         **generate_kwargs: Any,
     ) -> None:
-        d = _int("d", d, 1)
+        d = _int("d", d, 0)
         if seed is not None and rng is not None:
             raise ValueError("invalid seed and rng: give one of them (rng is the newer name)")
         rng = _engine_seed("seed" if rng is None else "rng", seed if rng is None else rng)
@@ -144,10 +172,31 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
                 "('tent', 'cells' or 'shift')"
             )
         self._randomize = kind
+        if draws is not None and draws not in _DRAWS:
+            raise ValueError(
+                f"invalid draws = {draws!r}: expected 'sequence' (successive draws continue "
+                "one sequence) or 'independent' (each draw a new randomised set)"
+            )
+        of_a_set = describes_a_set or kind != "tent"
+        if draws is None:
+            draws = "independent" if of_a_set else "sequence"
+        if draws == "sequence" and of_a_set:
+            raise ValueError(
+                f"invalid draws = 'sequence' with randomize = {kind!r} or options of a set: "
+                "these randomise a set made for each n; use draws='independent', or leave "
+                "the options out for the sequence"
+            )
+        if draws == "sequence" and d > _SEQUENCE_MAX_D:
+            raise ValueError(
+                f"invalid d = {d}: the sequence reaches {_SEQUENCE_MAX_D} dimensions; for "
+                "more use draws='independent' (a set made for each n)"
+            )
+        self._draws = draws
         if "generate_seed" in kwargs:
             kwargs["seed"] = kwargs.pop("generate_seed")
         # Refuse bad generate arguments now rather than at the first draw.
-        _check_generate(2, d, randomize=kind, **kwargs)
+        if d > 0:
+            _check_generate(2, d, randomize=kind, **kwargs)
         self._generate_kwargs = kwargs
         if _qmc is not None:
             super().__init__(d=d, optimization=optimization, rng=rng)
@@ -161,22 +210,58 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
             self.rng_seed = copy.deepcopy(self.rng)
             self.num_generated = 0
             self.optimization_method = None
+        # The sequence's one shift, drawn once: reset() returns to the same points, and
+        # engines made from one generator (as qmc_quad makes its copies) differ.
+        # Independent draws take nothing from the generator here, so that they are the
+        # draws of earlier versions.
+        self._sequence_seed = (
+            int(self.rng.integers(0, 2**64, dtype=np.uint64)) if draws == "sequence" else None
+        )
         # What scipy.integrate.qmc_quad passes to build independent copies:
         # type(engine)(seed=..., **engine._init_quad).
-        self._init_quad = {"d": d, "optimization": optimization, **generate_kwargs}
+        self._init_quad = {"d": d, "optimization": optimization, "draws": draws, **generate_kwargs}
 
     def _random(self, n: int = 1, *, workers: int = 1) -> np.ndarray:
         """The cached set for n randomised as ``generate(randomize=...)`` does, seeded
         from this engine's generator (see the class)."""
         n = _int("n", n, 0)
-        if n == 0:
-            return np.empty((0, self.d))
+        if n == 0 or self.d == 0:
+            return np.empty((n, self.d))
+        if self._continues():
+            return self._sequence(n)
         if self._randomize == "tent":
             base = _tent_set(n, self.d)
         else:
             base = _optimised(n, self.d, self._generate_kwargs)
         seed = int(self.rng.integers(0, 2**64, dtype=np.uint64))
         return _core.randomize(base, self._randomize, seed)
+
+    def _continues(self) -> bool:
+        """Whether draws continue the sequence. An engine pickled before the sequence
+        existed has no ``_draws``: its draws are independent, as they were."""
+        return getattr(self, "_draws", "independent") == "sequence"
+
+    def _sequence(self, n: int) -> np.ndarray:
+        """Points num_generated .. num_generated + n of the sequence, with SciPy's
+        Sobol' warning where the total drawn leaves the powers of two."""
+        start = self.num_generated
+        end = start + n
+        if end > _SEQUENCE_MAX_POINTS:
+            raise ValueError(
+                f"invalid n = {n}: {start} points drawn and the sequence has "
+                f"{_SEQUENCE_MAX_POINTS}; reset() it, or use draws='independent'"
+            )
+        if end & (end - 1):
+            warnings.warn(
+                "The balance properties of the lattice sequence require n to be a power "
+                f"of 2. {start} points have been previously generated, then: "
+                f"n={start}+{n}={end}. If you still want to do this, the function "
+                "'Engine.fast_forward()' can be used.",
+                stacklevel=4,
+            )
+        return _core.sequence_points(
+            self.d, seed=self._sequence_seed, replicate=0, start=start, count=n
+        )
 
     if _qmc is None:  # pragma: no cover - the methods QMCEngine provides otherwise
 
@@ -193,10 +278,10 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
             return self
 
     def fast_forward(self, n: int) -> "Engine":
-        """Skips one draw of n points cheaply: the random numbers it would have used are
-        drawn and dropped, without computing the optimised set."""
+        """Skips n points: of the sequence, or (independent draws) one draw of n points,
+        whose random numbers are drawn and dropped without computing the set."""
         n = _int("n", n, 0)
-        if n > 0:
+        if n > 0 and not self._continues():
             self.rng.integers(0, 2**64, dtype=np.uint64)
         self.num_generated += n
         return self
@@ -205,6 +290,8 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
         extra = "".join(f", {k}={v!r}" for k, v in self._generate_kwargs.items())
         if self._randomize != "tent":
             extra = f", randomize={self._randomize!r}" + extra
+        elif not self._continues() and hasattr(self, "_draws"):
+            extra = ", draws='independent'" + extra
         return f"stillpoint.Engine(d={self.d}{extra})"
 
     def _state(self) -> Tuple[Any, ...]:
@@ -221,6 +308,8 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
             _frozen(self.rng_seed.bit_generator.state),
             _frozen(_optimizer_rng_state(self)),
             self.num_generated,
+            getattr(self, "_draws", "independent"),
+            getattr(self, "_sequence_seed", None),
         )
 
     def __eq__(self, other: object) -> bool:
@@ -230,8 +319,16 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
             return NotImplemented
         return self._state() == other._state()
 
+    def __setstate__(self, state: Dict[str, Any]) -> None:
+        """The pickled attributes as they are; an engine pickled before the sequence
+        existed (no ``_draws``) keeps drawing independently, and so do the copies
+        ``scipy.integrate.qmc_quad`` builds from its ``_init_quad``."""
+        self.__dict__.update(state)
+        if "_draws" not in state and "_init_quad" in state:
+            self._init_quad = {**state["_init_quad"], "draws": "independent"}
+
     # Equal engines stop being equal as either draws: no hash, as for any mutable value.
-    # Pickling needs nothing of its own: the instance's attributes (the generators with
+    # Pickling needs nothing else of its own: the instance's attributes (the generators with
     # their states, the arguments, SciPy's post-processing) are all picklable, and pickle
     # keeps the post-processing's generator the same object as ``rng`` when it is one.
     # The cached optimised set is not carried; each process computes it on its first draw.

@@ -6,6 +6,7 @@ a design holds the same table and figures."""
 import json
 import pathlib
 import pickle
+import warnings
 
 import numpy as np
 import pytest
@@ -17,9 +18,10 @@ RECORD = json.loads((DATA / "pickled_expected.json").read_text())
 ARRAYS = np.load(DATA / "pickled_expected.npz")
 
 # The same engines built now, as the record says they were made (before pickling each
-# drew 16 points).
+# drew 16 points). Engines then drew an independent set per call, which is now asked for
+# by name (the default continues one sequence); the others imply it.
 MADE_NOW = {
-    "tent": lambda: sp.Engine(3, seed=4),
+    "tent": lambda: sp.Engine(3, seed=4, draws="independent"),
     "cells": lambda: sp.Engine(
         2, seed=np.random.default_rng(7), randomize="cells", steps=40, energy="e-inf", shifts=0
     ),
@@ -48,6 +50,22 @@ def test_an_old_engine_pickle_draws_what_it_drew(name):
         # reset goes back to the engine's first draw, as a fresh engine makes it.
         first = MADE_NOW[name]().random(16)
         assert e.reset().random(16).tobytes() == first.tobytes()
+
+
+def test_an_old_tent_engine_in_qmc_quad_still_draws_independently():
+    from scipy.integrate import qmc_quad
+
+    # qmc_quad builds its engines from the old engine's arguments: independent draws
+    # take 50 points without a word, where the sequence would warn (50 is no power of 2).
+    (old, _) = load("engine_tent")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res = qmc_quad(lambda x: np.prod(0.5 + x, axis=0), [0] * 3, [1] * 3,
+                       n_estimates=4, n_points=50, qrng=old)
+    assert abs(res.integral - 1.0) < 4 * res.standard_error + 1e-12
+    with pytest.warns(UserWarning, match="balance"):
+        qmc_quad(lambda x: np.prod(0.5 + x, axis=0), [0] * 3, [1] * 3,
+                 n_estimates=4, n_points=50, qrng=sp.Engine(3, seed=4))
 
 
 @pytest.mark.parametrize("name", sorted(RECORD["designs"]))

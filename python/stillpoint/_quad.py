@@ -1,0 +1,374 @@
+"""Integration to a tolerance: :func:`quad` doubles the number of points on R shifted
+replicates of the extensible randomised lattice, never discarding an evaluation, until
+the Student t interval from the replicate means is narrow enough; :class:`QuadResult`
+holds the answer and the state to continue from with a tighter tolerance."""
+
+from __future__ import annotations
+
+import concurrent.futures
+import copy
+import math
+import operator
+import secrets
+import warnings
+from typing import Any, Callable, Dict, List, Optional, Tuple
+
+import numpy as np
+
+from . import _core
+from ._space import _space_items
+from ._validate import _int
+
+# Rows per task when f runs on an executor: large enough that sending the points costs
+# little next to an expensive f, small enough that a doubling feeds every worker.
+_CHUNK_ROWS = 4096
+
+
+class QuadResult:
+    """What :func:`quad` returns: the estimate of each output's integral, the half-width
+    of its interval at ``level``, ``n`` (evaluations of f), ``replicates``, ``met``
+    (whether every output reached its tolerance) and ``warnings``. ``estimate`` and
+    ``half_width`` are floats when f returns one value per point, arrays of shape (k,)
+    when it returns k.
+
+    Pass it back as ``quad(f, d, rel_tol=..., start=result)`` to continue with a tighter
+    tolerance: the evaluations already made are kept, only new points are evaluated.
+    Picklable.
+    """
+
+    def __init__(self, state: Any, setup: Dict[str, Any]) -> None:
+        self._state = state
+        self._setup = setup
+
+    def _shaped(self, values: List[float]) -> Any:
+        a = np.array(values, dtype=np.float64)
+        return float(a[0]) if self._setup.get("scalar", True) and a.size == 1 else a
+
+    @property
+    def estimate(self) -> Any:
+        """The estimate of the integral (a float, or one per output)."""
+        return self._shaped(self._state.estimate)
+
+    @property
+    def half_width(self) -> Any:
+        """The half-width of the interval at ``level`` (a float, or one per output)."""
+        return self._shaped(self._state.half_width)
+
+    @property
+    def n(self) -> int:
+        """Evaluations of f made, all replicates together."""
+        return int(self._state.n)
+
+    @property
+    def replicates(self) -> int:
+        """Independent random shifts R."""
+        return int(self._state.replicates)
+
+    @property
+    def d(self) -> int:
+        """The dimension."""
+        return int(self._state.d)
+
+    @property
+    def met(self) -> bool:
+        """Whether every output's half-width is within max(abs_tol, rel_tol·|estimate|)."""
+        return bool(self._state.met)
+
+    @property
+    def warnings(self) -> List[str]:
+        """Warnings about the settings (too few replicates for the level)."""
+        return list(self._state.warnings)
+
+    @property
+    def replicate_means(self) -> np.ndarray:
+        """The R replicate estimates, shape (R,) for one output, (k, R) for k."""
+        m = np.array(self._state.replicate_means, dtype=np.float64)
+        return m[0] if self._setup.get("scalar", True) and m.shape[0] == 1 else m
+
+    def __repr__(self) -> str:
+        return (
+            f"QuadResult(estimate={self.estimate!r}, half_width={self.half_width!r}, "
+            f"n={self.n}, replicates={self.replicates}, met={self.met})"
+        )
+
+    def __getstate__(self) -> Dict[str, Any]:
+        return {"state": self._state, "setup": self._setup}
+
+    def __setstate__(self, state: Dict[str, Any]) -> None:
+        self._state = state["state"]
+        self._setup = state["setup"]
+
+
+def _number(name: str, value: Any) -> float:
+    """A finite real argument, refused naming it otherwise."""
+    try:
+        v = float(operator.index(value) if isinstance(value, (int, np.integer)) else value)
+    except (TypeError, ValueError):
+        raise ValueError(f"invalid {name} = {value!r}: expected a finite number") from None
+    if isinstance(value, (bool, np.bool_)) or not math.isfinite(v):
+        raise ValueError(f"invalid {name} = {value!r}: expected a finite number")
+    return v
+
+
+def _corner(name: str, value: Any, d: int) -> Optional[List[float]]:
+    """A corner of the box as d floats (a scalar is taken in every dimension)."""
+    if value is None:
+        return None
+    try:
+        a = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"invalid {name} = {value!r}: expected {d} finite numbers (one per dimension)"
+        ) from None
+    if a.ndim == 0:
+        a = np.full(d, float(a))
+    if a.shape != (d,) or not np.all(np.isfinite(a)):
+        raise ValueError(
+            f"invalid {name} = {value!r}: expected {d} finite numbers (one per dimension)"
+        )
+    return a.tolist()
+
+
+def _seed(seed: Any) -> int:
+    """A seed for the shifts: a whole number in [0, 2^64), or a fresh one for None."""
+    if seed is None:
+        return secrets.randbits(64)
+    return _int("seed", seed, 0, 2**64 - 1)
+
+
+def _values(f: Callable[..., Any], x: np.ndarray, k: Optional[int]) -> Tuple[np.ndarray, bool]:
+    """f at the rows of x as an (n, k) array, its shape checked, and whether f gave one
+    value per point as a 1-D array (the estimate is then a float, as in qmc_quad)."""
+    y = np.asarray(f(x), dtype=np.float64)
+    n = x.shape[0]
+    flat = y.ndim == 1
+    if y.ndim == 1 and y.shape[0] == n:
+        y = y[:, None]
+    elif not (y.ndim == 2 and y.shape[0] == n and y.shape[1] >= 1):
+        raise ValueError(
+            f"invalid f: it returned shape {y.shape} for {n} points; expected ({n},) or "
+            f"({n}, k)"
+        )
+    if k is not None and y.shape[1] != k:
+        raise ValueError(
+            f"invalid f: it returned {y.shape[1]} outputs per point; expected {k}, as at "
+            "the first points"
+        )
+    return y, flat
+
+
+def _evaluate(
+    f: Callable[..., Any],
+    x: np.ndarray,
+    k: Optional[int],
+    executor: Optional[concurrent.futures.Executor],
+) -> Tuple[np.ndarray, bool]:
+    """f at every row of x, in one call or in chunks on the executor (rows in order, so
+    the sums, and the result, are those of one call)."""
+    if executor is None or x.shape[0] <= 1:
+        return _values(f, x, k)
+    workers = max(1, getattr(executor, "_max_workers", 0) or 1)
+    rows = max(1, min(_CHUNK_ROWS, -(-x.shape[0] // (4 * workers))))
+    futures = [executor.submit(f, x[i : i + rows]) for i in range(0, x.shape[0], rows)]
+    parts = []
+    try:
+        for i, future in enumerate(futures):
+            chunk = x[i * rows : (i + 1) * rows]
+            parts.append(_values(lambda _: future.result(), chunk, k))
+    except BaseException:
+        for later in futures:
+            later.cancel()
+        raise
+    return np.concatenate([p for p, _ in parts], axis=0), parts[0][1]
+
+
+def _refuse_non_finite(x: np.ndarray, y: np.ndarray) -> None:
+    """A NaN or ±inf from f, refused naming the point (as f saw it) and the output."""
+    bad = np.argwhere(~np.isfinite(y))
+    if bad.size:
+        i, j = (int(v) for v in bad[0])
+        output = f" (output {j})" if y.shape[1] > 1 else ""
+        raise ValueError(
+            f"invalid f: {y[i, j]} at x = {x[i].tolist()}{output}; expected a finite "
+            "value at every point"
+        )
+
+
+def quad(
+    f: Callable[[np.ndarray], Any],
+    d: int,
+    *,
+    a: Any = None,
+    b: Any = None,
+    abs_tol: float = 0.0,
+    rel_tol: float = 1e-3,
+    level: float = 0.95,
+    replicates: int = 8,
+    max_n: int = 2**20,
+    space: Any = None,
+    correlation: Any = None,
+    seed: Any = None,
+    executor: Optional[concurrent.futures.Executor] = None,
+    start: Optional[QuadResult] = None,
+) -> QuadResult:
+    """The integral of f over the box [a, b] (the unit cube by default), or its
+    expectation under the distributions of ``space``, to a tolerance.
+
+    The points are R = ``replicates`` independent random shifts of one extensible rank-1
+    lattice (tent-transformed). Starting from 64 points per replicate, the number of
+    points doubles, each new batch extending the previous one (no evaluation is thrown
+    away), until for every output the half-width of the Student t interval from the R
+    replicate means is at most ``max(abs_tol, rel_tol * |estimate|)``, or until the next
+    doubling would pass ``max_n`` evaluations (then ``met`` is False).
+
+    Parameters
+    ----------
+    f : callable
+        Vectorised: takes an (n, d) array and returns n values, shape (n,), or n rows of
+        k outputs, shape (n, k).
+    d : int
+        The dimension (1 to 100); with ``space``, the number of its variables.
+    a, b : array_like, optional
+        The box's corners (d numbers each, or one for every dimension), as in
+        ``scipy.integrate.qmc_quad``; the estimate includes the volume. Not with
+        ``space``.
+    abs_tol, rel_tol : float
+        The tolerance. The default relative 1e-3 is three significant digits, which a
+        smooth integrand in a few dimensions reaches in thousands of evaluations; set
+        ``rel_tol=0`` and ``abs_tol`` for an integral near zero.
+    level : float
+        The confidence level of the interval, in (0, 1).
+    replicates : int
+        Independent shifts R ≥ 2; fewer than 4 warn (the interval is then unreliable).
+    max_n : int
+        The most evaluations of f, all replicates together.
+    space : list or dict, optional
+        A design space as :func:`design` takes it (``{"x": "normal(0,1)", "k":
+        "int(1,3)"}``): f receives the space's values (continuous variables through
+        their quantile functions, levels equally likely, a label as its index in its
+        list) and the result is the expectation of f. SciPy frozen laws are mapped
+        through their ``ppf``.
+    correlation : array_like, optional
+        With ``space``, the continuous variables' correlation (a Gaussian copula).
+    seed : int, optional
+        The shifts' seed (a whole number); None draws a fresh one.
+    executor : concurrent.futures.Executor, optional
+        Evaluates f on chunks of each batch in parallel (a process pool, Dask's
+        ``Client.get_executor()``, ...); f must then be picklable. The result is the same
+        as in one process.
+    start : QuadResult, optional
+        An earlier result to continue from with the new ``abs_tol`` and ``rel_tol``: its
+        evaluations are kept and only new points are evaluated. Its other settings (box,
+        space, seed, level, replicates, max_n) are kept; ``d`` must match and ``a``,
+        ``b``, ``space``, ``correlation`` and ``seed`` are refused with it. The earlier
+        result is not changed.
+
+    Returns
+    -------
+    QuadResult
+
+    Raises
+    ------
+    ValueError
+        For a bad argument (named), a result of f of the wrong shape, or a NaN or ±inf
+        from f (naming the point).
+    KeyboardInterrupt
+        On Ctrl-C while f runs, as any Python code.
+    """
+    if not callable(f):
+        raise ValueError(f"invalid f = {f!r}: expected a callable taking an (n, d) array")
+    d = _int("d", d, 1, 100)
+    abs_tol = _number("abs_tol", abs_tol)
+    rel_tol = _number("rel_tol", rel_tol)
+    if executor is not None and not callable(getattr(executor, "submit", None)):
+        raise ValueError(
+            f"invalid executor = {executor!r}: expected a concurrent.futures.Executor "
+            "(an object with submit)"
+        )
+    if start is not None:
+        if not isinstance(start, QuadResult):
+            raise ValueError(
+                f"invalid start = {start!r}: expected a QuadResult of an earlier quad"
+            )
+        if start.d != d:
+            raise ValueError(f"invalid d = {d}: start was computed in {start.d} dimensions")
+        given = {"a": a, "b": b, "space": space, "correlation": correlation, "seed": seed}
+        for name, value in given.items():
+            if value is not None:
+                raise ValueError(
+                    f"invalid {name} with start: a continued integration keeps the earlier "
+                    f"one's {name}; give only the new abs_tol, rel_tol (and executor)"
+                )
+        state = copy.deepcopy(start._state)
+        setup = dict(start._setup)
+        try:
+            state.set_tolerance(abs_tol, rel_tol)
+        except ValueError as e:
+            raise ValueError(str(e)) from None
+    else:
+        level = _number("level", level)
+        replicates = _int("replicates", replicates, 2, 2**16)
+        max_n = _int("max_n", max_n, 1)
+        setup = {"scalar": True}
+        if space is not None:
+            if a is not None or b is not None:
+                raise ValueError(
+                    "invalid a, b with space: the space's distributions give the range"
+                )
+            items, frozen = _space_items(space)
+            if len(items) != d:
+                raise ValueError(
+                    f"invalid d = {d}: space has {len(items)} variables; expected d equal "
+                    "to it"
+                )
+            corr = None
+            if correlation is not None:
+                corr = np.asarray(correlation, dtype=np.float64).ravel().tolist()
+            setup.update(space=items, frozen=frozen, correlation=corr)
+            # The map is checked once now, so that a bad space is refused before f runs.
+            _core.space_values(items, np.full((1, d), 0.5), corr)
+        elif correlation is not None:
+            raise ValueError("invalid correlation without space: it correlates a space's variables")
+        lo, hi = _corner("a", a, d), _corner("b", b, d)
+        state = _core.Cubature(
+            d,
+            abs_tol=abs_tol,
+            rel_tol=rel_tol,
+            level=level,
+            replicates=replicates,
+            max_n=max_n,
+            seed=_seed(seed),
+            a=lo,
+            b=hi,
+        )
+        for message in state.warnings:
+            warnings.warn(message, stacklevel=2)
+    k = state.outputs or None
+    while not state.met:
+        u = state.next_points()
+        if u is None:
+            break
+        x = _to_space(u, setup)
+        y, flat = _evaluate(f, x, k, executor)
+        _refuse_non_finite(x, y)
+        if k is None:
+            k = y.shape[1]
+            setup["scalar"] = k == 1 and flat
+        state.feed(y)
+    return QuadResult(state, setup)
+
+
+def _to_space(u: np.ndarray, setup: Dict[str, Any]) -> np.ndarray:
+    """The batch as f receives it: the box points as given, or the space's values."""
+    items = setup.get("space")
+    if items is None:
+        return u
+    # The tent-transformed shifts reach 1 only with probability zero; a quantile there
+    # would be infinite, so the points stay inside [0, 1).
+    u = np.minimum(u, np.nextafter(1.0, 0.0))
+    x = _core.space_values(items, np.ascontiguousarray(u), setup.get("correlation"))
+    for j, name in enumerate(items):
+        law = setup["frozen"].get(name.split("=", 1)[0])
+        if law is not None:
+            x[:, j] = law.ppf(x[:, j])
+    return x

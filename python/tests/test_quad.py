@@ -1,0 +1,238 @@
+"""``stillpoint.quad``: integrals to a tolerance checked against closed forms, several
+outputs, expectations under a space's distributions, continuing from a result without
+evaluating again, an executor giving the result of one process, and the refusals."""
+
+import concurrent.futures
+import logging
+import math
+import pickle
+import warnings
+
+import numpy as np
+import pytest
+
+import stillpoint as sp
+
+
+def product_peak(x):
+    # ∏ 1/(c⁻² + (x_j − w)²) with c = 2, w = 0.3: smooth, integral in closed form.
+    return np.prod(1.0 / (0.25 + (x - 0.3) ** 2), axis=1)
+
+
+def product_peak_integral(d):
+    one = 2.0 * (math.atan(2 * 0.7) + math.atan(2 * 0.3))
+    return one**d
+
+
+@pytest.mark.parametrize("d", [1, 3, 6])
+@pytest.mark.parametrize("rel_tol", [1e-2, 1e-3, 1e-4])
+def test_a_known_integral_within_the_tolerance(d, rel_tol):
+    exact = product_peak_integral(d)
+    r = sp.quad(product_peak, d, rel_tol=rel_tol, seed=d)
+    assert r.met
+    assert isinstance(r.estimate, float)
+    assert r.half_width <= rel_tol * abs(r.estimate)
+    # At 95 % the interval misses now and then; the tolerance itself is wider than
+    # the half-width only by chance, so allow the error up to the tolerance doubled.
+    assert abs(r.estimate - exact) <= 2 * rel_tol * exact
+    assert r.n % r.replicates == 0 and r.n >= 64 * r.replicates
+
+
+def test_a_box_scales_the_points_and_the_volume():
+    # ∫_[1,3]×[0,2] x y dx dy = 4 · 2 = 8.
+    r = sp.quad(lambda x: x[:, 0] * x[:, 1], 2, a=[1, 0], b=[3, 2], rel_tol=1e-4, seed=1)
+    assert r.met
+    assert abs(r.estimate - 8.0) <= 2e-3
+
+
+def test_several_outputs_each_within_its_tolerance():
+    def f(x):
+        return np.column_stack([x.sum(axis=1), np.prod(x, axis=1), np.cos(x[:, 0])])
+
+    exact = np.array([1.5, 1 / 8, math.sin(1.0)])
+    r = sp.quad(f, 3, rel_tol=1e-3, seed=2)
+    assert r.met
+    assert r.estimate.shape == (3,) and r.half_width.shape == (3,)
+    assert np.all(r.half_width <= 1e-3 * np.abs(r.estimate))
+    assert np.all(np.abs(r.estimate - exact) <= 2e-3 * np.abs(exact))
+
+
+def test_expectation_under_a_normal_input_is_its_closed_form():
+    mu, sigma = 0.5, 0.4
+    r = sp.quad(
+        lambda x: np.exp(x[:, 0]) * x[:, 1],
+        2,
+        space={"x": f"normal({mu},{sigma})", "y": "uniform(2,4)"},
+        rel_tol=1e-4,
+        seed=3,
+    )
+    exact = math.exp(mu + sigma**2 / 2) * 3.0
+    assert r.met
+    assert abs(r.estimate - exact) <= 2e-4 * exact
+
+
+def test_levels_of_a_space_are_equally_likely():
+    # E[k] for k uniform on {1, ..., 4} is 2.5; a label's index on {a, b} has mean 0.5.
+    r = sp.quad(
+        lambda x: np.column_stack([x[:, 0], x[:, 1]]),
+        2,
+        space={"k": "int(1,4)", "c": ["a", "b"]},
+        rel_tol=1e-3,
+        seed=4,
+    )
+    assert np.allclose(r.estimate, [2.5, 0.5], rtol=2e-3)
+
+
+def test_continuing_evaluates_only_new_points():
+    seen = []
+
+    def f(x):
+        seen.append(x.copy())
+        return product_peak(x)
+
+    first = sp.quad(f, 4, rel_tol=1e-2, seed=5)
+    calls, evaluated = len(seen), sum(len(x) for x in seen)
+    assert evaluated == first.n
+    finer = sp.quad(f, 4, rel_tol=1e-5, start=first)
+    assert finer.n > first.n
+    assert sum(len(x) for x in seen) == finer.n
+    new = np.concatenate(seen[calls:])
+    old = np.concatenate(seen[:calls])
+    # No point evaluated before is asked again.
+    assert not (set(map(tuple, new)) & set(map(tuple, old)))
+    # The earlier result stands; a run straight to the finer tolerance is the same.
+    assert first.n == evaluated
+    direct = sp.quad(product_peak, 4, rel_tol=1e-5, seed=5)
+    assert direct.n == finer.n and direct.estimate == finer.estimate
+
+
+def test_a_result_pickles_and_continues():
+    r = sp.quad(product_peak, 2, rel_tol=1e-2, seed=6)
+    back = pickle.loads(pickle.dumps(r))
+    assert (back.estimate, back.half_width, back.n, back.met) == (
+        r.estimate,
+        r.half_width,
+        r.n,
+        r.met,
+    )
+    more = sp.quad(product_peak, 2, rel_tol=1e-4, start=back)
+    assert more.n > r.n and more.met
+
+
+def square_sum(x):
+    return np.column_stack([x.sum(axis=1) ** 2, np.exp(-x.sum(axis=1))])
+
+
+def test_an_executor_gives_the_result_of_one_process():
+    alone = sp.quad(square_sum, 3, rel_tol=1e-4, seed=7)
+    with concurrent.futures.ThreadPoolExecutor(max_workers=3) as pool:
+        threads = sp.quad(square_sum, 3, rel_tol=1e-4, seed=7, executor=pool)
+    assert threads.n == alone.n
+    assert np.array_equal(threads.estimate, alone.estimate)
+    assert np.array_equal(threads.half_width, alone.half_width)
+
+
+def test_a_process_pool_gives_the_result_of_one_process():
+    alone = sp.quad(square_sum, 2, rel_tol=1e-3, seed=8)
+    with concurrent.futures.ProcessPoolExecutor(max_workers=2) as pool:
+        procs = sp.quad(square_sum, 2, rel_tol=1e-3, seed=8, executor=pool)
+    assert procs.n == alone.n and np.array_equal(procs.estimate, alone.estimate)
+
+
+def test_a_dask_executor_gives_the_result_of_one_process():
+    distributed = pytest.importorskip("dask.distributed")
+    alone = sp.quad(square_sum, 2, rel_tol=1e-3, seed=14)
+    with distributed.LocalCluster(
+        n_workers=2,
+        threads_per_worker=1,
+        processes=False,
+        dashboard_address=":0",
+        silence_logs=logging.ERROR,
+    ) as cluster, distributed.Client(cluster) as client:
+        with client.get_executor() as executor:
+            r = sp.quad(square_sum, 2, rel_tol=1e-3, seed=14, executor=executor)
+    assert r.n == alone.n and np.array_equal(r.estimate, alone.estimate)
+
+
+def test_a_nan_is_refused_naming_the_point():
+    def f(x):
+        y = x.sum(axis=1)
+        y[x[:, 0] > 0.9] = np.nan
+        return y
+
+    with pytest.raises(ValueError, match=r"invalid f: nan at x = \[0\.9"):
+        sp.quad(f, 2, seed=9)
+
+
+def test_an_infinity_in_a_space_names_the_value_f_saw():
+    with pytest.raises(ValueError, match=r"inf at x = \[-?\d"):
+        sp.quad(lambda x: np.where(x[:, 0] > 1.5, np.inf, 1.0), 1, space=["x=normal(0,1)"])
+
+
+def test_ctrl_c_is_not_swallowed():
+    calls = []
+
+    def f(x):
+        calls.append(len(x))
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return product_peak(x)
+
+    with pytest.raises(KeyboardInterrupt):
+        sp.quad(f, 3, rel_tol=1e-9, seed=10)
+    assert len(calls) == 2
+
+
+def test_too_few_replicates_warn():
+    with pytest.warns(UserWarning, match="replicates"):
+        sp.quad(product_peak, 2, replicates=2, rel_tol=1e-2, seed=11)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        sp.quad(product_peak, 2, rel_tol=1e-2, seed=11)
+
+
+def test_max_n_stops_and_says_the_tolerance_was_not_met():
+    r = sp.quad(product_peak, 5, rel_tol=1e-12, max_n=2**12, seed=12)
+    assert not r.met and r.n <= 2**12
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        ({"d": 0}, "d"),
+        ({"d": 101}, "d"),
+        ({"d": 2.5}, "d"),
+        ({"rel_tol": -1.0}, "rel_tol"),
+        ({"abs_tol": float("nan")}, "abs_tol"),
+        ({"level": 1.0}, "level"),
+        ({"replicates": 1}, "replicates"),
+        ({"a": [0, 0, 0]}, "a"),
+        ({"b": [1, 1, "x"]}, "b"),
+        ({"a": [0, 2], "b": [1, 1]}, "b"),
+        ({"seed": -1}, "seed"),
+        ({"executor": object()}, "executor"),
+        ({"start": 3}, "start"),
+        ({"space": {"x": "normal(0,1)"}}, "d"),
+        ({"space": ["x=nope(1)", "y=normal(0,1)"]}, "space"),
+    ],
+)
+def test_bad_arguments_name_the_argument(kwargs, name):
+    args = {"d": 2, **kwargs}
+    d = args.pop("d")
+    with pytest.raises(ValueError, match=rf"\b{name}\b"):
+        sp.quad(product_peak, d, **args)
+
+
+def test_a_callable_is_required_and_its_shape_checked():
+    with pytest.raises(ValueError, match="invalid f"):
+        sp.quad(3, 2)
+    with pytest.raises(ValueError, match=r"invalid f: it returned shape"):
+        sp.quad(lambda x: x.sum(), 2)
+
+
+def test_start_keeps_its_dimension():
+    r = sp.quad(product_peak, 2, rel_tol=1e-2, seed=13)
+    with pytest.raises(ValueError, match=r"invalid d = 3"):
+        sp.quad(product_peak, 3, start=r)
+    with pytest.raises(ValueError, match=r"invalid seed with start"):
+        sp.quad(product_peak, 2, start=r, seed=1)
