@@ -2,7 +2,8 @@
 //! library's `stillpoint::cubature` driver, with its refusals in the flags' names.
 
 use super::*;
-use stillpoint::cubature::{quad, QuadOptions};
+use std::io::Write as _;
+use stillpoint::cubature::{Cubature, QuadOptions};
 use stillpoint::parse::expr::RegionExpr;
 
 /// The flag that sets a `QuadOptions` field or a `Cubature` argument.
@@ -39,8 +40,7 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
         seed: q.seed,
         ..QuadOptions::default()
     };
-    let f = |x: &PointSet| x.rows().map(|p| expr.eval(p)).collect();
-    let r = quad(f, s, options).map_err(|e| match e {
+    let refused = |e: stillpoint::Error| match e {
         stillpoint::Error::InvalidArgument {
             name,
             value,
@@ -53,8 +53,29 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
             value,
             expected,
         } => stillpoint::Error::invalid(quad_flag(&name), value, expected).into(),
-        other => other.into(),
-    })?;
+        other => anyhow::Error::from(other),
+    };
+    let mut state = Cubature::new(s, options).map_err(refused)?;
+    let rounds = Rounds::new(q.quiet, q.progress);
+    while !state.met() {
+        let Some(points) = state.next_points() else {
+            break;
+        };
+        rounds.evaluating(points.n());
+        let values: Vec<f64> = points.rows().map(|p| expr.eval(p)).collect();
+        state.feed(&points, &values).map_err(refused)?;
+        rounds.done(&state);
+    }
+    drop(rounds);
+    let r = stillpoint::cubature::QuadResult {
+        estimate: state.estimate(),
+        half_width: state.half_width(),
+        n: state.n(),
+        replicates: state.options().replicates,
+        met: state.met(),
+        warnings: state.warnings(),
+        state,
+    };
     for w in &r.warnings {
         noteln!("warning: {w}");
     }
@@ -78,4 +99,113 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The progress of `integrate --expr` on standard error: after each doubling, one line
+/// with the evaluations so far, the estimate, the half-width against the half-width it
+/// must reach, and the seconds since the start; in [`ProgressMode::Bar`] also a spinner
+/// while a doubling is evaluated (cleared at the end).
+struct Rounds {
+    mode: ProgressMode,
+    bar: Option<ProgressBar>,
+    started: std::time::Instant,
+}
+
+impl Rounds {
+    /// `mode` when given, else none with `quiet`, the bar on a terminal and nothing off
+    /// one (a script's standard error stays as it was; `--progress plain` asks for the
+    /// lines there).
+    fn new(quiet: bool, mode: Option<ProgressMode>) -> Self {
+        let mode = match (quiet, mode) {
+            (true, _) => ProgressMode::None,
+            (false, Some(m)) => m,
+            (false, None) if std::io::stderr().is_terminal() => ProgressMode::Bar,
+            (false, None) => ProgressMode::None,
+        };
+        let bar = (mode == ProgressMode::Bar).then(|| {
+            let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+            bar.set_style(
+                ProgressStyle::with_template("{spinner} {msg}, {elapsed}")
+                    .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+            );
+            bar
+        });
+        Rounds {
+            mode,
+            bar,
+            started: std::time::Instant::now(),
+        }
+    }
+
+    /// A doubling of `rows` points is being evaluated.
+    fn evaluating(&self, rows: usize) {
+        if let Some(bar) = &self.bar {
+            bar.set_message(format!("evaluating {rows} points"));
+            bar.enable_steady_tick(std::time::Duration::from_millis(120));
+        }
+    }
+
+    /// A doubling is done: its line.
+    fn done(&self, state: &Cubature) {
+        if self.mode == ProgressMode::None {
+            return;
+        }
+        let line = round_line(state, self.started.elapsed().as_secs_f64());
+        match &self.bar {
+            Some(bar) => bar.println(line),
+            // A closed standard error must not end the run.
+            None => drop(writeln!(std::io::stderr(), "{line}")),
+        }
+    }
+}
+
+impl Drop for Rounds {
+    fn drop(&mut self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+/// `stillpoint: n=4096  estimate=1.23457e+00  half-width=3.1e-04 (target 1.2e-04)  2.3 s`:
+/// the target is max(abs_tol, rel_tol·|estimate|).
+fn round_line(state: &Cubature, seconds: f64) -> String {
+    let (estimate, half_width) = (state.estimate()[0], state.half_width()[0]);
+    let o = state.options();
+    let target = o.abs_tol.max(o.rel_tol * estimate.abs());
+    format!(
+        "stillpoint: n={}  estimate={}  half-width={} (target {})  {seconds:.1} s",
+        state.n(),
+        sci(estimate, 5),
+        sci(half_width, 1),
+        sci(target, 1)
+    )
+}
+
+/// `x` in scientific notation with `digits` decimals and a signed two-digit exponent, as
+/// C's `%e` writes it (`1.23457e+00`, `3.1e-04`).
+fn sci(x: f64, digits: usize) -> String {
+    let s = format!("{x:.digits$e}");
+    match s.split_once('e') {
+        Some((mantissa, exp)) if x.is_finite() => {
+            let exp: i32 = exp.parse().unwrap_or(0);
+            let sign = if exp < 0 { '-' } else { '+' };
+            format!("{mantissa}e{sign}{:02}", exp.abs())
+        }
+        _ => s,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sci_writes_as_c_does() {
+        assert_eq!(sci(1.234567, 5), "1.23457e+00");
+        assert_eq!(sci(3.14e-4, 1), "3.1e-04");
+        assert_eq!(sci(-2.5e12, 1), "-2.5e+12");
+        assert_eq!(sci(0.0, 1), "0.0e+00");
+        assert_eq!(sci(1e-300, 1), "1.0e-300");
+    }
 }

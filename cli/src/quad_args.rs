@@ -44,4 +44,20 @@ pub(crate) struct QuadArgs {
         requires = "expr"
     )]
     pub(crate) bounds: Option<String>,
+    /// No progress lines (the result is still printed).
+    #[arg(long, short = 'q', requires = "expr")]
+    pub(crate) quiet: bool,
+    /// How progress is shown on standard error, one line per doubling (evaluations,
+    /// estimate, half-width against its target, seconds): `bar` (the default on a
+    /// terminal: the lines and a spinner while a doubling is evaluated), `plain` (the
+    /// lines, also off a terminal, e.g. in a job's log) or `none` (the default off a
+    /// terminal).
+    // The values' own help is generate's (its plain lines are timed): not shown here.
+    #[arg(
+        long,
+        value_name = "bar|plain|none",
+        requires = "expr",
+        hide_possible_values = true
+    )]
+    pub(crate) progress: Option<crate::ProgressMode>,
 }

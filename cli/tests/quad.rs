@@ -120,3 +120,91 @@ fn the_point_file_mode_is_unchanged() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("<FILE>") || err.contains("--expr"), "{err}");
 }
+
+/// `integrate --expr` with `extra` flags: (standard output, standard error).
+fn run_with(extra: &[&str]) -> (String, String) {
+    let mut cmd = bin();
+    cmd.args([
+        "integrate",
+        "--expr",
+        "exp(x1 + x2) * (1 + x3)",
+        "-s",
+        "3",
+        "--rel-tol",
+        "1e-4",
+    ])
+    .args(extra);
+    succeeded(&mut cmd, &extra)
+}
+
+#[test]
+fn progress_plain_writes_a_line_per_doubling_and_leaves_the_result_alone() {
+    let (quiet_out, quiet_err) = run_with(&["-q"]);
+    assert_eq!(quiet_err, "", "-q writes nothing on standard error");
+    // Off a terminal (as here) the default is no progress either.
+    let (default_out, default_err) = run_with(&[]);
+    assert_eq!(default_err, "");
+    assert_eq!(default_out, quiet_out);
+    let (out, err) = run_with(&["--progress", "plain"]);
+    assert_eq!(out, quiet_out, "standard output is unchanged");
+    let lines: Vec<&str> = err.lines().collect();
+    assert!(lines.len() >= 2, "{err}");
+    // The evaluations double from 8 replicates × 64 points up to the reported total.
+    let ns: Vec<u64> = lines
+        .iter()
+        .map(|l| {
+            assert!(
+                l.starts_with("stillpoint: n=")
+                    && l.contains("estimate=")
+                    && l.contains("half-width=")
+                    && l.contains("(target ")
+                    && l.ends_with(" s"),
+                "{l}"
+            );
+            let n = l["stillpoint: n=".len()..]
+                .split_whitespace()
+                .next()
+                .unwrap();
+            n.parse().unwrap()
+        })
+        .collect();
+    let want: Vec<u64> = (0..ns.len()).map(|i| 512 << i).collect();
+    assert_eq!(ns, want);
+    let total = out
+        .lines()
+        .find_map(|l| l.strip_prefix("evaluations"))
+        .and_then(|l| l.split_whitespace().next())
+        .unwrap();
+    assert_eq!(total, ns.last().unwrap().to_string(), "{out}");
+    // The last line's target is the tolerance at the last estimate.
+    let last = lines.last().unwrap();
+    let field = |key: &str| -> f64 {
+        let rest = &last[last.find(key).unwrap() + key.len()..];
+        rest.split([' ', ')']).next().unwrap().parse().unwrap()
+    };
+    let (estimate, half_width, target) =
+        (field("estimate="), field("half-width="), field("(target "));
+    assert!((target - 1e-4 * estimate).abs() <= 0.06 * target, "{last}");
+    assert!(half_width <= target * 1.06, "{last}");
+    // -q wins over --progress; none is none; JSON output is unchanged too.
+    assert_eq!(run_with(&["-q", "--progress", "plain"]).1, "");
+    assert_eq!(run_with(&["--progress", "none"]).1, "");
+    let (json_plain, err) = run_with(&["--json", "--progress", "plain"]);
+    assert_eq!(json_plain, run_with(&["--json"]).0);
+    assert_eq!(err.lines().count(), lines.len());
+}
+
+#[test]
+fn progress_flags_need_expr() {
+    let dir = TempDir::new("quad_progress_file");
+    let file = dir.path("p.csv");
+    std::fs::write(&file, "0.1,0.2\n0.6,0.7\n").unwrap();
+    let out = bin()
+        .arg("integrate")
+        .arg(&file)
+        .args(["--progress", "plain"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("--expr"), "{err}");
+}

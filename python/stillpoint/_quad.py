@@ -10,8 +10,10 @@ import copy
 import math
 import operator
 import secrets
+import sys
+import time
 import warnings
-from typing import Any, Callable, Dict, List, Optional, Tuple
+from typing import Any, Callable, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 
@@ -210,6 +212,7 @@ def quad(
     seed: Any = None,
     executor: Optional[concurrent.futures.Executor] = None,
     start: Optional[QuadResult] = None,
+    progress: Union[bool, Callable[[QuadResult], Any]] = False,
 ) -> QuadResult:
     """The integral of f over the box [a, b] (the unit cube by default), or its
     expectation under the distributions of ``space``, to a tolerance.
@@ -262,6 +265,16 @@ def quad(
         space, seed, level, replicates, max_n) are kept; ``d`` must match and ``a``,
         ``b``, ``space``, ``correlation`` and ``seed`` are refused with it. The earlier
         result is not changed.
+    progress : bool or callable
+        After each doubling (one round of evaluations): False (the default) says
+        nothing; True writes one line to standard error, the evaluations so far, the
+        estimate, the half-width, the half-width it must reach and the seconds since
+        the call, e.g. ``quad: n=4096  estimate=1.23457e+00  half-width=3.1e-04 (target
+        1.2e-04)  2.3 s`` (with several outputs, the one furthest from its target); a
+        callable is called with the :class:`QuadResult` so far (a copy, which stays as
+        it is, and can be passed as ``start=`` to continue), e.g. to drive a progress
+        bar or a logger. An exception it raises stops the run and propagates, as
+        Ctrl-C does; a ``start`` given is not changed.
 
     Returns
     -------
@@ -275,8 +288,10 @@ def quad(
     KeyboardInterrupt
         On Ctrl-C while f runs, as any Python code.
     """
+    started = time.perf_counter()
     if not callable(f):
         raise ValueError(f"invalid f = {f!r}: expected a callable taking an (n, d) array")
+    report = _progress(progress)
     d = _int("d", d, 1, 100)
     abs_tol = _number("abs_tol", abs_tol)
     rel_tol = _number("rel_tol", rel_tol)
@@ -355,7 +370,51 @@ def quad(
             k = y.shape[1]
             setup["scalar"] = k == 1 and flat
         state.feed(y)
+        if report is not None:
+            report(state, setup, abs_tol, rel_tol, time.perf_counter() - started)
     return QuadResult(state, setup)
+
+
+_Report = Callable[[Any, Dict[str, Any], float, float, float], None]
+
+
+def _progress(progress: Any) -> Optional[_Report]:
+    """What to do after each round for ``progress``: nothing (None), a line on
+    standard error, or a call of the user's callable with a copy of the result."""
+    if isinstance(progress, (bool, np.bool_)):
+        return _line if progress else None
+    if callable(progress):
+
+        def call(state: Any, setup: Dict[str, Any], *_: float) -> None:
+            # A copy: the callable may keep it while the run goes on.
+            progress(QuadResult(copy.deepcopy(state), dict(setup)))
+
+        return call
+    raise ValueError(
+        f"invalid progress = {progress!r}: expected True, False or a callable taking "
+        "the QuadResult after each round"
+    )
+
+
+def _line(state: Any, setup: Dict[str, Any], abs_tol: float, rel_tol: float, t: float) -> None:
+    """One line on standard error: evaluations, estimate, half-width against its target
+    and seconds so far; with several outputs, the one furthest from its target."""
+    est, hw = state.estimate, state.half_width
+    targets = [max(abs_tol, rel_tol * abs(e)) for e in est]
+
+    def behind(j: int) -> float:
+        if targets[j] > 0:
+            return hw[j] / targets[j]
+        return math.inf if hw[j] > 0 else 0.0
+
+    j = max(range(len(est)), key=behind)
+    which = f"  (output {j})" if len(est) > 1 else ""
+    print(
+        f"quad: n={state.n}  estimate={est[j]:.5e}  half-width={hw[j]:.1e} "
+        f"(target {targets[j]:.1e}){which}  {t:.1f} s",
+        file=sys.stderr,
+        flush=True,
+    )
 
 
 def _to_space(u: np.ndarray, setup: Dict[str, Any]) -> np.ndarray:

@@ -6,6 +6,7 @@ import concurrent.futures
 import logging
 import math
 import pickle
+import re
 import warnings
 
 import numpy as np
@@ -182,6 +183,105 @@ def test_ctrl_c_is_not_swallowed():
         sp.quad(f, 3, rel_tol=1e-9, seed=10)
     assert len(calls) == 2
 
+
+
+def test_progress_true_writes_one_line_per_round(capsys):
+    rounds = []
+
+    def f(x):
+        rounds.append(len(x))
+        return product_peak(x)
+
+    r = sp.quad(f, 3, rel_tol=1e-4, seed=20, progress=True)
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    lines = captured.err.splitlines()
+    assert len(lines) == len(rounds) >= 2
+    ns = [int(re.search(r"\bn=(\d+)", line).group(1)) for line in lines]
+    assert ns == list(np.cumsum(rounds))
+    assert ns[-1] == r.n
+    last = lines[-1]
+    assert last.startswith("quad: n=")
+    estimate = float(re.search(r"estimate=(\S+)", last).group(1))
+    half_width = float(re.search(r"half-width=(\S+)", last).group(1))
+    target = float(re.search(r"\(target (\S+)\)", last).group(1))
+    assert estimate == pytest.approx(r.estimate, rel=1e-5)
+    assert half_width == pytest.approx(r.half_width, rel=0.06)
+    assert target == pytest.approx(1e-4 * abs(r.estimate), rel=0.06)
+    assert re.search(r"\d+\.\d s$", last)
+    # Silent by default.
+    sp.quad(product_peak, 3, rel_tol=1e-3, seed=20)
+    assert capsys.readouterr() == ("", "")
+
+
+def test_progress_lines_name_the_output_furthest_from_its_target(capsys):
+    r = sp.quad(square_sum, 2, rel_tol=1e-3, seed=21, progress=True)
+    lines = capsys.readouterr().err.splitlines()
+    assert lines and all("(output " in line for line in lines)
+    assert int(re.search(r"\bn=(\d+)", lines[-1]).group(1)) == r.n
+
+
+def test_a_progress_callable_gets_each_round_and_the_final_result():
+    seen = []
+    r = sp.quad(product_peak, 4, rel_tol=1e-4, seed=22, progress=seen.append)
+    assert len(seen) >= 2 and all(isinstance(s, sp.QuadResult) for s in seen)
+    ns = [s.n for s in seen]
+    assert all(a < b for a, b in zip(ns, ns[1:]))
+    last = seen[-1]
+    assert (last.n, last.estimate, last.half_width, last.met) == (
+        r.n,
+        r.estimate,
+        r.half_width,
+        r.met,
+    )
+    assert not any(s.met for s in seen[:-1])
+    assert isinstance(seen[0].estimate, float)
+    # With start=, the rounds continue from the earlier n.
+    more = []
+    finer = sp.quad(product_peak, 4, rel_tol=1e-5, start=r, progress=more.append)
+    assert more and more[0].n > r.n and more[-1].n == finer.n
+
+
+def test_a_raising_progress_callable_stops_the_run_like_ctrl_c():
+    calls = []
+    seen = []
+
+    def f(x):
+        calls.append(len(x))
+        return product_peak(x)
+
+    def stop(result):
+        seen.append(result)
+        if len(seen) == 2:
+            raise RuntimeError("enough")
+
+    with pytest.raises(RuntimeError, match="enough"):
+        sp.quad(f, 3, rel_tol=1e-9, seed=23, progress=stop)
+    assert len(calls) == 2
+    # The earlier result given as start= is unchanged, and a result the callable got
+    # continues as an uninterrupted run would.
+    first = sp.quad(product_peak, 3, rel_tol=1e-2, seed=23)
+    before = (first.n, first.estimate, first.half_width)
+    with pytest.raises(RuntimeError, match="enough"):
+        seen.clear()
+        sp.quad(product_peak, 3, rel_tol=1e-6, start=first, progress=stop)
+    assert (first.n, first.estimate, first.half_width) == before
+    resumed = sp.quad(product_peak, 3, rel_tol=1e-6, start=seen[-1])
+    direct = sp.quad(product_peak, 3, rel_tol=1e-6, seed=23)
+    assert (resumed.n, resumed.estimate) == (direct.n, direct.estimate)
+
+
+@pytest.mark.parametrize("value", [None, 1, "yes", [True]])
+def test_a_bad_progress_value_is_refused_naming_progress(value):
+    calls = []
+
+    def f(x):
+        calls.append(len(x))
+        return product_peak(x)
+
+    with pytest.raises(ValueError, match=r"invalid progress\b"):
+        sp.quad(f, 2, progress=value)
+    assert not calls
 
 def test_too_few_replicates_warn():
     with pytest.warns(UserWarning, match="replicates"):
