@@ -11,7 +11,9 @@ are in benches/quad_models.py):
   method throws away);
 - the median time outside f: the wall time of the method's call minus the time spent
   inside f (f is wrapped in a timer; the point generation, transforms, error estimate
-  and bookkeeping are what remains).
+  and bookkeeping are what remains). The JSONs also hold the same difference in the
+  process's CPU time (``outside_cpu``), which the other loads of a shared machine
+  disturb less (it adds up all threads, though).
 
 Families (quad_models.py): Genz's oscillatory, product peak, corner peak and gaussian
 and the models keister and lognormal at s = 2, 5, 10, 20, and ishigami at s = 3.
@@ -72,7 +74,7 @@ import warnings
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(__file__))
-from quad_models import FAMILIES, exact, instance, value  # noqa: E402
+from quad_models import FAMILIES, exact, instance, keister_exact, value  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TOLS = [1e-2, 1e-3, 1e-4, 1e-5]
@@ -170,22 +172,25 @@ def key(family, s, tol):
 def one_run(method, family, s, tol, run):
     p = instance(family, s, run)
     truth = exact(family, p)
-    calls = [0, 0.0]
+    calls = [0, 0.0, 0.0]
 
     def g(x):
-        t = time.perf_counter()
+        t, c = time.perf_counter(), time.process_time()
         y = value(family, p, np.asarray(x, dtype=np.float64))
         calls[0] += x.shape[0]
         calls[1] += time.perf_counter() - t
+        calls[2] += time.process_time() - c
         return y
 
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     est, n, met = METHODS[method](g, s, tol, run)
     seconds = time.perf_counter() - t0
+    cpu = time.process_time() - c0
     err = abs(est - truth) / abs(truth)
     return {"run": run, "rel_error": float(f"{err:.3g}"), "n": int(n), "calls_n": calls[0],
             "met": bool(met), "ok": bool(met and err <= tol),
-            "seconds": round(seconds, 5), "outside": round(seconds - calls[1], 5)}
+            "seconds": round(seconds, 5), "outside": round(seconds - calls[1], 5),
+            "outside_cpu": round(cpu - calls[2], 5)}
 
 
 def load(path):
@@ -358,11 +363,22 @@ def main():
     ap.add_argument("--cell-seconds", type=float, default=0.0,
                     help="wall-time cap per (method, cell); 0: none")
     ap.add_argument("--table", action="store_true")
+    ap.add_argument("--check-keister", action="store_true",
+                    help="compare the Keister values with QMCPy's and stop")
     ap.add_argument("--out", default=os.path.join(ROOT, "results", "quad"))
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     if args.table:
         table(args.out, args.runs)
+        return
+    if args.check_keister:
+        import qmcpy as qp
+
+        k = qp.Keister(qp.Lattice(1))
+        for s in FAMILIES["keister"]:
+            ours, theirs = keister_exact(s), float(k.get_exact_value(s))
+            print(f"s={s:2d}: {ours:.15g} (radial quadrature), {theirs:.15g} (QMCPy), "
+                  f"relative difference {abs(ours - theirs) / abs(theirs):.1e}")
         return
     keep_s = None if args.s is None else {int(v) for v in args.s.split(",")}
     tols = [float(v) for v in args.tols.split(",")]
