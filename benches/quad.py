@@ -48,14 +48,15 @@ the table says how many there were.
 QMCPy lives in its own environment (target/bench-venv: ``python3 -m venv
 target/bench-venv && target/bench-venv/bin/pip install qmcpy``), so the script runs once
 per environment and the table merges the JSONs. On 2 shared cores, two processes on
-disjoint methods (the references took about 50 minutes):
+disjoint methods, ``qmc_quad`` after whichever of the two finishes first:
 
-    nice -n 5 target/bench-venv/bin/python benches/quad.py --runs 200 --cell-seconds 12 \\
-        --methods qmcpy-lattice,qmcpy-lattice-512,qmcpy-rep,qmc_quad &
-    nice -n 5 target/bench-venv/bin/python benches/quad.py --runs 200 --cell-seconds 12 \\
+    nice -n 5 target/bench-venv/bin/python benches/quad.py --runs 200 --cell-seconds 15 \\
+        --methods qmcpy-lattice,qmcpy-lattice-512,qmcpy-rep &
+    nice -n 5 target/bench-venv/bin/python benches/quad.py --runs 200 --cell-seconds 15 \\
         --methods qmcpy-net,qmcpy-net-512,qmcpy-rep-8x64 &
-    wait
-    target/py-venv/bin/python benches/quad.py --runs 200 --cell-seconds 12 --methods stillpoint
+    wait -n; nice -n 5 target/bench-venv/bin/python benches/quad.py --runs 200 \\
+        --cell-seconds 15 --methods qmc_quad; wait
+    target/py-venv/bin/python benches/quad.py --runs 200 --cell-seconds 15 --methods stillpoint
     target/py-venv/bin/python benches/quad.py --table
 
 ``--families``, ``--s`` and ``--tols`` restrict the cells (e.g. ``--families keister
@@ -343,8 +344,16 @@ def table(out, runs):
     else:
         lines += ["stillpoint's results are not in this table yet.", ""]
     if short:
-        lines += [f"Cells with fewer than {runs} runs (the per-cell wall-time cap, "
-                  f"`--cell-seconds`, stopped them): {len(short)}.", ""]
+        per = []
+        for m in methods:
+            mine = [r for (mm, _, r) in short if mm == m]
+            if mine:
+                per.append(f"{m} {len(mine)} (fewest runs: {min(mine)})")
+        lines += [f"(Runs) in brackets: cells with fewer than {runs} runs, stopped by the "
+                  "per-cell wall-time cap (`--cell-seconds`): " + ", ".join(per) + ". "
+                  "A capped cell holds the first runs (instances and seeds 0, 1, ...), "
+                  "so its reliability is that of fewer instances; each method's figures "
+                  "are over its own runs.", ""]
     lines += ["Versions: " + ", ".join(f"{m}: {data[m]['version']}" for m in methods), ""]
     with open(os.path.join(out, "quad.md"), "w") as fh:
         fh.write("\n".join(lines))
