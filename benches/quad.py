@@ -1,33 +1,74 @@
 """Integration to a tolerance: `stillpoint.quad` against QMCPy's adaptive cubatures and
 SciPy's `qmc_quad` with n doubled until its interval is narrow enough.
 
-Per cell (Genz family, s, relative tolerance) and method, over RUNS runs (each a new
-random instance of the family, benches/anchors.py's parameters, and a new seed): the
-reliability (the share of runs whose true relative error is within the tolerance; a run
-stopped by the budget of 2^20 evaluations counts as a failure) and the median number of
-evaluations of f (every evaluation counted, including the rounds `qmc_quad` throws
-away).
+Per cell (integrand family, s, relative tolerance) and method, over RUNS runs (each a new
+random instance of the family and a new seed; the integrands and their exact integrals
+are in benches/quad_models.py):
+- reliability: the share of runs whose true relative error is within the tolerance AND
+  the method says it met the tolerance (a run stopped by the budget of 2^20 evaluations
+  counts as a failure, whatever its error);
+- the median number of evaluations of f (every evaluation counted, including rounds a
+  method throws away);
+- the median time outside f: the wall time of the method's call minus the time spent
+  inside f (f is wrapped in a timer; the point generation, transforms, error estimate
+  and bookkeeping are what remains). The JSONs also hold the same difference in the
+  process's CPU time (``outside_cpu``), which the other loads of a shared machine
+  disturb less (it adds up all threads, though).
 
-Methods:
+Families (quad_models.py): Genz's oscillatory, product peak, corner peak and gaussian
+and the models keister and lognormal at s = 2, 5, 10, 20, and ishigami at s = 3.
+Tolerances: 1e-2, 1e-3, 1e-4, 1e-5, relative (abs_tol = 0 everywhere).
+
+Methods (the budget, max_n or n_limit, is 2^20 evaluations for all):
 - ``stillpoint``: ``stillpoint.quad(f, s, rel_tol=tol, seed=run)`` (8 shifts of the
-  extensible lattice, Student t interval at 95 %).
-- ``qmcpy-lattice``, ``qmcpy-net``: ``CubQMCLatticeG`` and ``CubQMCNetG`` at their
-  defaults, with ``abs_tol=0`` and ``rel_tol=tol``.
+  extensible lattice, tent transform, 64 points per shift first, Student t interval at
+  95 %).
+- ``qmcpy-lattice``, ``qmcpy-net``: ``CubQMCLatticeG`` (``Lattice(s, seed=run)``, its
+  default Baker transform) and ``CubQMCNetG`` (``DigitalNetB2(s, seed=run)``) at their
+  defaults (n_init = 1024) with ``abs_tol=0, rel_tol=tol, n_limit=2**20``.
+- ``qmcpy-lattice-512``, ``qmcpy-net-512``: the same with ``n_init=512``, stillpoint's
+  first round (8 × 64).
+- ``qmcpy-rep``: ``CubQMCRepStudentT`` at its defaults (n_init = 256 points per
+  replication, alpha = 0.01) on ``Lattice(s, replications=25, seed=run)`` (the class has
+  no default number of replications; 25 is the one of QMCPy's own examples).
+- ``qmcpy-rep-8x64``: the same with 8 replications of n_init = 64 points (stillpoint's
+  first round), alpha still QMCPy's default 0.01.
 - ``qmc_quad``: ``scipy.integrate.qmc_quad`` with 8 scrambled Sobol' estimates of n
   points, n = 64, 128, ... until t_{7,0.975}·standard error ≤ tol·|integral| (each round
-  starts afresh).
+  starts afresh; the rounds thrown away are counted).
+QMCPy's "met" is its ``comb_flags`` with no ``MaxSamplesWarning`` (the warning it gives
+when the next doubling would pass n_limit).
 
-QMCPy lives in its own environment, so the script runs once per environment and then
-merges:
+Every method's per-cell results go to results/quad/<method>.json as each cell finishes;
+a later call skips cells already holding the requested runs, and continues a cell that
+holds fewer (so an interrupted run resumes). ``--cell-seconds T`` stops a cell after
+the run that takes its wall time (over all calls) past T; the runs done are recorded and
+the table says how many there were.
 
-    target/py-venv/bin/python benches/quad.py --methods stillpoint,qmc_quad --runs 100
-    target/bench-venv/bin/python benches/quad.py --methods qmcpy-lattice,qmcpy-net --runs 100
+QMCPy lives in its own environment (target/bench-venv: ``python3 -m venv
+target/bench-venv && target/bench-venv/bin/pip install qmcpy``), so the script runs once
+per environment and the table merges the JSONs. On 2 shared cores, two processes on
+disjoint methods, ``qmc_quad`` after whichever of the two finishes first:
+
+    nice -n 5 target/bench-venv/bin/python benches/quad.py --runs 200 --cell-seconds 15 \\
+        --methods qmcpy-lattice,qmcpy-lattice-512,qmcpy-rep &
+    nice -n 5 target/bench-venv/bin/python benches/quad.py --runs 200 --cell-seconds 15 \\
+        --methods qmcpy-net,qmcpy-net-512,qmcpy-rep-8x64 &
+    wait -n; nice -n 5 target/bench-venv/bin/python benches/quad.py --runs 200 \\
+        --cell-seconds 15 --methods qmc_quad; wait
+    target/py-venv/bin/python benches/quad.py --runs 200 --cell-seconds 15 --methods stillpoint
     target/py-venv/bin/python benches/quad.py --table
 
-(target/bench-venv: ``python3 -m venv target/bench-venv && target/bench-venv/bin/pip
-install qmcpy``.) The whole run takes a few minutes on 2 shared cores.
+On 2 cores shared with other work (load 4 to 6) the seven reference methods took 66
+minutes of wall time (6980 s summed over the cells, 14 to 19 minutes per method; 36 to
+59 of each method's 100 cells were stopped by the 15 s cap), ``stillpoint`` about 10.
 
-Writes results/quad/<method>.json and results/quad/quad.md.
+``--check-keister`` (bench-venv) compares the Keister values with QMCPy's recurrence;
+``--check-space`` (py-venv) integrates the lognormal instances through stillpoint's own
+``space=`` (SciPy's lognormal laws) as well as on the cube and prints both estimates.
+``--families``, ``--s`` and ``--tols`` restrict the cells (e.g. ``--families keister
+--s 20 --tols 1e-5``); ``--runs 5 --out /tmp/quad`` is a quick check. Writes
+results/quad/<method>.json and results/quad/quad.md.
 """
 
 import argparse
@@ -41,21 +82,13 @@ import warnings
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(__file__))
-from anchors import genz_exact, genz_value  # noqa: E402
+from quad_models import FAMILIES, exact, instance, keister_exact, value  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-FAMILIES = {0: "oscillatory", 1: "product peak"}
-DIFFICULTY = {0: 9.0, 1: 7.25}
+TOLS = [1e-2, 1e-3, 1e-4, 1e-5]
 MAX_N = 2**20
 T_7 = 2.3646242510102993  # t_{7, 0.975}
-
-
-def instance(f, s, run):
-    rng = np.random.default_rng([f, s, run, 37])
-    a = rng.uniform(0, 1, s)
-    a = a * DIFFICULTY[f] / a.sum()
-    u = rng.uniform(0, 1, s)
-    return a, u
+RELIABLE = 0.95
 
 
 def run_stillpoint(g, s, tol, seed):
@@ -86,83 +119,249 @@ def run_qmc_quad(g, s, tol, seed):
 def run_qmcpy(kind, g, s, tol, seed):
     import qmcpy as qp
 
-    if kind == "lattice":
+    def gq(t):
+        # Points come as (n, s), or (replications, n, s) for CubQMCRepStudentT.
+        return g(t.reshape(-1, s)).reshape(t.shape[:-1])
+
+    if kind.startswith("lattice"):
         dist, cub = qp.Lattice(s, seed=seed), qp.CubQMCLatticeG
-    else:
+    elif kind.startswith("net"):
         dist, cub = qp.DigitalNetB2(s, seed=seed), qp.CubQMCNetG
-    integrand = qp.CustomFun(qp.Uniform(dist), g=g)
-    c = cub(integrand, abs_tol=0.0, rel_tol=tol, n_limit=MAX_N)
+    elif kind == "rep":
+        dist, cub = qp.Lattice(s, replications=25, seed=seed), qp.CubQMCRepStudentT
+    else:
+        dist, cub = qp.Lattice(s, replications=8, seed=seed), qp.CubQMCRepStudentT
+    extra = {}
+    if kind in ("lattice-512", "net-512"):
+        extra["n_init"] = 512
+    elif kind == "rep-8x64":
+        extra["n_init"] = 64
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
+        integrand = qp.CustomFun(qp.Uniform(dist), g=gq)
+        c = cub(integrand, abs_tol=0.0, rel_tol=tol, n_limit=MAX_N, **extra)
         sol, data = c.integrate()
-    # QMCPy warns when the next doubling would pass n_limit and returns what it has.
-    hit_max = any("Already generated" in str(w.message) for w in caught)
-    return float(np.ravel(sol)[0]), int(np.ravel(data.n_total)[0]), not hit_max
+    hit_max = any(issubclass(w.category, qp.util.MaxSamplesWarning) for w in caught)
+    met = bool(np.all(data.comb_flags)) and not hit_max
+    return float(np.ravel(sol)[0]), int(np.ravel(data.n_total)[0]), met
 
 
 METHODS = {
     "stillpoint": run_stillpoint,
-    "qmc_quad": run_qmc_quad,
     "qmcpy-lattice": lambda g, s, tol, seed: run_qmcpy("lattice", g, s, tol, seed),
+    "qmcpy-lattice-512": lambda g, s, tol, seed: run_qmcpy("lattice-512", g, s, tol, seed),
     "qmcpy-net": lambda g, s, tol, seed: run_qmcpy("net", g, s, tol, seed),
+    "qmcpy-net-512": lambda g, s, tol, seed: run_qmcpy("net-512", g, s, tol, seed),
+    "qmcpy-rep": lambda g, s, tol, seed: run_qmcpy("rep", g, s, tol, seed),
+    "qmcpy-rep-8x64": lambda g, s, tol, seed: run_qmcpy("rep-8x64", g, s, tol, seed),
+    "qmc_quad": run_qmc_quad,
 }
+REFERENCES = [m for m in METHODS if m != "stillpoint"]
 
 
-def measure(method, s_list, tols, runs):
-    cells = []
-    for f in FAMILIES:
-        for s in s_list:
-            for tol in tols:
-                rows = []
-                for run in range(runs):
-                    a, u = instance(f, s, run)
-                    exact = genz_exact(f, a, u)
-                    calls = [0]
+def version(method):
+    if method.startswith("qmcpy"):
+        import qmcpy
 
-                    def g(x, f=f, a=a, u=u):
-                        calls[0] += x.shape[0]
-                        return genz_value(f, a, u, np.asarray(x, dtype=np.float64))
+        return f"qmcpy {qmcpy.__version__}"
+    if method == "stillpoint":
+        import stillpoint
 
-                    t0 = time.perf_counter()
-                    est, n, met = METHODS[method](g, s, tol, run)
-                    seconds = time.perf_counter() - t0
-                    err = abs(est - exact) / abs(exact)
-                    rows.append({"rel_error": float(f"{err:.3g}"), "n": int(n),
-                                 "calls_n": calls[0], "met": bool(met),
-                                 "seconds": round(seconds, 4),
-                                 "ok": bool(met and err <= tol)})
-                cells.append({"family": FAMILIES[f], "s": s, "tol": tol, "runs": rows})
-                ok = np.mean([r["ok"] for r in rows])
-                med = np.median([r["calls_n"] for r in rows])
-                print(f"{method:14s} {FAMILIES[f]:13s} s={s} tol={tol:g}: "
-                      f"reliability {ok:.2f}, median n {med:.0f}", flush=True)
-    return cells
+        return f"stillpoint {stillpoint.__version__}"
+    import scipy
+
+    return f"scipy {scipy.__version__}"
 
 
-def table(out):
+def key(family, s, tol):
+    return f"{family}|{s}|{tol:g}"
+
+
+def one_run(method, family, s, tol, run):
+    p = instance(family, s, run)
+    truth = exact(family, p)
+    calls = [0, 0.0, 0.0]
+
+    def g(x):
+        t, c = time.perf_counter(), time.process_time()
+        y = value(family, p, np.asarray(x, dtype=np.float64))
+        calls[0] += x.shape[0]
+        calls[1] += time.perf_counter() - t
+        calls[2] += time.process_time() - c
+        return y
+
+    t0, c0 = time.perf_counter(), time.process_time()
+    est, n, met = METHODS[method](g, s, tol, run)
+    seconds = time.perf_counter() - t0
+    cpu = time.process_time() - c0
+    err = abs(est - truth) / abs(truth)
+    return {"run": run, "rel_error": float(f"{err:.3g}"), "n": int(n), "calls_n": calls[0],
+            "met": bool(met), "ok": bool(met and err <= tol),
+            "seconds": round(seconds, 5), "outside": round(seconds - calls[1], 5),
+            "outside_cpu": round(cpu - calls[2], 5)}
+
+
+def load(path):
+    if os.path.exists(path):
+        with open(path) as fh:
+            d = json.load(fh)
+        if isinstance(d.get("cells"), dict):
+            return d
+    return None
+
+
+def save(path, d):
+    tmp = path + ".tmp"
+    with open(tmp, "w") as fh:
+        json.dump(d, fh, separators=(",", ":"))
+    os.replace(tmp, path)
+
+
+def measure(method, cells, runs, cell_seconds, out):
+    path = os.path.join(out, f"{method}.json")
+    d = load(path) or {"method": method, "cells": {}}
+    d["version"] = version(method)
+    for family, s, tol in cells:
+        k = key(family, s, tol)
+        cell = d["cells"].setdefault(k, {"family": family, "s": s, "tol": tol,
+                                         "seconds": 0.0, "runs": []})
+        rows = cell["runs"]
+        if len(rows) >= runs or (cell_seconds and cell["seconds"] >= cell_seconds):
+            continue
+        while len(rows) < runs:
+            if cell_seconds and cell["seconds"] >= cell_seconds:
+                break
+            t = time.perf_counter()
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                rows.append(one_run(method, family, s, tol, len(rows)))
+            cell["seconds"] = round(cell["seconds"] + time.perf_counter() - t, 3)
+        cell["cell_seconds"] = cell_seconds
+        save(path, d)
+        ok = np.mean([r["ok"] for r in rows])
+        med = np.median([r["calls_n"] for r in rows])
+        print(f"{method:17s} {family:12s} s={s:2d} tol={tol:g}: reliability {ok:.2f}, "
+              f"median n {med:.0f}, runs {len(rows)}, {cell['seconds']:.1f} s", flush=True)
+
+
+def fmt_ms(sec):
+    ms = sec * 1e3
+    return f"{ms:.2g}" if ms < 10 else f"{ms:.0f}"
+
+
+def table(out, runs):
     data = {}
     for m in METHODS:
-        path = os.path.join(out, f"{m}.json")
-        if os.path.exists(path):
-            with open(path) as fh:
-                data[m] = json.load(fh)
-    methods = list(data)
+        d = load(os.path.join(out, f"{m}.json"))
+        if d:
+            data[m] = d
+    methods = [m for m in METHODS if m in data]
+    refs = [m for m in REFERENCES if m in data]
+    order = [key(f, s, t) for f, ss in FAMILIES.items() for s in ss for t in TOLS]
+    order = [k for k in order if any(k in data[m]["cells"] for m in methods)]
+
+    def stats(m, k):
+        c = data[m]["cells"].get(k)
+        if not c or not c["runs"]:
+            return None
+        rs = c["runs"]
+        return {"rel": float(np.mean([r["ok"] for r in rs])),
+                "n": float(np.median([r["calls_n"] for r in rs])),
+                "out": float(np.median([r["outside"] for r in rs])), "runs": len(rs)}
+
+    short = []
     lines = ["# Integration to a tolerance", "",
-             "Reliability (share of runs with true relative error ≤ tol and the method "
-             "saying it met the tolerance) and median evaluations of f, per cell "
-             f"(runs per cell: {len(data[methods[0]]['cells'][0]['runs'])}). "
-             "Written by `benches/quad.py` (commands in its docstring).", "",
-             "| family | s | tol | " + " | ".join(methods) + " |",
-             "|---|---|---|" + "---|" * len(methods)]
-    for i, cell in enumerate(data[methods[0]]["cells"]):
-        row = [cell["family"], str(cell["s"]), f"{cell['tol']:g}"]
+             "Per cell and method: reliability (share of runs with true relative error ≤ "
+             "tol and the method saying it met the tolerance; stopping at the budget of "
+             "2^20 evaluations is a failure) · median evaluations of f (all rounds) · "
+             f"median time outside f in ms. {runs} runs per cell unless the cell says "
+             "otherwise in brackets (its per-cell wall-time cap stopped it first). "
+             "Best reference: the reference method with ≥ 95 % reliability and the fewest "
+             "median evaluations; ratio: stillpoint's median evaluations over that one's; "
+             "✔ when stillpoint is ≥ 95 % reliable and the ratio ≤ 1. "
+             "Written by `benches/quad.py --table` (commands in its docstring; machine: "
+             "2 shared cores).", "",
+             "| family | s | tol | " + " | ".join(methods)
+             + " | best reference | ratio | ✔ |",
+             "|---|---|---|" + "---|" * len(methods) + "---|---|---|"]
+    ratios, misses, met, no_ref, counted = [], [], 0, [], 0
+    for k in order:
+        family, s, tol = k.split("|")
+        row = [family, s, tol]
+        st = {m: stats(m, k) for m in methods}
         for m in methods:
-            runs = data[m]["cells"][i]["runs"]
-            ok = np.mean([r["ok"] for r in runs])
-            med = np.median([r["calls_n"] for r in runs])
-            row.append(f"{ok:.0%}, {med:.0f}")
+            v = st[m]
+            if v is None:
+                row.append("—")
+                continue
+            cellt = f"{v['rel']:.0%} · {v['n']:.0f} · {fmt_ms(v['out'])}"
+            if v["runs"] < runs:
+                cellt += f" ({v['runs']})"
+                short.append((m, k, v["runs"]))
+            row.append(cellt)
+        good = [m for m in refs if st[m] and st[m]["rel"] >= RELIABLE]
+        best = min(good, key=lambda m: st[m]["n"]) if good else None
+        sp = st.get("stillpoint")
+        if not any(st[m] for m in refs):
+            row += ["no reference run", "—", "—"]
+        elif best is None:
+            row += ["none ≥ 95 %", "—"]
+            if sp is not None:
+                counted += 1
+                ok = sp["rel"] >= RELIABLE
+                no_ref.append((k, ok))
+                met += ok
+                row.append("✔" if ok else "✘")
+                if not ok:
+                    misses.append(f"{family}, s={s}, tol={tol}: stillpoint {sp['rel']:.0%} "
+                                  "reliable (no reference reaches 95 % either)")
+            else:
+                row.append("—")
+        elif sp is None:
+            row += [best, "—", "—"]
+        else:
+            counted += 1
+            ratio = sp["n"] / st[best]["n"]
+            ratios.append(ratio)
+            ok = sp["rel"] >= RELIABLE and ratio <= 1
+            met += ok
+            row += [best, f"{ratio:.2f}", "✔" if ok else "✘"]
+            if not ok:
+                why = []
+                if sp["rel"] < RELIABLE:
+                    why.append(f"reliability {sp['rel']:.0%} < 95 %")
+                if ratio > 1:
+                    why.append(f"{ratio:.2f}× the evaluations of {best}")
+                misses.append(f"{family}, s={s}, tol={tol}: " + "; ".join(why))
         lines.append("| " + " | ".join(row) + " |")
-    lines += ["", "Versions: " + ", ".join(f"{m}: {data[m]['version']}" for m in methods), ""]
+    lines.append("")
+    if "stillpoint" in data:
+        gm = math.exp(np.mean(np.log(ratios))) if ratios else float("nan")
+        lines += [f"Cells meeting it (stillpoint ≥ 95 % reliable and no more evaluations "
+                  f"than the best reliable reference): {met} of {counted}.", "",
+                  f"Geometric mean of the ratio over the {len(ratios)} cells with a "
+                  f"reliable reference: {gm:.3f} (the claim: ≤ 0.5).", ""]
+        if no_ref:
+            lines += [f"Cells where no reference reaches 95 %: {len(no_ref)} (stillpoint "
+                      f"≥ 95 % in {sum(ok for _, ok in no_ref)}); they are counted above on "
+                      "stillpoint's reliability alone and left out of the mean.", ""]
+        lines += ["Cells that miss:" if misses else "No cell misses.", ""]
+        lines += [f"- {m}" for m in misses]
+        lines.append("")
+    else:
+        lines += ["stillpoint's results are not in this table yet.", ""]
+    if short:
+        per = []
+        for m in methods:
+            mine = [r for (mm, _, r) in short if mm == m]
+            if mine:
+                per.append(f"{m} {len(mine)} (fewest runs: {min(mine)})")
+        lines += [f"(Runs) in brackets: cells with fewer than {runs} runs, stopped by the "
+                  "per-cell wall-time cap (`--cell-seconds`): " + ", ".join(per) + ". "
+                  "A capped cell holds the first runs (instances and seeds 0, 1, ...), "
+                  "so its reliability is that of fewer instances; each method's figures "
+                  "are over its own runs.", ""]
+    lines += ["Versions: " + ", ".join(f"{m}: {data[m]['version']}" for m in methods), ""]
     with open(os.path.join(out, "quad.md"), "w") as fh:
         fh.write("\n".join(lines))
     print("\n".join(lines))
@@ -170,36 +369,63 @@ def table(out):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--methods", default="stillpoint,qmc_quad")
-    ap.add_argument("--s", default="2,5")
-    ap.add_argument("--tols", default="1e-2,1e-3")
-    ap.add_argument("--runs", type=int, default=20)
+    ap.add_argument("--methods", default="stillpoint,qmc_quad",
+                    help="comma-separated, from: " + ", ".join(METHODS))
+    ap.add_argument("--families", default=",".join(FAMILIES))
+    ap.add_argument("--s", default=None,
+                    help="dimensions to keep (default: each family's own)")
+    ap.add_argument("--tols", default=",".join(f"{t:g}" for t in TOLS))
+    ap.add_argument("--runs", type=int, default=200)
+    ap.add_argument("--cell-seconds", type=float, default=0.0,
+                    help="wall-time cap per (method, cell); 0: none")
     ap.add_argument("--table", action="store_true")
+    ap.add_argument("--check-space", action="store_true",
+                    help="lognormal through stillpoint's space= against the cube version")
+    ap.add_argument("--check-keister", action="store_true",
+                    help="compare the Keister values with QMCPy's and stop")
     ap.add_argument("--out", default=os.path.join(ROOT, "results", "quad"))
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     if args.table:
-        table(args.out)
+        table(args.out, args.runs)
         return
-    s_list = [int(v) for v in args.s.split(",")]
+    if args.check_space:
+        # A note, not part of the table: stillpoint's own lognormal laws (space=, SciPy
+        # frozen laws through their ppf) against the cube version measured above.
+        import stillpoint as sp
+        from scipy import stats
+
+        for s in FAMILIES["lognormal"]:
+            for run in range(3):
+                p = instance("lognormal", s, run)
+                space = {f"x{j}": stats.lognorm(s=sg, scale=math.exp(m))
+                         for j, (m, sg) in enumerate(zip(p["mu"], p["sigma"]))}
+                a = sp.quad(lambda x: np.prod(x, axis=1), s, rel_tol=1e-4, seed=run,
+                            space=space)
+                b = sp.quad(lambda x: value("lognormal", p, x), s, rel_tol=1e-4, seed=run)
+                print(f"s={s:2d} run {run}: space= {a.estimate:.15g} (n {a.n}), cube "
+                      f"{b.estimate:.15g} (n {b.n}), exact {exact('lognormal', p):.15g}")
+        return
+    if args.check_keister:
+        import qmcpy as qp
+
+        k = qp.Keister(qp.Lattice(1))
+        for s in FAMILIES["keister"]:
+            ours, theirs = keister_exact(s), float(k.get_exact_value(s))
+            print(f"s={s:2d}: {ours:.15g} (radial quadrature), {theirs:.15g} (QMCPy), "
+                  f"relative difference {abs(ours - theirs) / abs(theirs):.1e}")
+        return
+    keep_s = None if args.s is None else {int(v) for v in args.s.split(",")}
     tols = [float(v) for v in args.tols.split(",")]
+    cells = []
+    for family in args.families.split(","):
+        for s in FAMILIES[family]:
+            if keep_s is None or s in keep_s:
+                cells += [(family, s, tol) for tol in tols]
     for method in args.methods.split(","):
-        if method.startswith("qmcpy"):
-            import qmcpy
-
-            version = f"qmcpy {qmcpy.__version__}"
-        elif method == "stillpoint":
-            import stillpoint
-
-            version = f"stillpoint {stillpoint.__version__}"
-        else:
-            import scipy
-
-            version = f"scipy {scipy.__version__}"
-        cells = measure(method, s_list, tols, args.runs)
-        with open(os.path.join(args.out, f"{method}.json"), "w") as fh:
-            json.dump({"method": method, "version": version, "runs": args.runs,
-                       "cells": cells}, fh, separators=(",", ":"))
+        if method not in METHODS:
+            sys.exit(f"unknown method {method}")
+        measure(method, cells, args.runs, args.cell_seconds, args.out)
 
 
 if __name__ == "__main__":
