@@ -57,6 +57,7 @@ disjoint methods, ``qmc_quad`` after whichever of the two finishes first:
     wait -n; nice -n 5 target/bench-venv/bin/python benches/quad.py --runs 200 \\
         --cell-seconds 15 --methods qmc_quad; wait
     target/py-venv/bin/python benches/quad.py --runs 200 --cell-seconds 15 --methods stillpoint
+    target/py-venv/bin/python benches/quad.py --runs 200 --cell-seconds 60 --methods stillpoint
     target/py-venv/bin/python benches/quad.py --table
 
 On 2 cores shared with other work (load 4 to 6) the seven reference methods took 66
