@@ -186,29 +186,29 @@ fn single_n_criteria(d: usize) -> Result<Vec<[f64; 21]>, Error> {
 
 /// The generating vector of the embedded lattice, built component by component for d
 /// coordinates (the tabulated one is this for [`EXTENSIBLE_MAX_D`]). The aim is that
-/// every prefix of 2^m points, m = 4..20, is about as good as the lattice made for 2^m
+/// every prefix of 2^m points, m = 6..20, is about as good as the lattice made for 2^m
 /// points alone, so each candidate is scored by its largest ratio, over the levels, of
 /// its criterion (that of [`super::tent_criterion`] on the first 2^m points, with the
 /// coordinates chosen so far) to that of the single-n rule with as many coordinates:
 ///
 /// * z₁ = 1;
 /// * for each further coordinate, its low 14 bits: every odd value mod 2^14 (up to
-///   sign) is scored on levels 2^4..2^14, and the best [`BEAM`] are kept;
+///   sign) is scored on levels 2^6..2^14, and the best 128 are kept;
 /// * then bit by bit up to 2^20: each kept value is extended by the next bit both ways,
 ///   the new level is scored, a child's score is the larger of its parent's and the new
-///   level's ratio, and the best [`BEAM`] go on; the best at 2^20 wins (ties to the
+///   level's ratio, and the best 128 go on; the best at 2^20 wins (ties to the
 ///   smaller value).
 ///
 /// The single-n rules are built first (most of the time for large d). Criteria are
-/// carried as Π(1 + t) − 1 per point and compared above [`CRITERION_FLOOR`]. Refuses
+/// carried as Π(1 + t) − 1 per point and compared above 10⁻¹⁸. Refuses
 /// d = 0, naming `d`.
 pub fn embedded_tent_generator(d: usize) -> Result<Vec<u32>, Error> {
     Ok(embedded_tent_generator_with_ratios(d)?.0)
 }
 
 /// [`embedded_tent_generator`] and, per coordinate count j (entry j − 1), the ratio of
-/// the sequence's criterion at each level 2^m (m = 4..20) to the single-n rule's, above
-/// [`CRITERION_FLOOR`]: how far each prefix is from the rule made for its n.
+/// the sequence's criterion at each level 2^m (m = 6..20; entries below are 0) to the single-n rule's, above
+/// 10⁻¹⁸: how far each prefix is from the rule made for its n.
 pub fn embedded_tent_generator_with_ratios(d: usize) -> Result<(Vec<u32>, Vec<[f64; 21]>), Error> {
     if d == 0 {
         return Err(Error::invalid("d", d, "at least 1 dimension"));
