@@ -151,23 +151,36 @@ fn keep_best(mut scored: Vec<(f64, u64)>, keep: usize) -> Vec<(f64, u64)> {
     scored
 }
 
+/// Extends the per-point Π(1 + t) − 1 of a rank-1 lattice with q.len() points by the
+/// coordinate z (`terms` holds t at r/q.len()).
+fn extend(q: &mut [f64], terms: &[f64], z: u64) {
+    let mask = q.len() as u64 - 1;
+    for (i, qi) in q.iter_mut().enumerate() {
+        let t = terms[((i as u64).wrapping_mul(z) & mask) as usize];
+        *qi += t + *qi * t;
+    }
+}
+
+/// The mean of v, summed in blocks of 256 (rounding near 10⁻²⁰ for the criterion's q).
+fn block_mean(v: &[f64]) -> f64 {
+    let total: f64 = v.chunks(256).map(|b| b.iter().sum::<f64>()).sum();
+    total / v.len() as f64
+}
+
+/// The values of v (one per point of the 2^20-point lattice, or per residue r/2^20) at
+/// the 2^m points of level m: every 2^(20 − m)-th.
+fn level(v: &[f64], m: u32) -> Vec<f64> {
+    v.iter().step_by(v.len() >> m).copied().collect()
+}
+
 /// Per-point Π(1 + t) − 1 of the rank-1 lattice with n points and generator z, carried
 /// accurately; `after` gets the mean (the criterion) after each coordinate.
-fn carry(n: usize, z: &[u64], terms: &[f64], mut after: impl FnMut(usize, f64)) -> Vec<f64> {
+fn carry(n: usize, z: &[u64], terms: &[f64], mut after: impl FnMut(usize, f64)) {
     let mut q = vec![0.0f64; n];
-    let mask = n as u64 - 1;
     for (j, &zj) in z.iter().enumerate() {
-        for (i, qi) in q.iter_mut().enumerate() {
-            let t = terms[((i as u64).wrapping_mul(zj) & mask) as usize];
-            *qi += t + *qi * t;
-        }
-        let mut total = 0.0;
-        for block in q.chunks(256) {
-            total += block.iter().sum::<f64>();
-        }
-        after(j, total / n as f64);
+        extend(&mut q, terms, zj);
+        after(j, block_mean(&q));
     }
-    q
 }
 
 /// The criterion of [`super::tent_criterion`] of the lattice made for n = 2^m alone
@@ -207,15 +220,14 @@ pub fn embedded_tent_generator(d: usize) -> Result<Vec<u32>, Error> {
 }
 
 /// [`embedded_tent_generator`] and, per coordinate count j (entry j − 1), the ratio of
-/// the sequence's criterion at each level 2^m (m = 6..20; entries below are 0) to the single-n rule's, above
-/// 10⁻¹⁸: how far each prefix is from the rule made for its n.
+/// the sequence's criterion at each level 2^m (m = 6..20; entries below are 0) to the
+/// single-n rule's, above 10⁻¹⁸: how far each prefix is from the rule made for its n.
 pub fn embedded_tent_generator_with_ratios(d: usize) -> Result<(Vec<u32>, Vec<[f64; 21]>), Error> {
     if d == 0 {
         return Err(Error::invalid("d", d, "at least 1 dimension"));
     }
     let reference = single_n_criteria(d)?;
     let n = EXTENSIBLE_MAX_POINTS as usize;
-    let top = EXTENSIBLE_BITS as usize;
     let terms = tent_terms(n);
     let mut q = vec![0.0f64; n];
     let mut z = Vec::with_capacity(d);
@@ -225,9 +237,8 @@ pub fn embedded_tent_generator_with_ratios(d: usize) -> Result<(Vec<u32>, Vec<[f
             1
         } else {
             let low = 1usize << SCREEN_BITS;
-            let stride = n / low;
-            let low_q: Vec<f64> = q.iter().step_by(stride).copied().collect();
-            let low_terms: Vec<f64> = terms.iter().step_by(stride).copied().collect();
+            let low_q = level(&q, SCREEN_BITS);
+            let low_terms = level(&terms, SCREEN_BITS);
             // Every odd residue mod 2^14 up to sign (c and 2^14 − c give the same levels
             // ≤ 14, and their extensions are each other's negatives).
             let candidates: Vec<u64> = (1..low as u64 / 2).step_by(2).collect();
@@ -243,9 +254,8 @@ pub fn embedded_tent_generator_with_ratios(d: usize) -> Result<(Vec<u32>, Vec<[f
                 .collect();
             let mut beam = keep_best(scored, BEAM);
             for b in SCREEN_BITS + 1..=EXTENSIBLE_BITS {
-                let stride = n >> b;
-                let level_q: Vec<f64> = q.iter().step_by(stride).copied().collect();
-                let level_terms: Vec<f64> = terms.iter().step_by(stride).copied().collect();
+                let level_q = level(&q, b);
+                let level_terms = level(&terms, b);
                 let children: Vec<(f64, u64)> = beam
                     .iter()
                     .flat_map(|&(s, c)| [(s, c), (s, c + (1u64 << (b - 1)))])
@@ -261,20 +271,10 @@ pub fn embedded_tent_generator_with_ratios(d: usize) -> Result<(Vec<u32>, Vec<[f
             }
             beam[0].1
         };
-        let mask = n as u64 - 1;
-        for (i, qi) in q.iter_mut().enumerate() {
-            let t = terms[((i as u64).wrapping_mul(zj) & mask) as usize];
-            *qi += t + *qi * t;
-        }
+        extend(&mut q, &terms, zj);
         let mut r = [0.0f64; 21];
-        for m in MIN_LEVEL as usize..=top {
-            let stride = n >> m;
-            let mut total = 0.0;
-            let level: Vec<f64> = q.iter().step_by(stride).copied().collect();
-            for block in level.chunks(256) {
-                total += block.iter().sum::<f64>();
-            }
-            r[m] = ratio(total / (1usize << m) as f64, want[m]);
+        for m in MIN_LEVEL..=EXTENSIBLE_BITS {
+            r[m as usize] = ratio(block_mean(&level(&q, m)), want[m as usize]);
         }
         ratios.push(r);
         z.push(zj as u32);
