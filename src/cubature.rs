@@ -353,16 +353,25 @@ impl Cubature {
             .collect()
     }
 
-    /// Whether every output's half-width is within max(abs_tol, rel_tol·|estimate|)
-    /// (false before the first values).
+    /// The half-width each output must reach: max(abs_tol, rel_tol·|estimate|) (empty
+    /// before the first values).
+    pub fn targets(&self) -> Vec<f64> {
+        let (abs_tol, rel_tol) = (self.options.abs_tol, self.options.rel_tol);
+        self.estimate()
+            .iter()
+            .map(|e| abs_tol.max(rel_tol * e.abs()))
+            .collect()
+    }
+
+    /// Whether every output's half-width is within its [`Cubature::targets`] (false
+    /// before the first values).
     pub fn met(&self) -> bool {
-        let tol = (self.options.abs_tol, self.options.rel_tol);
         self.k > 0
             && self
-                .estimate()
+                .half_width()
                 .iter()
-                .zip(self.half_width())
-                .all(|(e, h)| h <= tol.0.max(tol.1 * e.abs()))
+                .zip(self.targets())
+                .all(|(h, t)| *h <= t)
     }
 
     /// Warnings about the settings: too few replicates for a trustworthy interval.
@@ -382,9 +391,19 @@ impl Cubature {
 
     /// Doubles until [`Cubature::met`] or [`Cubature::exhausted`], calling f on each
     /// batch (f returns rows × k values, row-major). Returns whether the tolerance is met.
-    pub fn run<F>(&mut self, mut f: F) -> Result<bool, Error>
+    pub fn run<F>(&mut self, f: F) -> Result<bool, Error>
     where
         F: FnMut(&PointSet) -> Vec<f64>,
+    {
+        self.run_observed(f, |_| {})
+    }
+
+    /// [`Cubature::run`], calling `after` with the state after each doubling (progress
+    /// displays).
+    pub fn run_observed<F, A>(&mut self, mut f: F, mut after: A) -> Result<bool, Error>
+    where
+        F: FnMut(&PointSet) -> Vec<f64>,
+        A: FnMut(&Cubature),
     {
         while !self.met() {
             let Some(points) = self.next_points() else {
@@ -392,6 +411,7 @@ impl Cubature {
             };
             let values = f(&points);
             self.feed(&points, &values)?;
+            after(self);
         }
         Ok(true)
     }
@@ -416,8 +436,9 @@ pub struct QuadResult {
     pub state: Cubature,
 }
 
-impl QuadResult {
-    fn of(state: Cubature) -> QuadResult {
+impl From<Cubature> for QuadResult {
+    /// The result a state has reached so far.
+    fn from(state: Cubature) -> QuadResult {
         QuadResult {
             estimate: state.estimate(),
             half_width: state.half_width(),
@@ -428,7 +449,9 @@ impl QuadResult {
             state,
         }
     }
+}
 
+impl QuadResult {
     /// Continues with new tolerances, evaluating f only at new points.
     pub fn refine<F>(self, f: F, abs_tol: f64, rel_tol: f64) -> Result<QuadResult, Error>
     where
@@ -437,7 +460,7 @@ impl QuadResult {
         let mut state = self.state;
         state.set_tolerance(abs_tol, rel_tol)?;
         state.run(f)?;
-        Ok(QuadResult::of(state))
+        Ok(QuadResult::from(state))
     }
 }
 
@@ -458,7 +481,7 @@ where
 {
     let mut state = Cubature::new(d, options)?;
     state.run(f)?;
-    Ok(QuadResult::of(state))
+    Ok(QuadResult::from(state))
 }
 
 /// The regularised incomplete beta function I_x(a, b), by the continued fraction of
@@ -681,6 +704,32 @@ mod tests {
             .map(|v| v.parse().unwrap())
             .collect();
         assert!(at[0] > 0.9, "{e}");
+    }
+
+    #[test]
+    fn the_observer_sees_every_doubling_and_the_last_state() {
+        let mut state = Cubature::new(
+            3,
+            QuadOptions {
+                rel_tol: 1e-4,
+                ..QuadOptions::default()
+            },
+        )
+        .unwrap();
+        let mut seen = Vec::new();
+        let met = state
+            .run_observed(product_exp, |s| {
+                // The target is the stopping rule's, recomputed from its definition.
+                let e = s.estimate()[0];
+                assert_eq!(s.targets(), vec![1e-4 * e.abs()]);
+                assert_eq!(s.met(), s.half_width()[0] <= 1e-4 * e.abs());
+                seen.push(s.n());
+            })
+            .unwrap();
+        assert!(met);
+        assert!(seen.len() >= 2, "{seen:?}");
+        assert!(seen.windows(2).all(|w| w[1] == 2 * w[0]), "{seen:?}");
+        assert_eq!(*seen.last().unwrap(), state.n());
     }
 
     #[test]

@@ -57,25 +57,13 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
     };
     let mut state = Cubature::new(s, options).map_err(refused)?;
     let rounds = Rounds::new(q.quiet, q.progress);
-    while !state.met() {
-        let Some(points) = state.next_points() else {
-            break;
-        };
+    let f = |points: &PointSet| {
         rounds.evaluating(points.n());
-        let values: Vec<f64> = points.rows().map(|p| expr.eval(p)).collect();
-        state.feed(&points, &values).map_err(refused)?;
-        rounds.done(&state);
-    }
-    drop(rounds);
-    let r = stillpoint::cubature::QuadResult {
-        estimate: state.estimate(),
-        half_width: state.half_width(),
-        n: state.n(),
-        replicates: state.options().replicates,
-        met: state.met(),
-        warnings: state.warnings(),
-        state,
+        points.rows().map(|p| expr.eval(p)).collect()
     };
+    state.run_observed(f, |s| rounds.done(s)).map_err(refused)?;
+    drop(rounds);
+    let r = stillpoint::cubature::QuadResult::from(state);
     for w in &r.warnings {
         noteln!("warning: {w}");
     }
@@ -171,8 +159,7 @@ impl Drop for Rounds {
 /// the target is max(abs_tol, rel_tol·|estimate|).
 fn round_line(state: &Cubature, seconds: f64) -> String {
     let (estimate, half_width) = (state.estimate()[0], state.half_width()[0]);
-    let o = state.options();
-    let target = o.abs_tol.max(o.rel_tol * estimate.abs());
+    let target = state.targets()[0];
     format!(
         "stillpoint: n={}  estimate={}  half-width={} (target {})  {seconds:.1} s",
         state.n(),
