@@ -15,11 +15,26 @@
 //! `max_n` evaluations in total (all replicates together), and then says the tolerance
 //! was not met. Over a box [a, b] the points are scaled and the estimate and half-width
 //! include the volume, as in SciPy's `qmc_quad`.
+//!
+//! Any representable integral of a representable integrand is computed: each output's
+//! sums are kept divided by a power of two chosen from the largest |f| seen, the volume
+//! as a mantissa and a power of two, and the spread of the replicate means is scaled by
+//! a power of two before it is squared (scaling by powers of two is exact, so ordinary
+//! magnitudes give the same bits as plain sums). Only an estimate or half-width beyond
+//! the largest float is refused, naming why. A result claims `met` only when its
+//! interval is finite and honest: a half-width of 0 is believed only of an output that
+//! took one value at every point; otherwise it is raised to the rounding error of the
+//! sums.
 
 use serde::{Deserialize, Serialize};
 
 use crate::sequences::{ExtensibleLattice, EXTENSIBLE_MAX_POINTS};
 use crate::{Error, PointSet};
+
+/// Each output's sums are kept below 2^(this + 20): with at most 2^20 points per
+/// replicate, the largest |f|·2^−shift stays below 2^SUM_EXP, far from the overflow at
+/// 2^1024.
+const SUM_EXP: i32 = 1000;
 
 /// Replicates (independent shifts) by default.
 pub const DEFAULT_REPLICATES: usize = 8;
@@ -30,6 +45,33 @@ pub const DEFAULT_MAX_N: u64 = 1 << 20;
 /// Points per replicate in the first batch by default (the smallest prefix whose quality
 /// is checked against a lattice made for its size).
 pub const DEFAULT_START_N: u64 = 64;
+
+/// The most replicates: the default `max_n` holds one first batch of
+/// [`DEFAULT_START_N`] points for each of them.
+pub const MAX_REPLICATES: usize = (DEFAULT_MAX_N / DEFAULT_START_N) as usize;
+
+/// Why a run stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum StopReason {
+    /// Every output's half-width is within its target.
+    Met,
+    /// The next doubling would pass `max_n` evaluations.
+    MaxN,
+    /// The next doubling would pass the sequence's 2^20 points per replicate (a larger
+    /// `max_n` cannot help).
+    Sequence,
+}
+
+impl StopReason {
+    /// The reason as front ends name it: `met`, `max_n` or `sequence`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            StopReason::Met => "met",
+            StopReason::MaxN => "max_n",
+            StopReason::Sequence => "sequence",
+        }
+    }
+}
 
 /// Fewer replicates than this get a warning: the t quantile is large (t_{2,0.975} = 4.30)
 /// and the half-width itself varies so much from run to run that a stop is often early
@@ -89,16 +131,26 @@ pub struct Cubature {
     per_replicate: u64,
     /// Points per replicate in the batch handed out and not yet fed (0: none).
     pending: u64,
-    /// Σ f over each replicate's points, replicate-major (R × k).
+    /// Σ f·2^−shift over each replicate's points, replicate-major (R × k).
     sums: Vec<f64>,
+    /// Per output, the power of two its sums are divided by (empty in states saved
+    /// before it existed: 0).
+    #[serde(default)]
+    shift: Vec<i32>,
+    /// Per output, the least and the greatest value fed (empty in states saved before it
+    /// existed: a zero spread is then believed as it was).
+    #[serde(default)]
+    range: Vec<(f64, f64)>,
 }
 
 impl Cubature {
     /// A new integration of a function of d variables. Refuses d = 0 or beyond the
-    /// sequence's dimensions (naming `d`), a box of the wrong length or with b ≤ a
-    /// (`a`, `b`), negative or non-finite tolerances (`abs_tol`, `rel_tol`), a level
-    /// outside (0, 1) (`level`), fewer than 2 replicates (`replicates`), a `start_n` that
-    /// is not a power of two, and a `max_n` below one first batch.
+    /// sequence's dimensions (naming `d`), a corner of the wrong length (`a`, `b`), a box
+    /// that [`crate::plan::space::intervals`] refuses (`a, b`: b ≤ a, or a width that
+    /// overflows or vanishes next to the coordinates), negative or non-finite tolerances
+    /// (`abs_tol`, `rel_tol`), a level outside (0, 1) (`level`), replicates outside 2 to
+    /// [`MAX_REPLICATES`] (`replicates`), a `start_n` that is not a power of two, and a
+    /// `max_n` below one first batch.
     pub fn new(d: usize, options: QuadOptions) -> Result<Cubature, Error> {
         ExtensibleLattice::new(d, 0, 0)?;
         let o = &options;
@@ -113,26 +165,24 @@ impl Cubature {
         };
         let lower = corner(&o.a, "a", 0.0)?;
         let upper = corner(&o.b, "b", 1.0)?;
-        if let Some(i) = (0..d).find(|&i| upper[i] <= lower[i]) {
-            return Err(Error::invalid(
-                "b",
-                format!("{:?}", upper),
-                format!("b[{i}] > a[{i}] = {} in every dimension", lower[i]),
-            ));
-        }
-        for (name, t) in [("abs_tol", o.abs_tol), ("rel_tol", o.rel_tol)] {
-            if !(t.is_finite() && t >= 0.0) {
-                return Err(Error::invalid(name, t, "a finite value ≥ 0"));
-            }
-        }
-        if !(o.level > 0.0 && o.level < 1.0) {
-            return Err(Error::invalid("level", o.level, "a value in (0, 1)"));
-        }
-        if o.replicates < 2 {
+        // The one check of boxes every front end applies (a width that is positive,
+        // finite and not vanishing next to the coordinates).
+        let interleaved: Vec<f64> = lower
+            .iter()
+            .zip(&upper)
+            .flat_map(|(a, b)| [*a, *b])
+            .collect();
+        crate::plan::space::intervals("a, b", &format!("({lower:?}, {upper:?})"), &interleaved)?;
+        check_tolerances(o.abs_tol, o.rel_tol)?;
+        check_level(o.level)?;
+        if !(2..=MAX_REPLICATES).contains(&o.replicates) {
             return Err(Error::invalid(
                 "replicates",
                 o.replicates,
-                "at least 2 (the interval comes from their spread); 8 or more recommended",
+                format!(
+                    "2 to {MAX_REPLICATES} (the interval comes from their spread; 8 or more \
+                     recommended)"
+                ),
             ));
         }
         if !o.start_n.is_power_of_two() || o.start_n > EXTENSIBLE_MAX_POINTS {
@@ -142,17 +192,7 @@ impl Cubature {
                 format!("a power of two up to {EXTENSIBLE_MAX_POINTS}"),
             ));
         }
-        let first = o.start_n.saturating_mul(o.replicates as u64);
-        if o.max_n < first {
-            return Err(Error::invalid(
-                "max_n",
-                o.max_n,
-                format!(
-                    "at least one first batch: start_n·replicates = {} evaluations",
-                    first
-                ),
-            ));
-        }
+        check_budget(o.max_n, o)?;
         let width = lower.iter().zip(&upper).map(|(a, b)| b - a).collect();
         Ok(Cubature {
             d,
@@ -163,6 +203,8 @@ impl Cubature {
             per_replicate: 0,
             pending: 0,
             sums: Vec::new(),
+            shift: Vec::new(),
+            range: Vec::new(),
         })
     }
 
@@ -199,14 +241,40 @@ impl Cubature {
     /// Sets new tolerances (to continue after the interval met the old ones); the
     /// evaluations made are kept. Refuses negative or non-finite values, naming them.
     pub fn set_tolerance(&mut self, abs_tol: f64, rel_tol: f64) -> Result<(), Error> {
-        for (name, t) in [("abs_tol", abs_tol), ("rel_tol", rel_tol)] {
-            if !(t.is_finite() && t >= 0.0) {
-                return Err(Error::invalid(name, t, "a finite value ≥ 0"));
-            }
-        }
+        check_tolerances(abs_tol, rel_tol)?;
         self.options.abs_tol = abs_tol;
         self.options.rel_tol = rel_tol;
         Ok(())
+    }
+
+    /// Sets a new budget (a larger one continues a run stopped by `max_n`); the
+    /// evaluations made are kept. Refuses less than one first batch, naming `max_n`.
+    pub fn set_max_n(&mut self, max_n: u64) -> Result<(), Error> {
+        check_budget(max_n, &self.options)?;
+        self.options.max_n = max_n;
+        Ok(())
+    }
+
+    /// Sets a new confidence level (the half-width is recomputed from the same
+    /// replicate means). Refuses a level outside (0, 1), naming `level`.
+    pub fn set_level(&mut self, level: f64) -> Result<(), Error> {
+        check_level(level)?;
+        self.options.level = level;
+        Ok(())
+    }
+
+    /// Why the run stops here: `None` while another doubling may be made and the
+    /// tolerance is not met.
+    pub fn reason(&self) -> Option<StopReason> {
+        if self.met() {
+            Some(StopReason::Met)
+        } else if self.per_replicate + self.next_size() > EXTENSIBLE_MAX_POINTS {
+            Some(StopReason::Sequence)
+        } else if self.exhausted() {
+            Some(StopReason::MaxN)
+        } else {
+            None
+        }
     }
 
     /// Points per replicate of the next batch (the first batch, then as many as already
@@ -295,60 +363,181 @@ impl Cubature {
                 "a finite value at every point",
             ));
         }
+        // Accumulated on a copy: an integral that cannot be represented leaves the state
+        // as it was.
+        let mut next = self.clone();
+        next.accumulate(k, m, values);
+        next.check_representable()?;
+        *self = next;
+        Ok(())
+    }
+
+    /// Adds a batch's values (m points per replicate, k outputs) to the sums, first
+    /// raising an output's shift when its largest |f| so far needs it.
+    fn accumulate(&mut self, k: usize, m: usize, values: &[f64]) {
+        let r = self.options.replicates;
         if self.k == 0 {
             self.k = k;
             self.sums = vec![0.0; r * k];
         }
+        if self.shift.len() != k {
+            self.shift = vec![0; k];
+        }
+        let known = self.range.len() == k;
+        let mut range = vec![(f64::INFINITY, f64::NEG_INFINITY); k];
+        for row in values.chunks_exact(k) {
+            for (g, v) in range.iter_mut().zip(row) {
+                *g = (g.0.min(*v), g.1.max(*v));
+            }
+        }
+        if known || self.per_replicate == 0 {
+            for (j, g) in range.iter_mut().enumerate() {
+                if known {
+                    *g = (g.0.min(self.range[j].0), g.1.max(self.range[j].1));
+                }
+            }
+            self.range = range.clone();
+        }
+        for (j, g) in range.iter().enumerate() {
+            let largest = g.0.abs().max(g.1.abs());
+            let need = (libm::frexp(largest).1 - SUM_EXP).max(self.shift[j]);
+            if need > self.shift[j] {
+                for rep in 0..r {
+                    let s = &mut self.sums[rep * k + j];
+                    *s = libm::scalbn(*s, self.shift[j] - need);
+                }
+                self.shift[j] = need;
+            }
+        }
         for (rep, block) in values.chunks_exact(m * k).enumerate() {
             let sums = &mut self.sums[rep * k..(rep + 1) * k];
             for row in block.chunks_exact(k) {
-                for (s, v) in sums.iter_mut().zip(row) {
-                    *s += v;
+                for ((s, v), e) in sums.iter_mut().zip(row).zip(&self.shift) {
+                    *s += if *e == 0 { *v } else { libm::scalbn(*v, -e) };
                 }
             }
         }
         self.per_replicate += self.pending;
         self.pending = 0;
+    }
+
+    /// Refuses an estimate or half-width beyond the largest float, naming f and why.
+    fn check_representable(&self) -> Result<(), Error> {
+        let (estimate, half_width) = (self.estimate(), self.half_width());
+        for j in 0..self.k {
+            for (what, v) in [("integral", estimate[j]), ("half-width", half_width[j])] {
+                if !v.is_finite() {
+                    let (scaled, e) = self.scaled(j);
+                    let m = if what == "integral" {
+                        scaled.iter().sum::<f64>() / scaled.len() as f64
+                    } else {
+                        self.scaled_half_width(&scaled)
+                    };
+                    let log10 = m.abs().log10() + e as f64 * std::f64::consts::LOG10_2;
+                    let mantissa = 10f64.powf(log10.fract());
+                    let output = if self.k > 1 {
+                        format!(" (output {j})")
+                    } else {
+                        String::new()
+                    };
+                    return Err(Error::invalid(
+                        "f",
+                        format!(
+                            "values whose {what} over the box is about {mantissa:.1}e{}{output}",
+                            log10.trunc() as i64,
+                        ),
+                        format!(
+                            "an integral and a half-width within ±{:e}, the largest float",
+                            f64::MAX
+                        ),
+                    ));
+                }
+            }
+        }
         Ok(())
     }
 
-    /// The volume of the box.
-    fn volume(&self) -> f64 {
-        self.width.iter().product()
+    /// The volume of the box as a mantissa in [0.5, 1) and a power of two (a product of
+    /// widths may overflow or underflow where the integral does not).
+    fn volume(&self) -> (f64, i32) {
+        self.width.iter().fold((1.0, 0), |(m, e), w| {
+            let (m, de) = libm::frexp(m * w);
+            (m, e + de)
+        })
+    }
+
+    /// Output j's R replicate means divided by 2^e, and e.
+    fn scaled(&self, j: usize) -> (Vec<f64>, i32) {
+        let (r, k) = (self.options.replicates, self.k);
+        let (mantissa, e) = self.volume();
+        let scale = mantissa / self.per_replicate.max(1) as f64;
+        let shift = self.shift.get(j).copied().unwrap_or(0);
+        let means = (0..r).map(|rep| self.sums[rep * k + j] * scale).collect();
+        (means, e + shift)
+    }
+
+    /// The half-width of scaled replicate means: t·sd/√R, the deviations divided by the
+    /// power of two of the largest before they are squared (exact, and no overflow).
+    fn scaled_half_width(&self, means: &[f64]) -> f64 {
+        let r = means.len();
+        let t = student_t_quantile((1.0 + self.options.level) / 2.0, (r - 1) as f64);
+        let mean = means.iter().sum::<f64>() / r as f64;
+        let largest = means.iter().map(|x| (x - mean).abs()).fold(0.0, f64::max);
+        if largest == 0.0 {
+            return 0.0;
+        }
+        let e = libm::frexp(largest).1;
+        let var = means
+            .iter()
+            .map(|x| libm::scalbn(x - mean, -e).powi(2))
+            .sum::<f64>()
+            / (r - 1) as f64;
+        libm::scalbn(t * (var / r as f64).sqrt(), e)
+    }
+
+    /// Whether output j took one value at every point (true for states saved before
+    /// the values' range was kept).
+    fn constant(&self, j: usize) -> bool {
+        self.range.get(j).is_none_or(|(lo, hi)| lo == hi)
     }
 
     /// The estimate of each output's integral (empty before the first values).
     pub fn estimate(&self) -> Vec<f64> {
-        self.replicate_means()
-            .iter()
-            .map(|m| m.iter().sum::<f64>() / m.len() as f64)
+        (0..self.k)
+            .map(|j| {
+                let (m, e) = self.scaled(j);
+                libm::scalbn(m.iter().sum::<f64>() / m.len() as f64, e)
+            })
             .collect()
     }
 
     /// Per output, the R replicate means (scaled by the volume).
     pub fn replicate_means(&self) -> Vec<Vec<f64>> {
-        let r = self.options.replicates;
-        let scale = self.volume() / self.per_replicate.max(1) as f64;
         (0..self.k)
             .map(|j| {
-                (0..r)
-                    .map(|rep| self.sums[rep * self.k + j] * scale)
-                    .collect()
+                let (m, e) = self.scaled(j);
+                m.into_iter().map(|x| libm::scalbn(x, e)).collect()
             })
             .collect()
     }
 
     /// The half-width of each output's interval at the level asked (empty before the
-    /// first values).
+    /// first values). Replicate means that agree while the output took different values
+    /// agree only to rounding: the half-width is then the sums' rounding error bound,
+    /// per_replicate·ε·max|f|·volume, not 0.
     pub fn half_width(&self) -> Vec<f64> {
-        let r = self.options.replicates;
-        let t = student_t_quantile((1.0 + self.options.level) / 2.0, (r - 1) as f64);
-        self.replicate_means()
-            .iter()
-            .map(|m| {
-                let mean = m.iter().sum::<f64>() / r as f64;
-                let var = m.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (r - 1) as f64;
-                t * (var / r as f64).sqrt()
+        (0..self.k)
+            .map(|j| {
+                let (m, e) = self.scaled(j);
+                let h = self.scaled_half_width(&m);
+                if h > 0.0 || self.constant(j) {
+                    return libm::scalbn(h, e);
+                }
+                let (lo, hi) = self.range[j];
+                let shift = self.shift.get(j).copied().unwrap_or(0);
+                let largest = libm::scalbn(lo.abs().max(hi.abs()), -shift);
+                let floor = self.per_replicate as f64 * f64::EPSILON * largest * self.volume().0;
+                libm::scalbn(floor, e)
             })
             .collect()
     }
@@ -365,13 +554,16 @@ impl Cubature {
 
     /// Whether every output's half-width is within its [`Cubature::targets`] (false
     /// before the first values).
+    /// A half-width is trusted only when finite, and a half-width of 0 only of an
+    /// output that took one value at every point (one that underflowed is not).
     pub fn met(&self) -> bool {
         self.k > 0
             && self
                 .half_width()
                 .iter()
                 .zip(self.targets())
-                .all(|(h, t)| *h <= t)
+                .enumerate()
+                .all(|(j, (h, t))| h.is_finite() && *h <= t && (*h > 0.0 || self.constant(j)))
     }
 
     /// Warnings about the settings: too few replicates for a trustworthy interval.
@@ -430,6 +622,10 @@ pub struct QuadResult {
     pub replicates: usize,
     /// Whether every output met the tolerance.
     pub met: bool,
+    /// Why the run stopped (`None` for a state that may go on, e.g. one seen by a
+    /// progress observer before its last doubling).
+    #[serde(default)]
+    pub reason: Option<StopReason>,
     /// Warnings about the settings.
     pub warnings: Vec<String>,
     /// The state, to continue with a tighter tolerance.
@@ -445,6 +641,7 @@ impl From<Cubature> for QuadResult {
             n: state.n(),
             replicates: state.options.replicates,
             met: state.met(),
+            reason: state.reason(),
             warnings: state.warnings(),
             state,
         }
@@ -482,6 +679,41 @@ where
     let mut state = Cubature::new(d, options)?;
     state.run(f)?;
     Ok(QuadResult::from(state))
+}
+
+/// Refuses a negative or non-finite tolerance, naming it.
+fn check_tolerances(abs_tol: f64, rel_tol: f64) -> Result<(), Error> {
+    for (name, t) in [("abs_tol", abs_tol), ("rel_tol", rel_tol)] {
+        if !(t.is_finite() && t >= 0.0) {
+            return Err(Error::invalid(name, t, "a finite value ≥ 0"));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a confidence level outside (0, 1).
+fn check_level(level: f64) -> Result<(), Error> {
+    if !(level > 0.0 && level < 1.0) {
+        return Err(Error::invalid("level", level, "a value in (0, 1)"));
+    }
+    Ok(())
+}
+
+/// Refuses a budget below one first batch of the settings `o`, naming `max_n`.
+fn check_budget(max_n: u64, o: &QuadOptions) -> Result<(), Error> {
+    let first = o.start_n.saturating_mul(o.replicates as u64);
+    if max_n < first {
+        return Err(Error::invalid(
+            "max_n",
+            max_n,
+            format!(
+                "at least one first batch: {} points for each of the {} replicates, {first} \
+                 evaluations",
+                o.start_n, o.replicates
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The regularised incomplete beta function I_x(a, b), by the continued fraction of
@@ -821,7 +1053,7 @@ mod tests {
                 b: Some(vec![1.0, 0.0]),
                 ..d()
             },
-            "b",
+            "a, b",
         );
         bad(
             QuadOptions {
@@ -843,5 +1075,359 @@ mod tests {
         .unwrap();
         assert_eq!(few.warnings().len(), 1);
         assert!(Cubature::new(2, d()).unwrap().warnings().is_empty());
+    }
+    /// c times [`product_exp`], for the overflow tests.
+    fn scaled_line(c: f64) -> impl FnMut(&PointSet) -> Vec<f64> {
+        move |x: &PointSet| product_exp(x).into_iter().map(|v| c * v).collect()
+    }
+
+    #[test]
+    fn huge_integrands_give_finite_estimates_and_half_widths() {
+        // ∫_0^1 1e308·x = 5e307: representable, though the plain sums overflow.
+        let r = quad(
+            |x: &PointSet| x.rows().map(|p| 1e308 * p[0]).collect(),
+            1,
+            QuadOptions::default(),
+        )
+        .unwrap();
+        assert!(r.met, "{r:?}");
+        assert!((r.estimate[0] / 5e307 - 1.0).abs() < 1e-3, "{r:?}");
+        assert!(
+            r.half_width[0].is_finite() && r.half_width[0] > 0.0,
+            "{r:?}"
+        );
+        assert_eq!(r.reason, Some(StopReason::Met));
+        // c·f: the run and the interval of f, scaled by c (up to the rounding of c·f).
+        let one = quad(scaled_line(1.0), 2, QuadOptions::default()).unwrap();
+        for c in [1e200, 1e300, 1e-300, -1e307, 1.5e307] {
+            let big = quad(scaled_line(c), 2, QuadOptions::default()).unwrap();
+            assert!(big.met, "{c}: {big:?}");
+            assert_eq!(big.n, one.n, "{c}");
+            let rel = (big.estimate[0] / (c * one.estimate[0]) - 1.0).abs();
+            assert!(rel < 1e-12, "{c}: {big:?}");
+            let hw = big.half_width[0] / c.abs();
+            assert!(
+                (hw / one.half_width[0] - 1.0).abs() < 1e-6,
+                "{c}: {big:?} {one:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn ordinary_magnitudes_give_the_bits_of_plain_sums() {
+        // The same batches summed the plain way: the scaling by powers of two is exact.
+        let opts = QuadOptions {
+            rel_tol: 1e-5,
+            a: Some(vec![-1.0, 0.5, 2.0]),
+            b: Some(vec![3.0, 0.75, 9.0]),
+            ..QuadOptions::default()
+        };
+        let r = quad(product_exp, 3, opts.clone()).unwrap();
+        let mut state = Cubature::new(3, opts).unwrap();
+        let mut plain = vec![0.0f64; 8];
+        while let Some(p) = state.next_points() {
+            if state.n() >= r.n {
+                break;
+            }
+            let v = product_exp(&p);
+            for (i, y) in v.iter().enumerate() {
+                plain[i / (p.n() / 8)] += y;
+            }
+            state.feed(&p, &v).unwrap();
+        }
+        let volume = 4.0 * 0.25 * 7.0;
+        let scale = volume / state.per_replicate() as f64;
+        let means: Vec<f64> = plain.iter().map(|s| s * scale).collect();
+        assert_eq!(state.replicate_means()[0], means);
+        let mean = means.iter().sum::<f64>() / 8.0;
+        assert_eq!(r.estimate[0], mean);
+        let var = means.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / 7.0;
+        let t = student_t_quantile(0.975, 7.0);
+        assert_eq!(r.half_width[0], t * (var / 8.0).sqrt());
+    }
+
+    #[test]
+    fn a_volume_that_overflows_is_computed_when_the_integral_is_representable() {
+        // [0, 1e120]^3 has volume 1e360; f = 1e-100 integrates to 1e260.
+        let opts = |abs| QuadOptions {
+            a: Some(vec![0.0; 3]),
+            b: Some(vec![1e120; 3]),
+            ..abs
+        };
+        let r = quad(
+            |x: &PointSet| vec![1e-100; x.n()],
+            3,
+            opts(QuadOptions::default()),
+        )
+        .unwrap();
+        assert!(
+            r.met && (r.estimate[0] / 1e260 - 1.0).abs() < 1e-12,
+            "{r:?}"
+        );
+        assert!(r.half_width[0] <= 1e-14 * r.estimate[0], "{r:?}");
+        // f = 1 integrates to 1e360: refused, naming f and the magnitude, state unchanged.
+        let mut state = Cubature::new(3, opts(QuadOptions::default())).unwrap();
+        let p = state.next_points().unwrap();
+        let e = state.feed(&p, &vec![1.0; p.n()]).unwrap_err().to_string();
+        assert!(e.starts_with("invalid f = values whose integral"), "{e}");
+        assert!(e.contains("1.0e360"), "{e}");
+        assert_eq!(state.n(), 0);
+        assert_eq!(state.pending(), 64);
+        // A tiny volume: [0, 1e-120]^3 with f = 1e300 integrates to 1e-60.
+        let r = quad(
+            |x: &PointSet| x.rows().map(|p| 1e300 * (1.0 + p[0] * 1e120)).collect(),
+            3,
+            QuadOptions {
+                a: Some(vec![0.0; 3]),
+                b: Some(vec![1e-120; 3]),
+                ..QuadOptions::default()
+            },
+        )
+        .unwrap();
+        assert!(
+            r.met && (r.estimate[0] / 1.5e-60 - 1.0).abs() < 1e-3,
+            "{r:?}"
+        );
+    }
+
+    #[test]
+    fn k_outputs_are_scaled_each_on_its_own() {
+        // Output 0 overflows plain sums, output 1 is ordinary: each reaches its integral.
+        let r = quad(
+            |x: &PointSet| x.rows().flat_map(|p| [1e308 * p[0], p[0] * p[0]]).collect(),
+            2,
+            QuadOptions::default(),
+        )
+        .unwrap();
+        assert!(r.met, "{r:?}");
+        assert!((r.estimate[0] / 5e307 - 1.0).abs() < 1e-3, "{r:?}");
+        assert!((r.estimate[1] * 3.0 - 1.0).abs() < 1e-3, "{r:?}");
+        let alone = quad(
+            |x: &PointSet| x.rows().map(|p| p[0] * p[0]).collect(),
+            2,
+            QuadOptions {
+                max_n: r.n,
+                rel_tol: 0.0,
+                ..QuadOptions::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(alone.estimate[0], r.estimate[1]);
+        assert_eq!(alone.half_width[0], r.half_width[1]);
+    }
+
+    #[test]
+    fn met_only_when_the_interval_is_honest() {
+        // A constant: half-width 0, legitimately met.
+        let r = quad(|x: &PointSet| vec![3.5; x.n()], 2, QuadOptions::default()).unwrap();
+        assert!(
+            r.met && r.half_width[0] == 0.0 && r.estimate[0] == 3.5,
+            "{r:?}"
+        );
+        // 1e16 + 4·x1 (values 1e16, 1e16 + 2, 1e16 + 4) rounds every sum alike: the
+        // means agree to rounding only. The half-width is the rounding bound, so an
+        // absolute tolerance of 0.1 (far below the spacing of floats near 1e16, 2) is
+        // not claimed.
+        let opts = QuadOptions {
+            abs_tol: 0.1,
+            rel_tol: 0.0,
+            max_n: 1 << 14,
+            ..QuadOptions::default()
+        };
+        let r = quad(
+            |x: &PointSet| x.rows().map(|p| 1e16 + 4.0 * p[0]).collect(),
+            1,
+            opts,
+        )
+        .unwrap();
+        assert!(!r.met, "{r:?}");
+        assert!(
+            r.half_width[0] > 0.1 && r.half_width[0].is_finite(),
+            "{r:?}"
+        );
+        assert_eq!(r.reason, Some(StopReason::MaxN));
+        // At a relative tolerance that floats can meet, it is met.
+        let r = quad(
+            |x: &PointSet| x.rows().map(|p| 1e16 + 4.0 * p[0]).collect(),
+            1,
+            QuadOptions::default(),
+        )
+        .unwrap();
+        assert!(r.met && r.half_width[0] > 0.0, "{r:?}");
+        // Tiny values whose spread would underflow when squared: a true half-width.
+        let r = quad(
+            |x: &PointSet| x.rows().map(|p| 1e-300 * (1.0 + p[0])).collect(),
+            1,
+            QuadOptions::default(),
+        )
+        .unwrap();
+        assert!(r.met && r.half_width[0] > 0.0, "{r:?}");
+    }
+
+    #[test]
+    fn the_box_check_is_the_one_of_intervals() {
+        let bad = |a: Vec<f64>, b: Vec<f64>| {
+            let o = QuadOptions {
+                a: Some(a.clone()),
+                b: Some(b.clone()),
+                ..QuadOptions::default()
+            };
+            let mine = Cubature::new(a.len(), o).unwrap_err().to_string();
+            let v: Vec<f64> = a.iter().zip(&b).flat_map(|(x, y)| [*x, *y]).collect();
+            let theirs = crate::plan::space::intervals("a, b", "s", &v)
+                .unwrap_err()
+                .to_string();
+            let tail = |m: &str| m.split_once(": expected").unwrap().1.to_string();
+            assert!(mine.starts_with("invalid a, b = "), "{mine}");
+            assert_eq!(tail(&mine), tail(&theirs));
+        };
+        bad(vec![-1e308], vec![1e308]);
+        bad(vec![1e15], vec![1e15 + 0.1]);
+        bad(vec![0.0, 0.0], vec![1.0, 1e-160]);
+        bad(vec![0.0, 2.0], vec![1.0, 2.0]);
+        // The widest and narrowest accepted boxes run without a panic.
+        for (a, b) in [(-8e307, 8e307), (1e15, 1e15 + 1e4), (0.0, 1e-140)] {
+            let o = QuadOptions {
+                a: Some(vec![a]),
+                b: Some(vec![b]),
+                ..QuadOptions::default()
+            };
+            let r = quad(|x: &PointSet| vec![1.0; x.n()], 1, o).unwrap();
+            assert!(
+                r.met && (r.estimate[0] / (b - a) - 1.0).abs() < 1e-12,
+                "{r:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_stop_reason_is_the_real_one() {
+        // max_n beyond 8 × 2^20: the sequence's points per replicate stop it.
+        let r = quad(
+            product_exp,
+            2,
+            QuadOptions {
+                rel_tol: 0.0,
+                max_n: 100_000_000,
+                ..QuadOptions::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(r.n, 8 * EXTENSIBLE_MAX_POINTS);
+        assert_eq!(r.reason, Some(StopReason::Sequence));
+        assert_eq!(r.reason.unwrap().as_str(), "sequence");
+        let r = quad(
+            product_exp,
+            2,
+            QuadOptions {
+                rel_tol: 0.0,
+                max_n: 5000,
+                ..QuadOptions::default()
+            },
+        )
+        .unwrap();
+        assert_eq!((r.n, r.reason), (4096, Some(StopReason::MaxN)));
+        let r = quad(product_exp, 2, QuadOptions::default()).unwrap();
+        assert_eq!(r.reason, Some(StopReason::Met));
+        // A state with budget left and the tolerance not met has no reason yet.
+        let tight = QuadOptions {
+            rel_tol: 1e-9,
+            ..QuadOptions::default()
+        };
+        let mut s = Cubature::new(2, tight).unwrap();
+        assert_eq!(s.reason(), None);
+        let p = s.next_points().unwrap();
+        s.feed(&p, &product_exp(&p)).unwrap();
+        assert_eq!(s.reason(), None);
+    }
+
+    #[test]
+    fn a_continuation_takes_a_larger_budget_and_another_level() {
+        let small = QuadOptions {
+            rel_tol: 1e-7,
+            max_n: 4096,
+            ..QuadOptions::default()
+        };
+        let r = quad(product_exp, 3, small.clone()).unwrap();
+        assert_eq!((r.n, r.reason), (4096, Some(StopReason::MaxN)));
+        let mut state = r.state.clone();
+        state.set_max_n(1 << 20).unwrap();
+        assert_eq!(state.reason(), None);
+        state.run(product_exp).unwrap();
+        let direct = quad(
+            product_exp,
+            3,
+            QuadOptions {
+                max_n: 1 << 20,
+                ..small.clone()
+            },
+        )
+        .unwrap();
+        assert_eq!(state.n(), direct.n);
+        assert_eq!(state.estimate(), direct.estimate);
+        // A level changes the half-width by the ratio of the t quantiles.
+        let mut wide = r.state.clone();
+        wide.set_level(0.99).unwrap();
+        let ratio = student_t_quantile(0.995, 7.0) / student_t_quantile(0.975, 7.0);
+        let got = wide.half_width()[0] / r.half_width[0];
+        assert!((got / ratio - 1.0).abs() < 1e-12, "{got} vs {ratio}");
+        // The earlier result is unchanged, and bad values are refused by name.
+        assert_eq!(r.state.options().max_n, 4096);
+        let mut s = r.state.clone();
+        assert!(s
+            .set_max_n(100)
+            .unwrap_err()
+            .to_string()
+            .starts_with("invalid max_n = 100"));
+        assert!(s
+            .set_level(1.5)
+            .unwrap_err()
+            .to_string()
+            .starts_with("invalid level = 1.5"));
+        assert_eq!(s, r.state);
+    }
+
+    #[test]
+    fn refusals_name_no_internal_setting() {
+        for (o, name) in [
+            (
+                QuadOptions {
+                    replicates: 100_000,
+                    ..QuadOptions::default()
+                },
+                "replicates",
+            ),
+            (
+                QuadOptions {
+                    replicates: 100,
+                    max_n: 1000,
+                    ..QuadOptions::default()
+                },
+                "max_n",
+            ),
+        ] {
+            let e = Cubature::new(2, o).unwrap_err().to_string();
+            assert!(e.starts_with(&format!("invalid {name} = ")), "{e}");
+            assert!(!e.contains("start_n"), "{e}");
+        }
+        // The largest number of replicates fits the default budget.
+        let o = QuadOptions {
+            replicates: MAX_REPLICATES,
+            ..QuadOptions::default()
+        };
+        assert!(Cubature::new(1, o).is_ok());
+    }
+
+    #[test]
+    fn states_saved_before_the_scaling_read_back_alike() {
+        let r = quad(product_exp, 2, QuadOptions::default()).unwrap();
+        let mut v = serde_json::to_value(&r.state).unwrap();
+        let o = v.as_object_mut().unwrap();
+        o.remove("shift");
+        o.remove("range");
+        let old: Cubature = serde_json::from_value(v).unwrap();
+        assert_eq!(old.estimate(), r.estimate);
+        assert_eq!(old.half_width(), r.half_width);
+        assert_eq!(old.met(), r.met);
     }
 }
