@@ -481,11 +481,12 @@ impl Cubature {
     fn scaled_half_width(&self, means: &[f64]) -> f64 {
         let r = means.len();
         let t = student_t_quantile((1.0 + self.options.level) / 2.0, (r - 1) as f64);
-        let mean = means.iter().sum::<f64>() / r as f64;
-        let largest = means.iter().map(|x| (x - mean).abs()).fold(0.0, f64::max);
-        if largest == 0.0 {
+        // Equal means have no spread (their mean may differ from them in the last bit).
+        if means.iter().all(|x| *x == means[0]) {
             return 0.0;
         }
+        let mean = means.iter().sum::<f64>() / r as f64;
+        let largest = means.iter().map(|x| (x - mean).abs()).fold(0.0, f64::max);
         let e = libm::frexp(largest).1;
         let var = means
             .iter()

@@ -286,6 +286,12 @@ fn integrate_command(c: Command) -> Result<()> {
     let Some(file) = file else {
         return quad_command(quad, json);
     };
+    if let Some(flag) = quad.first_expr_only() {
+        bail!(
+            "invalid {flag} with a point file: it applies to --expr only (a file is \
+             integrated as it is)"
+        );
+    }
     let points = io::read_points(&file)?;
     points
         .check_unit_cube()

@@ -3,8 +3,9 @@
 
 use super::*;
 use std::io::Write as _;
-use stillpoint::cubature::{Cubature, QuadOptions};
+use stillpoint::cubature::{Cubature, QuadOptions, StopReason};
 use stillpoint::parse::expr::RegionExpr;
+use stillpoint::sequences::EXTENSIBLE_MAX_POINTS;
 
 /// The flag that sets a `QuadOptions` field or a `Cubature` argument.
 fn quad_flag(name: &str) -> String {
@@ -16,11 +17,38 @@ fn quad_flag(name: &str) -> String {
 }
 
 /// Runs `integrate --expr` and prints the estimate, half-width, evaluations and whether
-/// the tolerance was met.
+/// the tolerance was met (and if not, what stopped it).
 pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
     let (Some(text), Some(s)) = (q.expr.as_deref(), q.s) else {
         bail!("--expr needs -s");
     };
+    if let (true, Some(mode)) = (q.quiet, q.progress) {
+        if mode != ProgressMode::None {
+            bail!(
+                "invalid --progress {} with -q: -q asks for no progress lines; give one \
+                 of the two",
+                clap::ValueEnum::to_possible_value(&mode)
+                    .map_or_else(String::new, |v| v.get_name().to_string())
+            );
+        }
+    }
+    let refused = |e: stillpoint::Error| match e {
+        stillpoint::Error::InvalidArgument {
+            name,
+            value,
+            expected,
+        } if name == "f" => {
+            anyhow::anyhow!("invalid --expr {text:?}: {value}; expected {expected}")
+        }
+        stillpoint::Error::InvalidArgument {
+            name,
+            value,
+            expected,
+        } => stillpoint::Error::invalid(quad_flag(&name), value, expected).into(),
+        other => anyhow::Error::from(other),
+    };
+    // The dimension first, so that -s 0 is refused as -s rather than by what needs it.
+    stillpoint::sequences::ExtensibleLattice::new(s, 0, 0).map_err(refused)?;
     let expr = RegionExpr::parse(text, s).map_err(|e| anyhow::anyhow!("invalid --expr: {e}"))?;
     let (a, b) = match q.bounds.as_deref() {
         Some(text) => {
@@ -32,30 +60,9 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
     let options = QuadOptions {
         a,
         b,
-        abs_tol: q.abs_tol,
-        rel_tol: q.rel_tol,
-        level: q.level,
-        replicates: q.replicates,
-        max_n: q.max_n,
-        seed: q.seed,
-        ..QuadOptions::default()
+        ..q.options()
     };
-    let refused = |e: stillpoint::Error| match e {
-        stillpoint::Error::InvalidArgument {
-            name,
-            value,
-            expected,
-        } if name == "f" => {
-            anyhow::anyhow!("--expr {text:?} is not finite: {value}; expected {expected}")
-        }
-        stillpoint::Error::InvalidArgument {
-            name,
-            value,
-            expected,
-        } => stillpoint::Error::invalid(quad_flag(&name), value, expected).into(),
-        other => anyhow::Error::from(other),
-    };
-    let mut state = Cubature::new(s, options).map_err(refused)?;
+    let mut state = Cubature::new(s, options.clone()).map_err(refused)?;
     let rounds = Rounds::new(q.quiet, q.progress);
     let f = |points: &PointSet| {
         rounds.evaluating(points.n());
@@ -67,26 +74,45 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
     for w in &r.warnings {
         noteln!("warning: {w}");
     }
+    let reason = r.reason.map_or("running", StopReason::as_str);
     if json {
         let v = json!({"expr": text, "s": s, "estimate": r.estimate[0],
                        "half_width": r.half_width[0], "n": r.n, "replicates": r.replicates,
-                       "level": q.level, "rel_tol": q.rel_tol, "abs_tol": q.abs_tol,
-                       "met": r.met});
+                       "level": options.level, "rel_tol": options.rel_tol,
+                       "abs_tol": options.abs_tol, "met": r.met, "reason": reason});
         outln!("{}", serde_json::to_string_pretty(&v)?);
     } else {
-        outln!("estimate     {}", r.estimate[0]);
-        outln!("half-width   {} (level {})", r.half_width[0], q.level);
-        outln!("evaluations  {} ({} replicates)", r.n, r.replicates);
+        outln!("estimate     {}", number(r.estimate[0]));
         outln!(
-            "met          {}",
-            if r.met {
-                "yes".to_string()
-            } else {
-                format!("no: --max-n {} reached first", q.max_n)
-            }
+            "half-width   {} (level {})",
+            number(r.half_width[0]),
+            options.level
         );
+        outln!("evaluations  {} ({} replicates)", r.n, r.replicates);
+        let why = match r.reason {
+            Some(StopReason::Met) | None => "yes".to_string(),
+            Some(StopReason::MaxN) => format!("no: --max-n {} reached first", options.max_n),
+            Some(StopReason::Sequence) => format!(
+                "no: the sequence's {EXTENSIBLE_MAX_POINTS} points per replicate reached \
+                 first ({} evaluations with {} replicates; a larger --max-n cannot help)",
+                r.n, r.replicates
+            ),
+        };
+        outln!("met          {why}");
     }
     Ok(())
+}
+
+/// A number as the result prints it: the shortest form that reads back to the same
+/// float when it is moderate (0.25, 1234.5), in scientific notation when it is huge or
+/// tiny (5e307, not 308 digits).
+fn number(x: f64) -> String {
+    let plain = format!("{x}");
+    if x == 0.0 || (1e-5..1e16).contains(&x.abs()) {
+        plain
+    } else {
+        format!("{x:e}")
+    }
 }
 
 /// The progress of `integrate --expr` on standard error: after each doubling, one line
@@ -194,5 +220,22 @@ mod tests {
         assert_eq!(sci(-2.5e12, 1), "-2.5e+12");
         assert_eq!(sci(0.0, 1), "0.0e+00");
         assert_eq!(sci(1e-300, 1), "1.0e-300");
+    }
+
+    #[test]
+    fn numbers_print_compactly_at_any_magnitude() {
+        for (x, want) in [
+            (5e307, "5e307"),
+            (-1.5e200, "-1.5e200"),
+            (1e-300, "1e-300"),
+            (0.25, "0.25"),
+            (1234.5, "1234.5"),
+            (0.0, "0"),
+            (1e16, "1e16"),
+            (2.5e-6, "2.5e-6"),
+        ] {
+            assert_eq!(number(x), want);
+            assert_eq!(number(x).parse::<f64>().unwrap(), x);
+        }
     }
 }

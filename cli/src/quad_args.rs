@@ -3,6 +3,10 @@
 /// `integrate --expr EXPR -s S --rel-tol T ...`: ∫ EXPR over [0, 1]^s (or --bounds),
 /// doubling the points of R randomly shifted copies of an extensible lattice until the
 /// t interval's half-width is within the tolerance.
+///
+/// Every option but `--expr` is optional with its default resolved in
+/// [`QuadArgs::options`], so that one given with a point file is seen and refused rather
+/// than ignored.
 #[derive(clap::Args, Debug, Clone)]
 pub(crate) struct QuadArgs {
     /// Integrate this expression in x1..xs (the grammar of --region) to a tolerance
@@ -15,49 +19,82 @@ pub(crate) struct QuadArgs {
     )]
     pub(crate) expr: Option<String>,
     /// Dimension s of --expr.
-    #[arg(short = 's', value_name = "S", id = "dim", requires = "expr")]
+    #[arg(
+        short = 's',
+        value_name = "S",
+        id = "dim",
+        allow_negative_numbers = true
+    )]
     pub(crate) s: Option<usize>,
-    /// Relative tolerance: stop when the half-width ≤ max(--abs-tol, T·|estimate|).
-    #[arg(long, value_name = "T", default_value_t = 1e-3, requires = "expr")]
-    pub(crate) rel_tol: f64,
-    /// Absolute tolerance.
-    #[arg(long, value_name = "A", default_value_t = 0.0, requires = "expr")]
-    pub(crate) abs_tol: f64,
-    /// Confidence level of the interval.
-    #[arg(long, value_name = "P", default_value_t = 0.95, requires = "expr")]
-    pub(crate) level: f64,
-    /// Independent random shifts (the interval comes from their spread).
-    #[arg(long, value_name = "R", default_value_t = stillpoint::cubature::DEFAULT_REPLICATES, requires = "expr")]
-    pub(crate) replicates: usize,
-    /// The most evaluations, all replicates together.
-    #[arg(long, value_name = "M", default_value_t = stillpoint::cubature::DEFAULT_MAX_N, requires = "expr")]
-    pub(crate) max_n: u64,
-    /// Seed of the shifts.
-    #[arg(long, value_name = "N", default_value_t = 0, requires = "expr")]
-    pub(crate) seed: u64,
+    /// Relative tolerance: stop when the half-width ≤ max(--abs-tol, T·|estimate|)
+    /// [default: 0.001].
+    #[arg(long, value_name = "T", allow_hyphen_values = true)]
+    pub(crate) rel_tol: Option<f64>,
+    /// Absolute tolerance [default: 0].
+    #[arg(long, value_name = "A", allow_hyphen_values = true)]
+    pub(crate) abs_tol: Option<f64>,
+    /// Confidence level of the interval [default: 0.95].
+    #[arg(long, value_name = "P", allow_hyphen_values = true)]
+    pub(crate) level: Option<f64>,
+    /// Independent random shifts (the interval comes from their spread) [default: 8].
+    #[arg(long, value_name = "R", allow_negative_numbers = true)]
+    pub(crate) replicates: Option<usize>,
+    /// The most evaluations, all replicates together [default: 1048576].
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub(crate) max_n: Option<u64>,
+    /// Seed of the shifts [default: 0].
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub(crate) seed: Option<u64>,
     /// Integrate over this box instead of the unit cube: LO1,HI1,... (the volume is
     /// included).
-    #[arg(
-        long,
-        value_name = "LO1,HI1,...",
-        allow_hyphen_values = true,
-        requires = "expr"
-    )]
+    #[arg(long, value_name = "LO1,HI1,...", allow_hyphen_values = true)]
     pub(crate) bounds: Option<String>,
     /// No progress lines (the result is still printed).
-    #[arg(long, short = 'q', requires = "expr")]
+    #[arg(long, short = 'q')]
     pub(crate) quiet: bool,
     /// How progress is shown on standard error, one line per doubling (evaluations,
     /// estimate, half-width against its target, seconds): `bar` (the default on a
     /// terminal: the lines and a spinner while a doubling is evaluated), `plain` (the
     /// lines, also off a terminal, e.g. in a job's log) or `none` (the default off a
-    /// terminal).
+    /// terminal). Not with -q, which asks for none.
     // The values' own help is generate's (its plain lines are timed): not shown here.
-    #[arg(
-        long,
-        value_name = "bar|plain|none",
-        requires = "expr",
-        hide_possible_values = true
-    )]
+    #[arg(long, value_name = "bar|plain|none", hide_possible_values = true)]
     pub(crate) progress: Option<crate::ProgressMode>,
+}
+
+impl QuadArgs {
+    /// The first option given that only `--expr` uses, as its flag (`-s`, `--seed`, ...),
+    /// in the order of the help: a point file is integrated without them.
+    pub(crate) fn first_expr_only(&self) -> Option<&'static str> {
+        [
+            ("-s", self.s.is_some()),
+            ("--rel-tol", self.rel_tol.is_some()),
+            ("--abs-tol", self.abs_tol.is_some()),
+            ("--level", self.level.is_some()),
+            ("--replicates", self.replicates.is_some()),
+            ("--max-n", self.max_n.is_some()),
+            ("--seed", self.seed.is_some()),
+            ("--bounds", self.bounds.is_some()),
+            ("-q (--quiet)", self.quiet),
+            ("--progress", self.progress.is_some()),
+        ]
+        .into_iter()
+        .find(|(_, given)| *given)
+        .map(|(flag, _)| flag)
+    }
+
+    /// The library's settings: the options given, the documented defaults for the rest
+    /// (the box is set by the caller, which checks it as `--bounds`).
+    pub(crate) fn options(&self) -> stillpoint::cubature::QuadOptions {
+        let d = stillpoint::cubature::QuadOptions::default();
+        stillpoint::cubature::QuadOptions {
+            abs_tol: self.abs_tol.unwrap_or(d.abs_tol),
+            rel_tol: self.rel_tol.unwrap_or(d.rel_tol),
+            level: self.level.unwrap_or(d.level),
+            replicates: self.replicates.unwrap_or(d.replicates),
+            max_n: self.max_n.unwrap_or(d.max_n),
+            seed: self.seed.unwrap_or(d.seed),
+            ..d
+        }
+    }
 }
