@@ -99,16 +99,9 @@ fn boxes_are_checked_as_bounds_everywhere() {
 
 #[test]
 fn the_stop_reason_is_the_real_one() {
-    let (ok, out, _) = run(&[
-        "--expr",
-        "x1*x2",
-        "-s",
-        "2",
-        "--rel-tol",
-        "0",
-        "--max-n",
-        "100000000",
-    ]);
+    // x1·x2 at a relative tolerance of 0 with a budget of M evaluations.
+    let budget = |m: &'static str| ["--expr", "x1*x2", "-s", "2", "--rel-tol", "0", "--max-n", m];
+    let (ok, out, _) = run(&budget("100000000"));
     assert!(ok);
     assert!(out.contains("evaluations  8388608 (8 replicates)"), "{out}");
     assert!(
@@ -116,16 +109,7 @@ fn the_stop_reason_is_the_real_one() {
             && !out.contains("--max-n 100000000 reached"),
         "{out}"
     );
-    let v = json(&[
-        "--expr",
-        "x1*x2",
-        "-s",
-        "2",
-        "--rel-tol",
-        "0",
-        "--max-n",
-        "4096",
-    ]);
+    let v = json(&budget("4096"));
     assert_eq!(
         (v["reason"].as_str(), v["n"].as_u64()),
         (Some("max_n"), Some(4096))
