@@ -7,7 +7,8 @@ use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
-use stillpoint::cubature::{Cubature, QuadOptions};
+use stillpoint::cubature::{Cubature, QuadOptions, StopReason};
+use stillpoint::design::DesignSpace;
 use stillpoint::sequences::ExtensibleLattice;
 use stillpoint::PointSet;
 
@@ -90,6 +91,30 @@ impl PyCubature {
         self.inner
             .set_tolerance(abs_tol, rel_tol)
             .map_err(value_error)
+    }
+
+    /// A new budget (a larger one continues a run stopped by max_n).
+    fn set_max_n(&mut self, max_n: u64) -> PyResult<()> {
+        self.inner.set_max_n(max_n).map_err(value_error)
+    }
+
+    /// A new confidence level (the half-width is recomputed).
+    fn set_level(&mut self, level: f64) -> PyResult<()> {
+        self.inner.set_level(level).map_err(value_error)
+    }
+
+    /// Why the run stops here: "met", "max_n" or "sequence" (the sequence's 2^20
+    /// points per replicate); None while another doubling may be made.
+    #[getter]
+    fn reason(&self) -> Option<&'static str> {
+        self.inner.reason().map(StopReason::as_str)
+    }
+
+    /// (abs_tol, rel_tol, level, replicates, max_n, seed).
+    #[getter]
+    fn settings(&self) -> (f64, f64, f64, usize, u64, u64) {
+        let o = self.inner.options();
+        (o.abs_tol, o.rel_tol, o.level, o.replicates, o.max_n, o.seed)
     }
 
     /// The estimate of each output's integral.
@@ -185,4 +210,40 @@ pub(crate) fn sequence_points<'py>(
     seq.fill(start, count, &mut data).map_err(value_error)?;
     let a = Array2::from_shape_vec((count, d), data).map_err(value_error)?;
     Ok(a.into_pyarray(py))
+}
+
+/// Refuses a box as every front end does (`plan::space::intervals`): `values` are
+/// LO1,HI1,...; `name` and `shown` are the arguments and their values as typed.
+#[pyfunction]
+pub(crate) fn check_box(name: &str, shown: &str, values: Vec<f64>) -> PyResult<()> {
+    stillpoint::plan::space::intervals(name, shown, &values).map_err(value_error)?;
+    Ok(())
+}
+
+/// Points per continuous variable of a space that quad must resolve: as design refuses a
+/// range that cannot hold its n points, quad refuses one that cannot hold this many
+/// distinct floats (about the 1e-12 relative width the box check asks).
+const QUAD_SPACE_RESOLUTION: usize = 4096;
+
+/// Checks a quad space as design checks its space (its variables, the vanishing-scale
+/// check at [`QUAD_SPACE_RESOLUTION`] points, the correlation as text `1,0.5;0.5,1` or as
+/// a row-major matrix) and returns the correlation matrix, row-major, if any.
+#[pyfunction]
+#[pyo3(signature = (space, text=None, matrix=None))]
+pub(crate) fn quad_space(
+    space: Vec<String>,
+    text: Option<String>,
+    matrix: Option<Vec<f64>>,
+) -> PyResult<Option<Vec<f64>>> {
+    let mut parsed = DesignSpace::parse("space", &space).map_err(value_error)?;
+    parsed
+        .check_n("space", QUAD_SPACE_RESOLUTION)
+        .map_err(value_error)?;
+    match (text, matrix) {
+        (Some(text), _) => parsed.correlate_rows("correlation", &text),
+        (None, Some(m)) => parsed.correlate("correlation", &format!("{m:?}"), m),
+        (None, None) => Ok(()),
+    }
+    .map_err(value_error)?;
+    Ok(parsed.copula.map(|c| c.matrix))
 }

@@ -12,6 +12,7 @@ import operator
 import secrets
 import sys
 import time
+import types
 import warnings
 from typing import Any, Callable, Dict, List, Optional, Tuple, Union
 
@@ -77,6 +78,15 @@ class QuadResult:
         return bool(self._state.met)
 
     @property
+    def reason(self) -> Optional[str]:
+        """Why the run stopped: ``"met"`` (every output reached its tolerance),
+        ``"max_n"`` (the next doubling would pass ``max_n``; continue with a larger one
+        through ``start=``) or ``"sequence"`` (the sequence's 2^20 points per replicate
+        are used: a larger ``max_n`` cannot help). None only for a result seen by a
+        ``progress`` callable before the last doubling."""
+        return self._state.reason
+
+    @property
     def warnings(self) -> List[str]:
         """Warnings about the settings (too few replicates for the level)."""
         return list(self._state.warnings)
@@ -90,7 +100,8 @@ class QuadResult:
     def __repr__(self) -> str:
         return (
             f"QuadResult(estimate={self.estimate!r}, half_width={self.half_width!r}, "
-            f"n={self.n}, replicates={self.replicates}, met={self.met})"
+            f"n={self.n}, replicates={self.replicates}, met={self.met}, "
+            f"reason={self.reason!r})"
         )
 
     def __getstate__(self) -> Dict[str, Any]:
@@ -99,6 +110,27 @@ class QuadResult:
     def __setstate__(self, state: Dict[str, Any]) -> None:
         self._state = state["state"]
         self._setup = state["setup"]
+
+
+class _OmittedSeed(int):
+    """The seed when none is given: 0, told apart from an explicit ``seed=0`` so that a
+    continuation can refuse a seed given with ``start``."""
+
+    def __repr__(self) -> str:
+        return "0"
+
+
+_SEED = _OmittedSeed(0)
+
+# The defaults of quad's settings, resolved here only (the keywords default to None, so
+# that a continuation sees which were given).
+_DEFAULTS: Dict[str, Any] = {
+    "abs_tol": 0.0,
+    "rel_tol": 1e-3,
+    "level": 0.95,
+    "replicates": 8,
+    "max_n": 2**20,
+}
 
 
 def _number(name: str, value: Any) -> float:
@@ -138,11 +170,53 @@ def _seed(seed: Any) -> int:
     return _int("seed", seed, 0, 2**64 - 1)
 
 
+def _check_executor(executor: Any) -> None:
+    """Refuses what is not an executor instance, naming ``executor``."""
+    if executor is None:
+        return
+    if isinstance(executor, type):
+        raise TypeError(
+            f"invalid executor = {executor!r}: expected an executor instance, e.g. "
+            f"{executor.__name__}(), not the class"
+        )
+    if not callable(getattr(executor, "submit", None)):
+        raise ValueError(
+            f"invalid executor = {executor!r}: expected a concurrent.futures.Executor "
+            "(an object with submit)"
+        )
+
+
+def _returned(y: Any) -> str:
+    """What f returned, for a refusal: its type, and its dtype or a short repr."""
+    kind = type(y).__name__
+    if isinstance(y, np.ndarray):
+        return f"a {kind} of dtype {y.dtype} and shape {y.shape}"
+    text = repr(y)
+    return f"{kind} {text[:60] + '...' if len(text) > 60 else text}"
+
+
+def _as_numbers(y: Any, n: int) -> np.ndarray:
+    """f's result as a float64 array; refuses None, a generator or iterator, strings,
+    ragged rows and other non-numbers, naming f and what it returned."""
+    expected = f"expected numbers, shape ({n},) or ({n}, k)"
+    if y is None or isinstance(y, (str, bytes, types.GeneratorType, dict, set)) or (
+        not isinstance(y, (np.ndarray, list, tuple)) and hasattr(y, "__next__")
+    ):
+        raise ValueError(f"invalid f: it returned {_returned(y)}; {expected}")
+    try:
+        a = np.asarray(y)
+    except (TypeError, ValueError):
+        raise ValueError(f"invalid f: it returned {_returned(y)} (ragged rows?); {expected}") from None
+    if a.dtype.kind not in "biuf":
+        raise ValueError(f"invalid f: it returned {_returned(y)}; {expected}")
+    return a.astype(np.float64, copy=False)
+
+
 def _values(f: Callable[..., Any], x: np.ndarray, k: Optional[int]) -> Tuple[np.ndarray, bool]:
     """f at the rows of x as an (n, k) array, its shape checked, and whether f gave one
     value per point as a 1-D array (the estimate is then a float, as in qmc_quad)."""
-    y = np.asarray(f(x), dtype=np.float64)
     n = x.shape[0]
+    y = _as_numbers(f(x), n)
     flat = y.ndim == 1
     if y.ndim == 1 and y.shape[0] == n:
         y = y[:, None]
@@ -202,14 +276,14 @@ def quad(
     *,
     a: Any = None,
     b: Any = None,
-    abs_tol: float = 0.0,
-    rel_tol: float = 1e-3,
-    level: float = 0.95,
-    replicates: int = 8,
-    max_n: int = 2**20,
+    abs_tol: Optional[float] = None,
+    rel_tol: Optional[float] = None,
+    level: Optional[float] = None,
+    replicates: Optional[int] = None,
+    max_n: Optional[int] = None,
     space: Any = None,
     correlation: Any = None,
-    seed: Any = None,
+    seed: Any = _SEED,
     executor: Optional[concurrent.futures.Executor] = None,
     start: Optional[QuadResult] = None,
     progress: Union[bool, Callable[[QuadResult], Any]] = False,
@@ -222,7 +296,12 @@ def quad(
     points doubles, each new batch extending the previous one (no evaluation is thrown
     away), until for every output the half-width of the Student t interval from the R
     replicate means is at most ``max(abs_tol, rel_tol * |estimate|)``, or until the next
-    doubling would pass ``max_n`` evaluations (then ``met`` is False).
+    doubling would pass ``max_n`` evaluations or the sequence's 2^20 points per replicate
+    (then ``met`` is False and ``reason`` says which). Any representable integral of a
+    representable integrand is computed (``1e308 * x`` over [0, 1] gives 5e307 with a
+    finite half-width); one beyond the largest float is refused. ``met`` is claimed only
+    for a finite, honest interval: a half-width of 0 only when f took one value at every
+    point.
 
     Parameters
     ----------
@@ -233,38 +312,47 @@ def quad(
         The dimension (1 to 100); with ``space``, the number of its variables.
     a, b : array_like, optional
         The box's corners (d numbers each, or one for every dimension), as in
-        ``scipy.integrate.qmc_quad``; the estimate includes the volume. Not with
-        ``space``.
-    abs_tol, rel_tol : float
-        The tolerance. The default relative 1e-3 is three significant digits, which a
-        smooth integrand in a few dimensions reaches in thousands of evaluations; set
-        ``rel_tol=0`` and ``abs_tol`` for an integral near zero.
-    level : float
-        The confidence level of the interval, in (0, 1).
-    replicates : int
-        Independent shifts R ≥ 2; fewer than 4 warn (the interval is then unreliable).
-    max_n : int
-        The most evaluations of f, all replicates together.
+        ``scipy.integrate.qmc_quad``; the estimate includes the volume. Checked as every
+        box of the package is: b > a, and each width finite, above 1e-150 and not
+        vanishing next to the coordinates (``a=1e15, b=1e15 + 0.1`` is refused). Not
+        with ``space``.
+    abs_tol, rel_tol : float, optional
+        The tolerance, by default 0 and 1e-3. The relative 1e-3 is three significant
+        digits, which a smooth integrand in a few dimensions reaches in thousands of
+        evaluations; set ``rel_tol=0`` and ``abs_tol`` for an integral near zero.
+    level : float, optional
+        The confidence level of the interval, in (0, 1); by default 0.95.
+    replicates : int, optional
+        Independent shifts R, 2 to 16384 (by default 8); fewer than 4 warn (the
+        interval is then unreliable).
+    max_n : int, optional
+        The most evaluations of f, all replicates together; by default 2^20.
     space : list or dict, optional
         A design space as :func:`design` takes it (``{"x": "normal(0,1)", "k":
         "int(1,3)"}``): f receives the space's values (continuous variables through
         their quantile functions, levels equally likely, a label as its index in its
         list) and the result is the expectation of f. SciPy frozen laws are mapped
-        through their ``ppf``.
-    correlation : array_like, optional
-        With ``space``, the continuous variables' correlation (a Gaussian copula).
-    seed : int, optional
-        The shifts' seed (a whole number); None draws a fresh one.
+        through their ``ppf``. A continuous variable whose range cannot hold 4096
+        distinct floats (``uniform(1e15,1e15+0.1)``) is refused, as :func:`design`
+        refuses one that cannot hold its n points.
+    correlation : array_like or str, optional
+        With ``space``, the continuous variables' correlation (a Gaussian copula): a
+        k × k matrix, or its rows as :func:`design` takes them, ``"1,0.5;0.5,1"``.
+    seed : int or None
+        The shifts' seed (a whole number), 0 when omitted, as everywhere in the package;
+        None draws a fresh one.
     executor : concurrent.futures.Executor, optional
         Evaluates f on chunks of each batch in parallel (a process pool, Dask's
         ``Client.get_executor()``, ...); f must then be picklable. The result is the same
         as in one process.
     start : QuadResult, optional
-        An earlier result to continue from with the new ``abs_tol`` and ``rel_tol``: its
-        evaluations are kept and only new points are evaluated. Its other settings (box,
-        space, seed, level, replicates, max_n) are kept; ``d`` must match and ``a``,
-        ``b``, ``space``, ``correlation`` and ``seed`` are refused with it. The earlier
-        result is not changed.
+        An earlier result to continue from: its evaluations are kept and only new
+        points are evaluated. ``abs_tol``, ``rel_tol`` (either given sets both, the
+        other at its default; neither keeps the earlier ones), ``level`` and ``max_n``
+        (a larger one continues a run stopped by ``max_n``) are honoured when given;
+        the rest is kept. ``d`` must match; ``a``, ``b``, ``space`` and ``correlation``
+        are refused with it, and ``replicates`` and ``seed`` unless equal to the
+        earlier ones. The earlier result is not changed.
     progress : bool or callable
         After each doubling (one round of evaluations): False (the default) says
         nothing; True writes one line to standard error, the evaluations so far, the
@@ -293,69 +381,14 @@ def quad(
         raise ValueError(f"invalid f = {f!r}: expected a callable taking an (n, d) array")
     report = _progress(progress)
     d = _int("d", d, 1, 100)
-    abs_tol = _number("abs_tol", abs_tol)
-    rel_tol = _number("rel_tol", rel_tol)
-    if executor is not None and not callable(getattr(executor, "submit", None)):
-        raise ValueError(
-            f"invalid executor = {executor!r}: expected a concurrent.futures.Executor "
-            "(an object with submit)"
-        )
+    _check_executor(executor)
+    given = {"abs_tol": abs_tol, "rel_tol": rel_tol, "level": level,
+             "replicates": replicates, "max_n": max_n}
     if start is not None:
-        if not isinstance(start, QuadResult):
-            raise ValueError(
-                f"invalid start = {start!r}: expected a QuadResult of an earlier quad"
-            )
-        if start.d != d:
-            raise ValueError(f"invalid d = {d}: start was computed in {start.d} dimensions")
-        given = {"a": a, "b": b, "space": space, "correlation": correlation, "seed": seed}
-        for name, value in given.items():
-            if value is not None:
-                raise ValueError(
-                    f"invalid {name} with start: a continued integration keeps the earlier "
-                    f"one's {name}; give only the new abs_tol, rel_tol (and executor)"
-                )
-        state = copy.deepcopy(start._state)
-        setup = dict(start._setup)
-        try:
-            state.set_tolerance(abs_tol, rel_tol)
-        except ValueError as e:
-            raise ValueError(str(e)) from None
+        box = {"a": a, "b": b, "space": space, "correlation": correlation}
+        state, setup = _continued(start, d, seed, given, box)
     else:
-        level = _number("level", level)
-        replicates = _int("replicates", replicates, 2, 2**16)
-        max_n = _int("max_n", max_n, 1)
-        setup = {"scalar": True}
-        if space is not None:
-            if a is not None or b is not None:
-                raise ValueError(
-                    "invalid a, b with space: the space's distributions give the range"
-                )
-            items, frozen = _space_items(space)
-            if len(items) != d:
-                raise ValueError(
-                    f"invalid d = {d}: space has {len(items)} variables; expected d equal "
-                    "to it"
-                )
-            corr = None
-            if correlation is not None:
-                corr = np.asarray(correlation, dtype=np.float64).ravel().tolist()
-            setup.update(space=items, frozen=frozen, correlation=corr)
-            # The map is checked once now, so that a bad space is refused before f runs.
-            _core.space_values(items, np.full((1, d), 0.5), corr)
-        elif correlation is not None:
-            raise ValueError("invalid correlation without space: it correlates a space's variables")
-        lo, hi = _corner("a", a, d), _corner("b", b, d)
-        state = _core.Cubature(
-            d,
-            abs_tol=abs_tol,
-            rel_tol=rel_tol,
-            level=level,
-            replicates=replicates,
-            max_n=max_n,
-            seed=_seed(seed),
-            a=lo,
-            b=hi,
-        )
+        state, setup = _begun(d, a, b, space, correlation, seed, given)
         for message in state.warnings:
             warnings.warn(message, stacklevel=2)
     k = state.outputs or None
@@ -371,11 +404,113 @@ def quad(
             setup["scalar"] = k == 1 and flat
         state.feed(y)
         if report is not None:
-            report(state, setup, abs_tol, rel_tol, time.perf_counter() - started)
+            report(state, setup, time.perf_counter() - started)
     return QuadResult(state, setup)
 
 
-_Report = Callable[[Any, Dict[str, Any], float, float, float], None]
+def _settings(given: Dict[str, Any]) -> Dict[str, Any]:
+    """The settings given, checked, and the defaults of the others."""
+    out = {}
+    for name, value in given.items():
+        if value is None:
+            value = _DEFAULTS[name]
+        if name in ("replicates", "max_n"):
+            # The upper bounds are the library's, which names them.
+            out[name] = _int(name, value, 1 if name == "max_n" else 2)
+        else:
+            out[name] = _number(name, value)
+    return out
+
+
+def _begun(
+    d: int, a: Any, b: Any, space: Any, correlation: Any, seed: Any, given: Dict[str, Any]
+) -> Tuple[Any, Dict[str, Any]]:
+    """A new state and its setup (box, space) from quad's arguments."""
+    o = _settings(given)
+    setup: Dict[str, Any] = {"scalar": True}
+    if space is not None:
+        if a is not None or b is not None:
+            raise ValueError("invalid a, b with space: the space's distributions give the range")
+        items, frozen = _space_items(space)
+        if len(items) != d:
+            raise ValueError(
+                f"invalid d = {d}: space has {len(items)} variables; expected d equal to it"
+            )
+        corr = _core.quad_space(items, *_correlation(correlation))
+        setup.update(space=items, frozen=frozen, correlation=corr)
+        # The map is checked once now, so that a bad space is refused before f runs.
+        _core.space_values(items, np.full((1, d), 0.5), corr)
+    elif correlation is not None:
+        raise ValueError("invalid correlation without space: it correlates a space's variables")
+    lo, hi = _corner("a", a, d), _corner("b", b, d)
+    if lo is not None or hi is not None:
+        # The one check of boxes of the package, with the values as typed.
+        corners = zip(lo or [0.0] * d, hi or [1.0] * d)
+        _core.check_box("a, b", f"({a!r}, {b!r})", [v for c in corners for v in c])
+    state = _core.Cubature(d, seed=_seed(seed), a=lo, b=hi, **o)
+    return state, setup
+
+
+def _correlation(correlation: Any) -> Tuple[Optional[str], Optional[List[float]]]:
+    """The correlation as the library takes it: (rows as text, None) for a text,
+    (None, row-major numbers) for a matrix, (None, None) without one."""
+    if correlation is None:
+        return None, None
+    if isinstance(correlation, str):
+        return correlation, None
+    try:
+        m = np.asarray(correlation, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"invalid correlation = {correlation!r}: expected a k × k matrix of numbers or "
+            "its rows as text, '1,0.5;0.5,1'"
+        ) from None
+    return None, m.ravel().tolist()
+
+
+def _continued(
+    start: Any, d: int, seed: Any, given: Dict[str, Any], box: Dict[str, Any]
+) -> Tuple[Any, Dict[str, Any]]:
+    """A copy of ``start``'s state with every setting given honoured or refused by name
+    (the earlier result is not changed)."""
+    if not isinstance(start, QuadResult):
+        raise ValueError(f"invalid start = {start!r}: expected a QuadResult of an earlier quad")
+    if start.d != d:
+        raise ValueError(f"invalid d = {d}: start was computed in {start.d} dimensions")
+    for name, value in box.items():
+        if value is not None:
+            raise ValueError(
+                f"invalid {name} with start: a continued integration keeps the earlier "
+                f"one's {name}"
+            )
+    _, _, _, earlier_r, _, earlier_seed = start._state.settings
+    if seed is not _SEED and (seed is None or _seed(seed) != earlier_seed):
+        raise ValueError(
+            f"invalid seed with start = {seed!r}: a continued integration keeps the earlier "
+            f"one's shifts (seed {earlier_seed})"
+        )
+    o = _settings({k: v for k, v in given.items() if v is not None})
+    if o.get("replicates", earlier_r) != earlier_r:
+        raise ValueError(
+            f"invalid replicates = {given['replicates']!r} with start: a continued "
+            f"integration keeps the earlier one's {earlier_r} replicates (their shifts and "
+            "sums)"
+        )
+    state = copy.deepcopy(start._state)
+    try:
+        if "abs_tol" in o or "rel_tol" in o:
+            tol = _settings({"abs_tol": given["abs_tol"], "rel_tol": given["rel_tol"]})
+            state.set_tolerance(tol["abs_tol"], tol["rel_tol"])
+        if "level" in o:
+            state.set_level(o["level"])
+        if "max_n" in o:
+            state.set_max_n(o["max_n"])
+    except ValueError as e:
+        raise ValueError(str(e)) from None
+    return state, dict(start._setup)
+
+
+_Report = Callable[[Any, Dict[str, Any], float], None]
 
 
 def _progress(progress: Any) -> Optional[_Report]:
@@ -396,10 +531,11 @@ def _progress(progress: Any) -> Optional[_Report]:
     )
 
 
-def _line(state: Any, setup: Dict[str, Any], abs_tol: float, rel_tol: float, t: float) -> None:
+def _line(state: Any, setup: Dict[str, Any], t: float) -> None:
     """One line on standard error: evaluations, estimate, half-width against its target
     and seconds so far; with several outputs, the one furthest from its target."""
     est, hw = state.estimate, state.half_width
+    abs_tol, rel_tol = state.settings[:2]
     targets = [max(abs_tol, rel_tol * abs(e)) for e in est]
 
     def behind(j: int) -> float:
