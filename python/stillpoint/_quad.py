@@ -206,7 +206,9 @@ def _as_numbers(y: Any, n: int) -> np.ndarray:
     try:
         a = np.asarray(y)
     except (TypeError, ValueError):
-        raise ValueError(f"invalid f: it returned {_returned(y)} (ragged rows?); {expected}") from None
+        raise ValueError(
+            f"invalid f: it returned {_returned(y)} (ragged rows?); {expected}"
+        ) from None
     if a.dtype.kind not in "biuf":
         raise ValueError(f"invalid f: it returned {_returned(y)}; {expected}")
     return a.astype(np.float64, copy=False)
@@ -382,8 +384,13 @@ def quad(
     report = _progress(progress)
     d = _int("d", d, 1, 100)
     _check_executor(executor)
-    given = {"abs_tol": abs_tol, "rel_tol": rel_tol, "level": level,
-             "replicates": replicates, "max_n": max_n}
+    given = {
+        "abs_tol": abs_tol,
+        "rel_tol": rel_tol,
+        "level": level,
+        "replicates": replicates,
+        "max_n": max_n,
+    }
     if start is not None:
         box = {"a": a, "b": b, "space": space, "correlation": correlation}
         state, setup = _continued(start, d, seed, given, box)
