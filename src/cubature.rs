@@ -434,7 +434,7 @@ impl Cubature {
                         self.scaled_half_width(&scaled)
                     };
                     let log10 = m.abs().log10() + e as f64 * std::f64::consts::LOG10_2;
-                    let mantissa = 10f64.powf(log10.fract());
+                    let mantissa = 10f64.powf(log10.fract()).copysign(m);
                     let output = if self.k > 1 {
                         format!(" (output {j})")
                     } else {
@@ -1171,7 +1171,9 @@ mod tests {
         let p = state.next_points().unwrap();
         let e = state.feed(&p, &vec![1.0; p.n()]).unwrap_err().to_string();
         assert!(e.starts_with("invalid f = values whose integral"), "{e}");
-        assert!(e.contains("1.0e360"), "{e}");
+        assert!(e.contains("about 1.0e360"), "{e}");
+        let e = state.feed(&p, &vec![-1.0; p.n()]).unwrap_err().to_string();
+        assert!(e.contains("about -1.0e360"), "{e}");
         assert_eq!(state.n(), 0);
         assert_eq!(state.pending(), 64);
         // A tiny volume: [0, 1e-120]^3 with f = 1e300 integrates to 1e-60.

@@ -30,7 +30,8 @@ _CHUNK_ROWS = 4096
 class QuadResult:
     """What :func:`quad` returns: the estimate of each output's integral, the half-width
     of its interval at ``level``, ``n`` (evaluations of f), ``replicates``, ``met``
-    (whether every output reached its tolerance) and ``warnings``. ``estimate`` and
+    (whether every output reached its tolerance), ``reason`` (why it stopped:
+    ``"met"``, ``"max_n"`` or ``"sequence"``) and ``warnings``. ``estimate`` and
     ``half_width`` are floats when f returns one value per point, arrays of shape (k,)
     when it returns k.
 
