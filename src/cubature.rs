@@ -1125,7 +1125,7 @@ mod tests {
         };
         let r = quad(product_exp, 3, opts.clone()).unwrap();
         let mut state = Cubature::new(3, opts).unwrap();
-        let mut plain = vec![0.0f64; 8];
+        let mut plain = [0.0f64; 8];
         while let Some(p) = state.next_points() {
             if state.n() >= r.n {
                 break;
