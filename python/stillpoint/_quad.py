@@ -455,8 +455,23 @@ def _begun(
         # The one check of boxes of the package, with the values as typed.
         corners = zip(lo or [0.0] * d, hi or [1.0] * d)
         _core.check_box("a, b", f"({a!r}, {b!r})", [v for c in corners for v in c])
-    state = _core.Cubature(d, seed=_seed(seed), a=lo, b=hi, **o)
+    try:
+        state = _core.Cubature(d, seed=_seed(seed), a=lo, b=hi, **o)
+    except ValueError as e:
+        raise _as_typed(e, given) from None
     return state, setup
+
+
+def _as_typed(e: ValueError, given: Dict[str, Any]) -> ValueError:
+    """The library's refusal of a setting with the value as the caller typed it (the
+    library writes the float it got, 1e-30 as 0.000…1)."""
+    message = str(e)
+    for name, value in given.items():
+        head = f"invalid {name} = "
+        if value is not None and message.startswith(head) and ": " in message:
+            rest = message.split(": ", 1)[1]
+            return ValueError(f"{head}{value!r}: {rest}")
+    return ValueError(message)
 
 
 def _correlation(correlation: Any) -> Tuple[Optional[str], Optional[List[float]]]:
@@ -514,7 +529,7 @@ def _continued(
         if "max_n" in o:
             state.set_max_n(o["max_n"])
     except ValueError as e:
-        raise ValueError(str(e)) from None
+        raise _as_typed(e, given) from None
     return state, dict(start._setup)
 
 

@@ -137,6 +137,8 @@ def test_the_stop_reason_is_the_real_one():
         ({"replicates": 100, "max_n": 1000}, "invalid max_n = 1000: expected"),
         ({"max_n": 0}, "invalid max_n = 0: expected"),
         ({"level": "x"}, "invalid level = 'x'"),
+        ({"level": -1e-20}, "invalid level = -1e-20: expected a value in (0, 1)"),
+        ({"rel_tol": -1e-300}, "invalid rel_tol = -1e-300: "),
     ],
 )
 def test_refusals_name_the_keyword_and_the_value_typed(kwargs, start):
