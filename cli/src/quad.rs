@@ -44,7 +44,10 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
             name,
             value,
             expected,
-        } => stillpoint::Error::invalid(quad_flag(&name), value, expected).into(),
+        } => {
+            let shown = q.typed(&name).map_or(value, str::to_string);
+            stillpoint::Error::invalid(quad_flag(&name), shown, expected).into()
+        }
         other => anyhow::Error::from(other),
     };
     // The dimension first, so that -s 0 is refused as -s rather than by what needs it.

@@ -29,22 +29,22 @@ pub(crate) struct QuadArgs {
     /// Relative tolerance: stop when the half-width ≤ max(--abs-tol, T·|estimate|)
     /// [default: 0.001].
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
-    pub(crate) rel_tol: Option<f64>,
+    pub(crate) rel_tol: Option<Typed<f64>>,
     /// Absolute tolerance [default: 0].
     #[arg(long, value_name = "A", allow_hyphen_values = true)]
-    pub(crate) abs_tol: Option<f64>,
+    pub(crate) abs_tol: Option<Typed<f64>>,
     /// Confidence level of the interval [default: 0.95].
     #[arg(long, value_name = "P", allow_hyphen_values = true)]
-    pub(crate) level: Option<f64>,
+    pub(crate) level: Option<Typed<f64>>,
     /// Independent random shifts (the interval comes from their spread) [default: 8].
     #[arg(long, value_name = "R", allow_negative_numbers = true)]
-    pub(crate) replicates: Option<usize>,
+    pub(crate) replicates: Option<Typed<usize>>,
     /// The most evaluations, all replicates together [default: 1048576].
     #[arg(long, value_name = "M", allow_negative_numbers = true)]
-    pub(crate) max_n: Option<u64>,
+    pub(crate) max_n: Option<Typed<u64>>,
     /// Seed of the shifts [default: 0].
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
-    pub(crate) seed: Option<u64>,
+    pub(crate) seed: Option<Typed<u64>>,
     /// Integrate over this box instead of the unit cube: LO1,HI1,... (the volume is
     /// included).
     #[arg(long, value_name = "LO1,HI1,...", allow_hyphen_values = true)]
@@ -87,14 +87,58 @@ impl QuadArgs {
     /// (the box is set by the caller, which checks it as `--bounds`).
     pub(crate) fn options(&self) -> stillpoint::cubature::QuadOptions {
         let d = stillpoint::cubature::QuadOptions::default();
+        fn or<T: Copy>(t: &Option<Typed<T>>, default: T) -> T {
+            t.as_ref().map_or(default, |t| t.value)
+        }
         stillpoint::cubature::QuadOptions {
-            abs_tol: self.abs_tol.unwrap_or(d.abs_tol),
-            rel_tol: self.rel_tol.unwrap_or(d.rel_tol),
-            level: self.level.unwrap_or(d.level),
-            replicates: self.replicates.unwrap_or(d.replicates),
-            max_n: self.max_n.unwrap_or(d.max_n),
-            seed: self.seed.unwrap_or(d.seed),
+            abs_tol: or(&self.abs_tol, d.abs_tol),
+            rel_tol: or(&self.rel_tol, d.rel_tol),
+            level: or(&self.level, d.level),
+            replicates: or(&self.replicates, d.replicates),
+            max_n: or(&self.max_n, d.max_n),
+            seed: or(&self.seed, d.seed),
             ..d
         }
+    }
+
+    /// The text typed for the setting the library calls `name`, if it was given: a
+    /// refusal shows it rather than the number parsed (`-1e-3`, not `-0.001`).
+    pub(crate) fn typed(&self, name: &str) -> Option<&str> {
+        fn text<T>(t: &Option<Typed<T>>) -> Option<&str> {
+            t.as_ref().map(|t| t.text.as_str())
+        }
+        match name {
+            "abs_tol" => text(&self.abs_tol),
+            "rel_tol" => text(&self.rel_tol),
+            "level" => text(&self.level),
+            "replicates" => text(&self.replicates),
+            "max_n" => text(&self.max_n),
+            "seed" => text(&self.seed),
+            _ => None,
+        }
+    }
+}
+
+/// An option's value as parsed and as typed.
+#[derive(Debug, Clone)]
+pub(crate) struct Typed<T> {
+    /// The value.
+    pub(crate) value: T,
+    /// The text on the command line.
+    pub(crate) text: String,
+}
+
+impl<T: std::str::FromStr> std::str::FromStr for Typed<T>
+where
+    T::Err: std::fmt::Display,
+{
+    type Err = String;
+
+    fn from_str(text: &str) -> Result<Self, String> {
+        let value = text.parse::<T>().map_err(|e| e.to_string())?;
+        Ok(Typed {
+            value,
+            text: text.to_string(),
+        })
     }
 }

@@ -135,6 +135,14 @@ fn the_stop_reason_is_the_real_one() {
 #[test]
 fn refusals_name_the_flag_and_the_value_typed() {
     for (args, start) in [
+        (
+            &["--expr", "1", "-s", "1", "--rel-tol", "-1e-300"][..],
+            "invalid --rel-tol = -1e-300: ",
+        ),
+        (
+            &["--expr", "1", "-s", "1", "--level", "1e5"][..],
+            "invalid --level = 1e5: ",
+        ),
         (&["--expr", "1", "-s", "0"][..], "invalid -s = 0: "),
         (&["--expr", "1", "-s", "101"][..], "invalid -s = 101: "),
         (
@@ -164,7 +172,7 @@ fn refusals_name_the_flag_and_the_value_typed() {
         ),
         (
             &["--expr", "1", "-s", "1", "--abs-tol", "-1e-3"][..],
-            "invalid --abs-tol = -0.001: ",
+            "invalid --abs-tol = -1e-3: ",
         ),
     ] {
         let err = refused(args, start);
