@@ -383,20 +383,21 @@ impl Cubature {
         if self.shift.len() != k {
             self.shift = vec![0; k];
         }
-        let known = self.range.len() == k;
         let mut range = vec![(f64::INFINITY, f64::NEG_INFINITY); k];
         for row in values.chunks_exact(k) {
             for (g, v) in range.iter_mut().zip(row) {
                 *g = (g.0.min(*v), g.1.max(*v));
             }
         }
-        if known || self.per_replicate == 0 {
-            for (j, g) in range.iter_mut().enumerate() {
-                if known {
-                    *g = (g.0.min(self.range[j].0), g.1.max(self.range[j].1));
-                }
+        // Merged with the earlier range; a state saved before the range was kept has
+        // none and keeps none (its zero spreads are believed as they were).
+        if self.range.len() == k {
+            for (g, old) in range.iter_mut().zip(&self.range) {
+                *g = (g.0.min(old.0), g.1.max(old.1));
             }
-            self.range = range.clone();
+        }
+        if self.range.len() == k || self.per_replicate == 0 {
+            self.range.clone_from(&range);
         }
         for (j, g) in range.iter().enumerate() {
             let largest = g.0.abs().max(g.1.abs());
