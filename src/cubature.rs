@@ -363,12 +363,7 @@ impl Cubature {
                 "a finite value at every point",
             ));
         }
-        // Accumulated on a copy: an integral that cannot be represented leaves the state
-        // as it was.
-        let mut next = self.clone();
-        next.accumulate(k, m, values);
-        next.check_representable()?;
-        *self = next;
+        self.accumulate(k, m, values);
         Ok(())
     }
 
@@ -422,8 +417,10 @@ impl Cubature {
         self.pending = 0;
     }
 
-    /// Refuses an estimate or half-width beyond the largest float, naming f and why.
-    fn check_representable(&self) -> Result<(), Error> {
+    /// Refuses an estimate or half-width beyond the largest float, naming f and why. A
+    /// run checks it where it stops (an early estimate may overflow where a later one
+    /// does not); a front end driving [`Cubature::feed`] itself calls it then too.
+    pub fn check_representable(&self) -> Result<(), Error> {
         let (estimate, half_width) = (self.estimate(), self.half_width());
         for j in 0..self.k {
             for (what, v) in [("integral", estimate[j]), ("half-width", half_width[j])] {
@@ -444,8 +441,10 @@ impl Cubature {
                     return Err(Error::invalid(
                         "f",
                         format!(
-                            "values whose {what} over the box is about {mantissa:.1}e{}{output}",
+                            "values whose estimated {what} over the box is about \
+                             {mantissa:.1}e{} after {} evaluations{output}",
                             log10.trunc() as i64,
+                            self.n()
                         ),
                         format!(
                             "an integral and a half-width within ±{:e}, the largest float",
@@ -556,8 +555,9 @@ impl Cubature {
 
     /// Whether every output's half-width is within its [`Cubature::targets`] (false
     /// before the first values).
-    /// A half-width is trusted only when finite, and a half-width of 0 only of an
-    /// output that took one value at every point (one that underflowed is not).
+    /// A half-width is trusted only when it and the estimate are finite, and a
+    /// half-width of 0 only of an output that took one value at every point (one that
+    /// underflowed is not).
     pub fn met(&self) -> bool {
         self.k > 0
             && self
@@ -565,7 +565,9 @@ impl Cubature {
                 .iter()
                 .zip(self.targets())
                 .enumerate()
-                .all(|(j, (h, t))| h.is_finite() && *h <= t && (*h > 0.0 || self.constant(j)))
+                .all(|(j, (h, t))| {
+                    t.is_finite() && h.is_finite() && *h <= t && (*h > 0.0 || self.constant(j))
+                })
     }
 
     /// Warnings about the settings: too few replicates for a trustworthy interval.
@@ -601,13 +603,14 @@ impl Cubature {
     {
         while !self.met() {
             let Some(points) = self.next_points() else {
-                return Ok(false);
+                break;
             };
             let values = f(&points);
             self.feed(&points, &values)?;
             after(self);
         }
-        Ok(true)
+        self.check_representable()?;
+        Ok(self.met())
     }
 }
 
@@ -1167,16 +1170,40 @@ mod tests {
             "{r:?}"
         );
         assert!(r.half_width[0] <= 1e-14 * r.estimate[0], "{r:?}");
-        // f = 1 integrates to 1e360: refused, naming f and the magnitude, state unchanged.
-        let mut state = Cubature::new(3, opts(QuadOptions::default())).unwrap();
-        let p = state.next_points().unwrap();
-        let e = state.feed(&p, &vec![1.0; p.n()]).unwrap_err().to_string();
-        assert!(e.starts_with("invalid f = values whose integral"), "{e}");
-        assert!(e.contains("about 1.0e360"), "{e}");
-        let e = state.feed(&p, &vec![-1.0; p.n()]).unwrap_err().to_string();
-        assert!(e.contains("about -1.0e360"), "{e}");
-        assert_eq!(state.n(), 0);
-        assert_eq!(state.pending(), 64);
+        // f = ±1 integrates to ±1e360: refused where the run stops, naming f and the
+        // magnitude.
+        for (v, about) in [
+            (1.0, "about 1.0e360 after 1048576"),
+            (-1.0, "about -1.0e360 after 1048576"),
+        ] {
+            let e = quad(
+                |x: &PointSet| vec![v; x.n()],
+                3,
+                opts(QuadOptions::default()),
+            )
+            .unwrap_err()
+            .to_string();
+            assert!(
+                e.starts_with("invalid f = values whose estimated integral"),
+                "{e}"
+            );
+            assert!(e.contains(about), "{e}");
+        }
+        // x1 over a symmetric box of volume 1.6e401: the estimates never fit a float;
+        // the run goes to its budget, then is refused.
+        let sym = QuadOptions {
+            a: Some(vec![-1e200; 2]),
+            b: Some(vec![1e200; 2]),
+            max_n: 4096,
+            ..QuadOptions::default()
+        };
+        let mut state = Cubature::new(2, sym).unwrap();
+        let e = state
+            .run(|x: &PointSet| x.rows().map(|p| p[0]).collect())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("after 4096 evaluations"), "{e}");
+        assert_eq!(state.n(), 4096);
         // A tiny volume: [0, 1e-120]^3 with f = 1e300 integrates to 1e-60.
         let r = quad(
             |x: &PointSet| x.rows().map(|p| 1e300 * (1.0 + p[0] * 1e120)).collect(),

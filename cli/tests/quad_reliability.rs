@@ -77,6 +77,21 @@ fn a_box_whose_volume_overflows_is_integrated_or_refused_by_why() {
             "{err}"
         );
     }
+    // x1 over a symmetric box of volume 1.6e401: 0, but no estimate fits a float; the run
+    // goes to its budget and says so.
+    let err = refused(
+        &[
+            "--expr",
+            "x1",
+            "-s",
+            "2",
+            "--bounds=-1e200,1e200,-1e200,1e200",
+            "--max-n",
+            "4096",
+        ],
+        "invalid --expr \"x1\": values whose estimated",
+    );
+    assert!(err.contains("after 4096 evaluations"), "{err}");
     // A negative box far from 0: ∫ over [-3e200, -1e200] of 1 = 2e200.
     let v = json(&["--expr", "1", "-s", "1", "--bounds", "-3e200,-1e200"]);
     assert!(

@@ -93,6 +93,11 @@ impl PyCubature {
             .map_err(value_error)
     }
 
+    /// Refuses an estimate or half-width beyond the largest float (where the run stops).
+    fn check_representable(&self) -> PyResult<()> {
+        self.inner.check_representable().map_err(value_error)
+    }
+
     /// A new budget (a larger one continues a run stopped by max_n).
     fn set_max_n(&mut self, max_n: u64) -> PyResult<()> {
         self.inner.set_max_n(max_n).map_err(value_error)

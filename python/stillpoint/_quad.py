@@ -413,6 +413,8 @@ def quad(
         state.feed(y)
         if report is not None:
             report(state, setup, time.perf_counter() - started)
+    # An early estimate may overflow where a later one does not: checked where it stops.
+    state.check_representable()
     return QuadResult(state, setup)
 
 
