@@ -38,6 +38,10 @@ def test_sums_that_would_overflow_reach_the_integral():
     assert r.estimate == pytest.approx(1e260, rel=1e-12) and r.half_width == 0
     with pytest.raises(ValueError, match=r"invalid f = values whose estimated integral .* 1\.0e360"):
         sp.quad(lambda x: np.ones(len(x)), 3, a=0, b=1e120)
+    # x over a symmetric box of volume 1.6e401: 0, but no estimate fits a float; the run
+    # goes to its budget and is refused there.
+    with pytest.raises(ValueError, match=r"values whose estimated .* after 4096 evaluations"):
+        sp.quad(lambda x: x[:, 0], 2, a=-1e200, b=1e200, max_n=4096)
 
 
 def test_a_zero_spread_is_met_only_for_a_constant():
