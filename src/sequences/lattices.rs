@@ -638,6 +638,8 @@ mod tests {
         ] {
             cases.push((n, 10));
         }
+        // The largest prime and power of two the plain search tries exhaustively.
+        cases.extend([(23_167, 4), (32_768, 3)]);
         for (n, s) in cases {
             let plain = tent_lattice_generator_plain(n, s).unwrap();
             assert_eq!(tent_lattice_generator(n, s).unwrap(), plain, "n = {n}");
