@@ -15,6 +15,11 @@
 //! small multi-dimensional grid, which an FFT computes for every z mod m at once. The
 //! grids have φ(m) cells and Σ_{m | n} φ(m) = n, so one coordinate costs O(n log n); the
 //! kernel's transforms are made once for all coordinates.
+//!
+//! Every block's grid has the axes of U_n's (one per odd prime of n, two for a power of
+//! two from 8 on), with the same generators, each of a length dividing U_n's (1 where m
+//! lacks the prime): reducing a unit mod m then reduces its discrete logs axis by axis,
+//! so the blocks' values are added onto U_n's grid in order, not gathered unit by unit.
 
 use std::sync::Arc;
 
@@ -24,14 +29,14 @@ use rustfft::{Fft, FftPlanner};
 
 /// One block of the split: the points k = d·u, u ∈ U_m, with m = n/d ≥ 2.
 struct Block {
-    m: usize,
     d: usize,
-    /// The lengths of the cyclic factors of U_m, outermost first.
+    /// The length of each axis of the grid (those of U_n's grid, 1 where m lacks the
+    /// axis), outermost first.
+    lens: Vec<usize>,
+    /// The lengths above 1, the axes the transforms run along.
     dims: Vec<usize>,
     /// The unit u (mod m) at each cell of the grid, in row-major order.
     units: Vec<u32>,
-    /// The cell of each residue mod m (unused where it is not a unit).
-    cell: Vec<u32>,
     /// The forward transform of the kernel's terms t_{d·u} on the grid.
     kernel: Vec<Complex<f64>>,
     /// The kernel terms' Euclidean norm on the grid (for the rounding bound).
@@ -44,49 +49,88 @@ struct Block {
 /// coordinate.
 pub(crate) struct FastCbc {
     blocks: Vec<Block>,
+    /// The cell of U_n's grid (the block m = n) of each candidate.
+    cells: Vec<u32>,
 }
 
 impl FastCbc {
-    /// Plans the blocks of n = terms.len() points for the kernel terms t_r at r/n.
-    pub(crate) fn new(terms: &[f64]) -> FastCbc {
+    /// Plans the blocks of n = terms.len() points for the kernel terms t_r at r/n, to
+    /// score the `candidates` (units of Z_n).
+    pub(crate) fn new(terms: &[f64], candidates: &[u64]) -> FastCbc {
         let n = terms.len();
         let mut planner = FftPlanner::new();
         let factors = factorize(n as u64);
-        let blocks = divisors(&factors)
+        let axes = unit_axes(&factors);
+        // Short axes outermost: the long ones are contiguous.
+        let mut order: Vec<usize> = (0..axes.len()).collect();
+        order.sort_by_key(|&i| axes[i].0);
+        let blocks: Vec<Block> = divisors(&factors)
             .into_iter()
             .filter(|(m, _)| *m >= 2)
-            .map(|(m, mf)| Block::new(n, m as usize, &mf, terms, &mut planner))
+            .map(|(m, mf)| Block::new(n, m as usize, (&factors, &mf), &order, terms, &mut planner))
             .collect();
-        FastCbc { blocks }
+        let whole = blocks.last().expect("n ≥ 2 has the block m = n");
+        let mut cell = vec![u32::MAX; n];
+        for (i, &u) in whole.units.iter().enumerate() {
+            cell[u as usize] = i as u32;
+        }
+        let cells = candidates.iter().map(|&z| cell[z as usize]).collect();
+        FastCbc { blocks, cells }
     }
 
-    /// T(z) = Σ_{k, gcd(k, n) < n} q_k t_{kz mod n} for each candidate z (coprime to n, in
-    /// increasing order), and a bound on the rounding of the transforms in them. The sums
+    /// T(z) = Σ_{k, gcd(k, n) < n} q_k t_{kz mod n} for each candidate z given to
+    /// [`FastCbc::new`], and a bound on the rounding of the transforms in them. The sums
     /// over the blocks are taken in one fixed order, so the values do not depend on the
     /// number of threads.
-    pub(crate) fn scores(&self, q: &[f64], candidates: &[u64]) -> (Vec<f64>, f64) {
+    pub(crate) fn scores(&self, q: &[f64]) -> (Vec<f64>, f64) {
         let parts: Vec<(Vec<f64>, f64)> = self.blocks.par_iter().map(|b| b.correlate(q)).collect();
         let bound = parts.iter().map(|p| p.1).sum();
-        let mut out = vec![0.0f64; candidates.len()];
-        out.par_chunks_mut(4096)
-            .zip(candidates.par_chunks(4096))
-            .for_each(|(out, zs)| {
+        let whole = self.blocks.last().expect("n ≥ 2 has the block m = n");
+        let mut grid = vec![0.0f64; whole.units.len()];
+        // Split along U_n's outermost axis: each part adds every block in the same order.
+        let outer = whole.lens.first().copied().unwrap_or(1);
+        let inner = grid.len() / outer;
+        grid.par_chunks_mut(inner)
+            .enumerate()
+            .for_each(|(a, part)| {
                 for (block, (corr, _)) in self.blocks.iter().zip(&parts) {
-                    let m = block.m as u64;
-                    let mut prev = zs[0];
-                    let mut r = prev % m;
-                    for (o, &z) in out.iter_mut().zip(zs) {
-                        // z mod m carried from the previous candidate: the gaps are small.
-                        r += z - prev;
-                        while r >= m {
-                            r -= m;
-                        }
-                        prev = z;
-                        *o += corr[block.cell[r as usize] as usize];
-                    }
+                    let len = block.lens.first().copied().unwrap_or(1);
+                    let from = &corr[(a % len) * (corr.len() / len)..][..corr.len() / len];
+                    add_onto(part, tail(&whole.lens), from, tail(&block.lens));
                 }
             });
-        (out, bound)
+        (
+            self.cells.iter().map(|&c| grid[c as usize]).collect(),
+            bound,
+        )
+    }
+}
+
+/// The lengths after the outermost.
+fn tail(lens: &[usize]) -> &[usize] {
+    lens.get(1..).unwrap_or(&[])
+}
+
+/// Adds the values of a grid of lengths `lens` onto the grid `out` of lengths `out_lens`
+/// (row-major, each length of the first dividing the second's), cell a taking the value
+/// at a mod lens.
+fn add_onto(out: &mut [f64], out_lens: &[usize], from: &[f64], lens: &[usize]) {
+    match (out_lens, lens) {
+        ([], _) => out[0] += from[0],
+        ([_], [len]) => {
+            for chunk in out.chunks_mut(*len) {
+                for (o, f) in chunk.iter_mut().zip(from) {
+                    *o += f;
+                }
+            }
+        }
+        ([outer, rest @ ..], [len, inner_lens @ ..]) => {
+            let (out_inner, inner) = (out.len() / outer, from.len() / len);
+            for (a, part) in out.chunks_mut(out_inner).enumerate() {
+                add_onto(part, rest, &from[(a % len) * inner..][..inner], inner_lens);
+            }
+        }
+        _ => unreachable!("the grids have as many axes"),
     }
 }
 
@@ -94,14 +138,15 @@ impl Block {
     fn new(
         n: usize,
         m: usize,
-        factors: &[(u64, u32)],
+        (n_factors, factors): (&[(u64, u32)], &[(u64, u32)]),
+        order: &[usize],
         terms: &[f64],
         planner: &mut FftPlanner<f64>,
     ) -> Block {
         let d = n / m;
-        let axes = unit_group(m as u64, factors);
+        let axes = unit_group(m as u64, n_factors, factors);
         let mut units = vec![1u64];
-        for &(len, g) in &axes {
+        for &(len, g) in order.iter().map(|&i| &axes[i]) {
             let mut next = Vec::with_capacity(units.len() * len);
             for &u in &units {
                 let mut x = u;
@@ -113,11 +158,8 @@ impl Block {
             units = next;
         }
         let units: Vec<u32> = units.into_iter().map(|u| u as u32).collect();
-        let mut cell = vec![u32::MAX; m];
-        for (i, &u) in units.iter().enumerate() {
-            cell[u as usize] = i as u32;
-        }
-        let dims: Vec<usize> = axes.iter().map(|a| a.0).collect();
+        let lens: Vec<usize> = order.iter().map(|&i| axes[i].0).collect();
+        let dims: Vec<usize> = lens.iter().copied().filter(|&l| l > 1).collect();
         let forward: Vec<_> = dims.iter().map(|&l| planner.plan_fft_forward(l)).collect();
         let inverse: Vec<_> = dims.iter().map(|&l| planner.plan_fft_inverse(l)).collect();
         let mut kernel: Vec<Complex<f64>> = units
@@ -127,11 +169,10 @@ impl Block {
         let kernel_norm = kernel.iter().map(|c| c.re * c.re).sum::<f64>().sqrt();
         transform(&mut kernel, &dims, &forward);
         Block {
-            m,
             d,
+            lens,
             dims,
             units,
-            cell,
             kernel,
             kernel_norm,
             forward,
@@ -276,30 +317,50 @@ fn primitive_root(p: u64) -> u64 {
     }
 }
 
-/// U_m as a product of cyclic groups: (order, generator mod m) per factor, the generator
-/// one modulo the other prime powers of m.
-fn unit_group(m: u64, factors: &[(u64, u32)]) -> Vec<(usize, u64)> {
+/// The axes of U_n's grid for the factorisation of n: (prime, which) per axis, `which`
+/// 0 for an odd prime's generator or −1 and 1 for 5 (powers of two from 4 and from 8 on).
+fn unit_axes(n_factors: &[(u64, u32)]) -> Vec<(usize, (u64, u8))> {
     let mut axes = Vec::new();
-    for &(p, e) in factors {
-        let pe = p.pow(e);
-        let rest = m / pe;
-        // x ≡ g (mod p^e), x ≡ 1 (mod the rest).
-        let lift = |g: u64| {
-            let t = mul_mod((g + pe - 1) % pe, inverse_mod(rest % pe, pe), pe);
-            (1 + rest * t) % m
-        };
+    for &(p, e) in n_factors {
         if p == 2 {
             if e >= 2 {
-                axes.push((2, lift(pe - 1)));
+                axes.push((2, (2, 0)));
             }
             if e >= 3 {
-                axes.push(((pe / 4) as usize, lift(5)));
+                axes.push((1 << (e - 2), (2, 1)));
             }
         } else {
-            axes.push((((p - 1) * pe / p) as usize, lift(primitive_root(p))));
+            axes.push(((p - 1) as usize * p.pow(e - 1) as usize, (p, 0)));
         }
     }
     axes
+}
+
+/// U_m (m | n) as a product of cyclic groups on the axes of U_n's grid
+/// ([`unit_axes`]): (order, generator mod m) per axis, order 1 where m lacks it, each
+/// generator one modulo the other prime powers of m and the same modulo its own as
+/// U_n's, so that reducing mod m reduces the discrete logs axis by axis.
+fn unit_group(m: u64, n_factors: &[(u64, u32)], m_factors: &[(u64, u32)]) -> Vec<(usize, u64)> {
+    unit_axes(n_factors)
+        .into_iter()
+        .map(|(_, (p, which))| {
+            let e = m_factors.iter().find(|f| f.0 == p).map_or(0, |f| f.1);
+            let pe = p.pow(e);
+            let rest = m / pe;
+            // x ≡ g (mod p^e), x ≡ 1 (mod the rest).
+            let lift = |g: u64| {
+                let t = mul_mod((g + pe - 1) % pe, inverse_mod(rest % pe, pe), pe);
+                (1 + rest * t) % m
+            };
+            match (p, which, e) {
+                (_, _, 0) => (1, 1 % m),
+                (2, 0, e) if e >= 2 => (2, lift(pe - 1)),
+                (2, 1, e) if e >= 3 => ((pe / 4) as usize, lift(5)),
+                (2, _, _) => (1, 1 % m),
+                _ => (((p - 1) * pe / p) as usize, lift(primitive_root(p))),
+            }
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -317,9 +378,17 @@ mod tests {
     fn the_grids_enumerate_each_unit_group_once() {
         for m in 2..=600u64 {
             let f = factorize(m);
-            let axes = unit_group(m, &f);
+            let axes = unit_group(m, &f, &f);
+            let order: Vec<usize> = (0..axes.len()).collect();
             let terms = vec![0.0; m as usize];
-            let block = Block::new(m as usize, m as usize, &f, &terms, &mut FftPlanner::new());
+            let block = Block::new(
+                m as usize,
+                m as usize,
+                (&f, &f),
+                &order,
+                &terms,
+                &mut FftPlanner::new(),
+            );
             let mut got: Vec<u64> = block.units.iter().map(|&u| u64::from(u)).collect();
             got.sort_unstable();
             let want: Vec<u64> = (1..m).filter(|&u| gcd(u, m) == 1).collect();
@@ -330,11 +399,11 @@ mod tests {
     #[test]
     fn the_scores_are_the_direct_sums() {
         // Arbitrary q and t: every candidate's T(z) against Σ_{k ≥ 1} q_k t_{kz mod n}.
-        for n in [12usize, 30, 64, 97, 210, 243, 250] {
+        for n in [12usize, 30, 64, 97, 210, 243, 250, 720, 1000] {
             let terms: Vec<f64> = (0..n).map(|r| ((r * r % 17) as f64 - 8.0) / 9.0).collect();
             let q: Vec<f64> = (0..n).map(|k| ((k * 7 % 11) as f64 - 5.0) / 4.0).collect();
             let cands: Vec<u64> = (1..n as u64).filter(|&z| gcd(z, n as u64) == 1).collect();
-            let (got, bound) = FastCbc::new(&terms).scores(&q, &cands);
+            let (got, bound) = FastCbc::new(&terms, &cands).scores(&q);
             for (&z, &g) in cands.iter().zip(&got) {
                 let direct: f64 = (1..n)
                     .map(|k| q[k] * terms[k * z as usize % n])

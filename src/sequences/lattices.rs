@@ -335,7 +335,7 @@ fn fast_tent_generator(n: usize, s: usize, plain_budget: u128, given: &[u64]) ->
     let plain_reach = candidates.len() as u128 * n as u128 <= plain_budget;
     let terms = tent_terms(n, TENT_WEIGHT);
     let factors: Vec<f64> = terms.iter().map(|t| 1.0 + t).collect();
-    let fast = FastCbc::new(&terms);
+    let fast = FastCbc::new(&terms, &candidates);
     let largest = factors.iter().copied().fold(0.0, f64::max);
     // Π(1 + t) − 1 per point, and the plain search's Π(1 + t) where its sums decide ties.
     let mut q = vec![0.0f64; n];
@@ -351,7 +351,7 @@ fn fast_tent_generator(n: usize, s: usize, plain_budget: u128, given: &[u64]) ->
         } else if let Some(&zj) = given.get(j) {
             zj
         } else {
-            let (scores, rounding) = fast.scores(&q, &candidates);
+            let (scores, rounding) = fast.scores(&q);
             let best = scores.iter().copied().fold(f64::INFINITY, f64::min);
             if plain_reach {
                 // A plain sum of n positive terms is within γ_n·Σ|terms| of its value
