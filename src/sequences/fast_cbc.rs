@@ -27,6 +27,9 @@ use rayon::prelude::*;
 use rustfft::num_complex::Complex;
 use rustfft::{Fft, FftPlanner};
 
+/// A factorisation: (prime, exponent) per prime, increasing.
+type Factors = [(u64, u32)];
+
 /// One block of the split: the points k = d·u, u ∈ U_m, with m = n/d ≥ 2.
 struct Block {
     d: usize,
@@ -138,7 +141,7 @@ impl Block {
     fn new(
         n: usize,
         m: usize,
-        (n_factors, factors): (&[(u64, u32)], &[(u64, u32)]),
+        (n_factors, factors): (&Factors, &Factors),
         order: &[usize],
         terms: &[f64],
         planner: &mut FftPlanner<f64>,
@@ -271,7 +274,7 @@ fn factorize(mut n: u64) -> Vec<(u64, u32)> {
 }
 
 /// Every divisor of the number factorised as `factors`, each with its own factorisation.
-fn divisors(factors: &[(u64, u32)]) -> Vec<(u64, Vec<(u64, u32)>)> {
+fn divisors(factors: &Factors) -> Vec<(u64, Vec<(u64, u32)>)> {
     let mut out = vec![(1u64, Vec::new())];
     for &(p, e) in factors {
         let mut next = Vec::with_capacity(out.len() * (e as usize + 1));
@@ -319,7 +322,7 @@ fn primitive_root(p: u64) -> u64 {
 
 /// The axes of U_n's grid for the factorisation of n: (prime, which) per axis, `which`
 /// 0 for an odd prime's generator or −1 and 1 for 5 (powers of two from 4 and from 8 on).
-fn unit_axes(n_factors: &[(u64, u32)]) -> Vec<(usize, (u64, u8))> {
+fn unit_axes(n_factors: &Factors) -> Vec<(usize, (u64, u8))> {
     let mut axes = Vec::new();
     for &(p, e) in n_factors {
         if p == 2 {
@@ -340,7 +343,7 @@ fn unit_axes(n_factors: &[(u64, u32)]) -> Vec<(usize, (u64, u8))> {
 /// ([`unit_axes`]): (order, generator mod m) per axis, order 1 where m lacks it, each
 /// generator one modulo the other prime powers of m and the same modulo its own as
 /// U_n's, so that reducing mod m reduces the discrete logs axis by axis.
-fn unit_group(m: u64, n_factors: &[(u64, u32)], m_factors: &[(u64, u32)]) -> Vec<(usize, u64)> {
+fn unit_group(m: u64, n_factors: &Factors, m_factors: &Factors) -> Vec<(usize, u64)> {
     unit_axes(n_factors)
         .into_iter()
         .map(|(_, (p, which))| {

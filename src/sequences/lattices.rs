@@ -1,12 +1,16 @@
-//! Number-theoretic point sets: Hua–Wang good points from a cyclotomic field, and rank-1
+//! Number-theoretic point sets: Hua–Wang good points from a cyclotomic field, rank-1
 //! lattices (Fibonacci in two dimensions, Korobov otherwise) with the generator chosen by
-//! the worst-case error P_2.
+//! the worst-case error P_2, and the rank-1 lattice made for the shift-and-tent
+//! randomisation, its generator built component by component over every candidate by
+//! the fast construction of `fast_cbc`.
 //!
 //! References: L.-K. Hua and Y. Wang, *Applications of Number Theory to Numerical
 //! Analysis*, Springer / Science Press, 1981 (good points from the cyclotomic field,
 //! γ_j = 2 cos(2πj/p)); N. M. Korobov, *Number-theoretic methods in approximate analysis*,
 //! 1963; I. H. Sloan and S. Joe, *Lattice Methods for Multiple Integration*, Oxford, 1994
-//! (rank-1 lattices, the criterion P_α and its Bernoulli-polynomial closed form).
+//! (rank-1 lattices, the criterion P_α and its Bernoulli-polynomial closed form);
+//! D. Nuyens and R. Cools, *Fast algorithms for component-by-component construction of
+//! rank-1 lattice rules*, Math. Comp. 75 (2006) and J. Complexity 22 (2006).
 
 use rayon::prelude::*;
 
@@ -180,7 +184,9 @@ fn fibonacci_predecessor(n: u64) -> Option<u64> {
 /// B2(1 − x) = B2(x)). If trying them all would cost more than 2^28 point-coordinate
 /// steps (about n > 5 000 at s = 20, n > 16 000 at s = 2), an evenly spaced sample of
 /// max(32, ⌊2^28/(n·s)⌋) starting values over 1..=n/2 is tried instead, each moved up to
-/// the next multiplier coprime to n.
+/// the next multiplier coprime to n. (The fast construction of the tent lattice does not
+/// carry over: for s ≥ 3 a multiplier's Σ_k Π_j B2(k·a^j/n) is no correlation over the
+/// units of Z_n, so no transform gives every multiplier's at once.)
 fn korobov_multiplier(n: u64, s: usize) -> u64 {
     let half = n / 2;
     if half <= 1 {
@@ -311,12 +317,12 @@ fn generators(n: u64) -> Vec<u64> {
 /// multiplicative group of Z_n, O(n log n) per coordinate.
 ///
 /// The candidates are ranked on per-point products carried as Π(1 + t) − 1, which
-/// resolve criteria far below the 10⁻¹⁶·n a plain sum of the products can. Where
-/// [`tent_lattice_generator_plain`] tries every candidate (φ(n)/2 · n ≤ 2^28), those
-/// within its rounding of the best are scored once more by its sum and the smallest
-/// wins, so the vector is the plain search's to the bit; above, the candidates within
-/// the transforms' rounding of the best count as tied and the smallest wins. The result
-/// does not depend on the number of threads.
+/// resolve differences of criteria far below the 10⁻¹⁶·√n a plain sum of the products
+/// resolves. Where [`tent_lattice_generator_plain`] tries every candidate
+/// (φ(n)/2 · n ≤ 2^28), those within its rounding of the best are scored once more by
+/// its sum, which picks as it did, so the vector is the plain search's to the bit;
+/// above, the candidates within the transforms' rounding of the best count as tied and
+/// the smallest wins. The result does not depend on the number of threads.
 ///
 /// Refuses n = 0 or s = 0, naming the argument.
 pub fn tent_lattice_generator(n: usize, s: usize) -> Result<Vec<u64>, Error> {
