@@ -20,7 +20,7 @@
 //! lattice in the half-period cosine space of smoothness 2, product weights
 //! [`super::TENT_WEIGHT`]) at every level n = 2^m, m = 6..20, at once: a candidate's score
 //! is the largest, over the levels, of its criterion divided by that of the lattice made
-//! for that n alone ([`super::tent_lattice_generator`]) with as many coordinates, a
+//! for that n alone ([`super::tent_lattice_generator_plain`]) with as many coordinates, a
 //! minimax in the manner of Cools, Kuo and Nuyens (2006, *Constructing embedded lattice
 //! rules for multivariate integration*, SIAM J. Sci. Comput. 28), searched exhaustively on
 //! the low 14 bits and by a beam on the high 6. [`embedded_tent_generator_with_ratios`]
@@ -184,13 +184,13 @@ fn carry(n: usize, z: &[u64], terms: &[f64], mut after: impl FnMut(usize, f64)) 
 }
 
 /// The criterion of [`super::tent_criterion`] of the lattice made for n = 2^m alone
-/// ([`super::tent_lattice_generator`]) with its first j coordinates: entry [j − 1][m]
+/// ([`super::tent_lattice_generator_plain`]) with its first j coordinates: entry [j − 1][m]
 /// for m = MIN_LEVEL..=20, computed as the construction computes its own.
 fn single_n_criteria(d: usize) -> Result<Vec<[f64; 21]>, Error> {
     let mut out = vec![[0.0f64; 21]; d];
     for m in MIN_LEVEL..=EXTENSIBLE_BITS {
         let n = 1usize << m;
-        let z = super::tent_lattice_generator(n, d)?;
+        let z = super::tent_lattice_generator_plain(n, d)?;
         let terms = tent_terms(n);
         carry(n, &z, &terms, |j, e| out[j][m as usize] = e);
     }

@@ -20,6 +20,7 @@ use crate::{Error, PointSet};
 
 mod baseline;
 mod extensible;
+mod fast_cbc;
 mod latin;
 mod lattices;
 mod scrambled_halton;
@@ -33,7 +34,8 @@ pub use extensible::{
 pub use latin::{lhs, lhs_maximin, maximin_search, LHS_MAXIMIN_MAX_N};
 pub use lattices::{
     distinct_generators, hua_wang, korobov_p2, lattice, lattice_generator, rank1_lattice,
-    tent_criterion, tent_lattice, tent_lattice_generator, TENT_WEIGHT,
+    tent_criterion, tent_lattice, tent_lattice_generator, tent_lattice_generator_plain,
+    TENT_WEIGHT,
 };
 pub use scrambled_halton::{halton_scrambled, HALTON_SCRAMBLED_MAX_S};
 pub use sobol_owen::{sobol_plain, sobol_scrambled, SOBOL_MAX_N, SOBOL_MAX_S};
