@@ -78,12 +78,12 @@ pub struct LatticeRule {
     pub seconds: (f64, f64),
 }
 
-/// The tent-transformed point of lattice residue r (k z_j mod n) under the shift
-/// numerator q, as the index i of the midpoint (2i + 1)/(2n) it is: y = (r + q/4)/n mod 1,
-/// then φ(y) = 1 − |2y − 1|. In quarters of 1/n, t = 4·((r + q div 4) mod n) + q mod 4 is
-/// odd, so φ(y) = t/(2n) or (4n − t)/(2n), computed exactly.
-fn tent_index(r: u64, q: u64, n: u64) -> u32 {
-    let t = 4 * ((r + q / 4) % n) + q % 4;
+/// The tent-transformed point of lattice residue k z_j mod n under the shift numerator
+/// q, as the index i of the midpoint (2i + 1)/(2n) it is, from r = (k z_j + q div 4) mod n
+/// and e = q mod 4: y = (r + e/4)/n, then φ(y) = 1 − |2y − 1|. In quarters of 1/n,
+/// t = 4r + e is odd, so φ(y) = t/(2n) or (4n − t)/(2n), computed exactly.
+fn tent_index(r: u64, e: u64, n: u64) -> u32 {
+    let t = 4 * r + e;
     let odd = if t < 2 * n { t } else { 4 * n - t };
     ((odd - 1) / 2) as u32
 }
@@ -100,8 +100,8 @@ fn points(n: usize, z: &[u64], q: &[u64]) -> Result<PointSet, Error> {
     let mut data = vec![0.0f64; n * s];
     data.par_chunks_mut(s).enumerate().for_each(|(k, row)| {
         for ((x, &zj), &qj) in row.iter_mut().zip(z).zip(q) {
-            let r = (k as u64 % nn) * (zj % nn) % nn;
-            *x = midpoint(tent_index(r, qj, nn), n);
+            let r = ((k as u64 % nn) * (zj % nn) + qj / 4) % nn;
+            *x = midpoint(tent_index(r, qj % 4, nn), n);
         }
     });
     PointSet::new(n, s, data)
@@ -251,13 +251,14 @@ const TIE_DIGITS: f64 = 1e-12;
 const CORNER_RATES: [f64; 4] = [0.5, 1.0, 2.0, 4.0];
 
 /// The coordinate with generator z under the shift numerator q, point by point, as
-/// midpoint indices ([`tent_index`]).
+/// midpoint indices ([`tent_index`], its residue r + q div 4 stepped without a division).
 fn column(n: usize, z: u64, q: u64) -> Vec<u32> {
     let (nn, step) = (n as u64, z % n.max(1) as u64);
-    let mut r = 0u64;
+    let mut r = (q / 4) % nn;
+    let e = q % 4;
     (0..n)
         .map(|_| {
-            let i = tent_index(r, q, nn);
+            let i = tent_index(r, e, nn);
             r += step;
             if r >= nn {
                 r -= nn;
@@ -354,19 +355,30 @@ pub fn shared_note(n: usize, s: usize, shared: &[(usize, usize, u64)]) -> Option
     if shared.is_empty() {
         return None;
     }
-    let pairs: Vec<String> = shared
+    let mut pairs: Vec<String> = shared
         .iter()
+        .take(NOTE_PAIRS)
         .map(|(j, i, z)| format!("{j} as {i} (z = {z})"))
         .collect();
+    if shared.len() > NOTE_PAIRS {
+        pairs.push(format!(
+            "and {} more (`shared` in the file's header lists every one as [column, \
+             earlier column, z])",
+            shared.len() - NOTE_PAIRS
+        ));
+    }
     Some(format!(
-        "{} of the {s} columns reuse an earlier column's generator up to sign, as their \
-         pair's two-dimensional projection lies on a few lines: an {n}-point rank-1 lattice \
-         has only {} generators that differ (φ(n)/2); columns {}",
+        "{} of the {s} columns reuse an earlier column's generator up to sign, and each \
+         such pair of columns lies on a few lines in its two-dimensional projection: an \
+         {n}-point rank-1 lattice has only {} generators that differ (φ(n)/2); columns {}",
         shared.len(),
         sequences::distinct_generators(n),
         pairs.join(", ")
     ))
 }
+
+/// The shared columns [`shared_note`] names one by one.
+const NOTE_PAIRS: usize = 8;
 
 /// Before a run: the note that the default lattice of n points in s dimensions will reuse
 /// generators (more columns than φ(n)/2), naming how many and what avoids it.

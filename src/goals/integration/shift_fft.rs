@@ -90,6 +90,7 @@ impl Spectrum {
     }
 
     /// e^{πi G q/n}.
+    #[cfg(test)]
     fn phase_of(&self, g: usize, q: u64) -> Complex64 {
         self.phase[((g as u64 * (q % (2 * self.n) as u64)) % (2 * self.n) as u64) as usize]
     }
@@ -127,8 +128,14 @@ impl<'a> Accumulator<'a> {
         let step = (z % n as u64) as usize;
         let mut pairs = 0.0;
         let mut f = 0usize;
+        // G·q mod 2n, stepped.
+        let (turn, mut angle) = ((q % (2 * n as u64)) as usize, 0usize);
         for g in 0..n {
-            let s_hat = sp.phase_of(g, q) * sp.b[g];
+            let s_hat = sp.phase[angle] * sp.b[g];
+            angle += turn;
+            if angle >= 2 * n {
+                angle -= 2 * n;
+            }
             if g != 0 {
                 let term = sp.a[g] * self.a_sum[f] + (s_hat * self.s_sum[f].conj()).re;
                 // Non-negative in exact arithmetic (|B| ≤ A): what rounding leaves below
