@@ -369,8 +369,8 @@ pub fn shared_note(n: usize, s: usize, shared: &[(usize, usize, u64)]) -> Option
     }
     Some(format!(
         "{} of the {s} columns reuse an earlier column's generator up to sign, and each \
-         such pair of columns lies on a few lines in its two-dimensional projection: an \
-         {n}-point rank-1 lattice has only {} generators that differ (φ(n)/2); columns {}",
+         such pair of columns lies on a few lines in its two-dimensional projection: a \
+         rank-1 lattice of {n} points has only {} generators that differ (φ(n)/2); columns {}",
         shared.len(),
         sequences::distinct_generators(n),
         pairs.join(", ")
@@ -386,7 +386,7 @@ pub fn sharing_warning(n: usize, s: usize) -> Option<String> {
     let distinct = sequences::distinct_generators(n);
     (s > distinct && n >= 3).then(|| {
         format!(
-            "an {n}-point lattice has only {distinct} generators that differ up to sign \
+            "a lattice of {n} points has only {distinct} generators that differ up to sign \
              (φ(n)/2), fewer than the {s} columns: {} columns reuse one, and each such pair \
              of columns lies on a few lines in its projection (the report and the file's \
              header list which); a larger n or s ≤ {distinct} avoids it",
