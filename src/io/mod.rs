@@ -280,9 +280,7 @@ pub fn write_points(
     points: &PointSet,
     meta: &serde_json::Value,
 ) -> Result<(), IoError> {
-    let text = |sep| {
-        move |w: &mut dyn std::io::Write| text::write_text(w, points, meta, sep)
-    };
+    let text = |sep| move |w: &mut dyn std::io::Write| text::write_text(w, points, meta, sep);
     match Format::from_path(path) {
         // Streamed: the text is the largest form, several times the points' memory.
         Format::Csv => atomic::write_atomic_with(path, &text(',')),
