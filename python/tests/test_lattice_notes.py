@@ -60,3 +60,41 @@ def test_progress_names_the_lattice_stages(capfd):
     # Every column the midpoints, as before.
     col = np.sort(x[:, 1])
     assert np.allclose(col, (2 * np.arange(20001) + 1) / 40002, atol=1e-15, rtol=0)
+
+
+def test_ctrl_c_during_the_lattice_stops_it_before_its_report():
+    # The signal is sent once the run says it is building the generating vector (no
+    # timer decides); the shift search checks for it at every coordinate, so the run
+    # stops there and never reaches its report's figures.
+    import signal
+    import subprocess
+    import sys
+
+    child = (
+        "import stillpoint as sp\n"
+        "try:\n"
+        "    sp.generate(100000, 20, progress=True)\n"
+        "    print('finished', flush=True)\n"
+        "except KeyboardInterrupt:\n"
+        "    print('interrupted', sp.generate(16, 2).shape, flush=True)\n"
+    )
+    p = subprocess.Popen(
+        [sys.executable, "-c", child],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
+    try:
+        seen = []
+        for line in p.stderr:
+            seen.append(line)
+            if line.startswith("stillpoint: generating vector"):
+                p.send_signal(signal.SIGINT)
+                break
+        out, err = p.communicate(timeout=300)
+    finally:
+        p.kill()
+    stages = "".join(seen) + err
+    assert out.strip() == "interrupted (16, 2)", (out, stages)
+    assert "stillpoint: metrics" not in stages, stages
