@@ -307,12 +307,20 @@ pub enum Stage {
         shift: Vec<u64>,
         /// The coordinates' weight γ in the criterion.
         weight: f64,
-        /// Candidate shifts tried per coordinate.
+        /// Candidate shift numerators per coordinate (every odd q < 4n).
         candidates: usize,
         /// The criterion of the seed's first draw of shifts.
         drawn: f64,
         /// The criterion of the set kept.
         criterion: f64,
+        /// The columns that reuse an earlier column's generator up to sign, as (column,
+        /// earlier column, z), counted from 1 (more columns than the lattice has
+        /// generators that differ).
+        #[serde(skip_serializing_if = "Vec::is_empty")]
+        shared: Vec<(usize, usize, u64)>,
+        /// Why columns share a generator and which, when they do.
+        #[serde(skip_serializing_if = "Option::is_none")]
+        note: Option<String>,
     },
     /// The result randomised after the goal's run.
     Randomized {
@@ -388,6 +396,7 @@ fn lattice_rule_text(
     weight: f64,
     candidates: usize,
     values: (f64, f64),
+    note: Option<&str>,
 ) -> fmt::Result {
     let list = |v: &[u64]| {
         v.iter()
@@ -400,12 +409,16 @@ fn lattice_rule_text(
         f,
         "rank-1 lattice built component by component, z = ({}); shift q/(4n) with \
          q = ({}) (every column the midpoints (i + ½)/n after the tent transform), \
-         chosen coordinate by coordinate among {candidates} candidates on the \
+         chosen coordinate by coordinate among all {candidates} odd q < 4n on the \
          order-2 cosine-space error (weight {weight}): {criterion:.4e}, the seed's \
          drawn shift {drawn:.4e}; then the tent transform x ↦ 1 − |2x − 1|",
         list(generator),
         list(shift)
-    )
+    )?;
+    match note {
+        Some(note) => write!(f, "\n  note: {note}"),
+        None => Ok(()),
+    }
 }
 
 /// The [`Stage::Extension`] line: the union's sizes and whether it is stratified (else
@@ -566,6 +579,8 @@ impl fmt::Display for Stage {
                 candidates,
                 drawn,
                 criterion,
+                shared: _,
+                note,
             } => lattice_rule_text(
                 f,
                 generator,
@@ -573,6 +588,7 @@ impl fmt::Display for Stage {
                 *weight,
                 *candidates,
                 (*drawn, *criterion),
+                note.as_deref(),
             ),
             Stage::Randomized { how, seed } => write!(f, "randomised ({how}) from seed {seed}"),
         }

@@ -393,6 +393,23 @@ fn notes_before(cfg: &GenerateConfig, quiet: bool) -> Result<()> {
             ));
         }
     }
+    if !quiet && matches!(cfg.goal, Goal::Integration(_)) {
+        // The library's cost model of the goal's pipeline (the lattice's search and its
+        // report's figures included).
+        let estimate = stillpoint::pipeline::estimate::estimate_seconds(cfg);
+        if estimate > LONG_RUN_SECONDS {
+            note(&format!(
+                "note: this run may take about {} (n = {}, s = {}, estimated for this \
+                 machine's cores); --progress plain shows its stages, Ctrl-C stops it",
+                studies::human_seconds(estimate),
+                cfg.n,
+                cfg.s
+            ));
+        }
+    }
+    for text in stillpoint::pipeline::estimate::notes(cfg) {
+        note(&format!("note: {text}"));
+    }
     Ok(())
 }
 

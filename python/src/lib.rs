@@ -529,6 +529,14 @@ fn estimate(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<f64> {
     resolve(kwargs).map(|r| r.estimate_seconds())
 }
 
+/// What the library says before the run of the request besides its time (e.g. that the
+/// default lattice will reuse generators); refuses what `generate` would refuse.
+#[pyfunction]
+#[pyo3(signature = (**kwargs))]
+fn notes(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
+    resolve(kwargs).map(|r| r.notes())
+}
+
 /// `x` randomised from `seed` as `generate(..., randomize=kind)` randomises its result:
 /// `'tent'` (uniform shift, then the tent transform), `'cells'` (cells rotated, offsets
 /// shifted within them) or `'shift'`.
@@ -637,6 +645,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(design_figures, m)?)?;
     m.add_function(wrap_pyfunction!(space_values, m)?)?;
     m.add_function(wrap_pyfunction!(estimate, m)?)?;
+    m.add_function(wrap_pyfunction!(notes, m)?)?;
     m.add_function(wrap_pyfunction!(discrepancy, m)?)?;
     m.add_function(wrap_pyfunction!(baselines, m)?)?;
     m.add_function(wrap_pyfunction!(integrate, m)?)?;

@@ -32,6 +32,11 @@ def estimate(**kwargs: Any) -> float:
     larger pool divides it). Raises the ``ValueError`` generate would raise, without
     running."""
 
+def notes(**kwargs: Any) -> List[str]:
+    """What the library says before running :func:`generate` with these keyword arguments
+    besides its time (e.g. that the default lattice will reuse generators); raises the
+    ``ValueError`` generate would raise."""
+
 def randomize(
     x: npt.NDArray[np.float64], kind: str, seed: int
 ) -> npt.NDArray[np.float64]:

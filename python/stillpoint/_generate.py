@@ -101,6 +101,10 @@ def generate(
         Before a run the library's cost model estimates at more than 30 seconds
         (on this machine's cores), with the estimate; ``warnings.filterwarnings``
         silences it or, with ``'error'``, turns it into an exception before any work.
+    UserWarning
+        Before a run of the default lattice with more columns than its φ(n)/2
+        generators that differ: how many columns will reuse one (the command line's
+        note).
     """
     if later.get("space") is not None:
         # Every option goes to the library, which refuses those a space does not take.

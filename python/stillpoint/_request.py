@@ -54,3 +54,6 @@ def _warn_if_long(kwargs: Dict[str, Any]) -> None:
             RuntimeWarning,
             stacklevel=_caller_stacklevel(),
         )
+    # What the run will do that the caller may not expect (the command line's notes).
+    for note in _core.notes(**kwargs):
+        warnings.warn(note, UserWarning, stacklevel=_caller_stacklevel())

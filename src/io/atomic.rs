@@ -178,6 +178,14 @@ fn remove_stale_temporaries(dir: &Path, name: &std::ffi::OsStr) {
 /// is refused. Temporaries that an earlier run of a killed process left for this output
 /// are removed.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+    write_atomic_with(path, &|w: &mut dyn std::io::Write| w.write_all(bytes))
+}
+
+/// [`write_atomic`] with the bytes written by `write` (called once), through a buffer.
+pub(crate) fn write_atomic_with(
+    path: &Path,
+    write: &dyn Fn(&mut dyn std::io::Write) -> std::io::Result<()>,
+) -> Result<(), IoError> {
     let name = path.file_name().ok_or_else(|| {
         io_error(
             path,
@@ -196,9 +204,9 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
                     .write(true)
                     .open(path)
                     .map_err(|e| io_error(path, "cannot open", e))?;
-                return f
-                    .write_all(bytes)
-                    .and_then(|()| f.flush())
+                let mut buffered = std::io::BufWriter::new(&mut f);
+                return write(&mut buffered)
+                    .and_then(|()| buffered.flush())
                     .map_err(|e| io_error(path, "cannot write", e));
             }
             if !kind.is_file() {
@@ -229,7 +237,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
                     std::io::Error::other("a chain of links that does not end in a file"),
                 ));
             }
-            return write_atomic(&target, bytes);
+            return write_atomic_with(&target, write);
         }
     }
     let dir = match path.parent() {
@@ -269,8 +277,11 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
 
     drop(writes);
     let written = (|| {
-        file.write_all(bytes)
+        let mut buffered = std::io::BufWriter::new(&mut file);
+        write(&mut buffered)
+            .and_then(|()| buffered.flush())
             .map_err(|e| io_error(path, format!("cannot write {}", tmp.display()), e))?;
+        drop(buffered);
         file.flush()
             .and_then(|()| file.sync_all())
             .map_err(|e| io_error(path, format!("cannot sync {}", tmp.display()), e))?;

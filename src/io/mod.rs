@@ -280,5 +280,11 @@ pub fn write_points(
     points: &PointSet,
     meta: &serde_json::Value,
 ) -> Result<(), IoError> {
-    write_atomic(path, &encode(points, meta, Format::from_path(path)))
+    let text = |sep| move |w: &mut dyn std::io::Write| text::write_text(w, points, meta, sep);
+    match Format::from_path(path) {
+        // Streamed: the text is the largest form, several times the points' memory.
+        Format::Csv => atomic::write_atomic_with(path, &text(',')),
+        Format::Tsv => atomic::write_atomic_with(path, &text('\t')),
+        format => write_atomic(path, &encode(points, meta, format)),
+    }
 }

@@ -272,7 +272,20 @@ fn push_coord(out: &mut String, v: f64) {
 /// `points` as text with `sep` between coordinates: the header lines
 /// ([`header::push_header`]), `x1,...,xs`, then one row per point.
 pub(super) fn to_text(points: &PointSet, meta: &serde_json::Value, sep: char) -> String {
-    let mut out = String::with_capacity(64 + points.coordinate_count() * 21);
+    let mut out = Vec::new();
+    write_text(&mut out, points, meta, sep).expect("writing to memory");
+    String::from_utf8(out).expect("the text is UTF-8")
+}
+
+/// [`to_text`] written to `w` row by row, so that a large set's file never stands whole
+/// in memory beside its points.
+pub(super) fn write_text(
+    w: &mut dyn std::io::Write,
+    points: &PointSet,
+    meta: &serde_json::Value,
+    sep: char,
+) -> std::io::Result<()> {
+    let mut out = String::new();
     header::push_header(&mut out, meta);
     for k in 1..=points.s() {
         if k > 1 {
@@ -289,8 +302,12 @@ pub(super) fn to_text(points: &PointSet, meta: &serde_json::Value, sep: char) ->
             push_coord(&mut out, v);
         }
         out.push('\n');
+        if out.len() >= 1 << 16 {
+            w.write_all(out.as_bytes())?;
+            out.clear();
+        }
     }
-    out
+    w.write_all(out.as_bytes())
 }
 
 #[cfg(test)]

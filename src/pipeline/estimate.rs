@@ -82,10 +82,11 @@ const BLOCK_UNIT_SECONDS: f64 = 1.0e-9;
 /// third for the starts compared.
 const UNIT_SECONDS: f64 = 1.0e-9;
 
-/// The lattice of `--randomize tent`: its component-by-component search costs about
-/// n/2 · n · d steps (a candidate per unit below n/2, each a pass over the n points), a
-/// few nanoseconds each.
-const LATTICE_STEP: f64 = 2.0e-9;
+/// The generating vector of a tent lattice (the default's from 500 points, and
+/// `--randomize tent`'s): the fast component-by-component construction costs about this
+/// much per coordinate, point and log₂ n (0.12 s at 10⁵ × 20, 4.2 s at 10⁶ × 50 on two
+/// cores: `cargo run --release -p stillpoint --example cbc_timing`).
+const LATTICE_STEP: f64 = 4.0e-9;
 
 /// A descent of the tent criterion ([`crate::goals::integration::tent`]): about 5 ns per
 /// pair and coordinate of an iteration on two cores, and it stalls after about 100
@@ -174,6 +175,14 @@ impl Resolved {
         self.estimate_seconds_on(rayon::current_num_threads())
     }
 
+    /// What a front end says before the run besides its time ([`notes`]).
+    pub fn notes(&self) -> Vec<String> {
+        match &self.job {
+            Job::Run(cfg) => notes(cfg),
+            Job::Baseline { .. } => Vec::new(),
+        }
+    }
+
     /// The estimated seconds of what the request runs, on `threads` threads.
     pub fn estimate_seconds_on(&self, threads: usize) -> f64 {
         let seconds = match &self.job {
@@ -184,6 +193,22 @@ impl Resolved {
         };
         on_threads(seconds, threads)
     }
+}
+
+/// What a front end says before a run of `cfg` besides its time: that the default
+/// lattice will reuse generators
+/// ([`crate::goals::integration::lattice::sharing_warning`]).
+pub fn notes(cfg: &GenerateConfig) -> Vec<String> {
+    let lattice = matches!(cfg.goal, Goal::Integration(_))
+        && cfg.lattice
+        && cfg.region().is_none()
+        && cfg.randomize != Some(crate::post::randomize::Randomize::Tent);
+    if !lattice {
+        return Vec::new();
+    }
+    crate::goals::integration::lattice::sharing_warning(cfg.n, cfg.s)
+        .into_iter()
+        .collect()
 }
 
 fn on_threads(seconds: f64, threads: usize) -> f64 {
@@ -201,10 +226,8 @@ fn core_seconds(cfg: &GenerateConfig) -> f64 {
     }
     match &cfg.goal {
         Goal::Integration(_) if cfg.lattice => {
-            // The generator as below; the shift search tries at most 2n candidates per
-            // coordinate within its own budget of the same size.
             generator_seconds(n, s)
-                + s * (2.0 * n).min((BUDGET / (n * s)).max(16.0)) * n * LATTICE_STEP
+                + shift_seconds(n, s)
                 + lattice_report_seconds(cfg)
                 + INTEGRATION.l * n * s
         }
@@ -232,25 +255,66 @@ fn core_seconds(cfg: &GenerateConfig) -> f64 {
     }
 }
 
-/// The candidate-times-points work a lattice search spends per coordinate at most
-/// (the generator's and the shift's budgets, 2^28 each).
-const BUDGET: f64 = (1u64 << 28) as f64;
-
-/// The generating vector built component by component: the n/2 candidates for each
-/// coordinate, n points each, or a sample within [`BUDGET`] (32 candidates at least).
+/// The generating vector by the fast construction: [`LATTICE_STEP`] per coordinate, point
+/// and log₂ n.
 fn generator_seconds(n: f64, s: f64) -> f64 {
-    s * (n / 2.0 * n).min(BUDGET.max(32.0 * n)) * LATTICE_STEP
+    s * n * n.log2().max(1.0) * LATTICE_STEP
 }
 
-/// The lattice's report: one exact pass over the pairs (its start is its result), or the
+/// The shift search of the default lattice, per coordinate: one FFT of length n and a
+/// few passes over the n frequencies (about 40 ns per point at 10⁵ × 20), then
+/// [`CORNER_SHIFTS`] columns scored on the corner test functions.
+const SHIFT_POINT: f64 = 4.0e-8;
+
+/// The corner step's columns per coordinate (8 shifts and their reflections), each a
+/// pass over the n points for each of its 4 rates, about 1 ns a point and rate.
+const CORNER_SHIFTS: f64 = 16.0 * 4.0 * 1.0e-9;
+
+/// The default lattice's shift search: [`SHIFT_POINT`] and [`CORNER_SHIFTS`] per point
+/// and coordinate.
+fn shift_seconds(n: f64, s: f64) -> f64 {
+    s * n * (SHIFT_POINT * (1.0 + n.log2().max(1.0) / 17.0) + CORNER_SHIFTS)
+}
+
+/// Where the discrepancies' closed forms overflow (s·ln 3 ≥ 600 for the star
+/// discrepancy, the first), each takes its logarithmic form in a pass of its own, a
+/// logarithm per pair and coordinate: per ordered pair and coordinate, this much for
+/// each discrepancy in that form, plus [`SPLIT_PASSES`] for the rest (the closed forms
+/// apart and the distances). Measured on the lattice's report: 14.3 s at (2000, 560)
+/// (one in log form), 69 s at (2000, 1000) (three), 27.9 s at (600, 5000) (all five).
+const LOG_FORM_PAIR: f64 = 3.0e-9;
+/// See [`LOG_FORM_PAIR`].
+const SPLIT_PASSES: f64 = 3.5e-9;
+
+/// The report's exact figures of n points in s dimensions: one fused pass over the
+/// unordered pairs while every closed form fits, else the passes of [`LOG_FORM_PAIR`].
+fn exact_figures_seconds(n: f64, s: usize) -> f64 {
+    use stillpoint_energies::discrepancy::{
+        closed_form_fits, mixture_closed_form_fits, DiscrepancyKind,
+    };
+    let kinds = [
+        DiscrepancyKind::StarL2,
+        DiscrepancyKind::ModifiedL2,
+        DiscrepancyKind::CenteredL2,
+        DiscrepancyKind::WrapAroundL2,
+    ];
+    let logs = kinds.iter().filter(|&&k| !closed_form_fits(k, s)).count()
+        + usize::from(!mixture_closed_form_fits(s));
+    if logs == 0 {
+        n * n / 2.0 * REPORT.at(s as f64)
+    } else {
+        n * n * s as f64 * (LOG_FORM_PAIR * logs as f64 + SPLIT_PASSES)
+    }
+}
+
+/// The lattice's report: its exact figures (its start is its result), or the
 /// estimate's random pairs above the threshold.
 fn lattice_report_seconds(cfg: &GenerateConfig) -> f64 {
-    let pairs = if cfg.sums.estimates(cfg.n) {
-        cfg.sums.pairs as f64
+    if cfg.sums.estimates(cfg.n) {
+        cfg.sums.pairs as f64 * REPORT.at(cfg.s as f64)
     } else {
-        cfg.n as f64 * cfg.n as f64 / 2.0
-    };
-    pairs * REPORT.at(cfg.s as f64)
+        exact_figures_seconds(cfg.n as f64, cfg.s)
+    }
 }
 
 /// The report of a set of `n` points: its exact O(n² s) passes up to where its metrics are
@@ -420,6 +484,39 @@ mod tests {
             let t = default_run(n, s);
             assert!(t > measured / 3.0 && t < measured * 2.0, "({n}, {s}): {t}");
         }
+    }
+
+    #[test]
+    fn the_lattice_at_large_s_is_estimated_with_its_reports_passes() {
+        // Measured wall times of the default run (2 cores, shared): past s = 546 the
+        // report's discrepancies take their logarithmic forms, pass by pass.
+        for (n, s, measured) in [
+            (600, 5000, 31.2),
+            (2000, 1000, 71.6),
+            (2000, 560, 15.7),
+            (2000, 500, 2.45),
+        ] {
+            let t = default_run(n, s);
+            assert!(t > measured / 2.0 && t < measured * 2.0, "({n}, {s}): {t}");
+        }
+        // Long enough to warn (the front ends warn above 30 s).
+        assert!(default_run(600, 20_000) > 60.0);
+    }
+
+    #[test]
+    fn the_note_before_a_run_names_the_shared_generators_of_the_default_lattice() {
+        let notes = |edit: &dyn Fn(&mut Request)| {
+            let mut r = Request::new(510, 100);
+            edit(&mut r);
+            r.resolve().unwrap().notes()
+        };
+        let default = notes(&|_| {});
+        assert_eq!(default.len(), 1, "{default:?}");
+        assert!(default[0].contains("36 columns reuse"), "{default:?}");
+        assert!(notes(&|r| r.s = Some(64usize.into())).is_empty());
+        // Not the default lattice: the descent below 500 points, a baseline.
+        assert!(notes(&|r| r.n = Some(400usize.into())).is_empty());
+        assert!(notes(&|r| r.method = Some("sobol".into())).is_empty());
     }
 
     #[test]

@@ -184,7 +184,9 @@ pub fn generate_with(
         (Goal::Integration(target), None) if cfg.randomize == Some(Randomize::Tent) => {
             crate::goals::integration::tent_lattice_run(cfg, target)?
         }
-        (Goal::Integration(_), None) if cfg.lattice => crate::goals::integration::lattice_run(cfg)?,
+        (Goal::Integration(_), None) if cfg.lattice => {
+            crate::goals::integration::lattice_run(cfg, &mut on_event)?
+        }
         (Goal::Integration(target), None) => {
             crate::goals::integration::integration_run(cfg, target, &mut on_event)?
         }

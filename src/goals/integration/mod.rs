@@ -6,6 +6,7 @@ pub mod blocks;
 mod descent;
 pub mod exchange;
 pub mod lattice;
+mod shift_fft;
 pub mod tent;
 
 pub use descent::{
@@ -104,8 +105,15 @@ pub(crate) fn integration_run(
 
 /// The default from [`lattice::LATTICE_FROM_N`] points on: [`lattice::lattice_rule`],
 /// its criterion as the energy pair (the seed's drawn shift against the one kept).
-pub(crate) fn lattice_run(cfg: &GenerateConfig) -> Result<GenerateReport, Error> {
-    let rule = lattice::lattice_rule(cfg.n, cfg.s, cfg.seed)?;
+pub(crate) fn lattice_run(
+    cfg: &GenerateConfig,
+    on_event: &mut impl FnMut(Event),
+) -> Result<GenerateReport, Error> {
+    let rule = lattice::lattice_rule_observed(cfg.n, cfg.s, cfg.seed, on_event)?;
+    on_event(Event::Stage {
+        name: "metrics",
+        steps: None,
+    });
     let stages = vec![Stage::LatticeRule {
         generator: rule.generator,
         shift: rule.shift,
@@ -113,6 +121,8 @@ pub(crate) fn lattice_run(cfg: &GenerateConfig) -> Result<GenerateReport, Error>
         candidates: rule.candidates,
         drawn: rule.drawn_criterion,
         criterion: rule.criterion,
+        note: lattice::shared_note(cfg.n, cfg.s, &rule.shared),
+        shared: rule.shared,
     }];
     let mut report = goal_report(
         cfg,
