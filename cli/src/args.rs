@@ -238,7 +238,9 @@ pub(crate) struct GenerateArgs {
     /// and shift the offsets within them; keeps the stratification) or `shift` (uniform
     /// shift modulo 1; keeps the wrap-around discrepancy and torus distances) randomise
     /// the optimised set instead. The cube only.
-    #[arg(long, value_name = "tent|cells|shift", num_args = 0..=1, default_missing_value = "tent")]
+    // Alone it is `true`, as Python's `randomize=True`: both mean tent, and a refusal
+    // echoes the same value from either front end.
+    #[arg(long, value_name = "tent|cells|shift", num_args = 0..=1, default_missing_value = "true")]
     pub(crate) randomize: Option<String>,
     /// The potential energy: `uqp` (U_{q,p}, the cube's default), `e-inf` (U_{E,∞},
     /// maximin; with --q E in the closed cube, else on the torus), `e-inf-g`

@@ -193,6 +193,11 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
                 f"invalid d = {d}: the sequence reaches {_SEQUENCE_MAX_D} dimensions; for "
                 "more use draws='independent' (a set made for each n)"
             )
+        if optimization is not None and optimization not in ("random-cd", "lloyd"):
+            raise ValueError(
+                f"invalid optimization = {optimization!r}: expected None, 'random-cd' or "
+                "'lloyd' (SciPy's post-processing of each draw)"
+            )
         self._draws = draws
         if "generate_seed" in kwargs:
             # Drawn once here for None, so that every draw, copy and pickle of the engine

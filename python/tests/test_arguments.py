@@ -324,7 +324,7 @@ _CALLS = [
     "sp.metrics(x, exact=True)",
     "sp.metrics(x[:, :3], exact=True)",
     "sp.discrepancy(np.vstack([x, x, x]), 'md')",
-    "sp.metrics(x[:, :2] * 0.5, shape='ball:1@0.5,0.5', exact=True)",
+    "sp.metrics(np.vstack([x, x])[:, :2] * 0.5, shape='ball:1@0.5,0.5')",
     "sp.design(20000, ['x=uniform(0,1)', 'y=normal(0,1)', 'c={a,b}'])",
     "sp.generate(8000, 5, target='blend')",
     "sp.generate(3000, 3, mixture=True)",

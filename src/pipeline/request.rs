@@ -757,7 +757,9 @@ impl Resolver<'_> {
         };
         if let Some(a) = randomize {
             let kind = match a {
+                // `true` (Python's True, the command line's bare flag): the recommended one.
                 Arg::Bool(true) => Randomize::Tent,
+                Arg::Text(t) if t.trim().eq_ignore_ascii_case("true") => Randomize::Tent,
                 _ => Randomize::parse(&self.word("randomize", a, Randomize::EXPECTED)?)
                     .map_err(|_| self.bad("randomize", a, Randomize::EXPECTED))?,
             };
