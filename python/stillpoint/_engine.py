@@ -193,7 +193,9 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
                 f"invalid d = {d}: the sequence reaches {_SEQUENCE_MAX_D} dimensions; for "
                 "more use draws='independent' (a set made for each n)"
             )
-        if optimization is not None and optimization not in ("random-cd", "lloyd"):
+        # A text goes to SciPy, which names the methods it has (in any case); anything
+        # else would fail there as an AttributeError.
+        if optimization is not None and not isinstance(optimization, str):
             raise ValueError(
                 f"invalid optimization = {optimization!r}: expected None, 'random-cd' or "
                 "'lloyd' (SciPy's post-processing of each draw)"
