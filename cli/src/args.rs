@@ -55,7 +55,113 @@ impl Cli {
                 c
             });
         }
-        cli
+        numbers_are_values(cli)
+    }
+}
+
+/// Every value-taking option of `cmd` and of its subcommands, at any depth: a value that
+/// looks like a negative number is the option's value (`-n -1`, `--max-n -4`), never a
+/// flag of its own or clap's tip to write `-- -1` (which would make it a file name), and
+/// a typed number is read by [`Number`], whose refusal names the option and the value as
+/// typed. One walk over the built command, so that every subcommand's numeric options
+/// (those declared elsewhere too) follow the rule without a setting of their own.
+fn numbers_are_values(cmd: clap::Command) -> clap::Command {
+    use clap::builder::ValueParser;
+    use std::any::TypeId;
+    let cmd = cmd.mut_args(|a| {
+        if !a.get_action().takes_values() {
+            return a;
+        }
+        let a = a.allow_negative_numbers(true);
+        let id = a.get_value_parser().type_id();
+        let parser = if id == TypeId::of::<usize>() {
+            ValueParser::new(Number::<usize>::whole())
+        } else if id == TypeId::of::<u64>() {
+            ValueParser::new(Number::<u64>::whole())
+        } else if id == TypeId::of::<u32>() {
+            ValueParser::new(Number::<u32>::whole())
+        } else if id == TypeId::of::<f64>() {
+            ValueParser::new(Number::<f64>::real())
+        } else {
+            return a;
+        };
+        a.value_parser(parser)
+    });
+    let names: Vec<String> = cmd
+        .get_subcommands()
+        .map(|c| c.get_name().to_string())
+        .collect();
+    names.iter().fold(cmd, |cmd, name| {
+        cmd.mut_subcommand(name, numbers_are_values)
+    })
+}
+
+/// A number option's value read as its Rust type, refused as every refusal of the
+/// project is worded: `invalid --max-n = -4: expected a whole number ≥ 0`.
+#[derive(Clone)]
+pub(crate) struct Number<T> {
+    whole: bool,
+    _type: std::marker::PhantomData<fn() -> T>,
+}
+
+impl<T> Number<T> {
+    fn whole() -> Self {
+        Number {
+            whole: true,
+            _type: std::marker::PhantomData,
+        }
+    }
+
+    fn real() -> Self {
+        Number {
+            whole: false,
+            _type: std::marker::PhantomData,
+        }
+    }
+}
+
+impl<T> clap::builder::TypedValueParser for Number<T>
+where
+    T: std::str::FromStr + Clone + Send + Sync + 'static,
+{
+    type Value = T;
+
+    fn parse_ref(
+        &self,
+        cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &std::ffi::OsStr,
+    ) -> Result<T, clap::Error> {
+        let typed = value.to_string_lossy();
+        if let Some(v) = value.to_str().and_then(|t| t.parse::<T>().ok()) {
+            return Ok(v);
+        }
+        let flag = arg.map_or_else(String::new, |a| match (a.get_long(), a.get_short()) {
+            (Some(long), _) => format!("--{long}"),
+            (None, Some(short)) => format!("-{short}"),
+            (None, None) => a.get_id().to_string(),
+        });
+        let expected = match typed.trim().parse::<i128>() {
+            _ if !self.whole => "a number".to_string(),
+            Ok(v) if v < 0 => "a whole number ≥ 0".to_string(),
+            Ok(_) => format!("a whole number ≤ {}", largest::<T>()),
+            Err(_) => "a whole number ≥ 0".to_string(),
+        };
+        Err(clap::Error::raw(
+            clap::error::ErrorKind::ValueValidation,
+            format!("invalid {flag} = {typed}: expected {expected}\n"),
+        )
+        .with_cmd(cmd))
+    }
+}
+
+/// The largest value of the unsigned type `T` (for a refusal of a number too large for
+/// it).
+fn largest<T: 'static>() -> u64 {
+    if std::any::TypeId::of::<T>() == std::any::TypeId::of::<u32>() {
+        u32::MAX.into()
+    } else {
+        u64::MAX
     }
 }
 
@@ -132,7 +238,9 @@ pub(crate) struct GenerateArgs {
     /// and shift the offsets within them; keeps the stratification) or `shift` (uniform
     /// shift modulo 1; keeps the wrap-around discrepancy and torus distances) randomise
     /// the optimised set instead. The cube only.
-    #[arg(long, value_name = "tent|cells|shift", num_args = 0..=1, default_missing_value = "tent")]
+    // Alone it is `true`, as Python's `randomize=True`: both mean tent, and a refusal
+    // echoes the same value from either front end.
+    #[arg(long, value_name = "tent|cells|shift", num_args = 0..=1, default_missing_value = "true")]
     pub(crate) randomize: Option<String>,
     /// The potential energy: `uqp` (U_{q,p}, the cube's default), `e-inf` (U_{E,∞},
     /// maximin; with --q E in the closed cube, else on the torus), `e-inf-g`
@@ -259,12 +367,13 @@ pub(crate) struct GenerateArgs {
     /// Print the report as one JSON object instead of a table.
     #[arg(long)]
     pub(crate) json: bool,
-    /// No progress display (the report is still printed).
+    /// No progress display (the report is still printed); an explicit --progress wins
+    /// over it.
     #[arg(long, short = 'q')]
     pub(crate) quiet: bool,
     /// How progress is shown on standard error: `bar` (the default on a terminal),
     /// `plain` (a line when a stage starts and at most every 10 s; the default off a
-    /// terminal, e.g. in a notebook or a job's log) or `none`.
+    /// terminal, e.g. in a notebook or a job's log) or `none`. Given, it wins over -q.
     #[arg(long, value_name = "bar|plain|none")]
     pub(crate) progress: Option<ProgressMode>,
 }
@@ -571,6 +680,110 @@ mod tests {
         }
         for f in &declared {
             assert!(flags.contains(f), "the declared {f} is not a flag of eval");
+        }
+    }
+
+    /// Every value-taking flag of every subcommand, at any depth, as `(path, flag,
+    /// whole)`: the subcommands leading to it, the flag as typed, and whether clap reads
+    /// it as an unsigned whole number.
+    fn value_flags() -> Vec<(Vec<String>, String, bool)> {
+        fn walk(c: &clap::Command, path: &[String], out: &mut Vec<(Vec<String>, String, bool)>) {
+            use std::any::TypeId;
+            for a in c.get_arguments() {
+                if !a.get_action().takes_values() {
+                    continue;
+                }
+                let flag = match (a.get_long(), a.get_short()) {
+                    (Some(long), _) => format!("--{long}"),
+                    (None, Some(short)) => format!("-{short}"),
+                    (None, None) => continue,
+                };
+                let id = a.get_value_parser().type_id();
+                let whole = [
+                    TypeId::of::<usize>(),
+                    TypeId::of::<u64>(),
+                    TypeId::of::<u32>(),
+                ]
+                .iter()
+                .any(|t| id == *t);
+                out.push((path.to_vec(), flag, whole));
+            }
+            for sub in c.get_subcommands() {
+                let mut p = path.to_vec();
+                p.push(sub.get_name().to_string());
+                walk(sub, &p, out);
+            }
+        }
+        let mut cli = Cli::command_with_declared_help();
+        cli.build();
+        let mut out = Vec::new();
+        walk(&cli, &[], &mut out);
+        out
+    }
+
+    /// A negative number after any flag that takes a value is that flag's value: never
+    /// clap's unknown argument with its tip to write `-- -1`; a flag clap reads as a
+    /// whole number refuses it naming the flag and the value typed.
+    #[test]
+    fn a_negative_number_is_the_value_of_every_flag_that_takes_one() {
+        let flags = value_flags();
+        let wholes = flags.iter().filter(|f| f.2).count();
+        // The walk reaches the numeric flags of every subcommand (generate, plot,
+        // integrate --expr, ...): this many at the time of writing, more is fine.
+        assert!(wholes >= 6, "{flags:?}");
+        for (path, flag, whole) in &flags {
+            for typed in ["-1", "-3", "-0.5", "-1e3"] {
+                let mut argv = vec!["stillpoint".to_string()];
+                argv.extend(path.iter().cloned());
+                argv.extend([flag.clone(), typed.to_string()]);
+                let Err(e) = Cli::command_with_declared_help().try_get_matches_from(&argv) else {
+                    continue;
+                };
+                let text = e.to_string();
+                assert_ne!(
+                    e.kind(),
+                    clap::error::ErrorKind::UnknownArgument,
+                    "{argv:?}: {text}"
+                );
+                assert!(!text.contains("-- "), "{argv:?}: {text}");
+                if *whole {
+                    let want = format!("invalid {flag} = {typed}: expected a whole number");
+                    assert!(text.contains(&want), "{argv:?}: {text}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn numbers_beyond_their_type_or_not_numbers_are_refused_by_name() {
+        let parse = |argv: &[&str]| {
+            Cli::command_with_declared_help()
+                .try_get_matches_from(argv)
+                .err()
+                .map(|e| e.to_string())
+                .unwrap_or_default()
+        };
+        let cases = [
+            (
+                &["stillpoint", "--threads", "99999999999999999999999", "eval", "x.csv"][..],
+                "invalid --threads = 99999999999999999999999: expected a whole number ≤ 18446744073709551615",
+            ),
+            (
+                &["stillpoint", "generate", "--checkpoint-every", "ten"][..],
+                "invalid --checkpoint-every = ten: expected a whole number ≥ 0",
+            ),
+            (
+                &["stillpoint", "plot", "x.csv", "-o", "x.png", "--dims", "2.5"][..],
+                "invalid --dims = 2.5: expected a whole number ≥ 0",
+            ),
+            (
+                &["stillpoint", "eval", "x.csv", "--threads", "-4"][..],
+                "invalid --threads = -4: expected a whole number ≥ 0",
+            ),
+        ];
+        for (argv, want) in cases {
+            let text = parse(argv);
+            assert!(text.contains(want), "{argv:?}: {text}");
         }
     }
 }

@@ -30,6 +30,22 @@ pub(crate) enum ProgressMode {
     None,
 }
 
+impl ProgressMode {
+    /// The mode of a command's progress: an explicit `--progress` wins (`-q --progress
+    /// plain` writes the lines: a script that adds `-q` to every command can still ask
+    /// one for a log), else `-q` shows none, else a bar on a terminal and `off_terminal`
+    /// off one. Every command with both flags (`generate`, `integrate --expr`) decides by
+    /// this one rule.
+    pub(crate) fn chosen(quiet: bool, mode: Option<ProgressMode>, off_terminal: Self) -> Self {
+        match (mode, quiet) {
+            (Some(m), _) => m,
+            (None, true) => ProgressMode::None,
+            (None, false) if std::io::stderr().is_terminal() => ProgressMode::Bar,
+            (None, false) => off_terminal,
+        }
+    }
+}
+
 /// The least time between two plain progress lines of one stage.
 pub(crate) const PLAIN_EVERY: std::time::Duration = std::time::Duration::from_secs(10);
 
@@ -51,14 +67,9 @@ pub(crate) struct Progress {
 }
 
 impl Progress {
-    /// `mode` when given, else none with `quiet`, a bar on a terminal, plain lines off one.
+    /// The mode [`ProgressMode::chosen`] gives, plain lines off a terminal.
     pub(crate) fn new(quiet: bool, mode: Option<ProgressMode>) -> Self {
-        let mode = match (quiet, mode) {
-            (true, _) => ProgressMode::None,
-            (false, Some(m)) => m,
-            (false, None) if std::io::stderr().is_terminal() => ProgressMode::Bar,
-            (false, None) => ProgressMode::Plain,
-        };
+        let mode = ProgressMode::chosen(quiet, mode, ProgressMode::Plain);
         // Drawn from the first stage on, so that no empty bar flashes up before it.
         let bar = ProgressBar::with_draw_target(Some(0), ProgressDrawTarget::hidden());
         Progress {

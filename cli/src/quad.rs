@@ -22,16 +22,6 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
     let (Some(text), Some(s)) = (q.expr.as_deref(), q.s) else {
         bail!("--expr needs -s");
     };
-    if let (true, Some(mode)) = (q.quiet, q.progress) {
-        if mode != ProgressMode::None {
-            bail!(
-                "invalid --progress {} with -q: -q asks for no progress lines; give one \
-                 of the two",
-                clap::ValueEnum::to_possible_value(&mode)
-                    .map_or_else(String::new, |v| v.get_name().to_string())
-            );
-        }
-    }
     let refused = |e: stillpoint::Error| match e {
         stillpoint::Error::InvalidArgument {
             name,
@@ -129,16 +119,11 @@ struct Rounds {
 }
 
 impl Rounds {
-    /// `mode` when given, else none with `quiet`, the bar on a terminal and nothing off
-    /// one (a script's standard error stays as it was; `--progress plain` asks for the
-    /// lines there).
+    /// The mode [`ProgressMode::chosen`] gives (the rule of every command: an explicit
+    /// `--progress` wins over `-q`), nothing off a terminal (a script's standard error
+    /// stays as it was; `--progress plain` asks for the lines there).
     fn new(quiet: bool, mode: Option<ProgressMode>) -> Self {
-        let mode = match (quiet, mode) {
-            (true, _) => ProgressMode::None,
-            (false, Some(m)) => m,
-            (false, None) if std::io::stderr().is_terminal() => ProgressMode::Bar,
-            (false, None) => ProgressMode::None,
-        };
+        let mode = ProgressMode::chosen(quiet, mode, ProgressMode::None);
         let bar = (mode == ProgressMode::Bar).then(|| {
             let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
             bar.set_style(

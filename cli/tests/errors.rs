@@ -165,7 +165,7 @@ fn cli_refuses_bad_input_clearly_and_touches_no_file() {
         (
             "precision in a region",
             gen(&["-n", "10", "-s", "2", "--shape", "ball:1", "--precision", "fast"]),
-            "invalid --precision = given for a region",
+            "invalid --precision = fast: expected not in a region",
         ),
         (
             "kappa < 1",
@@ -210,7 +210,7 @@ fn cli_refuses_bad_input_clearly_and_touches_no_file() {
         (
             "point outside [0,1] in --init file",
             gen(&["--init", &f.p("outside.csv")]),
-            "invalid --init = 2 points: expected points in [0, 1]^s",
+            "invalid --init = 2 points in 2 dimensions: expected points in [0, 1]^s",
         ),
         (
             "ragged rows in --init file",

@@ -186,7 +186,7 @@ fn progress_plain_writes_a_line_per_doubling_and_leaves_the_result_alone() {
         (field("estimate="), field("half-width="), field("(target "));
     assert!((target - 1e-4 * estimate).abs() <= 0.06 * target, "{last}");
     assert!(half_width <= target * 1.06, "{last}");
-    // -q agrees with --progress none (with plain it is refused, see quad_reliability);
+    // -q agrees with --progress none (an explicit plain wins, see quad_reliability);
     // none is none; JSON output is unchanged too.
     assert_eq!(run_with(&["-q", "--progress", "none"]).1, "");
     assert_eq!(run_with(&["--progress", "none"]).1, "");

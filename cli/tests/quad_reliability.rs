@@ -242,14 +242,30 @@ fn results_print_compactly_at_any_magnitude() {
 }
 
 #[test]
-fn quiet_and_an_explicit_progress_are_not_silently_reconciled() {
-    for mode in ["plain", "bar"] {
-        let err = refused(
-            &["--expr", "x1", "-s", "1", "-q", "--progress", mode],
-            &format!("invalid --progress {mode} with -q"),
-        );
-        assert!(err.contains("give one"), "{err}");
-    }
+fn an_explicit_progress_wins_over_quiet_as_in_generate() {
+    // -q with --progress plain writes the same lines as --progress plain alone (the
+    // rule of every command), and -q alone writes none.
+    let args = |extra: &[&'static str]| {
+        let mut v = vec!["--expr", "exp(x1)", "-s", "1", "--rel-tol", "1e-6"];
+        v.extend_from_slice(extra);
+        v
+    };
+    let (ok, out_plain, err_plain) = run(&args(&["--progress", "plain"]));
+    assert!(ok && err_plain.lines().count() >= 2, "{err_plain}");
+    let (ok, out_both, err_both) = run(&args(&["-q", "--progress", "plain"]));
+    assert!(ok, "{err_both}");
+    assert_eq!(out_both, out_plain);
+    let rounds = |e: &str| {
+        e.lines()
+            .filter(|l| l.starts_with("stillpoint: n="))
+            .count()
+    };
+    assert_eq!(rounds(&err_both), rounds(&err_plain), "{err_both}");
+    let (ok, out_quiet, err_quiet) = run(&args(&["-q"]));
+    assert!(
+        ok && err_quiet.is_empty() && out_quiet == out_plain,
+        "{err_quiet}"
+    );
     // -q with --progress none agree; --progress plain alone prints its lines.
     let (ok, _, err) = run(&["--expr", "x1", "-s", "1", "-q", "--progress", "none"]);
     assert!(ok && err.is_empty(), "{err}");

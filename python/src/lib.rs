@@ -41,6 +41,30 @@ fn value_error(message: impl std::fmt::Display) -> PyErr {
 /// but a computation without such checks must not keep the user waiting.
 const STOP_GRACE: std::time::Duration = std::time::Duration::from_millis(300);
 
+/// The workers of calls that raised `KeyboardInterrupt` before their worker stopped.
+fn abandoned() -> std::sync::MutexGuard<'static, Vec<std::thread::JoinHandle<()>>> {
+    static ABANDONED: std::sync::Mutex<Vec<std::thread::JoinHandle<()>>> =
+        std::sync::Mutex::new(Vec::new());
+    ABANDONED.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Returns once every abandoned worker has stopped (the stop request stays set until
+/// then), looking at the signals every 50 ms meanwhile: Ctrl-C raises here too.
+fn wait_for_abandoned(py: Python<'_>) -> PyResult<()> {
+    loop {
+        let running = {
+            let mut workers = abandoned();
+            workers.retain(|w| !w.is_finished());
+            !workers.is_empty()
+        };
+        if !running {
+            return Ok(());
+        }
+        py.detach(|| std::thread::sleep(std::time::Duration::from_millis(50)));
+        py.check_signals()?;
+    }
+}
+
 /// Runs `f` on a worker thread without the GIL, while this thread watches for signals:
 /// Ctrl-C asks the library's runs and pair sums to stop ([`stillpoint::solve::cancel`])
 /// and raises `KeyboardInterrupt` as soon as the worker has stopped, or after
@@ -50,12 +74,17 @@ fn detached<T: Send + 'static>(
     py: Python<'_>,
     f: impl FnOnce() -> Result<T, String> + Send + 'static,
 ) -> PyResult<T> {
+    // A worker given up on after Ctrl-C still holds the thread pool: clearing the stop
+    // request under it would let it run on beside this call (which would then wait for
+    // its share of the pool). It is asked to stop until it has.
+    wait_for_abandoned(py)?;
     stillpoint::solve::clear_cancel();
     let mut signal: Option<(PyErr, Instant)> = None;
     let (done, mut finished) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
+    let worker = std::thread::spawn(move || {
         let _ = done.send(catch_unwind(AssertUnwindSafe(f)));
     });
+    let mut worker = Some(worker);
     let outcome = loop {
         // Back as soon as the worker is done; otherwise look at the signals every
         // 50 ms (with the GIL, which the check needs).
@@ -78,7 +107,10 @@ fn detached<T: Send + 'static>(
                 }
             }
             Some((_, since)) if since.elapsed() >= STOP_GRACE => {
-                break Err(Box::new("interrupted") as Box<dyn std::any::Any + Send>)
+                if let Some(w) = worker.take() {
+                    abandoned().push(w);
+                }
+                break Err(Box::new("interrupted") as Box<dyn std::any::Any + Send>);
             }
             Some(_) => {}
         }

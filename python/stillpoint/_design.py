@@ -11,6 +11,7 @@ import numpy as np
 from . import _core
 from ._request import _warn_if_long
 from ._space import _design_kwargs, _law_name, _space_items
+from ._validate import _fresh_seed
 
 
 class Design:
@@ -19,9 +20,12 @@ class Design:
     values before their marginal's quantile function, a level at the centre of its
     share of [0, 1)), ``figures`` (level and pair balance, slice stratification,
     centred L2 of the continuous part overall and per slice, minimum distance; all on
-    the unit scale) and ``space`` (the variables as ``NAME=TYPE``)."""
+    the unit scale), ``space`` (the variables as ``NAME=TYPE``) and ``seed`` (the seed it
+    was made with: the one drawn for ``seed=None``, so that the design can be made
+    again)."""
 
-    def __init__(self, raw: Dict[str, Any], frozen: Dict[str, Any]) -> None:
+    def __init__(self, raw: Dict[str, Any], frozen: Dict[str, Any], seed: Any = 0) -> None:
+        self.seed: Any = seed
         self.space: list = raw["space"]
         # The correlation as the command line writes it ("1.0,0.7;0.7,1.0"), or None:
         # with the space, all that design_figures needs to reproduce the figures.
@@ -65,10 +69,13 @@ class Design:
         return f"Design({len(self)} points: {' '.join(self.space)})"
 
     def to_frame(self) -> Any:
-        """The columns as a pandas DataFrame (needs pandas)."""
+        """The columns as a pandas DataFrame (needs pandas), with the design's seed in
+        ``attrs["seed"]``."""
         import pandas as pd  # optional: only this method needs it
 
-        return pd.DataFrame(self.columns, columns=self.names)
+        frame = pd.DataFrame(self.columns, columns=self.names)
+        frame.attrs["seed"] = getattr(self, "seed", 0)
+        return frame
 
     def table(self) -> Any:
         """A pandas DataFrame when pandas is installed, else the dict of columns."""
@@ -89,14 +96,18 @@ def design(n: int, space: Any, **kwargs: Any) -> Design:
     distributions (mapped through their ``ppf``). ``correlation`` (a k × k matrix over
     the continuous variables, in their order) correlates them by a Gaussian copula; the
     figures are then those of the independent scores. The set is made in the unit cube with
-    every other option of :func:`generate` (``goal``, ``seed``, ...), then every level
+    every other option of :func:`generate` (``goal``, ``seed``, ...; ``seed=None`` draws a
+    fresh seed, kept in :attr:`Design.seed`, see "Seeds" in docs/python.md), then every level
     count is made ⌊n/L⌋ or ⌈n/L⌉, pairs of unordered factors balanced, and the
     continuous columns stratified within every level of every unordered factor.
     """
     _items, frozen = _space_items(space)
+    if "seed" in kwargs:
+        kwargs["seed"] = _fresh_seed(kwargs["seed"])
+    seed = kwargs.get("seed", 0)
     kwargs = _design_kwargs(n, space, kwargs)
     _warn_if_long(kwargs)
-    return Design(_core.design(**kwargs), frozen)
+    return Design(_core.design(**kwargs), frozen, seed)
 
 
 def design_figures(table: Any, space: Any, correlation: Any = None) -> Dict[str, Any]:

@@ -15,7 +15,7 @@ import numpy as np
 from . import _core
 from ._generate import generate
 from ._request import _check_generate
-from ._validate import _engine_seed, _int
+from ._validate import _engine_seed, _fresh_seed, _int
 
 # Arguments of `generate` that an Engine sets itself or cannot take (it draws in the
 # unit cube).
@@ -126,8 +126,10 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
         ``'cells'`` or ``'shift'`` or options describe the set, which need it).
     seed, rng : optional
         Seed of the shifts: an int, a ``numpy.random.Generator`` or None (give one of
-        the two; ``rng`` is SciPy's newer name). The optimised set itself does not depend
-        on it (it is generated with ``generate``'s own ``seed``, default 0).
+        the two; ``rng`` is SciPy's newer name); None draws a fresh seed (see "Seeds" in
+        docs/python.md). The optimised set itself does not depend on it (it is generated
+        with ``generate``'s own ``seed`` given as ``generate_seed``, default 0; None draws
+        a fresh one when the engine is made, shown in its repr).
     optimization : {None, 'random-cd', 'lloyd'}
         SciPy's post-processing of each draw.
     **generate_kwargs
@@ -191,9 +193,19 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
                 f"invalid d = {d}: the sequence reaches {_SEQUENCE_MAX_D} dimensions; for "
                 "more use draws='independent' (a set made for each n)"
             )
+        # A text goes to SciPy, which names the methods it has (in any case); anything
+        # else would fail there as an AttributeError.
+        if optimization is not None and not isinstance(optimization, str):
+            raise ValueError(
+                f"invalid optimization = {optimization!r}: expected None, 'random-cd' or "
+                "'lloyd' (SciPy's post-processing of each draw)"
+            )
         self._draws = draws
         if "generate_seed" in kwargs:
-            kwargs["seed"] = kwargs.pop("generate_seed")
+            # Drawn once here for None, so that every draw, copy and pickle of the engine
+            # randomises the same set (the seed shows in repr and in _init_quad).
+            kwargs["seed"] = _fresh_seed(kwargs.pop("generate_seed"))
+            generate_kwargs = {**generate_kwargs, "generate_seed": kwargs["seed"]}
         # Refuse bad generate arguments now rather than at the first draw.
         if d > 0:
             _check_generate(2, d, randomize=kind, **kwargs)

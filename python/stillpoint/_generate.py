@@ -12,14 +12,14 @@ import numpy as np
 from . import _core
 from ._design import design
 from ._request import _warn_if_long
-from ._validate import _arrays, _points
+from ._validate import _arrays, _fresh_seed, _points
 
 
 def generate(
     n: int,
     d: Optional[int] = None,
     *,
-    seed: int = 0,
+    seed: Optional[int] = 0,
     method: Optional[str] = None,
     energy: Optional[str] = None,
     integrator: Optional[str] = None,
@@ -46,8 +46,10 @@ def generate(
     n, d : int
         Number of points (>= 1) and dimension (>= 1; may be omitted when ``region`` /
         ``shape`` gives it).
-    seed : int
-        Seed of every random choice (the random start; a baseline's scramble).
+    seed : int or None
+        Seed of every random choice (the random start; a baseline's scramble; a
+        randomisation). The default 0 gives the same points on every call; None draws a
+        fresh seed (independent randomisations, see "Seeds" in docs/python.md).
     method : str, optional
         ``'paper'`` (or ``'dem'``: the paper's pipeline above) or a baseline's name
         (``'sobol'``, ``'halton-scrambled'``, ``'lhs'``, ... see :func:`baselines`),
@@ -106,6 +108,7 @@ def generate(
         generators that differ: how many columns will reuse one (the command line's
         note).
     """
+    seed = _fresh_seed(seed)
     if later.get("space") is not None:
         # Every option goes to the library, which refuses those a space does not take.
         for name, value in (("method", method), ("energy", energy), ("integrator", integrator),

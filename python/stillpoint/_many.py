@@ -108,10 +108,12 @@ def generate_many(
     if not reqs:
         return []
     if executor is not None:
-        if not callable(getattr(executor, "submit", None)):
+        # A class (ThreadPoolExecutor rather than ThreadPoolExecutor()) has submit too,
+        # as a function awaiting its instance.
+        if isinstance(executor, type) or not callable(getattr(executor, "submit", None)):
             raise ValueError(
                 f"invalid executor = {executor!r}: expected a concurrent.futures.Executor "
-                "(an object with submit)"
+                "instance (an object with submit), such as ThreadPoolExecutor()"
             )
         return _collect(executor, reqs)
     cores = os.cpu_count() or 1

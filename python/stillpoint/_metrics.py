@@ -50,9 +50,20 @@ def metrics(
     if shape is not None:
         request["shape"] = shape
     if box is not None:
-        request["box"] = [float(v) for v in np.ravel(np.asarray(box, dtype=np.float64))]
+        try:
+            request["box"] = [float(v) for v in np.ravel(np.asarray(box, dtype=np.float64))]
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"invalid box = {box!r}: expected LO1,HI1,LO2,HI2,... (numbers)"
+            ) from None
     if constraints is not None:
         texts = _constraint_texts(constraints, "constraints")
+        if not isinstance(texts, (str, list, tuple)):
+            raise ValueError(
+                f"invalid constraints = {constraints!r}: expected a linear constraint as "
+                "text, such as \"x1 + 2*x2 <= 1\", a pair (a, b) meaning a·x <= b, or a "
+                "list of them"
+            )
         request["constraints"] = [texts] if isinstance(texts, str) else list(texts)
     return _core.metrics(_points(x), **request)
 

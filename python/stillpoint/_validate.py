@@ -7,6 +7,7 @@ spelled it."""
 from __future__ import annotations
 
 import operator
+import secrets
 from typing import Any, Dict, Optional
 
 import numpy as np
@@ -107,6 +108,14 @@ def _constraint_texts(value: Any, key: str) -> Any:
         return f"{terms} <= {b!r}"
 
     return [text(item) for item in value]
+
+
+def _fresh_seed(value: Any) -> Any:
+    """A seed as the package reads it (see "Seeds" in docs/python.md): ``None`` draws a
+    fresh one from the operating system's entropy, a whole number in [0, 2^64), as
+    NumPy's ``default_rng(None)`` does; anything else goes to the library as given, which
+    checks it and refuses it naming ``seed``."""
+    return secrets.randbits(64) if value is None else value
 
 
 def _engine_seed(name: str, value: Any) -> Any:

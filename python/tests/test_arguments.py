@@ -274,46 +274,77 @@ def test_extreme_coefficients_are_the_constraint_they_write(constraint):
 
 # --- Ctrl-C ----------------------------------------------------------------------------
 
+# Each call is run REPS times in one process, each time interrupted: a helper thread
+# waits for an event set just before the call and then sends SIGINT. The helper needs
+# the GIL to send it, which the main thread gives up when the call releases it; so the
+# signal lands in the call, and a signal that came before it would raise
+# KeyboardInterrupt just the same. Nothing here waits for a time: the calls are made
+# long (many seconds on a fast machine, see CALLS), so that "finished" means the signal
+# was not honoured, never that the machine was quick.
 _INTERRUPT = r"""
-import os, signal, sys, threading, time
+import os, signal, sys, threading, time, warnings
 import numpy as np
 import stillpoint as sp
-x = np.random.default_rng(0).random((40000, 5))
+# As an interactive Python has it, even when this process started with SIGINT ignored
+# (a child of a background shell): the signal must raise KeyboardInterrupt.
+signal.signal(signal.SIGINT, signal.default_int_handler)
+warnings.simplefilter("ignore", RuntimeWarning)  # the long-call warning
+x = np.random.default_rng(0).random((12000, 5))
 sp.metrics(x[:50])  # warm the module
+go = threading.Event()
+sent = []
 def stop():
-    time.sleep(1.0)
-    global sent
-    sent = time.monotonic()
+    go.wait()
+    sent.append(time.monotonic())
     os.kill(os.getpid(), signal.SIGINT)
-sent = None
-threading.Thread(target=stop, daemon=True).start()
-try:
-    CALL
-    print("finished")
-except KeyboardInterrupt:
-    print(f"interrupted {time.monotonic() - sent:.3f}")
+for _ in range(REPS):
+    go.clear()
+    sent.clear()
+    helper = threading.Thread(target=stop, daemon=True)
+    helper.start()
+    try:
+        go.set()
+        CALL
+        print("finished", flush=True)
+        break
+    except KeyboardInterrupt:
+        print(f"interrupted {time.monotonic() - sent[0]:.3f}", flush=True)
+    helper.join()
+    # The next call runs normally: the stop request is cleared.
+    assert sp.generate(16, 2).shape == (16, 2)
 """
 
+_REPS = 5
 
-@pytest.mark.parametrize(
-    "call",
-    [
-        "sp.metrics(x, exact=True)",
-        "sp.metrics(x[:, :3])",
-        "sp.discrepancy(np.vstack([x, x]), 'md')",
-        "sp.metrics(x[:30000, :2] * 0.5, shape='ball:1@0.5,0.5')",
-        "sp.design(20000, ['x=uniform(0,1)', 'y=normal(0,1)', 'c={a,b}'])",
-        "sp.generate(3000, 3, mixture=True)",
-    ],
-)
-def test_ctrl_c_stops_a_long_call_within_half_a_second(call):
+# Seconds of work each on a 2-core machine, and far longer than the few milliseconds the
+# helper takes to send the signal once the call has begun. An interrupted call's worker
+# is waited for by the next call (which then runs normally), so each is also small
+# enough for that wait not to slow the repetitions down.
+_CALLS = [
+    "sp.metrics(x, exact=True)",
+    "sp.metrics(x[:, :3], exact=True)",
+    "sp.discrepancy(np.vstack([x, x, x]), 'md')",
+    "sp.metrics(np.vstack([x, x])[:, :2] * 0.5, shape='ball:1@0.5,0.5')",
+    "sp.design(20000, ['x=uniform(0,1)', 'y=normal(0,1)', 'c={a,b}'])",
+    "sp.generate(8000, 5, target='blend')",
+    "sp.generate(3000, 3, mixture=True)",
+]
+
+
+@pytest.mark.parametrize("call", _CALLS)
+def test_ctrl_c_stops_a_long_call_every_time(call):
     done = subprocess.run(
-        [sys.executable, "-c", _INTERRUPT.replace("CALL", call)],
+        [sys.executable, "-c", _INTERRUPT.replace("CALL", call).replace("REPS", str(_REPS))],
         capture_output=True,
         text=True,
-        timeout=120,
         cwd=pathlib.Path(__file__).parent,
     )
-    out = done.stdout.strip()
-    assert out.startswith("interrupted"), (out, done.stderr)
-    assert float(out.split()[1]) < 0.5, out
+    lines = done.stdout.split()
+    assert done.returncode == 0, (done.stdout, done.stderr)
+    assert lines[::2] == ["interrupted"] * _REPS, (done.stdout, done.stderr)
+    # From the signal to KeyboardInterrupt: the call looks at the signals every 50 ms
+    # and waits at most 0.3 s more for its worker. The bound is ten times that: the
+    # threads that poll and raise are the last to be scheduled on a loaded machine, and
+    # this is a promise about not hanging, not a speed claim.
+    latencies = [float(v) for v in lines[1::2]]
+    assert max(latencies) < 3.5, latencies

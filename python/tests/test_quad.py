@@ -184,6 +184,33 @@ def test_ctrl_c_is_not_swallowed():
     assert len(calls) == 2
 
 
+def test_a_real_sigint_stops_quad_every_time():
+    import os
+    import signal
+
+    # The integrand itself says the run is under way: it sends SIGINT to this process
+    # at its second call, so the signal lands inside quad however fast the machine is.
+    # The tolerance is out of reach, so only the signal can end the run.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        for _ in range(5):
+            calls = []
+
+            def f(x):
+                calls.append(len(x))
+                if len(calls) == 2:
+                    os.kill(os.getpid(), signal.SIGINT)
+                return product_peak(x)
+
+            with pytest.raises(KeyboardInterrupt):
+                sp.quad(f, 3, rel_tol=1e-15, max_n=2**40, seed=10)
+            assert 2 <= len(calls) <= 3
+            # The next call runs normally.
+            assert sp.quad(product_peak, 2, rel_tol=1e-2, seed=1).met
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
 
 def test_progress_true_writes_one_line_per_round(capsys):
     rounds = []

@@ -234,8 +234,24 @@ impl Resolver<'_> {
         }
     }
 
-    fn bad(&self, name: &str, value: impl std::fmt::Display, expected: impl Into<String>) -> Error {
-        Error::invalid((self.spell)(name), value, expected)
+    /// The refusal of option `name` for the value `typed`, which is the value as the
+    /// front end received it (never a meaning made of it, such as a description).
+    fn bad(&self, name: &str, typed: &Arg, expected: impl Into<String>) -> Error {
+        Error::invalid((self.spell)(name), typed, expected)
+    }
+
+    /// The refusal of the option `name` as given in the request (a combination that
+    /// cannot keep its promise): its value as typed, or `none` when it is not given.
+    fn refuse(&self, name: &str, expected: impl Into<String>) -> Error {
+        match self.r.get(name) {
+            Some(typed) => self.bad(name, typed, expected),
+            None => self.absent(name, expected),
+        }
+    }
+
+    /// The refusal of a missing option `name`: `none` stands for its value.
+    fn absent(&self, name: &str, expected: impl Into<String>) -> Error {
+        Error::invalid((self.spell)(name), "none", expected)
     }
 
     fn word(&self, name: &str, arg: &Arg, expected: &str) -> Result<String, Error> {
@@ -364,20 +380,12 @@ impl Resolver<'_> {
         if self.flag("exact", &r.exact)? {
             cfg.sums = crate::quality::metrics::Sums::EXACT;
         }
-        sequences::check_size(cfg.n, cfg.s).map_err(|e| match e {
-            Error::InvalidArgument {
-                name,
-                value,
-                expected,
-            } => Error::invalid((self.spell)(&name), value, expected),
-            other => other,
-        })?;
+        sequences::check_size(cfg.n, cfg.s).map_err(|e| self.too_large(e, cfg.n))?;
         let bounds = match &r.bounds {
             None => None,
             Some(_) if in_region => {
-                return Err(self.bad(
+                return Err(self.refuse(
                     "bounds",
-                    r.bounds.as_ref().map_or(String::new(), |b| b.to_string()),
                     format!(
                         "no bounds in a region: its points are in its own coordinates \
                          already ({} scales the unit cube)",
@@ -421,9 +429,8 @@ impl Resolver<'_> {
             }
         }
         if let Some(name) = r.first_given(Group::Placement) {
-            return Err(self.bad(
+            return Err(self.refuse(
                 name,
-                "given with a design space",
                 format!(
                     "no {} with {option}: a design's variables carry their own ranges and \
                      distributions, and its levels and slices are dealt from one whole \
@@ -490,11 +497,12 @@ impl Resolver<'_> {
             .map(|d| d.name)
             .find(|n| r.given(n));
         if let Some(name) = refused {
-            return Err(self.bad(
+            return Err(self.refuse(
                 name,
-                format!("given with the baseline {}", baseline.name()),
                 format!(
-                    "a baseline takes only {}, {}, {} and {}",
+                    "no {} with the baseline {}: a baseline takes only {}, {}, {} and {}",
+                    (self.spell)(name),
+                    baseline.name(),
                     (self.spell)("n"),
                     (self.spell)("s"),
                     (self.spell)("seed"),
@@ -505,9 +513,9 @@ impl Resolver<'_> {
         let n = self.n_points()?;
         let s = match &r.s {
             Some(a) => self.count("s", a, 1, "at least 1 dimension")?,
-            None => return Err(self.bad("s", "none", "the dimension (at least 1)")),
+            None => return Err(self.absent("s", "the dimension (at least 1)")),
         };
-        sequences::check_size(n, s)?;
+        sequences::check_size(n, s).map_err(|e| self.too_large(e, n))?;
         let bounds = match &r.bounds {
             Some(a) => Some(self.bounds(a, s)?),
             None => None,
@@ -525,10 +533,31 @@ impl Resolver<'_> {
         }))
     }
 
+    /// A refusal of the run's size (n and s together) by the library's check, naming
+    /// the option that gave the size with its value as typed: the nested sizes, whose last
+    /// is n, or n itself (with a set to extend, the points to add; the total `n` is said).
+    fn too_large(&self, e: Error, n: usize) -> Error {
+        match e {
+            Error::InvalidArgument { name, expected, .. } => {
+                let option = if name == "n" && self.r.nested.is_some() {
+                    "nested"
+                } else {
+                    name.as_str()
+                };
+                let total = match &self.r.extend {
+                    Some(_) if option == "n" => format!(" (with the kept points, {n})"),
+                    _ => String::new(),
+                };
+                self.refuse(option, format!("{expected}{total}"))
+            }
+            other => other,
+        }
+    }
+
     fn n_points(&self) -> Result<usize, Error> {
         match &self.r.n {
             Some(a) => self.count("n", a, 1, "at least 1 point"),
-            None => Err(self.bad("n", "none", "the number of points (at least 1)")),
+            None => Err(self.absent("n", "the number of points (at least 1)")),
         }
     }
 
@@ -609,9 +638,8 @@ impl Resolver<'_> {
                     GoalName::SpaceFilling => "space-filling",
                 };
                 if paper {
-                    return Err(self.bad(
+                    return Err(self.refuse(
                         "goal",
-                        name,
                         format!(
                             "no {} with {} paper (the paper's method is its own pipeline)",
                             spell("goal"),
@@ -622,12 +650,13 @@ impl Resolver<'_> {
                 if let (Some(first), false) =
                     (expert.first(), in_region && g == GoalName::SpaceFilling)
                 {
-                    return Err(self.bad(
+                    return Err(self.refuse(
                         first,
-                        format!("given with the goal {name}"),
                         format!(
-                            "the paper's options only with {} paper (or no {}); a goal \
-                             chooses its own pipeline",
+                            "no {} with {} {name}: the paper's options only with {} paper \
+                             (or no {}); a goal chooses its own pipeline",
+                            spell(first),
+                            spell("goal"),
                             spell("method"),
                             spell("goal")
                         ),
@@ -635,9 +664,8 @@ impl Resolver<'_> {
                 }
                 match g {
                     GoalName::Integration if in_region && r.extend.is_some() => {
-                        return Err(self.bad(
+                        return Err(self.refuse(
                             "extend",
-                            "given with the integration goal in a region",
                             format!(
                                 "{} only with the space-filling run in a region (the \
                                  integration goal makes the whole set)",
@@ -646,9 +674,8 @@ impl Resolver<'_> {
                         ))
                     }
                     GoalName::Integration if in_region && target.is_some() => {
-                        return Err(self.bad(
+                        return Err(self.refuse(
                             "target",
-                            "given with the integration goal in a region",
                             "no target in a region: its discrepancies are those of the unit \
                              cube; the goal there lowers the energy distance",
                         ))
@@ -662,9 +689,8 @@ impl Resolver<'_> {
         };
         match (goal, target) {
             (Goal::Integration(_), Some(t)) => Ok(Goal::Integration(t)),
-            (_, Some(t)) => Err(self.bad(
+            (_, Some(_)) => Err(self.refuse(
                 "target",
-                t.name(),
                 "a target only with the integration goal (the cube's default); this run's \
                  pipeline is the paper's or space-filling",
             )),
@@ -731,7 +757,9 @@ impl Resolver<'_> {
         };
         if let Some(a) = randomize {
             let kind = match a {
+                // `true` (Python's True, the command line's bare flag): the recommended one.
                 Arg::Bool(true) => Randomize::Tent,
+                Arg::Text(t) if t.trim().eq_ignore_ascii_case("true") => Randomize::Tent,
                 _ => Randomize::parse(&self.word("randomize", a, Randomize::EXPECTED)?)
                     .map_err(|_| self.bad("randomize", a, Randomize::EXPECTED))?,
             };
@@ -751,11 +779,12 @@ impl Resolver<'_> {
                 };
                 return Err(self.bad(
                     "randomize",
-                    format!("{a} with {}", (self.spell)(with)),
+                    a,
                     format!(
-                        "no randomisation of a grown set: it would move the kept points \
-                         ({}) and unstratify the prefixes ({}); randomise a set made for \
-                         its size instead",
+                        "no randomisation of a grown set (here with {}): it would move the \
+                         kept points ({}) and unstratify the prefixes ({}); randomise a set \
+                         made for its size instead",
+                        (self.spell)(with),
                         (self.spell)("extend"),
                         (self.spell)("nested")
                     ),
@@ -767,20 +796,21 @@ impl Resolver<'_> {
                 if !matches!(cfg.goal, Goal::Integration(_)) {
                     return Err(self.bad(
                         "randomize",
-                        format!(
-                            "{} with this run's pipeline (the paper's or space-filling)",
-                            kind.name()
-                        ),
+                        a,
                         "tent with the integration goal (the cube's default), which makes \
-                         the lattice tent is for; cells or shift randomise other sets",
+                         the lattice tent is for, not with this run's pipeline (the paper's \
+                         or space-filling); cells or shift randomise other sets",
                     ));
                 }
                 if r.target.is_some() {
-                    return Err(self.bad(
+                    return Err(self.refuse(
                         "target",
-                        format!("given with {} tent", (self.spell)("randomize")),
-                        "no target: the lattice for the tent randomisation is chosen by \
-                         its own criterion (the randomised estimate's mean square error)",
+                        format!(
+                            "no target with {} tent: the lattice for the tent randomisation \
+                             is chosen by its own criterion (the randomised estimate's mean \
+                             square error)",
+                            (self.spell)("randomize")
+                        ),
                     ));
                 }
             }
@@ -801,11 +831,11 @@ impl Resolver<'_> {
         };
         let plain = cfg.extend.is_none() && cfg.nested.is_empty() && cfg.randomize.is_none();
         if asked && (in_region || !plain) {
-            return Err(self.bad(
+            return Err(self.refuse(
                 "target",
-                "lattice with a region, a set to extend, nested sizes or a randomisation",
                 format!(
-                    "lattice alone in the cube: it is one set made for its size ({} \
+                    "lattice alone in the cube (no region, set to extend, nested sizes or \
+                     randomisation): it is one set made for its size ({} \
                      tent randomises the lattice made for it)",
                     (self.spell)("randomize")
                 ),
@@ -832,9 +862,8 @@ impl Resolver<'_> {
         let name = if mixture { "mixture" } else { "constraints" };
         for (other, given) in [("region", r.region.is_some()), ("shape", r.shape.is_some())] {
             if given {
-                return Err(self.bad(
+                return Err(self.refuse(
                     other,
-                    format!("given with {}", (self.spell)(name)),
                     format!(
                         "no {} with {}: the constraints cut the box {} gives",
                         (self.spell)(other),
@@ -850,9 +879,8 @@ impl Resolver<'_> {
             ("init", matches!(r.init, Some(Arg::Points(_)))),
         ];
         if let (true, Some((other, _))) = (mixture, points.iter().find(|p| p.1)) {
-            return Err(self.bad(
+            return Err(self.refuse(
                 other,
-                format!("points given with {}", (self.spell)("mixture")),
                 format!(
                     "no {} points with {}: the set is made whole, from a start of its own",
                     (self.spell)(other),
@@ -925,11 +953,7 @@ impl Resolver<'_> {
             ),
         ] {
             if given {
-                return Err(self.bad(
-                    name,
-                    "given for a region",
-                    format!("not in a region: {why}"),
-                ));
+                return Err(self.refuse(name, format!("not in a region: {why}")));
             }
         }
         Ok(energy_word)
@@ -970,17 +994,17 @@ impl Resolver<'_> {
         let n = match &old {
             Some(p) => {
                 if p.s() != dim {
-                    return Err(self.bad(
-                        "extend",
-                        format!("{} points in {} dimensions", p.n(), p.s()),
-                        format!("points of the region's dimension, {dim}"),
-                    ));
+                    return Err(
+                        self.refuse("extend", format!("points of the region's dimension, {dim}"))
+                    );
                 }
                 if let Some(i) = p.rows().position(|x| !domain.contains(x)) {
-                    return Err(self.bad(
+                    return Err(self.refuse(
                         "extend",
-                        format!("point {} outside the region", i + 1),
-                        "old points inside the run's region",
+                        format!(
+                            "old points inside the run's region; point {} is outside",
+                            i + 1
+                        ),
                     ));
                 }
                 self.grown(m, p.n())?
@@ -1001,7 +1025,7 @@ impl Resolver<'_> {
             domain: cfg
                 .region()
                 .cloned()
-                .ok_or_else(|| self.bad("region", "none", "a region"))?,
+                .ok_or_else(|| self.absent("region", "a region"))?,
             description,
         };
         cfg.energy = match energy_word.as_deref() {
@@ -1012,22 +1036,16 @@ impl Resolver<'_> {
                 None => 8.0,
             }),
             Some(_) => {
-                return Err(self.bad(
-                    "energy",
-                    r.energy.as_ref().map_or(String::new(), |a| a.to_string()),
-                    "in a region e-inf-g (eq. 56), e-inf or e-p-g",
-                ))
+                return Err(self.refuse("energy", "in a region e-inf-g (eq. 56), e-inf or e-p-g"))
             }
         };
         cfg.init = match &r.init {
             None => Init::Random,
             Some(Arg::Points(p)) => {
                 if p.s() != dim || p.n() != cfg.n - old.as_ref().map_or(0, |o| o.n()) {
-                    return Err(self.bad(
-                        "init",
-                        format!("{} points in {} dimensions", p.n(), p.s()),
-                        format!("{} points in {dim} dimensions", cfg.n),
-                    ));
+                    return Err(
+                        self.refuse("init", format!("{} points in {dim} dimensions", cfg.n))
+                    );
                 }
                 Init::Points(p.clone())
             }
@@ -1042,12 +1060,8 @@ impl Resolver<'_> {
     }
 
     fn box_alone(&self) -> Error {
-        self.bad(
+        self.refuse(
             "box",
-            self.r
-                .bbox
-                .as_ref()
-                .map_or(String::new(), |a| a.to_string()),
             format!(
                 "a box only with {} EXPR or {} polytope:FILE (it bounds them)",
                 (self.spell)("region"),
@@ -1069,9 +1083,8 @@ impl Resolver<'_> {
         m.checked_add(old)
             .filter(|&t| t as i128 <= MAX_COUNT)
             .ok_or_else(|| {
-                self.bad(
+                self.refuse(
                     "n",
-                    m,
                     format!(
                         "a number of points to add that, with the {old} kept points, stays \
                          within {MAX_COUNT} points"
@@ -1097,18 +1110,12 @@ impl Resolver<'_> {
         };
         for (name, p) in [("extend", &old), ("init", &init_points)] {
             if let Some(p) = p {
-                p.check_unit_cube().map_err(|e| {
-                    self.bad(
-                        name,
-                        format!("{} points", p.n()),
-                        format!("points in [0, 1]^s ({e})"),
-                    )
-                })?;
+                p.check_unit_cube()
+                    .map_err(|e| self.refuse(name, format!("points in [0, 1]^s ({e})")))?;
                 match s {
                     Some(s) if s != p.s() => {
-                        return Err(self.bad(
+                        return Err(self.refuse(
                             "s",
-                            s,
                             format!(
                                 "the dimension of {}, {} (or no {})",
                                 (self.spell)(name),
@@ -1123,11 +1130,10 @@ impl Resolver<'_> {
         }
         if (old.is_some() || r.nested.is_some()) && !integration {
             let name = if old.is_some() { "extend" } else { "nested" };
-            return Err(self.bad(
+            return Err(self.refuse(
                 name,
-                "given with the paper's pipeline or the space-filling goal",
                 format!(
-                    "a grown set needs the integration goal (no {} paper, {} space-filling \
+                    "a grown set (not with the paper's pipeline or the space-filling goal) needs the integration goal (no {} paper, {} space-filling \
                      or paper options)",
                     (self.spell)("method"),
                     (self.spell)("goal")
@@ -1135,9 +1141,8 @@ impl Resolver<'_> {
             ));
         }
         if old.is_some() && r.nested.is_some() {
-            return Err(self.bad(
+            return Err(self.refuse(
                 "nested",
-                "given with extend",
                 format!(
                     "either {} or {} (a nested run builds every stage itself)",
                     (self.spell)("extend"),
@@ -1154,9 +1159,8 @@ impl Resolver<'_> {
                 let m = match &r.n {
                     Some(a) => self.count("n", a, 1, "at least 1 point to add")?,
                     None => {
-                        return Err(self.bad(
+                        return Err(self.absent(
                             "n",
-                            "none",
                             format!(
                                 "{} M: the number of points to add to the {} points (at least 1)",
                                 (self.spell)("n"),
@@ -1171,9 +1175,8 @@ impl Resolver<'_> {
                 if let Some(a) = &r.n {
                     let n = self.count("n", a, 1, "at least 1 point")?;
                     if n != last {
-                        return Err(self.bad(
+                        return Err(self.refuse(
                             "n",
-                            n,
                             format!("the last nested size, {last} (or no {})", (self.spell)("n")),
                         ));
                     }
@@ -1184,9 +1187,8 @@ impl Resolver<'_> {
                 Some(a) => {
                     let n = self.count("n", a, 1, "at least 1 point")?;
                     if n != p.n() {
-                        return Err(self.bad(
+                        return Err(self.refuse(
                             "n",
-                            n,
                             format!(
                                 "the number of init points, {} (or no {})",
                                 p.n(),
@@ -1200,7 +1202,17 @@ impl Resolver<'_> {
             },
             (None, None, None) => self.n_points()?,
         };
-        let s = s.ok_or_else(|| self.bad("s", "none", "the dimension (at least 1)"))?;
+        let s = s.ok_or_else(|| self.absent("s", "the dimension (at least 1)"))?;
+        if n as i128 > MAX_COUNT {
+            // Only nested sizes get here unchecked (a count is refused above MAX_COUNT).
+            sequences::check_size(n, s).map_err(|e| self.too_large(e, n))?;
+            return Err(self.refuse(
+                "nested",
+                format!(
+                    "sizes of at most {MAX_COUNT} points (a set that large does not fit in memory)"
+                ),
+            ));
+        }
         let mut cfg = GenerateConfig::new(n, s);
         self.paper_options(&mut cfg, init_points)?;
         cfg.extend = old;
@@ -1297,14 +1309,15 @@ impl Resolver<'_> {
                 .map_err(|_| self.bad("nested", a, EXPECTED))?,
             other => return Err(self.bad("nested", other, EXPECTED)),
         };
-        if raw.is_empty()
-            || raw[0] < 1
-            || raw.iter().any(|&k| k > MAX_COUNT)
-            || raw.windows(2).any(|w| w[1] <= w[0])
-        {
+        if raw.is_empty() || raw[0] < 1 || raw.windows(2).any(|w| w[1] <= w[0]) {
             return Err(self.bad("nested", a, EXPECTED));
         }
-        Ok(raw.into_iter().map(|k| k as usize).collect())
+        // A size beyond any set's reach is kept as one just beyond it, for the check of
+        // the run's size (which knows s) to refuse with the accepted range.
+        Ok(raw
+            .into_iter()
+            .map(|k| k.min(MAX_COUNT + 1) as usize)
+            .collect())
     }
 }
 
@@ -1363,6 +1376,143 @@ mod tests {
             .to_string();
         assert!(plain.starts_with("invalid log_every = -3"), "{plain}");
         assert!(flag.starts_with("invalid --log-every = -3"), "{flag}");
+    }
+
+    /// Every refusal echoes the value of the option it names as the caller typed it
+    /// (`none` for an option not given), never a description or a value derived from it.
+    #[test]
+    fn every_refusal_echoes_the_value_typed() {
+        let flag = |n: &str| format!("--{}", n.replace('_', "-"));
+        let cases: &[&[(&str, &str)]] = &[
+            &[
+                ("n", "5"),
+                ("s", "2"),
+                ("target", "lattice"),
+                ("goal", "space-filling"),
+            ],
+            &[
+                ("n", "5"),
+                ("s", "2"),
+                ("target", "md"),
+                ("method", "paper"),
+            ],
+            &[
+                ("n", "5"),
+                ("s", "2"),
+                ("target", "Blend"),
+                ("shape", "ball:1"),
+            ],
+            &[
+                ("n", "5"),
+                ("s", "2"),
+                ("target", "lattice"),
+                ("randomize", "cells"),
+            ],
+            &[
+                ("n", "5"),
+                ("s", "2"),
+                ("target", "lattice"),
+                ("nested", "2,5"),
+            ],
+            &[
+                ("n", "5"),
+                ("s", "2"),
+                ("target", "cd"),
+                ("randomize", "tent"),
+            ],
+            &[
+                ("n", "5"),
+                ("s", "2"),
+                ("goal", "integration"),
+                ("method", "paper"),
+            ],
+            &[
+                ("n", "5"),
+                ("s", "2"),
+                ("goal", "space-filling"),
+                ("energy", "md"),
+            ],
+            &[
+                ("n", "5"),
+                ("s", "2"),
+                ("randomize", "tent"),
+                ("goal", "space-filling"),
+            ],
+            &[
+                ("n", "5"),
+                ("s", "2"),
+                ("randomize", "shift"),
+                ("nested", "2,5"),
+            ],
+            &[("n", "5"), ("s", "2"), ("method", "sobol"), ("steps", "10")],
+            &[
+                ("n", "5"),
+                ("s", "2"),
+                ("bounds", "0,1,0,1"),
+                ("shape", "ball:1"),
+            ],
+            &[("n", "5"), ("s", "2"), ("box", "0,1,0,1")],
+            &[
+                ("n", "5"),
+                ("s", "2"),
+                ("shape", "ball:1"),
+                ("energy", "uqp"),
+            ],
+            &[("n", "5"), ("s", "2"), ("shape", "ball:1"), ("shifts", "3")],
+            &[
+                ("n", "5"),
+                ("s", "2"),
+                ("shape", "ball:1"),
+                ("goal", "integration"),
+                ("target", "md"),
+            ],
+            &[
+                ("n", "5"),
+                ("s", "2"),
+                ("nested", "2,5"),
+                ("method", "paper"),
+            ],
+            &[("n", "7"), ("s", "2"), ("nested", "2,5")],
+            &[
+                ("n", "5"),
+                ("s", "2"),
+                ("mixture", "true"),
+                ("shape", "simplex"),
+            ],
+            &[
+                ("n", "5"),
+                ("s", "2"),
+                ("constraints", "x1 <= 0.5"),
+                ("region", "x1"),
+            ],
+            &[("n", "5"), ("space", "x=uniform(0,1)"), ("shape", "ball:1")],
+            &[("n", "5"), ("s", "2"), ("nested", "16,10000000000")],
+            &[("s", "2"), ("nested", "16,100000000000")],
+            &[("s", "2"), ("nested", "1,2,1000000000000000000000000")],
+            &[("n", "10000000000"), ("s", "2")],
+            &[("n", "5")],
+            &[("s", "2")],
+        ];
+        for &case in cases {
+            let mut r = Request::default();
+            for &(name, typed) in case {
+                r.set(name, Arg::Text(typed.into())).unwrap();
+            }
+            let e = r
+                .resolve_as(&flag)
+                .expect_err(&format!("{case:?}"))
+                .to_string();
+            let (head, _) = e.split_once(": expected").expect(&e);
+            let (named, value) = head
+                .strip_prefix("invalid ")
+                .and_then(|h| h.split_once(" = "))
+                .expect(&e);
+            let typed = case
+                .iter()
+                .find(|(name, _)| flag(name) == named)
+                .map_or("none", |(_, typed)| typed);
+            assert_eq!(value, typed, "{case:?}: {e}");
+        }
     }
 
     #[test]
