@@ -14,6 +14,7 @@ import numpy as np
 
 from ._generate import generate
 from ._request import _check_generate
+from ._validate import _executor
 
 
 def _run(request: Dict[str, Any]) -> np.ndarray:
@@ -108,13 +109,7 @@ def generate_many(
     if not reqs:
         return []
     if executor is not None:
-        # A class (ThreadPoolExecutor rather than ThreadPoolExecutor()) has submit too,
-        # as a function awaiting its instance.
-        if isinstance(executor, type) or not callable(getattr(executor, "submit", None)):
-            raise ValueError(
-                f"invalid executor = {executor!r}: expected a concurrent.futures.Executor "
-                "instance (an object with submit), such as ThreadPoolExecutor()"
-            )
+        _executor(executor)
         return _collect(executor, reqs)
     cores = os.cpu_count() or 1
     workers = min(cores, len(reqs))

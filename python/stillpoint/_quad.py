@@ -9,7 +9,6 @@ import concurrent.futures
 import copy
 import math
 import operator
-import secrets
 import sys
 import time
 import types
@@ -20,7 +19,7 @@ import numpy as np
 
 from . import _core
 from ._space import _space_items
-from ._validate import _int
+from ._validate import _executor, _fresh_seed, _int
 
 # Rows per task when f runs on an executor: large enough that sending the points costs
 # little next to an expensive f, small enough that a doubling feeds every worker.
@@ -166,25 +165,7 @@ def _corner(name: str, value: Any, d: int) -> Optional[List[float]]:
 
 def _seed(seed: Any) -> int:
     """A seed for the shifts: a whole number in [0, 2^64), or a fresh one for None."""
-    if seed is None:
-        return secrets.randbits(64)
-    return _int("seed", seed, 0, 2**64 - 1)
-
-
-def _check_executor(executor: Any) -> None:
-    """Refuses what is not an executor instance, naming ``executor``."""
-    if executor is None:
-        return
-    if isinstance(executor, type):
-        raise TypeError(
-            f"invalid executor = {executor!r}: expected an executor instance, e.g. "
-            f"{executor.__name__}(), not the class"
-        )
-    if not callable(getattr(executor, "submit", None)):
-        raise ValueError(
-            f"invalid executor = {executor!r}: expected a concurrent.futures.Executor "
-            "(an object with submit)"
-        )
+    return _int("seed", _fresh_seed(seed), 0, 2**64 - 1)
 
 
 def _returned(y: Any) -> str:
@@ -384,7 +365,7 @@ def quad(
         raise ValueError(f"invalid f = {f!r}: expected a callable taking an (n, d) array")
     report = _progress(progress)
     d = _int("d", d, 1, 100)
-    _check_executor(executor)
+    _executor(executor)
     given = {
         "abs_tol": abs_tol,
         "rel_tol": rel_tol,

@@ -118,6 +118,25 @@ def _fresh_seed(value: Any) -> Any:
     return secrets.randbits(64) if value is None else value
 
 
+def _executor(executor: Any) -> None:
+    """Refuses what is not an executor instance, naming ``executor``: a class
+    (``ThreadPoolExecutor`` rather than ``ThreadPoolExecutor()``, whose ``submit`` is a
+    function awaiting its instance) is a TypeError, an object without ``submit`` a
+    ValueError."""
+    if executor is None:
+        return
+    if isinstance(executor, type):
+        raise TypeError(
+            f"invalid executor = {executor!r}: expected an executor instance, e.g. "
+            f"{executor.__name__}(), not the class"
+        )
+    if not callable(getattr(executor, "submit", None)):
+        raise ValueError(
+            f"invalid executor = {executor!r}: expected a concurrent.futures.Executor "
+            "(an object with submit)"
+        )
+
+
 def _engine_seed(name: str, value: Any) -> Any:
     """An engine's seed as NumPy's ``default_rng`` takes it: None, a generator (or bit
     generator, seed sequence) as given, or a whole number >= 0 (any integer type);
