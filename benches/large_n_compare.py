@@ -14,7 +14,7 @@ and prints the largest relative difference): it cancels from the before/after qu
 which is then the default's RMS after over its RMS before. What is left is which 16
 instances were drawn: on fixed integrands a deterministic rule's error is one draw per
 instance (and its seeds need not differ: with every shift tried, seeds 1–3 give the same
-set up to the order of the points). So the quotient is bootstrapped over the instances,
+set in some cells). So the quotient is bootstrapped over the instances,
 paired (the same resampled instances before and after, each cell resampled on its own),
 2 000 times; SE is the standard deviation of the log of the per-s geometric mean (or of a
 cell's quotient). To it is added, from s = 2 on, the spread of the choice of shift itself:
