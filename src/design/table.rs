@@ -219,6 +219,12 @@ impl Design {
                         }
                         m.cdf(x)
                     }
+                    // The path's value for now; the row's paths go back together below.
+                    Kind::Path { path, .. } => cell
+                        .parse()
+                        .ok()
+                        .filter(|x: &f64| x.is_finite())
+                        .ok_or_else(|| bad(format!("a finite number ({})", path.text())))?,
                     Kind::Integer { lo, hi } => {
                         let x = whole(cell)
                             .filter(|x| (lo..=hi).contains(&x))
@@ -238,10 +244,15 @@ impl Design {
                 };
                 unit.push(u);
             }
+            let row = unit.len() - s;
+            for (first, path) in space.paths() {
+                let w = &mut unit[row + first..row + first + path.m];
+                let u = path.unit(w);
+                w.copy_from_slice(&u);
+            }
             if let Some(c) = &space.copula {
                 // The file holds correlated values: back to the independent scores.
-                let row = unit.len() - s;
-                let cont = space.continuous();
+                let cont = space.marginals();
                 let v: Vec<f64> = cont.iter().map(|&j| unit[row + j]).collect();
                 for (k, u) in c.decorrelate(&v).into_iter().enumerate() {
                     unit[row + cont[k]] = u;
