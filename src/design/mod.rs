@@ -147,19 +147,26 @@ impl DesignSpace {
     pub fn correlate(&mut self, option: &str, shown: &str, matrix: Vec<f64>) -> Result<(), Error> {
         let k = self.marginals().len();
         let paths: Vec<String> = self.texts_of(|kind| matches!(kind, Kind::Path { .. }));
-        if !paths.is_empty() && matrix.len() != k * k {
+        if !paths.is_empty() && (k < 2 || matrix.len() != k * k) {
+            let names = self
+                .marginals()
+                .iter()
+                .map(|&j| self.vars[j].name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ");
+            let want = if k < 2 {
+                format!("two or more continuous variables besides the paths (this space has {k}: {names})")
+            } else {
+                format!(
+                    "a {k} × {k} matrix over the continuous variables other than paths ({names})"
+                )
+            };
             return Err(Error::invalid(
                 option,
                 shown,
                 format!(
-                    "a {k} × {k} matrix over the continuous variables other than paths ({}): \
-                     a path ({}) is a Brownian motion of its own, independent of the other \
-                     variables, and takes no correlation",
-                    self.marginals()
-                        .iter()
-                        .map(|&j| self.vars[j].name.as_str())
-                        .collect::<Vec<_>>()
-                        .join(", "),
+                    "{want}: a path ({}) is a Brownian motion of its own, independent of the \
+                     other variables, and takes no correlation",
                     paths.join(", ")
                 ),
             ));
