@@ -50,7 +50,15 @@ fn a_thousand_step_path_is_generated_and_integrated() {
     let out = d.path("w.csv");
     succeeded(
         bin()
-            .args(["generate", "-n", "8", "-q", "--var", "W=brownian(1,1000,pca)", "-o"])
+            .args([
+                "generate",
+                "-n",
+                "8",
+                "-q",
+                "--var",
+                "W=brownian(1,1000,pca)",
+                "-o",
+            ])
             .arg(&out),
         &"generate",
     );
@@ -93,7 +101,10 @@ fn bad_paths_are_refused_on_one_line_naming_the_option_and_the_text() {
         ("W=brownian(0,16)", "T = 0"),
         ("W=brownian(1,0,pca)", "m = 0"),
         ("W=brownian(1,9999)", "m = 9999"),
-        ("W=brownian(1,16,sobol)", "pca (the default), bridge or standard"),
+        (
+            "W=brownian(1,16,sobol)",
+            "pca (the default), bridge or standard",
+        ),
     ] {
         let o = bin()
             .args(["generate", "-n", "8", "--var", var])

@@ -244,14 +244,9 @@ impl Design {
                 };
                 unit.push(u);
             }
-            let row = unit.len() - s;
-            for (first, path) in space.paths() {
-                let w = &mut unit[row + first..row + first + path.m];
-                let u = path.unit(w);
-                w.copy_from_slice(&u);
-            }
             if let Some(c) = &space.copula {
                 // The file holds correlated values: back to the independent scores.
+                let row = unit.len() - s;
                 let cont = space.marginals();
                 let v: Vec<f64> = cont.iter().map(|&j| unit[row + j]).collect();
                 for (k, u) in c.decorrelate(&v).into_iter().enumerate() {
@@ -262,6 +257,20 @@ impl Design {
         let n = unit.len() / s.max(1);
         if n == 0 {
             return Err(Error::invalid(source, "a header only", "at least one row"));
+        }
+        // Each path's values back to its coordinates, all rows at once (its map is made
+        // once).
+        for (first, path) in space.paths() {
+            let w: Vec<f64> = unit
+                .chunks_exact(s)
+                .flat_map(|row| row[first..first + path.m].to_vec())
+                .collect();
+            for (row, u) in unit
+                .chunks_exact_mut(s)
+                .zip(path.unit(&w).chunks_exact(path.m))
+            {
+                row[first..first + path.m].copy_from_slice(u);
+            }
         }
         Ok(Design {
             space: space.clone(),
