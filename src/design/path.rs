@@ -223,14 +223,12 @@ impl Brownian {
             }
             _ => {
                 let mut a = vec![0.0; m * m];
-                let mut z = vec![0.0; m];
                 let mut w = vec![0.0; m];
                 for k in 0..m {
-                    z[k] = 1.0;
-                    self.apply(None, &z, &mut w);
-                    z[k] = 0.0;
-                    for i in 0..m {
-                        a[i * m + k] = w[i];
+                    let unit: Vec<f64> = (0..m).map(|i| f64::from(u8::from(i == k))).collect();
+                    self.apply(None, &unit, &mut w);
+                    for (i, &wi) in w.iter().enumerate() {
+                        a[i * m + k] = wi;
                     }
                 }
                 a
