@@ -71,8 +71,8 @@ pub struct Brownian {
     pub construction: Construction,
 }
 
-/// One step of the bridge: W[mid] = wl·W[left] + wr·W[right] + sd·z (indices on the grid
-/// 0..=m, W[0] = 0).
+/// One step of the bridge: W(mid) = wl·W(left) + wr·W(right) + sd·z (indices on the grid
+/// 0..=m, W(0) = 0).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BridgeStep {
     /// The left end's grid index.
@@ -167,9 +167,9 @@ impl Brownian {
         (1..=self.m).map(|i| i as f64 * self.dt()).collect()
     }
 
-    /// The bridge's order: z_1 fixes W[m] = √T z_1; then, from the queue of intervals
+    /// The bridge's order: z_1 fixes W(m) = √T z_1; then, from the queue of intervals
     /// that starts as [0, m], each interval [l, r] with r − l ≥ 2 is taken in turn, its
-    /// point mid = ⌊(l + r)/2⌋ filled by the next coordinate given W[l] and W[r], and
+    /// point mid = ⌊(l + r)/2⌋ filled by the next coordinate given W(l) and W(r), and
     /// [l, mid], [mid, r] queued behind the others (breadth first). For m a power of two
     /// this is the classic bridge (T, T/2, T/4 and 3T/4, …); for other m the left half
     /// is the shorter one. Returns the m − 1 steps after the first.

@@ -317,7 +317,7 @@ pub fn extension_weight(j: usize) -> f64 {
 /// at that level with the same earlier coordinates is smallest: the minimax of Cools,
 /// Kuo and Nuyens (2006) against the best extension rather than against a separately
 /// built rule. Every candidate is scored at every level at once by the fast
-/// component-by-component transforms ([`super::fast_cbc`]), O(n log n) per level and
+/// component-by-component transforms of Nuyens and Cools, O(n log n) per level and
 /// coordinate. `prefix` is kept as given (each entry taken mod 2^20) with the weights
 /// its positions have. Refuses an empty prefix or d below its length, naming `d`.
 pub fn extend_embedded_generator(prefix: &[u32], d: usize) -> Result<Vec<u32>, Error> {
