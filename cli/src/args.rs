@@ -249,8 +249,10 @@ pub(crate) struct GenerateArgs {
     /// A variable of a design space, repeatable, in column order: NAME=uniform(lo,hi),
     /// normal(mu,sigma), truncnormal(mu,sigma,lo,hi), lognormal(mu,sigma),
     /// beta(a,b[,lo,hi]), triangular(lo,mode,hi), int(lo,hi) (both ends included),
-    /// {a,b,c} (unordered levels) or ordered{low,mid,high}. -s is their count; the CSV
-    /// header holds the names and categorical columns their labels.
+    /// {a,b,c} (unordered levels), ordered{low,mid,high}, or brownian(T,m[,pca|bridge|
+    /// standard]): a standard Brownian motion at t = T/m … T, m columns NAME_1 … NAME_m
+    /// (pca by default). -s is their count of columns; the CSV header holds the names
+    /// and categorical columns their labels.
     #[arg(long = "var", value_name = "NAME=TYPE", allow_hyphen_values = true)]
     pub(crate) var: Vec<String>,
     /// The design space's variables from a JSON file: an array of "NAME=TYPE" strings

@@ -159,7 +159,7 @@ fn refusals_name_the_flag_and_the_value_typed() {
             "invalid --level = 1e5: ",
         ),
         (&["--expr", "1", "-s", "0"][..], "invalid -s = 0: "),
-        (&["--expr", "1", "-s", "101"][..], "invalid -s = 101: "),
+        (&["--expr", "1", "-s", "1001"][..], "invalid -s = 1001: "),
         (
             &["--expr", "1", "-s", "1", "--replicates", "100000"][..],
             "invalid --replicates = 100000: ",

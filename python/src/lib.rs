@@ -469,6 +469,14 @@ fn design_figures<'py>(
     py_value(py, &v)
 }
 
+/// The column names of `space` in order, one per coordinate (a path `W=brownian(1,64)`
+/// gives `W_1` … `W_64`): its dimension and where each variable's values are.
+#[pyfunction]
+fn space_names(space: Vec<String>) -> PyResult<Vec<String>> {
+    let space = parsed_space(&space, None)?;
+    Ok(space.vars.into_iter().map(|v| v.name).collect())
+}
+
 /// Points of the unit cube mapped to the values of `space`, one row per point: each
 /// continuous variable through the copula (if any) and its marginal's quantile function,
 /// each discrete one to its level floor(u·L) (levels equally likely; a label as its index
@@ -671,11 +679,13 @@ fn options<'py>(py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("SEQUENCE_MAX_D", stillpoint::sequences::EXTENSIBLE_MAX_D)?;
     m.add_function(wrap_pyfunction!(generate, m)?)?;
     m.add_function(wrap_pyfunction!(check_generate, m)?)?;
     m.add_function(wrap_pyfunction!(design, m)?)?;
     m.add_function(wrap_pyfunction!(design_figures, m)?)?;
     m.add_function(wrap_pyfunction!(space_values, m)?)?;
+    m.add_function(wrap_pyfunction!(space_names, m)?)?;
     m.add_function(wrap_pyfunction!(estimate, m)?)?;
     m.add_function(wrap_pyfunction!(notes, m)?)?;
     m.add_function(wrap_pyfunction!(discrepancy, m)?)?;

@@ -124,7 +124,7 @@ def design_figures(table: Any, space: Any, correlation: Any = None) -> Dict[str,
         raise ValueError(
             f"invalid table = {table!r}: expected a DataFrame or a dict of columns"
         ) from None
-    names = [it.split("=", 1)[0].strip() for it in items]
+    names = _core.space_names(items)
     missing = [m for m in names if m not in columns]
     if missing:
         raise ValueError(f"invalid table: expected a column for every variable, missing {missing}")

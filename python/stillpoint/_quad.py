@@ -293,7 +293,8 @@ def quad(
         Vectorised: takes an (n, d) array and returns n values, shape (n,), or n rows of
         k outputs, shape (n, k).
     d : int
-        The dimension (1 to 100); with ``space``, the number of its variables.
+        The dimension (1 to 1000); with ``space``, the number of its coordinates (a
+        path ``'brownian(T,m)'`` counts m).
     a, b : array_like, optional
         The box's corners (d numbers each, or one for every dimension), as in
         ``scipy.integrate.qmc_quad``; the estimate includes the volume. Checked as every
@@ -364,7 +365,7 @@ def quad(
     if not callable(f):
         raise ValueError(f"invalid f = {f!r}: expected a callable taking an (n, d) array")
     report = _progress(progress)
-    d = _int("d", d, 1, 100)
+    d = _int("d", d, 1, _core.SEQUENCE_MAX_D)
     _executor(executor)
     given = {
         "abs_tol": abs_tol,
@@ -423,12 +424,13 @@ def _begun(
         if a is not None or b is not None:
             raise ValueError("invalid a, b with space: the space's distributions give the range")
         items, frozen = _space_items(space)
-        if len(items) != d:
+        names = _core.space_names(items)
+        if len(names) != d:
             raise ValueError(
-                f"invalid d = {d}: space has {len(items)} variables; expected d equal to it"
+                f"invalid d = {d}: space has {len(names)} coordinates; expected d equal to it"
             )
         corr = _core.quad_space(items, *_correlation(correlation))
-        setup.update(space=items, frozen=frozen, correlation=corr)
+        setup.update(space=items, names=names, frozen=frozen, correlation=corr)
         # The map is checked once now, so that a bad space is refused before f runs.
         _core.space_values(items, np.full((1, d), 0.5), corr)
     elif correlation is not None:
@@ -568,8 +570,8 @@ def _to_space(u: np.ndarray, setup: Dict[str, Any]) -> np.ndarray:
     # would be infinite, so the points stay inside [0, 1).
     u = np.minimum(u, np.nextafter(1.0, 0.0))
     x = _core.space_values(items, np.ascontiguousarray(u), setup.get("correlation"))
-    for j, name in enumerate(items):
-        law = setup["frozen"].get(name.split("=", 1)[0])
+    for j, name in enumerate(setup["names"]):
+        law = setup["frozen"].get(name)
         if law is not None:
             x[:, j] = law.ppf(x[:, j])
     return x

@@ -63,7 +63,8 @@ def _space_items(space: Any) -> Tuple[list, Dict[str, Any]]:
             else:
                 raise ValueError(
                     f"invalid space {name} = {spec!r}: expected a type as text "
-                    "('normal(0,1)', 'int(1,5)', '{a,b}', 'ordered{lo,hi}'), a list of "
+                    "('normal(0,1)', 'int(1,5)', '{a,b}', 'ordered{lo,hi}', "
+                    "'brownian(1,64,pca)'), a list of "
                     "labels, a range, or a scipy.stats frozen distribution"
                 )
         return items, frozen

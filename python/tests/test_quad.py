@@ -327,7 +327,7 @@ def test_max_n_stops_and_says_the_tolerance_was_not_met():
     "kwargs, name",
     [
         ({"d": 0}, "d"),
-        ({"d": 101}, "d"),
+        ({"d": 1001}, "d"),
         ({"d": 2.5}, "d"),
         ({"rel_tol": -1.0}, "rel_tol"),
         ({"abs_tol": float("nan")}, "abs_tol"),

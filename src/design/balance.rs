@@ -9,7 +9,7 @@
 //!   hypercube when m = n/L is whole), moving each point as little as that allows.
 
 use super::slices::{SliceCounts, Slices};
-use super::{DesignSpace, Kind};
+use super::DesignSpace;
 use crate::PointSet;
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
@@ -60,13 +60,13 @@ pub fn arrange(
         .collect();
     for (j, var) in space.vars.iter().enumerate() {
         match &var.kind {
-            Kind::Continuous(_) if !slices.is_empty() => {
+            kind if kind.is_continuous() && !slices.is_empty() => {
                 let dealt = slice_column(&column(j), &slices);
                 for (i, v) in dealt.into_iter().enumerate() {
                     unit.point_mut(i)[j] = v;
                 }
             }
-            Kind::Continuous(_) => {}
+            kind if kind.is_continuous() => {}
             kind => {
                 let l = kind.levels().unwrap_or(1) as f64;
                 for (i, &k) in levels[j].iter().enumerate() {

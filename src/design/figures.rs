@@ -108,7 +108,7 @@ impl DesignFigures {
         let n = design.n();
         let vars = &design.space.vars;
         let cont: Vec<usize> = (0..vars.len())
-            .filter(|&j| matches!(vars[j].kind, Kind::Continuous(_)))
+            .filter(|&j| vars[j].kind.is_continuous())
             .collect();
         let column = |j: usize, rows: &[usize]| -> Vec<f64> {
             rows.iter().map(|&i| design.unit.point(i)[j]).collect()
@@ -215,7 +215,7 @@ impl<'a> DiscreteDistance<'a> {
             .iter()
             .enumerate()
             .filter_map(|(j, v)| match &v.kind {
-                Kind::Continuous(_) => None,
+                Kind::Continuous(_) | Kind::Path { .. } => None,
                 Kind::Levels { ordered: false, .. } => Some((j, None)),
                 k => Some((j, Some(1.0 / (k.levels().unwrap_or(2).max(2) - 1) as f64))),
             })

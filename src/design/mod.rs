@@ -3,13 +3,15 @@
 //! unit cube, where the discrepancy is defined and optimised, then levels are dealt by
 //! rank (so every level count is as even as n allows), categorical slices are balanced
 //! and stratified ([`balance`]), and each continuous coordinate is mapped through its
-//! marginal's quantile function ([`dist`]). [`figures`] measures the result.
+//! marginal's quantile function ([`dist`]). A path variable ([`path`]) takes m
+//! coordinates and maps them together. [`figures`] measures the result.
 
 pub mod balance;
 pub mod copula;
 pub mod dist;
 pub mod exchange;
 pub mod figures;
+pub mod path;
 pub mod slices;
 pub mod table;
 
@@ -40,16 +42,32 @@ pub enum Kind {
         /// Whether the order of the labels means something (low < mid < high).
         ordered: bool,
     },
+    /// One coordinate W(t_{step+1}) of a Brownian path: `NAME=brownian(T,m,…)` becomes m
+    /// variables `NAME_1` … `NAME_m`, mapped together (see [`path`]).
+    Path {
+        /// The name as typed (`W` for the columns `W_1` … `W_m`).
+        base: String,
+        /// The path.
+        path: path::Brownian,
+        /// Which coordinate of the path, from 0.
+        step: usize,
+    },
 }
 
 impl Kind {
     /// The number of levels of a discrete variable; `None` for a continuous one.
     pub fn levels(&self) -> Option<usize> {
         match self {
-            Kind::Continuous(_) => None,
+            Kind::Continuous(_) | Kind::Path { .. } => None,
             Kind::Integer { lo, hi } => Some((hi - lo) as usize + 1),
             Kind::Levels { labels, .. } => Some(labels.len()),
         }
+    }
+
+    /// Whether the variable is continuous on the unit scale (a marginal's variable or a
+    /// path's coordinate): stratified, sliced and polished there like any other.
+    pub fn is_continuous(&self) -> bool {
+        matches!(self, Kind::Continuous(_) | Kind::Path { .. })
     }
 
     /// Whether this is an unordered categorical factor (the ones that slice the design).
@@ -61,6 +79,7 @@ impl Kind {
     pub fn text(&self) -> String {
         match self {
             Kind::Continuous(m) => m.text(),
+            Kind::Path { path, .. } => path.text(),
             Kind::Integer { lo, hi } => format!("int({lo},{hi})"),
             Kind::Levels { labels, ordered } => {
                 format!(
@@ -94,7 +113,8 @@ pub struct DesignSpace {
 impl DesignSpace {
     /// Parses variables written `NAME=TYPE`: `uniform(lo,hi)`, `normal(mu,sigma)`,
     /// `truncnormal(mu,sigma,lo,hi)`, `lognormal(mu,sigma)`, `beta(a,b[,lo,hi])`,
-    /// `triangular(lo,mode,hi)`, `int(lo,hi)`, `{a,b,c}` or `ordered{low,mid,high}`.
+    /// `triangular(lo,mode,hi)`, `int(lo,hi)`, `{a,b,c}`, `ordered{low,mid,high}` or
+    /// `brownian(T,m[,construction])` (m variables `NAME_1` … `NAME_m`).
     /// `option` names the option in refusals (`--var`, `space`).
     pub fn parse<S: AsRef<str>>(option: &str, items: &[S]) -> Result<DesignSpace, Error> {
         if items.is_empty() {
@@ -106,23 +126,51 @@ impl DesignSpace {
         }
         let mut vars: Vec<Variable> = Vec::with_capacity(items.len());
         for item in items {
-            let v = parse_variable(option, item.as_ref())?;
-            if vars.iter().any(|w| w.name == v.name) {
-                return Err(Error::invalid(
-                    option,
-                    item.as_ref(),
-                    format!("a new name: {} is already a variable", v.name),
-                ));
+            for v in parse_variable(option, item.as_ref())? {
+                if vars.iter().any(|w| w.name == v.name) {
+                    return Err(Error::invalid(
+                        option,
+                        item.as_ref(),
+                        format!("a new name: {} is already a variable", v.name),
+                    ));
+                }
+                vars.push(v);
             }
-            vars.push(v);
         }
         Ok(DesignSpace { vars, copula: None })
     }
 
     /// Correlates the continuous variables (in their order) by a Gaussian copula with
     /// this k × k correlation matrix, row-major; `option` and `shown` name it in refusals.
+    /// A path's coordinates are not among them: they are the path's own normal scores,
+    /// independent of the rest, and a matrix that counts them is refused naming the path.
     pub fn correlate(&mut self, option: &str, shown: &str, matrix: Vec<f64>) -> Result<(), Error> {
-        let k = self.continuous().len();
+        let k = self.marginals().len();
+        let paths: Vec<String> = self.texts_of(|kind| matches!(kind, Kind::Path { .. }));
+        if !paths.is_empty() && (k < 2 || matrix.len() != k * k) {
+            let names = self
+                .marginals()
+                .iter()
+                .map(|&j| self.vars[j].name.as_str())
+                .collect::<Vec<_>>()
+                .join(", ");
+            let want = if k < 2 {
+                format!("two or more continuous variables besides the paths (this space has {k}: {names})")
+            } else {
+                format!(
+                    "a {k} × {k} matrix over the continuous variables other than paths ({names})"
+                )
+            };
+            return Err(Error::invalid(
+                option,
+                shown,
+                format!(
+                    "{want}: a path ({}) is a Brownian motion of its own, independent of the \
+                     other variables, and takes no correlation",
+                    paths.join(", ")
+                ),
+            ));
+        }
         if k < 2 {
             return Err(Error::invalid(
                 option,
@@ -165,10 +213,31 @@ impl DesignSpace {
         )
     }
 
-    /// The indices of the continuous variables.
+    /// The indices of the variables continuous on the unit scale (marginals' variables
+    /// and paths' coordinates).
     pub fn continuous(&self) -> Vec<usize> {
         (0..self.dim())
+            .filter(|&j| self.vars[j].kind.is_continuous())
+            .collect()
+    }
+
+    /// The indices of the variables with a marginal distribution (those a copula
+    /// correlates).
+    pub fn marginals(&self) -> Vec<usize> {
+        (0..self.dim())
             .filter(|&j| matches!(self.vars[j].kind, Kind::Continuous(_)))
+            .collect()
+    }
+
+    /// The paths of the space: each one's first column and its path.
+    pub fn paths(&self) -> Vec<(usize, path::Brownian)> {
+        self.vars
+            .iter()
+            .enumerate()
+            .filter_map(|(j, v)| match &v.kind {
+                Kind::Path { path, step: 0, .. } => Some((j, *path)),
+                _ => None,
+            })
             .collect()
     }
 
@@ -177,11 +246,22 @@ impl DesignSpace {
         self.vars.len()
     }
 
-    /// The variables as `NAME=TYPE`, as they parse back.
+    /// The variables as `NAME=TYPE`, as they parse back (a path once, as
+    /// `W=brownian(1,64,pca)`).
     pub fn texts(&self) -> Vec<String> {
+        self.texts_of(|_| true)
+    }
+
+    /// [`DesignSpace::texts`] of the variables whose kind passes `keep`.
+    fn texts_of(&self, keep: impl Fn(&Kind) -> bool) -> Vec<String> {
         self.vars
             .iter()
-            .map(|v| format!("{}={}", v.name, v.kind.text()))
+            .filter(|v| keep(&v.kind))
+            .filter_map(|v| match &v.kind {
+                Kind::Path { step: 0, base, .. } => Some(format!("{base}={}", v.kind.text())),
+                Kind::Path { .. } => None,
+                kind => Some(format!("{}={}", v.name, kind.text())),
+            })
             .collect()
     }
 
@@ -244,7 +324,7 @@ impl DesignSpace {
     }
 }
 
-fn parse_variable(option: &str, item: &str) -> Result<Variable, Error> {
+fn parse_variable(option: &str, item: &str) -> Result<Vec<Variable>, Error> {
     let bad = |expected: String| Error::invalid(option, item, expected);
     let Some((name, spec)) = item.split_once('=') else {
         return Err(bad(
@@ -266,6 +346,30 @@ fn parse_variable(option: &str, item: &str) -> Result<Variable, Error> {
         ));
     }
     let spec = spec.trim();
+    if let Some(args) = spec
+        .split_once('(')
+        .filter(|(f, _)| f.trim().eq_ignore_ascii_case("brownian"))
+        .map(|(_, rest)| rest)
+    {
+        let Some(args) = args.trim_end().strip_suffix(')') else {
+            return Err(bad(format!(
+                "{name}=brownian(...) with a closing parenthesis"
+            )));
+        };
+        let path = path::Brownian::parse(args, |expected| {
+            Error::invalid(option, item, format!("{name}={expected}"))
+        })?;
+        return Ok((0..path.m)
+            .map(|step| Variable {
+                name: format!("{name}_{}", step + 1),
+                kind: Kind::Path {
+                    base: name.to_string(),
+                    path,
+                    step,
+                },
+            })
+            .collect());
+    }
     let kind = if let Some(body) = braces(spec.strip_prefix("ordered").unwrap_or("")) {
         Kind::Levels {
             labels: labels(option, item, name, body)?,
@@ -279,10 +383,10 @@ fn parse_variable(option: &str, item: &str) -> Result<Variable, Error> {
     } else {
         call(option, item, name, spec)?
     };
-    Ok(Variable {
+    Ok(vec![Variable {
         name: name.to_string(),
         kind,
-    })
+    }])
 }
 
 fn braces(spec: &str) -> Option<&str> {
@@ -338,7 +442,8 @@ fn labels(option: &str, item: &str, name: &str, body: &str) -> Result<Vec<String
 fn call(option: &str, item: &str, name: &str, spec: &str) -> Result<Kind, Error> {
     const TYPES: &str = "uniform(lo,hi), normal(mu,sigma), truncnormal(mu,sigma,lo,hi), \
                          lognormal(mu,sigma), beta(a,b[,lo,hi]), triangular(lo,mode,hi), \
-                         int(lo,hi), {a,b,c} or ordered{low,mid,high}";
+                         int(lo,hi), {a,b,c}, ordered{low,mid,high} or \
+                         brownian(T,m[,construction])";
     let bad = |expected: String| Error::invalid(option, item, expected);
     let Some((func, rest)) = spec.split_once('(') else {
         return Err(bad(format!("{name}= one of {TYPES}")));
@@ -503,10 +608,10 @@ impl Design {
     }
 
     /// The columns as written: continuous values through the copula (if any) and the
-    /// marginal's quantile function, integers, labels.
+    /// marginal's quantile function, paths through their map, integers, labels.
     pub fn columns(&self) -> Vec<Column> {
         let n = self.n();
-        let cont = self.space.continuous();
+        let cont = self.space.marginals();
         // Each continuous variable's uniform score per point, correlated once per point.
         let mut scores: Vec<Vec<f64>> = cont
             .iter()
@@ -521,6 +626,16 @@ impl Design {
             }
         }
         let mut scores = scores.into_iter();
+        // Each path's m coordinates per point, mapped together, then cut into columns.
+        let mut paths: Vec<Vec<f64>> = Vec::new();
+        for (first, path) in self.space.paths() {
+            let m = path.m;
+            let u: Vec<f64> = (0..n)
+                .flat_map(|i| self.unit.point(i)[first..first + m].to_vec())
+                .collect();
+            paths.push(path.paths(&u));
+        }
+        let mut path_at = 0usize;
         self.space
             .vars
             .iter()
@@ -534,6 +649,13 @@ impl Design {
                         .map(|u| m.ppf(u))
                         .collect(),
                 ),
+                Kind::Path { path, step, .. } => {
+                    let w = &paths[path_at];
+                    if step + 1 == path.m {
+                        path_at += 1;
+                    }
+                    Column::Real((0..n).map(|i| w[i * path.m + step]).collect())
+                }
                 Kind::Integer { lo, .. } => {
                     Column::Int(self.levels[j].iter().map(|&l| lo + l as i64).collect())
                 }

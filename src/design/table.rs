@@ -219,6 +219,12 @@ impl Design {
                         }
                         m.cdf(x)
                     }
+                    // The path's value for now; the row's paths go back together below.
+                    Kind::Path { path, .. } => cell
+                        .parse()
+                        .ok()
+                        .filter(|x: &f64| x.is_finite())
+                        .ok_or_else(|| bad(format!("a finite number ({})", path.text())))?,
                     Kind::Integer { lo, hi } => {
                         let x = whole(cell)
                             .filter(|x| (lo..=hi).contains(&x))
@@ -241,7 +247,7 @@ impl Design {
             if let Some(c) = &space.copula {
                 // The file holds correlated values: back to the independent scores.
                 let row = unit.len() - s;
-                let cont = space.continuous();
+                let cont = space.marginals();
                 let v: Vec<f64> = cont.iter().map(|&j| unit[row + j]).collect();
                 for (k, u) in c.decorrelate(&v).into_iter().enumerate() {
                     unit[row + cont[k]] = u;
@@ -251,6 +257,20 @@ impl Design {
         let n = unit.len() / s.max(1);
         if n == 0 {
             return Err(Error::invalid(source, "a header only", "at least one row"));
+        }
+        // Each path's values back to its coordinates, all rows at once (its map is made
+        // once).
+        for (first, path) in space.paths() {
+            let w: Vec<f64> = unit
+                .chunks_exact(s)
+                .flat_map(|row| row[first..first + path.m].to_vec())
+                .collect();
+            for (row, u) in unit
+                .chunks_exact_mut(s)
+                .zip(path.unit(&w).chunks_exact(path.m))
+            {
+                row[first..first + path.m].copy_from_slice(u);
+            }
         }
         Ok(Design {
             space: space.clone(),

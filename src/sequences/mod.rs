@@ -28,8 +28,9 @@ mod sobol_owen;
 
 pub use baseline::Baseline;
 pub use extensible::{
-    embedded_tent_generator, embedded_tent_generator_with_ratios, extensible_shift,
-    ExtensibleLattice, EXTENSIBLE_BITS, EXTENSIBLE_MAX_D, EXTENSIBLE_MAX_POINTS,
+    embedded_tent_generator, embedded_tent_generator_with_ratios, extend_embedded_generator,
+    extensible_shift, extension_weight, ExtensibleLattice, EXTENSIBLE_BITS,
+    EXTENSIBLE_CONSTRUCTED_D, EXTENSIBLE_MAX_D, EXTENSIBLE_MAX_POINTS,
 };
 pub use latin::{lhs, lhs_maximin, maximin_search, LHS_MAXIMIN_MAX_N};
 pub use lattices::{
