@@ -305,7 +305,7 @@ pub fn distinct_generators(n: usize) -> usize {
 
 /// The generators 1 ≤ a ≤ n/2 coprime to n: one of each pair a, n − a, which give the
 /// same lattice coordinate up to sign.
-fn generators(n: u64) -> Vec<u64> {
+pub(super) fn generators(n: u64) -> Vec<u64> {
     (1..=(n / 2).max(1)).filter(|&a| gcd(a, n) == 1).collect()
 }
 
@@ -430,7 +430,7 @@ fn extend_products(prod: &mut [f64], factors: &[f64], z: u64) {
 
 /// Extends the per-point q_k = Π(1 + t) − 1 by the coordinate z: q_k + t + q_k·t with
 /// t = t_{kz mod n}.
-fn extend_terms(q: &mut [f64], terms: &[f64], z: u64) {
+pub(super) fn extend_terms(q: &mut [f64], terms: &[f64], z: u64) {
     let n = q.len();
     let step = (z % n as u64) as usize;
     let mut r = 0usize;
