@@ -6,6 +6,7 @@
 
 pub mod estimate;
 pub mod evaluation;
+pub mod measure;
 pub mod options;
 pub mod request;
 
@@ -116,7 +117,8 @@ impl Resolved {
             ),
             Job::Baseline { seed, .. } => (*seed, Finish::Nothing),
         };
-        let design = crate::design::Design::build(space, &points, seed, finish)?;
+        let rule = self.rule.unwrap_or(measure::CubeRule::Dealt);
+        let design = rule.design(space, &points, seed, finish)?;
         Ok(Outcome {
             points: design.numbers()?,
             report,

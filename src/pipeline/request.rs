@@ -20,6 +20,7 @@ use crate::plan::constraints::{Constrained, ConstraintSpec, Mixture};
 use crate::plan::space::{numbers_text, Bounds, RegionSpec};
 use crate::plan::start::MAX_SHIFTS;
 use crate::post::randomize::Randomize;
+use super::measure::{cube_rule, CubeRule};
 use crate::quality::target::Target;
 use crate::sequences::{self, Baseline};
 use crate::solve::Solver;
@@ -131,10 +132,36 @@ pub struct Resolved {
     pub job: Job,
     /// Scaling of the written points (a cube run with `bounds`).
     pub bounds: Option<Bounds>,
-    /// The design space the set is dealt into (levels, slices, marginals).
+    /// The design space the set is carried into (levels, slices, marginals).
     pub design: Option<DesignSpace>,
+    /// With a design space, how its unit-cube set is made and carried into it, as
+    /// [`cube_rule`] decided once for the request.
+    pub rule: Option<CubeRule>,
     /// The mixture whose last component is appended to the run's points.
     pub mixture: Option<Mixture>,
+}
+
+impl Resolved {
+    /// The request with its design space carried by `rule`: the rule's own construction,
+    /// if it has one, makes the unit-cube set in place of the request's run (same n,
+    /// dimension and seed), so that the run, its estimate and its report all follow the
+    /// rule. The resolution calls it with [`cube_rule`]'s answer.
+    pub fn with_rule(mut self, rule: CubeRule) -> Resolved {
+        if let Some(baseline) = rule.construction() {
+            let (n, s, seed) = match &self.job {
+                Job::Run(cfg) => (cfg.n, cfg.s, cfg.seed),
+                Job::Baseline { n, s, seed, .. } => (*n, *s, *seed),
+            };
+            self.job = Job::Baseline {
+                baseline,
+                n,
+                s,
+                seed,
+            };
+        }
+        self.rule = Some(rule);
+        self
+    }
 }
 
 /// The library's own spelling of a parameter: its name as the request writes it.
@@ -399,13 +426,15 @@ impl Resolver<'_> {
             job: Job::Run(Box::new(cfg)),
             bounds,
             design: None,
+            rule: None,
             mixture,
         })
     }
 
-    /// A run in the unit cube of one coordinate per variable, dealt into the design
-    /// space afterwards: the options that place points elsewhere, grow a set or
-    /// randomise it (the dealing would undo the randomisation's promise) are refused.
+    /// A run in the unit cube of one coordinate per variable, carried into the design
+    /// space afterwards by the rule [`cube_rule`] gives (dealt, or a randomised set
+    /// through each law's inverse CDF): the options that place points elsewhere or grow
+    /// a set are refused.
     fn design(&self) -> Result<Resolved, Error> {
         let r = self.r;
         let option = (self.spell)("space");
@@ -467,8 +496,13 @@ impl Resolver<'_> {
             Job::Baseline { n, .. } => *n,
         };
         space.check_n(&option, n)?;
+        let randomize = match &resolved.job {
+            Job::Run(cfg) => cfg.randomize,
+            Job::Baseline { .. } => None,
+        };
+        let rule = cube_rule(&space, randomize);
         resolved.design = Some(space);
-        Ok(resolved)
+        Ok(resolved.with_rule(rule))
     }
 
     /// A baseline asked for by `method`, which takes only n, s, seed and bounds.
@@ -529,6 +563,7 @@ impl Resolver<'_> {
             },
             bounds,
             design: None,
+            rule: None,
             mixture: None,
         }))
     }
