@@ -177,6 +177,15 @@ impl DesignSpace {
         self.vars.len()
     }
 
+    /// Per coordinate, whether its law is unbounded (normal, lognormal, …): where the
+    /// quantile function, and with it the integrand seen on the cube, blows up at a face.
+    pub fn unbounded(&self) -> Vec<bool> {
+        self.vars
+            .iter()
+            .map(|v| matches!(&v.kind, Kind::Continuous(m) if !m.bounded()))
+            .collect()
+    }
+
     /// The variables as `NAME=TYPE`, as they parse back.
     pub fn texts(&self) -> Vec<String> {
         self.vars

@@ -88,6 +88,9 @@ impl Resolved {
                 s,
                 seed,
             } => (baseline.generate(*n, *s, *seed)?, None),
+            Job::Law { n, unbounded, seed } => {
+                (crate::sequences::law_lattice(*n, unbounded, *seed)?, None)
+            }
             Job::Run(cfg) => {
                 let report = generate_with(cfg, checkpoint, on_event)?;
                 (report.output.points.clone(), Some(report))
@@ -115,7 +118,7 @@ impl Resolved {
                     Goal::Paper => Finish::Nothing,
                 },
             ),
-            Job::Baseline { seed, .. } => (*seed, Finish::Nothing),
+            Job::Baseline { seed, .. } | Job::Law { seed, .. } => (*seed, Finish::Nothing),
         };
         let rule = self.rule.unwrap_or(measure::CubeRule::Dealt);
         let design = rule.design(space, &points, seed, finish)?;

@@ -9,6 +9,7 @@
 //!
 //! An option that would have no effect on the chosen run is refused, never ignored.
 
+use super::measure::{cube_rule, CubeRule};
 use crate::config::{EnergyKind, GenerateConfig, Goal, Init, Space};
 use crate::design::DesignSpace;
 use crate::energies::discrepancy::DiscrepancyKind;
@@ -20,7 +21,6 @@ use crate::plan::constraints::{Constrained, ConstraintSpec, Mixture};
 use crate::plan::space::{numbers_text, Bounds, RegionSpec};
 use crate::plan::start::MAX_SHIFTS;
 use crate::post::randomize::Randomize;
-use super::measure::{cube_rule, CubeRule};
 use crate::quality::target::Target;
 use crate::sequences::{self, Baseline};
 use crate::solve::Solver;
@@ -123,6 +123,34 @@ pub enum Job {
         /// Seed.
         seed: u64,
     },
+    /// The randomised lattice made for a space's laws ([`crate::sequences::law_lattice`]).
+    Law {
+        /// Points.
+        n: usize,
+        /// Per coordinate, whether its law is unbounded (scored with the first-order
+        /// kernel).
+        unbounded: Vec<bool>,
+        /// Seed.
+        seed: u64,
+    },
+}
+
+impl Job {
+    /// The number of points the job makes.
+    pub fn n(&self) -> usize {
+        match self {
+            Job::Run(cfg) => cfg.n,
+            Job::Baseline { n, .. } | Job::Law { n, .. } => *n,
+        }
+    }
+
+    /// The seed the job is made from.
+    pub fn seed(&self) -> u64 {
+        match self {
+            Job::Run(cfg) => cfg.seed,
+            Job::Baseline { seed, .. } | Job::Law { seed, .. } => *seed,
+        }
+    }
 }
 
 /// A request resolved: what runs, and how the written points are scaled.
@@ -147,17 +175,25 @@ impl Resolved {
     /// dimension and seed), so that the run, its estimate and its report all follow the
     /// rule. The resolution calls it with [`cube_rule`]'s answer.
     pub fn with_rule(mut self, rule: CubeRule) -> Resolved {
+        let (n, seed) = (self.job.n(), self.job.seed());
+        let s = match &self.job {
+            Job::Run(cfg) => cfg.s,
+            Job::Baseline { s, .. } => *s,
+            Job::Law { unbounded, .. } => unbounded.len(),
+        };
         if let Some(baseline) = rule.construction() {
-            let (n, s, seed) = match &self.job {
-                Job::Run(cfg) => (cfg.n, cfg.s, cfg.seed),
-                Job::Baseline { n, s, seed, .. } => (*n, *s, *seed),
-            };
             self.job = Job::Baseline {
                 baseline,
                 n,
                 s,
                 seed,
             };
+        } else if rule == CubeRule::LawLattice {
+            let unbounded = self
+                .design
+                .as_ref()
+                .map_or_else(|| vec![false; s], |space| space.unbounded());
+            self.job = Job::Law { n, unbounded, seed };
         }
         self.rule = Some(rule);
         self
@@ -491,14 +527,10 @@ impl Resolver<'_> {
             spell: self.spell,
         }
         .resolve()?;
-        let n = match &resolved.job {
-            Job::Run(cfg) => cfg.n,
-            Job::Baseline { n, .. } => *n,
-        };
-        space.check_n(&option, n)?;
+        space.check_n(&option, resolved.job.n())?;
         let randomize = match &resolved.job {
             Job::Run(cfg) => cfg.randomize,
-            Job::Baseline { .. } => None,
+            Job::Baseline { .. } | Job::Law { .. } => None,
         };
         let rule = cube_rule(&space, randomize);
         resolved.design = Some(space);
