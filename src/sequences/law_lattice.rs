@@ -26,7 +26,10 @@
 use rand::RngExt;
 
 use super::fast_cbc::FastCbc;
-use super::lattices::{extend_terms, generators, rank1_lattice, tent_terms, TENT_WEIGHT};
+use super::lattices::{
+    extend_terms, generators, pick, rank1_lattice, rough_terms, tent_terms, RoughTieBreak,
+    TENT_WEIGHT,
+};
 use crate::{Error, PointSet};
 
 /// The product weight of an unbounded coordinate's first-order kernel. Chosen among 1,
@@ -38,18 +41,6 @@ pub const LAW_WEIGHT: f64 = 0.05;
 
 /// The label of the shifts' random stream ([`super::substream`]).
 const SHIFT_STREAM: u64 = 0x6c61_7773_6869_6674;
-
-/// γ·2π²·B2(r/n) for r = 0..n−1, B2(x) = x² − x + 1/6: γ times the kernel
-/// Σ_{h≠0} e^{2πihx}/h² = 2π²B2(x) at the n values a lattice coordinate takes.
-fn rough_terms(n: usize, gamma: f64) -> Vec<f64> {
-    let c = 2.0 * std::f64::consts::PI * std::f64::consts::PI;
-    (0..n)
-        .map(|r| {
-            let x = r as f64 / n as f64;
-            gamma * c * (x * x - x + 1.0 / 6.0)
-        })
-        .collect()
-}
 
 /// The generating vector of an n-point lattice for the laws: coordinate j scored with
 /// the first-order kernel where `unbounded[j]`, the smoothness-2 kernel otherwise, each
@@ -73,7 +64,10 @@ pub fn law_lattice_generator(n: usize, unbounded: &[bool]) -> Result<Vec<u64>, E
     let rough_plan = plan(unbounded[1..].iter().any(|&u| u), &rough);
     let smooth_plan = plan(unbounded[1..].iter().any(|&u| !u), &smooth);
     let mut q = vec![0.0f64; n];
-    let mut z = Vec::with_capacity(s);
+    let mut z: Vec<u64> = Vec::with_capacity(s);
+    // The smoothness-2 scores cannot tell the best candidates apart above a few 10⁴
+    // points; the first-order ones decide between them (see [`RoughTieBreak`]).
+    let mut ties: Option<RoughTieBreak> = None;
     for (j, &u) in unbounded.iter().enumerate() {
         let terms = if u { &rough } else { &smooth };
         let zj = if j == 0 {
@@ -81,14 +75,13 @@ pub fn law_lattice_generator(n: usize, unbounded: &[bool]) -> Result<Vec<u64>, E
         } else {
             let fast = if u { &rough_plan } else { &smooth_plan };
             let (scores, rounding) = fast.as_ref().expect("planned for this kernel").scores(&q);
-            let best = scores.iter().copied().fold(f64::INFINITY, f64::min);
-            candidates
-                .iter()
-                .zip(&scores)
-                .find(|(_, &v)| v <= best + rounding)
-                .map_or(1, |(&c, _)| c)
+            let ties = ties.get_or_insert_with(|| RoughTieBreak::new(n, &candidates, &z));
+            pick(&candidates, &scores, rounding, || ties.scores())
         };
         extend_terms(&mut q, terms, zj);
+        if let Some(t) = ties.as_mut() {
+            t.extend(zj);
+        }
         z.push(zj);
     }
     Ok(z)
