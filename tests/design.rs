@@ -177,8 +177,9 @@ fn refusals_name_the_variable_and_what_is_accepted() {
     assert!(e.contains("at least 3 points") && e.contains("c"), "{e}");
     r.set("n", Arg::Int(9)).unwrap();
     r.set("randomize", Arg::Bool(true)).unwrap();
+    r.set("goal", Arg::Text("space-filling".into())).unwrap();
     let e = r.resolve().unwrap_err().to_string();
-    assert!(e.contains("randomize") && e.contains("space"), "{e}");
+    assert!(e.contains("randomize") && e.contains("tent"), "{e}");
 }
 
 #[test]

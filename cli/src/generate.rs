@@ -84,7 +84,8 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
             meta["correlation"] = json!(c);
         }
         let run_line = format!(
-            "dealt from {} points in [0, 1)^{} made by the {} in {:.2} s",
+            "{}: from {} points in [0, 1)^{} made by the {} in {:.2} s",
+            rule_header(&mut meta, &resolved),
             cfg.n,
             cfg.s,
             goal_name(cfg).map_or("paper's pipeline".into(), |g| format!("goal {g}")),
@@ -336,10 +337,14 @@ fn write_baseline(a: &GenerateArgs, resolved: &Resolved) -> Result<()> {
         if let Some(c) = design.space.correlation_text() {
             meta["correlation"] = json!(c);
         }
-        let run_line = format!(
-            "dealt from the {} set",
-            a.method.as_deref().unwrap_or_default()
-        );
+        let rule = rule_header(&mut meta, resolved);
+        let run_line = match &resolved.job {
+            Job::Law { n, seed, .. } => format!("{rule}: {n} points from seed {seed}"),
+            _ => format!(
+                "{rule}: from the {} set",
+                a.method.as_deref().unwrap_or("scrambled Sobol'")
+            ),
+        };
         return emit_design(design, &meta, &run_line, a.output.as_ref(), false, staging);
     }
     emit(
@@ -349,6 +354,14 @@ fn write_baseline(a: &GenerateArgs, resolved: &Resolved) -> Result<()> {
         Value::String(String::new()),
         staging,
     )
+}
+
+/// Records a design's rule (how its unit-cube set was made and carried into the space)
+/// in the file header, and gives its phrase for the report's run line.
+fn rule_header(meta: &mut Value, resolved: &Resolved) -> &'static str {
+    let phrase = resolved.rule.map_or("", |r| r.phrase());
+    meta["rule"] = json!(phrase);
+    phrase
 }
 
 /// Says what is unusual, and how long a long run may take, before it starts (the notes

@@ -112,7 +112,13 @@ fn refusals_come_before_any_work_and_name_the_option() {
             "number of variables",
         ),
         (
-            vec!["-n".into(), "30".into(), "--randomize".into()],
+            vec![
+                "-n".into(),
+                "30".into(),
+                "--randomize".into(),
+                "--method".into(),
+                "sobol".into(),
+            ],
             "--randomize",
         ),
     ];

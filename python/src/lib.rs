@@ -423,7 +423,10 @@ fn design<'py>(
             .design
             .ok_or_else(|| "a design needs space=".to_string())?;
         let written = design.as_written().map_err(|e| e.to_string())?;
-        Ok((design_value(&design, &written), design.unit))
+        let mut v = design_value(&design, &written);
+        v["rule"] = serde_json::json!(resolved.rule.map(|r| r.phrase()));
+        v["unbiased"] = serde_json::json!(resolved.rule.is_some_and(|r| r.unbiased()));
+        Ok((v, design.unit))
     })?;
     let out = py_value(py, &v)?;
     out.set_item("unit", to_array(py, unit)?)?;
@@ -499,22 +502,7 @@ fn space_values<'py>(
             space.dim()
         )));
     }
-    let levels: Vec<Vec<usize>> = space
-        .vars
-        .iter()
-        .enumerate()
-        .map(|(j, v)| match v.kind.levels() {
-            None => Vec::new(),
-            Some(l) => (0..unit.n())
-                .map(|i| ((unit.point(i)[j] * l as f64) as usize).min(l - 1))
-                .collect(),
-        })
-        .collect();
-    let design = stillpoint::design::Design {
-        space,
-        unit,
-        levels,
-    };
+    let design = stillpoint::pipeline::measure::mapped(&space, &unit).map_err(value_error)?;
     to_array(py, design.numbers().map_err(value_error)?)
 }
 

@@ -18,15 +18,21 @@ class Design:
     """A design in a mixed space: ``columns`` (name -> values: floats, integers or
     labels), ``unit`` (the design on the unit scale, an (n, d) array: continuous
     values before their marginal's quantile function, a level at the centre of its
-    share of [0, 1)), ``figures`` (level and pair balance, slice stratification,
-    centred L2 of the continuous part overall and per slice, minimum distance; all on
-    the unit scale), ``space`` (the variables as ``NAME=TYPE``) and ``seed`` (the seed it
-    was made with: the one drawn for ``seed=None``, so that the design can be made
-    again)."""
+    share of [0, 1); for a randomised design the randomised unit-cube set itself, of
+    which every column is the inverse-CDF image), ``figures`` (level and pair balance,
+    slice stratification, centred L2 of the continuous part overall and per slice,
+    minimum distance; all on the unit scale), ``space`` (the variables as
+    ``NAME=TYPE``), ``seed`` (the seed it was made with: the one drawn for
+    ``seed=None``, so that the design can be made again), ``rule`` (how the unit-cube
+    set was made and carried into the space, the phrase the command line's report and
+    file header give) and ``unbiased`` (whether the mean of f over the columns is an
+    unbiased estimate of E f(X) for every seed: a randomised design)."""
 
     def __init__(self, raw: Dict[str, Any], frozen: Dict[str, Any], seed: Any = 0) -> None:
         self.seed: Any = seed
         self.space: list = raw["space"]
+        self.rule: Optional[str] = raw.get("rule")
+        self.unbiased: bool = bool(raw.get("unbiased", False))
         # The correlation as the command line writes it ("1.0,0.7;0.7,1.0"), or None:
         # with the space, all that design_figures needs to reproduce the figures.
         self.correlation: Optional[str] = raw.get("correlation")
@@ -70,11 +76,12 @@ class Design:
 
     def to_frame(self) -> Any:
         """The columns as a pandas DataFrame (needs pandas), with the design's seed in
-        ``attrs["seed"]``."""
+        ``attrs["seed"]`` and its rule in ``attrs["rule"]``."""
         import pandas as pd  # optional: only this method needs it
 
         frame = pd.DataFrame(self.columns, columns=self.names)
         frame.attrs["seed"] = getattr(self, "seed", 0)
+        frame.attrs["rule"] = getattr(self, "rule", None)
         return frame
 
     def table(self) -> Any:
@@ -100,6 +107,14 @@ def design(n: int, space: Any, **kwargs: Any) -> Design:
     fresh seed, kept in :attr:`Design.seed`, see "Seeds" in docs/python.md), then every level
     count is made ⌊n/L⌋ or ⌈n/L⌉, pairs of unordered factors balanced, and the
     continuous columns stratified within every level of every unordered factor.
+
+    ``randomize`` (``True`` or ``'tent'``, ``'cells'``, ``'shift'``, as :func:`generate`
+    takes it) makes a randomised set instead, for error bars: the randomised unit-cube
+    set carried point by point through each law's inverse CDF (continuous variables
+    through the copula and their quantile function, a variable with L levels to level
+    ⌊u·L⌋). Each seed's mean of f over the columns is then an unbiased estimate of
+    E f(X) under the space's law; levels are not dealt by rank (nor pairs balanced or
+    slices stratified), which would break that. :attr:`Design.rule` names the rule.
     """
     _items, frozen = _space_items(space)
     if "seed" in kwargs:

@@ -84,7 +84,10 @@ def generate(
         components, each >= 0, summing to 1; ``box`` bounds each one and ``constraints``
         add cuts; every row sums to 1 within 1e-12), ``randomize`` (``True`` or ``'tent'``, recommended for error
         bars: the lattice made for a uniform shift and the tent transform, randomised so;
-        ``'cells'`` or ``'shift'`` randomise the optimised set), ``extend`` (see :func:`extend`), ``nested`` (see :func:`nested`);
+        ``'cells'`` or ``'shift'`` randomise the optimised set; with ``space=`` the
+        randomised set goes through each law's inverse CDF, levels as ⌊u·L⌋ rather than
+        dealt by rank, so that every seed gives an unbiased estimate of E f(X), see
+        :func:`design`), ``extend`` (see :func:`extend`), ``nested`` (see :func:`nested`);
         and the paper's options, passed through to the library: ``q``, ``p``,
         ``precision``, ``init`` (``'halton'``, ``'random'`` or an (n, d) array),
         ``kappa``, ``restart``, ``tolerance``, ``polish``, ``shifts``, ``log_every``;

@@ -246,6 +246,19 @@ impl DesignSpace {
         self.vars.len()
     }
 
+    /// Per coordinate, whether its law is unbounded (normal, lognormal, …): where the
+    /// quantile function, and with it the integrand seen on the cube, blows up at a face.
+    pub fn unbounded(&self) -> Vec<bool> {
+        self.vars
+            .iter()
+            .map(|v| match &v.kind {
+                Kind::Continuous(m) => !m.bounded(),
+                Kind::Path { .. } => true,
+                _ => false,
+            })
+            .collect()
+    }
+
     /// The variables as `NAME=TYPE`, as they parse back (a path once, as
     /// `W=brownian(1,64,pca)`).
     pub fn texts(&self) -> Vec<String> {

@@ -179,7 +179,7 @@ impl Resolved {
     pub fn notes(&self) -> Vec<String> {
         match &self.job {
             Job::Run(cfg) => notes(cfg),
-            Job::Baseline { .. } => Vec::new(),
+            Job::Baseline { .. } | Job::Law { .. } => Vec::new(),
         }
     }
 
@@ -190,6 +190,7 @@ impl Resolved {
             Job::Baseline { baseline, n, s, .. } => {
                 baseline_seconds(*baseline, *n as f64, *s as f64)
             }
+            Job::Law { n, unbounded, .. } => generator_seconds(*n as f64, unbounded.len() as f64),
         };
         on_threads(seconds, threads)
     }

@@ -6,6 +6,7 @@
 
 pub mod estimate;
 pub mod evaluation;
+pub mod measure;
 pub mod options;
 pub mod request;
 
@@ -87,6 +88,9 @@ impl Resolved {
                 s,
                 seed,
             } => (baseline.generate(*n, *s, *seed)?, None),
+            Job::Law { n, unbounded, seed } => {
+                (crate::sequences::law_lattice(*n, unbounded, *seed)?, None)
+            }
             Job::Run(cfg) => {
                 let report = generate_with(cfg, checkpoint, on_event)?;
                 (report.output.points.clone(), Some(report))
@@ -114,9 +118,10 @@ impl Resolved {
                     Goal::Paper => Finish::Nothing,
                 },
             ),
-            Job::Baseline { seed, .. } => (*seed, Finish::Nothing),
+            Job::Baseline { seed, .. } | Job::Law { seed, .. } => (*seed, Finish::Nothing),
         };
-        let design = crate::design::Design::build(space, &points, seed, finish)?;
+        let rule = self.rule.unwrap_or(measure::CubeRule::Dealt);
+        let design = rule.design(space, &points, seed, finish)?;
         Ok(Outcome {
             points: design.numbers()?,
             report,

@@ -19,8 +19,8 @@ pub enum Group {
     Baseline,
     /// Describes a region (the run is then in that region, not the unit cube).
     Region,
-    /// Places, scales, grows or randomises the unit-cube set: refused with a design
-    /// space, whose dealing of one whole unit-cube set would undo it.
+    /// Places, scales or grows the unit-cube set: refused with a design space, whose
+    /// dealing of one whole unit-cube set would undo it.
     Placement,
     /// Describes a design space.
     Design,
@@ -147,8 +147,8 @@ options! {
         "What the points are for: integration or space-filling.";
     target: "target", cli "--target", python Some("target"), [],
         "The discrepancy the integration goal lowers: blend, blend-smooth, curved, lattice, md, l2star, cd, periodic or smooth.";
-    randomize: "randomize", cli "--randomize", python Some("randomize"), [Placement],
-        "Randomise the set from the seed: tent, cells or shift.";
+    randomize: "randomize", cli "--randomize", python Some("randomize"), [],
+        "Randomise the set from the seed: tent, cells or shift (with a space: through each law's inverse CDF).";
     extend: "extend", cli "--extend", python Some("extend"), [Placement],
         "Points to keep, first and unchanged, while n more are added.";
     nested: "nested", cli "--nested", python Some("nested"), [Placement],

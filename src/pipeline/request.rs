@@ -9,6 +9,7 @@
 //!
 //! An option that would have no effect on the chosen run is refused, never ignored.
 
+use super::measure::{cube_rule, CubeRule};
 use crate::config::{EnergyKind, GenerateConfig, Goal, Init, Space};
 use crate::design::DesignSpace;
 use crate::energies::discrepancy::DiscrepancyKind;
@@ -122,6 +123,34 @@ pub enum Job {
         /// Seed.
         seed: u64,
     },
+    /// The randomised lattice made for a space's laws ([`crate::sequences::law_lattice`]).
+    Law {
+        /// Points.
+        n: usize,
+        /// Per coordinate, whether its law is unbounded (scored with the first-order
+        /// kernel).
+        unbounded: Vec<bool>,
+        /// Seed.
+        seed: u64,
+    },
+}
+
+impl Job {
+    /// The number of points the job makes.
+    pub fn n(&self) -> usize {
+        match self {
+            Job::Run(cfg) => cfg.n,
+            Job::Baseline { n, .. } | Job::Law { n, .. } => *n,
+        }
+    }
+
+    /// The seed the job is made from.
+    pub fn seed(&self) -> u64 {
+        match self {
+            Job::Run(cfg) => cfg.seed,
+            Job::Baseline { seed, .. } | Job::Law { seed, .. } => *seed,
+        }
+    }
 }
 
 /// A request resolved: what runs, and how the written points are scaled.
@@ -131,10 +160,44 @@ pub struct Resolved {
     pub job: Job,
     /// Scaling of the written points (a cube run with `bounds`).
     pub bounds: Option<Bounds>,
-    /// The design space the set is dealt into (levels, slices, marginals).
+    /// The design space the set is carried into (levels, slices, marginals).
     pub design: Option<DesignSpace>,
+    /// With a design space, how its unit-cube set is made and carried into it, as
+    /// [`cube_rule`] decided once for the request.
+    pub rule: Option<CubeRule>,
     /// The mixture whose last component is appended to the run's points.
     pub mixture: Option<Mixture>,
+}
+
+impl Resolved {
+    /// The request with its design space carried by `rule`: the rule's own construction,
+    /// if it has one, makes the unit-cube set in place of the request's run (same n,
+    /// dimension and seed), so that the run, its estimate and its report all follow the
+    /// rule. The resolution calls it with [`cube_rule`]'s answer.
+    pub fn with_rule(mut self, rule: CubeRule) -> Resolved {
+        let (n, seed) = (self.job.n(), self.job.seed());
+        let s = match &self.job {
+            Job::Run(cfg) => cfg.s,
+            Job::Baseline { s, .. } => *s,
+            Job::Law { unbounded, .. } => unbounded.len(),
+        };
+        if let Some(baseline) = rule.construction() {
+            self.job = Job::Baseline {
+                baseline,
+                n,
+                s,
+                seed,
+            };
+        } else if rule == CubeRule::LawLattice {
+            let unbounded = self
+                .design
+                .as_ref()
+                .map_or_else(|| vec![false; s], |space| space.unbounded());
+            self.job = Job::Law { n, unbounded, seed };
+        }
+        self.rule = Some(rule);
+        self
+    }
 }
 
 /// The library's own spelling of a parameter: its name as the request writes it.
@@ -399,13 +462,15 @@ impl Resolver<'_> {
             job: Job::Run(Box::new(cfg)),
             bounds,
             design: None,
+            rule: None,
             mixture,
         })
     }
 
-    /// A run in the unit cube of one coordinate per variable, dealt into the design
-    /// space afterwards: the options that place points elsewhere, grow a set or
-    /// randomise it (the dealing would undo the randomisation's promise) are refused.
+    /// A run in the unit cube of one coordinate per variable, carried into the design
+    /// space afterwards by the rule [`cube_rule`] gives (dealt, or a randomised set
+    /// through each law's inverse CDF): the options that place points elsewhere or grow
+    /// a set are refused.
     fn design(&self) -> Result<Resolved, Error> {
         let r = self.r;
         let option = (self.spell)("space");
@@ -462,13 +527,14 @@ impl Resolver<'_> {
             spell: self.spell,
         }
         .resolve()?;
-        let n = match &resolved.job {
-            Job::Run(cfg) => cfg.n,
-            Job::Baseline { n, .. } => *n,
+        space.check_n(&option, resolved.job.n())?;
+        let randomize = match &resolved.job {
+            Job::Run(cfg) => cfg.randomize,
+            Job::Baseline { .. } | Job::Law { .. } => None,
         };
-        space.check_n(&option, n)?;
+        let rule = cube_rule(&space, randomize);
         resolved.design = Some(space);
-        Ok(resolved)
+        Ok(resolved.with_rule(rule))
     }
 
     /// A baseline asked for by `method`, which takes only n, s, seed and bounds.
@@ -529,6 +595,7 @@ impl Resolver<'_> {
             },
             bounds,
             design: None,
+            rule: None,
             mixture: None,
         }))
     }

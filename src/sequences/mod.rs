@@ -23,6 +23,7 @@ mod extensible;
 mod fast_cbc;
 mod latin;
 mod lattices;
+mod law_lattice;
 mod scrambled_halton;
 mod sobol_owen;
 
@@ -38,6 +39,7 @@ pub use lattices::{
     tent_criterion, tent_lattice, tent_lattice_generator, tent_lattice_generator_plain,
     TENT_WEIGHT,
 };
+pub use law_lattice::{law_lattice, law_lattice_generator, law_lattice_parts, LAW_WEIGHT};
 pub use scrambled_halton::{halton_scrambled, HALTON_SCRAMBLED_MAX_S};
 pub use sobol_owen::{sobol_plain, sobol_scrambled, SOBOL_MAX_N, SOBOL_MAX_S};
 

@@ -1,0 +1,285 @@
+//! Randomised sets under a design space: each seed's mean of f over the points is an
+//! unbiased estimate of E f(X) under the space's law (normal, lognormal, uniform,
+//! integer, labelled and correlated variables; closed-form expectations), every column
+//! is the exact inverse-CDF image of the randomised unit-cube set, the rule that makes a
+//! space's set is the one `cube_rule` gives (a scrambled Sobol' rule chosen there runs
+//! and is priced as its construction), and what stays unsupported is refused by name.
+
+use stillpoint::design::{Design, DesignSpace, Marginal};
+use stillpoint::pipeline::measure::{cube_rule, CubeRule};
+use stillpoint::pipeline::request::{Arg, Job, Resolved};
+use stillpoint::post::randomize::Randomize;
+use stillpoint::Request;
+
+/// Independent laws of every kind a space takes: x normal(1, 2), w lognormal(0.3, 0.5),
+/// u uniform(−1, 3), k int(1, 4), c one of three labels.
+const MIXED: [&str; 5] = [
+    "x=normal(1,2)",
+    "w=lognormal(0.3,0.5)",
+    "u=uniform(-1,3)",
+    "k=int(1,4)",
+    "c={a,b,c}",
+];
+
+/// Three variables correlated by a Gaussian copula.
+const CORRELATED: [&str; 3] = ["y1=normal(0,1)", "y2=normal(2,3)", "y3=lognormal(0,0.4)"];
+const CORRELATION: &str = "1,0.6,0.3;0.6,1,-0.2;0.3,-0.2,1";
+
+/// A statistic f of one point (its values as `Design::numbers` writes them: a label as
+/// its index) and its exact mean under the space's law.
+type Stat = (&'static str, fn(&[f64]) -> f64, f64);
+
+fn mixed_stats() -> Vec<Stat> {
+    let ew = (0.3f64 + 0.125).exp();
+    vec![
+        // E x² + E x = (μ² + σ²) + μ.
+        ("x^2+x", |p| p[0] * p[0] + p[0], 6.0),
+        ("w", |p| p[1], ew),
+        // E w² = exp(2μ + 2σ²).
+        ("w^2", |p| p[1] * p[1], 1.1f64.exp()),
+        // E u² = (lo² + lo·hi + hi²)/3.
+        ("u^2", |p| p[2] * p[2], 7.0 / 3.0),
+        ("k^2", |p| p[3] * p[3], 7.5),
+        ("1{c=b}", |p| f64::from(p[4] == 1.0), 1.0 / 3.0),
+        // Independent variables: the mean of a product is the product of the means.
+        ("x*k", |p| p[0] * p[3], 2.5),
+        ("w*u", |p| p[1] * p[2], ew),
+        ("k*1{c=a}", |p| p[3] * f64::from(p[4] == 0.0), 2.5 / 3.0),
+    ]
+}
+
+fn correlated_stats() -> Vec<Stat> {
+    vec![
+        // ρ σ₁ σ₂ + μ₁ μ₂.
+        ("y1*y2", |p| p[0] * p[1], 0.6 * 3.0),
+        // Stein's lemma: E[Z₁ e^{0.4 Z₃}] = ρ₁₃ · 0.4 · E e^{0.4 Z₃}.
+        ("y1*y3", |p| p[0] * p[2], 0.3 * 0.4 * 0.08f64.exp()),
+        // E[y2 · y3] = E[(2 + 3 Z₂) e^{0.4 Z₃}] = (2 + 3 · 0.4 ρ₂₃) E e^{0.4 Z₃}.
+        (
+            "y2*y3",
+            |p| p[1] * p[2],
+            (2.0 + 3.0 * 0.4 * -0.2) * 0.08f64.exp(),
+        ),
+        ("y2^2", |p| p[1] * p[1], 13.0),
+        ("y3", |p| p[2], 0.08f64.exp()),
+    ]
+}
+
+fn request(
+    n: usize,
+    items: &[&str],
+    correlation: Option<&str>,
+    kind: Randomize,
+    seed: u64,
+) -> Request {
+    let mut r = Request::default();
+    r.set("n", Arg::Int(n as i128)).unwrap();
+    r.set(
+        "space",
+        Arg::Texts(items.iter().map(|s| s.to_string()).collect()),
+    )
+    .unwrap();
+    if let Some(c) = correlation {
+        r.set("correlation", Arg::Text(c.into())).unwrap();
+    }
+    r.set("randomize", Arg::Text(kind.name().into())).unwrap();
+    r.set("seed", Arg::Int(seed.into())).unwrap();
+    r
+}
+
+fn design_of(resolved: &Resolved) -> Design {
+    resolved.run(None, |_| {}).unwrap().design.unwrap()
+}
+
+/// Over `seeds` independent seeds, each statistic's mean over the seeds' estimates lies
+/// within 4.5 standard errors of its exact value (a few ulps where every seed's estimate
+/// is the same).
+fn assert_unbiased(what: &str, seeds: u64, stats: &[Stat], design: impl Fn(u64) -> Design) {
+    let mut sums = vec![(0.0f64, 0.0f64); stats.len()];
+    for seed in 0..seeds {
+        let values = design(seed).numbers().unwrap();
+        for (k, (_, f, _)) in stats.iter().enumerate() {
+            let est = values.rows().map(f).sum::<f64>() / values.n() as f64;
+            sums[k].0 += est;
+            sums[k].1 += est * est;
+        }
+    }
+    let r = seeds as f64;
+    for ((name, _, exact), (s, ss)) in stats.iter().zip(sums) {
+        let mean = s / r;
+        let var = ((ss - s * s / r) / (r - 1.0)).max(0.0);
+        let se = (var / r).sqrt();
+        assert!(
+            (mean - exact).abs() <= 4.5 * se + 1e-12 * (1.0 + exact.abs()),
+            "{what}: E {name} = {exact}, the mean of {seeds} seeds' estimates {mean} (standard \
+             error {se:e})"
+        );
+    }
+}
+
+#[test]
+fn every_seed_gives_an_unbiased_estimate_under_the_space_law() {
+    for kind in [Randomize::Tent, Randomize::Cells, Randomize::Shift] {
+        assert_unbiased(
+            &format!("{} mixed", kind.name()),
+            300,
+            &mixed_stats(),
+            |seed| design_of(&request(48, &MIXED, None, kind, seed).resolve().unwrap()),
+        );
+        assert_unbiased(
+            &format!("{} correlated", kind.name()),
+            300,
+            &correlated_stats(),
+            |seed| {
+                design_of(
+                    &request(48, &CORRELATED, Some(CORRELATION), kind, seed)
+                        .resolve()
+                        .unwrap(),
+                )
+            },
+        );
+    }
+}
+
+#[test]
+fn each_column_is_the_inverse_cdf_image_of_the_randomised_cube_set() {
+    let x = Marginal::Normal {
+        mu: 1.0,
+        sigma: 2.0,
+    };
+    let w = Marginal::LogNormal {
+        mu: 0.3,
+        sigma: 0.5,
+    };
+    let u = Marginal::Uniform { lo: -1.0, hi: 3.0 };
+    for kind in [Randomize::Tent, Randomize::Cells, Randomize::Shift] {
+        for seed in [0u64, 7, 123] {
+            let mut r = request(40, &MIXED, None, kind, seed);
+            let resolved = r.resolve().unwrap();
+            // The space has unbounded laws: the recommended randomisation is the lattice
+            // made for them; the others randomise the request's own set.
+            let law = kind == Randomize::Tent;
+            let rule = if law {
+                CubeRule::LawLattice
+            } else {
+                CubeRule::Randomized(kind)
+            };
+            assert_eq!(resolved.rule, Some(rule));
+            r.randomize = None;
+            assert_eq!(r.resolve().unwrap().rule, Some(CubeRule::Dealt));
+            let d = design_of(&resolved);
+            // The unit-cube set the space's set is: the law lattice, or the same request
+            // without the space.
+            let cube = if law {
+                let unbounded = resolved.design.as_ref().unwrap().unbounded();
+                stillpoint::sequences::law_lattice(40, &unbounded, seed).unwrap()
+            } else {
+                let mut cube = Request::new(40, MIXED.len());
+                cube.set("randomize", Arg::Text(kind.name().into()))
+                    .unwrap();
+                cube.set("seed", Arg::Int(seed.into())).unwrap();
+                cube.resolve().unwrap().run(None, |_| {}).unwrap().points
+            };
+            assert_eq!(d.unit, cube, "{kind:?} {seed}");
+            let values = d.numbers().unwrap();
+            for (row, p) in cube.rows().zip(values.rows()) {
+                for (j, m) in [(0, &x), (1, &w), (2, &u)] {
+                    assert_eq!(
+                        p[j].to_bits(),
+                        m.ppf(row[j]).to_bits(),
+                        "{kind:?} {seed} {j}"
+                    );
+                }
+                assert_eq!(p[3], 1.0 + ((row[3] * 4.0) as usize).min(3) as f64);
+                assert_eq!(p[4], ((row[4] * 3.0) as usize).min(2) as f64);
+            }
+        }
+    }
+    // Correlated: the scores go through the copula, then each quantile function.
+    let resolved = request(40, &CORRELATED, Some(CORRELATION), Randomize::Tent, 5)
+        .resolve()
+        .unwrap();
+    let space = resolved.design.clone().unwrap();
+    let copula = space.copula.clone().unwrap();
+    let d = design_of(&resolved);
+    let laws = [
+        Marginal::Normal {
+            mu: 0.0,
+            sigma: 1.0,
+        },
+        Marginal::Normal {
+            mu: 2.0,
+            sigma: 3.0,
+        },
+        Marginal::LogNormal {
+            mu: 0.0,
+            sigma: 0.4,
+        },
+    ];
+    for (row, p) in d.unit.rows().zip(d.numbers().unwrap().rows()) {
+        for (j, v) in copula.correlate(row).into_iter().enumerate() {
+            assert_eq!(p[j].to_bits(), laws[j].ppf(v).to_bits());
+        }
+    }
+}
+
+#[test]
+fn a_scrambled_sobol_rule_runs_as_its_construction_and_stays_unbiased() {
+    let space = DesignSpace::parse("--var", &MIXED).unwrap();
+    assert_eq!(cube_rule(&space, None), CubeRule::Dealt);
+    let ruled = |seed: u64| {
+        request(64, &MIXED, None, Randomize::Shift, seed)
+            .resolve()
+            .unwrap()
+            .with_rule(CubeRule::ScrambledSobol)
+    };
+    let r = ruled(9);
+    assert!(
+        matches!(
+            r.job,
+            Job::Baseline {
+                n: 64,
+                s: 5,
+                seed: 9,
+                ..
+            }
+        ),
+        "{:?}",
+        r.job
+    );
+    let d = design_of(&r);
+    assert_eq!(
+        d.unit,
+        stillpoint::sequences::sobol_scrambled(64, 5, 9).unwrap()
+    );
+    // The estimate prices the rule's construction, not the request's run.
+    let mut sobol = Request::new(64, 5);
+    sobol.set("method", Arg::Text("sobol".into())).unwrap();
+    let want = sobol.resolve().unwrap().estimate_seconds_on(2);
+    assert_eq!(r.estimate_seconds_on(2), want);
+    assert_unbiased("scrambled Sobol' mixed", 300, &mixed_stats(), |seed| {
+        design_of(&ruled(seed))
+    });
+}
+
+#[test]
+fn what_stays_unsupported_is_refused_by_name() {
+    let cases: [(&str, Arg, &str); 4] = [
+        ("bounds", Arg::Text("0,1".into()), "bounds"),
+        ("nested", Arg::Text("16,48".into()), "nested"),
+        ("method", Arg::Text("sobol".into()), "randomize"),
+        ("goal", Arg::Text("space-filling".into()), "randomize"),
+    ];
+    for (name, value, named) in cases {
+        let mut r = request(48, &MIXED, None, Randomize::Tent, 0);
+        r.set(name, value).unwrap();
+        let e = r.resolve().unwrap_err().to_string();
+        assert!(e.contains(named), "{name}: {e}");
+    }
+    // Too few points for every label to appear stays refused with a randomised set.
+    let e = request(2, &MIXED, None, Randomize::Shift, 0)
+        .resolve()
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("at least 3 points"), "{e}");
+}
