@@ -27,6 +27,8 @@ Run:
     ... --n 1024,4096  --reps 64  --instances 8  --seeds 1,2,3  --out DIR  --fresh
     ... --variants 'm = 32;s = 10'   only variants whose label contains one of these
     ... --big-n-max-d 20           n above 4096 only up to this dimension (--mid: 20)
+    ... --refine                   cells whose reference is too coarse measured again,
+                                   with long runs 4× as long (the report lists them)
     ... --path-space brownian      path families given to stillpoint as
                                    W=brownian(T,m,construction) (HOOK; refused on main)
 
@@ -285,15 +287,18 @@ def long_run(family, v, p, log2n, reps):
     return float(vals.mean()), float(vals.std(ddof=1) / math.sqrt(reps)), vals.tolist()
 
 
-def reference(family, v, i, p, store, path):
+def reference(family, v, i, p, store, path, boost=0):
+    """The closed form, or the cached long run (made again, 4^boost times longer, when
+    the cached one is shorter than that)."""
     exact = family.exact(v, p)
     if exact is not None:
         return float(exact), 0.0
     key = family.ref_key(v, i)
     digest = params_digest(p)
     rec = store.get(key)
-    if rec is None or rec["params"] != digest:
-        log2n, reps = (16, 16) if isinstance(family, PathOption) else (18, 16)
+    log2n, reps = (16, 16) if isinstance(family, PathOption) else (18, 16)
+    log2n += 2 * boost
+    if rec is None or rec["params"] != digest or rec["n"] < 2 ** log2n:
         t0 = time.perf_counter()
         val, se, vals = long_run(family, v, p, log2n, reps)
         rec = {"value": val, "se": se, "params": digest, "n": 2 ** log2n, "reps": reps,
@@ -309,9 +314,9 @@ def reference(family, v, i, p, store, path):
 
 # ---------------------------------------------------------------- a cell
 
-def run_cell(family, v, n, a, refs, refs_path, notes):
+def run_cell(family, v, n, a, refs, refs_path, notes, boost=0):
     insts = [instance(family, v, i) for i in range(a.instances)]
-    ref = np.array([reference(family, v, i, p, refs, refs_path)
+    ref = np.array([reference(family, v, i, p, refs, refs_path, boost)
                     for i, p in enumerate(insts)])
     d = family.dim(v)
     is_path = a.path_space == "brownian" and isinstance(family, PathOption)
@@ -455,19 +460,33 @@ def report(data):
                          + " | ".join(bold_if_over(gm(cs, m)) for m in methods) + " |")
         lines.append("")
 
+    paths = [c for c in cells if c["family"] in {f.name for f in FAMILIES
+                                                  if isinstance(f, PathOption)}]
+    if paths:
+        lines += ["Path families by construction (both options, every m and n):", "",
+                  "| construction | cells | " + " | ".join(SHORT[m] for m in methods) + " |",
+                  "|---|---|" + "---|" * len(methods)]
+        for con in ("standard", "bridge", "pca"):
+            cs = [c for c in paths if c["variant"].endswith(con)]
+            lines.append(f"| {con} | {len(cs)} | "
+                         + " | ".join(bold_if_over(gm(cs, m)) for m in methods) + " |")
+        lines.append("")
+
     # where stillpoint loses
     lines += ["## Where stillpoint loses", "",
               "The targets: the default and `randomize` ≤ 1.1 in every family's geometric "
               "mean and ≤ 0.7 over all cells; `Engine` ≤ 1.5 in every family.", ""]
     for m in OURS:
         over = [(f, gm([c for c in cells if c["family"] == f], m)) for f in fams]
-        over = [(f, g) for f, g in over if g is not None and g > 1.1]
+        bound = 1.5 if m == "engine" else 1.1
+        over = [(f, g) for f, g in over if g is not None and g > bound]
         allg = gm(cells, m)
         lost = [c for c in cells if m in c["methods"] and (c["methods"][m].get("ratio") or 0) > 1]
         lines.append(f"- **{SHORT[m]}**: over all cells {fmt(allg)}"
-                     + (" (above 0.7)" if allg is not None and allg > 0.7 else "")
+                     + (" (above 0.7)" if allg is not None and allg > 0.7 and m != "engine"
+                        else "")
                      + f"; above Sobol' in {len(lost)} of "
-                     f"{sum(m in c['methods'] for c in cells)} cells; families above 1.1: "
+                     f"{sum(m in c['methods'] for c in cells)} cells; families above {bound}: "
                      + (", ".join(f"{f} {fmt(g)}" for f, g in over) if over else "none") + ".")
         worst = sorted(lost, key=lambda c: -c["methods"][m]["ratio"])[:5]
         if worst:
@@ -615,6 +634,9 @@ def main():
                     help="n above 4096 only up to this dimension (--mid: 20)")
     ap.add_argument("--out", default="results/uq-models")
     ap.add_argument("--fresh", action="store_true")
+    ap.add_argument("--refine", action="store_true",
+                    help="measure again the stored cells whose reference is not accurate "
+                    "to a tenth of their smallest RMSE, with long runs 4× longer")
     a = ap.parse_args()
     if a.check:
         sys.exit(0 if check(a) else 1)
@@ -668,14 +690,18 @@ def main():
                     continue
                 key = f"{fam.name}|{fam.label(v)}|n={n}"
                 old = data["cells"].get(key)
+                boost = 0
                 if (old is not None and not a.fresh and old["reps"] >= a.reps
                         and old["instances"] >= a.instances
                         and all(m in old["methods"] or m in old["failures"]
                                 for m in a.methods)):
-                    continue
+                    if not (a.refine and not old.get("reference_ok", True)):
+                        continue
+                    boost = old.get("reference_boost", 0) + 1
                 t0 = time.perf_counter()
-                log(f"{key}")
-                cell = run_cell(fam, v, n, a, refs, refs_path, probes)
+                log(f"{key}" + (f" (reference 4^{boost} times longer)" if boost else ""))
+                cell = run_cell(fam, v, n, a, refs, refs_path, probes, boost)
+                cell["reference_boost"] = boost
                 cell["seconds"] = time.perf_counter() - t0
                 data["cells"][key] = cell
                 measured += 1
