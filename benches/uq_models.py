@@ -14,14 +14,15 @@ Run:
 
     PY=target/bench-venv/bin/python
     $PY benches/uq_models.py --check        # every closed form against 2^20 Sobol' points
-    $PY benches/uq_models.py --quick        # ≤ 15 min: n = 1024, 4096, 8 reps, 4 instances
-    $PY benches/uq_models.py --mid          # the in-session grid: n = 1024, 4096, 16384,
-                                            # 16 reps, 4 instances (~1 h on 2 shared cores)
+    $PY benches/uq_models.py --quick        # 5 min: n = 1024, 4096, 8 reps, 4 instances
+    $PY benches/uq_models.py --mid          # results/uq-models' grid: n = 1024, 4096,
+                                            # 16384 (only up to s = 20), 16 reps, 4
+                                            # instances (33 min on 2 shared cores)
     $PY benches/uq_models.py                # the full grid: n = 1024, 4096, 10000, 16384,
-                                            # 65536, 64 reps, 8 instances (estimated 15–20 h
-                                            # on 2 shared cores, from the mid grid's times:
-                                            # 4× the reps, 2× the instances, n = 65536 ~4×
-                                            # the cost of 16384)
+                                            # 65536, 64 reps, 8 instances: about 20 h on 2
+                                            # shared cores (15 h the randomised sets, 4 h
+                                            # the designs; the mid grid's times scaled by
+                                            # n·s·reps·instances)
     ... --families keister,asian   only the families whose name contains one of these
                                    (also with --check)
     ... --n 1024,4096  --reps 64  --instances 8  --seeds 1,2,3  --out DIR  --fresh
@@ -393,9 +394,13 @@ def bold_if_over(v, bound=1.0):
 
 
 def cell_order(cells):
-    names = [f.name for f in FAMILIES]
-    return sorted(cells, key=lambda c: (names.index(c["family"]) if c["family"] in names
-                                        else 99, c["variant"], c["n"]))
+    """Families in their list's order, variants in their family's, then n."""
+    rank = {}
+    for i, f in enumerate(FAMILIES):
+        for j, v in enumerate(f.variants):
+            rank[(f.name, f.label(v))] = (i, j)
+    return sorted(cells, key=lambda c: (rank.get((c["family"], c["variant"]), (99, 0)),
+                                        c["n"]))
 
 
 def report(data):
@@ -414,7 +419,8 @@ def report(data):
                      f"{mc['qmcpy']}")
     probes = data.get("probes", {})
     lines += ["", "Full grid (not run here): `benches/uq_models.py` (n = 1 024 … 65 536, 64 "
-              "reps, 8 instances), estimated 15–20 h on 2 shared cores.", "",
+              "reps, 8 instances), about 20 h on 2 shared cores (15 h the randomised sets, 4 h "
+              "the designs; this run's times scaled by n·s·reps·instances).", "",
               f"Instances from seed {UQ_SEED}; error e = (Q − I)/|I| per instance; every "
               "figure is a method's RMS of e over instances and randomisations (the "
               "default: over instances and seeds 1–3) divided by scrambled Sobol''s on the "
@@ -509,8 +515,10 @@ def report(data):
               "product, Morokoff–Caflisch, Ishigami, Sobol' G); the engineering models and "
               "the options by long runs cached in `references.json` (engineering: 16 "
               "scrambled Sobol' sets of 2^18 points; options: 16 sets of 2^16 points on PCA "
-              "paths with the geometric-average call's closed form as control variate), "
-              "each with its standard error. A cell's reference is accurate enough when its "
+              "paths with the geometric-average call's closed form as control variate; 4× "
+              "longer where `--refine` found them too coarse for a cell), each with its "
+              "standard error; every cell keeps the reference values it was scored with. "
+              "A cell's reference is accurate enough when its "
               "largest relative standard error is at most a tenth of the smallest RMSE in "
               "the cell.", ""]
     if bad:
