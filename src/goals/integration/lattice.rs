@@ -151,6 +151,7 @@ pub(crate) fn lattice_rule_observed(
     let drawn_criterion = shift_fft::criterion(&spectrum, &generator, &drawn, TENT_WEIGHT);
     // Its tables are a few times n; the points are n·s.
     drop(spectrum);
+    release_freed_memory();
     let searched = clock.elapsed().as_secs_f64();
     let mut points = points(n, &generator, &shift)?;
     if s == 1 {
@@ -167,6 +168,27 @@ pub(crate) fn lattice_rule_observed(
         candidates: if s > 1 { 2 * n } else { 0 },
         seconds: (built, searched),
     })
+}
+
+/// Hands the memory the search freed back to the system before the points are made.
+///
+/// Why. The C allocator keeps freed blocks below a threshold it raises as large blocks are
+/// freed, so the search's tables (several times n, each coordinate's freed and made
+/// again) stayed resident under the points and the report's passes: at 10⁵ × 20 the
+/// run's peak was 49 MB, 3.1× its points' 16 MB, and 40 MB with them released.
+/// Elsewhere than glibc nothing is done.
+fn release_freed_memory() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        extern "C" {
+            fn malloc_trim(pad: usize) -> std::os::raw::c_int;
+        }
+        // SAFETY: glibc's malloc_trim only returns free memory of its own heaps to the
+        // system; it takes no pointer and is safe to call at any time from any thread.
+        unsafe {
+            malloc_trim(0);
+        }
+    }
 }
 
 /// The shift numerators chosen coordinate by coordinate after `first`: `scores` gives,
