@@ -12,6 +12,15 @@ descent's rounds and iterations or the reason it was skipped, and the ratio of e
 time to the previous size's (the cost should grow smoothly: no step of one size to the
 next multiplies it tenfold). Writes results/scaling/scaling.md.
 
+With --versus-sobol (cells NxS, by default 100000x20, 200000x50 and 1000000x50) it times
+`generate -q` against `baseline sobol` of the same size side by side instead, each run
+three times (median), with the peak memory of each (the children's maximum resident
+set, read from /usr/bin/time when it is there, from getrusage otherwise), and prints the
+time ratio and each peak's ratio to the output's n·s·8 bytes; it writes
+results/scaling/versus-sobol.md with the command, commit and machine.
+
+    python3 benches/scaling.py --bin target/release/stillpoint --versus-sobol
+
 Above 50 000 points the report's discrepancies are estimates that cannot resolve an even
 set, so for the sizes of --check (default 100000x10) the script computes D_MD, D_L2* and
 CD exactly with the Python package (run it with the virtualenv that has `stillpoint`,
@@ -24,6 +33,9 @@ otherwise), and prints their ratios.
 import argparse
 import json
 import os
+import platform
+import resource
+import statistics
 import subprocess
 import tempfile
 import time
@@ -97,6 +109,92 @@ def check_below(binary, n, s, tmp):
     return row
 
 
+VERSUS_CELLS = "100000x20,200000x50,1000000x50"
+
+
+def timed(cmd):
+    """Wall seconds and peak resident bytes of one run of `cmd` (output discarded)."""
+    gnu_time = "/usr/bin/time"
+    if os.path.exists(gnu_time):
+        with tempfile.NamedTemporaryFile("r", suffix=".rss") as rss:
+            t0 = time.perf_counter()
+            subprocess.run([gnu_time, "-f", "%M", "-o", rss.name] + cmd, check=True,
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            seconds = time.perf_counter() - t0
+            return seconds, int(rss.read().split()[-1]) * 1024
+    # ru_maxrss of the children is the largest of any child so far: run each in a
+    # process of its own so that the value is this run's.
+    code = ("import resource, subprocess, sys, time; t = time.perf_counter(); "
+            "subprocess.run(sys.argv[1:], check=True, stdout=subprocess.DEVNULL, "
+            "stderr=subprocess.DEVNULL); print(time.perf_counter() - t, "
+            "resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)")
+    out = subprocess.run(["python3", "-c", code] + cmd, check=True, capture_output=True,
+                         text=True).stdout.split()
+    return float(out[0]), int(out[1]) * 1024
+
+
+def machine():
+    cores = os.cpu_count()
+    model = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as f:
+            model = next(l.split(":", 1)[1].strip() for l in f if l.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    return f"{model}, {cores} cores, {platform.system()} {platform.release()}"
+
+
+def commit():
+    try:
+        return subprocess.run(["git", "rev-parse", "--short", "HEAD"], check=True,
+                              capture_output=True, text=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
+def versus_sobol(binary, cells, runs, out_dir):
+    """`generate -q` against `baseline sobol` of the same size, side by side."""
+    header = ["| n × s | generate -q (s) | baseline sobol (s) | time ratio | generate peak (MB) "
+              "| sobol peak (MB) | output n·s·8 (MB) | generate peak / output "
+              "| sobol peak / output |",
+              "|---|---|---|---|---|---|---|---|---|"]
+    lines = list(header)
+    for line in header:
+        print(line, flush=True)
+    with tempfile.TemporaryDirectory() as tmp:
+        for cell in cells:
+            n, s = (int(v) for v in cell.split("x"))
+            out = os.path.join(tmp, "x.npy")
+            cmds = {
+                "generate": [binary, "generate", "-n", str(n), "-s", str(s), "-q", "-o", out],
+                "sobol": [binary, "baseline", "sobol", "-n", str(n), "-s", str(s), "-o", out],
+            }
+            got = {k: [] for k in cmds}
+            for _ in range(runs):
+                # Alternating, so that a change of the machine's load falls on both.
+                for k, cmd in cmds.items():
+                    got[k].append(timed(cmd))
+            med = {k: (statistics.median(v[0] for v in got[k]), max(v[1] for v in got[k]))
+                   for k in got}
+            output = n * s * 8
+            mb = 1e6
+            line = (f"| {n} × {s} | {med['generate'][0]:.2f} | {med['sobol'][0]:.2f} | "
+                    f"{med['generate'][0] / med['sobol'][0]:.2f} | "
+                    f"{med['generate'][1] / mb:.0f} | {med['sobol'][1] / mb:.0f} | "
+                    f"{output / mb:.1f} | {med['generate'][1] / output:.2f} | "
+                    f"{med['sobol'][1] / output:.2f} |")
+            lines.append(line)
+            print(line, flush=True)
+    os.makedirs(out_dir, exist_ok=True)
+    command = "python3 benches/scaling.py --versus-sobol" + (
+        f" {','.join(cells)}" if ",".join(cells) != VERSUS_CELLS else "")
+    with open(os.path.join(out_dir, "versus-sobol.md"), "w") as f:
+        f.write(f"# The default run against writing a Sobol' set (`{command}`)\n\n"
+                f"Commit {commit()}; {machine()}; median of {runs} runs each, alternating; "
+                "peak = largest maximum resident set of the runs; output = the points' "
+                "n·s·8 bytes.\n\n" + "\n".join(lines) + "\n")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--bin", default="target/release/stillpoint")
@@ -107,7 +205,15 @@ def main():
                     help="sizes NxS whose exact discrepancies are compared with the start's "
                          "('' for none)")
     ap.add_argument("--no-table", action="store_true", help="only the --check sizes")
+    ap.add_argument("--versus-sobol", nargs="?", const=VERSUS_CELLS, default=None,
+                    metavar="NxS,...",
+                    help="time `generate -q` against `baseline sobol` of the same sizes "
+                         f"instead (default {VERSUS_CELLS})")
+    ap.add_argument("--runs", type=int, default=3, help="runs per command for --versus-sobol")
     args = ap.parse_args()
+    if args.versus_sobol is not None:
+        versus_sobol(args.bin, args.versus_sobol.split(","), args.runs, args.out)
+        return
     lines = ["| n | s | seconds | ratio to previous | D_MD start | D_MD result | descent |",
              "|---|---|---|---|---|---|---|"]
     with tempfile.TemporaryDirectory() as tmp:

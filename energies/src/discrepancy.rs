@@ -1327,6 +1327,34 @@ fn point_integrals(x: &[f64]) -> [f64; 5] {
     g
 }
 
+/// How many pairs ahead of its use [`sampled_squared_discrepancies`] draws a pair and
+/// asks for its points: enough misses in flight to cover memory's latency.
+const PREFETCH_AHEAD: usize = 16;
+
+/// Asks the processor to bring the two points of pair (i, l) and their integrals into
+/// the cache (a hint: no effect on any value).
+#[inline(always)]
+fn prefetch_pair(rows: &[f64], g: &[[f64; 5]], s: usize, (i, l): (usize, usize)) {
+    #[cfg(target_arch = "x86_64")]
+    for k in [i, l] {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        let row = &rows[k * s..(k + 1) * s];
+        // One hint per cache line the row may touch, and one for the integrals.
+        for part in row
+            .chunks(8)
+            .map(|p| p.as_ptr())
+            .chain(row.last().map(|v| v as *const f64))
+        {
+            // SAFETY: prefetching is a hint that reads nothing; the pointer is in bounds.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>(part.cast()) };
+        }
+        // SAFETY: as above.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(g[k].as_ptr().cast()) };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (rows, g, s, i, l);
+}
+
 /// The five pair products K(x, y) (star, modified, centred, wrap-around, mixture).
 fn pair_products(x: &[f64], y: &[f64]) -> [f64; 5] {
     let mut p = [1.0; 5];
@@ -1409,11 +1437,28 @@ pub fn sampled_squared_discrepancies(
                 return acc;
             }
             let len = SAMPLE_CHUNK.min(pairs - c * SAMPLE_CHUNK);
-            for _ in 0..len {
+            let mut draw = || {
                 let i = rng.below(n);
                 let mut l = rng.below(n - 1);
                 if l >= i {
                     l += 1;
+                }
+                (i, l)
+            };
+            // The pairs are drawn PREFETCH_AHEAD ahead of their use, in the same order,
+            // and their points asked of memory then: a random pair of a large set is four
+            // cache misses, which otherwise cost more than its arithmetic.
+            let mut ahead = [(0usize, 0usize); PREFETCH_AHEAD];
+            for slot in ahead.iter_mut().take(len) {
+                *slot = draw();
+                prefetch_pair(rows, &g, s, *slot);
+            }
+            for t in 0..len {
+                let (i, l) = ahead[t % PREFETCH_AHEAD];
+                if t + PREFETCH_AHEAD < len {
+                    let next = draw();
+                    prefetch_pair(rows, &g, s, next);
+                    ahead[t % PREFETCH_AHEAD] = next;
                 }
                 let p = pair_products(&rows[i * s..(i + 1) * s], &rows[l * s..(l + 1) * s]);
                 for m in 0..5 {

@@ -285,6 +285,8 @@ pub fn write_points(
         // Streamed: the text is the largest form, several times the points' memory.
         Format::Csv => atomic::write_atomic_with(path, &text(',')),
         Format::Tsv => atomic::write_atomic_with(path, &text('\t')),
+        // Streamed too: a copy would double the peak of a large run.
+        Format::Npy => atomic::write_atomic_with(path, &|w| npy::write_npy(w, points)),
         format => write_atomic(path, &encode(points, meta, format)),
     }
 }

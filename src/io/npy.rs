@@ -153,6 +153,14 @@ pub(super) fn parse_npy(bytes: &[u8], file: &str) -> Result<PointSet, IoError> {
 }
 
 pub(super) fn to_npy(points: &PointSet) -> Vec<u8> {
+    let mut out = Vec::with_capacity(128 + 8 * points.coordinate_count());
+    write_npy(&mut out, points).expect("writing to memory");
+    out
+}
+
+/// The bytes of [`to_npy`] written to `w` as they are made: a copy of the points in
+/// memory would double a large run's peak.
+pub(super) fn write_npy(w: &mut dyn std::io::Write, points: &PointSet) -> std::io::Result<()> {
     // Format version 1.0: magic, version, u16 header length, a Python dict literal padded
     // with spaces and ended by a newline so that the data starts 64-byte aligned.
     let mut header = format!(
@@ -166,14 +174,18 @@ pub(super) fn to_npy(points: &PointSet) -> Vec<u8> {
         unpadded.next_multiple_of(64) - unpadded,
     ));
     header.push('\n');
-    let mut out = Vec::with_capacity(10 + header.len() + 8 * points.coordinate_count());
-    out.extend_from_slice(NPY_MAGIC);
-    out.extend_from_slice(&[1, 0]);
+    w.write_all(NPY_MAGIC)?;
+    w.write_all(&[1, 0])?;
     // A dict for two dimensions is far below the 65 535-byte limit of version 1.0.
-    out.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    out.extend_from_slice(header.as_bytes());
-    for &v in points.as_slice() {
-        out.extend_from_slice(&v.to_le_bytes());
+    w.write_all(&(header.len() as u16).to_le_bytes())?;
+    w.write_all(header.as_bytes())?;
+    let mut block = Vec::with_capacity(8 << 12);
+    for part in points.as_slice().chunks(1 << 12) {
+        block.clear();
+        for &v in part {
+            block.extend_from_slice(&v.to_le_bytes());
+        }
+        w.write_all(&block)?;
     }
-    out
+    Ok(())
 }

@@ -141,17 +141,17 @@ pub(crate) fn lattice_rule_observed(
     let drawn: Vec<u64> = (0..s)
         .map(|_| 2 * rng.random_range(0..2 * n as u64) + 1)
         .collect();
-    let shift = search(
+    let (shift, criterion) = search(
         &spectrum,
         &generator,
         (drawn[0], CORNER_CHOICES),
         |acc, z| acc.scores(z),
         on_event,
     )?;
-    let criterion = shift_fft::criterion(&spectrum, &generator, &shift, TENT_WEIGHT);
     let drawn_criterion = shift_fft::criterion(&spectrum, &generator, &drawn, TENT_WEIGHT);
     // Its tables are a few times n; the points are n·s.
     drop(spectrum);
+    release_freed_memory();
     let searched = clock.elapsed().as_secs_f64();
     let mut points = points(n, &generator, &shift)?;
     if s == 1 {
@@ -170,6 +170,27 @@ pub(crate) fn lattice_rule_observed(
     })
 }
 
+/// Hands the memory the search freed back to the system before the points are made.
+///
+/// Why. The C allocator keeps freed blocks below a threshold it raises as large blocks are
+/// freed, so the search's tables (several times n, each coordinate's freed and made
+/// again) stayed resident under the points and the report's passes: at 10⁵ × 20 the
+/// run's peak was 49 MB, 3.1× its points' 16 MB, and 40 MB with them released.
+/// Elsewhere than glibc nothing is done.
+fn release_freed_memory() {
+    #[cfg(all(target_os = "linux", target_env = "gnu"))]
+    {
+        extern "C" {
+            fn malloc_trim(pad: usize) -> std::os::raw::c_int;
+        }
+        // SAFETY: glibc's malloc_trim only returns free memory of its own heaps to the
+        // system; it takes no pointer and is safe to call at any time from any thread.
+        unsafe {
+            malloc_trim(0);
+        }
+    }
+}
+
 /// The shift numerators chosen coordinate by coordinate after `first`: `scores` gives,
 /// for the next coordinate's generator, the criterion's shift-dependent part at every
 /// q = 2p + 1, p = 0..n − 1 (+∞ where a candidate is not tried); among the `choices`
@@ -178,18 +199,21 @@ pub(crate) fn lattice_rule_observed(
 /// Scores equal to about 12 digits (of the largest) rank as ties, broken by the smaller
 /// p: symmetric shifts score the same, and which comes first must not be rounding's
 /// choice.
+///
+/// Returns the numerators and the criterion of the set they make (the sums the search
+/// kept: [`shift_fft::criterion`]'s, bit for bit, without its second pass).
 fn search(
     spectrum: &Spectrum,
     generator: &[u64],
     (first, choices): (u64, usize),
     mut scores: impl FnMut(&Accumulator, u64) -> Vec<f64>,
     on_event: &mut dyn FnMut(Event),
-) -> Result<Vec<u64>, Error> {
+) -> Result<(Vec<u64>, f64), Error> {
     let n = spectrum.n();
     let mut acc = Accumulator::new(spectrum);
     let mut corner = Corner::new(n);
     acc.push(generator[0], first);
-    corner.push(&column(n, generator[0], first));
+    corner.push(generator[0], first);
     let mut shift = vec![first];
     on_event(Event::Progress(1));
     for &zj in &generator[1..] {
@@ -208,29 +232,40 @@ fn search(
             order.truncate(best);
         }
         order.sort_by(by_score);
-        let tried: Vec<u64> = order
+        let numerators: Vec<u64> = order.iter().map(|&p| 2 * p as u64 + 1).collect();
+        let tried: Vec<u64> = numerators
             .iter()
-            .flat_map(|&p| {
-                let q = 2 * p as u64 + 1;
-                [q, q + 2 * n as u64]
+            .flat_map(|&q| [q, q + 2 * n as u64])
+            .collect();
+        // The candidates split evenly over the threads: each pass over the points serves
+        // all of its share.
+        let share = numerators
+            .len()
+            .div_ceil(rayon::current_num_threads())
+            .max(1);
+        let gathered = corner.gathered(zj);
+        let values: Vec<f64> = numerators
+            .par_chunks(share)
+            .flat_map_iter(|part| {
+                corner
+                    .scores(zj, gathered.as_ref(), part)
+                    .into_iter()
+                    .flatten()
             })
             .collect();
-        let values: Vec<f64> = tried
-            .par_iter()
-            .map(|&q| corner.score(&column(n, zj, q)))
-            .collect();
+        drop(gathered);
         // The first of the lowest: ties go to the better rank, unreflected first.
         let pick = (0..tried.len())
             .min_by(|&a, &b| values[a].total_cmp(&values[b]).then(a.cmp(&b)))
             .expect("at least one candidate");
         let q = tried[pick];
-        corner.push(&column(n, zj, q));
+        corner.push(zj, q);
         acc.push(zj, q);
         shift.push(q);
         on_event(Event::Progress(shift.len() as u64));
         crate::solve::stop_if_cancelled()?;
     }
-    Ok(shift)
+    Ok((shift, acc.value(TENT_WEIGHT)))
 }
 
 /// How many of the best shifts by the criterion the corner test functions choose among
@@ -254,21 +289,54 @@ const CORNER_RATES: [f64; 4] = [0.5, 1.0, 2.0, 4.0];
 
 /// The coordinate with generator z under the shift numerator q, point by point, as
 /// midpoint indices ([`tent_index`], its residue r + q div 4 stepped without a division).
-fn column(n: usize, z: u64, q: u64) -> Vec<u32> {
-    let (nn, step) = (n as u64, z % n.max(1) as u64);
-    let mut r = (q / 4) % nn;
-    let e = q % 4;
-    (0..n)
-        .map(|_| {
-            let i = tent_index(r, e, nn);
-            r += step;
-            if r >= nn {
-                r -= nn;
-            }
-            i
-        })
-        .collect()
+fn column(n: usize, z: u64, q: u64) -> impl Iterator<Item = u32> {
+    column_from(n, z, (q / 4) % n.max(1) as u64, q % 4)
 }
+
+/// [`column`] from residue r on, with e = q mod 4.
+fn column_from(n: usize, z: u64, mut r: u64, e: u64) -> impl Iterator<Item = u32> {
+    let (nn, step) = (n as u64, z % n.max(1) as u64);
+    (0..n).map(move |_| {
+        let i = tent_index(r, e, nn);
+        r += step;
+        if r >= nn {
+            r -= nn;
+        }
+        i
+    })
+}
+
+/// [`Corner::gathered`]: the table along one coordinate, and z⁻¹ mod n.
+struct Gathered {
+    column: Vec<Factors>,
+    inverse: u64,
+}
+
+/// a⁻¹ mod m, `None` when gcd(a, m) ≠ 1 (m ≥ 1; mod 1 every number is 0, its own inverse).
+fn inverse_mod(a: u64, m: u64) -> Option<u64> {
+    // (g, x, y) with a·x + b·y = g = gcd(a, b), by Euclid's recursion.
+    fn bezout(a: i128, b: i128) -> (i128, i128, i128) {
+        if b == 0 {
+            return (a, 1, 0);
+        }
+        let (g, x, y) = bezout(b, a % b);
+        (g, y, x - (a / b) * y)
+    }
+    let m = i128::from(m);
+    let (g, x, _) = bezout(i128::from(a) % m, m);
+    (g == 1 || m == 1).then(|| x.rem_euclid(m) as u64)
+}
+
+/// How many rates [`Corner`] weighs.
+const RATES: usize = CORNER_RATES.len();
+
+/// e^{−c x} for every rate at one midpoint and at its reflection, in one line of memory:
+/// a candidate's column reads the table at a point far from the last, and the reflected
+/// candidate (q + 2n) reads the mirrored midpoint n − 1 − i of the same point, so one
+/// load serves both.
+#[derive(Clone, Copy)]
+#[repr(align(64))]
+struct Factors([f64; 2 * RATES]);
 
 /// The relative errors of the test functions e^{−c Σ_j x_j}, c in [`CORNER_RATES`], on the
 /// coordinates chosen so far: per rate, Π_j e^{−c x_kj} for every point and the exact
@@ -277,56 +345,155 @@ fn column(n: usize, z: u64, q: u64) -> Vec<u32> {
 /// The cosine kernel cannot tell reflections apart (ψ(1 − x, 1 − y) = ψ(x, y)), nor much
 /// the best few shifts, and each column is the midpoints under all of them; but
 /// integrands peaked at a corner see which points come near it.
+///
+/// The candidates are scored together in one pass over the points (each sum still taken
+/// point by point in order, so each has the bits of its own pass): the pass, not the
+/// arithmetic, is what costs at large n.
 struct Corner {
-    /// Per rate, e^{−c x} at the n midpoints: every coordinate takes these values.
-    factor: Vec<Vec<f64>>,
-    prod: Vec<Vec<f64>>,
-    exact: [f64; CORNER_RATES.len()],
+    n: usize,
+    /// Per midpoint index i: e^{−c x_i} per rate, then e^{−c x_{n−1−i}}: every
+    /// coordinate takes these values.
+    factor: Vec<Factors>,
+    /// Per point, Π_j e^{−c x_kj} per rate.
+    prod: Vec<[f64; RATES]>,
+    exact: [f64; RATES],
 }
 
 impl Corner {
     fn new(n: usize) -> Self {
-        let factor = CORNER_RATES
-            .iter()
-            .map(|&c| (0..n as u32).map(|i| (-c * midpoint(i, n)).exp()).collect())
+        let at = |i: usize| CORNER_RATES.map(|c| (-c * midpoint(i as u32, n)).exp());
+        let factor = (0..n)
+            .map(|i| {
+                let (own, mirrored) = (at(i), at(n - 1 - i));
+                Factors(std::array::from_fn(|m| {
+                    if m < RATES {
+                        own[m]
+                    } else {
+                        mirrored[m - RATES]
+                    }
+                }))
+            })
             .collect();
         Corner {
+            n,
             factor,
-            prod: vec![vec![1.0; n]; CORNER_RATES.len()],
-            exact: [1.0; CORNER_RATES.len()],
+            prod: vec![[1.0; RATES]; n],
+            exact: [1.0; RATES],
         }
     }
 
-    /// Σ_c (relative error)² with `col` as the next coordinate.
-    fn score(&self, col: &[u32]) -> f64 {
+    /// The table read along the coordinate with generator z and numerator 1, point by
+    /// point, and z⁻¹ mod n; `None` when z has no inverse (every candidate then reads
+    /// the table itself).
+    ///
+    /// Why. A candidate's column reads the table at points far apart, and at 10⁶ points
+    /// that read, not the arithmetic, is what the search waits for. With z invertible,
+    /// every candidate's column is this one read from another start: numerator q with
+    /// q ≡ 1 (mod 4) reads entry (k + d) at point k, d = (q div 4)·z⁻¹, and q ≡ 3 reads
+    /// entry (−z⁻¹ − d − k), backwards (its midpoint index at residue r is the first's
+    /// at n − 1 − r), both mod n. So the table is gathered once per coordinate and each
+    /// candidate streams through the copy.
+    fn gathered(&self, z: u64) -> Option<Gathered> {
+        let (n, nn) = (self.n, self.n as u64);
+        let inverse = inverse_mod(z % nn, nn)?;
+        let mut column = vec![Factors([0.0; 2 * RATES]); n];
+        const PART: usize = 1 << 14;
+        column
+            .par_chunks_mut(PART)
+            .enumerate()
+            .for_each(|(part, out)| {
+                let first = ((part * PART) as u128 * u128::from(z) % u128::from(nn)) as u64;
+                for (f, i) in out.iter_mut().zip(column_from(n, z, first, 1)) {
+                    *f = self.factor[i as usize];
+                }
+            });
+        Some(Gathered { column, inverse })
+    }
+
+    /// Σ_c (relative error)² with each numerator of `numerators` as the next coordinate
+    /// under generator z, and with its reflection q + 2n: per numerator, [q, q + 2n].
+    /// `gathered` is [`Corner::gathered`]'s for z.
+    fn scores(&self, z: u64, gathered: Option<&Gathered>, numerators: &[u64]) -> Vec<[f64; 2]> {
+        let n = self.n;
+        let mut sums = vec![[0.0f64; 2 * RATES]; numerators.len()];
+        let add = |sum: &mut [f64; 2 * RATES], p: &[f64; RATES], f: &[f64; 2 * RATES]| {
+            for c in 0..RATES {
+                sum[c] += p[c] * f[c];
+                sum[RATES + c] += p[c] * f[RATES + c];
+            }
+        };
+        match gathered {
+            Some(g) => {
+                let nn = n as u64;
+                // Per candidate: where it starts in the gathered column, and whether it
+                // reads it forwards.
+                let mut at: Vec<(usize, bool)> = numerators
+                    .iter()
+                    .map(|&q| {
+                        let d = (u128::from((q / 4) % nn) * u128::from(g.inverse) % u128::from(nn))
+                            as u64;
+                        if q % 4 == 1 {
+                            (d as usize, true)
+                        } else {
+                            (((nn - (d + g.inverse) % nn) % nn) as usize, false)
+                        }
+                    })
+                    .collect();
+                for p in &self.prod {
+                    for ((pos, forward), sum) in at.iter_mut().zip(sums.iter_mut()) {
+                        add(sum, p, &g.column[*pos].0);
+                        *pos = if *forward {
+                            if *pos + 1 == n {
+                                0
+                            } else {
+                                *pos + 1
+                            }
+                        } else if *pos == 0 {
+                            n - 1
+                        } else {
+                            *pos - 1
+                        };
+                    }
+                }
+            }
+            None => {
+                let mut columns: Vec<_> = numerators.iter().map(|&q| column(n, z, q)).collect();
+                for p in &self.prod {
+                    for (col, sum) in columns.iter_mut().zip(sums.iter_mut()) {
+                        let i = col.next().expect("n indices");
+                        add(sum, p, &self.factor[i as usize].0);
+                    }
+                }
+            }
+        }
+        sums.iter()
+            .map(|sum| [0, RATES].map(|from| self.error(&sum[from..from + RATES])))
+            .collect()
+    }
+
+    /// Σ_c (relative error)² from the sums over the points of the next coordinate's
+    /// products.
+    fn error(&self, sums: &[f64]) -> f64 {
         CORNER_RATES
             .iter()
-            .zip(&self.prod)
-            .zip(&self.factor)
+            .zip(sums)
             .zip(self.exact)
-            .map(|(((&c, p), f), e)| {
-                let mean = p
-                    .iter()
-                    .zip(col)
-                    .map(|(pk, &i)| pk * f[i as usize])
-                    .sum::<f64>()
-                    / col.len() as f64;
+            .map(|((&c, &sum), e)| {
+                let mean = sum / self.n as f64;
                 (mean / (e * -(-c).exp_m1() / c) - 1.0).powi(2)
             })
             .sum()
     }
 
-    /// Takes `col` as the next coordinate.
-    fn push(&mut self, col: &[u32]) {
-        for (((&c, p), f), e) in CORNER_RATES
-            .iter()
-            .zip(self.prod.iter_mut())
-            .zip(&self.factor)
-            .zip(self.exact.iter_mut())
-        {
-            for (pk, &i) in p.iter_mut().zip(col) {
-                *pk *= f[i as usize];
+    /// Takes the coordinate with generator z and shift numerator q as the next.
+    fn push(&mut self, z: u64, q: u64) {
+        for (p, i) in self.prod.iter_mut().zip(column(self.n, z, q)) {
+            let f = &self.factor[i as usize].0;
+            for c in 0..RATES {
+                p[c] *= f[c];
             }
+        }
+        for (&c, e) in CORNER_RATES.iter().zip(self.exact.iter_mut()) {
             *e *= -(-c).exp_m1() / c;
         }
     }
@@ -587,7 +754,71 @@ mod tests {
         let first = drawn_shift(n, s, seed)[0];
         let plain =
             |acc: &Accumulator, zj: u64| (0..n as u64).map(|p| acc.score(zj, 2 * p + 1)).collect();
-        search(&spectrum, &z, (first, CORNER_CHOICES), plain, &mut |_| {}).unwrap()
+        search(&spectrum, &z, (first, CORNER_CHOICES), plain, &mut |_| {})
+            .unwrap()
+            .0
+    }
+
+    #[test]
+    fn the_corner_scores_are_each_candidates_own_pass_to_the_bit() {
+        // Per rate, the products point by point and their mean: each candidate in a pass
+        // of its own over a column of its own, as written first.
+        let reference = |n: usize, chosen: &[(u64, u64)], z: u64, q: u64| -> f64 {
+            let col = |z: u64, q: u64| -> Vec<u32> { column(n, z, q).collect() };
+            CORNER_RATES
+                .iter()
+                .map(|&c| {
+                    let f: Vec<f64> = (0..n as u32).map(|i| (-c * midpoint(i, n)).exp()).collect();
+                    let mut prod = vec![1.0f64; n];
+                    let mut exact = 1.0;
+                    for &(zj, qj) in chosen {
+                        for (p, i) in prod.iter_mut().zip(col(zj, qj)) {
+                            *p *= f[i as usize];
+                        }
+                        exact *= -(-c).exp_m1() / c;
+                    }
+                    let mean = prod
+                        .iter()
+                        .zip(col(z, q))
+                        .map(|(p, i)| p * f[i as usize])
+                        .sum::<f64>()
+                        / n as f64;
+                    (mean / (exact * -(-c).exp_m1() / c) - 1.0).powi(2)
+                })
+                .sum()
+        };
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(17);
+        for n in [1usize, 2, 3, 7, 64, 97, 500, 1001, 40_000] {
+            let mut corner = Corner::new(n);
+            let mut chosen = Vec::new();
+            for _ in 0..4 {
+                let z = rng.random_range(1..=n as u64);
+                let qs: Vec<u64> = (0..5)
+                    .map(|_| 2 * rng.random_range(0..2 * n as u64) + 1)
+                    .collect();
+                let gathered = corner.gathered(z);
+                assert_eq!(
+                    gathered.is_some(),
+                    gcd(z, n as u64) == 1,
+                    "n = {n}, z = {z}"
+                );
+                for g in [gathered.as_ref(), None] {
+                    let fast = corner.scores(z, g, &qs);
+                    for (&q, pair) in qs.iter().zip(&fast) {
+                        for (value, q) in pair.iter().zip([q, q + 2 * n as u64]) {
+                            let want = reference(n, &chosen, z, q);
+                            assert_eq!(
+                                value.to_bits(),
+                                want.to_bits(),
+                                "n = {n}, z = {z}, q = {q}"
+                            );
+                        }
+                    }
+                }
+                corner.push(z, qs[0]);
+                chosen.push((z, qs[0]));
+            }
+        }
     }
 
     #[test]
@@ -643,8 +874,10 @@ mod tests {
             }
             v
         };
-        let q = search(&spectrum, &z, (first, choices), scorer, &mut |_| {}).unwrap();
-        shift_fft::criterion(&spectrum, &z, &q, TENT_WEIGHT)
+        let (q, kept) = search(&spectrum, &z, (first, choices), scorer, &mut |_| {}).unwrap();
+        let criterion = shift_fft::criterion(&spectrum, &z, &q, TENT_WEIGHT);
+        assert_eq!(kept.to_bits(), criterion.to_bits(), "n = {n}, s = {s}");
+        criterion
     }
 
     #[test]

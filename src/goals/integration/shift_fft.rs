@@ -96,13 +96,22 @@ impl Spectrum {
     }
 }
 
+/// Per frequency F, the sums over the coordinates added: kept together because a
+/// coordinate visits the frequencies in the order G z mod n, far apart in memory, and
+/// reads and writes both at each.
+#[derive(Clone, Copy)]
+struct Sums {
+    /// Σ_l A_l(F).
+    a: f64,
+    /// P̂(F) = Σ_l Ŝ_l(F).
+    s: Complex64,
+}
+
 /// The criterion of the coordinates added so far, and what a next one's search needs.
 pub(crate) struct Accumulator<'a> {
     spectrum: &'a Spectrum,
-    /// Σ_l A_l(F) over the coordinates added, per F.
-    a_sum: Vec<f64>,
-    /// P̂(F) = Σ_l Ŝ_l(F).
-    s_sum: Vec<Complex64>,
+    /// Per F, Σ_l A_l(F) and P̂(F) over the coordinates added.
+    sums: Vec<Sums>,
     /// Coordinates added.
     count: usize,
     /// Σ over the pairs added of n⁸ × their order-two term (every part non-negative).
@@ -114,8 +123,13 @@ impl<'a> Accumulator<'a> {
         let n = spectrum.n;
         Accumulator {
             spectrum,
-            a_sum: vec![0.0; n],
-            s_sum: vec![Complex64::new(0.0, 0.0); n],
+            sums: vec![
+                Sums {
+                    a: 0.0,
+                    s: Complex64::new(0.0, 0.0),
+                };
+                n
+            ],
             count: 0,
             pairs: 0.0,
         }
@@ -136,14 +150,15 @@ impl<'a> Accumulator<'a> {
             if angle >= 2 * n {
                 angle -= 2 * n;
             }
+            let at = &mut self.sums[f];
             if g != 0 {
-                let term = sp.a[g] * self.a_sum[f] + (s_hat * self.s_sum[f].conj()).re;
+                let term = sp.a[g] * at.a + (s_hat * at.s.conj()).re;
                 // Non-negative in exact arithmetic (|B| ≤ A): what rounding leaves below
                 // zero is noise in a term that vanishes.
                 pairs += term.max(0.0);
             }
-            self.a_sum[f] += sp.a[g];
-            self.s_sum[f] += s_hat;
+            at.a += sp.a[g];
+            at.s += s_hat;
             f += step;
             if f >= n {
                 f -= n;
@@ -173,7 +188,7 @@ impl<'a> Accumulator<'a> {
             if f >= n {
                 f -= n;
             }
-            *cg = self.s_sum[f].conj() * sp.b[g];
+            *cg = self.sums[f].s.conj() * sp.b[g];
         }
         c
     }
