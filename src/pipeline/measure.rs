@@ -58,15 +58,17 @@ impl CubeRule {
         match self {
             CubeRule::Dealt => "one design: levels dealt by rank, slices balanced",
             CubeRule::Randomized(Randomize::Tent) => {
-                "tent-randomised lattice through each law's inverse CDF"
+                "tent-randomised lattice through each law's inverse CDF (levels ⌊u·L⌋, not by rank)"
             }
             CubeRule::Randomized(Randomize::Cells) => {
-                "set randomised by cells through each law's inverse CDF"
+                "set randomised by cells through each law's inverse CDF (levels ⌊u·L⌋, not by rank)"
             }
             CubeRule::Randomized(Randomize::Shift) => {
-                "set shifted modulo 1 through each law's inverse CDF"
+                "set shifted modulo 1 through each law's inverse CDF (levels ⌊u·L⌋, not by rank)"
             }
-            CubeRule::ScrambledSobol => "Owen-scrambled Sobol' through each law's inverse CDF",
+            CubeRule::ScrambledSobol => {
+                "Owen-scrambled Sobol' through each law's inverse CDF (levels ⌊u·L⌋, not by rank)"
+            }
         }
     }
 
@@ -157,7 +159,10 @@ mod tests {
             assert!(rule.unbiased() && rule.construction().is_none());
         }
         assert!(!CubeRule::Dealt.unbiased());
-        assert_eq!(CubeRule::ScrambledSobol.construction(), Some(Baseline::Sobol));
+        assert_eq!(
+            CubeRule::ScrambledSobol.construction(),
+            Some(Baseline::Sobol)
+        );
         let phrases: std::collections::HashSet<_> =
             CubeRule::ALL.iter().map(|r| r.phrase()).collect();
         assert_eq!(phrases.len(), CubeRule::ALL.len());
@@ -167,13 +172,29 @@ mod tests {
     #[test]
     fn levels_are_the_floor_of_u_times_l_and_values_the_quantiles() {
         let s = space(&["x=normal(2,3)", "k=int(-1,2)", "c={a,b,c}"]);
-        let u = [0.0, 0.0, 0.0, 0.3, 0.25, 0.34, 0.9, 0.99, 2.0 / 3.0, 0.5, 1.0, 1.0];
+        let u = [
+            0.0,
+            0.0,
+            0.0,
+            0.3,
+            0.25,
+            0.34,
+            0.9,
+            0.99,
+            2.0 / 3.0,
+            0.5,
+            1.0,
+            1.0,
+        ];
         let unit = PointSet::new(4, 3, u.to_vec()).unwrap();
         let d = mapped(&s, &unit).unwrap();
         // ⌊u·L⌋ with L = 4 and 3, a coordinate of 1 in the last level.
         assert_eq!(d.levels[1], vec![0, 1, 3, 3]);
         assert_eq!(d.levels[2], vec![0, 1, 2, 2]);
-        let x = crate::design::Marginal::Normal { mu: 2.0, sigma: 3.0 };
+        let x = crate::design::Marginal::Normal {
+            mu: 2.0,
+            sigma: 3.0,
+        };
         match &d.columns()[0] {
             crate::design::Column::Real(v) => {
                 for (i, &xi) in v.iter().enumerate() {

@@ -9,6 +9,7 @@
 //!
 //! An option that would have no effect on the chosen run is refused, never ignored.
 
+use super::measure::{cube_rule, CubeRule};
 use crate::config::{EnergyKind, GenerateConfig, Goal, Init, Space};
 use crate::design::DesignSpace;
 use crate::energies::discrepancy::DiscrepancyKind;
@@ -20,7 +21,6 @@ use crate::plan::constraints::{Constrained, ConstraintSpec, Mixture};
 use crate::plan::space::{numbers_text, Bounds, RegionSpec};
 use crate::plan::start::MAX_SHIFTS;
 use crate::post::randomize::Randomize;
-use super::measure::{cube_rule, CubeRule};
 use crate::quality::target::Target;
 use crate::sequences::{self, Baseline};
 use crate::solve::Solver;
