@@ -295,7 +295,7 @@ def write_md(rows, seconds):
         "Runs: " + "; ".join(
             f"commit `{c}`, `{cmd.strip()}` ({k} intervals per family, n and method)"
             for c, cmd, k in runs
-        ) + f" (the last {seconds / 60:.1f} min on the shared 2-core machine). "
+        ) + f" (the last run {seconds / 60:.1f} min of wall time on the shared 2-core machine). "
         "Every interval is the Student interval m ± t₇ · s/√8 from R = 8 "
         "randomised sets (95 %). stillpoint: "
         "`design(n, space, randomize=True, seed=…)` (the tent-randomised lattice, each "
@@ -339,7 +339,8 @@ def write_md(rows, seconds):
         ) + ".",
         "",
         "The full run is `benches/uq_coverage.py` (1 000 intervals per family and n, "
-        "8 000 sets per method and cell; about 16 min). stillpoint's sets come from the "
+        "8 000 sets per method and cell; about 16 min of one core, 38 min of wall time on the "
+        "shared machine). stillpoint's sets come from the "
         "package's own steps (the tent set once per cell, `_core.randomize` per seed, the "
         "library's inverse-CDF map `_core.space_values`), checked bit for bit against "
         "`design(n, space, randomize=True, seed=…)` on two seeds of every cell.",
