@@ -169,10 +169,17 @@ class Stillpoint:
     def __init__(self, space, n):
         self.space, self.n = space, n
         self.names = [t.split("=", 1)[0] for t in space]
-        self.base = _core.tent_set(n, len(space))
+        # A space with an unbounded law takes the lattice made for the laws
+        # (``_core.law_set``, the library's construction); bounded laws the cube's.
+        self.law = sp.design(min(n, 64), space, randomize=True, seed=0).rule.startswith(
+            "lattice made for the laws")
+        self.base = None if self.law else _core.tent_set(n, len(space))
 
     def values(self, seed):
-        u = _core.randomize(self.base, "tent", seed)
+        if self.law:
+            u = _core.law_set(self.space, self.n, seed)
+        else:
+            u = _core.randomize(self.base, "tent", seed)
         x = _core.space_values(self.space, u, None)
         return {name: x[:, j] for j, name in enumerate(self.names)}
 
@@ -295,7 +302,7 @@ def write_md(rows, seconds):
         "Runs: " + "; ".join(
             f"commit `{c}`, `{cmd.strip()}` ({k} intervals per family, n and method)"
             for c, cmd, k in runs
-        ) + f" (the last {seconds / 60:.1f} min on the shared 2-core machine). "
+        ) + f" (the last run {seconds / 60:.1f} min of wall time on the shared 2-core machine). "
         "Every interval is the Student interval m ± t₇ · s/√8 from R = 8 "
         "randomised sets (95 %). stillpoint: "
         "`design(n, space, randomize=True, seed=…)` (the tent-randomised lattice, each "
@@ -339,7 +346,8 @@ def write_md(rows, seconds):
         ) + ".",
         "",
         "The full run is `benches/uq_coverage.py` (1 000 intervals per family and n, "
-        "8 000 sets per method and cell; about 16 min). stillpoint's sets come from the "
+        "8 000 sets per method and cell; about 16 min of one core, 38 min of wall time on the "
+        "shared machine). stillpoint's sets come from the "
         "package's own steps (the tent set once per cell, `_core.randomize` per seed, the "
         "library's inverse-CDF map `_core.space_values`), checked bit for bit against "
         "`design(n, space, randomize=True, seed=…)` on two seeds of every cell.",

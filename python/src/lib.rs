@@ -549,6 +549,22 @@ fn tent_set<'py>(py: Python<'py>, n: usize, d: usize) -> PyResult<Bound<'py, PyA
     to_array(py, points)
 }
 
+/// The unit-scale set `design(n, space, randomize=True, seed=seed)` maps into a space
+/// with an unbounded law: the lattice made for the laws, randomised from `seed`.
+#[pyfunction]
+fn law_set<'py>(
+    py: Python<'py>,
+    space: Vec<String>,
+    n: usize,
+    seed: u64,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let unbounded = parsed_space(&space, None)?.unbounded();
+    let points = detached(py, move || {
+        stillpoint::sequences::law_lattice(n, &unbounded, seed).map_err(|e| e.to_string())
+    })?;
+    to_array(py, points)
+}
+
 /// The estimated seconds of `generate` with these keyword arguments on this machine's
 /// thread pool, from the library's cost model; refuses what `generate` would refuse.
 #[pyfunction]
@@ -681,6 +697,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(integrate, m)?)?;
     m.add_function(wrap_pyfunction!(randomize, m)?)?;
     m.add_function(wrap_pyfunction!(tent_set, m)?)?;
+    m.add_function(wrap_pyfunction!(law_set, m)?)?;
     m.add_function(wrap_pyfunction!(options, m)?)?;
     m.add_function(wrap_pyfunction!(metrics, m)?)?;
     m.add_function(wrap_pyfunction!(cubature::sequence_points, m)?)?;

@@ -43,6 +43,7 @@ def randomize(
     """``x`` randomised from ``seed`` as ``generate(..., randomize=kind)`` does:
     ``'tent'``, ``'cells'`` or ``'shift'``."""
 
+def law_set(space: List[str], n: int, seed: int) -> npt.NDArray[np.float64]: ...
 def tent_set(n: int, d: int) -> npt.NDArray[np.float64]:
     """The set ``generate(n, d, randomize='tent')`` randomises, unrandomised."""
 

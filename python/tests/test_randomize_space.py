@@ -92,7 +92,7 @@ def test_the_cli_file_is_the_same_design_with_its_rule_in_the_header(cli, tmp_pa
     for v in texts:
         args += ["--var", v]
     report = cli(*args)
-    rule = "set randomised by cells through each law's inverse CDF"
+    rule = "set randomised by cells through each law's inverse CDF (levels ⌊u·L⌋, not by rank)"
     assert rule in report
     lines = out.read_text().splitlines()
     assert f'# rule: "{rule}"' in lines

@@ -69,18 +69,20 @@ impl CubeRule {
         match self {
             CubeRule::Dealt => "one design: levels dealt by rank, slices balanced",
             CubeRule::Randomized(Randomize::Tent) => {
-                "tent-randomised lattice through each law's inverse CDF"
+                "tent-randomised lattice through each law's inverse CDF (levels ⌊u·L⌋, not by rank)"
             }
             CubeRule::Randomized(Randomize::Cells) => {
-                "set randomised by cells through each law's inverse CDF"
+                "set randomised by cells through each law's inverse CDF (levels ⌊u·L⌋, not by rank)"
             }
             CubeRule::Randomized(Randomize::Shift) => {
-                "set shifted modulo 1 through each law's inverse CDF"
+                "set shifted modulo 1 through each law's inverse CDF (levels ⌊u·L⌋, not by rank)"
             }
             CubeRule::LawLattice => {
-                "lattice made for the laws, shifted and tent-transformed, through each law's inverse CDF"
+                "lattice made for the laws, shifted and tent-transformed, through each law's inverse CDF (levels ⌊u·L⌋, not by rank)"
             }
-            CubeRule::ScrambledSobol => "Owen-scrambled Sobol' through each law's inverse CDF",
+            CubeRule::ScrambledSobol => {
+                "Owen-scrambled Sobol' through each law's inverse CDF (levels ⌊u·L⌋, not by rank)"
+            }
         }
     }
 

@@ -148,7 +148,7 @@ options! {
     target: "target", cli "--target", python Some("target"), [],
         "The discrepancy the integration goal lowers: blend, blend-smooth, curved, lattice, md, l2star, cd, periodic or smooth.";
     randomize: "randomize", cli "--randomize", python Some("randomize"), [],
-        "Randomise the set from the seed: tent, cells or shift (with a space: through each law's inverse CDF).";
+        "Randomise the set from the seed: tent, cells or shift (with a space: each law's inverse CDF, levels floor(u*L), not dealt by rank).";
     extend: "extend", cli "--extend", python Some("extend"), [Placement],
         "Points to keep, first and unchanged, while n more are added.";
     nested: "nested", cli "--nested", python Some("nested"), [Placement],
