@@ -270,7 +270,9 @@ pub(crate) struct GenerateArgs {
     /// 1|); its error decays like n⁻² for smooth integrands. `cells` (rotate the cells
     /// and shift the offsets within them; keeps the stratification) or `shift` (uniform
     /// shift modulo 1; keeps the wrap-around discrepancy and torus distances) randomise
-    /// the optimised set instead. The cube only.
+    /// the optimised set instead. With --var/--space each point then goes through the
+    /// laws' inverse CDFs (a variable with L levels to ⌊u·L⌋, not dealt by rank); not with
+    /// --bounds or a region.
     // Alone it is `true`, as Python's `randomize=True`: both mean tent, and a refusal
     // echoes the same value from either front end.
     #[arg(long, value_name = "tent|cells|shift", num_args = 0..=1, default_missing_value = "true")]
