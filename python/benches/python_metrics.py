@@ -3,7 +3,7 @@
 
 Times, as medians of --reps runs:
 
-- ``stillpoint.discrepancy(x, 'cd')`` and ``'l2star'`` against
+- ``stillpoint.discrepancy(x, 'centered')`` and ``'l2star'`` against
   ``scipy.stats.qmc.discrepancy(x, method='CD' / 'L2-star', workers=2)`` at n = 10 000,
   s = 20 (ours on the rayon pool, RAYON_NUM_THREADS=2 unless set), and
   ``stillpoint.metrics(x)`` (every figure of ``stillpoint eval --json``);
@@ -69,7 +69,7 @@ def main() -> int:
     x = np.random.default_rng(0).random((n, s))
 
     rows = []
-    t_cd, cd = median_time(lambda: stillpoint.discrepancy(x, "cd"), args.reps)
+    t_cd, cd = median_time(lambda: stillpoint.discrepancy(x, "centered"), args.reps)
     t_cd_sp, cd_sp = median_time(lambda: qmc.discrepancy(x, method="CD", workers=2), args.reps)
     rows.append((f"centred L2, n = {n}, s = {s}", t_cd, "qmc.discrepancy(method='CD', workers=2)", t_cd_sp))
     t_l2, l2 = median_time(lambda: stillpoint.discrepancy(x, "l2star"), args.reps)

@@ -630,8 +630,8 @@ fn metrics<'py>(
     .and_then(|v| py_value(py, &v))
 }
 
-/// One L2 discrepancy (the root): `l2star`, `md` (modified), `cd` (centred) or `wd`
-/// (wrap-around).
+/// One discrepancy (the root): `l2star`, `md` (modified), `cd` (centred), `wd`
+/// (wrap-around) or `mixture`.
 #[pyfunction]
 fn discrepancy(py: Python<'_>, x: PyReadonlyArray2<'_, f64>, kind: &str) -> PyResult<f64> {
     let f = stillpoint::metrics::discrepancy_by_name("kind", kind).map_err(value_error)?;

@@ -53,10 +53,10 @@ def metrics(x: npt.NDArray[np.float64], **kwargs: Any) -> Dict[str, Any]:
     ``mixture``) make ``eval``'s request, resolved and refused by the library."""
 
 def discrepancy(x: npt.NDArray[np.float64], kind: str) -> float:
-    """The root of one L2 discrepancy: ``'l2star'`` (SciPy's 'L2-star', a root there
-    too), ``'md'`` (modified L2; not SciPy's 'MD', the mixture discrepancy), ``'cd'``
-    (centred; SciPy's 'CD' is its square), ``'wd'`` (wrap-around; SciPy's 'WD' is its
-    square)."""
+    """The root of one discrepancy: ``'l2star'`` (SciPy's 'L2-star', a root there
+    too), ``'md'`` (modified L2; not SciPy's 'MD'), ``'cd'`` (centred; SciPy's 'CD' is
+    its square), ``'wd'`` (wrap-around; SciPy's 'WD' is its square), ``'mixture'``
+    (SciPy's 'MD' is its square)."""
 
 def baselines() -> List[Tuple[str, str, str]]:
     """Every baseline as (name, the paper's label, exact description)."""

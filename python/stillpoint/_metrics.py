@@ -4,6 +4,7 @@ discrepancy)."""
 
 from __future__ import annotations
 
+import warnings
 from typing import Any, Dict, Optional, Sequence
 
 import numpy as np
@@ -68,20 +69,88 @@ def metrics(
     return _core.metrics(_points(x), **request)
 
 
-def discrepancy(x: Any, kind: str = "md") -> float:
-    """One L2 discrepancy of points in [0, 1]^d, always the root (never the square).
+# SciPy's method names, spelled as SciPy spells them, mean SciPy's measures with SciPy's
+# convention: `qmc.discrepancy` returns the square for 'CD', 'WD' and 'MD' and the root
+# for 'L2-star'. Each maps to (the core's kind, whether to square its root).
+_SCIPY_METHODS = {
+    "CD": ("cd", True),
+    "WD": ("wd", True),
+    "MD": ("mixture", True),
+    "L2-star": ("l2star", False),
+}
 
-    ``kind``:
+# Our own names, which no SciPy name can be mistaken for: every value is a root.
+_OWN_KINDS = {
+    "modified": "md",
+    "centered": "cd",
+    "centred": "cd",
+    "wrap-around": "wd",
+    "wraparound": "wd",
+    "star": "l2star",
+    "l2star": "l2star",
+    "l2-star": "l2star",
+    "mixture": "mixture",
+}
 
-    - ``'l2star'``: star L2 (Warnock), the paper's D_L2. Equals
-      ``scipy.stats.qmc.discrepancy(x, method='L2-star')`` (SciPy returns the root).
-    - ``'md'``: modified L2 (Hickernell), the paper's D_MD. **Not** SciPy's
-      ``method='MD'``, which is the *mixture* discrepancy; SciPy has no equivalent.
-    - ``'cd'``: centred L2. Its square equals SciPy's ``method='CD'`` (SciPy returns
-      the square).
-    - ``'wd'``: wrap-around L2. Its square equals SciPy's ``method='WD'`` (a square
-      too).
+# The short names these meant before SciPy's names took SciPy's meaning: kept working
+# (with their old meaning, a root) for one release, with a warning saying what to write.
+_RENAMED = {"md": "modified", "cd": "centered", "wd": "wrap-around"}
+
+_ACCEPTED = (
+    "SciPy's 'CD', 'WD', 'MD' (mixture) or 'L2-star', with SciPy's convention (the square "
+    "for CD, WD and MD, the root for L2-star), or one of ours, each a root: 'modified', "
+    "'centered', 'wrap-around', 'star', 'mixture'"
+)
+
+
+def discrepancy(x: Any, kind: Optional[str] = None, *, method: Optional[str] = None) -> float:
+    """One discrepancy of points in [0, 1]^d.
+
+    SciPy's names mean what ``scipy.stats.qmc.discrepancy(x, method=...)`` returns, its
+    square-or-root convention included (``method=`` is accepted as SciPy spells it):
+
+    - ``'CD'``: centred L2, squared; ``'WD'``: wrap-around L2, squared;
+    - ``'MD'``: the *mixture* discrepancy, squared;
+    - ``'L2-star'``: star L2 (Warnock), the root.
+
+    Our names, each the root (as :func:`metrics` reports them):
+
+    - ``'modified'`` (the default): modified L2 (Hickernell), the paper's D_MD. SciPy
+      has no equivalent;
+    - ``'centered'`` (or ``'centred'``), ``'wrap-around'``, ``'star'`` (the paper's
+      D_L2), ``'mixture'``.
+
+    The short names ``'md'``, ``'cd'`` and ``'wd'`` (the roots of the modified,
+    centred and wrap-around L2) still work, with a ``DeprecationWarning`` saying what to
+    write; ``'md'`` is not SciPy's ``'MD'``.
 
     Exact closed forms, O(n^2 d), on all cores, with the GIL released.
     """
-    return float(_core.discrepancy(_points(x), str(kind)))
+    if kind is not None and method is not None:
+        raise TypeError("discrepancy() takes kind or method (SciPy's name for it), not both")
+    arg, given = ("method", method) if method is not None else ("kind", kind)
+    if given is None:
+        given = "modified"
+    if not isinstance(given, str):
+        raise TypeError(f"invalid {arg} = {given!r}: expected a string, {_ACCEPTED}")
+    name = given.strip()
+    if name in _SCIPY_METHODS:
+        core, square = _SCIPY_METHODS[name]
+    else:
+        key = name.lower()
+        square = False
+        if key in _RENAMED:
+            warnings.warn(
+                f"{arg} = {given!r} is the root of the {_RENAMED[key]} L2 discrepancy; "
+                f"write {_RENAMED[key]!r} (SciPy's {name.upper()!r} means "
+                f"{'the mixture discrepancy, squared' if key == 'md' else 'its square'})",
+                DeprecationWarning,
+                stacklevel=2,
+            )
+            core = key
+        elif key in _OWN_KINDS:
+            core = _OWN_KINDS[key]
+        else:
+            raise ValueError(f"invalid {arg} = {given!r}: expected {_ACCEPTED}")
+    root = float(_core.discrepancy(_points(x), core))
+    return root * root if square else root

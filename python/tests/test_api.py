@@ -33,16 +33,35 @@ def close_to_scipy(ours, theirs, scale, n):
 @pytest.mark.parametrize("x", SETS)
 def test_discrepancies_follow_scipy(x):
     n, s = x.shape
-    # SciPy: 'L2-star' is a root, 'CD' and 'WD' are squares.
-    assert rel(sp.discrepancy(x, "l2star"), qmc.discrepancy(x, method="L2-star")) < 1e-12
-    cd, wd = sp.discrepancy(x, "cd"), sp.discrepancy(x, "wd")
-    assert close_to_scipy(cd**2, qmc.discrepancy(x, method="CD"), (13 / 12) ** s, n)
-    assert close_to_scipy(wd**2, qmc.discrepancy(x, method="WD"), (4 / 3) ** s, n)
-    # Ours is the modified L2 discrepancy, SciPy's 'MD' the mixture discrepancy.
-    assert rel(sp.discrepancy(x, "md") ** 2, qmc.discrepancy(x, method="MD")) > 1e-3
+    # SciPy's names mean SciPy's measures, convention included: 'L2-star' a root, 'CD',
+    # 'WD' and 'MD' (the mixture discrepancy) squares.
+    assert rel(sp.discrepancy(x, "L2-star"), qmc.discrepancy(x, method="L2-star")) < 1e-12
+    assert close_to_scipy(sp.discrepancy(x, "CD"), qmc.discrepancy(x, method="CD"), (13 / 12) ** s, n)
+    assert close_to_scipy(sp.discrepancy(x, "WD"), qmc.discrepancy(x, method="WD"), (4 / 3) ** s, n)
+    assert close_to_scipy(
+        sp.discrepancy(x, method="MD"), qmc.discrepancy(x, method="MD"), (19 / 12) ** s, n
+    )
+    # Our names are roots, the values `metrics` reports; 'modified' is not SciPy's 'MD'.
     m = sp.metrics(x)
-    for kind, key in [("l2star", "star_l2"), ("md", "modified_l2"), ("cd", "centered_l2"), ("wd", "wrap_around_l2")]:
+    own = [("star", "star_l2"), ("modified", "modified_l2"), ("centered", "centered_l2"),
+           ("wrap-around", "wrap_around_l2"), ("mixture", "mixture")]
+    for kind, key in own:
         assert sp.discrepancy(x, kind) == m[key]
+    assert sp.discrepancy(x) == m["modified_l2"]
+    assert rel(sp.discrepancy(x, "modified") ** 2, qmc.discrepancy(x, method="MD")) > 1e-3
+
+
+def test_short_names_keep_their_meaning_with_a_warning():
+    x = SETS[0]
+    m = sp.metrics(x)
+    for short, key, write in [("md", "modified_l2", "'modified'"), ("cd", "centered_l2", "'centered'"),
+                              ("wd", "wrap_around_l2", "'wrap-around'")]:
+        with pytest.warns(DeprecationWarning, match=write):
+            assert sp.discrepancy(x, short) == m[key]
+    with pytest.raises(TypeError, match="not both"):
+        sp.discrepancy(x, "CD", method="CD")
+    with pytest.raises(ValueError, match="invalid method = 'cd2'.*'MD' \\(mixture\\)"):
+        sp.discrepancy(x, method="cd2")
 
 
 def exact_squares(x):
@@ -77,8 +96,8 @@ def test_squares_match_exact_arithmetic():
     n, s = x.shape
     # Both within the rounding bound of the closed form (a few 1e-12 relative here).
     for ours, theirs, exact, scale in [
-        (sp.discrepancy(x, "cd") ** 2, qmc.discrepancy(x, method="CD"), cd, (13 / 12) ** s),
-        (sp.discrepancy(x, "wd") ** 2, qmc.discrepancy(x, method="WD"), wd, (4 / 3) ** s),
+        (sp.discrepancy(x, "centered") ** 2, qmc.discrepancy(x, method="CD"), cd, (13 / 12) ** s),
+        (sp.discrepancy(x, "wrap-around") ** 2, qmc.discrepancy(x, method="WD"), wd, (4 / 3) ** s),
     ]:
         assert close_to_scipy(ours, exact, scale, n)
         assert close_to_scipy(theirs, exact, scale, n)
@@ -91,7 +110,7 @@ def test_inputs_of_any_layout_and_type():
     assert sp.metrics(np.asfortranarray(x)) == want
     assert sp.metrics(x.tolist()) == want
     assert sp.metrics(x[::-1][::-1]) == want
-    assert sp.discrepancy(x32, "cd") == sp.discrepancy(x32.astype(np.float64), "cd")
+    assert sp.discrepancy(x32, "CD") == sp.discrepancy(x32.astype(np.float64), "CD")
     assert sp.integrate(np.asfortranarray(x)) == sp.integrate(x)
     # A non-contiguous view (every other column).
     wide = np.random.default_rng(4).random((50, 8))
@@ -175,7 +194,7 @@ def test_baselines_are_described():
         (lambda: sp.baseline("nope", 10, 2), "invalid method = nope"),
         (lambda: sp.baseline("sobol", 0, 2), "invalid n = 0"),
         (lambda: sp.discrepancy(np.ones((4, 2)) * 0.5, "xx"), "invalid kind"),
-        (lambda: sp.discrepancy([[0.5, 1.5]], "cd"), "coordinate 2"),
+        (lambda: sp.discrepancy([[0.5, 1.5]], "CD"), "coordinate 2"),
         (lambda: sp.metrics([[0.5, np.nan]]), "coordinate 2"),
         (lambda: sp.metrics([0.1, 0.2]), "invalid x"),
         (lambda: sp.metrics(np.zeros((0, 3))), "invalid x"),
@@ -204,7 +223,7 @@ def test_long_calls_release_the_gil():
 
     def work():
         started.set()
-        sp.discrepancy(x, "cd")
+        sp.discrepancy(x, "CD")
         done.set()
 
     t = threading.Thread(target=work)

@@ -323,7 +323,7 @@ _REPS = 5
 _CALLS = [
     "sp.metrics(x, exact=True)",
     "sp.metrics(x[:, :3], exact=True)",
-    "sp.discrepancy(np.vstack([x, x, x]), 'md')",
+    "sp.discrepancy(np.vstack([x, x, x]), 'modified')",
     "sp.metrics(np.vstack([x, x])[:, :2] * 0.5, shape='ball:1@0.5,0.5')",
     "sp.design(20000, ['x=uniform(0,1)', 'y=normal(0,1)', 'c={a,b}'])",
     "sp.generate(8000, 5, target='blend')",

@@ -27,7 +27,7 @@ def test_results_pickle_to_equal_values():
         sp.metrics(x),
         sp.integrate(x),
         sp.integrate(x, lambda p: p[:, 0]),
-        sp.discrepancy(x, "md"),
+        sp.discrepancy(x, "modified"),
         sp.baselines(),
     ]
     for value in values:

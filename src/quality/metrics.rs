@@ -365,14 +365,17 @@ fn pair_mins(points: &PointSet) -> [f64; 2] {
     min_squared_distances(points.as_slice(), points.n(), points.s())
 }
 
-/// One L2 discrepancy (the root) by its name: `l2star` (or `l2-star`), `md` (modified),
-/// `cd` (centred), `wd` or `periodic` (wrap-around); `name` spells the parameter in the
-/// refusal.
+/// One discrepancy (the root) by its name: `l2star` (or `l2-star`), `md` (modified),
+/// `cd` (centred), `wd` or `periodic` (wrap-around), `mixture`; `name` spells the
+/// parameter in the refusal.
 pub fn discrepancy_by_name(name: &str, kind: &str) -> Result<fn(&PointSet) -> f64, Error> {
     let key = kind
         .trim()
         .to_ascii_lowercase()
         .replace("l2-star", "l2star");
+    if key == "mixture" {
+        return Ok(mixture);
+    }
     Ok(match DiscrepancyKind::parse(&key) {
         Ok(DiscrepancyKind::StarL2) => star_l2,
         Ok(DiscrepancyKind::ModifiedL2) => modified_l2,
@@ -382,7 +385,8 @@ pub fn discrepancy_by_name(name: &str, kind: &str) -> Result<fn(&PointSet) -> f6
             return Err(Error::invalid(
                 name,
                 kind,
-                "l2star (star L2), md (modified L2), cd (centred L2) or wd (wrap-around L2)",
+                "l2star (star L2), md (modified L2), cd (centred L2), wd (wrap-around L2) or \
+                 mixture",
             ))
         }
     })
