@@ -1,6 +1,7 @@
 //! Reports: the tables and JSON a run or `eval` prints, and the point-file headers.
 
 use super::*;
+use stillpoint::post::randomize::Randomize;
 
 pub(crate) fn metrics_json(m: &Metrics) -> Value {
     serde_json::to_value(m).unwrap_or(Value::Null)
@@ -221,9 +222,21 @@ pub(crate) fn goal_name(cfg: &GenerateConfig) -> Option<String> {
         Goal::Integration(_) if cfg.lattice => Some(
             "integration (the shifted tent lattice: one construction, no target or descent)".into(),
         ),
+        Goal::Integration(_) if drawn(cfg) => Some(
+            "integration (one draw of the randomised tent lattice: no target; its figures are \
+             the drawn set's)"
+                .into(),
+        ),
         Goal::Integration(t) => Some(format!("integration (target {})", t.name())),
         Goal::SpaceFilling => Some("space-filling".into()),
     }
+}
+
+/// Whether the run's set is a draw of the shift-and-tent randomisation: a random set made
+/// for the mean of f, whose figures are those of the draw, not a target the run lowered
+/// (its start, the unrandomised lattice, is not a start it improved on).
+fn drawn(cfg: &GenerateConfig) -> bool {
+    matches!(cfg.goal, Goal::Integration(_)) && cfg.randomize == Some(Randomize::Tent)
 }
 
 /// What the solver did, in one line: the DEM's steps, κ and restarts, or L-BFGS's
@@ -378,8 +391,10 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
         Goal::Paper => format!("energy {}", r.energy_name.split('(').next().unwrap_or("")),
     };
     // A construction with no start of its own (the lattice) has one set: its figures are
-    // shown once, the start column only for the value it chose by.
-    let same = r.start == r.output.points;
+    // shown once, the start column only for the value it chose by. A randomised draw has
+    // no target to show: only its figures.
+    let drawn = drawn(cfg);
+    let same = drawn || r.start == r.output.points;
     let row = |name: &str, a: f64, b: f64, sci: bool| -> String {
         // A value the run could not compute (NaN: the note below the table says why)
         // reads as such, not as a number.
@@ -405,7 +420,9 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
         }
         format!("  {:<36} {:>14} {:>14} {:>9}\n", name, f(a), f(b), change)
     };
-    if m1.estimate.is_some() && matches!(cfg.goal, Goal::Integration(_)) && !cfg.lattice {
+    if drawn {
+        t = format!("  {:<36} {:>14} {:>14}\n", "", "", "drawn set");
+    } else if m1.estimate.is_some() && matches!(cfg.goal, Goal::Integration(_)) && !cfg.lattice {
         // The target from the same random pairs: a sum of squares at or below 0 is one
         // the sample cannot resolve.
         let shown = |v: f64| {
@@ -591,7 +608,9 @@ pub(crate) fn eval_table(file: &std::path::Path, points: &PointSet, v: &Value) -
 }
 
 /// `eval A B C`: one column per file, one row per figure, the best value of each row
-/// marked with `*` (lowest for discrepancies and energies, highest for distances).
+/// marked with `*` (lowest for discrepancies and energies, highest for distances) among
+/// the files of the same n and s: a figure of 100 points is not comparable with one of
+/// 1 000, so sets of other sizes are never ranked against each other.
 pub(crate) fn eval_comparison(files: &[(PathBuf, PointSet, Value)]) -> String {
     let names: Vec<String> = files
         .iter()
@@ -639,22 +658,25 @@ pub(crate) fn eval_comparison(files: &[(PathBuf, PointSet, Value)]) -> String {
         ("mean gap max_k |mean_k − 0.5|", "mean_gap", false),
         ("energy U_{E,∞} = 1/d_min", "energy_e_inf", false),
     ];
+    let size = |i: usize| (files[i].1.n(), files[i].1.s());
+    let peers = |i: usize| (0..files.len()).filter(move |&j| size(j) == size(i));
+    let ranked = (0..files.len()).any(|i| peers(i).count() > 1);
     for (label, key, higher) in rows {
         let values: Vec<Option<f64>> = files.iter().map(|(_, _, v)| v[key].as_f64()).collect();
-        let best = values
-            .iter()
-            .flatten()
-            .copied()
-            .fold(None, |b: Option<f64>, v| match b {
-                Some(b) if (higher && b >= v) || (!higher && b <= v) => Some(b),
-                _ => Some(v),
-            });
+        let best_among = |i: usize| {
+            peers(i)
+                .filter_map(|j| values[j])
+                .fold(None, |b: Option<f64>, v| match b {
+                    Some(b) if (higher && b >= v) || (!higher && b <= v) => Some(b),
+                    _ => Some(v),
+                })
+        };
         t += &format!("  {label:<36}");
-        for v in &values {
+        for (i, v) in values.iter().enumerate() {
             let cell = match v {
                 Some(x) => format!(
                     "{x:.6}{}",
-                    if Some(*x) == best && files.len() > 1 {
+                    if Some(*x) == best_among(i) && peers(i).count() > 1 {
                         "*"
                     } else {
                         " "
@@ -675,7 +697,11 @@ pub(crate) fn eval_comparison(files: &[(PathBuf, PointSet, Value)]) -> String {
         };
         t += &format!(" {yes:>15}");
     }
-    t += "\n\n  * the best of the row: lower is better for the discrepancies, the mean gap and the\n    energy; higher for the distances. \"-\": not computed (see eval FILE --json notes).\n";
+    t += if ranked {
+        "\n\n  * the best of the row among the files of the same n and s: lower is better for the\n    discrepancies, the mean gap and the energy; higher for the distances. \"-\": not\n    computed (see eval FILE --json notes).\n"
+    } else {
+        "\n\n  No two files have the same n and s, so no value is marked best: figures of sets of\n  different sizes are not comparable. \"-\": not computed (see eval FILE --json notes).\n"
+    };
     t
 }
 

@@ -218,3 +218,115 @@ fn the_papers_run_keeps_its_solver_facts() {
     assert!(v["stop"].is_string() && v["steps"].as_u64().unwrap() > 0);
     assert!(v.get("stages").is_none());
 }
+
+/// `eval FILES` as text.
+fn eval_table(files: &[&std::path::Path]) -> String {
+    let out = bin().arg("eval").args(files).output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// The value cells of the figure rows of an `eval` comparison (the rows between the
+/// column names and the stratification row), each split into its columns.
+fn figure_cells(table: &str, files: usize) -> Vec<Vec<String>> {
+    table
+        .lines()
+        .skip_while(|l| !l.ends_with(".csv") || !l.starts_with("  "))
+        .skip(1)
+        .take_while(|l| !l.contains("every coordinate stratified"))
+        .map(|l| {
+            let cells: Vec<String> = l
+                .split_whitespace()
+                .rev()
+                .take(files)
+                .map(String::from)
+                .collect();
+            cells.into_iter().rev().collect()
+        })
+        .collect()
+}
+
+#[test]
+fn eval_marks_the_best_only_among_sets_of_the_same_size() {
+    let dir = TempDir::new("eval-best-same-n");
+    let (a, b, c) = (dir.path("a.csv"), dir.path("b.csv"), dir.path("c.csv"));
+    for (file, args) in [
+        (&a, vec!["generate", "-n", "64", "-s", "2", "-q"]),
+        (&b, vec!["baseline", "halton", "-n", "64", "-s", "2"]),
+        (&c, vec!["generate", "-n", "100", "-s", "2", "-q"]),
+    ] {
+        let o = bin().args(&args).arg("-o").arg(file).output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    // Two sets of 64 points and one of 100: a best is marked in each row among the two of
+    // the same size, never on the set of 100 points, which has no peer.
+    let table = eval_table(&[&a, &b, &c]);
+    let rows = figure_cells(&table, 3);
+    assert!(rows.len() >= 8, "{table}");
+    for row in &rows {
+        assert!(
+            !row[2].ends_with('*'),
+            "the 100-point set is ranked: {row:?}\n{table}"
+        );
+        if row[0] != "-" && row[1] != "-" {
+            let marked = row[..2].iter().filter(|c| c.ends_with('*')).count();
+            assert!(
+                marked >= 1,
+                "no best among the 64-point sets: {row:?}\n{table}"
+            );
+        }
+    }
+    assert!(
+        table.contains("among the files of the same n and s"),
+        "{table}"
+    );
+    // Only sets of different sizes: nothing is marked, and the note says why.
+    let table = eval_table(&[&a, &c]);
+    assert!(
+        figure_cells(&table, 2)
+            .iter()
+            .flatten()
+            .all(|c| !c.ends_with('*')),
+        "{table}"
+    );
+    assert!(
+        table.contains("No two files have the same n and s"),
+        "{table}"
+    );
+}
+
+#[test]
+fn a_randomised_draw_reports_its_figures_and_no_target() {
+    let dir = TempDir::new("randomised-report");
+    let table = |extra: &[&str]| {
+        let o = bin()
+            .args(["generate", "-n", "64", "-s", "3", "-o"])
+            .arg(dir.path("x.csv"))
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned() + &String::from_utf8_lossy(&o.stderr)
+    };
+    let drawn = table(&["--randomize", "--seed", "5"]);
+    let figures: Vec<&str> = drawn
+        .lines()
+        .skip_while(|l| l.trim() != "drawn set")
+        .take_while(|l| !l.trim().is_empty())
+        .collect();
+    assert!(figures.len() >= 7, "{drawn}");
+    for line in &figures {
+        assert!(
+            !line.contains("target") && !line.contains('%'),
+            "{line}\n{drawn}"
+        );
+    }
+    assert!(!drawn.contains("(target "), "{drawn}");
+    // The deterministic run keeps its start → result table.
+    let made = table(&[]);
+    assert!(made.contains("start") && made.contains("change"), "{made}");
+}
