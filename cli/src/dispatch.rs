@@ -104,7 +104,13 @@ fn eval_command(c: Command) -> Result<()> {
     for file in &files {
         let source = file.display().to_string();
         let points = measure.unit_points(io::read_points(file)?, &source, &spell)?;
-        points.check_unit_cube().with_context(|| source.clone())?;
+        points.check_unit_cube().map_err(|e| {
+            anyhow::anyhow!(
+                "{source}: {e}; eval measures points in [0, 1]^s: points scaled to a box are \
+                 read back with --bounds LO1,HI1,..., a design's values with its --var or \
+                 --space"
+            )
+        })?;
         let v = measure.json(&points, &spell)?;
         evaluated.push((file.clone(), points, v));
     }

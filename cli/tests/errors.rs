@@ -427,6 +427,11 @@ fn cli_refuses_bad_input_clearly_and_touches_no_file() {
             "invalid point 2, coordinate 2 = 1.5: expected a coordinate in [0, 1]",
         ),
         (
+            "eval: point outside [0,1] names the options that read other scales",
+            cmd(&["eval", &f.p("outside.csv")]),
+            "read back with --bounds LO1,HI1,..., a design's values with its --var or --space",
+        ),
+        (
             "eval: empty file",
             cmd(&["eval", &f.p("empty.csv")]),
             "no points found",
