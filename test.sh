@@ -18,8 +18,12 @@ export PYO3_PYTHON="$PWD/$venv/bin/python"
 # compare with).
 cargo test --release --workspace
 
-python -m pip install -q "maturin>=1.16,<2" numpy scipy pytest dask distributed pandas
+python -m pip install -q "maturin>=1.16,<2" numpy scipy pytest dask distributed pandas \
+    "mkdocs>=1.6,<2" "mkdocs-material>=9.5,<10" "mkdocstrings[python]>=0.26,<2"
 # No build isolation: the venv's maturin builds in place, so cargo reuses target/.
 python -m pip install -q --no-build-isolation --no-deps --force-reinstall ./python
 test -x target/release/stillpoint || cargo build --release --bin stillpoint
 pytest -q python/tests
+# The documentation site: every page, the API reference from the docstrings, and every
+# link a page makes (in docs/ or outside it, anchors included) resolving.
+NO_MKDOCS_2_WARNING=1 python -m mkdocs build --strict --quiet
