@@ -7,8 +7,9 @@ use crate::quad_args::Typed;
 #[command(
     name = "stillpoint",
     version,
-    about = "Evenly spread point sets in [0,1]^s from the static solution of a damped \
-             many-body problem (the DEM), with the numbers that prove their quality."
+    about = "Point sets for integration and design of experiments: generate sets that \
+             fill [0,1]^s, a region or a design space as evenly as possible, measure any \
+             set, integrate to a tolerance, with the numbers that prove their quality."
 )]
 pub(crate) struct Cli {
     /// Worker threads (default: all cores). Results are the same bytes for any count.
@@ -225,12 +226,13 @@ pub(crate) struct GenerateArgs {
     /// `stillpoint baseline --list`), which takes only -n, -s, --seed and --bounds.
     #[arg(long, value_name = "paper|BASELINE")]
     pub(crate) method: Option<String>,
-    /// What the integration goal lowers: `blend` (D²_MD + D²_L2* + D²_CD, each relative
-    /// to the start; the default below s = 8), `blend-smooth` (the blend and, with weight
-    /// ¼, the worst-case error for integrands of smoothness 2, from the lattice of the tent
-    /// randomisation; the default above 1 500 points for s = 8 to 14), `curved` (D²_CD, ¾ of
-    /// that error with the mean curvature weighed 24×, and 1.5 % of D²_L2*: no preferred
-    /// corner; the default from s = 8), `md`, `l2star`, `cd`, `periodic` or `smooth`.
+    /// What the integration goal lowers below 500 points: `blend` (D²_MD + D²_L2* +
+    /// D²_CD, each relative to the start; the default below s = 8), `curved` (D²_CD, ¾ of
+    /// the worst-case error for integrands of smoothness 2 with the mean curvature weighed
+    /// 24×, and 1.5 % of D²_L2*; the default from s = 8), `blend-smooth` (the blend and,
+    /// with weight ¼, that smoothness-2 error), `md`, `l2star`, `cd`, `periodic` or
+    /// `smooth`; or `lattice`: no target, the shifted tent lattice (the default from 500
+    /// points on, and at s = 1).
     #[arg(long, value_name = "KIND")]
     pub(crate) target: Option<String>,
     /// Grow an existing set: keep the points of FILE first and unchanged and add -n M new
