@@ -767,3 +767,31 @@ where
     state.run(f)?;
     Ok(SobolResult::from(state))
 }
+
+/// Refuses a design space whose inputs are not independent, naming `option` (`space`,
+/// `--var`): a correlation between its variables, or a Brownian path (whose coordinates
+/// are the path's values, dependent on one another). The indices are defined here for
+/// independent inputs only: under dependence their shares of the variance no longer add
+/// up, and no one definition is standard.
+pub fn check_independent(option: &str, space: &crate::design::DesignSpace) -> Result<(), Error> {
+    if space.copula.is_some() {
+        return Err(Error::invalid(
+            option,
+            "variables with a correlation",
+            "independent inputs (Sobol' indices are defined here for independent inputs)",
+        ));
+    }
+    if let Some(v) = space
+        .vars
+        .iter()
+        .find(|v| matches!(v.kind, crate::design::Kind::Path { .. }))
+    {
+        return Err(Error::invalid(
+            option,
+            format!("{} (a coordinate of a Brownian path)", v.name),
+            "independent inputs: a path's values depend on one another; give its \
+             increments as normal(0,s) variables instead",
+        ));
+    }
+    Ok(())
+}
