@@ -39,7 +39,7 @@ fn box3() -> SensitivityOptions {
 }
 
 /// Sobol's G function with coefficients `a`.
-fn g_function(a: Vec<f64>) -> impl FnMut(&PointSet) -> Vec<f64> {
+fn g_function(a: Vec<f64>) -> impl Fn(&PointSet) -> Vec<f64> {
     move |x: &PointSet| {
         x.rows()
             .map(|p| {
@@ -401,6 +401,60 @@ fn first_order_estimators_measured() {
                     (se / 50.0).sqrt()
                 );
             }
+        }
+    }
+}
+
+#[test]
+#[ignore = "a measurement: cargo test --release --test sensitivity -- --ignored --nocapture"]
+fn rmse_at_a_fixed_budget_measured() {
+    // RMSE of all 2d indices over 10 seeds at N = 8192 base points (N·(d + 2) evaluations).
+    let a = vec![0.0, 1.0, 4.5, 9.0, 99.0, 99.0];
+    let d4 = 4;
+    let v = 3f64.powi(-4) - 4f64.powi(-4);
+    let prod = (
+        vec![4f64.powi(-3) / 12.0 / v; 4],
+        vec![3f64.powi(-3) / 12.0 / v; 4],
+    );
+    type Model = Box<dyn Fn(&PointSet) -> Vec<f64>>;
+    let models: Vec<(&str, usize, SensitivityOptions, (Vec<f64>, Vec<f64>), Model)> = vec![
+        ("ishigami", 3, box3(), ishigami_exact(), Box::new(ishigami)),
+        (
+            "g6",
+            6,
+            SensitivityOptions::default(),
+            g_exact(&a),
+            Box::new(g_function(a.clone())),
+        ),
+        (
+            "product4",
+            d4,
+            SensitivityOptions::default(),
+            prod,
+            Box::new(|x: &PointSet| x.rows().map(|p| p.iter().product()).collect()),
+        ),
+    ];
+    for (name, d, o, exact, f) in &models {
+        for base in [1024u64, 8192] {
+            let mut se = 0.0;
+            for seed in 0..10 {
+                let o = SensitivityOptions {
+                    seed,
+                    abs_tol: 0.0,
+                    max_n: base * (*d as u64 + 2),
+                    ..o.clone()
+                };
+                let r = sobol_indices(|x: &PointSet| f(x), *d, o).unwrap();
+                se += r
+                    .first
+                    .iter()
+                    .chain(&r.total)
+                    .zip(exact.0.iter().chain(&exact.1))
+                    .map(|(x, y)| (x - y).powi(2))
+                    .sum::<f64>()
+                    / (2 * d) as f64;
+            }
+            println!("{name} N={base} rmse={:.2e}", (se / 10.0).sqrt());
         }
     }
 }

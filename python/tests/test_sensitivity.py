@@ -137,3 +137,18 @@ def test_constant_and_non_finite_outputs_are_refused():
         sp.sobol_indices(lambda x: np.full(len(x), 2.5), 2)
     with pytest.raises(ValueError, match=r"invalid f: nan at x = \["):
         sp.sobol_indices(lambda x: np.where(x[:, 0] > 0.5, np.nan, x[:, 1]), 2)
+
+
+def test_the_guide_examples_run():
+    import pathlib
+    import re
+
+    page = pathlib.Path(__file__).resolve().parents[2] / "docs" / "sensitivity.md"
+    blocks = re.findall(r"```python\n(.*?)```", page.read_text(encoding="utf-8"), flags=re.S)
+    scope = {}
+    for block in blocks:
+        exec(compile(block, str(page), "exec"), scope)
+    first, total = ishigami_exact()
+    assert np.all(np.abs(scope["r"].first - first) <= 0.01)
+    assert scope["laws"].names == ["E", "k", "n"]
+    assert scope["laws"].met
