@@ -9,6 +9,9 @@ use stillpoint::sensitivity::{
 };
 use stillpoint::PointSet;
 
+/// Closed-form (first, total) indices.
+type Indices = (Vec<f64>, Vec<f64>);
+
 /// Ishigami's function with a = 7, b = 0.1 on [−π, π]^3.
 fn ishigami(x: &PointSet) -> Vec<f64> {
     x.rows()
@@ -17,7 +20,7 @@ fn ishigami(x: &PointSet) -> Vec<f64> {
 }
 
 /// Ishigami's (first, total) indices in closed form.
-fn ishigami_exact() -> (Vec<f64>, Vec<f64>) {
+fn ishigami_exact() -> Indices {
     let (a, b) = (7.0f64, 0.1f64);
     let p4 = PI.powi(4);
     let v1 = b * p4 / 5.0 + b * b * p4 * p4 / 50.0 + 0.5;
@@ -52,7 +55,7 @@ fn g_function(a: Vec<f64>) -> impl Fn(&PointSet) -> Vec<f64> {
     }
 }
 
-fn g_exact(a: &[f64]) -> (Vec<f64>, Vec<f64>) {
+fn g_exact(a: &[f64]) -> Indices {
     let vi: Vec<f64> = a.iter().map(|a| 1.0 / (3.0 * (1.0 + a).powi(2))).collect();
     let all: f64 = vi.iter().map(|v| 1.0 + v).product();
     let v = all - 1.0;
@@ -62,7 +65,7 @@ fn g_exact(a: &[f64]) -> (Vec<f64>, Vec<f64>) {
 }
 
 /// Every index of `r` within `tol` of the closed form (output 0).
-fn close(r: &SobolResult, exact: &(Vec<f64>, Vec<f64>), tol: f64) {
+fn close(r: &SobolResult, exact: &Indices, tol: f64) {
     let k = r.outputs;
     for (i, (s, t)) in exact.0.iter().zip(&exact.1).enumerate() {
         let (fs, ft) = (r.first[i * k], r.total[i * k]);
@@ -145,7 +148,7 @@ fn each_index_is_within_its_tolerance_in_most_runs() {
     // closed form in at least 95 % of the (run, index) pairs.
     let (mut inside, mut all) = (0, 0);
     let a = vec![0.0, 1.0, 4.5, 9.0];
-    let cases: Vec<(usize, SensitivityOptions, (Vec<f64>, Vec<f64>))> = vec![
+    let cases: Vec<(usize, SensitivityOptions, Indices)> = vec![
         (3, box3(), ishigami_exact()),
         (4, SensitivityOptions::default(), g_exact(&a)),
     ];
@@ -417,7 +420,7 @@ fn rmse_at_a_fixed_budget_measured() {
         vec![3f64.powi(-3) / 12.0 / v; 4],
     );
     type Model = Box<dyn Fn(&PointSet) -> Vec<f64>>;
-    let models: Vec<(&str, usize, SensitivityOptions, (Vec<f64>, Vec<f64>), Model)> = vec![
+    let models: Vec<(&str, usize, SensitivityOptions, Indices, Model)> = vec![
         ("ishigami", 3, box3(), ishigami_exact(), Box::new(ishigami)),
         (
             "g6",
