@@ -51,6 +51,7 @@ pub mod plan;
 pub mod post;
 pub mod quality;
 pub mod report;
+pub mod sensitivity;
 pub mod sequences;
 pub mod solve;
 

@@ -566,6 +566,9 @@ pub(crate) enum Command {
         #[command(flatten)]
         quad: QuadArgs,
     },
+    /// The Sobol' indices (first-order and total) of an expression's inputs to a
+    /// tolerance, with their intervals: which inputs matter.
+    Sensitivity(Box<SensitivityArgs>),
     /// Reproduce one of the paper's studies: correlation (Tables 1–2, Figs. 3–5), table5,
     /// catalog (the 127 sets, resumable), table6 (Figs. 6–7), kraichnan-orszag (Table 7,
     /// Fig. 8), shear-frame (Table 8), regions (Fig. 9), or `all`.

@@ -21,6 +21,7 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
         c @ Command::Compare { .. } => compare_command(c)?,
         c @ Command::Baseline { .. } => baseline_command(c)?,
         c @ Command::Integrate { .. } => integrate_command(c)?,
+        Command::Sensitivity(args) => sensitivity_command(*args)?,
         c @ Command::Study { .. } => study_command(c)?,
         c @ Command::Plot { .. } => plot_command(c)?,
         Command::Bench {

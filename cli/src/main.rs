@@ -15,6 +15,7 @@ mod quad;
 mod quad_args;
 mod region;
 mod report;
+mod sensitivity;
 mod streams;
 mod values;
 
@@ -34,6 +35,7 @@ use {
         quad_args::*,
         region::*,
         report::*,
+        sensitivity::*,
         streams::{note, noteln, out, outln},
         values::*,
     },

@@ -24,6 +24,9 @@ use plotters::style::FontStyle;
 
 use stillpoint::PointSet;
 
+mod bars;
+pub use bars::{save_bar_chart, BarChart, Bars};
+
 /// Width in pixels of one panel of [`save_panels`].
 pub const PANEL_WIDTH: u32 = 600;
 

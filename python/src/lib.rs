@@ -13,6 +13,7 @@
 #![deny(missing_docs)]
 
 mod cubature;
+mod sensitivity;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::time::Instant;
@@ -704,5 +705,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(cubature::check_box, m)?)?;
     m.add_function(wrap_pyfunction!(cubature::quad_space, m)?)?;
     m.add_class::<cubature::PyCubature>()?;
+    sensitivity::register(m)?;
     Ok(())
 }

@@ -34,6 +34,7 @@ from ._integrate import integrate
 from ._many import generate_many
 from ._metrics import discrepancy, metrics
 from ._quad import QuadResult, quad
+from ._sensitivity import SobolResult, sobol_indices
 
 __version__: str = _core.__version__
 
@@ -41,6 +42,7 @@ __all__ = [
     "Design",
     "Engine",
     "QuadResult",
+    "SobolResult",
     "baseline",
     "baselines",
     "design",
@@ -53,6 +55,7 @@ __all__ = [
     "metrics",
     "nested",
     "quad",
+    "sobol_indices",
 ]
 
 # Each public name says it is `stillpoint`'s, not its private module's: pickles of an

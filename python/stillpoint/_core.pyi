@@ -129,3 +129,39 @@ class Cubature:
     exhausted: bool
     warnings: List[str]
     replicate_means: List[List[float]]
+
+class Sensitivity:
+    """The state of a Sobol' sensitivity analysis (see ``stillpoint.sobol_indices``)."""
+
+    def __init__(
+        self,
+        d: int,
+        abs_tol: float = 0.01,
+        level: float = 0.95,
+        simultaneous: bool = False,
+        first_order: str = "saltelli",
+        replicates: int = 8,
+        max_n: int = 2**22,
+        seed: int = 0,
+        a: Optional[Sequence[float]] = None,
+        b: Optional[Sequence[float]] = None,
+        names: Optional[Sequence[str]] = None,
+    ) -> None: ...
+    def next_points(self) -> Optional[npt.NDArray[np.float64]]: ...
+    def feed(self, values: npt.NDArray[np.float64]) -> None: ...
+    def set_tolerance(self, abs_tol: float) -> None: ...
+    def set_max_n(self, max_n: int) -> None: ...
+    def set_level(self, level: float) -> None: ...
+    def set_simultaneous(self, simultaneous: bool) -> None: ...
+    current: Tuple[List[float], List[float], List[float], List[float]]
+    reason: Optional[str]
+    settings: Tuple[float, float, bool, str, int, int, int]
+    n: int
+    d: int
+    names: List[str]
+    outputs: int
+    met: bool
+    warnings: List[str]
+
+def sensitivity_space(space: Sequence[str]) -> None:
+    """Refuses a space whose inputs are not independent (a correlation, a Brownian path)."""

@@ -1,0 +1,272 @@
+//! `stillpoint sensitivity --expr EXPR`: the Sobol' indices of an expression's inputs to
+//! a tolerance, by the library's `stillpoint::sensitivity` driver, printed as a table or
+//! JSON and drawn as bars with their intervals.
+
+use super::*;
+use stillpoint::cubature::StopReason;
+use stillpoint::design::DesignSpace;
+use stillpoint::parse::expr::RegionExpr;
+use stillpoint::sensitivity::{FirstOrder, Sensitivity, SensitivityOptions};
+
+/// `sensitivity --expr EXPR (-s S | --var NAME=TYPE ...) --abs-tol T ...`.
+#[derive(clap::Args, Debug, Clone)]
+pub(crate) struct SensitivityArgs {
+    /// The model: an expression in x1..xd (the grammar of --region), the inputs in the
+    /// order of --var.
+    #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
+    pub(crate) expr: String,
+    /// Number of inputs, each uniform on [0, 1] (or on --bounds).
+    #[arg(short = 's', value_name = "S", allow_negative_numbers = true)]
+    pub(crate) s: Option<usize>,
+    /// An input and its law, as generate takes it (`x=normal(0,1)`, `k=int(1,3)`);
+    /// repeat for each input. Independent inputs only.
+    #[arg(long = "var", value_name = "NAME=TYPE", allow_hyphen_values = true,
+          conflicts_with_all = ["s", "bounds"])]
+    pub(crate) var: Vec<String>,
+    /// The inputs' box instead of the unit cube: LO1,HI1,... (with -s).
+    #[arg(long, value_name = "LO1,HI1,...", allow_hyphen_values = true)]
+    pub(crate) bounds: Option<String>,
+    /// The half-width every index must reach [default: 0.01].
+    #[arg(long, value_name = "T", allow_hyphen_values = true)]
+    pub(crate) abs_tol: Option<Typed<f64>>,
+    /// Confidence level of the intervals [default: 0.95].
+    #[arg(long, value_name = "P", allow_hyphen_values = true)]
+    pub(crate) level: Option<Typed<f64>>,
+    /// The intervals hold all together at --level (Bonferroni), not each on its own.
+    #[arg(long)]
+    pub(crate) simultaneous: bool,
+    /// The first-order estimator: saltelli (the default) or janon.
+    #[arg(long, value_name = "NAME")]
+    pub(crate) first_estimator: Option<String>,
+    /// Independent random shifts (the intervals come from their spread) [default: 8].
+    #[arg(long, value_name = "R", allow_negative_numbers = true)]
+    pub(crate) replicates: Option<Typed<usize>>,
+    /// The most evaluations, all rounds [default: 4194304].
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
+    pub(crate) max_n: Option<Typed<u64>>,
+    /// Seed of the shifts [default: 0].
+    #[arg(long, value_name = "N", allow_negative_numbers = true)]
+    pub(crate) seed: Option<Typed<u64>>,
+    /// Print one JSON object.
+    #[arg(long)]
+    pub(crate) json: bool,
+    /// Draw the indices as bars with their intervals (.png or .svg).
+    #[arg(long, value_name = "FILE")]
+    pub(crate) plot: Option<PathBuf>,
+    /// No progress lines.
+    #[arg(long, short = 'q')]
+    pub(crate) quiet: bool,
+    /// Progress on standard error, one line per doubling: `plain` or `bar` (lines), or
+    /// `none`. Not shown off a terminal unless asked for.
+    #[arg(long, value_name = "bar|plain|none", hide_possible_values = true)]
+    pub(crate) progress: Option<crate::ProgressMode>,
+}
+
+impl SensitivityArgs {
+    /// The text typed for the setting the library calls `name`, if given.
+    fn typed(&self, name: &str) -> Option<&str> {
+        fn text<T>(t: &Option<Typed<T>>) -> Option<&str> {
+            t.as_ref().map(|t| t.text.as_str())
+        }
+        match name {
+            "abs_tol" => text(&self.abs_tol),
+            "level" => text(&self.level),
+            "replicates" => text(&self.replicates),
+            "max_n" => text(&self.max_n),
+            "seed" => text(&self.seed),
+            _ => None,
+        }
+    }
+}
+
+/// The flag that sets a library setting.
+fn flag(name: &str) -> String {
+    match name {
+        "d" => "-s".to_string(),
+        "a" | "b" | "a, b" => "--bounds".to_string(),
+        "space" => "--var".to_string(),
+        flag if flag.starts_with('-') => flag.to_string(),
+        other => format!("--{}", other.replace('_', "-")),
+    }
+}
+
+/// Runs `sensitivity` and prints the indices.
+pub(crate) fn sensitivity_command(q: SensitivityArgs) -> Result<()> {
+    let text = q.expr.as_str();
+    let refused = |e: stillpoint::Error| match e {
+        stillpoint::Error::InvalidArgument {
+            name,
+            value,
+            expected,
+        } if name == "f" => {
+            anyhow::anyhow!("invalid --expr {text:?}: {value}; expected {expected}")
+        }
+        stillpoint::Error::InvalidArgument {
+            name,
+            value,
+            expected,
+        } => {
+            let shown = q.typed(&name).map_or(value, str::to_string);
+            stillpoint::Error::invalid(flag(&name), shown, expected).into()
+        }
+        other => anyhow::Error::from(other),
+    };
+    let space = if q.var.is_empty() {
+        None
+    } else {
+        let space = DesignSpace::parse("--var", &q.var).map_err(refused)?;
+        stillpoint::sensitivity::check_independent("--var", &space).map_err(refused)?;
+        Some(space)
+    };
+    let d = match (&space, q.s) {
+        (Some(space), _) => space.dim(),
+        (None, Some(s)) => s,
+        (None, None) => bail!("sensitivity needs -s S (inputs uniform on [0, 1]) or --var"),
+    };
+    let (a, b) = match q.bounds.as_deref() {
+        Some(t) => {
+            let bounds = parse_bounds(t, d)?;
+            (Some(bounds.lo), Some(bounds.hi))
+        }
+        None => (None, None),
+    };
+    let defaults = SensitivityOptions::default();
+    fn or<T: Copy>(t: &Option<Typed<T>>, default: T) -> T {
+        t.as_ref().map_or(default, |t| t.value)
+    }
+    let first_order = match q.first_estimator.as_deref() {
+        Some(t) => FirstOrder::parse("--first-estimator", t)?,
+        None => defaults.first_order,
+    };
+    let options = SensitivityOptions {
+        a,
+        b,
+        names: space
+            .as_ref()
+            .map(|s| s.vars.iter().map(|v| v.name.clone()).collect()),
+        abs_tol: or(&q.abs_tol, defaults.abs_tol),
+        level: or(&q.level, defaults.level),
+        simultaneous: q.simultaneous,
+        first_order,
+        replicates: or(&q.replicates, defaults.replicates),
+        max_n: or(&q.max_n, defaults.max_n),
+        seed: or(&q.seed, defaults.seed),
+        ..defaults
+    };
+    let mut state = Sensitivity::new(d, options.clone()).map_err(refused)?;
+    let expr = RegionExpr::parse(text, d).map_err(|e| anyhow::anyhow!("invalid --expr: {e}"))?;
+    let mode = ProgressMode::chosen(q.quiet, q.progress, ProgressMode::None);
+    let started = std::time::Instant::now();
+    let mut failed = None;
+    let f = |points: &PointSet| -> Vec<f64> {
+        let values = match &space {
+            None => Ok(points.clone()),
+            Some(space) => stillpoint::pipeline::measure::mapped(space, points)
+                .and_then(|design| design.numbers()),
+        };
+        match values {
+            Ok(x) => x.rows().map(|p| expr.eval(p)).collect(),
+            Err(e) => {
+                failed = Some(e);
+                vec![0.0; points.n()]
+            }
+        }
+    };
+    let after = |s: &Sensitivity| {
+        if mode != ProgressMode::None {
+            let [_, _, hf, ht] = s.current();
+            let widest = hf.iter().chain(&ht).fold(0.0f64, |m, h| m.max(*h));
+            use std::io::Write as _;
+            // A closed standard error must not end the run.
+            drop(writeln!(
+                std::io::stderr(),
+                "stillpoint: n={}  widest half-width={widest:.1e} (target {:.1e})  {:.1} s",
+                s.n(),
+                s.options().abs_tol,
+                started.elapsed().as_secs_f64()
+            ));
+        }
+    };
+    let run = state.run_observed(f, after);
+    if let Some(e) = failed {
+        return Err(refused(e));
+    }
+    run.map_err(refused)?;
+    let r = stillpoint::sensitivity::SobolResult::from(state);
+    for w in &r.warnings {
+        noteln!("warning: {w}");
+    }
+    let reason = r.reason.map_or("running", StopReason::as_str);
+    if let Some(path) = &q.plot {
+        let chart = stillpoint_plot::BarChart {
+            title: format!("Sobol' indices, intervals at level {}", options.level),
+            y_label: "index".into(),
+            groups: r.names.clone(),
+            bars: vec![
+                stillpoint_plot::Bars {
+                    name: "first order".into(),
+                    values: r.first.clone(),
+                    half_widths: r.first_half_width.clone(),
+                },
+                stillpoint_plot::Bars {
+                    name: "total".into(),
+                    values: r.total.clone(),
+                    half_widths: r.total_half_width.clone(),
+                },
+            ],
+        };
+        stillpoint_plot::save_bar_chart(path, &chart)
+            .with_context(|| format!("--plot {}", path.display()))?;
+    }
+    if q.json {
+        let v = json!({"expr": text, "names": r.names, "first": r.first, "total": r.total,
+                       "first_half_width": r.first_half_width,
+                       "total_half_width": r.total_half_width, "n": r.n,
+                       "replicates": options.replicates, "level": options.level,
+                       "simultaneous": options.simultaneous, "abs_tol": options.abs_tol,
+                       "first_estimator": options.first_order.as_str(),
+                       "met": r.met, "reason": reason});
+        outln!("{}", serde_json::to_string_pretty(&v)?);
+    } else {
+        let width = r
+            .names
+            .iter()
+            .map(|n| n.chars().count())
+            .max()
+            .unwrap_or(0)
+            .max(5);
+        outln!(
+            "{:width$}  {:>8}  {:>8}  {:>8}  {:>8}",
+            "input",
+            "first",
+            "±",
+            "total",
+            "±"
+        );
+        for (i, name) in r.names.iter().enumerate() {
+            outln!(
+                "{name:width$}  {:>8.4}  {:>8.4}  {:>8.4}  {:>8.4}",
+                r.first[i],
+                r.first_half_width[i],
+                r.total[i],
+                r.total_half_width[i]
+            );
+        }
+        let which = if options.simultaneous {
+            "all together"
+        } else {
+            "each on its own"
+        };
+        outln!("intervals    level {} ({which})", options.level);
+        outln!("evaluations  {} ({} replicates)", r.n, options.replicates);
+        let why = match r.reason {
+            Some(StopReason::Met) | None => "yes".to_string(),
+            Some(StopReason::MaxN) => format!("no: --max-n {} reached first", options.max_n),
+            Some(StopReason::Sequence) => {
+                "no: the sequence's points per replicate reached first".to_string()
+            }
+        };
+        outln!("met          {why}");
+    }
+    Ok(())
+}

@@ -1,0 +1,154 @@
+"""stillpoint.sobol_indices: closed forms (Ishigami, a linear model under normal laws),
+SciPy's names, the space's names, continuation, pickling, executors, progress, and the
+refusals naming the keyword and the value as typed."""
+
+import concurrent.futures
+import math
+import pickle
+
+import numpy as np
+import pytest
+
+import stillpoint as sp
+
+
+def ishigami(x):
+    return np.sin(x[:, 0]) + 7 * np.sin(x[:, 1]) ** 2 + 0.1 * x[:, 2] ** 4 * np.sin(x[:, 0])
+
+
+def ishigami_exact():
+    a, b, p4 = 7.0, 0.1, math.pi**4
+    v1 = b * p4 / 5 + b * b * p4 * p4 / 50 + 0.5
+    v2 = a * a / 8
+    v13 = 8 * b * b * p4 * p4 / 225
+    v = v1 + v2 + v13
+    return np.array([v1, v2, 0]) / v, np.array([v1 + v13, v2, v13]) / v
+
+
+def linear(x):
+    return x[:, 0] + 2 * x[:, 1] + 0 * x[:, 2]
+
+
+def test_ishigami_meets_its_closed_form_within_the_tolerance():
+    r = sp.sobol_indices(ishigami, 3, a=-math.pi, b=math.pi)
+    first, total = ishigami_exact()
+    assert r.met and r.reason == "met"
+    assert r.first.shape == (3,) and r.total.shape == (3,)
+    assert np.all(np.abs(r.first - first) <= 0.01)
+    assert np.all(np.abs(r.total - total) <= 0.01)
+    assert np.all(r.first_half_width <= 0.01) and np.all(r.total_half_width <= 0.01)
+    assert r.first_order is not None and np.array_equal(r.first_order, r.first)
+    assert np.array_equal(r.total_order, r.total)
+    assert r.names == ["x1", "x2", "x3"]
+    assert r.n % (8 * 5) == 0
+
+
+def test_d_is_taken_from_the_corners():
+    # d inferred from the corners; same seed, same indices as the typed d.
+    r1 = sp.sobol_indices(ishigami, a=[-math.pi] * 3, b=[math.pi] * 3)
+    r2 = sp.sobol_indices(ishigami, 3, a=-math.pi, b=math.pi)
+    assert np.array_equal(r1.first, r2.first) and r1.n == r2.n
+
+
+def test_a_space_gives_names_and_laws():
+    # y = x + 2·z with x, z ~ N(0, 1) and w ~ U(0, 1) unused: S = T = (1/5, 4/5, 0).
+    space = {"x": "normal(0,1)", "z": "normal(0,1)", "w": "uniform(0,1)"}
+    r = sp.sobol_indices(linear, space=space)
+    assert r.names == ["x", "z", "w"]
+    want = np.array([0.2, 0.8, 0.0])
+    assert np.all(np.abs(r.first - want) <= 0.01), r
+    assert np.all(np.abs(r.total - want) <= 0.01), r
+    assert r.first[2] == 0.0 and r.total[2] == 0.0
+
+
+def test_several_outputs_have_shape_d_by_k():
+    r = sp.sobol_indices(lambda x: np.stack([ishigami(x), x[:, 0]], axis=1), 3,
+                         a=-math.pi, b=math.pi)
+    assert r.first.shape == (3, 2) and r.total_half_width.shape == (3, 2)
+    assert abs(r.first[0, 1] - 1.0) <= 0.01 and abs(r.total[1, 1]) <= 0.01
+
+
+def test_a_continuation_equals_the_direct_run_and_pickles():
+    loose = sp.sobol_indices(ishigami, 3, a=-math.pi, b=math.pi, abs_tol=0.05)
+    back = pickle.loads(pickle.dumps(loose))
+    assert np.array_equal(back.first, loose.first) and back.n == loose.n
+    tight = sp.sobol_indices(ishigami, 3, abs_tol=0.01, start=back)
+    direct = sp.sobol_indices(ishigami, 3, a=-math.pi, b=math.pi, abs_tol=0.01)
+    assert tight.n == direct.n and np.array_equal(tight.total, direct.total)
+    assert back.n == loose.n  # the earlier result is not changed
+    with pytest.raises(ValueError, match=r"invalid replicates = 4 with start"):
+        sp.sobol_indices(ishigami, 3, start=loose, replicates=4)
+    with pytest.raises(ValueError, match=r"invalid a with start"):
+        sp.sobol_indices(ishigami, 3, start=loose, a=0)
+
+
+def test_an_executor_gives_the_same_result():
+    with concurrent.futures.ThreadPoolExecutor(2) as pool:
+        r = sp.sobol_indices(ishigami, 3, a=-math.pi, b=math.pi, abs_tol=0.05,
+                             executor=pool)
+    s = sp.sobol_indices(ishigami, 3, a=-math.pi, b=math.pi, abs_tol=0.05)
+    assert np.array_equal(r.first, s.first) and r.n == s.n
+
+
+def test_progress_gets_a_copy_each_round(capsys):
+    seen = []
+    r = sp.sobol_indices(ishigami, 3, a=-math.pi, b=math.pi, abs_tol=0.05,
+                         progress=seen.append)
+    assert [s.n for s in seen][-1] == r.n
+    assert all(a.n < b.n for a, b in zip(seen, seen[1:]))
+    sp.sobol_indices(ishigami, 3, a=-math.pi, b=math.pi, abs_tol=0.05, progress=True)
+    assert "sobol_indices: n=" in capsys.readouterr().err
+
+
+def test_simultaneous_intervals_are_wider():
+    o = dict(a=-math.pi, b=math.pi, abs_tol=0.0, max_n=40960)
+    own = sp.sobol_indices(ishigami, 3, **o)
+    together = sp.sobol_indices(ishigami, 3, simultaneous=True, **o)
+    assert together.simultaneous and not own.simultaneous
+    assert np.all(together.total_half_width > own.total_half_width)
+    assert not own.met and own.reason == "max_n"
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        (dict(d=0), r"invalid d = 0"),
+        (dict(d=501), r"invalid d = 501"),
+        (dict(d=3, abs_tol=-1e-3), r"invalid abs_tol = -0\.001"),
+        (dict(d=3, level=1.5), r"invalid level = 1\.5"),
+        (dict(d=3, max_n=100), r"invalid max_n = 100"),
+        (dict(d=3, replicates=1), r"invalid replicates = 1"),
+        (dict(d=3, first_estimator="owen"), r"invalid first_estimator = 'owen'"),
+        (dict(d=3, simultaneous="yes"), r"invalid simultaneous = 'yes'"),
+        (dict(d=3, progress="loud"), r"invalid progress = 'loud'"),
+        (dict(), r"invalid d = None"),
+        (dict(d=2, correlation=[[1, 0.5], [0.5, 1]]), r"invalid correlation = "),
+        (dict(space=["W=brownian(1,4)"]), r"invalid space = W_1"),
+        (dict(d=3, space={"x": "normal(0,1)"}), r"invalid d = 3"),
+    ],
+)
+def test_refusals_name_the_keyword_and_the_value(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        sp.sobol_indices(ishigami, **kwargs)
+
+
+def test_constant_and_non_finite_outputs_are_refused():
+    with pytest.raises(ValueError, match=r"invalid f = 2\.5 at every one of the first"):
+        sp.sobol_indices(lambda x: np.full(len(x), 2.5), 2)
+    with pytest.raises(ValueError, match=r"invalid f: nan at x = \["):
+        sp.sobol_indices(lambda x: np.where(x[:, 0] > 0.5, np.nan, x[:, 1]), 2)
+
+
+def test_the_guide_examples_run():
+    import pathlib
+    import re
+
+    page = pathlib.Path(__file__).resolve().parents[2] / "docs" / "sensitivity.md"
+    blocks = re.findall(r"```python\n(.*?)```", page.read_text(encoding="utf-8"), flags=re.S)
+    scope = {}
+    for block in blocks:
+        exec(compile(block, str(page), "exec"), scope)
+    first, total = ishigami_exact()
+    assert np.all(np.abs(scope["r"].first - first) <= 0.01)
+    assert scope["laws"].names == ["E", "k", "n"]
+    assert scope["laws"].met

@@ -1,0 +1,463 @@
+//! Sobol' indices against closed forms (Ishigami, Sobol' G, a linear and a product
+//! model), their intervals' coverage, continuation, several outputs, and the refusals.
+
+use std::f64::consts::PI;
+
+use stillpoint::cubature::StopReason;
+use stillpoint::sensitivity::{
+    sobol_indices, FirstOrder, Sensitivity, SensitivityOptions, SobolResult, MAX_INPUTS,
+};
+use stillpoint::PointSet;
+
+/// Closed-form (first, total) indices.
+type Indices = (Vec<f64>, Vec<f64>);
+
+/// Ishigami's function with a = 7, b = 0.1 on [−π, π]^3.
+fn ishigami(x: &PointSet) -> Vec<f64> {
+    x.rows()
+        .map(|p| p[0].sin() + 7.0 * p[1].sin().powi(2) + 0.1 * p[2].powi(4) * p[0].sin())
+        .collect()
+}
+
+/// Ishigami's (first, total) indices in closed form.
+fn ishigami_exact() -> Indices {
+    let (a, b) = (7.0f64, 0.1f64);
+    let p4 = PI.powi(4);
+    let v1 = b * p4 / 5.0 + b * b * p4 * p4 / 50.0 + 0.5;
+    let v2 = a * a / 8.0;
+    let v13 = 8.0 * b * b * p4 * p4 / 225.0;
+    let v = v1 + v2 + v13;
+    (
+        vec![v1 / v, v2 / v, 0.0],
+        vec![(v1 + v13) / v, v2 / v, v13 / v],
+    )
+}
+
+fn box3() -> SensitivityOptions {
+    SensitivityOptions {
+        a: Some(vec![-PI; 3]),
+        b: Some(vec![PI; 3]),
+        ..SensitivityOptions::default()
+    }
+}
+
+/// Sobol's G function with coefficients `a`.
+fn g_function(a: Vec<f64>) -> impl Fn(&PointSet) -> Vec<f64> {
+    move |x: &PointSet| {
+        x.rows()
+            .map(|p| {
+                p.iter()
+                    .zip(&a)
+                    .map(|(x, a)| ((4.0 * x - 2.0).abs() + a) / (1.0 + a))
+                    .product()
+            })
+            .collect()
+    }
+}
+
+fn g_exact(a: &[f64]) -> Indices {
+    let vi: Vec<f64> = a.iter().map(|a| 1.0 / (3.0 * (1.0 + a).powi(2))).collect();
+    let all: f64 = vi.iter().map(|v| 1.0 + v).product();
+    let v = all - 1.0;
+    let first = vi.iter().map(|x| x / v).collect();
+    let total = vi.iter().map(|x| x * all / (1.0 + x) / v).collect();
+    (first, total)
+}
+
+/// Every index of `r` within `tol` of the closed form (output 0).
+fn close(r: &SobolResult, exact: &Indices, tol: f64) {
+    let k = r.outputs;
+    for (i, (s, t)) in exact.0.iter().zip(&exact.1).enumerate() {
+        let (fs, ft) = (r.first[i * k], r.total[i * k]);
+        assert!((fs - s).abs() <= tol, "S_{i}: {fs} vs {s} ({r:?})");
+        assert!((ft - t).abs() <= tol, "T_{i}: {ft} vs {t} ({r:?})");
+    }
+}
+
+#[test]
+fn ishigami_meets_its_closed_form() {
+    let r = sobol_indices(ishigami, 3, box3()).unwrap();
+    assert!(r.met, "{r:?}");
+    assert_eq!(r.reason, Some(StopReason::Met));
+    assert!(r
+        .first_half_width
+        .iter()
+        .chain(&r.total_half_width)
+        .all(|h| *h <= 0.01));
+    close(&r, &ishigami_exact(), 0.01);
+    assert_eq!(r.names, ["x1", "x2", "x3"]);
+    // n counts every evaluation: (d + 2) per point of every replicate.
+    assert_eq!(r.n % (5 * 8), 0);
+    assert!((r.n / 40).is_power_of_two());
+}
+
+#[test]
+fn sobol_g_meets_its_closed_form_for_several_coefficient_vectors() {
+    for a in [
+        vec![0.0, 1.0, 4.5, 9.0, 99.0, 99.0],
+        vec![0.0, 0.0, 0.0, 0.0],
+        vec![0.0, 0.5, 3.0, 9.0, 99.0, 99.0, 99.0, 99.0, 99.0, 99.0],
+    ] {
+        let d = a.len();
+        let r = sobol_indices(g_function(a.clone()), d, SensitivityOptions::default()).unwrap();
+        assert!(r.met, "{a:?}: {r:?}");
+        close(&r, &g_exact(&a), 0.01);
+    }
+}
+
+#[test]
+fn a_linear_model_has_equal_first_and_total_indices() {
+    let c = [1.0, 2.0, 3.0, 0.0, 0.5];
+    let norm: f64 = c.iter().map(|c| c * c).sum();
+    let exact: Vec<f64> = c.iter().map(|c| c * c / norm).collect();
+    let r = sobol_indices(
+        |x: &PointSet| {
+            x.rows()
+                .map(|p| p.iter().zip(&c).map(|(x, c)| x * c).sum())
+                .collect()
+        },
+        5,
+        SensitivityOptions::default(),
+    )
+    .unwrap();
+    assert!(r.met, "{r:?}");
+    close(&r, &(exact.clone(), exact), 0.01);
+    // An inert input: its differences vanish at every point, its indices are 0 exactly.
+    assert_eq!((r.first[3], r.total[3]), (0.0, 0.0));
+}
+
+#[test]
+fn a_product_model_meets_its_closed_form() {
+    let d = 4;
+    let v = 3f64.powi(-(d as i32)) - 4f64.powi(-(d as i32));
+    let s = 4f64.powi(1 - d as i32) / 12.0 / v;
+    let t = 3f64.powi(1 - d as i32) / 12.0 / v;
+    let r = sobol_indices(
+        |x: &PointSet| x.rows().map(|p| p.iter().product()).collect(),
+        d,
+        SensitivityOptions::default(),
+    )
+    .unwrap();
+    assert!(r.met, "{r:?}");
+    close(&r, &(vec![s; d], vec![t; d]), 0.01);
+}
+
+#[test]
+fn each_index_is_within_its_tolerance_in_most_runs() {
+    // 30 seeds of Ishigami and of a G function: every index within abs_tol of the
+    // closed form in at least 95 % of the (run, index) pairs.
+    let (mut inside, mut all) = (0, 0);
+    let a = vec![0.0, 1.0, 4.5, 9.0];
+    let cases: Vec<(usize, SensitivityOptions, Indices)> = vec![
+        (3, box3(), ishigami_exact()),
+        (4, SensitivityOptions::default(), g_exact(&a)),
+    ];
+    for (d, options, exact) in &cases {
+        for seed in 0..30 {
+            let o = SensitivityOptions {
+                seed,
+                ..options.clone()
+            };
+            let r = if *d == 3 {
+                sobol_indices(ishigami, 3, o)
+            } else {
+                sobol_indices(g_function(a.clone()), 4, o)
+            }
+            .unwrap();
+            assert!(r.met);
+            for i in 0..*d {
+                inside += usize::from((r.first[i] - exact.0[i]).abs() <= 0.01);
+                inside += usize::from((r.total[i] - exact.1[i]).abs() <= 0.01);
+                all += 2;
+            }
+        }
+    }
+    assert!(inside as f64 >= 0.95 * all as f64, "{inside} of {all}");
+}
+
+#[test]
+fn janon_first_order_estimates_the_same_indices() {
+    let r = sobol_indices(
+        ishigami,
+        3,
+        SensitivityOptions {
+            first_order: FirstOrder::Janon,
+            ..box3()
+        },
+    )
+    .unwrap();
+    assert!(r.met, "{r:?}");
+    close(&r, &ishigami_exact(), 0.01);
+}
+
+#[test]
+fn a_continuation_gives_the_direct_run() {
+    let loose = SensitivityOptions {
+        abs_tol: 0.05,
+        ..box3()
+    };
+    let r = sobol_indices(ishigami, 3, loose.clone()).unwrap();
+    let json = serde_json::to_string(&r).unwrap();
+    let back: SobolResult = serde_json::from_str(&json).unwrap();
+    assert_eq!(back, r);
+    let refined = back.refine(ishigami, 0.01).unwrap();
+    let direct = sobol_indices(ishigami, 3, box3()).unwrap();
+    assert_eq!(refined.first, direct.first);
+    assert_eq!(refined.total_half_width, direct.total_half_width);
+    assert_eq!(refined.n, direct.n);
+    assert!(refined.n > r.n);
+}
+
+#[test]
+fn several_outputs_are_each_their_own_analysis() {
+    let both = |x: &PointSet| -> Vec<f64> {
+        let a = ishigami(x);
+        x.rows()
+            .zip(a)
+            .flat_map(|(p, y)| [y, p[0] + 2.0 * p[2]])
+            .collect()
+    };
+    let r = sobol_indices(both, 3, box3()).unwrap();
+    assert_eq!(r.outputs, 2);
+    assert_eq!(r.first.len(), 6);
+    let alone = sobol_indices(
+        ishigami,
+        3,
+        SensitivityOptions {
+            max_n: r.n,
+            abs_tol: 0.0,
+            ..box3()
+        },
+    )
+    .unwrap();
+    assert_eq!(alone.n, r.n);
+    for i in 0..3 {
+        assert_eq!(alone.first[i], r.first[2 * i]);
+        assert_eq!(alone.total[i], r.total[2 * i]);
+    }
+    // Output 1 = x1 + 2·x3 on [−π, π]: S = T = (1/5, 0, 4/5).
+    let lin = (vec![0.2, 0.0, 0.8], vec![0.2, 0.0, 0.8]);
+    for i in 0..3 {
+        assert!((r.first[2 * i + 1] - lin.0[i]).abs() < 0.01, "{r:?}");
+        assert!((r.total[2 * i + 1] - lin.1[i]).abs() < 0.01, "{r:?}");
+    }
+}
+
+#[test]
+fn simultaneous_intervals_are_wider_by_the_bonferroni_quantile() {
+    let o = SensitivityOptions {
+        max_n: 40_960,
+        abs_tol: 0.0,
+        ..box3()
+    };
+    let own = sobol_indices(ishigami, 3, o.clone()).unwrap();
+    let all = sobol_indices(
+        ishigami,
+        3,
+        SensitivityOptions {
+            simultaneous: true,
+            ..o
+        },
+    )
+    .unwrap();
+    let t = stillpoint::cubature::student_t_quantile;
+    let ratio = t(1.0 - 0.05 / 12.0, 7.0) / t(0.975, 7.0);
+    for (a, b) in all.total_half_width.iter().zip(&own.total_half_width) {
+        assert!((a / b / ratio - 1.0).abs() < 1e-12, "{a} {b}");
+    }
+    assert_eq!(all.first, own.first);
+}
+
+#[test]
+fn refusals_name_the_argument_and_the_value() {
+    let err = |d: usize, o: SensitivityOptions| Sensitivity::new(d, o).unwrap_err().to_string();
+    let e = err(MAX_INPUTS + 1, SensitivityOptions::default());
+    assert!(e.starts_with("invalid d = 501"), "{e}");
+    assert!(e.contains("1 to 500"), "{e}");
+    assert!(Sensitivity::new(MAX_INPUTS, SensitivityOptions::default()).is_ok());
+    let e = err(
+        2,
+        SensitivityOptions {
+            abs_tol: -1.0,
+            ..SensitivityOptions::default()
+        },
+    );
+    assert!(e.starts_with("invalid abs_tol = -1"), "{e}");
+    let e = err(
+        2,
+        SensitivityOptions {
+            names: Some(vec!["a".into()]),
+            ..SensitivityOptions::default()
+        },
+    );
+    assert!(e.starts_with("invalid names = "), "{e}");
+    let e = err(
+        2,
+        SensitivityOptions {
+            a: Some(vec![0.0]),
+            ..SensitivityOptions::default()
+        },
+    );
+    assert!(e.starts_with("invalid a = "), "{e}");
+    let e = err(
+        2,
+        SensitivityOptions {
+            max_n: 100,
+            ..SensitivityOptions::default()
+        },
+    );
+    assert!(e.starts_with("invalid max_n = 100"), "{e}");
+    assert!(e.contains("2048 evaluations"), "{e}");
+}
+
+#[test]
+fn a_constant_output_and_non_finite_values_are_refused() {
+    let e = sobol_indices(
+        |x: &PointSet| vec![2.5; x.n()],
+        2,
+        SensitivityOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.starts_with("invalid f = 2.5 at every one of the first"),
+        "{e}"
+    );
+    let e = sobol_indices(
+        |x: &PointSet| x.rows().flat_map(|p| [p[0], 1.0]).collect(),
+        2,
+        SensitivityOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("(output 1)"), "{e}");
+    let e = sobol_indices(
+        |x: &PointSet| {
+            x.rows()
+                .map(|p| if p[1] > 0.5 { f64::NAN } else { p[0] })
+                .collect()
+        },
+        2,
+        SensitivityOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.starts_with("invalid f = NaN at x = ["), "{e}");
+}
+
+#[test]
+fn huge_and_offset_outputs_give_the_indices_of_the_plain_ones() {
+    // Indices do not change under y → c·y + m; the sums are centred and scaled by powers
+    // of two, so outputs near 1e300 or sitting on 1e12 are analysed as the plain ones.
+    let plain = sobol_indices(ishigami, 3, box3()).unwrap();
+    for (c, m) in [(1e300, 0.0), (1.0, 1e12), (1e-300, 0.0)] {
+        let r = sobol_indices(
+            |x: &PointSet| ishigami(x).into_iter().map(|y| c * y + m).collect(),
+            3,
+            box3(),
+        )
+        .unwrap();
+        assert!(r.met, "{c} {m}: {r:?}");
+        for (a, b) in r.first.iter().zip(&plain.first) {
+            assert!((a - b).abs() < 1e-3, "{c} {m}: {a} {b}");
+        }
+    }
+}
+
+#[test]
+#[ignore = "a measurement: cargo test --release --test sensitivity -- --ignored --nocapture"]
+fn first_order_estimators_measured() {
+    // RMSE of the first-order indices over 50 seeds at a fixed budget, per estimator.
+    let a = vec![0.0, 1.0, 4.5, 9.0, 99.0, 99.0];
+    for (name, d, o, exact) in [
+        ("ishigami", 3, box3(), ishigami_exact()),
+        ("g6", 6, SensitivityOptions::default(), g_exact(&a)),
+    ] {
+        for est in [FirstOrder::Saltelli, FirstOrder::Janon] {
+            for max_n in [1u64 << 14, 1 << 17] {
+                let mut se = 0.0;
+                for seed in 0..50 {
+                    let o = SensitivityOptions {
+                        seed,
+                        first_order: est,
+                        abs_tol: 0.0,
+                        max_n: max_n * (d as u64 + 2) / 2,
+                        ..o.clone()
+                    };
+                    let r = if d == 3 {
+                        sobol_indices(ishigami, 3, o)
+                    } else {
+                        sobol_indices(g_function(a.clone()), d, o)
+                    }
+                    .unwrap();
+                    se += r
+                        .first
+                        .iter()
+                        .zip(&exact.0)
+                        .map(|(x, y)| (x - y).powi(2))
+                        .sum::<f64>()
+                        / d as f64;
+                }
+                println!(
+                    "{name} {} max_n={max_n} rmse={:.2e}",
+                    est.as_str(),
+                    (se / 50.0).sqrt()
+                );
+            }
+        }
+    }
+}
+
+#[test]
+#[ignore = "a measurement: cargo test --release --test sensitivity -- --ignored --nocapture"]
+fn rmse_at_a_fixed_budget_measured() {
+    // RMSE of all 2d indices over 10 seeds at N = 8192 base points (N·(d + 2) evaluations).
+    let a = vec![0.0, 1.0, 4.5, 9.0, 99.0, 99.0];
+    let d4 = 4;
+    let v = 3f64.powi(-4) - 4f64.powi(-4);
+    let prod = (
+        vec![4f64.powi(-3) / 12.0 / v; 4],
+        vec![3f64.powi(-3) / 12.0 / v; 4],
+    );
+    type Model = Box<dyn Fn(&PointSet) -> Vec<f64>>;
+    let models: Vec<(&str, usize, SensitivityOptions, Indices, Model)> = vec![
+        ("ishigami", 3, box3(), ishigami_exact(), Box::new(ishigami)),
+        (
+            "g6",
+            6,
+            SensitivityOptions::default(),
+            g_exact(&a),
+            Box::new(g_function(a.clone())),
+        ),
+        (
+            "product4",
+            d4,
+            SensitivityOptions::default(),
+            prod,
+            Box::new(|x: &PointSet| x.rows().map(|p| p.iter().product()).collect()),
+        ),
+    ];
+    for (name, d, o, exact, f) in &models {
+        for base in [1024u64, 8192] {
+            let mut se = 0.0;
+            for seed in 0..10 {
+                let o = SensitivityOptions {
+                    seed,
+                    abs_tol: 0.0,
+                    max_n: base * (*d as u64 + 2),
+                    ..o.clone()
+                };
+                let r = sobol_indices(|x: &PointSet| f(x), *d, o).unwrap();
+                se += r
+                    .first
+                    .iter()
+                    .chain(&r.total)
+                    .zip(exact.0.iter().chain(&exact.1))
+                    .map(|(x, y)| (x - y).powi(2))
+                    .sum::<f64>()
+                    / (2 * d) as f64;
+            }
+            println!("{name} N={base} rmse={:.2e}", (se / 10.0).sqrt());
+        }
+    }
+}
