@@ -16,13 +16,20 @@ are in benches/quad_models.py):
   disturb less (it adds up all threads, though).
 
 Families (quad_models.py): Genz's oscillatory, product peak, corner peak and gaussian
-and the models keister and lognormal at s = 2, 5, 10, 20, and ishigami at s = 3.
-Tolerances: 1e-2, 1e-3, 1e-4, 1e-5, relative (abs_tol = 0 everywhere).
+and the models keister and lognormal at s = 2, 5, 10, 20, and ishigami at s = 3, all on
+the unit cube. The model families of benches/uq_families.py with a closed-form mean
+(``MODEL_FAMILIES``: uq keister s = 5, 10; the oscillatory and gaussian Genz functions
+of normal inputs, s = 8; the lognormal product and Morokoff–Caflisch, s = 10; the
+geometric-average Asian call on a 32-step path, PCA and standard construction) are
+integrated by stillpoint against their laws through ``space=`` (so quad chooses its
+rule from them) and by the references on the cube through the same laws' quantiles.
+Tolerances: 1e-2, 1e-3, 1e-4, 1e-5, relative (abs_tol = 0 everywhere). A method is
+reliable in a cell at 185 of 200 runs (92.5 %, the one-sided binomial bound for 95 %).
 
 Methods (the budget, max_n or n_limit, is 2^20 evaluations for all):
-- ``stillpoint``: ``stillpoint.quad(f, s, rel_tol=tol, seed=run)`` (8 shifts of the
-  extensible lattice, tent transform, 64 points per shift first, Student t interval at
-  95 %).
+- ``stillpoint``: ``stillpoint.quad(f, s, rel_tol=tol, seed=run)`` (``space=`` the
+  laws for the model families; 4 replicates of the rule chosen from the laws, 64
+  points each first, the Student t interval at 95 % guarded by the round's change).
 - ``qmcpy-lattice``, ``qmcpy-net``: ``CubQMCLatticeG`` (``Lattice(s, seed=run)``, its
   default Baker transform) and ``CubQMCNetG`` (``DigitalNetB2(s, seed=run)``) at their
   defaults (n_init = 1024) with ``abs_tol=0, rel_tol=tol, n_limit=2**20``.
@@ -33,6 +40,9 @@ Methods (the budget, max_n or n_limit, is 2^20 evaluations for all):
   no default number of replications; 25 is the one of QMCPy's own examples).
 - ``qmcpy-rep-8x64``: the same with 8 replications of n_init = 64 points (stillpoint's
   first round), alpha still QMCPy's default 0.01.
+- ``qmcpy-bayes-lattice``, ``qmcpy-bayes-net``: ``CubBayesLatticeG`` (``Lattice(s,
+  seed=run)``) and ``CubBayesNetG`` (``DigitalNetB2(s, seed=run)``) at their defaults
+  with ``abs_tol=0, rel_tol=tol, n_limit=2**20``.
 - ``qmc_quad``: ``scipy.integrate.qmc_quad`` with 8 scrambled Sobol' estimates of n
   points, n = 64, 128, ... until t_{7,0.975}·standard error ≤ tol·|integral| (each round
   starts afresh; the rounds thrown away are counted).
@@ -366,7 +376,7 @@ def table(out, runs):
         if not any(st[m] for m in refs):
             row += ["no reference run", "—", "—"]
         elif best is None:
-            row += ["none ≥ 95 %", "—"]
+            row += ["none ≥ 92.5 %", "—"]
             if sp is not None:
                 counted += 1
                 ok = sp["rel"] >= RELIABLE
@@ -375,7 +385,7 @@ def table(out, runs):
                 row.append("✔" if ok else "✘")
                 if not ok:
                     misses.append(f"{family}, s={s}, tol={tol}: stillpoint {sp['rel']:.0%} "
-                                  "reliable (no reference reaches 95 % either)")
+                                  "reliable (no reference reaches 92.5 % either)")
             else:
                 row.append("—")
         elif sp is None:
@@ -390,7 +400,7 @@ def table(out, runs):
             if not ok:
                 why = []
                 if sp["rel"] < RELIABLE:
-                    why.append(f"reliability {sp['rel']:.0%} < 95 %")
+                    why.append(f"reliability {sp['rel']:.0%} < 92.5 %")
                 if ratio > 1:
                     why.append(f"{ratio:.2f}× the evaluations of {best}")
                 misses.append(f"{family}, s={s}, tol={tol}: " + "; ".join(why))
@@ -398,13 +408,13 @@ def table(out, runs):
     lines.append("")
     if "stillpoint" in data:
         gm = math.exp(np.mean(np.log(ratios))) if ratios else float("nan")
-        lines += [f"Cells meeting it (stillpoint ≥ 95 % reliable and no more evaluations "
+        lines += [f"Cells meeting it (stillpoint ≥ 92.5 % reliable and no more evaluations "
                   f"than the best reliable reference): {met} of {counted}.", "",
                   f"Geometric mean of the ratio over the {len(ratios)} cells with a "
                   f"reliable reference: {gm:.3f} (the claim: ≤ 0.7).", ""]
         if no_ref:
-            lines += [f"Cells where no reference reaches 95 %: {len(no_ref)} (stillpoint "
-                      f"≥ 95 % in {sum(ok for _, ok in no_ref)}); they are counted above on "
+            lines += [f"Cells where no reference reaches 92.5 %: {len(no_ref)} (stillpoint "
+                      f"≥ 92.5 % in {sum(ok for _, ok in no_ref)}); they are counted above on "
                       "stillpoint's reliability alone and left out of the mean.", ""]
         lines += ["Cells that miss:" if misses else "No cell misses.", ""]
         lines += [f"- {m}" for m in misses]
