@@ -554,12 +554,15 @@ pub(crate) enum Command {
         json: bool,
     },
     /// Integrate the eight test functions F1–F8 of eq. 49 (exact integrals 0) with the
-    /// points of a file and print each estimate, i.e. each integration error; or, with
-    /// --expr, integrate an expression over the unit cube to a tolerance.
+    /// points of a file and print each estimate, i.e. each integration error; with
+    /// --expr, integrate an expression to a tolerance over the unit cube, a box or the
+    /// distributions of --var/--space; with point files and --expr, the expression's
+    /// mean over each file's points and their standard error.
     Integrate {
-        /// The point file (CSV, TSV, whitespace, JSON, .npy); coordinates in [0, 1].
-        #[arg(required_unless_present = "expr", conflicts_with = "expr")]
-        file: Option<PathBuf>,
+        /// The point files (CSV, TSV, whitespace, JSON, .npy); coordinates in [0, 1]
+        /// without --expr.
+        #[arg(required_unless_present = "expr")]
+        files: Vec<PathBuf>,
         /// Print one JSON object.
         #[arg(long)]
         json: bool,

@@ -287,19 +287,30 @@ fn baseline_command(c: Command) -> Result<()> {
 
 /// `stillpoint integrate`.
 fn integrate_command(c: Command) -> Result<()> {
-    let Command::Integrate { file, json, quad } = c else {
+    let Command::Integrate { files, json, quad } = c else {
         bail!("integrate: not this subcommand");
     };
-    let Some(file) = file else {
+    if files.is_empty() {
         return quad_command(quad, json);
-    };
+    }
+    if quad.expr.is_some() {
+        return files_command(&files, quad, json);
+    }
     if let Some(flag) = quad.first_expr_only() {
         bail!(
             "invalid {flag} with a point file: it applies to --expr only (a file is \
              integrated as it is)"
         );
     }
-    let points = io::read_points(&file)?;
+    let [file] = files.as_slice() else {
+        bail!(
+            "invalid FILE: {} files without --expr; the eight test functions are \
+             integrated with one file (give --expr EXPR to average an expression over \
+             several randomised files)",
+            files.len()
+        );
+    };
+    let points = io::read_points(file)?;
     points
         .check_unit_cube()
         .with_context(|| format!("{}", file.display()))?;

@@ -3,7 +3,8 @@
 
 use super::*;
 use std::io::Write as _;
-use stillpoint::cubature::{Cubature, QuadOptions, StopReason};
+use stillpoint::cubature::{Cubature, QuadOptions, Rule, StopReason};
+use stillpoint::design::DesignSpace;
 use stillpoint::parse::expr::RegionExpr;
 use stillpoint::sequences::EXTENSIBLE_MAX_POINTS;
 
@@ -19,8 +20,8 @@ fn quad_flag(name: &str) -> String {
 /// Runs `integrate --expr` and prints the estimate, half-width, evaluations and whether
 /// the tolerance was met (and if not, what stopped it).
 pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
-    let (Some(text), Some(s)) = (q.expr.as_deref(), q.s) else {
-        bail!("--expr needs -s");
+    let Some(text) = q.expr.as_deref() else {
+        bail!("missing FILE or --expr: a point file to integrate, or --expr EXPR");
     };
     let refused = |e: stillpoint::Error| match e {
         stillpoint::Error::InvalidArgument {
@@ -40,28 +41,56 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
         }
         other => anyhow::Error::from(other),
     };
+    let space = quad_space(&q)?;
+    let s = match (&space, q.s) {
+        (Some((flag, space)), Some(s)) if s != space.dim() => bail!(
+            "invalid -s = {s}: {flag} has {} coordinates; expected -s equal to it (or no -s)",
+            space.dim()
+        ),
+        (Some((_, space)), _) => space.dim(),
+        (None, Some(s)) => s,
+        (None, None) => bail!("--expr needs -s (the dimension), or --var/--space"),
+    };
     // The dimension first, so that -s 0 is refused as -s rather than by what needs it.
     stillpoint::sequences::ExtensibleLattice::new(s, 0, 0).map_err(refused)?;
     let expr = RegionExpr::parse(text, s).map_err(|e| anyhow::anyhow!("invalid --expr: {e}"))?;
-    let (a, b) = match q.bounds.as_deref() {
-        Some(text) => {
+    let (a, b) = match (q.bounds.as_deref(), &space) {
+        (Some(_), Some((flag, _))) => {
+            bail!("invalid --bounds with {flag}: the space's distributions give the range")
+        }
+        (Some(text), None) => {
             let bounds = parse_bounds(text, s)?;
             (Some(bounds.lo), Some(bounds.hi))
         }
-        None => (None, None),
+        (None, _) => (None, None),
     };
+    let (rule, rule_reason) = Rule::for_space(space.as_ref().map(|(_, space)| space));
     let options = QuadOptions {
         a,
         b,
+        rule,
+        rule_reason,
         ..q.options()
     };
     let mut state = Cubature::new(s, options.clone()).map_err(refused)?;
     let rounds = Rounds::new(q.quiet, q.progress);
-    let f = |points: &PointSet| {
+    rounds.say(&format!("stillpoint: {}", options.rule_reason));
+    while !state.met() {
+        let Some(points) = state.next_points() else {
+            break;
+        };
         rounds.evaluating(points.n());
-        points.rows().map(|p| expr.eval(p)).collect()
-    };
-    state.run_observed(f, |s| rounds.done(s)).map_err(refused)?;
+        let values: Vec<f64> = match &space {
+            None => points.rows().map(|p| expr.eval(p)).collect(),
+            Some((_, space)) => stillpoint::cubature::space_values(space, &points)?
+                .rows()
+                .map(|p| expr.eval(p))
+                .collect(),
+        };
+        state.feed(&points, &values).map_err(refused)?;
+        rounds.done(&state);
+    }
+    state.check_representable().map_err(refused)?;
     drop(rounds);
     let r = stillpoint::cubature::QuadResult::from(state);
     for w in &r.warnings {
@@ -69,12 +98,20 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
     }
     let reason = r.reason.map_or("running", StopReason::as_str);
     if json {
-        let v = json!({"expr": text, "s": s, "estimate": r.estimate[0],
+        let mut v = json!({"expr": text, "s": s, "estimate": r.estimate[0],
                        "half_width": r.half_width[0], "n": r.n, "replicates": r.replicates,
                        "level": options.level, "rel_tol": options.rel_tol,
-                       "abs_tol": options.abs_tol, "met": r.met, "reason": reason});
+                       "abs_tol": options.abs_tol, "met": r.met, "reason": reason,
+                       "rule": r.rule.as_str(), "rule_reason": r.rule_reason});
+        if let Some((_, space)) = &space {
+            v["space"] = json!(space.texts());
+            v["correlation"] = json!(space.correlation_text());
+        }
         outln!("{}", serde_json::to_string_pretty(&v)?);
     } else {
+        if let Some((_, space)) = &space {
+            outln!("under        {}", space.texts().join(" "));
+        }
         outln!("estimate     {}", number(r.estimate[0]));
         outln!(
             "half-width   {} (level {})",
@@ -82,6 +119,7 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
             options.level
         );
         outln!("evaluations  {} ({} replicates)", r.n, r.replicates);
+        outln!("rule         {}", r.rule_reason);
         let why = match r.reason {
             Some(StopReason::Met) | None => "yes".to_string(),
             Some(StopReason::MaxN) => format!("no: --max-n {} reached first", options.max_n),
@@ -93,6 +131,108 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
         };
         outln!("met          {why}");
     }
+    Ok(())
+}
+
+/// The space of `--var`/`--space` with `--correlation`, checked as `generate` checks
+/// it, and the flag that gave it; `None` without one (a `--correlation` alone is
+/// refused).
+fn quad_space(q: &QuadArgs) -> Result<Option<(&'static str, DesignSpace)>> {
+    let (flag, items) = match &q.space {
+        Some(path) => ("--space", read_space(path)?),
+        None if !q.var.is_empty() => ("--var", q.var.clone()),
+        None => {
+            if q.correlation.is_some() {
+                bail!("invalid --correlation without --var or --space: it correlates a space's variables");
+            }
+            return Ok(None);
+        }
+    };
+    let mut space = DesignSpace::parse(flag, &items)?;
+    stillpoint::cubature::check_space(&space, flag)?;
+    if let Some(rows) = &q.correlation {
+        space.correlate_rows("--correlation", rows)?;
+    }
+    Ok(Some((flag, space)))
+}
+
+/// `integrate FILE… --expr EXPR`: the expression's mean over each file's points (its
+/// values as they are, one column per variable x1..xs), and over the files the mean, its
+/// standard error and the Student t half-width at `--level` (files randomised
+/// independently, e.g. `generate --randomize --seed` with different seeds, give
+/// independent unbiased estimates).
+pub(crate) fn files_command(files: &[PathBuf], q: QuadArgs, json: bool) -> Result<()> {
+    let text = q.expr.as_deref().unwrap_or_default();
+    if let Some(flag) = q.first_tolerance_only() {
+        bail!(
+            "invalid {flag} with point files: it applies to the integration to a tolerance \
+             (--expr without FILE); the files' points are evaluated as they are"
+        );
+    }
+    let level = q.level.as_ref().map_or(0.95, |t| t.value);
+    let mut means = Vec::with_capacity(files.len());
+    let mut rows = Vec::with_capacity(files.len());
+    let mut dim: Option<(usize, String)> = q.s.map(|s| (s, format!("-s {s}")));
+    for file in files {
+        let source = file.display().to_string();
+        let points = io::read_points(file)?;
+        match &dim {
+            Some((s, what)) if *s != points.s() => bail!(
+                "invalid {source}: {} columns; expected {s}, as {what}",
+                points.s()
+            ),
+            Some(_) => {}
+            None => dim = Some((points.s(), source.clone())),
+        }
+        let expr = RegionExpr::parse(text, points.s())
+            .map_err(|e| anyhow::anyhow!("invalid --expr: {e}"))?;
+        let mut sum = 0.0;
+        for p in points.rows() {
+            let v = expr.eval(p);
+            if !v.is_finite() {
+                bail!("invalid --expr {text:?}: {v} at x = {p:?} of {source}; expected a finite value at every point");
+            }
+            sum += v;
+        }
+        let mean = sum / points.n() as f64;
+        means.push(mean);
+        rows.push((source, points.n(), mean));
+    }
+    let m = stillpoint::cubature::mean_interval(&means, level).map_err(|e| match e {
+        stillpoint::Error::InvalidArgument { expected, .. } => anyhow::anyhow!(
+            "invalid --level = {}: expected {expected}",
+            q.typed("level").unwrap_or_default()
+        ),
+        other => anyhow::Error::from(other),
+    })?;
+    let s = dim.map_or(0, |(s, _)| s);
+    let total: usize = rows.iter().map(|r| r.1).sum();
+    if json {
+        let per: Vec<Value> = rows
+            .iter()
+            .map(|(f, n, mean)| json!({"file": f, "n": n, "mean": mean}))
+            .collect();
+        let v = json!({"expr": text, "s": s, "estimate": m.mean,
+                       "standard_error": m.standard_error, "half_width": m.half_width,
+                       "level": level, "n": total, "files": per});
+        outln!("{}", serde_json::to_string_pretty(&v)?);
+        return Ok(());
+    }
+    for (f, n, mean) in &rows {
+        outln!("{f}: mean {} over {n} points", number(*mean));
+    }
+    outln!("estimate        {}", number(m.mean));
+    match (m.standard_error, m.half_width) {
+        (Some(se), Some(hw)) => {
+            outln!("standard error  {} ({} files)", number(se), rows.len());
+            outln!("half-width      {} (level {level})", number(hw));
+        }
+        _ => outln!(
+            "standard error  none: one file (two or more independently randomised files \
+             give one)"
+        ),
+    }
+    outln!("evaluations     {total}");
     Ok(())
 }
 
@@ -149,10 +289,14 @@ impl Rounds {
 
     /// A doubling is done: its line.
     fn done(&self, state: &Cubature) {
+        self.say(&round_line(state, self.started.elapsed().as_secs_f64()));
+    }
+
+    /// A line of progress (nothing in [`ProgressMode::None`]).
+    fn say(&self, line: &str) {
         if self.mode == ProgressMode::None {
             return;
         }
-        let line = round_line(state, self.started.elapsed().as_secs_f64());
         match &self.bar {
             Some(bar) => bar.println(line),
             // A closed standard error must not end the run.

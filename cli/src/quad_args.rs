@@ -11,14 +11,10 @@
 pub(crate) struct QuadArgs {
     /// Integrate this expression in x1..xs (the grammar of --region) to a tolerance
     /// instead of reading a point file.
-    #[arg(
-        long,
-        value_name = "EXPR",
-        requires = "dim",
-        allow_hyphen_values = true
-    )]
+    #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
     pub(crate) expr: Option<String>,
-    /// Dimension s of --expr.
+    /// Dimension s of --expr (with --var or --space, their count of columns, which it
+    /// may repeat).
     #[arg(
         short = 's',
         value_name = "S",
@@ -49,6 +45,18 @@ pub(crate) struct QuadArgs {
     /// included).
     #[arg(long, value_name = "LO1,HI1,...", allow_hyphen_values = true)]
     pub(crate) bounds: Option<String>,
+    /// Integrate against a design space's distributions instead of over the cube: a
+    /// variable as `generate --var` takes it, repeatable, in column order (x1, x2, ...
+    /// of --expr are their values; a `brownian(T,m)` path gives m of them).
+    #[arg(long = "var", value_name = "NAME=TYPE", allow_hyphen_values = true)]
+    pub(crate) var: Vec<String>,
+    /// The design space's variables from a JSON file, as `generate --space` takes it.
+    #[arg(long, value_name = "FILE", conflicts_with = "var")]
+    pub(crate) space: Option<std::path::PathBuf>,
+    /// The correlation of the space's continuous variables as rows `1,0.5;0.5,1` (a
+    /// Gaussian copula), as `generate --correlation` takes it.
+    #[arg(long, value_name = "ROWS", allow_hyphen_values = true)]
+    pub(crate) correlation: Option<String>,
     /// No progress lines (the result is still printed).
     #[arg(long, short = 'q')]
     pub(crate) quiet: bool,
@@ -66,6 +74,17 @@ impl QuadArgs {
     /// The first option given that only `--expr` uses, as its flag (`-s`, `--seed`, ...),
     /// in the order of the help: a point file is integrated without them.
     pub(crate) fn first_expr_only(&self) -> Option<&'static str> {
+        self.given().next()
+    }
+
+    /// The first option given that only the integration to a tolerance uses: point files
+    /// with `--expr` take only `-s` (checked against them) and `--level`.
+    pub(crate) fn first_tolerance_only(&self) -> Option<&'static str> {
+        self.given().find(|flag| !matches!(*flag, "-s" | "--level"))
+    }
+
+    /// The flags given that apply to `--expr`, in the order of the help.
+    fn given(&self) -> impl Iterator<Item = &'static str> {
         [
             ("-s", self.s.is_some()),
             ("--rel-tol", self.rel_tol.is_some()),
@@ -75,11 +94,14 @@ impl QuadArgs {
             ("--max-n", self.max_n.is_some()),
             ("--seed", self.seed.is_some()),
             ("--bounds", self.bounds.is_some()),
+            ("--var", !self.var.is_empty()),
+            ("--space", self.space.is_some()),
+            ("--correlation", self.correlation.is_some()),
             ("-q (--quiet)", self.quiet),
             ("--progress", self.progress.is_some()),
         ]
         .into_iter()
-        .find(|(_, given)| *given)
+        .filter(|(_, given)| *given)
         .map(|(flag, _)| flag)
     }
 

@@ -7,7 +7,7 @@ use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
-use stillpoint::cubature::{Cubature, QuadOptions, StopReason};
+use stillpoint::cubature::{Cubature, QuadOptions, Rule, StopReason};
 use stillpoint::design::DesignSpace;
 use stillpoint::sequences::ExtensibleLattice;
 use stillpoint::PointSet;
@@ -29,8 +29,9 @@ pub(crate) struct PyCubature {
 #[pymethods]
 impl PyCubature {
     #[new]
-    #[pyo3(signature = (d, abs_tol=0.0, rel_tol=1e-3, level=0.95, replicates=8,
-                        max_n=1u64 << 20, start_n=64, seed=0, a=None, b=None))]
+    #[pyo3(signature = (d, abs_tol=0.0, rel_tol=1e-3, level=0.95, replicates=4,
+                        max_n=1u64 << 20, start_n=64, seed=0, a=None, b=None,
+                        rule="lattice", rule_reason=String::new()))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         d: usize,
@@ -43,7 +44,10 @@ impl PyCubature {
         seed: u64,
         a: Option<Vec<f64>>,
         b: Option<Vec<f64>>,
+        rule: &str,
+        rule_reason: String,
     ) -> PyResult<Self> {
+        let rule = Rule::parse("rule", rule).map_err(value_error)?;
         let options = QuadOptions {
             a,
             b,
@@ -54,6 +58,8 @@ impl PyCubature {
             max_n,
             start_n,
             seed,
+            rule,
+            rule_reason,
         };
         let inner = Cubature::new(d, options).map_err(value_error)?;
         Ok(PyCubature { inner, batch: None })
@@ -120,6 +126,20 @@ impl PyCubature {
     fn settings(&self) -> (f64, f64, f64, usize, u64, u64) {
         let o = self.inner.options();
         (o.abs_tol, o.rel_tol, o.level, o.replicates, o.max_n, o.seed)
+    }
+
+    /// The rule evaluated, "lattice" or "sobol", and why it was chosen.
+    #[getter]
+    fn rule(&self) -> (&'static str, String) {
+        let o = self.inner.options();
+        (o.rule.as_str(), o.rule_reason.clone())
+    }
+
+    /// Per output, the change of the estimate since half the points (the round guard
+    /// under the half-width), None before it exists.
+    #[getter]
+    fn round_change(&self) -> Vec<Option<f64>> {
+        self.inner.round_change()
     }
 
     /// The estimate of each output's integral.
@@ -225,30 +245,32 @@ pub(crate) fn check_box(name: &str, shown: &str, values: Vec<f64>) -> PyResult<(
     Ok(())
 }
 
-/// Points per continuous variable of a space that quad must resolve: as design refuses a
-/// range that cannot hold its n points, quad refuses one that cannot hold this many
-/// distinct floats (about the 1e-12 relative width the box check asks).
-const QUAD_SPACE_RESOLUTION: usize = 4096;
-
 /// Checks a quad space as design checks its space (its variables, the vanishing-scale
-/// check at [`QUAD_SPACE_RESOLUTION`] points, the correlation as text `1,0.5;0.5,1` or as
-/// a row-major matrix) and returns the correlation matrix, row-major, if any.
+/// check of `stillpoint::cubature::check_space`, the correlation as text `1,0.5;0.5,1` or
+/// as a row-major matrix) and returns the correlation matrix, row-major, if any, and the
+/// rule for its laws with why (`Rule::for_space`).
 #[pyfunction]
 #[pyo3(signature = (space, text=None, matrix=None))]
 pub(crate) fn quad_space(
     space: Vec<String>,
     text: Option<String>,
     matrix: Option<Vec<f64>>,
-) -> PyResult<Option<Vec<f64>>> {
+) -> PyResult<(Option<Vec<f64>>, &'static str, String)> {
     let mut parsed = DesignSpace::parse("space", &space).map_err(value_error)?;
-    parsed
-        .check_n("space", QUAD_SPACE_RESOLUTION)
-        .map_err(value_error)?;
+    stillpoint::cubature::check_space(&parsed, "space").map_err(value_error)?;
     match (text, matrix) {
         (Some(text), _) => parsed.correlate_rows("correlation", &text),
         (None, Some(m)) => parsed.correlate("correlation", &format!("{m:?}"), m),
         (None, None) => Ok(()),
     }
     .map_err(value_error)?;
-    Ok(parsed.copula.map(|c| c.matrix))
+    let (rule, why) = Rule::for_space(Some(&parsed));
+    Ok((parsed.copula.map(|c| c.matrix), rule.as_str(), why))
+}
+
+/// The rule quad takes without a space (the cube or a box), and why.
+#[pyfunction]
+pub(crate) fn quad_box_rule() -> (&'static str, String) {
+    let (rule, why) = Rule::for_space(None);
+    (rule.as_str(), why)
 }

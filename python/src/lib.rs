@@ -704,6 +704,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(cubature::sequence_points, m)?)?;
     m.add_function(wrap_pyfunction!(cubature::check_box, m)?)?;
     m.add_function(wrap_pyfunction!(cubature::quad_space, m)?)?;
+    m.add_function(wrap_pyfunction!(cubature::quad_box_rule, m)?)?;
     m.add_class::<cubature::PyCubature>()?;
     sensitivity::register(m)?;
     Ok(())

@@ -1,7 +1,8 @@
-"""Integration to a tolerance: :func:`quad` doubles the number of points on R shifted
-replicates of the extensible randomised lattice, never discarding an evaluation, until
-the Student t interval from the replicate means is narrow enough; :class:`QuadResult`
-holds the answer and the state to continue from with a tighter tolerance."""
+"""Integration to a tolerance: :func:`quad` doubles the number of points on R
+independently randomised replicates of one extensible rule (the tent-transformed lattice,
+or scrambled Sobol' under unbounded laws), never discarding an evaluation, until the
+interval from the replicate means is narrow enough; :class:`QuadResult` holds the answer
+and the state to continue from with a tighter tolerance."""
 
 from __future__ import annotations
 
@@ -87,6 +88,18 @@ class QuadResult:
         return self._state.reason
 
     @property
+    def rule(self) -> str:
+        """The rule evaluated: ``"lattice"`` (the extensible lattice, shifted and
+        tent-transformed) or ``"sobol"`` (Owen-scrambled Sobol')."""
+        return str(self._state.rule[0])
+
+    @property
+    def rule_reason(self) -> str:
+        """Why that rule: from the laws of ``space`` (an unbounded law takes Sobol'), the
+        box, or as asked through ``rule=``."""
+        return str(self._state.rule[1])
+
+    @property
     def warnings(self) -> List[str]:
         """Warnings about the settings (too few replicates for the level)."""
         return list(self._state.warnings)
@@ -101,7 +114,7 @@ class QuadResult:
         return (
             f"QuadResult(estimate={self.estimate!r}, half_width={self.half_width!r}, "
             f"n={self.n}, replicates={self.replicates}, met={self.met}, "
-            f"reason={self.reason!r})"
+            f"reason={self.reason!r}, rule={self.rule!r})"
         )
 
     def __getstate__(self) -> Dict[str, Any]:
@@ -128,7 +141,7 @@ _DEFAULTS: Dict[str, Any] = {
     "abs_tol": 0.0,
     "rel_tol": 1e-3,
     "level": 0.95,
-    "replicates": 8,
+    "replicates": 4,
     "max_n": 2**20,
 }
 
@@ -271,17 +284,28 @@ def quad(
     executor: Optional[concurrent.futures.Executor] = None,
     start: Optional[QuadResult] = None,
     progress: Union[bool, Callable[[QuadResult], Any]] = False,
+    rule: Optional[str] = None,
 ) -> QuadResult:
     """The integral of f over the box [a, b] (the unit cube by default), or its
     expectation under the distributions of ``space``, to a tolerance.
 
-    The points are R = ``replicates`` independent random shifts of one extensible rank-1
-    lattice (tent-transformed). Starting from 64 points per replicate, the number of
-    points doubles, each new batch extending the previous one (no evaluation is thrown
-    away), until for every output the half-width of the Student t interval from the R
-    replicate means is at most ``max(abs_tol, rel_tol * |estimate|)``, or until the next
-    doubling would pass ``max_n`` evaluations or the sequence's 2^20 points per replicate
-    (then ``met`` is False and ``reason`` says which). Any representable integral of a
+    The points are R = ``replicates`` independent randomisations of one extensible rule:
+    the rank-1 lattice, shifted and tent-transformed, or, when ``space`` has an unbounded
+    law (normal, lognormal, a Brownian path), Owen-scrambled Sobol' points (through such
+    a law the lattice's points pair up as (Z, -Z), and Sobol' integrated every model of
+    normal inputs measured better); ``rule`` and ``rule_reason`` of the result say which
+    and why. Starting from 64 points per replicate, the number of points doubles, each
+    new batch extending the previous one (no evaluation is thrown away), until for every
+    output the half-width is at most ``max(abs_tol, rel_tol * |estimate|)``, or until
+    the next doubling would pass ``max_n`` evaluations or the sequence's 2^20 points per
+    replicate (then ``met`` is False and ``reason`` says which). The half-width is the
+    larger of the Student t half-width from the R replicate means and the change of the
+    estimate since each replicate had half its points (the round guard: it assumes the
+    error does not grow when the points double, and catches replicates that agree by
+    chance while all missing a peak). At a fixed number of evaluations this interval
+    covered the exact integral at least 93 % of the time at level 0.95 on 300 seeds of
+    each benchmark family, except corner peaks at a few hundred to a few thousand points
+    (88–93 %; results/quad/interval.md). Any representable integral of a
     representable integrand is computed (``1e308 * x`` over [0, 1] gives 5e307 with a
     finite half-width); one beyond the largest float is refused. ``met`` is claimed only
     for a finite, honest interval: a half-width of 0 only when f took one value at every
@@ -308,8 +332,9 @@ def quad(
     level : float, optional
         The confidence level of the interval, in (0, 1); by default 0.95.
     replicates : int, optional
-        Independent shifts R, 2 to 16384 (by default 8); fewer than 4 warn (the
-        interval is then unreliable).
+        Independent randomisations R, 2 to 16384 (by default 4: a few long replicates
+        give a narrower interval than many short ones); fewer than 4 warn (the t
+        quantile is then large and the interval unreliable).
     max_n : int, optional
         The most evaluations of f, all replicates together; by default 2^20.
     space : list or dict, optional
@@ -347,7 +372,11 @@ def quad(
         callable is called with the :class:`QuadResult` so far (a copy, which stays as
         it is, and can be passed as ``start=`` to continue), e.g. to drive a progress
         bar or a logger. An exception it raises stops the run and propagates, as
-        Ctrl-C does; a ``start`` given is not changed.
+        Ctrl-C does; a ``start`` given is not changed. With True, a first line says the
+        rule and why.
+    rule : str, optional
+        ``"lattice"`` or ``"sobol"`` to choose the rule instead of letting the laws
+        choose it (None, the default). Not with ``start`` unless equal to its rule.
 
     Returns
     -------
@@ -376,12 +405,19 @@ def quad(
     }
     if start is not None:
         box = {"a": a, "b": b, "space": space, "correlation": correlation}
+        if rule is not None and rule != start.rule:
+            raise ValueError(
+                f"invalid rule = {rule!r} with start: a continued integration keeps the "
+                f"earlier one's rule ({start.rule!r})"
+            )
         state, setup = _continued(start, d, seed, given, box)
     else:
-        state, setup = _begun(d, a, b, space, correlation, seed, given)
+        state, setup = _begun(d, a, b, space, correlation, seed, given, rule)
         for message in state.warnings:
             warnings.warn(message, stacklevel=2)
     k = state.outputs or None
+    if progress is True and start is None:
+        print(f"quad: {state.rule[1]}", file=sys.stderr, flush=True)
     while not state.met:
         u = state.next_points()
         if u is None:
@@ -415,11 +451,19 @@ def _settings(given: Dict[str, Any]) -> Dict[str, Any]:
 
 
 def _begun(
-    d: int, a: Any, b: Any, space: Any, correlation: Any, seed: Any, given: Dict[str, Any]
+    d: int,
+    a: Any,
+    b: Any,
+    space: Any,
+    correlation: Any,
+    seed: Any,
+    given: Dict[str, Any],
+    rule: Optional[str],
 ) -> Tuple[Any, Dict[str, Any]]:
     """A new state and its setup (box, space) from quad's arguments."""
     o = _settings(given)
     setup: Dict[str, Any] = {"scalar": True}
+    chosen, why = _core.quad_box_rule()
     if space is not None:
         if a is not None or b is not None:
             raise ValueError("invalid a, b with space: the space's distributions give the range")
@@ -429,7 +473,15 @@ def _begun(
             raise ValueError(
                 f"invalid d = {d}: space has {len(names)} coordinates; expected d equal to it"
             )
-        corr = _core.quad_space(items, *_correlation(correlation))
+        # SciPy laws are mapped from uniform placeholders by their ppf: the rule is that
+        # of a normal law in place of one with unbounded support.
+        lawful = [
+            f"{t.split('=', 1)[0]}=normal(0,1)"
+            if _unbounded(frozen.get(t.split("=", 1)[0]))
+            else t
+            for t in items
+        ]
+        corr, chosen, why = _core.quad_space(lawful, *_correlation(correlation))
         setup.update(space=items, names=names, frozen=frozen, correlation=corr)
         # The map is checked once now, so that a bad space is refused before f runs.
         _core.space_values(items, np.full((1, d), 0.5), corr)
@@ -440,11 +492,32 @@ def _begun(
         # The one check of boxes of the package, with the values as typed.
         corners = zip(lo or [0.0] * d, hi or [1.0] * d)
         _core.check_box("a, b", f"({a!r}, {b!r})", [v for c in corners for v in c])
+    if rule is not None:
+        if rule not in ("lattice", "sobol"):
+            raise ValueError(
+                f"invalid rule = {rule!r}: expected 'lattice' (the tent-transformed "
+                "extensible lattice), 'sobol' (Owen-scrambled Sobol') or None (chosen from "
+                "the laws)"
+            )
+        chosen, why = rule, f"as asked (rule={rule!r})"
     try:
-        state = _core.Cubature(d, seed=_seed(seed), a=lo, b=hi, **o)
+        state = _core.Cubature(
+            d, seed=_seed(seed), a=lo, b=hi, rule=chosen, rule_reason=why, **o
+        )
     except ValueError as e:
         raise _as_typed(e, given) from None
     return state, setup
+
+
+def _unbounded(law: Any) -> bool:
+    """Whether a SciPy frozen law's support is unbounded (None: not a SciPy law)."""
+    if law is None:
+        return False
+    try:
+        lo, hi = law.support()
+    except Exception:  # a law without support() is taken as bounded
+        return False
+    return not (math.isfinite(float(lo)) and math.isfinite(float(hi)))
 
 
 def _as_typed(e: ValueError, given: Dict[str, Any]) -> ValueError:

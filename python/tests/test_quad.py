@@ -222,7 +222,9 @@ def test_progress_true_writes_one_line_per_round(capsys):
     r = sp.quad(f, 3, rel_tol=1e-4, seed=20, progress=True)
     captured = capsys.readouterr()
     assert captured.out == ""
-    lines = captured.err.splitlines()
+    rule_line, *lines = captured.err.splitlines()
+    # The first line says the rule and why; then one line per round.
+    assert rule_line == f"quad: {r.rule_reason}" and "tent lattice" in rule_line
     assert len(lines) == len(rounds) >= 2
     ns = [int(re.search(r"\bn=(\d+)", line).group(1)) for line in lines]
     assert ns == list(np.cumsum(rounds))
@@ -243,7 +245,7 @@ def test_progress_true_writes_one_line_per_round(capsys):
 
 def test_progress_lines_name_the_output_furthest_from_its_target(capsys):
     r = sp.quad(square_sum, 2, rel_tol=1e-3, seed=21, progress=True)
-    lines = capsys.readouterr().err.splitlines()
+    lines = capsys.readouterr().err.splitlines()[1:]  # after the rule's line
     assert lines and all("(output " in line for line in lines)
     assert int(re.search(r"\bn=(\d+)", lines[-1]).group(1)) == r.n
 
@@ -363,3 +365,28 @@ def test_start_keeps_its_dimension():
         sp.quad(product_peak, 3, start=r)
     with pytest.raises(ValueError, match=r"invalid seed with start"):
         sp.quad(product_peak, 2, start=r, seed=1)
+
+
+def test_the_rule_follows_the_laws_and_says_why():
+    from scipy import stats
+
+    f = lambda x: x[:, 0] ** 2  # noqa: E731
+    r = sp.quad(f, 1, space={"z": "normal(0,1)"}, rel_tol=1e-2)
+    assert r.rule == "sobol" and "(z)" in r.rule_reason
+    assert r.estimate == pytest.approx(1.0, rel=0.03)
+    r = sp.quad(f, 1, space={"z": stats.norm(0, 1)}, rel_tol=1e-2)
+    assert r.rule == "sobol", "a SciPy law with unbounded support counts as unbounded"
+    r = sp.quad(f, 1, space={"u": "uniform(0,1)"}, rel_tol=1e-2)
+    assert r.rule == "lattice" and "bounded" in r.rule_reason
+    assert r.estimate == pytest.approx(1 / 3, rel=0.03)
+    r = sp.quad(f, 1, rel_tol=1e-2)
+    assert r.rule == "lattice" and "rule='lattice'" in repr(r)
+    # Asked for: honoured and said so; a continuation keeps it.
+    r = sp.quad(f, 1, rule="sobol", rel_tol=1e-2)
+    assert (r.rule, r.rule_reason) == ("sobol", "as asked (rule='sobol')")
+    more = sp.quad(f, 1, start=r, rel_tol=1e-3)
+    assert more.rule == "sobol" and more.n > r.n
+    with pytest.raises(ValueError, match=r"invalid rule = 'lattice' with start"):
+        sp.quad(f, 1, start=r, rule="lattice")
+    with pytest.raises(ValueError, match=r"invalid rule = 'halton': expected 'lattice'"):
+        sp.quad(f, 1, rule="halton")
