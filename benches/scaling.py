@@ -218,8 +218,9 @@ COST_CELLS = (
     + [("space", n, k, {"space": [f"x{i}={law}" for i in range(k)]},
         [a for i in range(k) for a in ("--var", f"x{i}={law}")]) for n, k, law in
        [(10000, 5, "normal(0,1)"), (100000, 20, "uniform(0,1)")]]
-    + [("paper", 256, 2, {"method": "paper"}, ["--method", "paper"]),
-       ("space-filling", 256, 2, {"goal": "space-filling"}, ["--goal", "space-filling"]),
+    + [("paper", n, s, {"method": "paper"}, ["--method", "paper"]) for n, s in
+       [(256, 2), (256, 5), (512, 5)]]
+    + [("space-filling", 256, 2, {"goal": "space-filling"}, ["--goal", "space-filling"]),
        ("region", 100, 2, {"shape": "ball:1"}, ["--shape", "ball:1"]),
        ("nested", 2048, 5, {"nested": [1024, 2048]}, ["--nested", "1024,2048"]),
        ("baseline sobol", 200000, 10, {"method": "sobol"}, ["--method", "sobol"]),
