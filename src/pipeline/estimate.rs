@@ -45,7 +45,8 @@ impl Affine {
 /// above [`EXCHANGE_MAX_N`]), each update cheaper while the table is small (n0); the
 /// n^g term is the candidates' values, the in-cell L-BFGS and the report (the L-BFGS
 /// needs more iterations as n grows, hence g > 2); l · n · d making and stratifying
-/// the candidates.
+/// the candidates. The fixed cost c was refitted on processor time (0.18 s before:
+/// 11× over at 64 × 2), with [`PAIRED_COORDINATES`] beside it.
 struct IntegrationFit {
     c: f64,
     e: f64,
