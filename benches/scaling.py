@@ -28,6 +28,16 @@ e.g. target/py-venv/bin/python) for the result and for the stratified scrambled 
 set it started from, rebuilt from the seed the report names (the same construction:
 each coordinate's value kept where it lies in the cell of its rank, the cell's midpoint
 otherwise), and prints their ratios.
+
+With --cost it times instead every pipeline on a grid of cells (s ≤ 50, n ≤ 10^6: the
+small-n descent, the default lattice with its exact and its estimated report, each
+--randomize, design spaces, the paper's pipeline, space-filling, regions, nested sets,
+baselines) as processor time (user + sys of the child) with RAYON_NUM_THREADS=1, beside
+the library's run-time estimate for the same request (`stillpoint._core.estimate`, so
+run it with the virtualenv that has the package), and prints their ratio; it writes
+results/scaling/cost.md with the command, commit, machine and load average.
+
+    target/py-venv/bin/python benches/scaling.py --bin target/release/stillpoint --cost
 """
 
 import argparse
@@ -195,6 +205,100 @@ def versus_sobol(binary, cells, runs, out_dir):
                 "n·s·8 bytes.\n\n" + "\n".join(lines) + "\n")
 
 
+# (pipeline, n, s, the Python keywords, the command line's arguments): --cost's grid.
+COST_CELLS = (
+    [("descent", n, s, {}, []) for n, s in
+     [(64, 2), (256, 2), (256, 5), (400, 10), (128, 20), (200, 50)]]
+    + [("lattice", n, s, {}, []) for n, s in
+       [(1000, 5), (4096, 10), (10000, 20), (20000, 50), (30000, 20), (100000, 10),
+        (100000, 20), (200000, 50), (1000000, 10), (1000000, 50)]]
+    + [(f"randomize {r}", n, s, {"randomize": r}, ["--randomize", r]) for r, n, s in
+       [("shift", 10000, 20), ("shift", 100000, 50), ("cells", 4096, 10),
+        ("cells", 100000, 20), ("tent", 1000, 20), ("tent", 4096, 50)]]
+    + [("space", n, k, {"space": [f"x{i}={law}" for i in range(k)]},
+        [a for i in range(k) for a in ("--var", f"x{i}={law}")]) for n, k, law in
+       [(10000, 5, "normal(0,1)"), (100000, 20, "uniform(0,1)")]]
+    + [("paper", n, s, {"method": "paper"}, ["--method", "paper"]) for n, s in
+       [(256, 2), (256, 5), (512, 5)]]
+    + [("space-filling", 256, 2, {"goal": "space-filling"}, ["--goal", "space-filling"]),
+       ("region", 100, 2, {"shape": "ball:1"}, ["--shape", "ball:1"]),
+       ("nested", 2048, 5, {"nested": [1024, 2048]}, ["--nested", "1024,2048"]),
+       ("baseline sobol", 200000, 10, {"method": "sobol"}, ["--method", "sobol"]),
+       ("baseline lhs-maximin", 4000, 5, {"method": "lhs-maximin"},
+        ["--method", "lhs-maximin"])]
+)
+
+
+def cpu_run(cmd, env):
+    """Processor seconds (user + sys) of one run of `cmd` in a child process."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run(cmd, check=True, env=env, stdout=subprocess.DEVNULL,
+                   stderr=subprocess.DEVNULL)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def cost(binary, limit, out_dir):
+    """Every pipeline's processor time against the library's estimate. The measured
+    seconds are kept in out_dir/cost.json and reused (the runs are deterministic), so
+    that a refitted estimate is compared without running the grid again; delete the file
+    to measure again."""
+    os.environ["RAYON_NUM_THREADS"] = "1"
+    try:
+        from stillpoint import _core
+    except ImportError:  # measure only; the estimates come with the package
+        _core = None
+    env = dict(os.environ)
+    store = os.path.join(out_dir, "cost.json")
+    measured = {}
+    if os.path.exists(store):
+        with open(store) as f:
+            measured = json.load(f)
+    load = os.getloadavg()
+    lines = ["| pipeline | n | s | processor s | estimate s | estimate / measured |",
+             "|---|---|---|---|---|---|"]
+    for line in lines:
+        print(line, flush=True)
+    ratios = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, n, s, kwargs, flags in COST_CELLS:
+            dims = {} if "space" in kwargs else {"d": s}
+            est = _core.estimate(n=n, **dims, **kwargs) if _core else None
+            if est is not None and est > limit:
+                line = f"| {name} | {n} | {s} | (not run) | {est:.3g} | |"
+            else:
+                cmd = [binary, "generate"] + ([] if "nested" in kwargs else ["-n", str(n)]) + (
+                    [] if "space" in kwargs else ["-s", str(s)]) + flags + [
+                    "-q", "-o", os.path.join(tmp, "x.npy")]
+                key = " ".join([name, str(n), str(s)])
+                if key not in measured:
+                    measured[key] = cpu_run(cmd, env)
+                    os.makedirs(out_dir, exist_ok=True)
+                    with open(store, "w") as f:
+                        json.dump(measured, f, indent=1)
+                seconds = measured[key]
+                if est is None:
+                    line = f"| {name} | {n} | {s} | {seconds:.3g} | | |"
+                else:
+                    ratios.append(est / seconds)
+                    line = (f"| {name} | {n} | {s} | {seconds:.3g} | {est:.3g} | "
+                            f"{est / seconds:.2f} |")
+            lines.append(line)
+            print(line, flush=True)
+    summary = (f"{len(ratios)} cells run; estimate / measured from {min(ratios):.2f} to "
+               f"{max(ratios):.2f}, geometric mean "
+               f"{statistics.geometric_mean(ratios):.2f}" if ratios else "no cell run")
+    print(summary, flush=True)
+    os.makedirs(out_dir, exist_ok=True)
+    with open(os.path.join(out_dir, "cost.md"), "w") as f:
+        f.write("# Processor time of every pipeline against its estimate "
+                "(`python benches/scaling.py --cost`)\n\n"
+                f"Commit {commit()}; {machine()}; RAYON_NUM_THREADS=1, one run per cell, "
+                "processor time (user + sys) of the child; load average before "
+                f"{load[0]:.1f}, after {os.getloadavg()[0]:.1f}; cells whose estimate is "
+                f"above {limit:g} s not run.\n\n" + "\n".join(lines) + f"\n\n{summary}.\n")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--bin", default="target/release/stillpoint")
@@ -210,7 +314,14 @@ def main():
                     help="time `generate -q` against `baseline sobol` of the same sizes "
                          f"instead (default {VERSUS_CELLS})")
     ap.add_argument("--runs", type=int, default=3, help="runs per command for --versus-sobol")
+    ap.add_argument("--cost", action="store_true",
+                    help="time every pipeline's processor time against its estimate instead")
+    ap.add_argument("--limit", type=float, default=120.0,
+                    help="--cost: leave out cells estimated above this many seconds")
     args = ap.parse_args()
+    if args.cost:
+        cost(args.bin, args.limit, args.out)
+        return
     if args.versus_sobol is not None:
         versus_sobol(args.bin, args.versus_sobol.split(","), args.runs, args.out)
         return

@@ -1,13 +1,17 @@
 //! How long a run will take, estimated before it starts, so that a front end can warn
 //! before a long call: a cost model of each pipeline with constants measured on the
-//! project's build machine. `python/benches/cost_model.py` prints the measured times
-//! beside the model's; refit the constants from it when a pipeline's cost changes.
+//! project's build machine. `python benches/scaling.py --cost` prints the measured
+//! processor time of every pipeline on a grid of cells beside the model's estimate
+//! (`results/scaling/cost.md`); refit the constants from it when a pipeline's cost
+//! changes.
 //!
 //! Every constant below is in seconds of one core of that machine (2 cores, shared with
-//! other work; each case timed once as process CPU time with `RAYON_NUM_THREADS=1`,
-//! which there matched the wall time of a default run, the other work taking the second
-//! core). The fitted model is within a factor of 2 of every measured run (most within
-//! 30 %); it is a warning's estimate, not a benchmark.
+//! other work): each case timed as the processor time (user + sys) of the run with
+//! `RAYON_NUM_THREADS=1`, which the other work on a shared machine lengthens far less
+//! than the wall time. So the estimate is the run's processor time; on two idle cores
+//! the wall time is between half of it (the O(n²) passes split over both) and all of it,
+//! and on a loaded machine it is longer by the load. It is a warning's estimate, not a
+//! benchmark.
 
 use super::request::{Job, Resolved};
 use crate::config::{GenerateConfig, Goal};
@@ -41,7 +45,8 @@ impl Affine {
 /// above [`EXCHANGE_MAX_N`]), each update cheaper while the table is small (n0); the
 /// n^g term is the candidates' values, the in-cell L-BFGS and the report (the L-BFGS
 /// needs more iterations as n grows, hence g > 2); l · n · d making and stratifying
-/// the candidates.
+/// the candidates. The fixed cost c was refitted on processor time (0.18 s before:
+/// 11× over at 64 × 2), with [`PAIRED_COORDINATES`] beside it.
 struct IntegrationFit {
     c: f64,
     e: f64,
@@ -54,7 +59,7 @@ struct IntegrationFit {
 
 /// See [`IntegrationFit`].
 const INTEGRATION: IntegrationFit = IntegrationFit {
-    c: 0.18,
+    c: 0.015,
     e: 6.8e-9,
     n0: 300.0,
     b: 2.4e-8,
@@ -109,6 +114,15 @@ fn tent_descent_seconds(n: usize, s: usize) -> f64 {
 /// and descent keep the old points fixed): `extend` of 1000 + 1000 and 1000 + 3000
 /// points at d = 3 took 21.8 s and 50.9 s against 12.2 s and 25.2 s for 2000 and 4000.
 const EXTENSION_FACTOR: f64 = 2.0;
+
+/// A nested set's later sizes each cost about half a set of that size made at once (their
+/// descent starts from the earlier prefix): `--nested 1024,2048` at d = 5 took 24.0 s of
+/// processor time where the model of the two sizes made at once gave 32 s.
+const NESTED_FACTOR: f64 = 0.5;
+
+/// The lattice run's fixed cost (the process, the table, the output): 6 ms of processor
+/// time at 1000 × 5.
+const LATTICE_FIXED: f64 = 0.004;
 
 /// The paper's pipeline, one pass over the pairs per solver step: steps · n² · (a + b ·
 /// d), from n = 256 to 2048 at d = 5 and 2048 at d = 2 (0.68 s to 35.7 s). Runs whose
@@ -192,7 +206,11 @@ impl Resolved {
             }
             Job::Law { n, unbounded, .. } => generator_seconds(*n as f64, unbounded.len() as f64),
         };
-        on_threads(seconds, threads)
+        let design = match (&self.design, &self.job) {
+            (Some(_), Job::Run(cfg)) => design_figures_seconds(cfg.n, cfg.s),
+            _ => 0.0,
+        };
+        on_threads(seconds + design, threads)
     }
 }
 
@@ -227,10 +245,11 @@ fn core_seconds(cfg: &GenerateConfig) -> f64 {
     }
     match &cfg.goal {
         Goal::Integration(_) if cfg.lattice => {
-            generator_seconds(n, s)
+            LATTICE_FIXED
+                + generator_seconds(n, s)
+                + korobov_seconds(cfg.n, cfg.s)
                 + shift_seconds(n, s)
                 + lattice_report_seconds(cfg)
-                + INTEGRATION.l * n * s
         }
         Goal::Integration(_) if cfg.randomize == Some(crate::post::randomize::Randomize::Tent) => {
             generator_seconds(n, s)
@@ -243,7 +262,7 @@ fn core_seconds(cfg: &GenerateConfig) -> f64 {
             let one = |n: usize| integration_seconds(n, cfg.s, forms, report_seconds(cfg, n));
             match (cfg.nested.split_first(), &cfg.extend) {
                 (Some((&first, rest)), _) => {
-                    one(first) + rest.iter().map(|&k| EXTENSION_FACTOR * one(k)).sum::<f64>()
+                    one(first) + rest.iter().map(|&k| NESTED_FACTOR * one(k)).sum::<f64>()
                 }
                 (None, Some(_)) => EXTENSION_FACTOR * one(cfg.n),
                 (None, None) => one(cfg.n),
@@ -262,19 +281,82 @@ fn generator_seconds(n: f64, s: f64) -> f64 {
     s * n * n.log2().max(1.0) * LATTICE_STEP
 }
 
-/// The shift search of the default lattice, per coordinate: one FFT of length n and a
-/// few passes over the n frequencies (about 40 ns per point at 10⁵ × 20), then
-/// [`CORNER_SHIFTS`] columns scored on the corner test functions.
-const SHIFT_POINT: f64 = 4.0e-8;
+/// The shift search of the default lattice per point and coordinate at n = 10⁴: FFTs of
+/// length n and passes over the points, slower per point as n outgrows the caches
+/// ([`SHIFT_GROWTH`]). Measured as its share of the run (`--json`'s timings) times the
+/// processor time, one thread: 7·10⁻⁸ s at 10⁴ × 20, 1.2·10⁻⁷ at 10⁵ × 10 and 20,
+/// 1.4·10⁻⁷ at 2·10⁵ × 50, 2.0·10⁻⁷ at 10⁶ × 10.
+const SHIFT_POINT: f64 = 7.0e-8;
+/// The shift search's cost per point grows as n^SHIFT_GROWTH (see [`SHIFT_POINT`]).
+const SHIFT_GROWTH: f64 = 0.23;
 
-/// The corner step's columns per coordinate (8 shifts and their reflections), each a
-/// pass over the n points for each of its 4 rates, about 1 ns a point and rate.
-const CORNER_SHIFTS: f64 = 16.0 * 4.0 * 1.0e-9;
-
-/// The default lattice's shift search: [`SHIFT_POINT`] and [`CORNER_SHIFTS`] per point
-/// and coordinate.
+/// The default lattice's shift search.
 fn shift_seconds(n: f64, s: f64) -> f64 {
-    s * n * (SHIFT_POINT * (1.0 + n.log2().max(1.0) / 17.0) + CORNER_SHIFTS)
+    s * n * SHIFT_POINT * (n / 1.0e4).powf(SHIFT_GROWTH)
+}
+
+/// Per candidate generator and point: where the φ(n)/2 candidates times n fit the
+/// Korobov search's budget, the construction also keeps the plain sums that break its
+/// ties, about 2 ns per candidate and point whatever s (0.03 s at n = 10⁴, 0.12 s at
+/// 2·10⁴, 0.31 s at 3·10⁴; none at 10⁵, beyond the budget). The model takes φ(n)/2 as
+/// its mean, 0.3·n, so that the estimate grows with n.
+const KOROBOV_PAIR: f64 = 2.0e-9;
+/// The candidates times points within which the plain sums are kept
+/// (`KOROBOV_SEARCH_BUDGET` of the lattice construction).
+const KOROBOV_REACH: f64 = (1u64 << 28) as f64;
+
+/// The candidates times points of the plain sums, where they are kept.
+fn korobov_work(n: usize, s: usize) -> Option<f64> {
+    let work = 0.3 * n as f64 * n as f64;
+    (s > 1 && work <= KOROBOV_REACH).then_some(work)
+}
+
+/// The plain sums of the generating vector's construction ([`KOROBOV_PAIR`]).
+fn korobov_seconds(n: usize, s: usize) -> f64 {
+    korobov_work(n, s).map_or(0.0, |w| w * KOROBOV_PAIR)
+}
+
+/// The exact figures' fused pass over the unordered pairs of one set, per pair:
+/// a + b·s + c·s², fitted to the lattice's report (its share of the run times the
+/// processor time, one thread): 2.5·10⁻⁹ s at 50 000 × 5, 8.9·10⁻⁹ at 10⁴ and 3·10⁴ × 20,
+/// 3.1·10⁻⁸ at 2·10⁴ × 50. Capped by [`REPORT`], the older fit that holds at large s.
+struct PairFit {
+    a: f64,
+    b: f64,
+    c: f64,
+}
+
+/// See [`PairFit`].
+const PAIR: PairFit = PairFit {
+    a: 1.08e-9,
+    b: 2.49e-10,
+    c: 7.1e-12,
+};
+
+/// Seconds per unordered pair of one set's exact figures at dimension s ([`PAIR`]).
+fn pair_seconds(s: f64) -> f64 {
+    (PAIR.a + PAIR.b * s + PAIR.c * s * s).min(REPORT.at(s))
+}
+
+/// A design space's figures: two exact passes over the pairs at any n (92 s of processor
+/// time at 10⁵ points and 20 variables, where the rest of the run took about 1.5 s).
+fn design_figures_seconds(n: usize, s: usize) -> f64 {
+    n as f64 * n as f64 * pair_seconds(s as f64)
+}
+
+/// The figures estimated above the threshold, per random pair: a + b·s (0.15 s of
+/// 4·10⁶ pairs at s = 5, 1.4 s at s = 50), and per point [`CELLS_POINT`] for the grid of
+/// cells that looks for the closest pair.
+const RANDOM_PAIR: Affine = Affine {
+    a: 3.0e-9,
+    b: 6.9e-9,
+};
+/// See [`RANDOM_PAIR`]: 6·10⁻⁶ s per point (0.6 s at 10⁵ points, 6 s at 10⁶).
+const CELLS_POINT: f64 = 6.0e-6;
+
+/// One set's figures estimated from `cfg`'s random pairs.
+fn estimated_figures_seconds(cfg: &GenerateConfig, n: usize) -> f64 {
+    cfg.sums.pairs as f64 * RANDOM_PAIR.at(cfg.s as f64) + CELLS_POINT * n as f64
 }
 
 /// Where the discrepancies' closed forms overflow (s·ln 3 ≥ 600 for the star
@@ -302,7 +384,7 @@ fn exact_figures_seconds(n: f64, s: usize) -> f64 {
     let logs = kinds.iter().filter(|&&k| !closed_form_fits(k, s)).count()
         + usize::from(!mixture_closed_form_fits(s));
     if logs == 0 {
-        n * n / 2.0 * REPORT.at(s as f64)
+        n * n / 2.0 * pair_seconds(s as f64)
     } else {
         n * n * s as f64 * (LOG_FORM_PAIR * logs as f64 + SPLIT_PASSES)
     }
@@ -312,23 +394,30 @@ fn exact_figures_seconds(n: f64, s: usize) -> f64 {
 /// estimate's random pairs above the threshold.
 fn lattice_report_seconds(cfg: &GenerateConfig) -> f64 {
     if cfg.sums.estimates(cfg.n) {
-        cfg.sums.pairs as f64 * REPORT.at(cfg.s as f64)
+        estimated_figures_seconds(cfg, cfg.n)
     } else {
         exact_figures_seconds(cfg.n as f64, cfg.s)
     }
 }
 
 /// The report of a set of `n` points: its exact O(n² s) passes up to where its metrics are
-/// estimated (unless `--exact`), about the cost at that size above (the estimates'
-/// random pairs are a fixed number; the grid search for the distances is O(n)).
+/// estimated (unless `--exact`), the random pairs and the grid of cells of the start and
+/// the result above.
 fn report_seconds(cfg: &GenerateConfig, n: usize) -> f64 {
-    let exact = if cfg.sums.estimates(n) {
-        cfg.sums.estimate_above
+    if cfg.sums.estimates(n) {
+        2.0 * estimated_figures_seconds(cfg, n)
     } else {
-        n
-    } as f64;
-    exact * exact * REPORT.at(cfg.s as f64)
+        n as f64 * n as f64 * REPORT.at(cfg.s as f64)
+    }
 }
+
+/// The descent's cost that grows with the square of the coordinates, per point, up to
+/// [`PAIRED_COORDINATES_UP_TO`] coordinates: refitted on processor time at s ≤ 50
+/// (`benches/scaling.py --cost`), where [`INTEGRATION`] alone was 2× under at
+/// 128 × 20 and 200 × 50; runs at s = 10⁴ to 10⁶ show no such growth.
+const PAIRED_COORDINATES: f64 = 3.3e-6;
+/// See [`PAIRED_COORDINATES`].
+const PAIRED_COORDINATES_UP_TO: f64 = 64.0;
 
 /// The integration goal for one set of `n` points in `s` dimensions with a target of
 /// `forms` discrepancies and a report of `report` seconds.
@@ -341,6 +430,7 @@ fn integration_seconds(n: usize, s: usize, forms: usize, report: f64) -> f64 {
         return report + linear + effort.block_work_at(n) as f64 * BLOCK_UNIT_SECONDS;
     }
     let fitted = fit.c
+        + PAIRED_COORDINATES * nf * sf.min(PAIRED_COORDINATES_UP_TO).powi(2)
         + fit.e * exchange_work(n, s, forms) * nf / (nf + fit.n0)
         + fit.b * nf.powf(fit.g) * (sf + fit.d0)
         + linear;
@@ -425,7 +515,11 @@ mod tests {
         // pairs above: there it drops, as the real cost does.
         let regime = |n: usize, s: usize| {
             (
-                (lattice(n, s), n > crate::quality::metrics::ESTIMATE_ABOVE),
+                (
+                    lattice(n, s),
+                    n > crate::quality::metrics::ESTIMATE_ABOVE,
+                    korobov_work(n, s).is_some(),
+                ),
                 n <= EXCHANGE_MAX_N,
                 Budget::of(n, s, &Effort::default()).descends(),
             )
@@ -559,5 +653,52 @@ mod tests {
         });
         // Measured 2.5 s on two threads.
         assert!(integration > 1.0 && integration < 8.0, "{integration}");
+    }
+
+    #[test]
+    fn the_refitted_model_is_within_a_factor_of_1_5_of_the_processor_time_measured() {
+        // Processor seconds of `generate` on one thread (`benches/scaling.py --cost`,
+        // results/scaling/cost.md), a few cells of each pipeline.
+        let cell = |n: usize, s: usize, edit: &dyn Fn(&mut Request)| {
+            let mut r = Request::new(n, s);
+            edit(&mut r);
+            r.resolve().unwrap().estimate_seconds_on(1)
+        };
+        let none = |_: &mut Request| {};
+        for (what, t, measured) in [
+            ("descent 200 × 50", cell(200, 50, &none), 2.60),
+            ("descent 400 × 10", cell(400, 10, &none), 1.51),
+            ("lattice 30 000 × 20", cell(30_000, 20, &none), 4.41),
+            ("lattice 10^5 × 20", cell(100_000, 20, &none), 1.62),
+            ("lattice 10^6 × 50", cell(1_000_000, 50, &none), 23.6),
+            (
+                "shift 10^5 × 50",
+                cell(100_000, 50, &|r| r.randomize = Some("shift".into())),
+                64.4,
+            ),
+            (
+                "tent 4096 × 50",
+                cell(4096, 50, &|r| r.randomize = Some("tent".into())),
+                1.61,
+            ),
+            (
+                "paper 512 × 5",
+                cell(512, 5, &|r| r.method = Some("paper".into())),
+                1.90,
+            ),
+            (
+                "nested 1024, 2048 × 5",
+                cell(2048, 5, &|r| {
+                    r.n = None;
+                    r.nested = Some(Arg::Counts(vec![1024, 2048]));
+                }),
+                24.0,
+            ),
+        ] {
+            assert!(
+                t > measured / 1.5 && t < measured * 1.5,
+                "{what}: {t} s estimated, {measured} s measured"
+            );
+        }
     }
 }

@@ -165,8 +165,8 @@ fn value_notes(
             if points.s() < 2 {
                 "none: the set has one coordinate"
             } else {
-                "not computed: s(s−1)/2 projections of n² work each exceed the default \
-                 budget of 10^8 operations (--exact computes it)"
+                "not computed: s(s−1)/2 projections of n·min(n, 2⌈log2 n⌉²) work each \
+                 exceed the default budget of 10^8 units (--exact computes it)"
             },
         );
     }
