@@ -615,6 +615,10 @@ fn quad_options(o: &SensitivityOptions) -> crate::cubature::QuadOptions {
         max_n: u64::MAX,
         start_n: o.start_n,
         seed: o.seed,
+        // The pick-freeze points are the extensible lattice's in 2d dimensions; quad's
+        // rule is not what this run evaluates, only its checks are shared.
+        rule: crate::cubature::Rule::TentLattice,
+        rule_reason: String::new(),
     }
 }
 
