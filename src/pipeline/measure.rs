@@ -51,8 +51,8 @@ pub enum CubeRule {
 /// against 1.87×) and the lognormal product (1.08× against 1.40×); where bounded laws
 /// take part (the engineering models, Ishigami, Morokoff–Caflisch, Sobol' G) the cube's
 /// even tent lattice wins all but Sobol' G (0.04–1.25× against 1.11–2.96×): 0.76× over those
-/// cells against 0.86× for the cube's lattice everywhere and 0.88× for the lattice made
-/// for the laws wherever one law is unbounded.
+/// cells against 0.86× for the cube's lattice everywhere and 0.86× for the lattice made
+/// for the laws wherever one law is unbounded (results/law-lattice/rules-by-law.md).
 pub fn cube_rule(space: &DesignSpace, randomize: Option<Randomize>) -> CubeRule {
     let unbounded = space.unbounded();
     let every_law_unbounded = !unbounded.is_empty() && unbounded.iter().all(|&u| u);
