@@ -169,8 +169,8 @@ class Stillpoint:
     def __init__(self, space, n):
         self.space, self.n = space, n
         self.names = [t.split("=", 1)[0] for t in space]
-        # A space with an unbounded law takes the lattice made for the laws
-        # (``_core.law_set``, the library's construction); bounded laws the cube's.
+        # A space whose every law is unbounded takes the lattice made for the laws
+        # (``_core.law_set``, the library's construction); the others the cube's.
         self.law = sp.design(min(n, 64), space, randomize=True, seed=0).rule.startswith(
             "lattice made for the laws")
         self.base = None if self.law else _core.tent_set(n, len(space))
@@ -305,8 +305,10 @@ def write_md(rows, seconds):
         ) + f" (the last run {seconds / 60:.1f} min of wall time on the shared 2-core machine). "
         "Every interval is the Student interval m ± t₇ · s/√8 from R = 8 "
         "randomised sets (95 %). stillpoint: "
-        "`design(n, space, randomize=True, seed=…)` (the tent-randomised lattice, each "
-        "column through its law's inverse CDF); Sobol': SciPy's `qmc.Sobol(scramble=True)`"
+        "`design(n, space, randomize=True, seed=…)` (the lattice made for the laws where "
+        "every law is unbounded, the cube's tent-randomised lattice otherwise, as "
+        "`Design.rule` names it; each column through its law's inverse CDF); Sobol': "
+        "SciPy's `qmc.Sobol(scramble=True)`"
         " mapped through SciPy's `ppf`. RMSE is one set's; ratios are stillpoint / Sobol' "
         "(below 1: stillpoint better). The coverage's binomial standard error is in "
         "brackets.",

@@ -209,6 +209,33 @@ fn each_column_is_the_inverse_cdf_image_of_the_randomised_cube_set() {
     }
 }
 
+/// Where every law is unbounded the tent randomisation takes the lattice made for the
+/// laws (odd parts, no point paired with its reflection), and the columns are its
+/// inverse-CDF image; one bounded variable brings back the cube's tent lattice.
+#[test]
+fn a_space_of_unbounded_laws_takes_the_lattice_made_for_the_laws() {
+    let resolved = request(40, &CORRELATED, None, Randomize::Tent, 5)
+        .resolve()
+        .unwrap();
+    assert_eq!(resolved.rule, Some(CubeRule::LawLattice));
+    let d = design_of(&resolved);
+    let unit = stillpoint::sequences::law_lattice(40, &[true; 3], 5).unwrap();
+    assert_eq!(d.unit, unit);
+    let y3 = Marginal::LogNormal {
+        mu: 0.0,
+        sigma: 0.4,
+    };
+    for (row, p) in unit.rows().zip(d.numbers().unwrap().rows()) {
+        assert_eq!(p[2].to_bits(), y3.ppf(row[2]).to_bits());
+    }
+    let mut mixed = CORRELATED.to_vec();
+    mixed.push("u=uniform(0,1)");
+    let resolved = request(40, &mixed, None, Randomize::Tent, 5)
+        .resolve()
+        .unwrap();
+    assert_eq!(resolved.rule, Some(CubeRule::Randomized(Randomize::Tent)));
+}
+
 #[test]
 fn a_scrambled_sobol_rule_runs_as_its_construction_and_stays_unbiased() {
     let space = DesignSpace::parse("--var", &MIXED).unwrap();

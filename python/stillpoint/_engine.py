@@ -21,9 +21,9 @@ from ._validate import _engine_seed, _fresh_seed, _int
 # unit cube).
 _ENGINE_REFUSES = ("n", "d", "region", "box", "shape", "bounds")
 
-# The extensible sequence's reach: its lattice has generators for this many dimensions,
-# and each replicate this many points.
-_SEQUENCE_MAX_D = 100
+# The extensible sequence's reach: its lattice has generators for this many dimensions
+# (the library's table, which quad reads too), and each replicate this many points.
+_SEQUENCE_MAX_D = _core.SEQUENCE_MAX_D
 _SEQUENCE_MAX_POINTS = 2**20
 
 _DRAWS = ("sequence", "independent")
@@ -90,7 +90,7 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
     ``random(128)`` of a fresh engine. The sequence is an extensible rank-1 lattice in
     radical-inverse order (each prefix of 2^m points is a lattice of 2^m points) with one
     uniform random shift per engine, drawn from ``seed``, and the tent transform
-    x ↦ 1 − |2x − 1|; up to 100 dimensions and 2^20 points. As for SciPy's Sobol',
+    x ↦ 1 − |2x − 1|; up to 1 000 dimensions and 2^20 points. As for SciPy's Sobol',
     the balance holds at powers of two: a draw that ends elsewhere warns. :meth:`reset`
     goes back to the first point, :meth:`fast_forward` skips points. ``d = 0`` gives
     (n, 0) arrays.
@@ -119,7 +119,7 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
     Parameters
     ----------
     d : int
-        Dimension (0 to 100 for the sequence).
+        Dimension (0 to 1 000 for the sequence).
     draws : {'sequence', 'independent'}, optional
         Whether draws continue one sequence (the default) or are independent
         randomisations of a set made for each n (the default when ``randomize`` is

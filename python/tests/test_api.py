@@ -199,7 +199,7 @@ def test_baselines_are_described():
         (lambda: sp.metrics([0.1, 0.2]), "invalid x"),
         (lambda: sp.metrics(np.zeros((0, 3))), "invalid x"),
         (lambda: sp.metrics([["a", "b"]]), "invalid x"),
-        (lambda: sp.Engine(101), "invalid d = 101"),
+        (lambda: sp.Engine(1001), "invalid d = 1001"),
         (lambda: sp.Engine(2, region="x"), "invalid region"),
         (lambda: sp.Engine(2, energy="nope"), "invalid energy"),
     ],

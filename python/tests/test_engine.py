@@ -169,9 +169,14 @@ def test_sequence_reset_fast_forward_and_warnings():
 def test_zero_dimensions_and_the_sequence_limits():
     assert sp.Engine(0, seed=1).random(4).shape == (4, 0)
     assert sp.Engine(0, draws="independent").random(3).shape == (3, 0)
-    with pytest.raises(ValueError, match=r"invalid d = 101.*draws='independent'"):
-        sp.Engine(101)
-    assert sp.Engine(101, draws="independent", seed=1).random(8).shape == (8, 101)
+    # The sequence reaches the extensible table's 1 000 dimensions; its first 100
+    # coordinates are the same points as an engine of 100 dimensions.
+    wide = sp.Engine(1000, seed=3).random(16)
+    assert wide.shape == (16, 1000) and ((wide >= 0) & (wide < 1)).all()
+    assert np.array_equal(wide[:, :100], sp.Engine(100, seed=3).random(16))
+    with pytest.raises(ValueError, match=r"invalid d = 1001.*draws='independent'"):
+        sp.Engine(1001)
+    assert sp.Engine(1001, draws="independent", seed=1).random(8).shape == (8, 1001)
     with pytest.raises(ValueError, match="invalid draws = 'sometimes'"):
         sp.Engine(2, draws="sometimes")
     with pytest.raises(ValueError, match="invalid draws = 'sequence' with randomize = 'cells'"):
