@@ -323,7 +323,7 @@ def _begun(
                 f"invalid d = {d!r}: space has {len(names)} inputs; expected d equal to it"
             )
         d = len(names)
-        corr = _core.quad_space(items)
+        corr, _, _ = _core.quad_space(items)  # the lattice is this run's rule, not quad's
         setup.update(space=items, names=names, frozen=frozen, correlation=corr)
         _core.space_values(items, np.full((1, d), 0.5), corr)
     if d is None:
