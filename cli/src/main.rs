@@ -21,7 +21,6 @@ mod values;
 
 // The submodules share one set of names (`use super::*`): the command line is one
 // program split by subcommand, not separate libraries.
-#[allow(unused_imports)]
 use {
     self::{
         args::*,
@@ -48,12 +47,8 @@ use {
     std::sync::Arc,
     stillpoint::config::{points_fingerprint, EnergyKind, GenerateConfig, Goal, Init, Space},
     stillpoint::energies::discrepancy::DiscrepancyKind,
-    stillpoint::energies::region::ImplicitRegion,
-    stillpoint::energies::shapes::{Ball, BoxRegion, Ellipsoid, Polytope, Simplex},
-    stillpoint::energies::{paper_qp, Distance, Domain, Energy, Precision, Uqp},
-    stillpoint::integrators::{Kappa, Restart},
+    stillpoint::energies::{paper_qp, Domain},
     stillpoint::pipeline::request::{Arg, Job, Resolved},
-    stillpoint::pipeline::{self as run},
     stillpoint::plan::problem::estimate_seconds,
     stillpoint::quality::metrics::Metrics,
     stillpoint::report::GenerateReport,
