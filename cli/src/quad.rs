@@ -17,13 +17,16 @@ fn quad_flag(name: &str) -> String {
     }
 }
 
-/// Runs `integrate --expr` and prints the estimate, half-width, evaluations and whether
-/// the tolerance was met (and if not, what stopped it).
-pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
-    let Some(text) = q.expr.as_deref() else {
-        bail!("missing FILE or --expr: a point file to integrate, or --expr EXPR");
-    };
-    let refused = |e: stillpoint::Error| match e {
+/// A refusal of the library's as an `--expr` command shows it: f's own (the expression)
+/// quoting the expression, any other naming its flag (`flag`) and the value as typed
+/// (`typed`, else the library's rendering).
+pub(crate) fn expr_refusal(
+    e: stillpoint::Error,
+    text: &str,
+    typed: impl Fn(&str) -> Option<String>,
+    flag: impl Fn(&str) -> String,
+) -> anyhow::Error {
+    match e {
         stillpoint::Error::InvalidArgument {
             name,
             value,
@@ -36,11 +39,20 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
             value,
             expected,
         } => {
-            let shown = q.typed(&name).map_or(value, str::to_string);
-            stillpoint::Error::invalid(quad_flag(&name), shown, expected).into()
+            let shown = typed(&name).unwrap_or(value);
+            stillpoint::Error::invalid(flag(&name), shown, expected).into()
         }
         other => anyhow::Error::from(other),
+    }
+}
+
+/// Runs `integrate --expr` and prints the estimate, half-width, evaluations and whether
+/// the tolerance was met (and if not, what stopped it).
+pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
+    let Some(text) = q.expr.as_deref() else {
+        bail!("missing FILE or --expr: a point file to integrate, or --expr EXPR");
     };
+    let refused = |e| expr_refusal(e, text, |n| q.typed(n).map(str::to_string), quad_flag);
     let space = quad_space(&q)?;
     let s = match (&space, q.s) {
         (Some((flag, space)), Some(s)) if s != space.dim() => bail!(

@@ -93,24 +93,7 @@ fn flag(name: &str) -> String {
 /// Runs `sensitivity` and prints the indices.
 pub(crate) fn sensitivity_command(q: SensitivityArgs) -> Result<()> {
     let text = q.expr.as_str();
-    let refused = |e: stillpoint::Error| match e {
-        stillpoint::Error::InvalidArgument {
-            name,
-            value,
-            expected,
-        } if name == "f" => {
-            anyhow::anyhow!("invalid --expr {text:?}: {value}; expected {expected}")
-        }
-        stillpoint::Error::InvalidArgument {
-            name,
-            value,
-            expected,
-        } => {
-            let shown = q.typed(&name).map_or(value, str::to_string);
-            stillpoint::Error::invalid(flag(&name), shown, expected).into()
-        }
-        other => anyhow::Error::from(other),
-    };
+    let refused = |e| expr_refusal(e, text, |n| q.typed(n).map(str::to_string), flag);
     let space = if q.var.is_empty() {
         None
     } else {

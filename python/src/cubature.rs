@@ -68,28 +68,13 @@ impl PyCubature {
     /// The next batch of points as an (R·m, d) array, replicate after replicate (asking
     /// again before `feed` gives the same batch); None when the budget is spent.
     fn next_points<'py>(&mut self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
-        let Some(points) = self.inner.next_points() else {
-            return Ok(None);
-        };
-        self.batch = Some(points.clone());
-        to_array(py, points).map(Some)
+        hand_out(py, &mut self.batch, self.inner.next_points())
     }
 
     /// f's values at the batch of `next_points()`, an (n, k) array; refuses NaN or ±∞
     /// naming the point, and values without a batch handed out.
     fn feed(&mut self, values: PyReadonlyArray2<'_, f64>) -> PyResult<()> {
-        if self.batch.is_none() && self.inner.pending() > 0 {
-            self.batch = self.inner.next_points();
-        }
-        let Some(points) = self.batch.as_ref() else {
-            return Err(value_error(
-                "feed: no batch is pending; call next_points() first",
-            ));
-        };
-        let v: Vec<f64> = values.as_array().iter().copied().collect();
-        self.inner.feed(points, &v).map_err(value_error)?;
-        self.batch = None;
-        Ok(())
+        take_values(&mut self.inner, &mut self.batch, values)
     }
 
     /// New tolerances; the evaluations made are kept.
@@ -273,4 +258,58 @@ pub(crate) fn quad_space(
 pub(crate) fn quad_box_rule() -> (&'static str, String) {
     let (rule, why) = Rule::for_space(None);
     (rule.as_str(), why)
+}
+
+/// Hands out a driver's next batch (`next`), keeping it as the one `feed` expects.
+pub(crate) fn hand_out<'py>(
+    py: Python<'py>,
+    batch: &mut Option<PointSet>,
+    next: Option<PointSet>,
+) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
+    let Some(points) = next else {
+        return Ok(None);
+    };
+    *batch = Some(points.clone());
+    to_array(py, points).map(Some)
+}
+
+/// What the batch hand-off needs of a driver that asks for points and takes f's values
+/// there (`Cubature`, `Sensitivity`).
+pub(crate) trait Rounds {
+    fn pending(&self) -> u64;
+    fn next_points(&mut self) -> Option<PointSet>;
+    fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), stillpoint::Error>;
+}
+
+impl Rounds for Cubature {
+    fn pending(&self) -> u64 {
+        Cubature::pending(self)
+    }
+    fn next_points(&mut self) -> Option<PointSet> {
+        Cubature::next_points(self)
+    }
+    fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), stillpoint::Error> {
+        Cubature::feed(self, points, values)
+    }
+}
+
+/// Feeds f's values at the batch handed out. A driver restored from a pickle has no batch
+/// kept (it is not pickled), so the pending one is made again first.
+pub(crate) fn take_values(
+    driver: &mut impl Rounds,
+    batch: &mut Option<PointSet>,
+    values: PyReadonlyArray2<'_, f64>,
+) -> PyResult<()> {
+    if batch.is_none() && driver.pending() > 0 {
+        *batch = driver.next_points();
+    }
+    let Some(points) = batch.as_ref() else {
+        return Err(value_error(
+            "feed: no batch is pending; call next_points() first",
+        ));
+    };
+    let v: Vec<f64> = values.as_array().iter().copied().collect();
+    driver.feed(points, &v).map_err(value_error)?;
+    *batch = None;
+    Ok(())
 }

@@ -11,7 +11,8 @@ use stillpoint::design::DesignSpace;
 use stillpoint::sensitivity::{FirstOrder, Sensitivity, SensitivityOptions};
 use stillpoint::PointSet;
 
-use super::{to_array, value_error};
+use super::cubature::{hand_out, take_values, Rounds};
+use super::value_error;
 
 /// The state of a sensitivity analysis: `next_points()` gives the next batch (for each
 /// point of each replicate, its rows A, B, AB_1 … AB_d; None when max_n would be
@@ -65,27 +66,12 @@ impl PySensitivity {
     /// The next batch of points as an (R·m·(d + 2), d) array (asking again before
     /// `feed` gives the same batch); None when the budget is spent.
     fn next_points<'py>(&mut self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyArray2<f64>>>> {
-        let Some(points) = self.inner.next_points() else {
-            return Ok(None);
-        };
-        self.batch = Some(points.clone());
-        to_array(py, points).map(Some)
+        hand_out(py, &mut self.batch, self.inner.next_points())
     }
 
     /// f's values at the batch of `next_points()`, an (n, k) array.
     fn feed(&mut self, values: PyReadonlyArray2<'_, f64>) -> PyResult<()> {
-        if self.batch.is_none() && self.inner.pending() > 0 {
-            self.batch = self.inner.next_points();
-        }
-        let Some(points) = self.batch.as_ref() else {
-            return Err(value_error(
-                "feed: no batch is pending; call next_points() first",
-            ));
-        };
-        let v: Vec<f64> = values.as_array().iter().copied().collect();
-        self.inner.feed(points, &v).map_err(value_error)?;
-        self.batch = None;
-        Ok(())
+        take_values(&mut self.inner, &mut self.batch, values)
     }
 
     /// A new tolerance; the evaluations made are kept.
@@ -202,4 +188,16 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySensitivity>()?;
     m.add_function(wrap_pyfunction!(sensitivity_space, m)?)?;
     Ok(())
+}
+
+impl Rounds for Sensitivity {
+    fn pending(&self) -> u64 {
+        Sensitivity::pending(self)
+    }
+    fn next_points(&mut self) -> Option<PointSet> {
+        Sensitivity::next_points(self)
+    }
+    fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), stillpoint::Error> {
+        Sensitivity::feed(self, points, values)
+    }
 }
