@@ -393,7 +393,7 @@ def quad(
     started = time.perf_counter()
     if not callable(f):
         raise ValueError(f"invalid f = {f!r}: expected a callable taking an (n, d) array")
-    report = _progress(progress)
+    report = _reporter(progress, QuadResult, _line)
     d = _int("d", d, 1, _core.SEQUENCE_MAX_D)
     _executor(executor)
     given = {
@@ -415,22 +415,9 @@ def quad(
         state, setup = _begun(d, a, b, space, correlation, seed, given, rule)
         for message in state.warnings:
             warnings.warn(message, stacklevel=2)
-    k = state.outputs or None
     if progress is True and start is None:
         print(f"quad: {state.rule[1]}", file=sys.stderr, flush=True)
-    while not state.met:
-        u = state.next_points()
-        if u is None:
-            break
-        x = _to_space(u, setup)
-        y, flat = _evaluate(f, x, k, executor)
-        _refuse_non_finite(x, y)
-        if k is None:
-            k = y.shape[1]
-            setup["scalar"] = k == 1 and flat
-        state.feed(y)
-        if report is not None:
-            report(state, setup, time.perf_counter() - started)
+    _rounds(f, state, setup, executor, report, started)
     # An early estimate may overflow where a later one does not: checked where it stops.
     state.check_representable()
     return QuadResult(state, setup)
@@ -594,21 +581,45 @@ def _continued(
 _Report = Callable[[Any, Dict[str, Any], float], None]
 
 
-def _progress(progress: Any) -> Optional[_Report]:
-    """What to do after each round for ``progress``: nothing (None), a line on
-    standard error, or a call of the user's callable with a copy of the result."""
+def _rounds(
+    f: Any, state: Any, setup: Dict[str, Any], executor: Any, report: Optional["_Report"],
+    started: float,
+) -> None:
+    """Asks the state machine (a cubature's or a sensitivity analysis's) for batches until
+    it is met or its budget is spent: each batch mapped to f's inputs, evaluated (in
+    process or on the executor), checked finite and fed back; `report` after each."""
+    k = state.outputs or None
+    while not state.met:
+        u = state.next_points()
+        if u is None:
+            break
+        x = _to_space(u, setup)
+        y, flat = _evaluate(f, x, k, executor)
+        _refuse_non_finite(x, y)
+        if k is None:
+            k = y.shape[1]
+            setup["scalar"] = k == 1 and flat
+        state.feed(y)
+        if report is not None:
+            report(state, setup, time.perf_counter() - started)
+
+
+def _reporter(progress: Any, result: Any, line: "_Report") -> Optional["_Report"]:
+    """What to do after each round for ``progress``: nothing (None), `line` on standard
+    error, or a call of the user's callable with a copy of the result so far (`result`,
+    the result's class)."""
     if isinstance(progress, (bool, np.bool_)):
-        return _line if progress else None
+        return line if progress else None
     if callable(progress):
 
         def call(state: Any, setup: Dict[str, Any], *_: float) -> None:
             # A copy: the callable may keep it while the run goes on.
-            progress(QuadResult(copy.deepcopy(state), dict(setup)))
+            progress(result(copy.deepcopy(state), dict(setup)))
 
         return call
     raise ValueError(
         f"invalid progress = {progress!r}: expected True, False or a callable taking "
-        "the QuadResult after each round"
+        f"the {result.__name__} after each round"
     )
 
 

@@ -20,11 +20,10 @@ from ._quad import (
     _SEED,
     _as_typed,
     _corner,
-    _evaluate,
     _number,
-    _refuse_non_finite,
+    _reporter,
+    _rounds,
     _seed,
-    _to_space,
 )
 from ._space import _space_items
 from ._validate import _executor, _int
@@ -248,7 +247,7 @@ def sobol_indices(
             f"invalid correlation = {correlation!r}: Sobol' indices are computed for "
             "independent inputs; give the inputs without a correlation"
         )
-    report = _progress(progress)
+    report = _reporter(progress, SobolResult, _line)
     _executor(executor)
     given = {
         "abs_tol": abs_tol,
@@ -264,20 +263,7 @@ def sobol_indices(
         state, setup = _begun(d, a, b, space, seed, given)
         for message in state.warnings:
             warnings.warn(message, stacklevel=2)
-    k = state.outputs or None
-    while not state.met:
-        u = state.next_points()
-        if u is None:
-            break
-        x = _to_space(u, setup)
-        y, flat = _evaluate(f, x, k, executor)
-        _refuse_non_finite(x, y)
-        if k is None:
-            k = y.shape[1]
-            setup["scalar"] = k == 1 and flat
-        state.feed(y)
-        if report is not None:
-            report(state, setup, time.perf_counter() - started)
+    _rounds(f, state, setup, executor, report, started)
     return SobolResult(state, setup)
 
 
@@ -394,26 +380,6 @@ def _continued(
     except ValueError as e:
         raise _as_typed(e, given) from None
     return state, dict(start._setup)
-
-
-_Report = Callable[[Any, Dict[str, Any], float], None]
-
-
-def _progress(progress: Any) -> Optional[_Report]:
-    """What to do after each round: nothing, a line on standard error, or a call of the
-    user's callable with a copy of the result so far."""
-    if isinstance(progress, (bool, np.bool_)):
-        return _line if progress else None
-    if callable(progress):
-
-        def call(state: Any, setup: Dict[str, Any], *_: float) -> None:
-            progress(SobolResult(copy.deepcopy(state), dict(setup)))
-
-        return call
-    raise ValueError(
-        f"invalid progress = {progress!r}: expected True, False or a callable taking "
-        "the SobolResult after each round"
-    )
 
 
 def _line(state: Any, setup: Dict[str, Any], t: float) -> None:
