@@ -786,22 +786,66 @@ impl Cubature {
 
     /// [`Cubature::run`], calling `after` with the state after each doubling (progress
     /// displays).
-    pub fn run_observed<F, A>(&mut self, mut f: F, mut after: A) -> Result<bool, Error>
+    pub fn run_observed<F, A>(&mut self, f: F, after: A) -> Result<bool, Error>
     where
         F: FnMut(&PointSet) -> Vec<f64>,
         A: FnMut(&Cubature),
     {
-        while !self.met() {
-            let Some(points) = self.next_points() else {
-                break;
-            };
-            let values = f(&points);
-            self.feed(&points, &values)?;
-            after(self);
-        }
+        run_rounds(self, f, after)?;
         self.check_representable()?;
         Ok(self.met())
     }
+}
+
+/// A computation that asks for batches of points and takes f's values there until its
+/// targets are met or its budget is spent: the integration ([`Cubature`]) and the
+/// sensitivity analysis ([`crate::sensitivity::Sensitivity`]). [`run_rounds`] drives
+/// either, and so do the front ends that evaluate f themselves.
+pub trait Rounds {
+    /// Whether every target is met.
+    fn met(&self) -> bool;
+    /// Points of the batch due next and not yet fed (0: none, the budget is spent).
+    fn pending(&self) -> u64;
+    /// The next batch (the same one until it is fed); None when the budget is spent.
+    fn next_points(&mut self) -> Option<PointSet>;
+    /// f's values at the batch, rows × outputs, row-major.
+    fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error>;
+}
+
+impl Rounds for Cubature {
+    fn met(&self) -> bool {
+        Cubature::met(self)
+    }
+    fn pending(&self) -> u64 {
+        Cubature::pending(self)
+    }
+    fn next_points(&mut self) -> Option<PointSet> {
+        Cubature::next_points(self)
+    }
+    fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
+        Cubature::feed(self, points, values)
+    }
+}
+
+/// Evaluates f on each batch of `state` until it is met or its budget is spent, calling
+/// `after` after each batch; stops with [`crate::solve::interrupted`] between two
+/// batches when a stop is asked for ([`crate::solve::cancel`]).
+pub fn run_rounds<R, F, A>(state: &mut R, mut f: F, mut after: A) -> Result<(), Error>
+where
+    R: Rounds,
+    F: FnMut(&PointSet) -> Vec<f64>,
+    A: FnMut(&R),
+{
+    while !state.met() {
+        crate::solve::stop_if_cancelled()?;
+        let Some(points) = state.next_points() else {
+            break;
+        };
+        let values = f(&points);
+        state.feed(&points, &values)?;
+        after(state);
+    }
+    Ok(())
 }
 
 /// What [`quad`] returns.

@@ -589,21 +589,28 @@ impl Sensitivity {
     /// [`Sensitivity::run`], calling `after` with the state after each doubling
     /// (progress displays); stops with [`crate::solve::interrupted`] when a stop is
     /// asked for ([`crate::solve::cancel`]), between two batches.
-    pub fn run_observed<F, A>(&mut self, mut f: F, mut after: A) -> Result<bool, Error>
+    pub fn run_observed<F, A>(&mut self, f: F, after: A) -> Result<bool, Error>
     where
         F: FnMut(&PointSet) -> Vec<f64>,
         A: FnMut(&Sensitivity),
     {
-        while !self.met() {
-            crate::solve::stop_if_cancelled()?;
-            let Some(points) = self.next_points() else {
-                break;
-            };
-            let values = f(&points);
-            self.feed(&points, &values)?;
-            after(self);
-        }
+        crate::cubature::run_rounds(self, f, after)?;
         Ok(self.met())
+    }
+}
+
+impl crate::cubature::Rounds for Sensitivity {
+    fn met(&self) -> bool {
+        Sensitivity::met(self)
+    }
+    fn pending(&self) -> u64 {
+        Sensitivity::pending(self)
+    }
+    fn next_points(&mut self) -> Option<PointSet> {
+        Sensitivity::next_points(self)
+    }
+    fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
+        Sensitivity::feed(self, points, values)
     }
 }
 

@@ -7,7 +7,7 @@ use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyBytes;
 
-use stillpoint::cubature::{Cubature, QuadOptions, Rule, StopReason};
+use stillpoint::cubature::{Cubature, QuadOptions, Rounds, Rule, StopReason};
 use stillpoint::design::DesignSpace;
 use stillpoint::sequences::ExtensibleLattice;
 use stillpoint::PointSet;
@@ -271,26 +271,6 @@ pub(crate) fn hand_out<'py>(
     };
     *batch = Some(points.clone());
     to_array(py, points).map(Some)
-}
-
-/// What the batch hand-off needs of a driver that asks for points and takes f's values
-/// there (`Cubature`, `Sensitivity`).
-pub(crate) trait Rounds {
-    fn pending(&self) -> u64;
-    fn next_points(&mut self) -> Option<PointSet>;
-    fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), stillpoint::Error>;
-}
-
-impl Rounds for Cubature {
-    fn pending(&self) -> u64 {
-        Cubature::pending(self)
-    }
-    fn next_points(&mut self) -> Option<PointSet> {
-        Cubature::next_points(self)
-    }
-    fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), stillpoint::Error> {
-        Cubature::feed(self, points, values)
-    }
 }
 
 /// Feeds f's values at the batch handed out. A driver restored from a pickle has no batch

@@ -11,7 +11,7 @@ use stillpoint::design::DesignSpace;
 use stillpoint::sensitivity::{FirstOrder, Sensitivity, SensitivityOptions};
 use stillpoint::PointSet;
 
-use super::cubature::{hand_out, take_values, Rounds};
+use super::cubature::{hand_out, take_values};
 use super::value_error;
 
 /// The state of a sensitivity analysis: `next_points()` gives the next batch (for each
@@ -188,16 +188,4 @@ pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PySensitivity>()?;
     m.add_function(wrap_pyfunction!(sensitivity_space, m)?)?;
     Ok(())
-}
-
-impl Rounds for Sensitivity {
-    fn pending(&self) -> u64 {
-        Sensitivity::pending(self)
-    }
-    fn next_points(&mut self) -> Option<PointSet> {
-        Sensitivity::next_points(self)
-    }
-    fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), stillpoint::Error> {
-        Sensitivity::feed(self, points, values)
-    }
 }
