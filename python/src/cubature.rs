@@ -192,12 +192,11 @@ impl PyCubature {
     }
 
     fn __getstate__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
-        let bytes = serde_json::to_vec(&self.inner).map_err(value_error)?;
-        Ok(PyBytes::new(py, &bytes))
+        pickled(py, &self.inner)
     }
 
     fn __setstate__(&mut self, state: &[u8]) -> PyResult<()> {
-        self.inner = serde_json::from_slice(state).map_err(value_error)?;
+        self.inner = unpickled(state)?;
         self.batch = None;
         Ok(())
     }
@@ -292,4 +291,18 @@ pub(crate) fn take_values(
     driver.feed(points, &v).map_err(value_error)?;
     *batch = None;
     Ok(())
+}
+
+/// A driver's state as a pickle's bytes (JSON: readable by later versions).
+pub(crate) fn pickled<'py>(
+    py: Python<'py>,
+    state: &impl serde::Serialize,
+) -> PyResult<Bound<'py, PyBytes>> {
+    let bytes = serde_json::to_vec(state).map_err(value_error)?;
+    Ok(PyBytes::new(py, &bytes))
+}
+
+/// A driver's state from the bytes of [`pickled`].
+pub(crate) fn unpickled<T: serde::de::DeserializeOwned>(state: &[u8]) -> PyResult<T> {
+    serde_json::from_slice(state).map_err(value_error)
 }

@@ -11,7 +11,7 @@ use stillpoint::design::DesignSpace;
 use stillpoint::sensitivity::{FirstOrder, Sensitivity, SensitivityOptions};
 use stillpoint::PointSet;
 
-use super::cubature::{hand_out, take_values};
+use super::cubature::{hand_out, pickled, take_values, unpickled};
 use super::value_error;
 
 /// The state of a sensitivity analysis: `next_points()` gives the next batch (for each
@@ -164,12 +164,11 @@ impl PySensitivity {
     }
 
     fn __getstate__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyBytes>> {
-        let bytes = serde_json::to_vec(&self.inner).map_err(value_error)?;
-        Ok(PyBytes::new(py, &bytes))
+        pickled(py, &self.inner)
     }
 
     fn __setstate__(&mut self, state: &[u8]) -> PyResult<()> {
-        self.inner = serde_json::from_slice(state).map_err(value_error)?;
+        self.inner = unpickled(state)?;
         self.batch = None;
         Ok(())
     }
