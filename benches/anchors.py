@@ -39,6 +39,7 @@ import time
 import warnings
 
 import numpy as np
+from fingerprint import commit, digest, section
 from scipy import integrate as sintegrate
 from scipy.special import erf
 from scipy.stats import qmc
@@ -153,6 +154,7 @@ def run_cell(binary, n, s, seeds, tmp):
         x = np.load(out)
         rows[name] = summarise([measure(binary, x, path, genz)], False)
         rows[name]["seconds"] = secs
+        rows[name]["sha256"] = digest(x)
     makers = {
         "Sobol' (scrambled)": lambda k: qmc.Sobol(s, scramble=True, seed=k).random(n),
         "Halton (scrambled)": lambda k: qmc.Halton(s, scramble=True, seed=k).random(n),
@@ -179,9 +181,11 @@ def rerun_default(binary, n, s, stored, tmp):
     subprocess.run([binary, "generate", "-n", str(n), "-s", str(s), "-o", out, "-q"],
                    check=True, capture_output=True)
     secs = time.perf_counter() - t0
+    x = np.load(out)
     rows = {"stillpoint (default)": summarise(
-        [measure(binary, np.load(out), os.path.join(tmp, "x.npy"), genz)], False)}
+        [measure(binary, x, os.path.join(tmp, "x.npy"), genz)], False)}
     rows["stillpoint (default)"]["seconds"] = secs
+    rows["stillpoint (default)"]["sha256"] = digest(x)
     rows.update({k: v for k, v in stored.items() if k != "stillpoint (default)"})
     return rows
 
@@ -202,7 +206,20 @@ def sobol_ratios(results):
     return lines + [""]
 
 
-def report(results, seeds, command):
+def fingerprints(results):
+    """One fingerprint line per cell and set that carries its hash (the default always;
+    `--method paper` where this run made it)."""
+    flags = {"stillpoint (default)": "", "stillpoint --method paper": " --method paper"}
+    out = []
+    for (n, s), rows in results.items():
+        for name, flag in flags.items():
+            if "sha256" in rows.get(name, {}):
+                out.append(f"fingerprint: generate -n {n} -s {s}{flag} "
+                           f"sha256:{rows[name]['sha256']}")
+    return out
+
+
+def report(results, seeds, command, made_at):
     names = list(next(iter(results.values())).keys())
     ours = names[0]
     lines = ["# Integration benchmark (anchors)", "",
@@ -260,7 +277,7 @@ def report(results, seeds, command):
         lines.append(f"| {f} | {wins[f]}/{total} | error at most LHS's RMS |")
     lines.append("")
     lines += sobol_ratios(results)
-    return "\n".join(lines + body) + "\n"
+    return "\n".join(lines + body + section(made_at, command, fingerprints(results))) + "\n"
 
 
 def main():
@@ -282,6 +299,7 @@ def main():
     command = "python3 benches/anchors.py" + (" --quick" if a.quick else "") + (
         f" --seeds {a.seeds}" if a.seeds != 16 else "") + (f" --s {a.s}" if a.s else "") + (
         f" --reuse {a.reuse} --out {a.out}" if a.reuse else "")
+    made_at = commit()
     with tempfile.TemporaryDirectory() as tmp:
         for n, s in cells:
             t0 = time.perf_counter()
@@ -292,7 +310,7 @@ def main():
             print(f"n = {n}, s = {s}: {time.perf_counter() - t0:.1f} s", file=sys.stderr,
                   flush=True)
             with open(os.path.join(a.out, "anchors.md"), "w") as fh:
-                fh.write(report(results, a.seeds, command))
+                fh.write(report(results, a.seeds, command, made_at))
             with open(os.path.join(a.out, "anchors.json"), "w") as fh:
                 json.dump({f"{n}x{s}": r for (n, s), r in results.items()}, fh, indent=1)
 
