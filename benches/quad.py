@@ -49,7 +49,7 @@ Methods (the budget, max_n or n_limit, is 2^20 evaluations for all):
 QMCPy's "met" is its ``comb_flags`` with no ``MaxSamplesWarning`` (the warning it gives
 when the next doubling would pass n_limit).
 
-Every method's per-cell results go to results/quad/<method>.json as each cell finishes;
+Every method's per-cell results go to results/quad/<method>.json.gz as each cell finishes;
 a later call skips cells already holding the requested runs, and continues a cell that
 holds fewer (so an interrupted run resumes). ``--cell-seconds T`` stops a cell after
 the run that takes its wall time (over all calls) past T; the runs done are recorded and
@@ -79,10 +79,11 @@ minutes of wall time (6980 s summed over the cells, 14 to 19 minutes per method;
 ``space=`` (SciPy's lognormal laws) as well as on the cube and prints both estimates.
 ``--families``, ``--s`` and ``--tols`` restrict the cells (e.g. ``--families keister
 --s 20 --tols 1e-5``); ``--runs 5 --out /tmp/quad`` is a quick check. Writes
-results/quad/<method>.json and results/quad/quad.md.
+results/quad/<method>.json.gz and results/quad/quad.md.
 """
 
 import argparse
+import gzip
 import json
 import math
 import os
@@ -273,7 +274,7 @@ def one_run(method, family, s, tol, run):
 
 def load(path):
     if os.path.exists(path):
-        with open(path) as fh:
+        with gzip.open(path, "rt") as fh:
             d = json.load(fh)
         if isinstance(d.get("cells"), dict):
             return d
@@ -281,14 +282,16 @@ def load(path):
 
 
 def save(path, d):
+    # Compressed (the run files are ~2 MB of JSON each) with no timestamp in the header,
+    # so that the same runs give the same bytes.
     tmp = path + ".tmp"
-    with open(tmp, "w") as fh:
-        json.dump(d, fh, separators=(",", ":"))
+    with open(tmp, "wb") as raw, gzip.GzipFile(fileobj=raw, mode="wb", mtime=0) as fh:
+        fh.write(json.dumps(d, separators=(",", ":")).encode())
     os.replace(tmp, path)
 
 
 def measure(method, cells, runs, cell_seconds, out):
-    path = os.path.join(out, f"{method}.json")
+    path = os.path.join(out, f"{method}.json.gz")
     d = load(path) or {"method": method, "cells": {}}
     d["version"] = version(method)
     for family, s, tol in cells:
@@ -322,7 +325,7 @@ def fmt_ms(sec):
 def table(out, runs):
     data = {}
     for m in METHODS:
-        d = load(os.path.join(out, f"{m}.json"))
+        d = load(os.path.join(out, f"{m}.json.gz"))
         if d:
             data[m] = d
     methods = [m for m in METHODS if m in data]
