@@ -64,7 +64,11 @@ fn cited(root: &Path, page: &Path) -> BTreeSet<PathBuf> {
         let Ok(rel) = full.strip_prefix(normal(root)) else {
             continue;
         };
-        if rel.starts_with("results") && root.join(rel).is_file() {
+        // results/README.md is the index of the results, not a file of figures.
+        if rel.starts_with("results")
+            && rel != Path::new("results/README.md")
+            && root.join(rel).is_file()
+        {
             out.insert(rel.to_path_buf());
         }
     }
@@ -83,6 +87,10 @@ impl Cell {
     fn parse(line: &str) -> Option<Cell> {
         let rest = line.trim().strip_prefix("fingerprint: ")?;
         let (command, hash) = rest.rsplit_once(" sha256:")?;
+        let hash = hash.trim();
+        if hash.len() != 64 || !hash.bytes().all(|b| b.is_ascii_hexdigit()) {
+            return None;
+        }
         let mut words = command.split_whitespace();
         if words.next()? != "generate" {
             return None;
@@ -95,7 +103,7 @@ impl Cell {
         Some(Cell {
             n: value("-n")?,
             s: value("-s")?,
-            sha256: hash.trim().to_string(),
+            sha256: hash.to_string(),
             options,
         })
     }
