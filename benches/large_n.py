@@ -90,6 +90,7 @@ import scipy
 from scipy.stats import qmc
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from fingerprint import digest, section  # noqa: E402
 from anchors import FAMILIES, genz_exact, genz_instances, genz_value  # noqa: E402
 
 INSTANCE_SEED = 20261126  # never used before in this repository
@@ -188,7 +189,9 @@ def stillpoint_eval(binary, path, flags):
 
 
 def run_default(binary, n, s, seeds, tmp, timeout):
-    sets, times, report = [], [], None
+    """The default's sets for each seed: their paths, times, one report and the SHA-256
+    of each set's coordinates (the results' fingerprints)."""
+    sets, times, report, hashes = [], [], None, []
     for k in seeds:
         path = os.path.join(tmp, f"default-s{s}-n{n}-seed{k}.npy")
         cmd = [binary, "generate", "-n", str(n), "-s", str(s), "--seed", str(k), "-o", path]
@@ -204,7 +207,8 @@ def run_default(binary, n, s, seeds, tmp, timeout):
         if report is None:
             report = p.stdout[-6000:]
         sets.append(path)
-    return sets, times, report
+        hashes.append(digest(x))
+    return sets, times, report, hashes
 
 
 def _seeded(cls, *args, r, **kw):
@@ -304,11 +308,12 @@ def run_cell(binary, s, n, a, tmp, log):
         cell["disc_note"] = why
     # (1) the default
     try:
-        paths, times, report = run_default(binary, n, s, DEFAULT_SEEDS, tmp, a.timeout)
+        paths, times, report, hashes = run_default(binary, n, s, DEFAULT_SEEDS, tmp,
+                                                   a.timeout)
         errs = [relative_errors(np.load(p), inst, exact) for p in paths]
         rec = method_record(errs, times, a.instances,
                             {"seeds": DEFAULT_SEEDS, "report": report,
-                             "errors": np.asarray(errs).tolist()})
+                             "errors": np.asarray(errs).tolist(), "sha256": hashes})
         if disc:
             ev = [stillpoint_eval(binary, p, flags) for p in paths]
             rec["disc"] = ev
@@ -357,7 +362,8 @@ def run_sweep_n(binary, s, n, a, tmp):
     inst, exact = instances(s, a.instances)
     rec = {"s": s, "n": n, "binary_sha256": sha256(binary), "date": now()}
     try:
-        paths, times, _ = run_default(binary, n, s, DEFAULT_SEEDS, tmp, a.timeout)
+        paths, times, _, hashes = run_default(binary, n, s, DEFAULT_SEEDS, tmp, a.timeout)
+        rec["sha256"] = hashes
         errs = [relative_errors(np.load(p), inst, exact) for p in paths]
         for p in paths:
             os.remove(p)
@@ -613,7 +619,23 @@ def report(data, current_sha):
     sweep = data.get("sweep", {})
     if sweep:
         lines += sweep_report(sweep, current_sha)
-    return "\n".join(lines) + "\n"
+    return "\n".join(lines + fingerprints(data)) + "\n"
+
+
+def fingerprints(data):
+    """The fingerprints of the default's sets of the cells (and sweep sizes) measured
+    since the runs recorded them; none for a file made before."""
+    prints = []
+    for rec in [c["methods"].get("default", {}) | {"s": c["s"], "n": c["n"]}
+                for c in sorted_cells(data.get("cells", {}))] + sorted(
+                    data.get("sweep", {}).values(), key=lambda r: (r["s"], r["n"])):
+        for k, h in zip(DEFAULT_SEEDS, rec.get("sha256", [])):
+            prints.append(f"fingerprint: generate -n {rec['n']} -s {rec['s']} --seed {k} "
+                          f"sha256:{h}")
+    if not prints:
+        return []
+    run = data["runs"][-1]
+    return section(run["machine"].get("commit", "?"), run["command"], prints)
 
 
 def sweep_flags(recs):
