@@ -27,6 +27,7 @@ from scipy.stats import qmc
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from anchors import FAMILIES, genz_exact, genz_instances, genz_value  # noqa: E402
+from fingerprint import commit, line, section  # noqa: E402
 
 CELLS = ",".join(f"{n}x{s}" for s in (8, 10, 15, 20)
                  for n in (32, 64, 128, 256, 512, 1024, 50, 100, 200, 400, 800)
@@ -48,7 +49,8 @@ def main():
     ap.add_argument("--seeds", type=int, default=16)
     ap.add_argument("--out", default="results/fresh-instances")
     a = ap.parse_args()
-    genz_by_s, rows = {}, []
+    genz_by_s, rows, prints = {}, [], []
+    made_at = commit()
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "set.npy")
         for cell in a.cells.split(","):
@@ -62,7 +64,9 @@ def main():
             sobol = np.sqrt((sobol ** 2).mean(axis=0)).mean(axis=1)
             subprocess.run([a.bin, "generate", "-n", str(n), "-s", str(s), "-q", "-o", path],
                            check=True, capture_output=True)
-            ours = np.abs(family_errors(np.load(path), genz)).mean(axis=1)
+            x = np.load(path)
+            prints.append(line(f"generate -n {n} -s {s}", x))
+            ours = np.abs(family_errors(x, genz)).mean(axis=1)
             rows.append((cell, ours / sobol))
             print(cell, " ".join(f"{r:.2f}" for r in ours / sobol), flush=True)
     ratios = np.array([r for _, r in rows])
@@ -84,6 +88,9 @@ def main():
     lines += ["| **geometric mean** | " + " | ".join(f"**{v:.2f}**" for v in geo) + " |",
               f"| cells at or below Sobol' (of {len(rows)}) | "
               + " | ".join(str(int(w)) for w in wins) + " |", ""]
+    lines += section(made_at, "python3 benches/fresh_instances.py"
+                     + ("" if a.cells == CELLS else f" --cells {a.cells}")
+                     + ("" if a.genz_seed == 99 else f" --genz-seed {a.genz_seed}"), prints)
     os.makedirs(a.out, exist_ok=True)
     with open(os.path.join(a.out, "fresh.md"), "w") as fh:
         fh.write("\n".join(lines))
