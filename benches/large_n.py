@@ -635,7 +635,14 @@ def fingerprints(data):
     if not prints:
         return []
     run = data["runs"][-1]
-    return section(run["machine"].get("commit", "?"), run["command"], prints)
+    # One command remakes the file only when its last run made every record; otherwise
+    # the runs listed at its top made the others, each rerun with --fresh.
+    records = list(data.get("cells", {}).values()) + list(data.get("sweep", {}).values())
+    remake = run["command"] if all(r.get("date", "") >= run["date"] for r in records) else (
+        f"{run['command']} (the last run; the runs listed at the top made the other cells, "
+        "each remade with --fresh)")
+    return section(run["machine"].get("commit", "?"), remake, prints,
+                   data.get("fingerprint_note", ""))
 
 
 def sweep_flags(recs):
