@@ -48,6 +48,7 @@ from scipy.stats import qmc
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from anchors import FAMILIES, genz_exact, genz_instances, genz_value  # noqa: E402
+from fingerprint import commit, digest, section  # noqa: E402
 
 import stillpoint as sp  # noqa: E402
 
@@ -97,12 +98,16 @@ def cell(s, n, reps, per_family):
             t0 = time.perf_counter()
             x = make(r)
             seconds += time.perf_counter() - t0
+            if r == 0 and name == "stillpoint tent":
+                first = digest(x)
             assert x.shape == (n, s) and np.all((x >= 0) & (x <= 1)), name
             est[r] = [genz_value(f, a, u, x).mean() for f, a, u in insts]
         rmse = np.sqrt(((est - exact) ** 2).mean(axis=0))
         mean, se = est.mean(axis=0), est.std(axis=0, ddof=1) / math.sqrt(reps)
         covered = np.abs(mean - exact) <= tcrit * se
         out[name] = {"rmse": rmse, "covered": covered, "seconds": seconds / reps}
+        if name == "stillpoint tent":
+            out[name]["sha256"] = first
     ratios = {
         name: [
             float(np.exp(np.mean(np.log(v["rmse"][fam == f] / out["sobol"]["rmse"][fam == f]))))
@@ -179,6 +184,12 @@ def write_report(record, out, command):
            "geometric mean of the ratios |", "|---|---|---|---|---|---|"]
     for d, n, a, b, g in record["qmc_quad"]:
         md.append(f"| {d} | {n} | {a:.3e} | {b:.3e} | {a / b:.2f} | {g:.2f} |")
+    # The first randomisation of `stillpoint tent` per cell (seed 1000), as the command
+    # line makes it.
+    prints = [f"fingerprint: generate -n {c['n']} -s {c['s']} --randomize --seed 1000 "
+              f"sha256:{c['sha256']}" for c in record["cells"] if "sha256" in c]
+    if prints:
+        md += [""] + section(record["commit"], record["command"], prints)
     with open(os.path.join(out, "rqmc.md"), "w") as f:
         f.write("\n".join(md) + "\n")
     return md
@@ -197,7 +208,8 @@ def main():
     ap.add_argument("--out", default="results/rqmc")
     args = ap.parse_args()
     warnings.filterwarnings("ignore")
-    command = "target/py-venv/bin/python benches/rqmc.py" + (" --quick" if args.quick else "")
+    command = "target/py-venv/bin/python benches/rqmc.py" + (" --quick" if args.quick else "") + (
+        f" --cells {args.cells}" if args.cells else "")
     if args.quad_only:
         with open(os.path.join(args.out, "rqmc.json")) as f:
             record = json.load(f)
@@ -211,7 +223,8 @@ def main():
     if args.cells:
         cells = [tuple(int(v) for v in c.split(":")) for c in args.cells.split(",")]
     names = None
-    record = {"reps": args.reps, "per_family": args.per_family, "cells": []}
+    record = {"reps": args.reps, "per_family": args.per_family, "cells": [],
+              "commit": commit(), "command": command}
     covered, seconds = {}, {}
     wins = {}
     # The issue's bar: at most Sobol's RMSE at n = 2^k, at most the better of Sobol' and
@@ -234,7 +247,8 @@ def main():
             b[0] += sum(x <= y for x, y in zip(smooth, bar))
             b[1] += len(smooth)
         record["cells"].append({"s": s, "n": n, "ratios": ratios,
-                                "seconds": {k: v["seconds"] for k, v in out.items()}})
+                                "seconds": {k: v["seconds"] for k, v in out.items()},
+                                "sha256": out["stillpoint tent"]["sha256"]})
         print(f"s={s:2d} n={n:5d} ({time.time() - t0:5.1f} s)  " + "  ".join(
             f"{k}: " + " ".join(f"{x:.2f}" for x in r) for k, r in ratios.items()
             if k in ("stillpoint tent", "lhs-cd", "qmcpy-lat-tent")), flush=True)
