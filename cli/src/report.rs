@@ -1,7 +1,7 @@
 //! Reports: the tables and JSON a run or `eval` prints, and the point-file headers.
 
 use super::*;
-use stillpoint::post::randomize::Randomize;
+use stillpoint::pipeline::Pipeline;
 
 pub(crate) fn metrics_json(m: &Metrics) -> Value {
     serde_json::to_value(m).unwrap_or(Value::Null)
@@ -217,26 +217,7 @@ pub(crate) fn file_header(
 
 /// The goal of a goal run, as the report names it; `None` for the paper's pipeline.
 pub(crate) fn goal_name(cfg: &GenerateConfig) -> Option<String> {
-    match &cfg.goal {
-        Goal::Paper => None,
-        Goal::Integration(_) if cfg.lattice => Some(
-            "integration (the shifted tent lattice: one construction, no target or descent)".into(),
-        ),
-        Goal::Integration(_) if drawn(cfg) => Some(
-            "integration (one draw of the randomised tent lattice: no target; its figures are \
-             the drawn set's)"
-                .into(),
-        ),
-        Goal::Integration(t) => Some(format!("integration (target {})", t.name())),
-        Goal::SpaceFilling => Some("space-filling".into()),
-    }
-}
-
-/// Whether the run's set is a draw of the shift-and-tent randomisation: a random set made
-/// for the mean of f, whose figures are those of the draw, not a target the run lowered
-/// (its start, the unrandomised lattice, is not a start it improved on).
-fn drawn(cfg: &GenerateConfig) -> bool {
-    matches!(cfg.goal, Goal::Integration(_)) && cfg.randomize == Some(Randomize::Tent)
+    Pipeline::of(cfg).name(cfg)
 }
 
 /// What the solver did, in one line: the DEM's steps, κ and restarts, or L-BFGS's
@@ -384,16 +365,12 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
         "  {:<36} {:>14} {:>14} {:>9}\n",
         "", "start", "result", "change"
     );
-    let energy_label = match cfg.goal {
-        Goal::Integration(_) if cfg.lattice => "shift criterion e²₂".to_string(),
-        Goal::Integration(_) => "target (sum of squares)".to_string(),
-        Goal::SpaceFilling => "maximin search: min distance".to_string(),
-        Goal::Paper => format!("energy {}", r.energy_name.split('(').next().unwrap_or("")),
-    };
+    let pipeline = Pipeline::of(cfg);
+    let energy_label = pipeline.value_label(&r.energy_name);
     // A construction with no start of its own (the lattice) has one set: its figures are
     // shown once, the start column only for the value it chose by. A randomised draw has
     // no target to show: only its figures.
-    let drawn = drawn(cfg);
+    let drawn = pipeline.drawn();
     let same = drawn || r.start == r.output.points;
     let row = |name: &str, a: f64, b: f64, sci: bool| -> String {
         // A value the run could not compute (NaN: the note below the table says why)
@@ -422,7 +399,7 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
     };
     if drawn {
         t = format!("  {:<36} {:>14} {:>14}\n", "", "", "drawn set");
-    } else if m1.estimate.is_some() && matches!(cfg.goal, Goal::Integration(_)) && !cfg.lattice {
+    } else if m1.estimate.is_some() && matches!(pipeline, Pipeline::Descent(_)) {
         // The target from the same random pairs: a sum of squares at or below 0 is one
         // the sample cannot resolve.
         let shown = |v: f64| {
@@ -439,7 +416,7 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
             shown(r.energy.1),
             "-"
         );
-    } else if r.output.points.n() < 2 && !matches!(cfg.goal, Goal::Integration(_)) {
+    } else if r.output.points.n() < 2 && pipeline.target().is_none() {
         // An energy of pairs is 0 for a single point, which says nothing about it.
         t += &row(&energy_label, f64::INFINITY, f64::INFINITY, true);
     } else {
@@ -823,7 +800,8 @@ pub(crate) fn region_table(
         _ => cfg.s,
     };
     // A goal's run in a region says what its stages did instead of the start it drew.
-    if let (Goal::Integration(_), false) = (&cfg.goal, r.stages.is_empty()) {
+    let integration = Pipeline::of(cfg).target().is_some();
+    if integration && !r.stages.is_empty() {
         let stages: Vec<String> = r.stages.iter().map(|s| s.to_string()).collect();
         return Ok(format!(
             "stillpoint: n = {}, s = {} in {}, integration goal\n  {}\n\n",
@@ -845,7 +823,6 @@ pub(crate) fn region_table(
             Init::Points(_) => "points from file".into(),
         },
     );
-    let integration = matches!(cfg.goal, Goal::Integration(_));
     Ok(t + &region_rows(a, b, r, out, integration))
 }
 
