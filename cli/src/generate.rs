@@ -28,7 +28,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     if a.plot.is_some() && cfg.s < 2 {
         bail!("invalid --plot with -s = {}: plots need s ≥ 2", cfg.s);
     }
-    notes_before(&resolved);
+    notes_before(&resolved, a.quiet);
     let plan = checkpoint_plan(
         a.checkpoint.clone(),
         a.checkpoint_every,
@@ -46,13 +46,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         given["--constraint"] = json!(a.constraint);
         given["--mixture"] = json!(a.mixture);
     }
-    let mut meta = file_header(&report, cfg, &given)?;
-    if let Some(m) = &resolved.mixture {
-        mixture_header(&mut meta, m.components());
-    }
-    if let Some(b) = &resolved.bounds {
-        meta["parameters"]["bounds"] = json!(b.text());
-    }
+    let mut meta = file_header(&report, cfg, &given, &resolved)?;
     // The run's outputs appear together or not at all.
     let staging = io::Staging::begin();
     if let Some(path) = &a.trajectory {
@@ -93,14 +87,11 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     }
     let summary = match (a.json, cfg.region().is_some()) {
         (true, false) => report_json(&report, cfg)?,
-        (true, true) => {
-            let mut v = region_json(&report, cfg)?;
-            if let Some(m) = &resolved.mixture {
-                v["s"] = json!(m.components());
-                v["figures_in"] = json!(mixture_figures(m.components()));
-            }
-            v
-        }
+        (true, true) => region_json(
+            &report,
+            cfg,
+            resolved.mixture.as_ref().map(|m| m.components()),
+        )?,
         (false, false) => Value::String(report_table(&report, cfg, a.output.as_ref())?),
         (false, true) => Value::String(region_table(&report, cfg, a.output.as_ref())?),
     };
@@ -323,7 +314,7 @@ fn write_baseline(a: &GenerateArgs, resolved: &Resolved) -> Result<()> {
             bail!("invalid {flag} with --method {}: a baseline writes its points only (see `stillpoint baseline`)", a.method.as_deref().unwrap_or_default());
         }
     }
-    notes_before(resolved);
+    notes_before(resolved, a.quiet);
     let outcome = resolved.run(None, |_| {})?;
     let mut meta = json!({"generator": "stillpoint", "method": a.method, "seed": a.seed});
     if let Some(b) = &resolved.bounds {
@@ -362,10 +353,15 @@ fn rule_header(meta: &mut Value, resolved: &Resolved) -> &'static str {
     phrase
 }
 
-/// Says what is unusual, and how long a long run may take, before it starts (the notes
-/// print even with -q, which hides progress only).
-fn notes_before(resolved: &Resolved) {
-    for text in resolved.notes_as(&flag_name) {
+/// Says what is unusual (even with -q, which hides progress only), and how long a long
+/// run may take (not with -q), before it starts.
+fn notes_before(resolved: &Resolved, quiet: bool) {
+    let long = (!quiet).then(|| resolved.long_run_note_as(&flag_name));
+    for text in resolved
+        .unusual_as(&flag_name)
+        .into_iter()
+        .chain(long.flatten())
+    {
         note(&format!("note: {text}"));
     }
 }

@@ -198,16 +198,26 @@ impl Resolved {
     }
 
     /// What a front end says before the run, options named by `spell`: what the run will
-    /// do that its caller may not expect ([`Pipeline::notes`]), then, when the estimate
-    /// on the current thread pool is above
-    /// [`super::dispatch::LONG_RUN_SECONDS`], how long it may take.
+    /// do that its caller may not expect ([`Resolved::unusual_as`]), then how long it may
+    /// take when that is long ([`Resolved::long_run_note_as`]).
     pub fn notes_as(&self, spell: &dyn Fn(&str) -> String) -> Vec<String> {
-        let mut notes = match &self.job {
+        let mut notes = self.unusual_as(spell);
+        notes.extend(self.long_run_note_as(spell));
+        notes
+    }
+
+    /// What the run will do that its caller may not expect ([`Pipeline::notes`]).
+    pub fn unusual_as(&self, spell: &dyn Fn(&str) -> String) -> Vec<String> {
+        match &self.job {
             Job::Run(cfg) => Pipeline::of(cfg).notes(cfg, spell),
             Job::Baseline { .. } | Job::Law { .. } => Vec::new(),
-        };
-        notes.extend(job_note(&self.job, self.estimate_seconds(), spell));
-        notes
+        }
+    }
+
+    /// How long the run may take, with what makes it cheaper, when its estimate on the
+    /// current thread pool is above [`super::dispatch::LONG_RUN_SECONDS`].
+    pub fn long_run_note_as(&self, spell: &dyn Fn(&str) -> String) -> Option<String> {
+        job_note(&self.job, self.estimate_seconds(), spell)
     }
 
     /// The estimated seconds of what the request runs, on `threads` threads.
