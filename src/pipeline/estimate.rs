@@ -128,12 +128,42 @@ const LATTICE_FIXED: f64 = 0.004;
 
 /// The paper's pipeline, one pass over the pairs per solver step: steps · n² · (a + b ·
 /// d), from n = 256 to 2048 at d = 5 and 2048 at d = 2 (0.68 s to 35.7 s). Runs whose
-/// dynamics settle before the step budget take less (at d = 2 and n ≤ 1600, eq. 48's
-/// small q: 0.1 s to 4.6 s).
+/// dynamics settle before the step budget take fewer steps ([`SETTLE_STEPS`]).
 const PAPER_STEP: Affine = Affine {
     a: 1.25e-9,
     b: 1.45e-9,
 };
+
+/// At s = 2, with eq. 48's (q, p) inside the range it was fitted on, the DEM converges
+/// long before its step budget, after fewer steps as n grows: about
+/// [`SETTLE_STEPS`] · min(1, [`SETTLE_FROM_N`] / n)^[`SETTLE_DECAY`] steps. Fitted to the
+/// processor time of `--method paper` on one thread at n = 128 to 1500 (0.018 s to
+/// 1.60 s; 122 to 296 steps taken), where the full budget was 3.1× over at 256 × 2; at
+/// n = 2048, outside the fitted range, the run takes its 1000 steps (14.1 s).
+const SETTLE_STEPS: f64 = 300.0;
+/// See [`SETTLE_STEPS`].
+const SETTLE_FROM_N: f64 = 256.0;
+/// See [`SETTLE_STEPS`].
+const SETTLE_DECAY: f64 = 0.45;
+
+/// The DEM steps of the paper's run of `cfg`: its budget, or fewer where the dynamics
+/// settle early ([`SETTLE_STEPS`]).
+fn dem_steps(cfg: &GenerateConfig) -> f64 {
+    use crate::config::EnergyKind;
+    let budget = cfg.steps as f64;
+    let settles = cfg.s == 2
+        && cfg.region().is_none()
+        && cfg.energy == EnergyKind::Uqp
+        && cfg.q.is_none()
+        && cfg.p.is_none()
+        && cfg.solver == crate::solve::Solver::Dem
+        && crate::energies::paper_qp(cfg.n, cfg.s).in_fitted_range;
+    if !settles {
+        return budget;
+    }
+    let n = cfg.n as f64;
+    budget.min(SETTLE_STEPS * (SETTLE_FROM_N / n).min(1.0).powf(SETTLE_DECAY))
+}
 
 /// A region's run, steps · n · (a + b · n) (the boundary projections, the pairs): from
 /// a ball at d = 2 with n = 100 to 800 (0.98 s to 26.1 s). Runs at d = 3 and 5 were not
@@ -476,7 +506,7 @@ fn exchange_work(n: usize, s: usize, forms: usize) -> f64 {
 pub(crate) fn paper_seconds(cfg: &GenerateConfig) -> f64 {
     let (n, s) = (cfg.n as f64, cfg.s as f64);
     let polish_steps = if cfg.polish.is_some() { cfg.steps } else { 0 };
-    let steps = (cfg.steps + polish_steps) as f64;
+    let steps = dem_steps(cfg) + polish_steps as f64;
     steps * n * n * PAPER_STEP.at(s) + report_seconds(cfg, cfg.n) + INTEGRATION.l * n * s
 }
 
@@ -706,6 +736,31 @@ mod tests {
                 "paper 512 × 5",
                 cell(512, 5, &|r| r.method = Some("paper".into())),
                 1.90,
+            ),
+            (
+                "paper 256 × 2",
+                cell(256, 2, &|r| r.method = Some("paper".into())),
+                0.0823,
+            ),
+            (
+                "paper 1024 × 2",
+                cell(1024, 2, &|r| r.method = Some("paper".into())),
+                0.507,
+            ),
+            (
+                "paper 1500 × 2",
+                cell(1500, 2, &|r| r.method = Some("paper".into())),
+                1.60,
+            ),
+            (
+                "paper 2048 × 2",
+                cell(2048, 2, &|r| r.method = Some("paper".into())),
+                14.1,
+            ),
+            (
+                "space-filling 256 × 2",
+                cell(256, 2, &|r| r.goal = Some("space-filling".into())),
+                9.74,
             ),
             (
                 "nested 1024, 2048 × 5",

@@ -1,6 +1,6 @@
 //! The pipeline of every run: a [`Request`] is resolved once into a configuration
-//! ([`request`]); [`generate_with`] builds its start and problem, runs the goal's
-//! pipeline (integration, space-filling or the paper's) through the one executor,
+//! ([`request`]); [`generate_with`] runs its [`Pipeline`] (the one choice of pipeline,
+//! [`dispatch`]: integration, space-filling or the paper's) through the one executor,
 //! applies the post-steps (randomisation last), and reports on the set it returns.
 //! [`generate`], [`paper`] and [`region`] are the one-call entry points.
 
