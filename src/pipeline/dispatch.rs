@@ -146,10 +146,14 @@ impl<'a> Pipeline<'a> {
     /// How a design space's set is finished after the run: what the pipeline made its
     /// set for.
     pub(crate) fn finish(self, cfg: &GenerateConfig) -> Finish {
-        match (self, &cfg.goal) {
-            (Pipeline::Paper, Goal::SpaceFilling) | (Pipeline::SpaceFilling, _) => Finish::Spread,
-            (Pipeline::Paper, _) => Finish::Nothing,
-            _ => Finish::Discrepancy,
+        match self {
+            Pipeline::Paper if matches!(cfg.goal, Goal::SpaceFilling) => Finish::Spread,
+            Pipeline::Paper => Finish::Nothing,
+            Pipeline::SpaceFilling => Finish::Spread,
+            Pipeline::Descent(_)
+            | Pipeline::Lattice(_)
+            | Pipeline::TentDraw(_)
+            | Pipeline::RegionIntegration(_) => Finish::Discrepancy,
         }
     }
 
