@@ -302,6 +302,9 @@ mod tests {
     use crate::pipeline::request::{Arg, Job};
     use crate::Request;
 
+    /// A request's size and its options by name.
+    type Cell = (usize, usize, &'static [(&'static str, &'static str)]);
+
     /// A request of `n` points in `s` dimensions with `options` set by name.
     fn resolved(
         n: usize,
@@ -337,7 +340,7 @@ mod tests {
 
     #[test]
     fn every_pipeline_is_reached_by_a_request_and_makes_its_set() {
-        let requests: [(usize, usize, &[(&str, &str)]); 7] = [
+        let requests: [Cell; 7] = [
             (24, 2, &[("method", "paper")]),
             (24, 2, &[("goal", "space-filling")]),
             (24, 2, &[]),
@@ -372,7 +375,7 @@ mod tests {
     #[test]
     fn a_run_estimated_above_five_seconds_says_so_with_its_estimate_before_it_starts() {
         // One request per pipeline, each above the threshold, with a short one beside it.
-        let long: [(usize, usize, &[(&str, &str)]); 7] = [
+        let long: [Cell; 7] = [
             (2048, 5, &[("method", "paper")]),
             (1024, 5, &[("goal", "space-filling")]),
             (16_000, 5, &[("target", "blend")]),
