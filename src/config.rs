@@ -219,6 +219,15 @@ impl GenerateConfig {
         }
     }
 
+    /// The same run as the paper's pipeline: the part of a goal's run that is the
+    /// paper's (the space-filling goal's DEM run).
+    pub fn as_paper(&self) -> Self {
+        GenerateConfig {
+            goal: Goal::Paper,
+            ..self.clone()
+        }
+    }
+
     /// The region, when the run is in one.
     pub fn region(&self) -> Option<&Arc<dyn Domain>> {
         match &self.space {

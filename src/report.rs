@@ -42,9 +42,9 @@ pub struct GenerateReport {
     pub shift: Option<ShiftOutcome>,
     /// The polish, when it ran: (squared discrepancy before, after, L-BFGS iterations).
     pub polish: Option<(f64, f64, usize)>,
-    /// What a goal's pipeline did, stage by stage (empty for
-    /// [`crate::config::Goal::Paper`], whose solver, shift and polish have fields of
-    /// their own).
+    /// What a goal's pipeline did, stage by stage (empty for the paper's pipeline,
+    /// [`crate::pipeline::Pipeline::Paper`], whose solver, shift and polish have fields
+    /// of their own).
     pub stages: Vec<Stage>,
     /// Wall time of the whole run in seconds.
     pub seconds: f64,

@@ -3,9 +3,6 @@
 use super::*;
 use serde::Deserialize as _;
 
-/// A run estimated to take longer than this says so before it starts.
-const LONG_RUN_SECONDS: f64 = 30.0;
-
 /// Largest n whose O(n² s) metrics a baseline file's header records (above it they would
 /// take longer than generating the points by far).
 pub(crate) const METRICS_LIMIT: usize = 20_000;
@@ -31,7 +28,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     if a.plot.is_some() && cfg.s < 2 {
         bail!("invalid --plot with -s = {}: plots need s ≥ 2", cfg.s);
     }
-    notes_before(cfg, a.quiet)?;
+    notes_before(&resolved, a.quiet);
     let plan = checkpoint_plan(
         a.checkpoint.clone(),
         a.checkpoint_every,
@@ -49,13 +46,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         given["--constraint"] = json!(a.constraint);
         given["--mixture"] = json!(a.mixture);
     }
-    let mut meta = file_header(&report, cfg, &given)?;
-    if let Some(m) = &resolved.mixture {
-        mixture_header(&mut meta, m.components());
-    }
-    if let Some(b) = &resolved.bounds {
-        meta["parameters"]["bounds"] = json!(b.text());
-    }
+    let mut meta = file_header(&report, cfg, &given, &resolved)?;
     // The run's outputs appear together or not at all.
     let staging = io::Staging::begin();
     if let Some(path) = &a.trajectory {
@@ -96,14 +87,11 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     }
     let summary = match (a.json, cfg.region().is_some()) {
         (true, false) => report_json(&report, cfg)?,
-        (true, true) => {
-            let mut v = region_json(&report, cfg)?;
-            if let Some(m) = &resolved.mixture {
-                v["s"] = json!(m.components());
-                v["figures_in"] = json!(mixture_figures(m.components()));
-            }
-            v
-        }
+        (true, true) => region_json(
+            &report,
+            cfg,
+            resolved.mixture.as_ref().map(|m| m.components()),
+        )?,
         (false, false) => Value::String(report_table(&report, cfg, a.output.as_ref())?),
         (false, true) => Value::String(region_table(&report, cfg, a.output.as_ref())?),
     };
@@ -326,6 +314,7 @@ fn write_baseline(a: &GenerateArgs, resolved: &Resolved) -> Result<()> {
             bail!("invalid {flag} with --method {}: a baseline writes its points only (see `stillpoint baseline`)", a.method.as_deref().unwrap_or_default());
         }
     }
+    notes_before(resolved, a.quiet);
     let outcome = resolved.run(None, |_| {})?;
     let mut meta = json!({"generator": "stillpoint", "method": a.method, "seed": a.seed});
     if let Some(b) = &resolved.bounds {
@@ -364,66 +353,17 @@ fn rule_header(meta: &mut Value, resolved: &Resolved) -> &'static str {
     phrase
 }
 
-/// Says what is unusual, and how long a long run may take, before it starts (the notes
-/// print even with -q, which hides progress only).
-fn notes_before(cfg: &GenerateConfig, quiet: bool) -> Result<()> {
-    if cfg.goal == Goal::Paper {
-        if matches!(cfg.energy, EnergyKind::Discrepancy(_)) && cfg.solver == Solver::Dem {
-            note(
-                "note: the DEM is unstable on a discrepancy energy and returns its lowest early \
-                 state; --integrator lbfgs is the solver for discrepancy energies",
-            );
-        }
-        let fit = paper_qp(cfg.n, cfg.s);
-        if cfg.region().is_none()
-            && cfg.energy == EnergyKind::Uqp
-            && (cfg.q.is_none() || cfg.p.is_none())
-            && !fit.in_fitted_range
-        {
-            note(&format!(
-                "note: (n, s) = ({}, {}) lies outside the range eq. 48 was fitted on \
-                 (1 ≤ s ≤ 20, s ≤ n ≤ 1500): q and p are extrapolated{}",
-                cfg.n,
-                cfg.s,
-                if fit.q != fit.raw_q || fit.p != fit.raw_p {
-                    " and clamped into [0.05, 1]"
-                } else {
-                    ""
-                }
-            ));
-        }
-    }
-    if !quiet && !matches!(cfg.goal, Goal::Integration(_)) {
-        let estimate = estimate_seconds(cfg)?;
-        if estimate > LONG_RUN_SECONDS {
-            note(&format!(
-                "note: this run may take about {} (n = {}, s = {}, up to {} steps, timed on \
-                 this machine); --steps K or a smaller -n make it cheaper",
-                studies::human_seconds(estimate),
-                cfg.n,
-                cfg.s,
-                cfg.steps
-            ));
-        }
-    }
-    if !quiet && matches!(cfg.goal, Goal::Integration(_)) {
-        // The library's cost model of the goal's pipeline (the lattice's search and its
-        // report's figures included).
-        let estimate = stillpoint::pipeline::estimate::estimate_seconds(cfg);
-        if estimate > LONG_RUN_SECONDS {
-            note(&format!(
-                "note: this run may take about {} (n = {}, s = {}, estimated for this \
-                 machine's cores); --progress plain shows its stages, Ctrl-C stops it",
-                studies::human_seconds(estimate),
-                cfg.n,
-                cfg.s
-            ));
-        }
-    }
-    for text in stillpoint::pipeline::estimate::notes(cfg) {
+/// Says what is unusual (even with -q, which hides progress only), and how long a long
+/// run may take (not with -q), before it starts.
+fn notes_before(resolved: &Resolved, quiet: bool) {
+    let long = (!quiet).then(|| resolved.long_run_note_as(&flag_name));
+    for text in resolved
+        .unusual_as(&flag_name)
+        .into_iter()
+        .chain(long.flatten())
+    {
         note(&format!("note: {text}"));
     }
-    Ok(())
 }
 
 /// A note on standard error; a standard error that cannot be written loses the note, not

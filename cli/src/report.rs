@@ -1,10 +1,121 @@
 //! Reports: the tables and JSON a run or `eval` prints, and the point-file headers.
 
 use super::*;
-use stillpoint::post::randomize::Randomize;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use stillpoint::integrators::{RunOutput, StopReason};
+use stillpoint::pipeline::Pipeline;
+use stillpoint::post::shift::ShiftOutcome;
+use stillpoint::quality::region::RegionMetrics;
+use stillpoint::report::Stage;
 
 pub(crate) fn metrics_json(m: &Metrics) -> Value {
     serde_json::to_value(m).unwrap_or(Value::Null)
+}
+
+/// A typed report as the JSON value the command line writes (its keys in order: the
+/// writer sorts them, so a field's place in its struct does not change the bytes).
+fn as_json(report: &impl Serialize) -> Result<Value> {
+    Ok(serde_json::to_value(report)?)
+}
+
+/// What made a report: the package and its version.
+fn generator() -> String {
+    format!("stillpoint {}", env!("CARGO_PKG_VERSION"))
+}
+
+/// The largest step the solver reached.
+fn last_step(output: &RunOutput) -> usize {
+    output.trajectory.iter().map(|t| t.step).max().unwrap_or(0)
+}
+
+/// The facts the solver reported (κ, restarts, evaluations …), by name; a value that is
+/// not finite is written as null.
+fn facts(r: &GenerateReport) -> BTreeMap<&str, f64> {
+    r.output
+        .info
+        .iter()
+        .map(|(k, v)| (k.as_str(), *v))
+        .collect()
+}
+
+/// Where eq. 48's (q, p) came from.
+#[derive(Serialize)]
+struct Eq48 {
+    used: bool,
+    in_fitted_range: bool,
+    clamped: bool,
+}
+
+/// The polish: the squared discrepancy before and after, and its L-BFGS iterations.
+#[derive(Serialize)]
+struct Polish {
+    before: f64,
+    after: f64,
+    iterations: usize,
+}
+
+/// The `--json` report of a cube run of the paper's pipeline.
+#[derive(Serialize)]
+struct PaperJson<'a> {
+    generator: String,
+    n: usize,
+    s: usize,
+    energy: &'a str,
+    q: &'a str,
+    p: f64,
+    precision: &'static str,
+    init: &'static str,
+    seed: u64,
+    steps: usize,
+    stop: StopReason,
+    kappa: Option<f64>,
+    restarts: Option<f64>,
+    eq48: Eq48,
+    #[serde(skip_serializing_if = "<[Stage]>::is_empty")]
+    stages: &'a [Stage],
+    run: BTreeMap<&'a str, f64>,
+    energy_start: f64,
+    energy_result: f64,
+    metrics_start: &'a Metrics,
+    metrics_result: &'a Metrics,
+    shift: &'a Option<ShiftOutcome>,
+    polish: Option<Polish>,
+    seconds: f64,
+}
+
+/// A goal run's totals over its descents.
+#[derive(Serialize)]
+struct Totals {
+    exchanges_accepted: usize,
+    lbfgs_iterations: usize,
+    descents_skipped: Vec<String>,
+}
+
+/// One phase of a run and its wall seconds.
+#[derive(Serialize)]
+struct Timing<'a> {
+    phase: &'a str,
+    seconds: f64,
+}
+
+/// The `--json` report of a goal run in the cube.
+#[derive(Serialize)]
+struct GoalJson<'a> {
+    generator: String,
+    n: usize,
+    s: usize,
+    seed: u64,
+    goal: Option<String>,
+    energy: &'a str,
+    energy_start: f64,
+    energy_result: f64,
+    stages: &'a [Stage],
+    totals: Totals,
+    metrics_start: &'a Metrics,
+    metrics_result: &'a Metrics,
+    seconds: f64,
+    timings: Vec<Timing<'a>>,
 }
 
 /// The `--json` report of a cube run: settings, run facts, energies and metrics of the
@@ -13,112 +124,233 @@ pub(crate) fn metrics_json(m: &Metrics) -> Value {
 pub(crate) fn report_json(r: &GenerateReport, cfg: &GenerateConfig) -> Result<Value> {
     let (m0, m1) = r.cube_metrics()?;
     let (Some(choice), Some(solver)) = (&r.choice, r.solver()) else {
-        return Ok(goal_json(r, cfg, m0, m1));
+        return as_json(&goal_json(r, cfg, m0, m1));
     };
-    let init = match &cfg.init {
-        Init::Halton => "halton".to_string(),
-        Init::Random => "random".to_string(),
-        Init::Points(_) => "file".to_string(),
-    };
-    let mut v = json!({
-        "generator": format!("stillpoint {}", env!("CARGO_PKG_VERSION")),
-        "n": cfg.n,
-        "s": cfg.s,
-        "energy": r.energy_name,
-        "q": choice.q,
-        "p": finite_or_null(choice.p),
-        "precision": cfg.precision.label(),
-        "init": init,
-        "seed": cfg.seed,
-        "steps": solver.trajectory.iter().map(|t| t.step).max().unwrap_or(0),
-        "stop": solver.stop,
-        "kappa": solver.info("kappa").map(finite_or_null),
-        "restarts": solver.info("restarts").map(finite_or_null),
-    });
-    v["eq48"] = json!({
-        "used": choice.from_eq48,
-        "in_fitted_range": choice.eq48_in_fitted_range,
-        "clamped": choice.eq48_clamped,
-    });
-    if !r.stages.is_empty() {
-        v["stages"] = json!(r.stages);
-    }
-    v["run"] = info_json(r);
-    v["energy_start"] = finite_or_null(r.energy.0);
-    v["energy_result"] = finite_or_null(r.energy.1);
-    v["metrics_start"] = metrics_json(m0);
-    v["metrics_result"] = metrics_json(m1);
-    v["shift"] = serde_json::to_value(&r.shift).unwrap_or(Value::Null);
-    v["polish"] = match r.polish {
-        Some((a, b, it)) => json!({"before": a, "after": b, "iterations": it}),
-        None => Value::Null,
-    };
-    v["seconds"] = json!(r.seconds);
-    Ok(v)
+    as_json(&PaperJson {
+        generator: generator(),
+        n: cfg.n,
+        s: cfg.s,
+        energy: &r.energy_name,
+        q: &choice.q,
+        p: choice.p,
+        precision: cfg.precision.label(),
+        init: match &cfg.init {
+            Init::Halton => "halton",
+            Init::Random => "random",
+            Init::Points(_) => "file",
+        },
+        seed: cfg.seed,
+        steps: last_step(solver),
+        stop: solver.stop,
+        kappa: solver.info("kappa"),
+        restarts: solver.info("restarts"),
+        eq48: Eq48 {
+            used: choice.from_eq48,
+            in_fitted_range: choice.eq48_in_fitted_range,
+            clamped: choice.eq48_clamped,
+        },
+        stages: &r.stages,
+        run: facts(r),
+        energy_start: r.energy.0,
+        energy_result: r.energy.1,
+        metrics_start: m0,
+        metrics_result: m1,
+        shift: &r.shift,
+        polish: r.polish.map(|(before, after, iterations)| Polish {
+            before,
+            after,
+            iterations,
+        }),
+        seconds: r.seconds,
+    })
 }
 
 /// The `--json` report of a goal run: its goal, its stages as data (each start's
 /// candidates, each descent's rounds, the searches), the value it lowered or raised,
 /// and the metrics of the start and the result.
-fn goal_json(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Metrics) -> Value {
-    let descents = r.stages.iter().filter_map(|st| match st {
-        stillpoint::report::Stage::Descent(d) => Some(d),
-        _ => None,
-    });
-    let (mut accepted, mut iterations, mut skipped) = (0, 0, Vec::new());
-    for d in descents {
-        accepted += d.accepted();
-        iterations += d.lbfgs_iterations();
-        skipped.extend(d.skipped.clone());
+fn goal_json<'a>(
+    r: &'a GenerateReport,
+    cfg: &GenerateConfig,
+    m0: &'a Metrics,
+    m1: &'a Metrics,
+) -> GoalJson<'a> {
+    let mut totals = Totals {
+        exchanges_accepted: 0,
+        lbfgs_iterations: 0,
+        descents_skipped: Vec::new(),
+    };
+    for st in &r.stages {
+        if let Stage::Descent(d) = st {
+            totals.exchanges_accepted += d.accepted();
+            totals.lbfgs_iterations += d.lbfgs_iterations();
+            totals.descents_skipped.extend(d.skipped.clone());
+        }
     }
-    json!({
-        "generator": format!("stillpoint {}", env!("CARGO_PKG_VERSION")),
-        "n": cfg.n,
-        "s": cfg.s,
-        "seed": cfg.seed,
-        "goal": goal_name(cfg),
-        "energy": r.energy_name,
-        "energy_start": finite_or_null(r.energy.0),
-        "energy_result": finite_or_null(r.energy.1),
-        "stages": r.stages,
-        "totals": {
-            "exchanges_accepted": accepted,
-            "lbfgs_iterations": iterations,
-            "descents_skipped": skipped,
-        },
-        "metrics_start": metrics_json(m0),
-        "metrics_result": metrics_json(m1),
-        "seconds": r.seconds,
-        "timings": r.timings.iter().map(|(k, v)| json!({"phase": k, "seconds": v})).collect::<Vec<_>>(),
-    })
+    GoalJson {
+        generator: generator(),
+        n: cfg.n,
+        s: cfg.s,
+        seed: cfg.seed,
+        goal: goal_name(cfg),
+        energy: &r.energy_name,
+        energy_start: r.energy.0,
+        energy_result: r.energy.1,
+        stages: &r.stages,
+        totals,
+        metrics_start: m0,
+        metrics_result: m1,
+        seconds: r.seconds,
+        timings: r
+            .timings
+            .iter()
+            .map(|(phase, seconds)| Timing {
+                phase,
+                seconds: *seconds,
+            })
+            .collect(),
+    }
+}
+
+/// A DEM setting as the command line takes it: a number or a word (`auto`, `off`).
+#[derive(Serialize)]
+#[serde(untagged)]
+enum Setting {
+    Fixed(f64),
+    Word(&'static str),
 }
 
 /// The settings of a DEM as the command line writes them.
-pub(crate) fn dem_settings(dem: &stillpoint::integrators::Dem, steps: usize) -> Value {
+#[derive(Serialize)]
+struct DemSettings {
+    steps: usize,
+    kappa: Setting,
+    restart: Setting,
+    tolerance: f64,
+}
+
+/// The settings of a DEM as the command line writes them.
+fn dem_settings(dem: &stillpoint::integrators::Dem, steps: usize) -> DemSettings {
     use stillpoint::integrators::{Kappa, Restart};
-    json!({
-        "steps": steps,
-        "kappa": match dem.kappa {
-            Kappa::Fixed(k) => json!(k),
-            Kappa::Auto { .. } => json!("auto"),
+    DemSettings {
+        steps,
+        kappa: match dem.kappa {
+            Kappa::Fixed(k) => Setting::Fixed(k),
+            Kappa::Auto { .. } => Setting::Word("auto"),
         },
-        "restart": match dem.restart {
-            Restart::Auto => json!("auto"),
-            Restart::Off => json!("off"),
-            Restart::Threshold(e) => json!(e),
+        restart: match dem.restart {
+            Restart::Auto => Setting::Word("auto"),
+            Restart::Off => Setting::Word("off"),
+            Restart::Threshold(e) => Setting::Fixed(e),
         },
-        "tolerance": dem.tolerance,
-    })
+        tolerance: dem.tolerance,
+    }
+}
+
+/// A point file's header: what made it and what came out.
+#[derive(Serialize)]
+struct FileHeader<'a> {
+    generator: &'static str,
+    version: &'static str,
+    seed: u64,
+    parameters: Parameters<'a>,
+    run: RunFacts,
+    metrics: Value,
+}
+
+/// The parameters of a run as its file header records them.
+#[derive(Serialize)]
+struct Parameters<'a> {
+    n: usize,
+    s: usize,
+    #[serde(flatten)]
+    place: Option<Place<'a>>,
+    #[serde(flatten)]
+    how: How<'a>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    mixture: Option<MixtureFigures>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    bounds: Option<String>,
+}
+
+/// A region run's region: as the command line named it, and as the library holds it.
+#[derive(Serialize)]
+struct Place<'a> {
+    region: &'a Value,
+    domain: String,
+}
+
+/// A mixture's components, and where its figures live.
+#[derive(Serialize)]
+struct MixtureFigures {
+    components: usize,
+    figures_in: String,
+}
+
+/// What ran: a goal (its settings are its goal; the paper's it does not use would only
+/// mislead), or the paper's pipeline with its settings.
+#[derive(Serialize)]
+#[serde(untagged)]
+enum How<'a> {
+    Goal {
+        goal: String,
+        randomize: Option<String>,
+        stages: &'a [Stage],
+        /// The lengths of the prefixes made for their size, old and new.
+        sizes: Vec<usize>,
+    },
+    Paper {
+        energy: &'a str,
+        #[serde(flatten)]
+        cube: Option<CubeSettings>,
+        init: String,
+        integrator: &'static str,
+        #[serde(flatten)]
+        dem: DemSettings,
+        /// The header reproduces its file: a randomised paper run says so.
+        #[serde(skip_serializing_if = "Option::is_none")]
+        randomize: Option<&'static str>,
+    },
+}
+
+/// The paper's settings that only the cube has.
+#[derive(Serialize)]
+struct CubeSettings {
+    q: Option<String>,
+    p: Option<f64>,
+    precision: &'static str,
+    pq_from_eq48: Option<bool>,
+    shifts: usize,
+    polish: Option<String>,
+}
+
+/// The solver's facts in a header (none for a goal, whose solver runs are its stages).
+#[derive(Serialize)]
+struct RunFacts {
+    #[serde(flatten)]
+    solver: Option<SolverFacts>,
+    kernel: &'static str,
+}
+
+/// The paper's solver run in a header.
+#[derive(Serialize)]
+struct SolverFacts {
+    steps: Option<usize>,
+    stop: Option<StopReason>,
+    kappa: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    restarts: Option<Option<f64>>,
 }
 
 /// The header of a generated point file, in the cube or a region: what made it
 /// (generator, version, seed, every parameter) and what came out (run facts and the
 /// result's quality). Nothing in it depends on the clock or the thread count, so the file
-/// is the same bytes every time. `given` is how the command line named the region.
+/// is the same bytes every time. `given` is how the command line named the region; a
+/// mixture's header has its S components and says where its figures live.
 pub(crate) fn file_header(
     r: &GenerateReport,
     cfg: &GenerateConfig,
     given: &Value,
+    resolved: &Resolved,
 ) -> Result<Value> {
     let init = match &cfg.init {
         Init::Halton => "halton".to_string(),
@@ -130,113 +362,76 @@ pub(crate) fn file_header(
         Solver::Lbfgs => "lbfgs",
     };
     let solver = r.solver();
-    let steps = solver.map(|o| o.trajectory.iter().map(|t| t.step).max().unwrap_or(0));
-    let info = |k: &str| solver.and_then(|o| o.info(k)).map(finite_or_null);
-    let (mut parameters, mut run, metrics) = match cfg.region() {
-        None => (
-            json!({
-                "n": cfg.n,
-                "s": cfg.s,
-                "energy": r.energy_name,
-                "q": r.choice.as_ref().map(|c| c.q.clone()),
-                "p": r.choice.as_ref().map(|c| finite_or_null(c.p)),
-                "precision": cfg.precision.label(),
-                "pq_from_eq48": r.choice.as_ref().map(|c| c.from_eq48),
-                "init": init,
-                "integrator": integrator,
-                "shifts": cfg.shifts,
-                "polish": cfg.polish.map(|k| format!("{k:?}")),
-            }),
-            json!({
-                "steps": steps,
-                "stop": solver.map(|o| o.stop),
-                "kappa": info("kappa"),
-                "restarts": info("restarts"),
-                "kernel": stillpoint::energies::pairs::vector_path(),
-            }),
-            metrics_json(r.cube_metrics()?.1),
-        ),
-        Some(domain) => (
-            json!({
-                "n": cfg.n,
-                "s": cfg.s,
-                "region": given,
-                "domain": format!("{domain:?}"),
-                "energy": r.energy_name,
-                "init": init,
-                "integrator": integrator,
-            }),
-            json!({
-                "steps": steps,
-                "stop": solver.map(|o| o.stop),
-                "kappa": info("kappa"),
-                "kernel": stillpoint::energies::pairs::vector_path(),
-            }),
-            serde_json::to_value(r.region_metrics()?.1).unwrap_or(Value::Null),
-        ),
+    let info = |k: &str| solver.and_then(|o| o.info(k));
+    let place = cfg.region().map(|domain| Place {
+        region: given,
+        domain: format!("{domain:?}"),
+    });
+    let metrics = match cfg.region() {
+        None => metrics_json(r.cube_metrics()?.1),
+        Some(_) => serde_json::to_value(r.region_metrics()?.1).unwrap_or(Value::Null),
     };
-    if let (Some(goal), Value::Object(p)) = (goal_name(cfg), &mut parameters) {
-        // A goal run's parameters are its goal; the paper's settings it does not use
-        // would only mislead.
-        p.retain(|k, _| ["n", "s", "region", "domain"].contains(&k.as_str()));
-        p.insert("goal".into(), json!(goal));
-        p.insert(
-            "randomize".into(),
-            json!(cfg.randomize.map(|r| format!("{r:?}").to_lowercase())),
-        );
-        p.insert("stages".into(), json!(r.stages));
-        // A goal's solver runs are in its stages: the paper's run facts would be empty.
-        if let Value::Object(run) = &mut run {
-            run.retain(|k, _| k == "kernel");
-        }
-        // The lengths of the prefixes made for their size, old and new.
-        let sizes: Vec<usize> = match (&cfg.extend, cfg.nested.is_empty()) {
-            (Some(old), _) => vec![old.n(), cfg.n],
-            (None, false) => cfg.nested.clone(),
-            (None, true) => vec![cfg.n],
-        };
-        p.insert("sizes".into(), json!(sizes));
-    } else if let (Value::Object(p), Value::Object(d)) =
-        (&mut parameters, dem_settings(&cfg.dem, cfg.steps))
-    {
-        p.extend(d);
-        // The header reproduces its file: a randomised paper run says so.
-        if let Some(kind) = cfg.randomize {
-            p.insert("randomize".into(), json!(kind.name()));
-        }
-    }
-    Ok(json!({
-        "generator": "stillpoint generate",
-        "version": env!("CARGO_PKG_VERSION"),
-        "seed": cfg.seed,
-        "parameters": parameters,
-        "run": run,
-        "metrics": metrics,
-    }))
+    let goal = goal_name(cfg);
+    let how = match &goal {
+        Some(goal) => How::Goal {
+            goal: goal.clone(),
+            randomize: cfg.randomize.map(|r| r.name().to_string()),
+            stages: &r.stages,
+            sizes: match (&cfg.extend, cfg.nested.is_empty()) {
+                (Some(old), _) => vec![old.n(), cfg.n],
+                (None, false) => cfg.nested.clone(),
+                (None, true) => vec![cfg.n],
+            },
+        },
+        None => How::Paper {
+            energy: &r.energy_name,
+            cube: place.is_none().then(|| CubeSettings {
+                q: r.choice.as_ref().map(|c| c.q.clone()),
+                p: r.choice.as_ref().map(|c| c.p),
+                precision: cfg.precision.label(),
+                pq_from_eq48: r.choice.as_ref().map(|c| c.from_eq48),
+                shifts: cfg.shifts,
+                polish: cfg.polish.map(|k| format!("{k:?}")),
+            }),
+            init,
+            integrator,
+            dem: dem_settings(&cfg.dem, cfg.steps),
+            randomize: cfg.randomize.map(|k| k.name()),
+        },
+    };
+    let solver_facts = goal.is_none().then(|| SolverFacts {
+        steps: solver.map(last_step),
+        stop: solver.map(|o| o.stop),
+        kappa: info("kappa"),
+        restarts: place.is_none().then(|| info("restarts")),
+    });
+    let components = resolved.mixture.as_ref().map(|m| m.components());
+    as_json(&FileHeader {
+        generator: "stillpoint generate",
+        version: env!("CARGO_PKG_VERSION"),
+        seed: cfg.seed,
+        parameters: Parameters {
+            n: cfg.n,
+            s: components.unwrap_or(cfg.s),
+            place,
+            how,
+            mixture: components.map(|components| MixtureFigures {
+                components,
+                figures_in: mixture_figures(components),
+            }),
+            bounds: resolved.bounds.as_ref().map(|b| b.text()),
+        },
+        run: RunFacts {
+            solver: solver_facts,
+            kernel: stillpoint::energies::pairs::vector_path(),
+        },
+        metrics,
+    })
 }
 
 /// The goal of a goal run, as the report names it; `None` for the paper's pipeline.
 pub(crate) fn goal_name(cfg: &GenerateConfig) -> Option<String> {
-    match &cfg.goal {
-        Goal::Paper => None,
-        Goal::Integration(_) if cfg.lattice => Some(
-            "integration (the shifted tent lattice: one construction, no target or descent)".into(),
-        ),
-        Goal::Integration(_) if drawn(cfg) => Some(
-            "integration (one draw of the randomised tent lattice: no target; its figures are \
-             the drawn set's)"
-                .into(),
-        ),
-        Goal::Integration(t) => Some(format!("integration (target {})", t.name())),
-        Goal::SpaceFilling => Some("space-filling".into()),
-    }
-}
-
-/// Whether the run's set is a draw of the shift-and-tent randomisation: a random set made
-/// for the mean of f, whose figures are those of the draw, not a target the run lowered
-/// (its start, the unrandomised lattice, is not a start it improved on).
-fn drawn(cfg: &GenerateConfig) -> bool {
-    matches!(cfg.goal, Goal::Integration(_)) && cfg.randomize == Some(Randomize::Tent)
+    Pipeline::of(cfg).name(cfg)
 }
 
 /// What the solver did, in one line: the DEM's steps, κ and restarts, or L-BFGS's
@@ -260,25 +455,6 @@ fn solver_line(output: &stillpoint::integrators::RunOutput) -> String {
             "L-BFGS: {steps} iterations ({:?}), {restarts} restart(s)",
             r.stop
         ),
-    }
-}
-
-/// The facts the solver reported (κ, restarts, evaluations …), by name.
-fn info_json(r: &GenerateReport) -> Value {
-    Value::Object(
-        r.output
-            .info
-            .iter()
-            .map(|(k, v)| (k.clone(), finite_or_null(*v)))
-            .collect(),
-    )
-}
-
-pub(crate) fn finite_or_null(v: f64) -> Value {
-    if v.is_finite() {
-        json!(v)
-    } else {
-        Value::Null
     }
 }
 
@@ -384,16 +560,12 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
         "  {:<36} {:>14} {:>14} {:>9}\n",
         "", "start", "result", "change"
     );
-    let energy_label = match cfg.goal {
-        Goal::Integration(_) if cfg.lattice => "shift criterion e²₂".to_string(),
-        Goal::Integration(_) => "target (sum of squares)".to_string(),
-        Goal::SpaceFilling => "maximin search: min distance".to_string(),
-        Goal::Paper => format!("energy {}", r.energy_name.split('(').next().unwrap_or("")),
-    };
+    let pipeline = Pipeline::of(cfg);
+    let energy_label = pipeline.value_label(&r.energy_name);
     // A construction with no start of its own (the lattice) has one set: its figures are
     // shown once, the start column only for the value it chose by. A randomised draw has
     // no target to show: only its figures.
-    let drawn = drawn(cfg);
+    let drawn = pipeline.drawn();
     let same = drawn || r.start == r.output.points;
     let row = |name: &str, a: f64, b: f64, sci: bool| -> String {
         // A value the run could not compute (NaN: the note below the table says why)
@@ -422,7 +594,7 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
     };
     if drawn {
         t = format!("  {:<36} {:>14} {:>14}\n", "", "", "drawn set");
-    } else if m1.estimate.is_some() && matches!(cfg.goal, Goal::Integration(_)) && !cfg.lattice {
+    } else if m1.estimate.is_some() && matches!(pipeline, Pipeline::Descent(_)) {
         // The target from the same random pairs: a sum of squares at or below 0 is one
         // the sample cannot resolve.
         let shown = |v: f64| {
@@ -439,7 +611,7 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
             shown(r.energy.1),
             "-"
         );
-    } else if r.output.points.n() < 2 && !matches!(cfg.goal, Goal::Integration(_)) {
+    } else if r.output.points.n() < 2 && pipeline.target().is_none() {
         // An energy of pairs is 0 for a single point, which says nothing about it.
         t += &row(&energy_label, f64::INFINITY, f64::INFINITY, true);
     } else {
@@ -710,25 +882,52 @@ pub(crate) fn points_json(points: &PointSet) -> Value {
 }
 
 /// The `--json` report of a region run.
-pub(crate) fn region_json(r: &GenerateReport, cfg: &GenerateConfig) -> Result<Value> {
+#[derive(Serialize)]
+struct RegionJson<'a> {
+    generator: String,
+    n: usize,
+    s: usize,
+    region: Option<String>,
+    energy: &'a str,
+    seed: u64,
+    steps: usize,
+    stop: StopReason,
+    kappa: Option<f64>,
+    energy_e_inf_g_reduction: f64,
+    run: BTreeMap<&'a str, f64>,
+    metrics_start: &'a RegionMetrics,
+    metrics_result: &'a RegionMetrics,
+    seconds: f64,
+    /// A mixture's: where its figures live (the written set has one component more).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    figures_in: Option<String>,
+}
+
+/// The `--json` report of a region run; a mixture's (of `components`) says where its
+/// figures live.
+pub(crate) fn region_json(
+    r: &GenerateReport,
+    cfg: &GenerateConfig,
+    components: Option<usize>,
+) -> Result<Value> {
     let (m0, m1) = r.region_metrics()?;
-    let mut v = json!({
-        "generator": format!("stillpoint {}", env!("CARGO_PKG_VERSION")),
-        "n": cfg.n,
-        "s": cfg.s,
-        "region": cfg.region().map(|d| format!("{d:?}")),
-        "energy": r.energy_name,
-        "seed": cfg.seed,
-        "steps": r.output.trajectory.iter().map(|t| t.step).max().unwrap_or(0),
-        "stop": r.output.stop,
-        "kappa": r.output.info("kappa"),
-        "energy_e_inf_g_reduction": finite_or_null(r.reduction()?),
-    });
-    v["run"] = info_json(r);
-    v["metrics_start"] = serde_json::to_value(m0).unwrap_or(Value::Null);
-    v["metrics_result"] = serde_json::to_value(m1).unwrap_or(Value::Null);
-    v["seconds"] = json!(r.seconds);
-    Ok(v)
+    as_json(&RegionJson {
+        generator: generator(),
+        n: cfg.n,
+        s: components.unwrap_or(cfg.s),
+        region: cfg.region().map(|d| format!("{d:?}")),
+        energy: &r.energy_name,
+        seed: cfg.seed,
+        steps: last_step(&r.output),
+        stop: r.output.stop,
+        kappa: r.output.info("kappa"),
+        energy_e_inf_g_reduction: r.reduction()?,
+        run: facts(r),
+        metrics_start: m0,
+        metrics_result: m1,
+        seconds: r.seconds,
+        figures_in: components.map(mixture_figures),
+    })
 }
 
 /// Where a mixture's region figures are computed: the run's own coordinates.
@@ -746,15 +945,6 @@ fn run_coordinates(components: usize) -> String {
         2 => "x1".into(),
         k => format!("x1..x{}", k - 1),
     }
-}
-
-/// A mixture's file header: the written set's S components, and where its figures live.
-pub(crate) fn mixture_header(meta: &mut Value, components: usize) {
-    meta["parameters"]["s"] = json!(components);
-    meta["parameters"]["mixture"] = json!({
-        "components": components,
-        "figures_in": mixture_figures(components),
-    });
 }
 
 /// A region of linear constraints (a mixture's among them) as the user gave it.
@@ -823,7 +1013,8 @@ pub(crate) fn region_table(
         _ => cfg.s,
     };
     // A goal's run in a region says what its stages did instead of the start it drew.
-    if let (Goal::Integration(_), false) = (&cfg.goal, r.stages.is_empty()) {
+    let integration = Pipeline::of(cfg).target().is_some();
+    if integration && !r.stages.is_empty() {
         let stages: Vec<String> = r.stages.iter().map(|s| s.to_string()).collect();
         return Ok(format!(
             "stillpoint: n = {}, s = {} in {}, integration goal\n  {}\n\n",
@@ -845,7 +1036,6 @@ pub(crate) fn region_table(
             Init::Points(_) => "points from file".into(),
         },
     );
-    let integration = matches!(cfg.goal, Goal::Integration(_));
     Ok(t + &region_rows(a, b, r, out, integration))
 }
 

@@ -1,6 +1,6 @@
 //! The space-filling goal in the cube.
 
-use crate::config::{GenerateConfig, Goal};
+use crate::config::GenerateConfig;
 use crate::energies::PointSet;
 use crate::goals::goal_report;
 use crate::goals::paper::paper_run;
@@ -23,8 +23,7 @@ pub(crate) fn space_filling_run(
     cfg: &GenerateConfig,
     on_event: &mut impl FnMut(Event),
 ) -> Result<GenerateReport, Error> {
-    let mut paper_cfg = cfg.clone();
-    paper_cfg.goal = Goal::Paper;
+    let mut paper_cfg = cfg.as_paper();
     paper_cfg.randomize = None;
     let paper = paper_run(&paper_cfg, None, &mut *on_event)?;
     on_event(Event::Stage {

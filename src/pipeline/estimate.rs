@@ -13,9 +13,11 @@
 //! and on a loaded machine it is longer by the load. It is a warning's estimate, not a
 //! benchmark.
 
+use super::dispatch::{job_note, Pipeline};
 use super::request::{Job, Resolved};
-use crate::config::{GenerateConfig, Goal};
+use crate::config::GenerateConfig;
 use crate::quality::effort::{Budget, Effort, EXCHANGE_MAX_N};
+use crate::quality::target::Target;
 use crate::sequences::Baseline;
 
 /// The thread count the constants were measured with; a larger pool is taken to divide
@@ -126,12 +128,42 @@ const LATTICE_FIXED: f64 = 0.004;
 
 /// The paper's pipeline, one pass over the pairs per solver step: steps · n² · (a + b ·
 /// d), from n = 256 to 2048 at d = 5 and 2048 at d = 2 (0.68 s to 35.7 s). Runs whose
-/// dynamics settle before the step budget take less (at d = 2 and n ≤ 1600, eq. 48's
-/// small q: 0.1 s to 4.6 s).
+/// dynamics settle before the step budget take fewer steps ([`SETTLE_STEPS`]).
 const PAPER_STEP: Affine = Affine {
     a: 1.25e-9,
     b: 1.45e-9,
 };
+
+/// At s = 2, with eq. 48's (q, p) inside the range it was fitted on, the DEM converges
+/// long before its step budget, after fewer steps as n grows: about
+/// [`SETTLE_STEPS`] · min(1, [`SETTLE_FROM_N`] / n)^[`SETTLE_DECAY`] steps. Fitted to the
+/// processor time of `--method paper` on one thread at n = 128 to 1500 (0.018 s to
+/// 1.60 s; 122 to 296 steps taken), where the full budget was 3.1× over at 256 × 2; at
+/// n = 2048, outside the fitted range, the run takes its 1000 steps (14.1 s).
+const SETTLE_STEPS: f64 = 300.0;
+/// See [`SETTLE_STEPS`].
+const SETTLE_FROM_N: f64 = 256.0;
+/// See [`SETTLE_STEPS`].
+const SETTLE_DECAY: f64 = 0.45;
+
+/// The DEM steps of the paper's run of `cfg`: its budget, or fewer where the dynamics
+/// settle early ([`SETTLE_STEPS`]).
+fn dem_steps(cfg: &GenerateConfig) -> f64 {
+    use crate::config::EnergyKind;
+    let budget = cfg.steps as f64;
+    let settles = cfg.s == 2
+        && cfg.region().is_none()
+        && cfg.energy == EnergyKind::Uqp
+        && cfg.q.is_none()
+        && cfg.p.is_none()
+        && cfg.solver == crate::solve::Solver::Dem
+        && crate::energies::paper_qp(cfg.n, cfg.s).in_fitted_range;
+    if !settles {
+        return budget;
+    }
+    let n = cfg.n as f64;
+    budget.min(SETTLE_STEPS * (SETTLE_FROM_N / n).min(1.0).powf(SETTLE_DECAY))
+}
 
 /// A region's run, steps · n · (a + b · n) (the boundary projections, the pairs): from
 /// a ball at d = 2 with n = 100 to 800 (0.98 s to 26.1 s). Runs at d = 3 and 5 were not
@@ -147,7 +179,7 @@ const REGION_STEP: Affine = Affine {
 const REGION_INTEGRATION_UNIT: f64 = 8e-10;
 
 /// The integration goal in a region: its usual iterations, or its cap if lower.
-fn region_integration_seconds(n: usize, s: usize) -> f64 {
+pub(crate) fn region_integration_seconds(n: usize, s: usize) -> f64 {
     use crate::goals::region_integration::{iteration_cap, reference_size, TYPICAL_ITERATIONS};
     let iterations = iteration_cap(n, s).min(TYPICAL_ITERATIONS) as f64;
     let m = reference_size(n);
@@ -189,12 +221,33 @@ impl Resolved {
         self.estimate_seconds_on(rayon::current_num_threads())
     }
 
-    /// What a front end says before the run besides its time ([`notes`]).
+    /// What a front end says before the run, options named as the library names them
+    /// ([`Resolved::notes_as`]).
     pub fn notes(&self) -> Vec<String> {
+        self.notes_as(&super::request::plain)
+    }
+
+    /// What a front end says before the run, options named by `spell`: what the run will
+    /// do that its caller may not expect ([`Resolved::unusual_as`]), then how long it may
+    /// take when that is long ([`Resolved::long_run_note_as`]).
+    pub fn notes_as(&self, spell: &dyn Fn(&str) -> String) -> Vec<String> {
+        let mut notes = self.unusual_as(spell);
+        notes.extend(self.long_run_note_as(spell));
+        notes
+    }
+
+    /// What the run will do that its caller may not expect ([`Pipeline::notes`]).
+    pub fn unusual_as(&self, spell: &dyn Fn(&str) -> String) -> Vec<String> {
         match &self.job {
-            Job::Run(cfg) => notes(cfg),
+            Job::Run(cfg) => Pipeline::of(cfg).notes(cfg, spell),
             Job::Baseline { .. } | Job::Law { .. } => Vec::new(),
         }
+    }
+
+    /// How long the run may take, with what makes it cheaper, when its estimate on the
+    /// current thread pool is above [`super::dispatch::LONG_RUN_SECONDS`].
+    pub fn long_run_note_as(&self, spell: &dyn Fn(&str) -> String) -> Option<String> {
+        job_note(&self.job, self.estimate_seconds(), spell)
     }
 
     /// The estimated seconds of what the request runs, on `threads` threads.
@@ -214,65 +267,60 @@ impl Resolved {
     }
 }
 
-/// What a front end says before a run of `cfg` besides its time: that the default
-/// lattice will reuse generators
-/// ([`crate::goals::integration::lattice::sharing_warning`]).
-pub fn notes(cfg: &GenerateConfig) -> Vec<String> {
-    let lattice = matches!(cfg.goal, Goal::Integration(_))
-        && cfg.lattice
-        && cfg.region().is_none()
-        && cfg.randomize != Some(crate::post::randomize::Randomize::Tent);
-    if !lattice {
-        return Vec::new();
-    }
-    crate::goals::integration::lattice::sharing_warning(cfg.n, cfg.s)
-        .into_iter()
-        .collect()
-}
-
 fn on_threads(seconds: f64, threads: usize) -> f64 {
     seconds * MEASURED_THREADS as f64 / threads.max(MEASURED_THREADS) as f64
 }
 
 /// The run's seconds on the measuring machine.
 fn core_seconds(cfg: &GenerateConfig) -> f64 {
+    Pipeline::of(cfg).estimate(cfg)
+}
+
+/// A region's run ([`REGION_STEP`]).
+pub(crate) fn region_seconds(cfg: &GenerateConfig) -> f64 {
+    let n = cfg.n as f64;
+    cfg.steps as f64 * n * REGION_STEP.at(n)
+}
+
+/// The shifted tent lattice: its generating vector, the plain sums of its construction,
+/// its shift search and its report.
+pub(crate) fn lattice_seconds(cfg: &GenerateConfig) -> f64 {
     let (n, s) = (cfg.n as f64, cfg.s as f64);
-    if cfg.region().is_some() {
-        if let Goal::Integration(_) = cfg.goal {
-            return region_integration_seconds(cfg.n, cfg.s);
+    LATTICE_FIXED
+        + generator_seconds(n, s)
+        + korobov_seconds(cfg.n, cfg.s)
+        + shift_seconds(n, s)
+        + lattice_report_seconds(cfg)
+}
+
+/// One draw of the randomised tent lattice: its generating vector, the descent where
+/// coordinates share generators, the report.
+pub(crate) fn tent_draw_seconds(cfg: &GenerateConfig) -> f64 {
+    let (n, s) = (cfg.n as f64, cfg.s as f64);
+    generator_seconds(n, s)
+        + tent_descent_seconds(cfg.n, cfg.s)
+        + report_seconds(cfg, cfg.n)
+        + INTEGRATION.l * n * s
+}
+
+/// The integration goal's descent on `target`: one set, a nested set's sizes, or a
+/// grown set.
+pub(crate) fn descent_seconds(cfg: &GenerateConfig, target: &Target) -> f64 {
+    let forms = target.parts.len().max(1);
+    let one = |n: usize| integration_seconds(n, cfg.s, forms, report_seconds(cfg, n));
+    match (cfg.nested.split_first(), &cfg.extend) {
+        (Some((&first, rest)), _) => {
+            one(first) + rest.iter().map(|&k| NESTED_FACTOR * one(k)).sum::<f64>()
         }
-        return cfg.steps as f64 * n * REGION_STEP.at(n);
+        (None, Some(_)) => EXTENSION_FACTOR * one(cfg.n),
+        (None, None) => one(cfg.n),
     }
-    match &cfg.goal {
-        Goal::Integration(_) if cfg.lattice => {
-            LATTICE_FIXED
-                + generator_seconds(n, s)
-                + korobov_seconds(cfg.n, cfg.s)
-                + shift_seconds(n, s)
-                + lattice_report_seconds(cfg)
-        }
-        Goal::Integration(_) if cfg.randomize == Some(crate::post::randomize::Randomize::Tent) => {
-            generator_seconds(n, s)
-                + tent_descent_seconds(cfg.n, cfg.s)
-                + report_seconds(cfg, cfg.n)
-                + INTEGRATION.l * n * s
-        }
-        Goal::Integration(target) => {
-            let forms = target.parts.len().max(1);
-            let one = |n: usize| integration_seconds(n, cfg.s, forms, report_seconds(cfg, n));
-            match (cfg.nested.split_first(), &cfg.extend) {
-                (Some((&first, rest)), _) => {
-                    one(first) + rest.iter().map(|&k| NESTED_FACTOR * one(k)).sum::<f64>()
-                }
-                (None, Some(_)) => EXTENSION_FACTOR * one(cfg.n),
-                (None, None) => one(cfg.n),
-            }
-        }
-        Goal::Paper => paper_seconds(cfg),
-        Goal::SpaceFilling => {
-            paper_seconds(cfg) + SPACE_FILLING_SEARCHES * SPACE_FILLING_SEARCH.at(n * n * s)
-        }
-    }
+}
+
+/// The space-filling goal in the cube: the paper's run, then the maximin searches.
+pub(crate) fn space_filling_seconds(cfg: &GenerateConfig) -> f64 {
+    let (n, s) = (cfg.n as f64, cfg.s as f64);
+    paper_seconds(cfg) + SPACE_FILLING_SEARCHES * SPACE_FILLING_SEARCH.at(n * n * s)
 }
 
 /// The generating vector by the fast construction: [`LATTICE_STEP`] per coordinate, point
@@ -455,10 +503,10 @@ fn exchange_work(n: usize, s: usize, forms: usize) -> f64 {
 
 /// The paper's pipeline in the cube: the solver's steps (and the polish's), then the
 /// report.
-fn paper_seconds(cfg: &GenerateConfig) -> f64 {
+pub(crate) fn paper_seconds(cfg: &GenerateConfig) -> f64 {
     let (n, s) = (cfg.n as f64, cfg.s as f64);
     let polish_steps = if cfg.polish.is_some() { cfg.steps } else { 0 };
-    let steps = (cfg.steps + polish_steps) as f64;
+    let steps = dem_steps(cfg) + polish_steps as f64;
     steps * n * n * PAPER_STEP.at(s) + report_seconds(cfg, cfg.n) + INTEGRATION.l * n * s
 }
 
@@ -473,8 +521,8 @@ fn baseline_seconds(baseline: Baseline, n: f64, s: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::config::Goal;
     use crate::pipeline::request::Arg;
-    use crate::quality::target::Target;
     use crate::Request;
 
     /// The default run's estimate (the configuration a default request resolves to,
@@ -599,10 +647,13 @@ mod tests {
 
     #[test]
     fn the_note_before_a_run_names_the_shared_generators_of_the_default_lattice() {
+        // The run's other notes aside (the time of a long one).
         let notes = |edit: &dyn Fn(&mut Request)| {
             let mut r = Request::new(510, 100);
             edit(&mut r);
-            r.resolve().unwrap().notes()
+            let mut notes = r.resolve().unwrap().notes();
+            notes.retain(|t| !t.starts_with("this run may take"));
+            notes
         };
         let default = notes(&|_| {});
         assert_eq!(default.len(), 1, "{default:?}");
@@ -685,6 +736,31 @@ mod tests {
                 "paper 512 × 5",
                 cell(512, 5, &|r| r.method = Some("paper".into())),
                 1.90,
+            ),
+            (
+                "paper 256 × 2",
+                cell(256, 2, &|r| r.method = Some("paper".into())),
+                0.0823,
+            ),
+            (
+                "paper 1024 × 2",
+                cell(1024, 2, &|r| r.method = Some("paper".into())),
+                0.507,
+            ),
+            (
+                "paper 1500 × 2",
+                cell(1500, 2, &|r| r.method = Some("paper".into())),
+                1.60,
+            ),
+            (
+                "paper 2048 × 2",
+                cell(2048, 2, &|r| r.method = Some("paper".into())),
+                14.1,
+            ),
+            (
+                "space-filling 256 × 2",
+                cell(256, 2, &|r| r.goal = Some("space-filling".into())),
+                9.74,
             ),
             (
                 "nested 1024, 2048 × 5",

@@ -1,9 +1,10 @@
 //! The pipeline of every run: a [`Request`] is resolved once into a configuration
-//! ([`request`]); [`generate_with`] builds its start and problem, runs the goal's
-//! pipeline (integration, space-filling or the paper's) through the one executor,
+//! ([`request`]); [`generate_with`] runs its [`Pipeline`] (the one choice of pipeline,
+//! [`dispatch`]: integration, space-filling or the paper's) through the one executor,
 //! applies the post-steps (randomisation last), and reports on the set it returns.
 //! [`generate`], [`paper`] and [`region`] are the one-call entry points.
 
+pub mod dispatch;
 pub mod estimate;
 pub mod evaluation;
 pub mod measure;
@@ -14,11 +15,12 @@ use crate::integrators::Record;
 use crate::{Error, PointSet};
 use std::time::Instant;
 
-use crate::config::{GenerateConfig, Goal};
+use crate::config::GenerateConfig;
 use crate::post::randomize::Randomize;
 use crate::report::{quality, GenerateReport, Stage};
 use crate::solve::checkpoint::CheckpointPlan;
 use crate::solve::Event;
+pub use dispatch::Pipeline;
 use request::{Arg, Job, Request, Resolved};
 
 /// The default set: `n` points in [0, 1)^`s` for integration, stratified in every
@@ -110,14 +112,7 @@ impl Resolved {
         };
         use crate::design::balance::Finish;
         let (seed, finish) = match &self.job {
-            Job::Run(cfg) => (
-                cfg.seed,
-                match cfg.goal {
-                    Goal::Integration(_) => Finish::Discrepancy,
-                    Goal::SpaceFilling => Finish::Spread,
-                    Goal::Paper => Finish::Nothing,
-                },
-            ),
+            Job::Run(cfg) => (cfg.seed, Pipeline::of(cfg).finish(cfg)),
             Job::Baseline { seed, .. } | Job::Law { seed, .. } => (*seed, Finish::Nothing),
         };
         let rule = self.rule.unwrap_or(measure::CubeRule::Dealt);
@@ -152,6 +147,7 @@ pub fn generate_with(
     mut on_event: impl FnMut(Event),
 ) -> Result<GenerateReport, Error> {
     let clock = Instant::now();
+    let pipeline = Pipeline::of(cfg);
     // The request's resolution refuses every combination below; a configuration made
     // by hand is the caller's to keep valid.
     debug_assert!(
@@ -159,20 +155,19 @@ pub fn generate_with(
         "randomisation in a region"
     );
     debug_assert!(
-        cfg.goal == Goal::Paper || cfg.region().is_some() || checkpoint.is_none(),
+        pipeline.name(cfg).is_none() || cfg.region().is_some() || checkpoint.is_none(),
         "a checkpoint of a goal's run in the cube"
     );
     debug_assert!(
-        cfg.nested.is_empty()
-            || (matches!(cfg.goal, Goal::Integration(_)) && cfg.region().is_none()),
+        cfg.nested.is_empty() || matches!(pipeline, Pipeline::Descent(_)),
         "nested sizes outside the integration goal in the cube"
     );
     debug_assert!(
         cfg.extend.is_none()
             || match cfg.region() {
-                None => matches!(cfg.goal, Goal::Integration(_)),
+                None => matches!(pipeline, Pipeline::Descent(_)),
                 Some(domain) => {
-                    !matches!(cfg.goal, Goal::Integration(_))
+                    pipeline.target().is_none()
                         && cfg.extend.as_ref().is_some_and(|old| {
                             old.s() == cfg.s
                                 && old.n() <= cfg.n
@@ -182,24 +177,7 @@ pub fn generate_with(
             },
         "points to extend that the run cannot keep"
     );
-    let mut report = match (&cfg.goal, cfg.region()) {
-        (Goal::Integration(_), Some(_)) => {
-            crate::goals::region_integration::region_integration_run(cfg, &mut on_event)?
-        }
-        (Goal::Integration(target), None) if cfg.randomize == Some(Randomize::Tent) => {
-            crate::goals::integration::tent_lattice_run(cfg, target)?
-        }
-        (Goal::Integration(_), None) if cfg.lattice => {
-            crate::goals::integration::lattice_run(cfg, &mut on_event)?
-        }
-        (Goal::Integration(target), None) => {
-            crate::goals::integration::integration_run(cfg, target, &mut on_event)?
-        }
-        (Goal::SpaceFilling, None) => {
-            crate::goals::space_filling::space_filling_run(cfg, &mut on_event)?
-        }
-        _ => crate::goals::paper::paper_run(cfg, checkpoint, &mut on_event)?,
-    };
+    let mut report = pipeline.run(cfg, checkpoint, &mut on_event)?;
     crate::solve::stop_if_cancelled()?;
     if let Some(kind) = cfg.randomize {
         report.output.points =
@@ -207,19 +185,7 @@ pub fn generate_with(
         report.quality.1 = quality(cfg, &report.output.points)?;
         // Every row of the report describes the written set: the value the run lowered
         // is evaluated again on the randomised points.
-        report.energy.1 = match &cfg.goal {
-            Goal::Integration(target) => {
-                report.energy.0 = target.value_with(&report.start, cfg.sums);
-                target.value_with(&report.output.points, cfg.sums)
-            }
-            Goal::SpaceFilling => {
-                crate::quality::metrics::min_distance_euclidean(&report.output.points)
-            }
-            Goal::Paper => {
-                let (problem, _) = crate::plan::problem::build_problem(cfg)?;
-                problem.energy().value(&report.output.points)
-            }
-        };
+        report.energy.1 = pipeline.value_on(cfg, &mut report)?;
         report.stages.push(Stage::Randomized {
             how: match kind {
                 Randomize::Shift => "uniform shift modulo 1",

@@ -178,20 +178,8 @@ pub(crate) struct Body {
     pub files: Vec<PathBuf>,
 }
 
-/// "12.3 s", "4 min 05 s" or "1 h 02 min".
-pub fn human_seconds(t: f64) -> String {
-    if t < 60.0 {
-        format!("{t:.1} s")
-    } else if t < 3600.0 {
-        format!("{} min {:02} s", (t / 60.0) as u64, (t % 60.0) as u64)
-    } else {
-        format!(
-            "{} h {:02} min",
-            (t / 3600.0) as u64,
-            ((t % 3600.0) / 60.0) as u64
-        )
-    }
-}
+/// "12.3 s", "4 min 05 s" or "1 h 02 min": the library's one writing of a duration.
+pub use stillpoint::pipeline::dispatch::human_seconds;
 
 /// A Markdown table.
 pub fn markdown_table(headers: &[String], rows: &[Vec<String>]) -> String {
