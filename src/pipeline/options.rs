@@ -12,7 +12,8 @@ pub mod kind;
 pub mod words;
 
 use super::request::Arg;
-pub use kind::{Kind, Value, MAX_COUNT};
+use crate::PointSet;
+pub use kind::{Field, FromValue, Kind, Value, MAX_COUNT};
 
 /// A set of options one rule speaks of.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -157,14 +158,14 @@ macro_rules! options {
         python $python:expr,
         [$($group:ident),*],
         for [$($command:ident),*],
-        $kind:expr, $expected:expr, default $default:expr,
+        $ty:ty: $kind:expr, $expected:expr, default $default:expr,
         $doc:literal;
     )* ---- $(
         $ifield:ident: $iname:literal,
         cli $icli:literal,
         python $ipython:expr,
         for [$($icommand:ident),*],
-        $ikind:expr, $iexpected:expr, default $idefault:expr,
+        $ity:ty: $ikind:expr, $iexpected:expr, default $idefault:expr,
         $idoc:literal;
     )*) => {
         /// Every user-settable option of a run, each as a front end received it; `None`
@@ -242,6 +243,11 @@ macro_rules! options {
             pub fn name(self) -> &'static str {
                 self.declared().name
             }
+
+            /// The option named `name` (its library name or another it answers to).
+            pub fn named(name: &str) -> Option<Opt> {
+                ALL.iter().position(|d| d.answers_to(name)).map(|i| OPTS[i])
+            }
         }
 
         impl Request {
@@ -260,19 +266,38 @@ macro_rules! options {
                 None
             }
 
-            /// The value of the option named `name`, `None` when it is not given or not
-            /// an option.
-            pub(crate) fn get(&self, name: &str) -> Option<&Arg> {
-                ALL.iter()
-                    .position(|d| d.answers_to(name))
-                    .and_then(|i| self.arg(OPTS[i]))
-            }
-
             /// The value of the option `opt`, `None` when it is not given.
             pub fn arg(&self, opt: Opt) -> Option<&Arg> {
                 match opt {
                     $(Opt::$field => self.$field.as_ref(),)*
                     $(Opt::$ifield => self.$ifield.as_ref(),)*
+                }
+            }
+        }
+
+        /// Every option of a [`Request`] read by its declaration's [`Kind`] in one pass
+        /// ([`Parsed::of`]), each a typed [`Field`]: its value, none, or the refusal of
+        /// the value as typed, which the resolution returns where its rules first read
+        /// the option (so that of two faults the one a user meets first is said).
+        #[derive(Debug, Clone)]
+        pub struct Parsed {
+            $(
+                #[doc = $doc]
+                pub $field: Field<$ty>,
+            )*
+            $(
+                #[doc = $idoc]
+                pub $ifield: Field<$ity>,
+            )*
+        }
+
+        impl Parsed {
+            /// Every option of `r` read by its declaration; `spell` writes an option's
+            /// name in refusals as the front end does.
+            pub fn of(r: &Request, spell: &dyn Fn(&str) -> String) -> Parsed {
+                Parsed {
+                    $($field: Field::read(Opt::$field, r.$field.as_ref(), spell),)*
+                    $($ifield: Field::read(Opt::$ifield, r.$ifield.as_ref(), spell),)*
                 }
             }
         }
@@ -311,150 +336,150 @@ const POSITIVE: Kind = Kind::Real {
 
 options! {
     n: "n", cli "-n", python Some("n"), [Baseline], for [Generate],
-        points(1), "at least 1 point", default none,
+        usize: points(1), "at least 1 point", default none,
         "Number of points (with extend: the number to add).";
     s: "s", cli "-s", python Some("d"), [Baseline], for [Generate, Quad, Sensitivity],
-        points(1), "at least 1 dimension", default none,
+        usize: points(1), "at least 1 dimension", default none,
         "Dimension (a region, a design space, extend or init points may give it).";
     seed: "seed", cli "--seed", python Some("seed"), [Baseline],
         for [Generate, Quad, Sensitivity],
-        Kind::Seed, "a whole number in [0, 2^64)", default |_| Some("0".into()),
+        u64: Kind::Seed, "a whole number in [0, 2^64)", default |_| Some("0".into()),
         "Seed of every random choice.";
     method: "method", cli "--method", python Some("method"), [Baseline], for [Generate],
-        Kind::Word(words::methods),
+        String: Kind::Word(words::methods),
         "paper (the paper's pipeline) or a baseline: random, halton, halton-scrambled, \
          sobol, hua-wang, lattice, lhs, lhs-maximin",
         default none,
         "paper (the paper's pipeline) or a baseline's name.";
     goal: "goal", cli "--goal", python Some("goal"), [], for [Generate],
-        Kind::Word(|| words::GOALS.to_vec()), "integration or space-filling",
+        String: Kind::Word(|| words::GOALS.to_vec()), "integration or space-filling",
         default |_| Some(words::GOALS[0].into()),
         "What the points are for: integration or space-filling.";
     target: "target", cli "--target", python Some("target"), [], for [Generate],
-        Kind::Word(words::targets), super::request::TARGETS, default none,
+        String: Kind::Word(words::targets), words::TARGETS, default none,
         "The discrepancy the integration goal lowers: blend, blend-smooth, curved, lattice, md, l2star, cd, periodic or smooth.";
     randomize: "randomize", cli "--randomize", python Some("randomize"), [], for [Generate],
-        Kind::Word(words::randomizations), crate::post::randomize::Randomize::EXPECTED,
+        String: Kind::Word(words::randomizations), crate::post::randomize::Randomize::EXPECTED,
         default none,
         "Randomise the set from the seed: tent, cells or shift (with a space: each law's inverse CDF, levels floor(u*L), not dealt by rank).";
     extend: "extend", cli "--extend", python Some("extend"), [Placement], for [Generate],
-        Kind::Points, "a point set", default none,
+        PointSet: Kind::Points, "a point set", default none,
         "Points to keep, first and unchanged, while n more are added.";
     nested: "nested", cli "--nested", python Some("nested"), [Placement], for [Generate],
-        Kind::Sizes, "increasing sizes N1 < N2 < ..., N1 ≥ 1 (whole numbers)", default none,
+        Vec<usize>: Kind::Sizes, "increasing sizes N1 < N2 < ..., N1 ≥ 1 (whole numbers)", default none,
         "Increasing sizes N1,N2,...: every prefix a good set.";
     bounds: "bounds", cli "--bounds", python Some("bounds"), [Baseline, Placement, Eval],
         for [Generate, Eval, Quad, Sensitivity],
-        Kind::Numbers, "LO1,HI1,LO2,HI2,...", default none,
+        Value: Kind::Bounds, "LO1,HI1,LO2,HI2,...", default none,
         "Scale the points from the unit cube to the box LO1,HI1,...";
     region: "region", cli "--region", python Some("region"), [Region, Placement, Eval],
         for [Generate, Eval],
-        Kind::Text, "text", default none,
+        String: Kind::Text, "text", default none,
         "A region g(x) <= 0, g an expression in x1..xs.";
     bbox: "box" ["bbox"], cli "--box", python Some("box"), [Region, Placement, Eval],
         for [Generate, Eval],
-        Kind::Numbers, "LO1,HI1,LO2,HI2,...", default none,
+        Vec<f64>: Kind::Numbers, "LO1,HI1,LO2,HI2,...", default none,
         "The bounding box of a region, polytope or constraints: LO1,HI1,LO2,HI2,...";
     shape: "shape", cli "--shape", python Some("shape"), [Region, Placement, Eval],
         for [Generate, Eval],
-        Kind::Text, "text", default none,
+        String: Kind::Text, "text", default none,
         "A built-in region: ball, ellipsoid, box, simplex or polytope.";
     constraints: "constraints" ["constraint"], cli "--constraint", python Some("constraints"),
         [Region, Placement, Eval], for [Generate, Eval],
-        Kind::Texts,
+        Vec<String>: Kind::Texts { empty: true },
         "a linear constraint as text, such as \"x1 + 2*x2 <= 1\", or a list of them",
         default none,
         "Linear constraints a.x <= b; with box, the region {A x <= b} within the box.";
     mixture: "mixture", cli "--mixture", python Some("mixture"), [Region, Placement, Eval],
         for [Generate, Eval],
-        Kind::Flag, "true or false", default none,
+        bool: Kind::Flag, "true or false", default none,
         "The components are >= 0 and sum to 1.";
     energy: "energy", cli "--energy", python Some("energy"), [Paper], for [Generate],
-        Kind::Word(words::energies),
+        String: Kind::Word(words::energies),
         "in the cube uqp, e-inf, l2star, md, cd or periodic (e-inf-g and e-p-g are \
          energies of a region)",
         default none,
         "The energy of the paper's pipeline.";
     integrator: "integrator", cli "--integrator", python Some("integrator"), [Paper],
         for [Generate],
-        Kind::Word(|| words::INTEGRATORS.to_vec()), "dem or lbfgs",
+        String: Kind::Word(|| words::INTEGRATORS.to_vec()), "dem or lbfgs",
         default |_| Some(words::INTEGRATORS[0].into()),
         "The solver: dem or lbfgs.";
     q: "q", cli "--q", python Some("q"), [Paper], for [Generate],
-        Kind::RealOrWord { words: || words::Q_WORDS.to_vec(), min: 0.0, closed: false },
+        Value: Kind::RealOrWord { words: || words::Q_WORDS.to_vec(), min: 0.0, closed: false },
         "a number > 0, inf (the torus distance) or E (Euclidean)", default none,
         "q of U_{q,p}: a number > 0, inf or E.";
     p: "p", cli "--p", python Some("p"), [Paper], for [Generate],
-        POSITIVE, "a finite number > 0", default none,
+        f64: POSITIVE, "a finite number > 0", default none,
         "p of U_{q,p} (or of U_{E,p,g}).";
     precision: "precision", cli "--precision", python Some("precision"), [Paper],
         for [Generate],
-        Kind::Word(|| words::PRECISIONS.to_vec()), "fast or full", default none,
+        String: Kind::Word(|| words::PRECISIONS.to_vec()), "fast or full", default none,
         "How U_{q,p}'s distance is evaluated during the run: fast or full.";
     steps: "steps", cli "--steps", python Some("steps"), [Descent], for [Generate],
-        points(1), "a whole number of steps ≥ 1", default none,
+        usize: points(1), "a whole number of steps ≥ 1", default none,
         "The step budget of the descent.";
     init: "init", cli "--init", python Some("init"), [Paper], for [Generate],
-        Kind::WordOrPoints(|| words::STARTS.to_vec()), "halton, random or points",
+        Value: Kind::WordOrPoints(|| words::STARTS.to_vec()), "halton, random or points",
         default none,
         "The start: halton, random or points.";
     kappa: "kappa", cli "--kappa", python Some("kappa"), [Paper], for [Generate],
-        Kind::RealOrWord { words: || words::KAPPA_WORDS.to_vec(), min: 1.0, closed: true },
+        Value: Kind::RealOrWord { words: || words::KAPPA_WORDS.to_vec(), min: 1.0, closed: true },
         "auto or a finite number ≥ 1", default |_| Some(words::KAPPA_WORDS[0].into()),
         "kappa of the DEM: auto or a number >= 1.";
     restart: "restart", cli "--restart", python Some("restart"), [Paper], for [Generate],
-        Kind::RealOrWord { words: || words::RESTART_WORDS.to_vec(), min: 0.0, closed: false },
+        Value: Kind::RealOrWord { words: || words::RESTART_WORDS.to_vec(), min: 0.0, closed: false },
         "auto (ε_p = 2/n), off, or a number ε_p > 0",
         default |_| Some(words::RESTART_WORDS[0].into()),
         "Restarts of the DEM: auto, off or a threshold > 0.";
     tolerance: "tolerance", cli "--tolerance", python Some("tolerance"), [Paper],
         for [Generate],
-        NON_NEGATIVE, "a number ≥ 0", default none,
+        f64: NON_NEGATIVE, "a number ≥ 0", default none,
         "The DEM's stopping tolerance (0: the whole budget).";
     polish: "polish", cli "--polish", python Some("polish"), [Paper], for [Generate],
-        Kind::Word(words::polishes), "none, md, l2star, cd or periodic", default none,
+        String: Kind::Word(words::polishes), "none, md, l2star, cd or periodic", default none,
         "A last L-BFGS on a discrepancy: md, l2star, cd, periodic or none.";
     shifts: "shifts", cli "--shifts", python Some("shifts"), [Paper], for [Generate],
-        points(0),
+        usize: points(0),
         format!("a whole number of shifts in [0, {}]", crate::plan::start::MAX_SHIFTS),
         default none,
         "Candidate periodic shifts after the DEM.";
     log_every: "log_every", cli "--log-every", python Some("log_every"), [Paper],
         for [Generate],
-        points(0), "a whole number of steps ≥ 0", default none,
+        usize: points(0), "a whole number of steps ≥ 0", default none,
         "Log the discrepancies every this many steps.";
     exact: "exact", cli "--exact", python Some("exact"), [Eval], for [Generate, Eval],
-        Kind::Flag, "true or false", default none,
+        bool: Kind::Flag, "true or false", default none,
         "Exact O(n^2) metrics at every size (by default estimated above 50 000 points).";
     space: "space", cli "--var" ["--space"], python Some("space"), [Design, Eval],
         for [Generate, Eval, Quad, Sensitivity],
-        Kind::Texts, "variables NAME=TYPE", default none,
+        Vec<String>: Kind::Texts { empty: false }, "variables NAME=TYPE", default none,
         "A design space: its variables as NAME=TYPE.";
     correlation: "correlation", cli "--correlation", python Some("correlation"),
         [Design, Eval], for [Generate, Eval, Quad],
-        Kind::Rows, "rows of numbers: 1,0.5;0.5,1", default none,
+        Value: Kind::Rows, "rows of numbers: 1,0.5;0.5,1", default none,
         "The correlation of the design space's continuous variables.";
     trajectory: "trajectory", cli "--trajectory", python None, [Paper], for [Generate],
-        Kind::Flag, "true or false", default none,
+        bool: Kind::Flag, "true or false", default none,
         "The run's trajectory is recorded.";
     checkpoint: "checkpoint", cli "--checkpoint" ["--resume"], python None, [Paper],
         for [Generate],
-        Kind::Flag, "true or false", default none,
+        bool: Kind::Flag, "true or false", default none,
         "The run is checkpointed or resumed.";
     ----
     abs_tol: "abs_tol", cli "--abs-tol", python Some("abs_tol"), for [Quad, Sensitivity],
-        NON_NEGATIVE, "a finite value ≥ 0",
+        f64: NON_NEGATIVE, "a finite value ≥ 0",
         default |c| Some(match c {
             Command::Sensitivity => crate::sensitivity::DEFAULT_ABS_TOL.to_string(),
             _ => crate::cubature::QuadOptions::default().abs_tol.to_string(),
         }),
         "Absolute tolerance on the half-width.";
     rel_tol: "rel_tol", cli "--rel-tol", python Some("rel_tol"), for [Quad],
-        NON_NEGATIVE, "a finite value ≥ 0",
+        f64: NON_NEGATIVE, "a finite value ≥ 0",
         default |_| Some(crate::cubature::QuadOptions::default().rel_tol.to_string()),
         "Relative tolerance: the half-width within rel_tol times |estimate| suffices.";
     level: "level", cli "--level", python Some("level"), for [Quad, Sensitivity],
-        Kind::Real { min: 0.0, closed: false, below: Some(1.0) }, "a value in (0, 1)",
+        f64: Kind::Real { min: 0.0, closed: false, below: Some(1.0) }, "a value in (0, 1)",
         default |c| Some(match c {
             Command::Sensitivity => {
                 crate::sensitivity::SensitivityOptions::default().level.to_string()
@@ -464,7 +489,7 @@ options! {
         "Confidence level of the interval.";
     replicates: "replicates", cli "--replicates", python Some("replicates"),
         for [Quad, Sensitivity],
-        Kind::Count { min: 2, max: crate::cubature::MAX_REPLICATES as u64 },
+        usize: Kind::Count { min: 2, max: crate::cubature::MAX_REPLICATES as u64 },
         format!(
             "2 to {} (the interval comes from their spread; 8 or more recommended)",
             crate::cubature::MAX_REPLICATES
@@ -475,28 +500,28 @@ options! {
         }),
         "Independent random shifts (the interval comes from their spread).";
     max_n: "max_n", cli "--max-n", python Some("max_n"), for [Quad, Sensitivity],
-        Kind::Count { min: 1, max: u64::MAX }, "a whole number ≥ 1",
+        u64: Kind::Count { min: 1, max: u64::MAX }, "a whole number ≥ 1",
         default |c| Some(match c {
             Command::Sensitivity => crate::sensitivity::DEFAULT_MAX_N.to_string(),
             _ => crate::cubature::DEFAULT_MAX_N.to_string(),
         }),
         "The most evaluations, all replicates together.";
     rule: "rule", cli "", python Some("rule"), for [Quad],
-        Kind::Word(words::rules),
+        String: Kind::Word(words::rules),
         "lattice (the tent-transformed extensible lattice) or sobol (Owen-scrambled Sobol')",
         default none,
         "The randomised rule: lattice or sobol (by default chosen from the laws).";
     simultaneous: "simultaneous", cli "--simultaneous", python Some("simultaneous"),
         for [Sensitivity],
-        Kind::Flag, "true or false", default |_| Some("false".into()),
+        bool: Kind::Flag, "true or false", default |_| Some("false".into()),
         "The intervals hold all together at level (Bonferroni), not each on its own.";
     first_estimator: "first_estimator", cli "--first-estimator",
         python Some("first_estimator"), for [Sensitivity],
-        Kind::Word(words::first_estimators), "saltelli or janon",
+        String: Kind::Word(words::first_estimators), "saltelli or janon",
         default |_| Some(crate::sensitivity::FirstOrder::default().as_str().into()),
         "The first-order estimator: saltelli or janon.";
     start: "start", cli "", python Some("start"), for [Quad, Sensitivity],
-        Kind::FrontEnd, "an earlier result of the same command", default none,
+        Value: Kind::FrontEnd, "an earlier result of the same command", default none,
         "An earlier result to continue from: its evaluations are kept.";
 }
 
@@ -690,10 +715,11 @@ mod tests {
             let mut r = Request::default();
             let slot = r.slot_mut(d.name).expect(d.name);
             *slot = Some(Arg::Int(7));
-            assert_eq!(r.get(d.name), Some(&Arg::Int(7)), "{}", d.name);
+            let get = |r: &Request, name: &str| r.arg(Opt::named(name).unwrap()).cloned();
+            assert_eq!(get(&r, d.name), Some(Arg::Int(7)), "{}", d.name);
             let others: Vec<_> = ALL
                 .iter()
-                .filter(|o| o.name != d.name && r.get(o.name).is_some())
+                .filter(|o| o.name != d.name && get(&r, o.name).is_some())
                 .map(|o| o.name)
                 .collect();
             assert!(others.is_empty(), "{}: {others:?}", d.name);

@@ -2,7 +2,7 @@
 //! the one parse from a value as a front end received it ([`Arg`]) to a typed [`Value`].
 //! A refusal names the option as the front end spells it and echoes the value as typed.
 
-use super::Declared;
+use super::{Declared, Opt};
 use crate::pipeline::request::Arg;
 use crate::plan::space::number_list;
 use crate::{Error, PointSet};
@@ -47,8 +47,11 @@ pub enum Kind {
         /// Whether `min` itself is accepted.
         closed: bool,
     },
-    /// Numbers LO1,HI1,... (text, a list, or lower and upper ends apart).
+    /// Numbers LO1,HI1,... (text or a list).
     Numbers,
+    /// Numbers LO1,HI1,... as [`Kind::Numbers`] reads them, or lower and upper ends
+    /// apart (SciPy's `l_bounds`, `u_bounds`).
+    Bounds,
     /// Increasing whole sizes N1 < N2 < ..., N1 ≥ 1 (text or a list).
     Sizes,
     /// A point set.
@@ -57,8 +60,11 @@ pub enum Kind {
     WordOrPoints(fn() -> Vec<&'static str>),
     /// One text (an expression, a shape).
     Text,
-    /// One or more texts (text, or a list of them; an empty list is none).
-    Texts,
+    /// One or more texts (text, or a list of them; with `empty`, an empty list is none).
+    Texts {
+        /// Whether an empty list is accepted (as no text).
+        empty: bool,
+    },
     /// Rows of numbers: text `1,0.5;0.5,1`, a matrix, or its numbers.
     Rows,
     /// An object only the front end holds (Python's earlier result to continue from):
@@ -177,9 +183,20 @@ impl Declared {
             Kind::Numbers => match arg {
                 Arg::Numbers(v) => Value::Numbers(v.clone()),
                 Arg::Counts(v) => Value::Numbers(v.iter().map(|&k| k as f64).collect()),
-                Arg::Pair(lo, hi) => Value::Pair(lo.clone(), hi.clone()),
                 Arg::Text(t) => Value::Numbers(number_list(&spell(self.name), t, t)?),
                 _ => return Err(bad()),
+            },
+            Kind::Bounds => match arg {
+                Arg::Pair(lo, hi) => Value::Pair(lo.clone(), hi.clone()),
+                _ => match (Declared {
+                    kind: Kind::Numbers,
+                    ..*self
+                })
+                .parse(arg, spell)?
+                {
+                    Some(v) => v,
+                    None => return Ok(None),
+                },
             },
             Kind::Sizes => Value::Sizes(self.sizes(arg).ok_or_else(bad)?),
             Kind::Points => match arg {
@@ -197,12 +214,12 @@ impl Declared {
                 Arg::Text(t) => Value::Text(t.clone()),
                 _ => return Err(bad()),
             },
-            Kind::Texts => match arg {
+            Kind::Texts { empty } => match arg {
                 Arg::Text(t) => Value::Texts(vec![t.clone()]),
                 Arg::Texts(v) => Value::Texts(v.clone()),
                 // An empty list reaches here typed as numbers: no text.
-                Arg::Counts(v) if v.is_empty() => Value::Texts(Vec::new()),
-                Arg::Numbers(v) if v.is_empty() => Value::Texts(Vec::new()),
+                Arg::Counts(v) if empty && v.is_empty() => Value::Texts(Vec::new()),
+                Arg::Numbers(v) if empty && v.is_empty() => Value::Texts(Vec::new()),
                 _ => return Err(bad()),
             },
             Kind::Rows => match arg {
@@ -283,4 +300,80 @@ fn seed(arg: &Arg) -> Option<u64> {
         Arg::Text(t) => t.trim().parse::<u64>().ok(),
         _ => None,
     }
+}
+
+/// An option's value read by its declaration: the value, none (not given), or the
+/// refusal of the value as typed.
+#[derive(Debug, Clone)]
+pub struct Field<T>(Result<Option<T>, Error>);
+
+impl<T: FromValue> Field<T> {
+    /// `arg`, the value of `opt` as received (if given), read by its declaration.
+    pub fn read(opt: Opt, arg: Option<&Arg>, spell: &dyn Fn(&str) -> String) -> Field<T> {
+        let Some(arg) = arg else {
+            return Field(Ok(None));
+        };
+        let d = opt.declared();
+        Field(d.parse(arg, spell).and_then(|v| {
+            match v {
+                None => Ok(None),
+                Some(v) => T::from_value(v)
+                    .map(Some)
+                    .ok_or_else(|| Error::invalid(spell(d.name), arg, (d.expected)())),
+            }
+        }))
+    }
+}
+
+impl<T> Field<T> {
+    /// The value, `None` when not given, or the refusal of the value as typed.
+    pub fn get(&self) -> Result<Option<&T>, Error> {
+        self.0.as_ref().map(Option::as_ref).map_err(Clone::clone)
+    }
+}
+
+impl<T: Clone> Field<T> {
+    /// The value (a copy), `None` when not given, or the refusal of the value as typed.
+    pub fn value(&self) -> Result<Option<T>, Error> {
+        self.0.clone()
+    }
+}
+
+/// A typed field's type, made from the [`Value`] its kind reads (`None` for a value of
+/// another kind, which the table's tests rule out).
+pub trait FromValue: Sized {
+    /// The value as this type.
+    fn from_value(v: Value) -> Option<Self>;
+}
+
+impl FromValue for Value {
+    fn from_value(v: Value) -> Option<Self> {
+        Some(v)
+    }
+}
+
+/// `FromValue` for each type a kind reads: the value's variants that give it.
+macro_rules! from_value {
+    ($($ty:ty: $($variant:ident)|+ => $make:expr;)*) => {$(
+        impl FromValue for $ty {
+            fn from_value(v: Value) -> Option<Self> {
+                match v {
+                    $(Value::$variant(x))|+ => $make(x),
+                    _ => None,
+                }
+            }
+        }
+    )*};
+}
+
+from_value! {
+    usize: Count => |c: u64| usize::try_from(c).ok();
+    u64: Count | Seed => Some;
+    f64: Real => Some;
+    bool: Flag => Some;
+    String: Word | Text => Some;
+    Vec<String>: Texts => Some;
+    Vec<f64>: Numbers => Some;
+    Vec<usize>: Sizes => Some;
+    PointSet: Points => Some;
 }

@@ -8,8 +8,14 @@ use crate::post::randomize::Randomize;
 use crate::sensitivity::FirstOrder;
 use crate::sequences::Baseline;
 
+/// The integration goal's name.
+pub const INTEGRATION: &str = "integration";
+
+/// The space-filling goal's name.
+pub const SPACE_FILLING: &str = "space-filling";
+
 /// The goals `goal` names.
-pub const GOALS: [&str; 2] = ["integration", "space-filling"];
+pub const GOALS: [&str; 2] = [INTEGRATION, SPACE_FILLING];
 
 /// The solvers `integrator` names (`l-bfgs` is `lbfgs`).
 pub const INTEGRATORS: [&str; 3] = ["dem", "lbfgs", "l-bfgs"];
@@ -26,8 +32,22 @@ pub const CUBE_ENERGIES: [&str; 2] = ["uqp", "e-inf"];
 /// The energies of a region (`e-inf` is also the cube's).
 pub const REGION_ENERGIES: [&str; 3] = ["e-inf-g", "e-inf", "e-p-g"];
 
+/// The target that asks for the shifted tent lattice (no descent).
+pub const LATTICE: &str = "lattice";
+
+/// The words `target` takes, as a refusal lists them.
+pub const TARGETS: &str = "blend (D²_MD + D²_L2* + D²_CD), blend-smooth (the blend and the \
+                           smoothness-2 error), curved (D²_CD, the smoothness-2 error with \
+                           curvature weighed more and a trace of D²_L2*; the default from s \
+                           = 8 below 500 points), lattice (the shifted tent lattice, no \
+                           descent; the default from 500 points on and at s = 1), md, \
+                           l2star, cd, periodic or smooth";
+
 /// The targets besides a single discrepancy.
-pub const BLENDS: [&str; 4] = ["blend", "blend-smooth", "curved", "lattice"];
+pub const BLENDS: [&str; 4] = ["blend", "blend-smooth", "curved", LATTICE];
+
+/// The names of the paper's pipeline as a `method` (`dem` is its other name).
+pub const PAPER: [&str; 2] = ["paper", "dem"];
 
 /// `kappa`'s word besides a number.
 pub const KAPPA_WORDS: [&str; 1] = ["auto"];
@@ -52,7 +72,7 @@ pub fn discrepancies() -> Vec<&'static str> {
 
 /// `method`: the paper's pipeline (`dem` is its other name) or a baseline.
 pub fn methods() -> Vec<&'static str> {
-    let mut v = vec!["paper", "dem"];
+    let mut v = PAPER.to_vec();
     v.extend(Baseline::names());
     v
 }
@@ -104,4 +124,12 @@ pub fn first_estimators() -> Vec<&'static str> {
         .iter()
         .map(|f| f.as_str())
         .collect()
+}
+
+/// Words as a refusal lists them: `a, b or c`.
+pub fn listed(words: &[&str]) -> String {
+    match words.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+        _ => words.join(""),
+    }
 }
