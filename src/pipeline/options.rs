@@ -302,6 +302,17 @@ macro_rules! options {
             }
         }
 
+        #[cfg(test)]
+        impl Parsed {
+            /// Whether the option's field holds a value or none (not a refusal).
+            fn read_ok(&self, o: Opt) -> bool {
+                match o {
+                    $(Opt::$field => self.$field.get().is_ok(),)*
+                    $(Opt::$ifield => self.$ifield.get().is_ok(),)*
+                }
+            }
+        }
+
         /// Every [`Opt`], in [`ALL`]'s order.
         pub const OPTS: &[Opt] = &[$(Opt::$field,)* $(Opt::$ifield,)*];
     };
@@ -693,6 +704,36 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("does not fit in memory"), "{e}");
+    }
+
+    /// A value of each kind reads into its option's typed field: the kinds and the
+    /// fields' types agree.
+    #[test]
+    fn a_good_value_of_each_kind_reads_into_its_typed_field() {
+        let plain = |n: &str| n.to_string();
+        for o in OPTS {
+            let d = o.declared();
+            let good = match d.kind {
+                Kind::Count { min, .. } => Arg::Int(min.into()),
+                Kind::Seed => Arg::Int(3),
+                Kind::Real { min, below, .. } => {
+                    Arg::Float(below.map_or(min + 1.0, |b| (min + b) / 2.0))
+                }
+                Kind::Flag => Arg::Bool(true),
+                Kind::Word(_) | Kind::RealOrWord { .. } | Kind::WordOrPoints(_) => {
+                    Arg::Text(d.words()[0].to_string())
+                }
+                Kind::Numbers | Kind::Bounds => Arg::Numbers(vec![0.0, 1.0]),
+                Kind::Sizes => Arg::Text("2,4".into()),
+                Kind::Points => Arg::Points(PointSet::from_rows(&[[0.5]]).unwrap()),
+                Kind::Text | Kind::Rows => Arg::Text("1".into()),
+                Kind::Texts { .. } => Arg::Texts(vec!["x".into()]),
+                Kind::FrontEnd => continue,
+            };
+            let mut r = Request::default();
+            r.set(d.name, good.clone()).unwrap();
+            assert!(Parsed::of(&r, &plain).read_ok(*o), "{} = {good}", d.name);
+        }
     }
 
     #[test]

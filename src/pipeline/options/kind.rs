@@ -121,6 +121,38 @@ fn finite(arg: &Arg) -> Option<f64> {
     v.filter(|v| v.is_finite())
 }
 
+/// Yes or no: a boolean, or `true`/`false` as text (ASCII case ignored).
+fn flag(arg: &Arg) -> Option<bool> {
+    match arg {
+        Arg::Bool(b) => Some(*b),
+        Arg::Text(t) => match t.trim().to_ascii_lowercase().as_str() {
+            "true" => Some(true),
+            "false" => Some(false),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+/// The word `arg` gives, if it is one of `words` (as [`normal_word`] reads it).
+fn word(words: &[&str], arg: &Arg) -> Option<Value> {
+    match arg {
+        Arg::Text(t) if words.contains(&normal_word(t).as_str()) => {
+            Some(Value::Word(normal_word(t)))
+        }
+        _ => None,
+    }
+}
+
+/// The numbers of a list (whole or not).
+fn numbers(arg: &Arg) -> Option<Vec<f64>> {
+    match arg {
+        Arg::Numbers(v) => Some(v.clone()),
+        Arg::Counts(v) => Some(v.iter().map(|&k| k as f64).collect()),
+        _ => None,
+    }
+}
+
 /// Whether `v` is within a lower bound `min` (included when `closed`).
 fn above(v: f64, min: f64, closed: bool) -> bool {
     if closed {
@@ -139,98 +171,64 @@ impl Declared {
     pub fn parse(&self, arg: &Arg, spell: &dyn Fn(&str) -> String) -> Result<Option<Value>, Error> {
         let bad = || Error::invalid(spell(self.name), arg, (self.expected)());
         let value = match self.kind {
-            Kind::Count { min, max } => Value::Count(self.count(arg, min, max, spell)?),
-            Kind::Seed => Value::Seed(seed(arg).ok_or_else(bad)?),
-            Kind::Real { min, closed, below } => {
-                let v = finite(arg).ok_or_else(bad)?;
-                if !above(v, min, closed) || below.is_some_and(|b| v >= b) {
-                    return Err(bad());
-                }
-                Value::Real(v)
-            }
-            Kind::Flag => Value::Flag(match arg {
-                Arg::Bool(b) => *b,
-                Arg::Text(t) => match t.trim().to_ascii_lowercase().as_str() {
-                    "true" => true,
-                    "false" => false,
-                    _ => return Err(bad()),
-                },
-                _ => return Err(bad()),
-            }),
+            Kind::Count { min, max } => Some(Value::Count(self.count(arg, min, max, spell)?)),
+            Kind::Seed => seed(arg).map(Value::Seed),
+            Kind::Real { min, closed, below } => finite(arg)
+                .filter(|&v| above(v, min, closed) && !below.is_some_and(|b| v >= b))
+                .map(Value::Real),
+            Kind::Flag => flag(arg).map(Value::Flag),
             Kind::Word(words) => {
                 let words = words();
                 match arg {
-                    Arg::Bool(true) if words.contains(&"true") => Value::Word("true".into()),
-                    Arg::Bool(false) if words.contains(&"true") => return Ok(None),
-                    Arg::Text(t) if words.contains(&normal_word(t).as_str()) => {
-                        Value::Word(normal_word(t))
-                    }
-                    _ => return Err(bad()),
+                    // Python's True and False where the words include `true`.
+                    Arg::Bool(b) if words.contains(&"true") => match b {
+                        true => Some(Value::Word("true".into())),
+                        false => return Ok(None),
+                    },
+                    _ => word(&words, arg),
                 }
             }
-            Kind::RealOrWord { words, min, closed } => match arg {
-                Arg::Text(t) if words().contains(&normal_word(t).as_str()) => {
-                    Value::Word(normal_word(t))
+            Kind::RealOrWord { words, min, closed } => word(&words(), arg).or_else(|| {
+                finite(arg)
+                    .filter(|&v| above(v, min, closed))
+                    .map(Value::Real)
+            }),
+            Kind::Numbers | Kind::Bounds => match arg {
+                Arg::Pair(lo, hi) if matches!(self.kind, Kind::Bounds) => {
+                    Some(Value::Pair(lo.clone(), hi.clone()))
                 }
-                _ => {
-                    let v = finite(arg).ok_or_else(bad)?;
-                    if !above(v, min, closed) {
-                        return Err(bad());
-                    }
-                    Value::Real(v)
-                }
+                Arg::Text(t) => Some(Value::Numbers(number_list(&spell(self.name), t, t)?)),
+                _ => numbers(arg).map(Value::Numbers),
             },
-            Kind::Numbers => match arg {
-                Arg::Numbers(v) => Value::Numbers(v.clone()),
-                Arg::Counts(v) => Value::Numbers(v.iter().map(|&k| k as f64).collect()),
-                Arg::Text(t) => Value::Numbers(number_list(&spell(self.name), t, t)?),
-                _ => return Err(bad()),
+            Kind::Sizes => self.sizes(arg).map(Value::Sizes),
+            Kind::Points | Kind::WordOrPoints(_) => match (arg, self.kind) {
+                (Arg::Points(p), _) => Some(Value::Points(p.clone())),
+                (_, Kind::WordOrPoints(words)) => word(&words(), arg),
+                _ => None,
             },
-            Kind::Bounds => match arg {
-                Arg::Pair(lo, hi) => Value::Pair(lo.clone(), hi.clone()),
-                _ => match (Declared {
-                    kind: Kind::Numbers,
-                    ..*self
-                })
-                .parse(arg, spell)?
-                {
-                    Some(v) => v,
-                    None => return Ok(None),
-                },
-            },
-            Kind::Sizes => Value::Sizes(self.sizes(arg).ok_or_else(bad)?),
-            Kind::Points => match arg {
-                Arg::Points(p) => Value::Points(p.clone()),
-                _ => return Err(bad()),
-            },
-            Kind::WordOrPoints(words) => match arg {
-                Arg::Points(p) => Value::Points(p.clone()),
-                Arg::Text(t) if words().contains(&normal_word(t).as_str()) => {
-                    Value::Word(normal_word(t))
-                }
-                _ => return Err(bad()),
-            },
-            Kind::Text => match arg {
-                Arg::Text(t) => Value::Text(t.clone()),
-                _ => return Err(bad()),
-            },
-            Kind::Texts { empty } => match arg {
-                Arg::Text(t) => Value::Texts(vec![t.clone()]),
-                Arg::Texts(v) => Value::Texts(v.clone()),
-                // An empty list reaches here typed as numbers: no text.
-                Arg::Counts(v) if empty && v.is_empty() => Value::Texts(Vec::new()),
-                Arg::Numbers(v) if empty && v.is_empty() => Value::Texts(Vec::new()),
-                _ => return Err(bad()),
-            },
-            Kind::Rows => match arg {
-                Arg::Text(t) => Value::RowsText(t.clone()),
-                Arg::Points(p) => Value::RowsNumbers(p.as_slice().to_vec()),
-                Arg::Numbers(v) => Value::RowsNumbers(v.clone()),
-                _ => return Err(bad()),
-            },
-            Kind::FrontEnd => return Err(bad()),
+            Kind::Text | Kind::Texts { .. } | Kind::Rows | Kind::FrontEnd => self.texts(arg),
         };
-        Ok(Some(value))
+        value.map(Some).ok_or_else(bad)
+    }
+
+    /// The value of the kinds that hold text or rows, `None` for another value.
+    fn texts(&self, arg: &Arg) -> Option<Value> {
+        Some(match (self.kind, arg) {
+            (Kind::Text, Arg::Text(t)) => Value::Text(t.clone()),
+            (Kind::Texts { .. }, Arg::Text(t)) => Value::Texts(vec![t.clone()]),
+            (Kind::Texts { .. }, Arg::Texts(v)) => Value::Texts(v.clone()),
+            // An empty list reaches here typed as numbers: no text.
+            (Kind::Texts { empty: true }, Arg::Counts(v)) if v.is_empty() => {
+                Value::Texts(Vec::new())
+            }
+            (Kind::Texts { empty: true }, Arg::Numbers(v)) if v.is_empty() => {
+                Value::Texts(Vec::new())
+            }
+            (Kind::Rows, Arg::Text(t)) => Value::RowsText(t.clone()),
+            (Kind::Rows, Arg::Points(p)) => Value::RowsNumbers(p.as_slice().to_vec()),
+            (Kind::Rows, Arg::Numbers(v)) => Value::RowsNumbers(v.clone()),
+            _ => return None,
+        })
     }
 
     /// A whole number in [min, max]; above [`MAX_COUNT`] points, the refusal says why.
