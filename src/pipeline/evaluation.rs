@@ -3,6 +3,7 @@
 //! for a run, the resolution is the only place where a combination is refused, each
 //! refusal naming the option as the front end spells it.
 
+use super::options::Opt;
 use super::request::{plain, Request};
 use crate::design::DesignSpace;
 use crate::plan::constraints::ConstraintSpec;
@@ -69,7 +70,8 @@ impl Measure {
             Measure::Cube {
                 bounds: Some((shown, v)),
                 ..
-            } => Bounds::new(&spell("bounds"), shown, v, points.s())?.unscale(&points, source)?,
+            } => Bounds::new(&spell(Opt::bounds.name()), shown, v, points.s())?
+                .unscale(&points, source)?,
             _ => points,
         };
         Ok(points)
@@ -116,7 +118,7 @@ impl Measure {
                 spell,
             ),
             Measure::Design(_) => Err(Error::invalid(
-                spell("space"),
+                spell(Opt::space.name()),
                 "given for a point set",
                 "a design's figures come from its cells (labels and all)",
             )),
