@@ -948,7 +948,7 @@ pub fn space_values(space: &DesignSpace, unit: &PointSet) -> Result<PointSet, Er
     let below_one = 1.0 - f64::EPSILON / 2.0;
     let data = unit.as_slice().iter().map(|x| x.min(below_one)).collect();
     let inside = PointSet::new(unit.n(), unit.s(), data)?;
-    crate::pipeline::measure::mapped(space, &inside)?.numbers()
+    crate::design::mapped(space, &inside)?.numbers()
 }
 
 /// The mean of independent unbiased estimates (randomised point sets, replicates), its

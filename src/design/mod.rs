@@ -697,3 +697,39 @@ impl Design {
         PointSet::new(n, s, data)
     }
 }
+/// The design whose points are `unit` carried into `space` by the inverse CDF of its
+/// law, point by point: continuous variables through the copula (if any) and their
+/// quantile functions ([`Design::columns`]), a discrete variable with L equally likely
+/// levels to level ⌊u·L⌋. A point uniform in the cube becomes a point of the space's
+/// law, so a randomised set stays unbiased; levels are not dealt by rank, which would
+/// tie each point's level to the others' coordinates and break that. `unit` is kept as
+/// the design's unit-scale set: every column is its exact image.
+pub fn mapped(space: &DesignSpace, unit: &PointSet) -> Result<Design, Error> {
+    if unit.s() != space.dim() {
+        return Err(Error::invalid(
+            "space",
+            format!("{} variables", space.dim()),
+            format!(
+                "one variable per coordinate of the {}-dimensional set",
+                unit.s()
+            ),
+        ));
+    }
+    let levels = space
+        .vars
+        .iter()
+        .enumerate()
+        .map(|(j, v)| match v.kind.levels() {
+            None => Vec::new(),
+            // A coordinate of 1 (the tent's fold can reach it) is the last level's.
+            Some(l) => (0..unit.n())
+                .map(|i| ((unit.point(i)[j] * l as f64) as usize).min(l - 1))
+                .collect(),
+        })
+        .collect();
+    Ok(Design {
+        space: space.clone(),
+        unit: unit.clone(),
+        levels,
+    })
+}

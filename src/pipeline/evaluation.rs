@@ -3,11 +3,11 @@
 //! for a run, the resolution is the only place where a combination is refused, each
 //! refusal naming the option as the front end spells it.
 
-use super::options::{in_group, Group, OPTIONS};
-use super::request::{plain, Arg, Request};
+use super::options::Opt;
+use super::request::{plain, Request};
 use crate::design::DesignSpace;
 use crate::plan::constraints::ConstraintSpec;
-use crate::plan::space::{number_list, Bounds, RegionSpec};
+use crate::plan::space::{Bounds, RegionSpec};
 use crate::quality::metrics::Sums;
 use crate::{Error, PointSet};
 
@@ -53,243 +53,7 @@ impl Request {
     /// Resolves an `eval` request: how the points are measured, or a refusal naming the
     /// option as `spell` writes it. Only options of [`Group::Eval`] are taken.
     pub fn resolve_eval_as(&self, spell: &dyn Fn(&str) -> String) -> Result<Measure, Error> {
-        EvalResolver { r: self, spell }.resolve()
-    }
-}
-
-/// The resolution of one `eval` request: each measure's rules in a method of its own.
-struct EvalResolver<'a> {
-    r: &'a Request,
-    spell: &'a dyn Fn(&str) -> String,
-}
-
-impl EvalResolver<'_> {
-    fn bad(&self, name: &str, value: &dyn std::fmt::Display, expected: String) -> Error {
-        Error::invalid((self.spell)(name), value, expected)
-    }
-
-    fn given(&self, name: &str) -> bool {
-        self.r.get(name).is_some()
-    }
-
-    /// The first of `names` that is given.
-    fn first(&self, names: &[&'static str]) -> Option<&'static str> {
-        names.iter().copied().find(|n| self.given(n))
-    }
-
-    fn text(&self, name: &str) -> Result<Option<String>, Error> {
-        match self.r.get(name) {
-            None => Ok(None),
-            Some(Arg::Text(t)) => Ok(Some(t.clone())),
-            Some(other) => Err(self.bad(name, other, "text".into())),
-        }
-    }
-
-    fn numbers(&self, name: &str) -> Result<Option<Vec<f64>>, Error> {
-        match self.r.get(name) {
-            None => Ok(None),
-            Some(Arg::Numbers(v)) => Ok(Some(v.clone())),
-            Some(Arg::Counts(v)) => Ok(Some(v.iter().map(|&k| k as f64).collect())),
-            Some(Arg::Text(t)) => number_list(&(self.spell)(name), t, t).map(Some),
-            Some(other) => Err(self.bad(name, other, "LO1,HI1,LO2,HI2,...".into())),
-        }
-    }
-
-    fn resolve(&self) -> Result<Measure, Error> {
-        if let Some(d) = OPTIONS
-            .iter()
-            .find(|d| !d.is(Group::Eval) && self.given(d.name))
-        {
-            let taken: Vec<String> = in_group(Group::Eval)
-                .map(|d| (self.spell)(d.name))
-                .collect();
-            return Err(self.bad(
-                d.name,
-                &"given to measure points",
-                format!(
-                    "only the options that say how to measure: {}",
-                    taken.join(", ")
-                ),
-            ));
-        }
-        let exact = match self.r.get("exact") {
-            None | Some(Arg::Bool(false)) => false,
-            Some(Arg::Bool(true)) => true,
-            Some(a @ Arg::Text(t)) => match t.trim().to_ascii_lowercase().as_str() {
-                "true" => true,
-                "false" => false,
-                _ => return Err(self.bad("exact", a, "true or false".into())),
-            },
-            Some(a) => return Err(self.bad("exact", a, "true or false".into())),
-        };
-        let mixture = match self.r.get("mixture") {
-            None | Some(Arg::Bool(false)) => false,
-            Some(Arg::Bool(true)) => true,
-            Some(a) => return Err(self.bad("mixture", a, "true or false".into())),
-        };
-        // The figures of a region or a design are exact at every size: `exact` would
-        // change nothing there.
-        let not_cube = self.given("region")
-            || self.given("shape")
-            || self.given("constraints")
-            || mixture
-            || self.given("space");
-        if exact && not_cube {
-            return Err(self.bad(
-                "exact",
-                &"given to measure points in a region or a design space",
-                "exact only for the unit cube's figures (a region's and a design's are \
-                 computed whole)"
-                    .into(),
-            ));
-        }
-        if self.given("constraints") || mixture {
-            return self.constrained(mixture);
-        }
-        if self.given("space") {
-            return self.design();
-        }
-        if let Some(c) = self.r.get("correlation") {
-            return Err(self.bad(
-                "correlation",
-                c,
-                format!(
-                    "a correlation with a design space ({}) whose continuous variables it \
-                     correlates",
-                    (self.spell)("space")
-                ),
-            ));
-        }
-        if self.given("region") || self.given("shape") {
-            return self.region();
-        }
-        self.cube(exact)
-    }
-
-    /// Points in {A x ≤ b} ∩ box, or mixtures.
-    fn constrained(&self, mixture: bool) -> Result<Measure, Error> {
-        let spell = self.spell;
-        let name = if mixture { "mixture" } else { "constraints" };
-        if let Some(other) = self.first(&["region", "shape", "bounds", "space"]) {
-            return Err(self.bad(
-                other,
-                &format!("given with {}", spell(name)),
-                format!(
-                    "no {} with {}: give the region one way (the constraints cut the \
-                     box {} gives)",
-                    spell(other),
-                    spell(name),
-                    spell("box")
-                ),
-            ));
-        }
-        let texts = match self.r.get("constraints") {
-            None => Vec::new(),
-            Some(Arg::Text(t)) => vec![t.clone()],
-            Some(Arg::Texts(v)) => v.clone(),
-            Some(Arg::Counts(v)) if v.is_empty() => Vec::new(),
-            Some(Arg::Numbers(v)) if v.is_empty() => Vec::new(),
-            Some(other) => {
-                return Err(self.bad(
-                    "constraints",
-                    other,
-                    "a linear constraint as text, such as \"x1 + 2*x2 <= 1\", or a list \
-                     of them"
-                        .into(),
-                ))
-            }
-        };
-        Ok(Measure::Constrained {
-            texts,
-            bbox: self.numbers("box")?,
-            mixture,
-        })
-    }
-
-    /// A design in its space (and the correlation of its continuous variables).
-    fn design(&self) -> Result<Measure, Error> {
-        let spell = self.spell;
-        if let Some(other) = self.first(&["region", "shape", "box", "bounds"]) {
-            return Err(self.bad(
-                other,
-                &format!("given with {}", spell("space")),
-                format!(
-                    "no {} with {}: a design's variables carry their own ranges",
-                    spell(other),
-                    spell("space")
-                ),
-            ));
-        }
-        let items = match self.r.get("space") {
-            Some(Arg::Texts(v)) => v.clone(),
-            Some(Arg::Text(t)) => vec![t.clone()],
-            Some(other) => return Err(self.bad("space", other, "variables NAME=TYPE".into())),
-            None => Vec::new(),
-        };
-        let mut space = DesignSpace::parse(&spell("space"), &items)?;
-        let corr = spell("correlation");
-        match self.r.get("correlation") {
-            None => {}
-            Some(Arg::Text(t)) => space.correlate_rows(&corr, t)?,
-            Some(c @ Arg::Points(p)) => {
-                space.correlate(&corr, &c.to_string(), p.as_slice().to_vec())?
-            }
-            Some(c @ Arg::Numbers(v)) => space.correlate(&corr, &c.to_string(), v.clone())?,
-            Some(other) => {
-                return Err(self.bad("correlation", other, "rows of numbers: 1,0.5;0.5,1".into()))
-            }
-        }
-        Ok(Measure::Design(Box::new(space)))
-    }
-
-    /// Points in a region given by an expression or a shape.
-    fn region(&self) -> Result<Measure, Error> {
-        let spell = self.spell;
-        if self.given("bounds") {
-            return Err(self.bad(
-                "bounds",
-                &"given with a region",
-                format!(
-                    "no {} with {} or {}: a region's points are in its own coordinates",
-                    spell("bounds"),
-                    spell("region"),
-                    spell("shape")
-                ),
-            ));
-        }
-        Ok(Measure::Region {
-            expression: self.text("region")?,
-            bbox: self.numbers("box")?,
-            shape: self.text("shape")?,
-        })
-    }
-
-    /// Points in the unit cube (or scaled to `bounds`).
-    fn cube(&self, exact: bool) -> Result<Measure, Error> {
-        if let Some(b) = self.r.get("box") {
-            let spell = self.spell;
-            return Err(self.bad(
-                "box",
-                b,
-                format!(
-                    "a box only with {} EXPR or {} polytope:FILE (it bounds them)",
-                    spell("region"),
-                    spell("shape")
-                ),
-            ));
-        }
-        let bounds = match self.r.get("bounds") {
-            None => None,
-            Some(a @ Arg::Pair(lo, hi)) if lo.len() == hi.len() => Some((
-                a.to_string(),
-                lo.iter().zip(hi).flat_map(|(a, b)| [*a, *b]).collect(),
-            )),
-            Some(a) => self.numbers("bounds")?.map(|v| (a.to_string(), v)),
-        };
-        Ok(Measure::Cube {
-            bounds,
-            sums: if exact { Sums::EXACT } else { Sums::AUTO },
-        })
+        super::request::resolve::Ctx::new(self, spell).resolve_eval()
     }
 }
 
@@ -306,7 +70,8 @@ impl Measure {
             Measure::Cube {
                 bounds: Some((shown, v)),
                 ..
-            } => Bounds::new(&spell("bounds"), shown, v, points.s())?.unscale(&points, source)?,
+            } => Bounds::new(&spell(Opt::bounds.name()), shown, v, points.s())?
+                .unscale(&points, source)?,
             _ => points,
         };
         Ok(points)
@@ -353,7 +118,7 @@ impl Measure {
                 spell,
             ),
             Measure::Design(_) => Err(Error::invalid(
-                spell("space"),
+                spell(Opt::space.name()),
                 "given for a point set",
                 "a design's figures come from its cells (labels and all)",
             )),
@@ -364,6 +129,7 @@ impl Measure {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::pipeline::request::Arg;
 
     fn request(pairs: &[(&str, Arg)]) -> Request {
         let mut r = Request::default();
