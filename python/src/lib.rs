@@ -12,8 +12,7 @@
 
 #![deny(missing_docs)]
 
-mod cubature;
-mod sensitivity;
+mod drivers;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::time::Instant;
@@ -271,6 +270,15 @@ fn arg(key: &str, v: &Bound<'_, PyAny>) -> PyResult<Option<Arg>> {
         return Ok(Some(Arg::Numbers(
             pairs.into_iter().flat_map(|(a, b)| [a, b]).collect(),
         )));
+    }
+    // Rows of numbers of one length (a matrix written as nested lists).
+    if let Ok(rows) = v.extract::<Vec<Vec<f64>>>() {
+        let width = rows.first().map_or(0, Vec::len);
+        if rows.iter().all(|r| r.len() == width) {
+            if let Ok(p) = PointSet::new(rows.len(), width, rows.concat()) {
+                return Ok(Some(Arg::Points(p)));
+            }
+        }
     }
     Err(value_error(format!(
         "invalid {key} = {}: expected a number, a string, a list of numbers or an (n, d) \
@@ -701,11 +709,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(law_set, m)?)?;
     m.add_function(wrap_pyfunction!(options, m)?)?;
     m.add_function(wrap_pyfunction!(metrics, m)?)?;
-    m.add_function(wrap_pyfunction!(cubature::sequence_points, m)?)?;
-    m.add_function(wrap_pyfunction!(cubature::check_box, m)?)?;
-    m.add_function(wrap_pyfunction!(cubature::quad_space, m)?)?;
-    m.add_function(wrap_pyfunction!(cubature::quad_box_rule, m)?)?;
-    m.add_class::<cubature::PyCubature>()?;
-    sensitivity::register(m)?;
+    drivers::register(m)?;
     Ok(())
 }

@@ -48,7 +48,8 @@ pub struct Given {
     pub first_estimator: Option<Arg>,
 }
 
-/// Declares [`Given::get`] and [`Given::names`] over the fields, in one list.
+/// Declares [`Given::get`], [`Given::set`] and [`Given::names`] over the fields, in one
+/// list.
 macro_rules! fields {
     ($($field:ident),*) => {
         impl Given {
@@ -58,6 +59,16 @@ macro_rules! fields {
                     $(stringify!($field) => self.$field.as_ref(),)*
                     _ => None,
                 }
+            }
+
+            /// Sets the option the library calls `name`; false for a name that is not one
+            /// of these options.
+            pub fn set(&mut self, name: &str, value: Arg) -> bool {
+                match name {
+                    $(stringify!($field) => self.$field = Some(value),)*
+                    _ => return false,
+                }
+                true
             }
 
             /// The library's names of the options given, in the order of the fields.
