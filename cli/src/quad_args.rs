@@ -1,5 +1,8 @@
 //! The options of `stillpoint integrate --expr`: integration to a tolerance.
 
+use stillpoint::cubature::Given;
+use stillpoint::pipeline::request::Arg;
+
 /// `integrate --expr EXPR -s S --rel-tol T ...`: ∫ EXPR over [0, 1]^s (or --bounds),
 /// doubling the points of R randomly shifted copies of an extensible lattice until the
 /// t interval's half-width is within the tolerance.
@@ -74,17 +77,18 @@ impl QuadArgs {
     /// The first option given that only `--expr` uses, as its flag (`-s`, `--seed`, ...),
     /// in the order of the help: a point file is integrated without them.
     pub(crate) fn first_expr_only(&self) -> Option<&'static str> {
-        self.given().next()
+        self.flags_given().next()
     }
 
     /// The first option given that only the integration to a tolerance uses: point files
     /// with `--expr` take only `-s` (checked against them) and `--level`.
     pub(crate) fn first_tolerance_only(&self) -> Option<&'static str> {
-        self.given().find(|flag| !matches!(*flag, "-s" | "--level"))
+        self.flags_given()
+            .find(|flag| !matches!(*flag, "-s" | "--level"))
     }
 
     /// The flags given that apply to `--expr`, in the order of the help.
-    fn given(&self) -> impl Iterator<Item = &'static str> {
+    fn flags_given(&self) -> impl Iterator<Item = &'static str> {
         [
             ("-s", self.s.is_some()),
             ("--rel-tol", self.rel_tol.is_some()),
@@ -105,39 +109,67 @@ impl QuadArgs {
         .map(|(flag, _)| flag)
     }
 
-    /// The library's settings: the options given, the documented defaults for the rest
-    /// (the box is set by the caller, which checks it as `--bounds`).
-    pub(crate) fn options(&self) -> stillpoint::cubature::QuadOptions {
-        let d = stillpoint::cubature::QuadOptions::default();
-        fn or<T: Copy>(t: &Option<Typed<T>>, default: T) -> T {
-            t.as_ref().map_or(default, |t| t.value)
-        }
-        stillpoint::cubature::QuadOptions {
-            abs_tol: or(&self.abs_tol, d.abs_tol),
-            rel_tol: or(&self.rel_tol, d.rel_tol),
-            level: or(&self.level, d.level),
-            replicates: or(&self.replicates, d.replicates),
-            max_n: or(&self.max_n, d.max_n),
-            seed: or(&self.seed, d.seed),
-            ..d
+    /// The options given as the library resolves them ([`Given`]): each value as its
+    /// text typed, which the library parses, checks and echoes; `--var`/`--space` as the
+    /// space's variables.
+    pub(crate) fn options(&self) -> anyhow::Result<Given> {
+        Ok(Given {
+            d: self.s.map(|s| Arg::Int(s as i128)),
+            bounds: self.bounds.as_deref().map(Arg::from),
+            abs_tol: typed_arg(&self.abs_tol),
+            rel_tol: typed_arg(&self.rel_tol),
+            level: typed_arg(&self.level),
+            replicates: typed_arg(&self.replicates),
+            max_n: typed_arg(&self.max_n),
+            seed: typed_arg(&self.seed),
+            space: space_items(&self.var, self.space.as_deref())?,
+            correlation: self.correlation.as_deref().map(Arg::from),
+            ..Given::default()
+        })
+    }
+
+    /// The flag `--var` or `--space` that gives the space, for refusals.
+    pub(crate) fn space_flag(&self) -> &'static str {
+        match (&self.space, self.var.is_empty()) {
+            (Some(_), _) => "--space",
+            (None, false) => "--var",
+            (None, true) => "--var or --space",
         }
     }
 
-    /// The text typed for the setting the library calls `name`, if it was given: a
-    /// refusal shows it rather than the number parsed (`-1e-3`, not `-0.001`).
-    pub(crate) fn typed(&self, name: &str) -> Option<&str> {
-        fn text<T>(t: &Option<Typed<T>>) -> Option<&str> {
-            t.as_ref().map(|t| t.text.as_str())
-        }
-        match name {
-            "abs_tol" => text(&self.abs_tol),
-            "rel_tol" => text(&self.rel_tol),
-            "level" => text(&self.level),
-            "replicates" => text(&self.replicates),
-            "max_n" => text(&self.max_n),
-            "seed" => text(&self.seed),
-            _ => None,
-        }
+    /// The text typed for `--level`, if given.
+    pub(crate) fn level_typed(&self) -> Option<&str> {
+        self.level.as_ref().map(|t| t.text.as_str())
+    }
+}
+
+/// A value as typed, for the library to parse ([`Given`]).
+pub(crate) fn typed_arg<T>(t: &Option<Typed<T>>) -> Option<Arg> {
+    t.as_ref().map(|t| Arg::Text(t.text.clone()))
+}
+
+/// A design space's variables from `--var` (repeated) or `--space FILE`.
+pub(crate) fn space_items(
+    var: &[String],
+    file: Option<&std::path::Path>,
+) -> anyhow::Result<Option<Arg>> {
+    Ok(match file {
+        Some(path) => Some(Arg::Texts(crate::read_space(path)?)),
+        None => (!var.is_empty()).then(|| Arg::Texts(var.to_vec())),
+    })
+}
+
+/// How the integration commands spell the library's option `name`: `-s` for the
+/// dimension, `--bounds` for the box, `space_flag` for the space (and its variables,
+/// `space x`), the option's declared flag otherwise.
+pub(crate) fn integration_flag(name: &str, space_flag: &str) -> String {
+    match name {
+        "d" => "-s".to_string(),
+        "a" | "b" | "a, b" | "bounds" => "--bounds".to_string(),
+        "space" => space_flag.to_string(),
+        n if n.starts_with("space ") => format!("{space_flag}{}", &n["space".len()..]),
+        n if n.starts_with('-') => n.to_string(),
+        other => format!("--{}", other.replace('_', "-")),
     }
 }
 
