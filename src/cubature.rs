@@ -43,7 +43,7 @@
 use serde::{Deserialize, Serialize};
 
 mod given;
-pub use given::{Given, Spelling};
+pub use given::Spelling;
 
 use crate::design::DesignSpace;
 use crate::sequences::{ExtensibleLattice, EXTENSIBLE_MAX_POINTS};

@@ -43,7 +43,7 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
         bail!("missing FILE or --expr: a point file to integrate, or --expr EXPR");
     };
     let given = q.options()?;
-    if given.d.is_none() && given.space.is_none() {
+    if given.s.is_none() && given.space.is_none() {
         bail!("--expr needs -s (the dimension), or --var/--space");
     }
     let space_flag = q.space_flag();
@@ -53,7 +53,7 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
         name: &name,
         shown: &shown,
     };
-    let (mut state, space) = Cubature::from_given(&given, &spelling)?;
+    let (mut state, space) = Cubature::from_request(&given, &spelling)?;
     let refused = |e| expr_refusal(e, text, |_| None, |n| integration_flag(n, space_flag));
     let s = state.d();
     let expr = RegionExpr::parse(text, s).map_err(|e| anyhow::anyhow!("invalid --expr: {e}"))?;

@@ -1,7 +1,8 @@
 //! The options of `stillpoint integrate --expr`: integration to a tolerance.
 
-use stillpoint::cubature::Given;
+use stillpoint::pipeline::options::{cli_name, Opt};
 use stillpoint::pipeline::request::Arg;
+use stillpoint::Request;
 
 /// `integrate --expr EXPR -s S --rel-tol T ...`: ∫ EXPR over [0, 1]^s (or --bounds),
 /// doubling the points of R randomly shifted copies of an extensible lattice until the
@@ -25,23 +26,22 @@ pub(crate) struct QuadArgs {
         allow_negative_numbers = true
     )]
     pub(crate) s: Option<usize>,
-    /// Relative tolerance: stop when the half-width ≤ max(--abs-tol, T·|estimate|)
-    /// [default: 0.001].
+    /// Relative tolerance: stop when the half-width ≤ max(--abs-tol, T·|estimate|).
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub(crate) rel_tol: Option<Typed<f64>>,
-    /// Absolute tolerance [default: 0].
+    /// Absolute tolerance.
     #[arg(long, value_name = "A", allow_hyphen_values = true)]
     pub(crate) abs_tol: Option<Typed<f64>>,
-    /// Confidence level of the interval [default: 0.95].
+    /// Confidence level of the interval.
     #[arg(long, value_name = "P", allow_hyphen_values = true)]
     pub(crate) level: Option<Typed<f64>>,
-    /// Independent random shifts (the interval comes from their spread) [default: 8].
+    /// Independent random shifts (the interval comes from their spread).
     #[arg(long, value_name = "R", allow_negative_numbers = true)]
     pub(crate) replicates: Option<Typed<usize>>,
-    /// The most evaluations, all replicates together [default: 1048576].
+    /// The most evaluations, all replicates together.
     #[arg(long, value_name = "M", allow_negative_numbers = true)]
     pub(crate) max_n: Option<Typed<u64>>,
-    /// Seed of the shifts [default: 0].
+    /// Seed of the shifts.
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub(crate) seed: Option<Typed<u64>>,
     /// Integrate over this box instead of the unit cube: LO1,HI1,... (the volume is
@@ -109,12 +109,12 @@ impl QuadArgs {
         .map(|(flag, _)| flag)
     }
 
-    /// The options given as the library resolves them ([`Given`]): each value as its
+    /// The options given as the library resolves them ([`Request`]): each value as its
     /// text typed, which the library parses, checks and echoes; `--var`/`--space` as the
     /// space's variables.
-    pub(crate) fn options(&self) -> anyhow::Result<Given> {
-        Ok(Given {
-            d: self.s.map(|s| Arg::Int(s as i128)),
+    pub(crate) fn options(&self) -> anyhow::Result<Request> {
+        Ok(Request {
+            s: self.s.map(|s| Arg::Int(s as i128)),
             bounds: self.bounds.as_deref().map(Arg::from),
             abs_tol: typed_arg(&self.abs_tol),
             rel_tol: typed_arg(&self.rel_tol),
@@ -124,7 +124,7 @@ impl QuadArgs {
             seed: typed_arg(&self.seed),
             space: space_items(&self.var, self.space.as_deref())?,
             correlation: self.correlation.as_deref().map(Arg::from),
-            ..Given::default()
+            ..Request::default()
         })
     }
 
@@ -143,7 +143,7 @@ impl QuadArgs {
     }
 }
 
-/// A value as typed, for the library to parse ([`Given`]).
+/// A value as typed, for the library to parse.
 pub(crate) fn typed_arg<T>(t: &Option<Typed<T>>) -> Option<Arg> {
     t.as_ref().map(|t| Arg::Text(t.text.clone()))
 }
@@ -159,17 +159,13 @@ pub(crate) fn space_items(
     })
 }
 
-/// How the integration commands spell the library's option `name`: `-s` for the
-/// dimension, `--bounds` for the box, `space_flag` for the space (and its variables,
-/// `space x`), the option's declared flag otherwise.
+/// How the integration commands spell the library's option `name`: its declared flag,
+/// and for the space (and its variables, `space x`) `space_flag`, the flag that gave it.
 pub(crate) fn integration_flag(name: &str, space_flag: &str) -> String {
-    match name {
-        "d" => "-s".to_string(),
-        "a" | "b" | "a, b" | "bounds" => "--bounds".to_string(),
-        "space" => space_flag.to_string(),
-        n if n.starts_with("space ") => format!("{space_flag}{}", &n["space".len()..]),
-        n if n.starts_with('-') => n.to_string(),
-        other => format!("--{}", other.replace('_', "-")),
+    match name.split_once(' ') {
+        Some((space, rest)) if space == Opt::space.name() => format!("{space_flag} {rest}"),
+        _ if name == Opt::space.name() => space_flag.to_string(),
+        _ => cli_name(name),
     }
 }
 

@@ -3,7 +3,7 @@
 //! JSON and drawn as bars with their intervals.
 
 use super::*;
-use stillpoint::cubature::{Given, Spelling, StopReason};
+use stillpoint::cubature::{Spelling, StopReason};
 use stillpoint::parse::expr::RegionExpr;
 use stillpoint::sensitivity::Sensitivity;
 
@@ -25,25 +25,25 @@ pub(crate) struct SensitivityArgs {
     /// The inputs' box instead of the unit cube: LO1,HI1,... (with -s).
     #[arg(long, value_name = "LO1,HI1,...", allow_hyphen_values = true)]
     pub(crate) bounds: Option<String>,
-    /// The half-width every index must reach [default: 0.01].
+    /// The half-width every index must reach.
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub(crate) abs_tol: Option<Typed<f64>>,
-    /// Confidence level of the intervals [default: 0.95].
+    /// Confidence level of the intervals.
     #[arg(long, value_name = "P", allow_hyphen_values = true)]
     pub(crate) level: Option<Typed<f64>>,
     /// The intervals hold all together at --level (Bonferroni), not each on its own.
     #[arg(long)]
     pub(crate) simultaneous: bool,
-    /// The first-order estimator: saltelli (the default) or janon.
+    /// The first-order estimator: saltelli or janon.
     #[arg(long, value_name = "NAME")]
     pub(crate) first_estimator: Option<String>,
-    /// Independent random shifts (the intervals come from their spread) [default: 8].
+    /// Independent random shifts (the intervals come from their spread).
     #[arg(long, value_name = "R", allow_negative_numbers = true)]
     pub(crate) replicates: Option<Typed<usize>>,
-    /// The most evaluations, all rounds [default: 4194304].
+    /// The most evaluations, all rounds.
     #[arg(long, value_name = "M", allow_negative_numbers = true)]
     pub(crate) max_n: Option<Typed<u64>>,
-    /// Seed of the shifts [default: 0].
+    /// Seed of the shifts.
     #[arg(long, value_name = "N", allow_negative_numbers = true)]
     pub(crate) seed: Option<Typed<u64>>,
     /// Print one JSON object.
@@ -62,10 +62,10 @@ pub(crate) struct SensitivityArgs {
 }
 
 impl SensitivityArgs {
-    /// The options given as the library resolves them ([`Given`]), each value as typed.
-    fn given(&self) -> Result<Given> {
-        Ok(Given {
-            d: self.s.map(|s| Arg::Int(s as i128)),
+    /// The options given as the library resolves them ([`Request`]), each value as typed.
+    fn given(&self) -> Result<Request> {
+        Ok(Request {
+            s: self.s.map(|s| Arg::Int(s as i128)),
             bounds: self.bounds.as_deref().map(Arg::from),
             abs_tol: typed_arg(&self.abs_tol),
             level: typed_arg(&self.level),
@@ -75,7 +75,7 @@ impl SensitivityArgs {
             max_n: typed_arg(&self.max_n),
             seed: typed_arg(&self.seed),
             space: space_items(&self.var, None)?,
-            ..Given::default()
+            ..Request::default()
         })
     }
 }
@@ -84,7 +84,7 @@ impl SensitivityArgs {
 pub(crate) fn sensitivity_command(q: SensitivityArgs) -> Result<()> {
     let text = q.expr.as_str();
     let given = q.given()?;
-    if given.d.is_none() && given.space.is_none() {
+    if given.s.is_none() && given.space.is_none() {
         bail!("sensitivity needs -s S (inputs uniform on [0, 1]) or --var");
     }
     let name = |n: &str| integration_flag(n, "--var");
@@ -93,7 +93,7 @@ pub(crate) fn sensitivity_command(q: SensitivityArgs) -> Result<()> {
         name: &name,
         shown: &shown,
     };
-    let (mut state, space) = Sensitivity::from_given(&given, &spelling)?;
+    let (mut state, space) = Sensitivity::from_request(&given, &spelling)?;
     let refused = |e| expr_refusal(e, text, |_| None, |n| integration_flag(n, "--var"));
     let options = state.options().clone();
     let d = state.d();

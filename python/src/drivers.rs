@@ -1,7 +1,7 @@
 //! Integration to a tolerance and Sobol' indices for Python: the library's state machines
 //! `Cubature` and `Sensitivity` as classes, made from `quad`'s and `sobol_indices`'s
-//! keyword arguments by the library's one resolution ([`Given`]: defaults, checks and
-//! refused combinations); the Python side evaluates f on each batch. Also the extensible
+//! keyword arguments by the library's one resolution (`Cubature::from_request`:
+//! defaults, checks and refused combinations); the Python side evaluates f on each batch. Also the extensible
 //! randomised lattice sequence's points by index.
 
 use std::collections::HashMap;
@@ -11,9 +11,10 @@ use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
-use stillpoint::cubature::{Cubature, Given, QuadOptions, Rounds, Spelling, StopReason};
+use stillpoint::cubature::{Cubature, QuadOptions, Rounds, Spelling, StopReason};
 use stillpoint::design::DesignSpace;
-use stillpoint::pipeline::request::Arg;
+use stillpoint::pipeline::options::{python_name, Opt, ALL};
+use stillpoint::pipeline::request::{Arg, Request};
 use stillpoint::sensitivity::{Sensitivity, SensitivityOptions};
 use stillpoint::sequences::ExtensibleLattice;
 use stillpoint::PointSet;
@@ -24,30 +25,78 @@ use super::{arg, to_array, value_error};
 /// row-major (for the map Python applies to each batch).
 type SpaceParts = (Option<Vec<String>>, Option<Vec<f64>>);
 
-/// The options of the keyword arguments, each echoed in refusals as Python's repr of
-/// it; Python's keywords are the library's names.
-fn with_given<T>(
+/// One corner of the box (Python's `a`, `b`: one number for every dimension, or one
+/// per dimension) as the library's lower or upper ends.
+fn corner(key: &str, value: Arg, shown: &str) -> PyResult<Vec<f64>> {
+    match value {
+        Arg::Float(x) => Ok(vec![x]),
+        Arg::Int(i) => Ok(vec![i as f64]),
+        Arg::Numbers(v) => Ok(v),
+        Arg::Counts(v) => Ok(v.into_iter().map(|i| i as f64).collect()),
+        _ => Err(value_error(format!(
+            "invalid {key} = {shown}: expected a number, or one per dimension"
+        ))),
+    }
+}
+
+/// The request of the keyword arguments, each echoed in refusals as Python's repr of
+/// it, resolved by `resolve`. Python's keywords are the declared ones ([`ALL`]), but for
+/// the box: its corners `a` and `b` apart, the library's `bounds` as lower and upper
+/// ends (spelled in refusals as the corners given).
+fn with_request<T>(
     kwargs: Option<&Bound<'_, PyDict>>,
-    resolve: impl FnOnce(&Given, &Spelling) -> Result<T, stillpoint::Error>,
+    resolve: impl FnOnce(&Request, &Spelling) -> Result<T, stillpoint::Error>,
 ) -> PyResult<T> {
-    let mut given = Given::default();
-    let mut typed = HashMap::new();
+    let mut r = Request::default();
+    let mut typed: HashMap<&str, String> = HashMap::new();
+    let mut box_ends: [Option<(Vec<f64>, String)>; 2] = [None, None];
     for (k, v) in kwargs.into_iter().flat_map(|d| d.iter()) {
         let key: String = k.extract()?;
-        if let Some(value) = arg(&key, &v)? {
-            if !given.set(&key, value) {
-                return Err(value_error(format!("invalid keyword argument = {key}")));
-            }
-            typed.insert(key, v.repr()?.to_string());
+        let Some(value) = arg(&key, &v)? else {
+            continue;
+        };
+        let shown = v.repr()?.to_string();
+        let end = ["a", "b"].iter().position(|c| *c == key);
+        if let Some(i) = end {
+            box_ends[i] = Some((corner(&key, value, &shown)?, shown));
+            continue;
         }
+        let d = ALL
+            .iter()
+            .find(|d| d.python == Some(key.as_str()))
+            .ok_or_else(|| value_error(format!("invalid keyword argument = {key}")))?;
+        r.set(d.name, value).map_err(value_error)?;
+        typed.insert(d.name, shown);
     }
-    let name = |n: &str| n.to_string();
+    let [lo, hi] = box_ends;
+    let corners = match (&lo, &hi) {
+        (Some(_), Some(_)) => "a, b",
+        (Some(_), None) => "a",
+        _ => "b",
+    };
+    if lo.is_some() || hi.is_some() {
+        let show =
+            |e: &Option<(Vec<f64>, String)>| e.as_ref().map_or("None".into(), |e| e.1.clone());
+        typed.insert(
+            Opt::bounds.name(),
+            format!("({}, {})", show(&lo), show(&hi)),
+        );
+        let end = |e: Option<(Vec<f64>, String)>, fill: f64| e.map_or(vec![fill], |e| e.0);
+        r.bounds = Some(Arg::Pair(end(lo, 0.0), end(hi, 1.0)));
+    }
+    let name = |n: &str| {
+        if n == Opt::bounds.name() {
+            corners.to_string()
+        } else {
+            python_name(n)
+        }
+    };
     let shown = |n: &str, v: &Arg| typed.get(n).cloned().unwrap_or_else(|| v.to_string());
     let spelling = Spelling {
         name: &name,
         shown: &shown,
     };
-    resolve(&given, &spelling).map_err(value_error)
+    resolve(&r, &spelling).map_err(value_error)
 }
 
 /// The parts of a resolved space Python needs.
@@ -93,9 +142,9 @@ macro_rules! driver {
                 start: Option<PyRef<'_, Self>>,
                 kwargs: Option<&Bound<'_, PyDict>>,
             ) -> PyResult<(Self, SpaceParts)> {
-                let (inner, space) = with_given(kwargs, |g, sp| match &start {
-                    Some(s) => s.inner.continued(g, sp).map(|i| (i, None)),
-                    None => $inner::from_given(g, sp),
+                let (inner, space) = with_request(kwargs, |r, sp| match &start {
+                    Some(s) => s.inner.continued(r, sp).map(|i| (i, None)),
+                    None => $inner::from_request(r, sp),
                 })?;
                 Ok(($py { inner, batch: None }, parts(space)))
             }
