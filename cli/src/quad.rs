@@ -132,7 +132,7 @@ pub(crate) fn files_command(files: &[PathBuf], q: QuadArgs, json: bool) -> Resul
              (--expr without FILE); the files' points are evaluated as they are"
         );
     }
-    let level = q.level.as_ref().map_or(0.95, |t| t.value);
+    let level = q.level()?;
     let mut means = Vec::with_capacity(files.len());
     let mut rows = Vec::with_capacity(files.len());
     let mut dim: Option<(usize, String)> = q.s.map(|s| (s, format!("-s {s}")));
@@ -161,13 +161,7 @@ pub(crate) fn files_command(files: &[PathBuf], q: QuadArgs, json: bool) -> Resul
         means.push(mean);
         rows.push((source, points.n(), mean));
     }
-    let m = stillpoint::cubature::mean_interval(&means, level).map_err(|e| match e {
-        stillpoint::Error::InvalidArgument { expected, .. } => anyhow::anyhow!(
-            "invalid --level = {}: expected {expected}",
-            q.level_typed().unwrap_or_default()
-        ),
-        other => anyhow::Error::from(other),
-    })?;
+    let m = stillpoint::cubature::mean_interval(&means, level)?;
     let s = dim.map_or(0, |(s, _)| s);
     let total: usize = rows.iter().map(|r| r.1).sum();
     if json {

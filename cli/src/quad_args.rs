@@ -28,22 +28,22 @@ pub(crate) struct QuadArgs {
     pub(crate) s: Option<usize>,
     /// Relative tolerance: stop when the half-width ≤ max(--abs-tol, T·|estimate|).
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
-    pub(crate) rel_tol: Option<Typed<f64>>,
+    pub(crate) rel_tol: Option<String>,
     /// Absolute tolerance.
     #[arg(long, value_name = "A", allow_hyphen_values = true)]
-    pub(crate) abs_tol: Option<Typed<f64>>,
+    pub(crate) abs_tol: Option<String>,
     /// Confidence level of the interval.
     #[arg(long, value_name = "P", allow_hyphen_values = true)]
-    pub(crate) level: Option<Typed<f64>>,
+    pub(crate) level: Option<String>,
     /// Independent random shifts (the interval comes from their spread).
-    #[arg(long, value_name = "R", allow_negative_numbers = true)]
-    pub(crate) replicates: Option<Typed<usize>>,
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
+    pub(crate) replicates: Option<String>,
     /// The most evaluations, all replicates together.
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
-    pub(crate) max_n: Option<Typed<u64>>,
+    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    pub(crate) max_n: Option<String>,
     /// Seed of the shifts.
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
-    pub(crate) seed: Option<Typed<u64>>,
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub(crate) seed: Option<String>,
     /// Integrate over this box instead of the unit cube: LO1,HI1,... (the volume is
     /// included).
     #[arg(long, value_name = "LO1,HI1,...", allow_hyphen_values = true)]
@@ -137,15 +137,21 @@ impl QuadArgs {
         }
     }
 
-    /// The text typed for `--level`, if given.
-    pub(crate) fn level_typed(&self) -> Option<&str> {
-        self.level.as_ref().map(|t| t.text.as_str())
+    /// `--level` read by its declaration (the integration's default when not given).
+    pub(crate) fn level(&self) -> anyhow::Result<f64> {
+        let Some(text) = self.level.as_deref() else {
+            return Ok(stillpoint::cubature::QuadOptions::default().level);
+        };
+        match Opt::level.declared().parse(&Arg::from(text), &cli_name)? {
+            Some(stillpoint::pipeline::options::Value::Real(level)) => Ok(level),
+            _ => anyhow::bail!("invalid --level = {text}"),
+        }
     }
 }
 
-/// A value as typed, for the library to parse.
-pub(crate) fn typed_arg<T>(t: &Option<Typed<T>>) -> Option<Arg> {
-    t.as_ref().map(|t| Arg::Text(t.text.clone()))
+/// A value as typed, for the library to parse by its declaration.
+pub(crate) fn typed_arg(t: &Option<String>) -> Option<Arg> {
+    t.as_deref().map(Arg::from)
 }
 
 /// A design space's variables from `--var` (repeated) or `--space FILE`.
@@ -169,26 +175,14 @@ pub(crate) fn integration_flag(name: &str, space_flag: &str) -> String {
     }
 }
 
-/// An option's value as parsed and as typed.
+/// An option's value as parsed and as typed. The integration flags no longer use it
+/// (they are text, read by their declarations); it stays for the parsers of `args.rs`
+/// that name it, until they go.
 #[derive(Debug, Clone)]
+#[allow(dead_code)]
 pub(crate) struct Typed<T> {
     /// The value.
     pub(crate) value: T,
     /// The text on the command line.
     pub(crate) text: String,
-}
-
-impl<T: std::str::FromStr> std::str::FromStr for Typed<T>
-where
-    T::Err: std::fmt::Display,
-{
-    type Err = String;
-
-    fn from_str(text: &str) -> Result<Self, String> {
-        let value = text.parse::<T>().map_err(|e| e.to_string())?;
-        Ok(Typed {
-            value,
-            text: text.to_string(),
-        })
-    }
 }

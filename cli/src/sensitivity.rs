@@ -27,10 +27,10 @@ pub(crate) struct SensitivityArgs {
     pub(crate) bounds: Option<String>,
     /// The half-width every index must reach.
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
-    pub(crate) abs_tol: Option<Typed<f64>>,
+    pub(crate) abs_tol: Option<String>,
     /// Confidence level of the intervals.
     #[arg(long, value_name = "P", allow_hyphen_values = true)]
-    pub(crate) level: Option<Typed<f64>>,
+    pub(crate) level: Option<String>,
     /// The intervals hold all together at --level (Bonferroni), not each on its own.
     #[arg(long)]
     pub(crate) simultaneous: bool,
@@ -38,14 +38,14 @@ pub(crate) struct SensitivityArgs {
     #[arg(long, value_name = "NAME")]
     pub(crate) first_estimator: Option<String>,
     /// Independent random shifts (the intervals come from their spread).
-    #[arg(long, value_name = "R", allow_negative_numbers = true)]
-    pub(crate) replicates: Option<Typed<usize>>,
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
+    pub(crate) replicates: Option<String>,
     /// The most evaluations, all rounds.
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
-    pub(crate) max_n: Option<Typed<u64>>,
+    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    pub(crate) max_n: Option<String>,
     /// Seed of the shifts.
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
-    pub(crate) seed: Option<Typed<u64>>,
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub(crate) seed: Option<String>,
     /// Print one JSON object.
     #[arg(long)]
     pub(crate) json: bool,

@@ -170,11 +170,11 @@ def sobol_indices(
     level : float, optional
         The confidence level of the intervals, in (0, 1); by default 0.95.
     simultaneous : bool, optional
-        False (the default): each index's own interval holds at ``level``. True: all
+        By default False: each index's own interval holds at ``level``. True: all
         2·d·k intervals hold together at ``level`` (Bonferroni), and the tolerance
         applies to these wider ones.
     first_estimator : str, optional
-        ``"saltelli"`` (the default) or ``"janon"``.
+        ``"saltelli"`` or ``"janon"``; by default ``"saltelli"``.
     replicates : int, optional
         Independent shifts R, 2 to 16384 (by default 8).
     max_n : int, optional
