@@ -43,6 +43,7 @@
 use serde::{Deserialize, Serialize};
 
 mod given;
+mod progress;
 pub use given::Spelling;
 
 use crate::design::DesignSpace;

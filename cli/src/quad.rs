@@ -246,7 +246,8 @@ impl Rounds {
 
     /// A doubling is done: its line.
     fn done(&self, state: &Cubature) {
-        self.say(&round_line(state, self.started.elapsed().as_secs_f64()));
+        let seconds = self.started.elapsed().as_secs_f64();
+        self.say(&state.progress_line("stillpoint", seconds));
     }
 
     /// A line of progress (nothing in [`ProgressMode::None`]).
@@ -270,46 +271,9 @@ impl Drop for Rounds {
     }
 }
 
-/// `stillpoint: n=4096  estimate=1.23457e+00  half-width=3.1e-04 (target 1.2e-04)  2.3 s`:
-/// the target is max(abs_tol, rel_tol·|estimate|).
-fn round_line(state: &Cubature, seconds: f64) -> String {
-    let (estimate, half_width) = (state.estimate()[0], state.half_width()[0]);
-    let target = state.targets()[0];
-    format!(
-        "stillpoint: n={}  estimate={}  half-width={} (target {})  {seconds:.1} s",
-        state.n(),
-        sci(estimate, 5),
-        sci(half_width, 1),
-        sci(target, 1)
-    )
-}
-
-/// `x` in scientific notation with `digits` decimals and a signed two-digit exponent, as
-/// C's `%e` writes it (`1.23457e+00`, `3.1e-04`).
-fn sci(x: f64, digits: usize) -> String {
-    let s = format!("{x:.digits$e}");
-    match s.split_once('e') {
-        Some((mantissa, exp)) if x.is_finite() => {
-            let exp: i32 = exp.parse().unwrap_or(0);
-            let sign = if exp < 0 { '-' } else { '+' };
-            format!("{mantissa}e{sign}{:02}", exp.abs())
-        }
-        _ => s,
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn sci_writes_as_c_does() {
-        assert_eq!(sci(1.234567, 5), "1.23457e+00");
-        assert_eq!(sci(3.14e-4, 1), "3.1e-04");
-        assert_eq!(sci(-2.5e12, 1), "-2.5e+12");
-        assert_eq!(sci(0.0, 1), "0.0e+00");
-        assert_eq!(sci(1e-300, 1), "1.0e-300");
-    }
 
     #[test]
     fn numbers_print_compactly_at_any_magnitude() {

@@ -117,17 +117,10 @@ pub(crate) fn sensitivity_command(q: SensitivityArgs) -> Result<()> {
     };
     let after = |s: &Sensitivity| {
         if mode != ProgressMode::None {
-            let [_, _, hf, ht] = s.current();
-            let widest = hf.iter().chain(&ht).fold(0.0f64, |m, h| m.max(*h));
             use std::io::Write as _;
+            let line = s.progress_line("stillpoint", started.elapsed().as_secs_f64());
             // A closed standard error must not end the run.
-            drop(writeln!(
-                std::io::stderr(),
-                "stillpoint: n={}  widest half-width={widest:.1e} (target {:.1e})  {:.1} s",
-                s.n(),
-                s.options().abs_tol,
-                started.elapsed().as_secs_f64()
-            ));
+            drop(writeln!(std::io::stderr(), "{line}"));
         }
     };
     let run = state.run_observed(f, after);

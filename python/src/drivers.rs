@@ -181,6 +181,12 @@ macro_rules! driver {
                 }
             )*
 
+            /// The progress line after a round (the library's, as the command line
+            /// prints it), `prefix` first.
+            fn progress_line(&self, prefix: &str, seconds: f64) -> String {
+                self.inner.progress_line(prefix, seconds)
+            }
+
             $($extra)*
 
             fn __getnewargs__(&self) -> (usize,) {

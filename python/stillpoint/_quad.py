@@ -7,9 +7,7 @@ and the state to continue from with a tighter tolerance."""
 from __future__ import annotations
 
 import concurrent.futures
-import math
-import sys
-from typing import Any, Callable, Dict, List, Optional, Union
+from typing import Any, Callable, List, Optional, Union
 
 import numpy as np
 
@@ -236,29 +234,7 @@ def quad(
         replicates=replicates, max_n=max_n, space=space, correlation=correlation,
         seed=seed, rule=rule,
     )
-    state, setup = _run(QuadResult, f, given, start, executor, progress, _line)
+    state, setup = _run(QuadResult, f, given, start, executor, progress)
     # An early estimate may overflow where a later one does not: checked where it stops.
     state.check_representable()
     return QuadResult(state, setup)
-
-
-def _line(state: Any, setup: Dict[str, Any], t: float) -> None:
-    """One line on standard error: evaluations, estimate, half-width against its target
-    and seconds so far; with several outputs, the one furthest from its target."""
-    est, hw = state.estimate, state.half_width
-    abs_tol, rel_tol = state.settings[:2]
-    targets = [max(abs_tol, rel_tol * abs(e)) for e in est]
-
-    def behind(j: int) -> float:
-        if targets[j] > 0:
-            return hw[j] / targets[j]
-        return math.inf if hw[j] > 0 else 0.0
-
-    j = max(range(len(est)), key=behind)
-    which = f"  (output {j})" if len(est) > 1 else ""
-    print(
-        f"quad: n={state.n}  estimate={est[j]:.5e}  half-width={hw[j]:.1e} "
-        f"(target {targets[j]:.1e}){which}  {t:.1f} s",
-        file=sys.stderr,
-        flush=True,
-    )

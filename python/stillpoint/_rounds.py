@@ -70,7 +70,6 @@ def _run(
     start: Any,
     executor: Any,
     progress: Any,
-    line: _Report,
 ) -> Tuple[Any, Dict[str, Any]]:
     """Runs ``kind``'s computation (``kind`` is the result class, whose ``_core`` names
     its state machine): the state the library resolves from ``given`` (or ``start``
@@ -78,7 +77,7 @@ def _run(
     started = time.perf_counter()
     if not callable(f):
         raise ValueError(f"invalid f = {f!r}: expected a callable taking an (n, d) array")
-    report = _reporter(progress, kind, line)
+    report = _reporter(progress, kind)
     _executor(executor)
     seed = given.pop("seed", _SEED)
     given = {k: v for k, v in given.items() if v is not None}
@@ -138,11 +137,15 @@ def _rounds(
             report(state, setup, time.perf_counter() - started)
 
 
-def _reporter(progress: Any, result: Any, line: _Report) -> Optional[_Report]:
-    """What to do after each round for ``progress``: nothing (None), `line` on standard
-    error, or a call of the user's callable with a copy of the result so far (`result`,
-    the result's class)."""
+def _reporter(progress: Any, result: Any) -> Optional[_Report]:
+    """What to do after each round for ``progress``: nothing (None), the library's
+    progress line on standard error, or a call of the user's callable with a copy of the
+    result so far (`result`, the result's class, whose function prefixes the line)."""
     if isinstance(progress, (bool, np.bool_)):
+
+        def line(state: Any, setup: Dict[str, Any], t: float) -> None:
+            print(state.progress_line(result._made_by, t), file=sys.stderr, flush=True)
+
         return line if progress else None
     if callable(progress):
 

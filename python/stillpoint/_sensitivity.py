@@ -7,8 +7,7 @@ half-widths and the state to continue from."""
 from __future__ import annotations
 
 import concurrent.futures
-import sys
-from typing import Any, Callable, Dict, List, Optional, Union
+from typing import Any, Callable, List, Optional, Union
 
 import numpy as np
 
@@ -212,20 +211,4 @@ def sobol_indices(
         first_estimator=first_estimator, replicates=replicates, max_n=max_n, seed=seed,
         correlation=correlation,
     )
-    return SobolResult(*_run(SobolResult, f, given, start, executor, progress, _line))
-
-
-def _line(state: Any, setup: Dict[str, Any], t: float) -> None:
-    """One line on standard error: evaluations, the widest half-width and its index,
-    the target, seconds so far."""
-    _, _, hf, ht = state.current
-    names, k = state.names, max(1, state.outputs)
-    widths = [(h, "S", i) for i, h in enumerate(hf)] + [(h, "T", i) for i, h in enumerate(ht)]
-    h, kind, i = max(widths)
-    which = names[i // k] + (f", output {i % k}" if k > 1 else "")
-    print(
-        f"sobol_indices: n={state.n}  widest half-width={h:.1e} ({kind} of {which}) "
-        f"(target {state.settings[0]:.1e})  {t:.1f} s",
-        file=sys.stderr,
-        flush=True,
-    )
+    return SobolResult(*_run(SobolResult, f, given, start, executor, progress))
