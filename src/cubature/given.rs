@@ -532,3 +532,103 @@ impl Kept<'_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn request(pairs: &[(Opt, Arg)]) -> Request {
+        let mut r = Request::default();
+        for (opt, v) in pairs {
+            r.set(opt.name(), v.clone()).unwrap();
+        }
+        r
+    }
+
+    fn refusal(e: Error) -> String {
+        e.to_string()
+    }
+
+    #[test]
+    fn the_defaults_are_the_options_and_the_declarations_say_them() {
+        let (c, space) =
+            Cubature::from_request(&request(&[(Opt::s, Arg::Int(3))]), &Spelling::PLAIN).unwrap();
+        let o = QuadOptions::default();
+        assert!(space.is_none() && c.d() == 3);
+        assert_eq!(
+            (c.options().replicates, c.options().max_n),
+            (o.replicates, o.max_n)
+        );
+        let said = |opt: Opt| (opt.declared().default)(Command::Quad).unwrap();
+        assert_eq!(said(Opt::replicates), o.replicates.to_string());
+        assert_eq!(said(Opt::rel_tol), o.rel_tol.to_string());
+        let (s, _) =
+            Sensitivity::from_request(&request(&[(Opt::s, Arg::Int(2))]), &Spelling::PLAIN)
+                .unwrap();
+        let said = (Opt::replicates.declared().default)(Command::Sensitivity).unwrap();
+        assert_eq!(s.options().replicates.to_string(), said);
+    }
+
+    #[test]
+    fn refusals_are_spelled_by_the_front_end_with_the_value_typed() {
+        let name = |n: &str| format!("--{}", n.replace('_', "-"));
+        let shown = |_: &str, v: &Arg| format!("<{v}>");
+        let sp = Spelling {
+            name: &name,
+            shown: &shown,
+        };
+        let r = request(&[(Opt::s, Arg::Int(1)), (Opt::level, Arg::Text("1e5".into()))]);
+        let e = refusal(Cubature::from_request(&r, &sp).unwrap_err());
+        assert_eq!(e, "invalid --level = <1e5>: expected a value in (0, 1)");
+        let r = request(&[
+            (Opt::s, Arg::Int(1)),
+            (Opt::correlation, Arg::from("1,0.5;0.5,1")),
+        ]);
+        let e = refusal(Cubature::from_request(&r, &sp).unwrap_err());
+        assert!(
+            e.starts_with("invalid --correlation without --space: "),
+            "{e}"
+        );
+        let r = request(&[(Opt::s, Arg::Int(2)), (Opt::rule, Arg::from("sobol"))]);
+        let e = refusal(Sensitivity::from_request(&r, &sp).unwrap_err());
+        assert!(
+            e.starts_with("invalid --rule = <sobol>: expected no --rule with sensitivity"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_continuation_honours_or_refuses_each_option_by_name() {
+        let r = request(&[(Opt::s, Arg::Int(2)), (Opt::seed, Arg::Int(5))]);
+        let (c, _) = Cubature::from_request(&r, &Spelling::PLAIN).unwrap();
+        let more = request(&[(Opt::max_n, Arg::Int(1 << 22)), (Opt::seed, Arg::Int(5))]);
+        let later = c.continued(&more, &Spelling::PLAIN).unwrap();
+        assert_eq!(later.options().max_n, 1 << 22);
+        assert_eq!(
+            c.options().max_n,
+            QuadOptions::default().max_n,
+            "the earlier one stands"
+        );
+        for (pairs, head) in [
+            (
+                vec![(Opt::seed, Arg::Int(6))],
+                "invalid seed with start = 6: ",
+            ),
+            (
+                vec![(Opt::replicates, Arg::Int(8))],
+                "invalid replicates = 8 with start: ",
+            ),
+            (
+                vec![(Opt::s, Arg::Int(3))],
+                "invalid s = 3: start was computed in 2",
+            ),
+            (
+                vec![(Opt::bounds, Arg::from("0,1,0,1"))],
+                "invalid bounds with start: ",
+            ),
+        ] {
+            let e = refusal(c.continued(&request(&pairs), &Spelling::PLAIN).unwrap_err());
+            assert!(e.starts_with(head), "{e}");
+        }
+    }
+}
