@@ -714,12 +714,14 @@ fn options<'py>(py: Python<'py>, command: Option<&str>) -> PyResult<Vec<Bound<'p
                     "count"
                 }
                 Kind::Real { min, closed, below } => {
-                    (row.set_item("min", min)?, row.set_item("closed", closed)?);
+                    row.set_item("min", min)?;
+                    row.set_item("closed", closed)?;
                     row.set_item("below", below)?;
                     "real"
                 }
                 Kind::RealOrWord { min, closed, .. } => {
-                    (row.set_item("min", min)?, row.set_item("closed", closed)?);
+                    row.set_item("min", min)?;
+                    row.set_item("closed", closed)?;
                     "real_or_word"
                 }
                 Kind::Seed => "seed",
