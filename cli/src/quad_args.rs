@@ -83,24 +83,24 @@ impl QuadArgs {
     /// The first option given that only the integration to a tolerance uses: point files
     /// with `--expr` take only `-s` (checked against them) and `--level`.
     pub(crate) fn first_tolerance_only(&self) -> Option<&'static str> {
-        self.flags_given()
-            .find(|flag| !matches!(*flag, "-s" | "--level"))
+        let kept = [Opt::s, Opt::level].map(|o| o.declared().flag());
+        self.flags_given().find(|flag| !kept.contains(&Some(flag)))
     }
 
     /// The flags given that apply to `--expr`, in the order of the help.
     fn flags_given(&self) -> impl Iterator<Item = &'static str> {
         [
             ("-s", self.s.is_some()),
-            ("--rel-tol", self.rel_tol.is_some()),
-            ("--abs-tol", self.abs_tol.is_some()),
-            ("--level", self.level.is_some()),
-            ("--replicates", self.replicates.is_some()),
-            ("--max-n", self.max_n.is_some()),
-            ("--seed", self.seed.is_some()),
-            ("--bounds", self.bounds.is_some()),
-            ("--var", !self.var.is_empty()),
-            ("--space", self.space.is_some()),
-            ("--correlation", self.correlation.is_some()),
+            (flag(Opt::rel_tol), self.rel_tol.is_some()),
+            (flag(Opt::abs_tol), self.abs_tol.is_some()),
+            (flag(Opt::level), self.level.is_some()),
+            (flag(Opt::replicates), self.replicates.is_some()),
+            (flag(Opt::max_n), self.max_n.is_some()),
+            (flag(Opt::seed), self.seed.is_some()),
+            (flag(Opt::bounds), self.bounds.is_some()),
+            (flag(Opt::space), !self.var.is_empty()),
+            (space_file(), self.space.is_some()),
+            (flag(Opt::correlation), self.correlation.is_some()),
             ("-q (--quiet)", self.quiet),
             ("--progress", self.progress.is_some()),
         ]
@@ -131,8 +131,8 @@ impl QuadArgs {
     /// The flag `--var` or `--space` that gives the space, for refusals.
     pub(crate) fn space_flag(&self) -> &'static str {
         match (&self.space, self.var.is_empty()) {
-            (Some(_), _) => "--space",
-            (None, false) => "--var",
+            (Some(_), _) => space_file(),
+            (None, false) => flag(Opt::space),
             (None, true) => "--var or --space",
         }
     }
@@ -147,6 +147,21 @@ impl QuadArgs {
             _ => anyhow::bail!("invalid --level = {text}"),
         }
     }
+}
+
+/// The command line's flag of `opt` (every option these commands walk has one).
+fn flag(opt: Opt) -> &'static str {
+    opt.declared().flag().unwrap_or_default()
+}
+
+/// The flag that reads the space's variables from a file (`--space`).
+fn space_file() -> &'static str {
+    Opt::space
+        .declared()
+        .cli_also
+        .first()
+        .copied()
+        .unwrap_or_default()
 }
 
 /// A value as typed, for the library to parse by its declaration.

@@ -5,6 +5,7 @@
 use super::*;
 use stillpoint::cubature::{Spelling, StopReason};
 use stillpoint::parse::expr::RegionExpr;
+use stillpoint::pipeline::options::Opt;
 use stillpoint::sensitivity::Sensitivity;
 
 /// `sensitivity --expr EXPR (-s S | --var NAME=TYPE ...) --abs-tol T ...`.
@@ -87,14 +88,15 @@ pub(crate) fn sensitivity_command(q: SensitivityArgs) -> Result<()> {
     if given.s.is_none() && given.space.is_none() {
         bail!("sensitivity needs -s S (inputs uniform on [0, 1]) or --var");
     }
-    let name = |n: &str| integration_flag(n, "--var");
+    let var = Opt::space.declared().cli;
+    let name = |n: &str| integration_flag(n, var);
     let shown = |_: &str, v: &Arg| v.to_string();
     let spelling = Spelling {
         name: &name,
         shown: &shown,
     };
     let (mut state, space) = Sensitivity::from_request(&given, &spelling)?;
-    let refused = |e| expr_refusal(e, text, |_| None, |n| integration_flag(n, "--var"));
+    let refused = |e| expr_refusal(e, text, |_| None, |n| integration_flag(n, var));
     let options = state.options().clone();
     let d = state.d();
     let expr = RegionExpr::parse(text, d).map_err(|e| anyhow::anyhow!("invalid --expr: {e}"))?;
