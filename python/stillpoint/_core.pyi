@@ -81,9 +81,11 @@ def design_figures(
     float's exact text) read back onto the unit scale of ``space``: the figures of
     :func:`design`'s dict. ``correlation`` is the matrix row-major."""
 
-def options() -> List[Dict[str, Any]]:
-    """Every option of ``generate`` as the library declares it: ``name``, ``cli``,
-    ``python`` (``None`` where Python has no keyword), ``doc`` and ``groups``."""
+def options(command: Optional[str] = None) -> List[Dict[str, Any]]:
+    """Every option of ``generate`` and ``eval`` (or of ``command``: ``quad``,
+    ``sensitivity``, ...) as the library declares it: ``name``, ``cli``, ``python``
+    (``None`` where Python has no keyword), ``doc``, ``groups``, ``commands``, ``kind``
+    (with its bounds), ``words``, ``expected`` and ``default`` (per command)."""
 
 def space_values(
     space: Sequence[str],
@@ -115,6 +117,7 @@ class Cubature:
     def next_points(self) -> Optional[npt.NDArray[np.float64]]: ...
     def feed(self, values: npt.NDArray[np.float64]) -> None: ...
     def check_representable(self) -> None: ...
+    def progress_line(self, prefix: str, seconds: float) -> str: ...
     reason: Optional[str]
     settings: Tuple[float, float, float, int, int, int]
     rule: Tuple[str, str]
@@ -142,6 +145,7 @@ class Sensitivity:
         continued with them; and the space's names and correlation."""
     def next_points(self) -> Optional[npt.NDArray[np.float64]]: ...
     def feed(self, values: npt.NDArray[np.float64]) -> None: ...
+    def progress_line(self, prefix: str, seconds: float) -> str: ...
     current: Tuple[List[float], List[float], List[float], List[float]]
     reason: Optional[str]
     settings: Tuple[float, float, bool, str, int, int, int]
