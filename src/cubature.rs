@@ -42,7 +42,12 @@
 
 use serde::{Deserialize, Serialize};
 
+mod given;
+mod progress;
+pub use given::Spelling;
+
 use crate::design::DesignSpace;
+use crate::pipeline::options::Opt;
 use crate::sequences::{ExtensibleLattice, EXTENSIBLE_MAX_POINTS};
 use crate::{Error, PointSet};
 
@@ -291,7 +296,7 @@ impl Cubature {
         check_level(o.level)?;
         if !(2..=MAX_REPLICATES).contains(&o.replicates) {
             return Err(Error::invalid(
-                "replicates",
+                Opt::replicates.name(),
                 o.replicates,
                 format!(
                     "2 to {MAX_REPLICATES} (the interval comes from their spread; 8 or more \
@@ -992,9 +997,9 @@ pub fn mean_interval(estimates: &[f64], level: f64) -> Result<MeanInterval, Erro
 
 /// Refuses a negative or non-finite tolerance, naming it.
 fn check_tolerances(abs_tol: f64, rel_tol: f64) -> Result<(), Error> {
-    for (name, t) in [("abs_tol", abs_tol), ("rel_tol", rel_tol)] {
+    for (opt, t) in [(Opt::abs_tol, abs_tol), (Opt::rel_tol, rel_tol)] {
         if !(t.is_finite() && t >= 0.0) {
-            return Err(Error::invalid(name, t, "a finite value ≥ 0"));
+            return Err(Error::invalid(opt.name(), t, "a finite value ≥ 0"));
         }
     }
     Ok(())
@@ -1003,7 +1008,11 @@ fn check_tolerances(abs_tol: f64, rel_tol: f64) -> Result<(), Error> {
 /// Refuses a confidence level outside (0, 1).
 fn check_level(level: f64) -> Result<(), Error> {
     if !(level > 0.0 && level < 1.0) {
-        return Err(Error::invalid("level", level, "a value in (0, 1)"));
+        return Err(Error::invalid(
+            Opt::level.name(),
+            level,
+            "a value in (0, 1)",
+        ));
     }
     Ok(())
 }
@@ -1013,7 +1022,7 @@ fn check_budget(max_n: u64, o: &QuadOptions) -> Result<(), Error> {
     let first = o.start_n.saturating_mul(o.replicates as u64);
     if max_n < first {
         return Err(Error::invalid(
-            "max_n",
+            Opt::max_n.name(),
             max_n,
             format!(
                 "at least one first batch: {} points for each of the {} replicates, {first} \

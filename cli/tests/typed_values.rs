@@ -194,15 +194,15 @@ fn a_negative_number_for_any_numeric_flag_is_refused_by_name() {
         ),
         (
             q("--max-n", "-4"),
-            "invalid --max-n = -4: expected a whole number ≥ 0",
+            "invalid --max-n = -4: expected a whole number ≥ 1",
         ),
         (
             q("--replicates", "-8"),
-            "invalid --replicates = -8: expected a whole number ≥ 0",
+            "invalid --replicates = -8: expected 2 to 16384",
         ),
         (
             q("--seed", "-1"),
-            "invalid --seed = -1: expected a whole number ≥ 0",
+            "invalid --seed = -1: expected a whole number in [0, 2^64)",
         ),
         (
             q("-s", "-2"),
