@@ -64,7 +64,7 @@ impl Spelling<'_> {
                 expected,
             } => {
                 let option = option_of(&name);
-                let typed = given.get(option).filter(|_| option != Opt::space.name());
+                let typed = by_name(given, option).filter(|_| option != Opt::space.name());
                 let value = typed.map_or(value, |v| (self.shown)(option, v));
                 Error::invalid(self.spell(option), value, expected)
             }
@@ -123,18 +123,23 @@ fn word(r: &Request, opt: Opt) -> Result<Option<String>, Error> {
     })
 }
 
+/// The value given for the option a refusal or a declaration names, if any.
+fn by_name<'a>(r: &'a Request, name: &str) -> Option<&'a Arg> {
+    Opt::named(name).and_then(|o| r.arg(o))
+}
+
 /// Refuses the first option given that `command` does not take, naming it.
 fn refuse_others(r: &Request, command: Command, sp: &Spelling) -> Result<(), Error> {
     let Some(d) = ALL
         .iter()
-        .find(|d| !d.takes(command) && r.get(d.name).is_some())
+        .find(|d| !d.takes(command) && by_name(r, d.name).is_some())
     else {
         return Ok(());
     };
     let takes: Vec<&str> = d.commands.iter().map(|c| c.name()).collect();
     Err(Error::invalid(
         d.name,
-        r.get(d.name).map_or(String::new(), |v| v.to_string()),
+        by_name(r, d.name).map_or(String::new(), |v| v.to_string()),
         format!(
             "no {} with {}: it is an option of {}",
             sp.spell(d.name),
