@@ -20,44 +20,13 @@ pub(crate) struct Cli {
 }
 
 impl Cli {
-    /// clap's command, with each declared option's short help (`-h`) taken from its
-    /// declaration ([`stillpoint::pipeline::options::OPTIONS`]), so that the command line
-    /// and Python describe an option in the same words; the doc comments below stay the
-    /// long help (`--help`).
+    /// clap's command, with the help of every declared flag of every subcommand written
+    /// from its declaration ([`crate::help`]: the doc line, every accepted word, the
+    /// default), so that the command line and Python describe an option in the same
+    /// words, and with every number read as [`numbers_are_values`] says.
     pub(crate) fn command_with_declared_help() -> clap::Command {
         use clap::CommandFactory;
-        use stillpoint::pipeline::options::OPTIONS;
-        let mut cli = Cli::command();
-        for sub in ["generate", "eval"] {
-            cli = cli.mut_subcommand(sub, |mut c| {
-                let declared: Vec<(String, &'static str)> = c
-                    .get_arguments()
-                    .filter_map(|a| {
-                        let flag = match (a.get_long(), a.get_short()) {
-                            (Some(long), _) => format!("--{long}"),
-                            (None, Some(short)) => format!("-{short}"),
-                            (None, None) => return None,
-                        };
-                        let d = OPTIONS
-                            .iter()
-                            .find(|d| d.cli == flag || d.cli_also.contains(&flag.as_str()))?;
-                        Some((a.get_id().to_string(), d.doc))
-                    })
-                    .collect();
-                for (id, doc) in declared {
-                    c = c.mut_arg(id, |a| {
-                        let long = a.get_long_help().or(a.get_help()).cloned();
-                        let a = a.help(doc);
-                        match long {
-                            Some(long) => a.long_help(long),
-                            None => a,
-                        }
-                    });
-                }
-                c
-            });
-        }
-        numbers_are_values(cli)
+        numbers_are_values(crate::help::declared_help(Cli::command()))
     }
 }
 
@@ -144,10 +113,8 @@ where
         if let Some(v) = value.to_str().and_then(|t| t.parse::<T>().ok()) {
             return Ok(v);
         }
-        let flag = arg.map_or_else(String::new, |a| match (a.get_long(), a.get_short()) {
-            (Some(long), _) => format!("--{long}"),
-            (None, Some(short)) => format!("-{short}"),
-            (None, None) => a.get_id().to_string(),
+        let flag = arg.map_or_else(String::new, |a| {
+            crate::help::flag_of(a).unwrap_or_else(|| a.get_id().to_string())
         });
         let expected = match typed.trim().parse::<i128>() {
             _ if !self.whole => "a number".to_string(),
@@ -610,6 +577,7 @@ pub(crate) enum Command {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::help::{declaration, flag_of};
     use clap::CommandFactory;
     use stillpoint::pipeline::options::{Group, OPTIONS};
 
@@ -641,13 +609,7 @@ mod tests {
         let sub = cli
             .find_subcommand(subcommand)
             .unwrap_or_else(|| panic!("no {subcommand}"));
-        sub.get_arguments()
-            .filter_map(|a| match (a.get_long(), a.get_short()) {
-                (Some(long), _) => Some(format!("--{long}")),
-                (None, Some(short)) => Some(format!("-{short}")),
-                (None, None) => None,
-            })
-            .collect()
+        sub.get_arguments().filter_map(flag_of).collect()
     }
 
     #[test]
@@ -657,17 +619,10 @@ mod tests {
         for sub in ["generate", "eval"] {
             let c = cli.find_subcommand(sub).unwrap();
             for a in c.get_arguments() {
-                let flag = match (a.get_long(), a.get_short()) {
-                    (Some(long), _) => format!("--{long}"),
-                    (None, Some(short)) => format!("-{short}"),
-                    (None, None) => continue,
-                };
-                if let Some(d) = OPTIONS
-                    .iter()
-                    .find(|d| d.cli == flag || d.cli_also.contains(&flag.as_str()))
-                {
-                    let help = a.get_help().map(|h| h.to_string());
-                    assert_eq!(help.as_deref(), Some(d.doc), "{sub} {flag}");
+                let Some(flag) = flag_of(a) else { continue };
+                if let Some(d) = declaration(sub, &flag) {
+                    let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
+                    assert!(help.starts_with(d.doc), "{sub} {flag}: {help}");
                     assert!(
                         a.get_long_help().is_some(),
                         "{sub} {flag} keeps a long help"
@@ -736,11 +691,7 @@ mod tests {
                 if !a.get_action().takes_values() {
                     continue;
                 }
-                let flag = match (a.get_long(), a.get_short()) {
-                    (Some(long), _) => format!("--{long}"),
-                    (None, Some(short)) => format!("-{short}"),
-                    (None, None) => continue,
-                };
+                let Some(flag) = flag_of(a) else { continue };
                 let id = a.get_value_parser().type_id();
                 let whole = [
                     TypeId::of::<usize>(),
