@@ -3,7 +3,7 @@
 //! for a run, the resolution is the only place where a combination is refused, each
 //! refusal naming the option as the front end spells it.
 
-use super::options::{in_group, Group, OPTIONS};
+use super::options::{in_group, Command, Group, ALL};
 use super::request::{plain, Arg, Request};
 use crate::design::DesignSpace;
 use crate::plan::constraints::ConstraintSpec;
@@ -96,9 +96,9 @@ impl EvalResolver<'_> {
     }
 
     fn resolve(&self) -> Result<Measure, Error> {
-        if let Some(d) = OPTIONS
+        if let Some(d) = ALL
             .iter()
-            .find(|d| !d.is(Group::Eval) && self.given(d.name))
+            .find(|d| !d.takes(Command::Eval) && self.given(d.name))
         {
             let taken: Vec<String> = in_group(Group::Eval)
                 .map(|d| (self.spell)(d.name))

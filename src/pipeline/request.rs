@@ -105,7 +105,7 @@ impl From<PointSet> for Arg {
 }
 
 pub use super::options::Request;
-use super::options::{declared, in_group, Group, OPTIONS};
+use super::options::{declared, in_group, Command, Group, ALL, OPTIONS};
 
 /// What a resolved request runs.
 #[derive(Debug, Clone)]
@@ -207,7 +207,7 @@ pub fn plain(name: &str) -> String {
 
 /// The most points a single run accepts (beyond it a set of f64 cannot be addressed).
 /// The words `target` takes, as a refusal lists them.
-const TARGETS: &str = "blend (D²_MD + D²_L2* + D²_CD), blend-smooth (the blend and the \
+pub(crate) const TARGETS: &str = "blend (D²_MD + D²_L2* + D²_CD), blend-smooth (the blend and the \
                        smoothness-2 error), curved (D²_CD, the smoothness-2 error with \
                        curvature weighed more and a trace of D²_L2*; the default from s = 8 \
                        below 500 points), lattice (the shifted tent lattice, no descent; the \
@@ -241,9 +241,9 @@ impl Request {
         Ok(())
     }
 
-    /// The parameters [`Request::set`] accepts (each option's name in [`OPTIONS`]).
+    /// The parameters [`Request::set`] accepts (each option's name in [`ALL`]).
     pub fn names() -> Vec<&'static str> {
-        OPTIONS.iter().map(|d| d.name).collect()
+        ALL.iter().map(|d| d.name).collect()
     }
 
     /// Resolves the request with the library's own parameter names.
@@ -254,7 +254,9 @@ impl Request {
     /// Resolves the request; `spell` writes a parameter's name as the caller's front end
     /// spells it, in every refusal.
     pub fn resolve_as(&self, spell: &dyn Fn(&str) -> String) -> Result<Resolved, Error> {
-        Resolver { r: self, spell }.resolve()
+        let resolver = Resolver { r: self, spell };
+        resolver.refuse_others(Command::Generate)?;
+        resolver.resolve()
     }
 
     /// Whether the option named `name` is given.
@@ -282,6 +284,27 @@ enum GoalName {
 }
 
 impl Resolver<'_> {
+    /// Refuses the first option given that `command` does not take (an option of the
+    /// integration to a tolerance given to `generate`, say), naming it.
+    fn refuse_others(&self, command: Command) -> Result<(), Error> {
+        let Some(d) = ALL
+            .iter()
+            .find(|d| !d.takes(command) && self.r.given(d.name))
+        else {
+            return Ok(());
+        };
+        let takes: Vec<&str> = d.commands.iter().map(|c| c.name()).collect();
+        Err(self.refuse(
+            d.name,
+            format!(
+                "no {} with {}: it is an option of {}",
+                (self.spell)(d.name),
+                command.name(),
+                takes.join(" and ")
+            ),
+        ))
+    }
+
     /// A yes/no option: `true`/`false` (as a boolean, or as text, ASCII case ignored);
     /// absent is no.
     fn flag(&self, name: &str, arg: &Option<Arg>) -> Result<bool, Error> {
@@ -1680,6 +1703,28 @@ mod tests {
         let mut r = ball();
         r.extend = Some(Arg::Points(old));
         assert_eq!(config(&r).n, 7);
+    }
+
+    #[test]
+    fn an_option_of_the_integration_commands_is_refused_by_generate() {
+        let mut r = Request::new(10, 2);
+        r.set("abs_tol", Arg::Float(0.5)).unwrap();
+        let e = r.resolve().unwrap_err().to_string();
+        assert!(
+            e.starts_with("invalid abs_tol = 0.5: expected no abs_tol with generate"),
+            "{e}"
+        );
+        let mut m = Request::default();
+        m.set("max_n", Arg::Int(64)).unwrap();
+        let e = m.resolve_eval().unwrap_err().to_string();
+        assert!(
+            e.starts_with("invalid max_n = given to measure points"),
+            "{e}"
+        );
+        // The options generate shares with the integration commands are its own.
+        let mut r = Request::new(10, 2);
+        r.set("seed", Arg::Int(3)).unwrap();
+        assert_eq!(r.resolve().unwrap().job.seed(), 3);
     }
 
     #[test]

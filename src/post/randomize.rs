@@ -38,14 +38,16 @@ impl Randomize {
     pub const EXPECTED: &'static str =
         "tent (the recommended one: a lattice made for it), cells or shift";
 
+    /// Every randomisation, the recommended one first.
+    pub const ALL: [Randomize; 3] = [Randomize::Tent, Randomize::Cells, Randomize::Shift];
+
     /// `tent`, `cells` or `shift`.
     pub fn parse(text: &str) -> Result<Randomize, Error> {
-        match text.trim().to_ascii_lowercase().as_str() {
-            "tent" => Ok(Randomize::Tent),
-            "cells" => Ok(Randomize::Cells),
-            "shift" => Ok(Randomize::Shift),
-            _ => Err(Error::invalid("randomize", text, Randomize::EXPECTED)),
-        }
+        let key = text.trim().to_ascii_lowercase();
+        Randomize::ALL
+            .into_iter()
+            .find(|r| r.name() == key)
+            .ok_or_else(|| Error::invalid("randomize", text, Randomize::EXPECTED))
     }
 
     /// The name [`Randomize::parse`] reads.

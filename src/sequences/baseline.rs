@@ -45,6 +45,21 @@ const ALL: [Baseline; 8] = [
     Baseline::LhsMaximin,
 ];
 
+/// The names and aliases [`Baseline::parse`] reads.
+const NAMES: [(&str, Baseline); 11] = [
+    ("random", Baseline::Random),
+    ("halton", Baseline::Halton),
+    ("halton-scrambled", Baseline::ScrambledHalton),
+    ("sobol", Baseline::Sobol),
+    ("hua-wang", Baseline::HuaWang),
+    ("lattice", Baseline::Lattice),
+    ("lhs", Baseline::Lhs),
+    ("lhs-maximin", Baseline::LhsMaximin),
+    ("hs", Baseline::ScrambledHalton),
+    ("ss", Baseline::Sobol),
+    ("hw", Baseline::HuaWang),
+];
+
 /// What a refused name is told: every accepted name, aliases in brackets.
 const ACCEPTED: &str = "one of: random, halton, halton-scrambled (hs), sobol (ss), \
                         hua-wang (hw), lattice, lhs, lhs-maximin";
@@ -60,17 +75,17 @@ impl Baseline {
     /// `lhs-maximin`. Case and surrounding spaces are ignored, and `_` counts as `-`.
     pub fn parse(name: &str) -> Result<Baseline, Error> {
         let key = name.trim().to_ascii_lowercase().replace('_', "-");
-        Ok(match key.as_str() {
-            "random" => Baseline::Random,
-            "halton" => Baseline::Halton,
-            "halton-scrambled" | "hs" => Baseline::ScrambledHalton,
-            "sobol" | "ss" => Baseline::Sobol,
-            "hua-wang" | "hw" => Baseline::HuaWang,
-            "lattice" => Baseline::Lattice,
-            "lhs" => Baseline::Lhs,
-            "lhs-maximin" => Baseline::LhsMaximin,
-            _ => return Err(Error::invalid("baseline", name, ACCEPTED)),
-        })
+        NAMES
+            .iter()
+            .find(|(n, _)| *n == key)
+            .map(|(_, b)| *b)
+            .ok_or_else(|| Error::invalid("baseline", name, ACCEPTED))
+    }
+
+    /// Every name and alias [`Baseline::parse`] accepts, names first in the order of
+    /// [`Baseline::all`].
+    pub fn names() -> Vec<&'static str> {
+        NAMES.iter().map(|(n, _)| *n).collect()
     }
 
     /// The command-line name ([`Baseline::parse`] accepts it).

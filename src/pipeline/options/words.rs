@@ -1,0 +1,107 @@
+//! The words the options take, each list built from the table that gives the words
+//! their meaning (the discrepancy kinds, the baselines, the randomisations, the rules),
+//! or, for the words only the resolution reads, the table here that it matches on.
+
+use crate::cubature::Rule;
+use crate::energies::discrepancy::DiscrepancyKind;
+use crate::post::randomize::Randomize;
+use crate::sensitivity::FirstOrder;
+use crate::sequences::Baseline;
+
+/// The goals `goal` names.
+pub const GOALS: [&str; 2] = ["integration", "space-filling"];
+
+/// The solvers `integrator` names (`l-bfgs` is `lbfgs`).
+pub const INTEGRATORS: [&str; 3] = ["dem", "lbfgs", "l-bfgs"];
+
+/// How U_{q,p}'s distance is evaluated (`precision`).
+pub const PRECISIONS: [&str; 2] = ["fast", "full"];
+
+/// The starts `init` names (besides a point set).
+pub const STARTS: [&str; 2] = ["halton", "random"];
+
+/// The energies of the unit cube besides the discrepancies.
+pub const CUBE_ENERGIES: [&str; 2] = ["uqp", "e-inf"];
+
+/// The energies of a region (`e-inf` is also the cube's).
+pub const REGION_ENERGIES: [&str; 3] = ["e-inf-g", "e-inf", "e-p-g"];
+
+/// The targets besides a single discrepancy.
+pub const BLENDS: [&str; 4] = ["blend", "blend-smooth", "curved", "lattice"];
+
+/// `kappa`'s word besides a number.
+pub const KAPPA_WORDS: [&str; 1] = ["auto"];
+
+/// `restart`'s words besides a number (`none` is `off`).
+pub const RESTART_WORDS: [&str; 3] = ["auto", "off", "none"];
+
+/// `q`'s words besides a number: the torus distance, and `e` the Euclidean one (as
+/// [`crate::energies::Distance::parse`] reads them).
+pub const Q_WORDS: [&str; 4] = ["inf", "infinity", "∞", "e"];
+
+/// The built-in shapes `shape` names (each followed by its numbers, as `ball:1`).
+pub const SHAPES: [&str; 5] = ["ball", "ellipsoid", "box", "simplex", "polytope"];
+
+/// Every name of every discrepancy kind (aliases too).
+pub fn discrepancies() -> Vec<&'static str> {
+    DiscrepancyKind::ALL
+        .iter()
+        .flat_map(|k| k.names().iter().copied())
+        .collect()
+}
+
+/// `method`: the paper's pipeline (`dem` is its other name) or a baseline.
+pub fn methods() -> Vec<&'static str> {
+    let mut v = vec!["paper", "dem"];
+    v.extend(Baseline::names());
+    v
+}
+
+/// `target`: a blend, the lattice, or one discrepancy.
+pub fn targets() -> Vec<&'static str> {
+    let mut v = BLENDS.to_vec();
+    v.extend(discrepancies());
+    v
+}
+
+/// `energy`: those of the cube (U_{q,p}, E_∞, a discrepancy) and those of a region.
+pub fn energies() -> Vec<&'static str> {
+    let mut v = CUBE_ENERGIES.to_vec();
+    v.extend(discrepancies());
+    v.extend(
+        REGION_ENERGIES
+            .iter()
+            .filter(|e| !CUBE_ENERGIES.contains(e)),
+    );
+    v
+}
+
+/// `polish`: none, or the discrepancy lowered.
+pub fn polishes() -> Vec<&'static str> {
+    let mut v = vec!["none"];
+    v.extend(discrepancies());
+    v
+}
+
+/// `randomize`: `true` (the recommended one) or a randomisation by name.
+pub fn randomizations() -> Vec<&'static str> {
+    let mut v = vec!["true"];
+    v.extend(Randomize::ALL.iter().map(|r| r.name()));
+    v
+}
+
+/// `rule`: the rules of the integration to a tolerance.
+pub fn rules() -> Vec<&'static str> {
+    [Rule::TentLattice, Rule::Sobol]
+        .iter()
+        .map(|r| r.as_str())
+        .collect()
+}
+
+/// `first_estimator`: the first-order estimators of the Sobol' indices.
+pub fn first_estimators() -> Vec<&'static str> {
+    [FirstOrder::Saltelli, FirstOrder::Janon]
+        .iter()
+        .map(|f| f.as_str())
+        .collect()
+}
