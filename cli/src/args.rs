@@ -182,9 +182,9 @@ pub(crate) struct GenerateArgs {
     /// points go to standard output as CSV and the report to standard error.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub(crate) output: Option<PathBuf>,
-    /// What the points are for: `integration` (the cube's default: every coordinate
-    /// stratified, discrepancy as low as we can make it) or `space-filling` (stratified,
-    /// largest minimum distance; a region's default).
+    /// What the points are for: `integration` (every coordinate stratified, discrepancy as
+    /// low as we can make it) or `space-filling` (stratified, largest minimum distance;
+    /// what a region is given when --goal is not).
     #[arg(long, value_name = "integration|space-filling")]
     pub(crate) goal: Option<String>,
     /// `paper`: the paper's pipeline exactly (Halton start, U_{q,p} with eq. 48, the DEM,
@@ -577,109 +577,7 @@ pub(crate) enum Command {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::help::{declaration, flag_of};
-    use clap::CommandFactory;
-    use stillpoint::pipeline::options::{Group, OPTIONS};
-
-    /// The flags of `generate` and `eval` that set no option of the request, each with
-    /// why it is the command line's own.
-    const FRONT_END: [(&str, &str); 9] = [
-        ("--output", "where the points are written"),
-        ("--json", "how the report is printed"),
-        ("--quiet", "whether progress is shown"),
-        ("--progress", "how progress is shown"),
-        ("--plot", "a picture drawn from the result"),
-        (
-            "--threads",
-            "the size of the thread pool, which changes no byte",
-        ),
-        (
-            "--checkpoint-every",
-            "how often the checkpoint file is written, which changes no byte",
-        ),
-        ("--help", "clap's own"),
-        ("--version", "clap's own"),
-    ];
-
-    /// Each flag of a subcommand as the user types it (`--box`, `-n`), read from clap's
-    /// own command; positional arguments have none.
-    fn flags(subcommand: &str) -> Vec<String> {
-        let mut cli = Cli::command();
-        cli.build();
-        let sub = cli
-            .find_subcommand(subcommand)
-            .unwrap_or_else(|| panic!("no {subcommand}"));
-        sub.get_arguments().filter_map(flag_of).collect()
-    }
-
-    #[test]
-    fn short_help_is_the_declaration() {
-        let mut cli = Cli::command_with_declared_help();
-        cli.build();
-        for sub in ["generate", "eval"] {
-            let c = cli.find_subcommand(sub).unwrap();
-            for a in c.get_arguments() {
-                let Some(flag) = flag_of(a) else { continue };
-                if let Some(d) = declaration(sub, &flag) {
-                    let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
-                    assert!(help.starts_with(d.doc), "{sub} {flag}: {help}");
-                    assert!(
-                        a.get_long_help().is_some(),
-                        "{sub} {flag} keeps a long help"
-                    );
-                }
-            }
-        }
-    }
-
-    fn declared_flags(
-        keep: impl Fn(&stillpoint::pipeline::options::Declared) -> bool,
-    ) -> Vec<String> {
-        OPTIONS
-            .iter()
-            .filter(|d| keep(d))
-            .flat_map(|d| std::iter::once(d.cli).chain(d.cli_also.iter().copied()))
-            .map(str::to_string)
-            .collect()
-    }
-
-    #[test]
-    fn every_flag_of_generate_is_a_declared_option_or_the_front_ends_own() {
-        let declared = declared_flags(|_| true);
-        let flags = flags("generate");
-        for f in &flags {
-            assert!(
-                declared.contains(f) || FRONT_END.iter().any(|(g, _)| g == f),
-                "generate {f} is neither a declared option nor in FRONT_END"
-            );
-        }
-        for f in &declared {
-            assert!(
-                flags.contains(f),
-                "the declared {f} is not a flag of generate"
-            );
-        }
-    }
-
-    #[test]
-    fn every_flag_of_eval_is_an_option_of_eval_or_the_front_ends_own() {
-        let declared = declared_flags(|d| d.is(Group::Eval));
-        let others = declared_flags(|d| !d.is(Group::Eval));
-        let flags = flags("eval");
-        for f in &flags {
-            assert!(
-                declared.contains(f) || FRONT_END.iter().any(|(g, _)| g == f),
-                "eval {f} is neither an option of eval nor in FRONT_END"
-            );
-            assert!(
-                !others.contains(f),
-                "eval {f} is declared outside eval's group"
-            );
-        }
-        for f in &declared {
-            assert!(flags.contains(f), "the declared {f} is not a flag of eval");
-        }
-    }
+    use crate::help::flag_of;
 
     /// Every value-taking flag of every subcommand, at any depth, as `(path, flag,
     /// whole)`: the subcommands leading to it, the flag as typed, and whether clap reads
