@@ -81,9 +81,15 @@ fn described(a: clap::Arg, d: &Declared, command: Option<Command>) -> clap::Arg 
         Some(c) if d.commands.first() != Some(&c) => prose.clone(),
         _ => d.doc.to_string(),
     };
+    let said = format!("{default}{values}");
+    // The long help sets them apart, as clap sets apart the possible values.
+    let apart = match said.trim_start() {
+        "" => String::new(),
+        said => format!("\n\n{said}"),
+    };
     let a = a
-        .help(format!("{short}{default}{values}"))
-        .long_help(format!("{prose}{default}{values}"));
+        .help(format!("{short}{said}"))
+        .long_help(format!("{prose}{apart}"));
     // A word option read as text lists its words; its value stays the text typed, which
     // the library reads and refuses by the declaration (naming the flag as typed).
     let is_text = a.get_value_parser().type_id() == std::any::TypeId::of::<String>();
