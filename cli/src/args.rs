@@ -481,8 +481,9 @@ pub(crate) enum Command {
         /// Step or iteration budget per run.
         #[arg(long, default_value_t = 1000)]
         steps: usize,
-        /// The discrepancy energy: l2star, md, cd or periodic.
-        #[arg(long, default_value = "md")]
+        /// The discrepancy energy.
+        #[arg(long, default_value = "md",
+              value_parser = crate::help::listed(stillpoint::pipeline::options::words::discrepancies()))]
         energy: String,
         /// Output directory.
         #[arg(long, default_value = "comparison")]
@@ -495,7 +496,8 @@ pub(crate) enum Command {
     /// halton-scrambled, sobol, hua-wang, lattice, lhs, lhs-maximin.
     Baseline {
         /// The generator; `stillpoint baseline --list` describes each exactly.
-        #[arg(value_name = "NAME", required_unless_present = "list")]
+        #[arg(value_name = "NAME", required_unless_present = "list",
+              value_parser = crate::help::listed(Baseline::names()))]
         name: Option<String>,
         /// Number of points n ≥ 1.
         #[arg(short = 'n', value_name = "N", required_unless_present = "list")]

@@ -135,6 +135,12 @@ fn without_default(text: &str) -> String {
     without_default(&format!("{}{}", text[..start].trim_end(), &text[end..]))
 }
 
+/// A value read as the text typed whose help lists `words` (those of the table that
+/// reads it): for the flags of the commands that take no declared options.
+pub(crate) fn listed(words: Vec<&'static str>) -> clap::builder::ValueParser {
+    clap::builder::ValueParser::new(Listed(words))
+}
+
 /// A value read as the text typed, with the words it may be listed as clap's possible
 /// values (for the help; the library checks the value).
 #[derive(Clone)]
@@ -363,6 +369,33 @@ mod tests {
             for help in rendered(a) {
                 assert!(help.contains("[possible values: "), "{flag}: {help}");
             }
+        }
+    }
+
+    /// The commands without declared options list the words of the tables that read
+    /// their values: every discrepancy `compare --energy` reads, every baseline name.
+    #[test]
+    fn the_other_commands_list_the_words_their_tables_read() {
+        let mut cli = Cli::command_with_declared_help();
+        cli.build();
+        let possible = |sub: &str, id: &str| -> Vec<String> {
+            let c = cli.find_subcommand(sub).unwrap();
+            let a = c.get_arguments().find(|a| a.get_id() == id).unwrap();
+            a.get_possible_values()
+                .iter()
+                .map(|p| p.get_name().to_string())
+                .collect()
+        };
+        let energies = possible("compare", "energy");
+        for w in stillpoint::pipeline::options::words::discrepancies() {
+            assert!(
+                energies.iter().any(|e| e == w),
+                "compare --energy omits {w}"
+            );
+        }
+        let names = possible("baseline", "name");
+        for w in stillpoint::sequences::Baseline::names() {
+            assert!(names.iter().any(|n| n == w), "baseline omits {w}");
         }
     }
 }
