@@ -42,6 +42,9 @@
 
 use serde::{Deserialize, Serialize};
 
+mod given;
+pub use given::Spelling;
+
 use crate::design::DesignSpace;
 use crate::sequences::{ExtensibleLattice, EXTENSIBLE_MAX_POINTS};
 use crate::{Error, PointSet};

@@ -3,19 +3,9 @@
 
 use super::*;
 use std::io::Write as _;
-use stillpoint::cubature::{Cubature, QuadOptions, Rule, StopReason};
-use stillpoint::design::DesignSpace;
+use stillpoint::cubature::{Cubature, Spelling, StopReason};
 use stillpoint::parse::expr::RegionExpr;
 use stillpoint::sequences::EXTENSIBLE_MAX_POINTS;
-
-/// The flag that sets a `QuadOptions` field or a `Cubature` argument.
-fn quad_flag(name: &str) -> String {
-    match name {
-        "d" => "-s".to_string(),
-        "a" | "b" => "--bounds".to_string(),
-        other => format!("--{}", other.replace('_', "-")),
-    }
-}
 
 /// A refusal of the library's as an `--expr` command shows it: f's own (the expression)
 /// quoting the expression, any other naming its flag (`flag`) and the value as typed
@@ -52,39 +42,22 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
     let Some(text) = q.expr.as_deref() else {
         bail!("missing FILE or --expr: a point file to integrate, or --expr EXPR");
     };
-    let refused = |e| expr_refusal(e, text, |n| q.typed(n).map(str::to_string), quad_flag);
-    let space = quad_space(&q)?;
-    let s = match (&space, q.s) {
-        (Some((flag, space)), Some(s)) if s != space.dim() => bail!(
-            "invalid -s = {s}: {flag} has {} coordinates; expected -s equal to it (or no -s)",
-            space.dim()
-        ),
-        (Some((_, space)), _) => space.dim(),
-        (None, Some(s)) => s,
-        (None, None) => bail!("--expr needs -s (the dimension), or --var/--space"),
+    let given = q.options()?;
+    if given.s.is_none() && given.space.is_none() {
+        bail!("--expr needs -s (the dimension), or --var/--space");
+    }
+    let space_flag = q.space_flag();
+    let name = |n: &str| integration_flag(n, space_flag);
+    let shown = |_: &str, v: &Arg| v.to_string();
+    let spelling = Spelling {
+        name: &name,
+        shown: &shown,
     };
-    // The dimension first, so that -s 0 is refused as -s rather than by what needs it.
-    stillpoint::sequences::ExtensibleLattice::new(s, 0, 0).map_err(refused)?;
+    let (mut state, space) = Cubature::from_request(&given, &spelling)?;
+    let refused = |e| expr_refusal(e, text, |_| None, |n| integration_flag(n, space_flag));
+    let s = state.d();
     let expr = RegionExpr::parse(text, s).map_err(|e| anyhow::anyhow!("invalid --expr: {e}"))?;
-    let (a, b) = match (q.bounds.as_deref(), &space) {
-        (Some(_), Some((flag, _))) => {
-            bail!("invalid --bounds with {flag}: the space's distributions give the range")
-        }
-        (Some(text), None) => {
-            let bounds = parse_bounds(text, s)?;
-            (Some(bounds.lo), Some(bounds.hi))
-        }
-        (None, _) => (None, None),
-    };
-    let (rule, rule_reason) = Rule::for_space(space.as_ref().map(|(_, space)| space));
-    let options = QuadOptions {
-        a,
-        b,
-        rule,
-        rule_reason,
-        ..q.options()
-    };
-    let mut state = Cubature::new(s, options.clone()).map_err(refused)?;
+    let options = state.options().clone();
     let rounds = Rounds::new(q.quiet, q.progress);
     rounds.say(&format!("stillpoint: {}", options.rule_reason));
     while !state.met() {
@@ -94,7 +67,7 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
         rounds.evaluating(points.n());
         let values: Vec<f64> = match &space {
             None => points.rows().map(|p| expr.eval(p)).collect(),
-            Some((_, space)) => stillpoint::cubature::space_values(space, &points)?
+            Some(space) => stillpoint::cubature::space_values(space, &points)?
                 .rows()
                 .map(|p| expr.eval(p))
                 .collect(),
@@ -115,13 +88,13 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
                        "level": options.level, "rel_tol": options.rel_tol,
                        "abs_tol": options.abs_tol, "met": r.met, "reason": reason,
                        "rule": r.rule.as_str(), "rule_reason": r.rule_reason});
-        if let Some((_, space)) = &space {
+        if let Some(space) = &space {
             v["space"] = json!(space.texts());
             v["correlation"] = json!(space.correlation_text());
         }
         outln!("{}", serde_json::to_string_pretty(&v)?);
     } else {
-        if let Some((_, space)) = &space {
+        if let Some(space) = &space {
             outln!("under        {}", space.texts().join(" "));
         }
         outln!("estimate     {}", number(r.estimate[0]));
@@ -146,28 +119,6 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
     Ok(())
 }
 
-/// The space of `--var`/`--space` with `--correlation`, checked as `generate` checks
-/// it, and the flag that gave it; `None` without one (a `--correlation` alone is
-/// refused).
-fn quad_space(q: &QuadArgs) -> Result<Option<(&'static str, DesignSpace)>> {
-    let (flag, items) = match &q.space {
-        Some(path) => ("--space", read_space(path)?),
-        None if !q.var.is_empty() => ("--var", q.var.clone()),
-        None => {
-            if q.correlation.is_some() {
-                bail!("invalid --correlation without --var or --space: it correlates a space's variables");
-            }
-            return Ok(None);
-        }
-    };
-    let mut space = DesignSpace::parse(flag, &items)?;
-    stillpoint::cubature::check_space(&space, flag)?;
-    if let Some(rows) = &q.correlation {
-        space.correlate_rows("--correlation", rows)?;
-    }
-    Ok(Some((flag, space)))
-}
-
 /// `integrate FILE… --expr EXPR`: the expression's mean over each file's points (its
 /// values as they are, one column per variable x1..xs), and over the files the mean, its
 /// standard error and the Student t half-width at `--level` (files randomised
@@ -181,7 +132,7 @@ pub(crate) fn files_command(files: &[PathBuf], q: QuadArgs, json: bool) -> Resul
              (--expr without FILE); the files' points are evaluated as they are"
         );
     }
-    let level = q.level.as_ref().map_or(0.95, |t| t.value);
+    let level = q.level()?;
     let mut means = Vec::with_capacity(files.len());
     let mut rows = Vec::with_capacity(files.len());
     let mut dim: Option<(usize, String)> = q.s.map(|s| (s, format!("-s {s}")));
@@ -210,13 +161,7 @@ pub(crate) fn files_command(files: &[PathBuf], q: QuadArgs, json: bool) -> Resul
         means.push(mean);
         rows.push((source, points.n(), mean));
     }
-    let m = stillpoint::cubature::mean_interval(&means, level).map_err(|e| match e {
-        stillpoint::Error::InvalidArgument { expected, .. } => anyhow::anyhow!(
-            "invalid --level = {}: expected {expected}",
-            q.typed("level").unwrap_or_default()
-        ),
-        other => anyhow::Error::from(other),
-    })?;
+    let m = stillpoint::cubature::mean_interval(&means, level)?;
     let s = dim.map_or(0, |(s, _)| s);
     let total: usize = rows.iter().map(|r| r.1).sum();
     if json {

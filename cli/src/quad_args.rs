@@ -1,5 +1,9 @@
 //! The options of `stillpoint integrate --expr`: integration to a tolerance.
 
+use stillpoint::pipeline::options::{cli_name, Opt};
+use stillpoint::pipeline::request::Arg;
+use stillpoint::Request;
+
 /// `integrate --expr EXPR -s S --rel-tol T ...`: ∫ EXPR over [0, 1]^s (or --bounds),
 /// doubling the points of R randomly shifted copies of an extensible lattice until the
 /// t interval's half-width is within the tolerance.
@@ -22,25 +26,24 @@ pub(crate) struct QuadArgs {
         allow_negative_numbers = true
     )]
     pub(crate) s: Option<usize>,
-    /// Relative tolerance: stop when the half-width ≤ max(--abs-tol, T·|estimate|)
-    /// [default: 0.001].
+    /// Relative tolerance: stop when the half-width ≤ max(--abs-tol, T·|estimate|).
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
-    pub(crate) rel_tol: Option<Typed<f64>>,
-    /// Absolute tolerance [default: 0].
+    pub(crate) rel_tol: Option<String>,
+    /// Absolute tolerance.
     #[arg(long, value_name = "A", allow_hyphen_values = true)]
-    pub(crate) abs_tol: Option<Typed<f64>>,
-    /// Confidence level of the interval [default: 0.95].
+    pub(crate) abs_tol: Option<String>,
+    /// Confidence level of the interval.
     #[arg(long, value_name = "P", allow_hyphen_values = true)]
-    pub(crate) level: Option<Typed<f64>>,
-    /// Independent random shifts (the interval comes from their spread) [default: 8].
-    #[arg(long, value_name = "R", allow_negative_numbers = true)]
-    pub(crate) replicates: Option<Typed<usize>>,
-    /// The most evaluations, all replicates together [default: 1048576].
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
-    pub(crate) max_n: Option<Typed<u64>>,
-    /// Seed of the shifts [default: 0].
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
-    pub(crate) seed: Option<Typed<u64>>,
+    pub(crate) level: Option<String>,
+    /// Independent random shifts (the interval comes from their spread).
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
+    pub(crate) replicates: Option<String>,
+    /// The most evaluations, all replicates together.
+    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    pub(crate) max_n: Option<String>,
+    /// Seed of the shifts.
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub(crate) seed: Option<String>,
     /// Integrate over this box instead of the unit cube: LO1,HI1,... (the volume is
     /// included).
     #[arg(long, value_name = "LO1,HI1,...", allow_hyphen_values = true)]
@@ -74,17 +77,18 @@ impl QuadArgs {
     /// The first option given that only `--expr` uses, as its flag (`-s`, `--seed`, ...),
     /// in the order of the help: a point file is integrated without them.
     pub(crate) fn first_expr_only(&self) -> Option<&'static str> {
-        self.given().next()
+        self.flags_given().next()
     }
 
     /// The first option given that only the integration to a tolerance uses: point files
     /// with `--expr` take only `-s` (checked against them) and `--level`.
     pub(crate) fn first_tolerance_only(&self) -> Option<&'static str> {
-        self.given().find(|flag| !matches!(*flag, "-s" | "--level"))
+        self.flags_given()
+            .find(|flag| !matches!(*flag, "-s" | "--level"))
     }
 
     /// The flags given that apply to `--expr`, in the order of the help.
-    fn given(&self) -> impl Iterator<Item = &'static str> {
+    fn flags_given(&self) -> impl Iterator<Item = &'static str> {
         [
             ("-s", self.s.is_some()),
             ("--rel-tol", self.rel_tol.is_some()),
@@ -105,62 +109,80 @@ impl QuadArgs {
         .map(|(flag, _)| flag)
     }
 
-    /// The library's settings: the options given, the documented defaults for the rest
-    /// (the box is set by the caller, which checks it as `--bounds`).
-    pub(crate) fn options(&self) -> stillpoint::cubature::QuadOptions {
-        let d = stillpoint::cubature::QuadOptions::default();
-        fn or<T: Copy>(t: &Option<Typed<T>>, default: T) -> T {
-            t.as_ref().map_or(default, |t| t.value)
-        }
-        stillpoint::cubature::QuadOptions {
-            abs_tol: or(&self.abs_tol, d.abs_tol),
-            rel_tol: or(&self.rel_tol, d.rel_tol),
-            level: or(&self.level, d.level),
-            replicates: or(&self.replicates, d.replicates),
-            max_n: or(&self.max_n, d.max_n),
-            seed: or(&self.seed, d.seed),
-            ..d
+    /// The options given as the library resolves them ([`Request`]): each value as its
+    /// text typed, which the library parses, checks and echoes; `--var`/`--space` as the
+    /// space's variables.
+    pub(crate) fn options(&self) -> anyhow::Result<Request> {
+        Ok(Request {
+            s: self.s.map(|s| Arg::Int(s as i128)),
+            bounds: self.bounds.as_deref().map(Arg::from),
+            abs_tol: typed_arg(&self.abs_tol),
+            rel_tol: typed_arg(&self.rel_tol),
+            level: typed_arg(&self.level),
+            replicates: typed_arg(&self.replicates),
+            max_n: typed_arg(&self.max_n),
+            seed: typed_arg(&self.seed),
+            space: space_items(&self.var, self.space.as_deref())?,
+            correlation: self.correlation.as_deref().map(Arg::from),
+            ..Request::default()
+        })
+    }
+
+    /// The flag `--var` or `--space` that gives the space, for refusals.
+    pub(crate) fn space_flag(&self) -> &'static str {
+        match (&self.space, self.var.is_empty()) {
+            (Some(_), _) => "--space",
+            (None, false) => "--var",
+            (None, true) => "--var or --space",
         }
     }
 
-    /// The text typed for the setting the library calls `name`, if it was given: a
-    /// refusal shows it rather than the number parsed (`-1e-3`, not `-0.001`).
-    pub(crate) fn typed(&self, name: &str) -> Option<&str> {
-        fn text<T>(t: &Option<Typed<T>>) -> Option<&str> {
-            t.as_ref().map(|t| t.text.as_str())
-        }
-        match name {
-            "abs_tol" => text(&self.abs_tol),
-            "rel_tol" => text(&self.rel_tol),
-            "level" => text(&self.level),
-            "replicates" => text(&self.replicates),
-            "max_n" => text(&self.max_n),
-            "seed" => text(&self.seed),
-            _ => None,
+    /// `--level` read by its declaration (the integration's default when not given).
+    pub(crate) fn level(&self) -> anyhow::Result<f64> {
+        let Some(text) = self.level.as_deref() else {
+            return Ok(stillpoint::cubature::QuadOptions::default().level);
+        };
+        match Opt::level.declared().parse(&Arg::from(text), &cli_name)? {
+            Some(stillpoint::pipeline::options::Value::Real(level)) => Ok(level),
+            _ => anyhow::bail!("invalid --level = {text}"),
         }
     }
 }
 
-/// An option's value as parsed and as typed.
+/// A value as typed, for the library to parse by its declaration.
+pub(crate) fn typed_arg(t: &Option<String>) -> Option<Arg> {
+    t.as_deref().map(Arg::from)
+}
+
+/// A design space's variables from `--var` (repeated) or `--space FILE`.
+pub(crate) fn space_items(
+    var: &[String],
+    file: Option<&std::path::Path>,
+) -> anyhow::Result<Option<Arg>> {
+    Ok(match file {
+        Some(path) => Some(Arg::Texts(crate::read_space(path)?)),
+        None => (!var.is_empty()).then(|| Arg::Texts(var.to_vec())),
+    })
+}
+
+/// How the integration commands spell the library's option `name`: its declared flag,
+/// and for the space (and its variables, `space x`) `space_flag`, the flag that gave it.
+pub(crate) fn integration_flag(name: &str, space_flag: &str) -> String {
+    match name.split_once(' ') {
+        Some((space, rest)) if space == Opt::space.name() => format!("{space_flag} {rest}"),
+        _ if name == Opt::space.name() => space_flag.to_string(),
+        _ => cli_name(name),
+    }
+}
+
+/// An option's value as parsed and as typed. The integration flags no longer use it
+/// (they are text, read by their declarations); it stays for the parsers of `args.rs`
+/// that name it, until they go.
 #[derive(Debug, Clone)]
+#[allow(dead_code)]
 pub(crate) struct Typed<T> {
     /// The value.
     pub(crate) value: T,
     /// The text on the command line.
     pub(crate) text: String,
-}
-
-impl<T: std::str::FromStr> std::str::FromStr for Typed<T>
-where
-    T::Err: std::fmt::Display,
-{
-    type Err = String;
-
-    fn from_str(text: &str) -> Result<Self, String> {
-        let value = text.parse::<T>().map_err(|e| e.to_string())?;
-        Ok(Typed {
-            value,
-            text: text.to_string(),
-        })
-    }
 }

@@ -3,10 +3,9 @@
 //! JSON and drawn as bars with their intervals.
 
 use super::*;
-use stillpoint::cubature::StopReason;
-use stillpoint::design::DesignSpace;
+use stillpoint::cubature::{Spelling, StopReason};
 use stillpoint::parse::expr::RegionExpr;
-use stillpoint::sensitivity::{FirstOrder, Sensitivity, SensitivityOptions};
+use stillpoint::sensitivity::Sensitivity;
 
 /// `sensitivity --expr EXPR (-s S | --var NAME=TYPE ...) --abs-tol T ...`.
 #[derive(clap::Args, Debug, Clone)]
@@ -26,27 +25,27 @@ pub(crate) struct SensitivityArgs {
     /// The inputs' box instead of the unit cube: LO1,HI1,... (with -s).
     #[arg(long, value_name = "LO1,HI1,...", allow_hyphen_values = true)]
     pub(crate) bounds: Option<String>,
-    /// The half-width every index must reach [default: 0.01].
+    /// The half-width every index must reach.
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
-    pub(crate) abs_tol: Option<Typed<f64>>,
-    /// Confidence level of the intervals [default: 0.95].
+    pub(crate) abs_tol: Option<String>,
+    /// Confidence level of the intervals.
     #[arg(long, value_name = "P", allow_hyphen_values = true)]
-    pub(crate) level: Option<Typed<f64>>,
+    pub(crate) level: Option<String>,
     /// The intervals hold all together at --level (Bonferroni), not each on its own.
     #[arg(long)]
     pub(crate) simultaneous: bool,
-    /// The first-order estimator: saltelli (the default) or janon.
+    /// The first-order estimator: saltelli or janon.
     #[arg(long, value_name = "NAME")]
     pub(crate) first_estimator: Option<String>,
-    /// Independent random shifts (the intervals come from their spread) [default: 8].
-    #[arg(long, value_name = "R", allow_negative_numbers = true)]
-    pub(crate) replicates: Option<Typed<usize>>,
-    /// The most evaluations, all rounds [default: 4194304].
-    #[arg(long, value_name = "M", allow_negative_numbers = true)]
-    pub(crate) max_n: Option<Typed<u64>>,
-    /// Seed of the shifts [default: 0].
-    #[arg(long, value_name = "N", allow_negative_numbers = true)]
-    pub(crate) seed: Option<Typed<u64>>,
+    /// Independent random shifts (the intervals come from their spread).
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
+    pub(crate) replicates: Option<String>,
+    /// The most evaluations, all rounds.
+    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    pub(crate) max_n: Option<String>,
+    /// Seed of the shifts.
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub(crate) seed: Option<String>,
     /// Print one JSON object.
     #[arg(long)]
     pub(crate) json: bool,
@@ -63,80 +62,41 @@ pub(crate) struct SensitivityArgs {
 }
 
 impl SensitivityArgs {
-    /// The text typed for the setting the library calls `name`, if given.
-    fn typed(&self, name: &str) -> Option<&str> {
-        fn text<T>(t: &Option<Typed<T>>) -> Option<&str> {
-            t.as_ref().map(|t| t.text.as_str())
-        }
-        match name {
-            "abs_tol" => text(&self.abs_tol),
-            "level" => text(&self.level),
-            "replicates" => text(&self.replicates),
-            "max_n" => text(&self.max_n),
-            "seed" => text(&self.seed),
-            _ => None,
-        }
-    }
-}
-
-/// The flag that sets a library setting.
-fn flag(name: &str) -> String {
-    match name {
-        "d" => "-s".to_string(),
-        "a" | "b" | "a, b" => "--bounds".to_string(),
-        "space" => "--var".to_string(),
-        flag if flag.starts_with('-') => flag.to_string(),
-        other => format!("--{}", other.replace('_', "-")),
+    /// The options given as the library resolves them ([`Request`]), each value as typed.
+    fn given(&self) -> Result<Request> {
+        Ok(Request {
+            s: self.s.map(|s| Arg::Int(s as i128)),
+            bounds: self.bounds.as_deref().map(Arg::from),
+            abs_tol: typed_arg(&self.abs_tol),
+            level: typed_arg(&self.level),
+            simultaneous: self.simultaneous.then_some(Arg::Bool(true)),
+            first_estimator: self.first_estimator.as_deref().map(Arg::from),
+            replicates: typed_arg(&self.replicates),
+            max_n: typed_arg(&self.max_n),
+            seed: typed_arg(&self.seed),
+            space: space_items(&self.var, None)?,
+            ..Request::default()
+        })
     }
 }
 
 /// Runs `sensitivity` and prints the indices.
 pub(crate) fn sensitivity_command(q: SensitivityArgs) -> Result<()> {
     let text = q.expr.as_str();
-    let refused = |e| expr_refusal(e, text, |n| q.typed(n).map(str::to_string), flag);
-    let space = if q.var.is_empty() {
-        None
-    } else {
-        let space = DesignSpace::parse("--var", &q.var).map_err(refused)?;
-        stillpoint::sensitivity::check_independent("--var", &space).map_err(refused)?;
-        Some(space)
-    };
-    let d = match (&space, q.s) {
-        (Some(space), _) => space.dim(),
-        (None, Some(s)) => s,
-        (None, None) => bail!("sensitivity needs -s S (inputs uniform on [0, 1]) or --var"),
-    };
-    let (a, b) = match q.bounds.as_deref() {
-        Some(t) => {
-            let bounds = parse_bounds(t, d)?;
-            (Some(bounds.lo), Some(bounds.hi))
-        }
-        None => (None, None),
-    };
-    let defaults = SensitivityOptions::default();
-    fn or<T: Copy>(t: &Option<Typed<T>>, default: T) -> T {
-        t.as_ref().map_or(default, |t| t.value)
+    let given = q.given()?;
+    if given.s.is_none() && given.space.is_none() {
+        bail!("sensitivity needs -s S (inputs uniform on [0, 1]) or --var");
     }
-    let first_order = match q.first_estimator.as_deref() {
-        Some(t) => FirstOrder::parse("--first-estimator", t)?,
-        None => defaults.first_order,
+    let name = |n: &str| integration_flag(n, "--var");
+    let shown = |_: &str, v: &Arg| v.to_string();
+    let spelling = Spelling {
+        name: &name,
+        shown: &shown,
     };
-    let options = SensitivityOptions {
-        a,
-        b,
-        names: space
-            .as_ref()
-            .map(|s| s.vars.iter().map(|v| v.name.clone()).collect()),
-        abs_tol: or(&q.abs_tol, defaults.abs_tol),
-        level: or(&q.level, defaults.level),
-        simultaneous: q.simultaneous,
-        first_order,
-        replicates: or(&q.replicates, defaults.replicates),
-        max_n: or(&q.max_n, defaults.max_n),
-        seed: or(&q.seed, defaults.seed),
-        ..defaults
-    };
-    let mut state = Sensitivity::new(d, options.clone()).map_err(refused)?;
+    let (mut state, space) = Sensitivity::from_request(&given, &spelling)?;
+    let refused = |e| expr_refusal(e, text, |_| None, |n| integration_flag(n, "--var"));
+    let options = state.options().clone();
+    let d = state.d();
     let expr = RegionExpr::parse(text, d).map_err(|e| anyhow::anyhow!("invalid --expr: {e}"))?;
     let mode = ProgressMode::chosen(q.quiet, q.progress, ProgressMode::None);
     let started = std::time::Instant::now();

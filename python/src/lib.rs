@@ -12,8 +12,7 @@
 
 #![deny(missing_docs)]
 
-mod cubature;
-mod sensitivity;
+mod drivers;
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::time::Instant;
@@ -271,6 +270,15 @@ fn arg(key: &str, v: &Bound<'_, PyAny>) -> PyResult<Option<Arg>> {
         return Ok(Some(Arg::Numbers(
             pairs.into_iter().flat_map(|(a, b)| [a, b]).collect(),
         )));
+    }
+    // Rows of numbers of one length (a matrix written as nested lists).
+    if let Ok(rows) = v.extract::<Vec<Vec<f64>>>() {
+        let width = rows.first().map_or(0, Vec::len);
+        if rows.iter().all(|r| r.len() == width) {
+            if let Ok(p) = PointSet::new(rows.len(), width, rows.concat()) {
+                return Ok(Some(Arg::Points(p)));
+            }
+        }
     }
     Err(value_error(format!(
         "invalid {key} = {}: expected a number, a string, a list of numbers or an (n, d) \
@@ -660,13 +668,35 @@ fn integrate<'py>(py: Python<'py>, x: PyReadonlyArray2<'_, f64>) -> PyResult<Bou
     py_value(py, &v)
 }
 
-/// Every option of `generate` as declared once in the library: a list of dicts with
-/// `name` (the library's), `cli` (the command line's flag), `python` (the keyword
-/// argument, `None` where Python has none), `doc` (one line) and `groups`.
+/// Every option as declared once in the library, a list of dicts: `name` (the
+/// library's), `cli` (the command line's flag, empty where it has none), `python` (the
+/// keyword argument, `None` where Python has none), `doc` (one line), `groups`,
+/// `commands`, `kind` (with `min`, `max`, `closed`, `below` for numbers), `words` (every
+/// word it accepts), `expected` (what a refusal says is accepted) and `default` (per
+/// command, as help shows it). Those of `generate` and `eval` by default; `command`
+/// (`quad`, `sensitivity`, ...) gives that command's.
 #[pyfunction]
-fn options<'py>(py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
-    OPTIONS
-        .iter()
+#[pyo3(signature = (command=None))]
+fn options<'py>(py: Python<'py>, command: Option<&str>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    use declared::{Command, Kind, ALL};
+    let among: Vec<&declared::Declared> = match command {
+        None => OPTIONS.iter().collect(),
+        Some(name) => {
+            let c = Command::ALL
+                .into_iter()
+                .find(|c| c.name() == name)
+                .ok_or_else(|| {
+                    let names: Vec<&str> = Command::ALL.iter().map(|c| c.name()).collect();
+                    value_error(format!(
+                        "invalid command = {name}: expected {}",
+                        names.join(", ")
+                    ))
+                })?;
+            ALL.iter().filter(|d| d.takes(c)).collect()
+        }
+    };
+    among
+        .into_iter()
         .map(|d| {
             let row = PyDict::new(py);
             row.set_item("name", d.name)?;
@@ -675,6 +705,43 @@ fn options<'py>(py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
             row.set_item("doc", d.doc)?;
             let groups: Vec<&str> = d.groups.iter().map(|g| g.name()).collect();
             row.set_item("groups", groups)?;
+            let commands: Vec<&str> = d.commands.iter().map(|c| c.name()).collect();
+            row.set_item("commands", commands)?;
+            let kind = match d.kind {
+                Kind::Count { min, max } => {
+                    row.set_item("min", min)?;
+                    row.set_item("max", max)?;
+                    "count"
+                }
+                Kind::Real { min, closed, below } => {
+                    (row.set_item("min", min)?, row.set_item("closed", closed)?);
+                    row.set_item("below", below)?;
+                    "real"
+                }
+                Kind::RealOrWord { min, closed, .. } => {
+                    (row.set_item("min", min)?, row.set_item("closed", closed)?);
+                    "real_or_word"
+                }
+                Kind::Seed => "seed",
+                Kind::Flag => "flag",
+                Kind::Word(_) => "word",
+                Kind::Numbers => "numbers",
+                Kind::Sizes => "sizes",
+                Kind::Points => "points",
+                Kind::WordOrPoints(_) => "word_or_points",
+                Kind::Text => "text",
+                Kind::Texts => "texts",
+                Kind::Rows => "rows",
+                Kind::FrontEnd => "front_end",
+            };
+            row.set_item("kind", kind)?;
+            row.set_item("words", d.words())?;
+            row.set_item("expected", (d.expected)())?;
+            let defaults = PyDict::new(py);
+            for c in d.commands {
+                defaults.set_item(c.name(), (d.default)(*c))?;
+            }
+            row.set_item("default", defaults)?;
             Ok(row)
         })
         .collect()
@@ -701,11 +768,6 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(law_set, m)?)?;
     m.add_function(wrap_pyfunction!(options, m)?)?;
     m.add_function(wrap_pyfunction!(metrics, m)?)?;
-    m.add_function(wrap_pyfunction!(cubature::sequence_points, m)?)?;
-    m.add_function(wrap_pyfunction!(cubature::check_box, m)?)?;
-    m.add_function(wrap_pyfunction!(cubature::quad_space, m)?)?;
-    m.add_function(wrap_pyfunction!(cubature::quad_box_rule, m)?)?;
-    m.add_class::<cubature::PyCubature>()?;
-    sensitivity::register(m)?;
+    drivers::register(m)?;
     Ok(())
 }

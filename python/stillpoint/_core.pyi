@@ -101,24 +101,24 @@ def sequence_points(
     lattice sequence."""
 
 class Cubature:
-    """The state of an integration to a tolerance (see ``stillpoint.quad``)."""
+    """The state of an integration to a tolerance (see ``stillpoint.quad``), resolved by
+    the library from ``quad``'s keyword arguments."""
 
-    def __init__(
-        self,
-        d: int,
-        abs_tol: float = 0.0,
-        rel_tol: float = 1e-3,
-        level: float = 0.95,
-        replicates: int = 8,
-        max_n: int = 2**20,
-        start_n: int = 64,
-        seed: int = 0,
-        a: Optional[Sequence[float]] = None,
-        b: Optional[Sequence[float]] = None,
-    ) -> None: ...
+    def __init__(self, d: int) -> None: ...
+    @staticmethod
+    def resolve(
+        start: Optional["Cubature"] = None, **kwargs: Any
+    ) -> Tuple["Cubature", Tuple[Optional[List[str]], Optional[List[float]]]]:
+        """The state ``quad``'s keyword arguments ask for (defaults, checks and refused
+        combinations are the library's), or ``start`` continued with them; and the
+        space's names and correlation (row-major)."""
     def next_points(self) -> Optional[npt.NDArray[np.float64]]: ...
     def feed(self, values: npt.NDArray[np.float64]) -> None: ...
-    def set_tolerance(self, abs_tol: float, rel_tol: float) -> None: ...
+    def check_representable(self) -> None: ...
+    reason: Optional[str]
+    settings: Tuple[float, float, float, int, int, int]
+    rule: Tuple[str, str]
+    round_change: List[Optional[float]]
     estimate: List[float]
     half_width: List[float]
     n: int
@@ -126,33 +126,22 @@ class Cubature:
     d: int
     outputs: int
     met: bool
-    exhausted: bool
     warnings: List[str]
     replicate_means: List[List[float]]
 
 class Sensitivity:
-    """The state of a Sobol' sensitivity analysis (see ``stillpoint.sobol_indices``)."""
+    """The state of a Sobol' sensitivity analysis (see ``stillpoint.sobol_indices``),
+    resolved by the library from its keyword arguments."""
 
-    def __init__(
-        self,
-        d: int,
-        abs_tol: float = 0.01,
-        level: float = 0.95,
-        simultaneous: bool = False,
-        first_order: str = "saltelli",
-        replicates: int = 8,
-        max_n: int = 2**22,
-        seed: int = 0,
-        a: Optional[Sequence[float]] = None,
-        b: Optional[Sequence[float]] = None,
-        names: Optional[Sequence[str]] = None,
-    ) -> None: ...
+    def __init__(self, d: int) -> None: ...
+    @staticmethod
+    def resolve(
+        start: Optional["Sensitivity"] = None, **kwargs: Any
+    ) -> Tuple["Sensitivity", Tuple[Optional[List[str]], Optional[List[float]]]]:
+        """The state ``sobol_indices``'s keyword arguments ask for, or ``start``
+        continued with them; and the space's names and correlation."""
     def next_points(self) -> Optional[npt.NDArray[np.float64]]: ...
     def feed(self, values: npt.NDArray[np.float64]) -> None: ...
-    def set_tolerance(self, abs_tol: float) -> None: ...
-    def set_max_n(self, max_n: int) -> None: ...
-    def set_level(self, level: float) -> None: ...
-    def set_simultaneous(self, simultaneous: bool) -> None: ...
     current: Tuple[List[float], List[float], List[float], List[float]]
     reason: Optional[str]
     settings: Tuple[float, float, bool, str, int, int, int]
@@ -162,6 +151,3 @@ class Sensitivity:
     outputs: int
     met: bool
     warnings: List[str]
-
-def sensitivity_space(space: Sequence[str]) -> None:
-    """Refuses a space whose inputs are not independent (a correlation, a Brownian path)."""

@@ -7,40 +7,16 @@ half-widths and the state to continue from."""
 from __future__ import annotations
 
 import concurrent.futures
-import copy
 import sys
-import time
-import warnings
-from typing import Any, Callable, Dict, List, Optional, Tuple, Union
+from typing import Any, Callable, Dict, List, Optional, Union
 
 import numpy as np
 
 from . import _core
-from ._quad import (
-    _SEED,
-    _as_typed,
-    _corner,
-    _number,
-    _reporter,
-    _rounds,
-    _seed,
-)
-from ._space import _space_items
-from ._validate import _executor, _int
-
-# The defaults of the settings, resolved here only (the keywords default to None, so
-# that a continuation sees which were given).
-_DEFAULTS: Dict[str, Any] = {
-    "abs_tol": 0.01,
-    "level": 0.95,
-    "replicates": 8,
-    "max_n": 2**22,
-}
-
-_ESTIMATORS = ("saltelli", "janon")
+from ._rounds import _SEED, _Result, _run
 
 
-class SobolResult:
+class SobolResult(_Result):
     """What :func:`sobol_indices` returns.
 
     ``first`` and ``total`` are the first-order and total Sobol' indices, shape (d,) when
@@ -56,9 +32,8 @@ class SobolResult:
     a tighter tolerance: only new points are evaluated. Picklable.
     """
 
-    def __init__(self, state: Any, setup: Dict[str, Any]) -> None:
-        self._state = state
-        self._setup = setup
+    _core = _core.Sensitivity
+    _made_by = "sobol_indices"
 
     def _shaped(self, which: int) -> np.ndarray:
         k = max(1, int(self._state.outputs))
@@ -142,13 +117,6 @@ class SobolResult:
             f"total={self.total!r}, n={self.n}, met={self.met}, reason={self.reason!r})"
         )
 
-    def __getstate__(self) -> Dict[str, Any]:
-        return {"state": self._state, "setup": self._setup}
-
-    def __setstate__(self, state: Dict[str, Any]) -> None:
-        self._state = state["state"]
-        self._setup = state["setup"]
-
 
 def sobol_indices(
     f: Callable[[np.ndarray], Any],
@@ -202,11 +170,11 @@ def sobol_indices(
     level : float, optional
         The confidence level of the intervals, in (0, 1); by default 0.95.
     simultaneous : bool, optional
-        False (the default): each index's own interval holds at ``level``. True: all
+        By default False: each index's own interval holds at ``level``. True: all
         2·d·k intervals hold together at ``level`` (Bonferroni), and the tolerance
         applies to these wider ones.
     first_estimator : str, optional
-        ``"saltelli"`` (the default) or ``"janon"``.
+        ``"saltelli"`` or ``"janon"``; by default ``"saltelli"``.
     replicates : int, optional
         Independent shifts R, 2 to 16384 (by default 8).
     max_n : int, optional
@@ -239,147 +207,12 @@ def sobol_indices(
         f (naming the point), or an output that takes one value at every point of the
         first round (its variance, which every index divides by, is 0).
     """
-    started = time.perf_counter()
-    if not callable(f):
-        raise ValueError(f"invalid f = {f!r}: expected a callable taking an (n, d) array")
-    if correlation is not None:
-        raise ValueError(
-            f"invalid correlation = {correlation!r}: Sobol' indices are computed for "
-            "independent inputs; give the inputs without a correlation"
-        )
-    report = _reporter(progress, SobolResult, _line)
-    _executor(executor)
-    given = {
-        "abs_tol": abs_tol,
-        "level": level,
-        "simultaneous": simultaneous,
-        "first_estimator": first_estimator,
-        "replicates": replicates,
-        "max_n": max_n,
-    }
-    if start is not None:
-        state, setup = _continued(start, d, seed, given, {"a": a, "b": b, "space": space})
-    else:
-        state, setup = _begun(d, a, b, space, seed, given)
-        for message in state.warnings:
-            warnings.warn(message, stacklevel=2)
-    _rounds(f, state, setup, executor, report, started)
-    return SobolResult(state, setup)
-
-
-def _settings(given: Dict[str, Any]) -> Dict[str, Any]:
-    """The settings given, checked, with the defaults of the others (the library's
-    names: ``first_order`` is the estimator)."""
-    out: Dict[str, Any] = {}
-    for name, value in given.items():
-        if name == "simultaneous":
-            if value is not None and not isinstance(value, (bool, np.bool_)):
-                raise ValueError(f"invalid simultaneous = {value!r}: expected True or False")
-            out[name] = bool(value)
-        elif name == "first_estimator":
-            value = "saltelli" if value is None else value
-            if value not in _ESTIMATORS:
-                raise ValueError(
-                    f"invalid first_estimator = {value!r}: expected 'saltelli' or 'janon'"
-                )
-            out["first_order"] = value
-        elif name in ("replicates", "max_n"):
-            value = _DEFAULTS[name] if value is None else value
-            out[name] = _int(name, value, 1 if name == "max_n" else 2)
-        else:
-            out[name] = _number(name, _DEFAULTS[name] if value is None else value)
-    return out
-
-
-def _begun(
-    d: Any, a: Any, b: Any, space: Any, seed: Any, given: Dict[str, Any]
-) -> Tuple[Any, Dict[str, Any]]:
-    """A new state and its setup (box or space) from the arguments."""
-    o = _settings(given)
-    setup: Dict[str, Any] = {"scalar": True}
-    names = None
-    if space is not None:
-        if a is not None or b is not None:
-            raise ValueError("invalid a, b with space: the space's distributions give the range")
-        items, frozen = _space_items(space)
-        _core.sensitivity_space(items)
-        names = _core.space_names(items)
-        if d is not None and _int("d", d, 1) != len(names):
-            raise ValueError(
-                f"invalid d = {d!r}: space has {len(names)} inputs; expected d equal to it"
-            )
-        d = len(names)
-        corr, _, _ = _core.quad_space(items)  # the lattice is this run's rule, not quad's
-        setup.update(space=items, names=names, frozen=frozen, correlation=corr)
-        _core.space_values(items, np.full((1, d), 0.5), corr)
-    if d is None:
-        for corner in (a, b):
-            if corner is not None and np.ndim(corner) == 1:
-                d = len(corner)
-                break
-        else:
-            raise ValueError(
-                "invalid d = None: expected the number of inputs (or a space, or corners "
-                "a, b of d numbers)"
-            )
-    d = _int("d", d, 1, _core.SEQUENCE_MAX_D // 2)
-    lo, hi = _corner("a", a, d), _corner("b", b, d)
-    if lo is not None or hi is not None:
-        corners = zip(lo or [0.0] * d, hi or [1.0] * d)
-        _core.check_box("a, b", f"({a!r}, {b!r})", [v for c in corners for v in c])
-    try:
-        state = _core.Sensitivity(d, seed=_seed(seed), a=lo, b=hi, names=names, **o)
-    except ValueError as e:
-        raise _as_typed(e, given) from None
-    return state, setup
-
-
-def _continued(
-    start: Any, d: Any, seed: Any, given: Dict[str, Any], box: Dict[str, Any]
-) -> Tuple[Any, Dict[str, Any]]:
-    """A copy of ``start``'s state with every setting given honoured or refused by name
-    (the earlier result is not changed)."""
-    if not isinstance(start, SobolResult):
-        raise ValueError(
-            f"invalid start = {start!r}: expected a SobolResult of an earlier sobol_indices"
-        )
-    if d is not None and d != start.d:
-        raise ValueError(f"invalid d = {d!r}: start has {start.d} inputs")
-    for name, value in box.items():
-        if value is not None:
-            raise ValueError(
-                f"invalid {name} with start: a continued analysis keeps the earlier one's "
-                f"{name}"
-            )
-    _, _, _, estimator, earlier_r, _, earlier_seed = start._state.settings
-    if seed is not _SEED and (seed is None or _seed(seed) != earlier_seed):
-        raise ValueError(
-            f"invalid seed with start = {seed!r}: a continued analysis keeps the earlier "
-            f"one's shifts (seed {earlier_seed})"
-        )
-    o = _settings({k: v for k, v in given.items() if v is not None})
-    for name, key, earlier in (
-        ("replicates", "replicates", earlier_r),
-        ("first_estimator", "first_order", estimator),
-    ):
-        if o.get(key, earlier) != earlier:
-            raise ValueError(
-                f"invalid {name} = {given[name]!r} with start: a continued analysis keeps "
-                f"the earlier one's ({earlier!r})"
-            )
-    state = copy.deepcopy(start._state)
-    try:
-        if "abs_tol" in o:
-            state.set_tolerance(o["abs_tol"])
-        if "level" in o:
-            state.set_level(o["level"])
-        if "max_n" in o:
-            state.set_max_n(o["max_n"])
-        if given["simultaneous"] is not None:
-            state.set_simultaneous(o["simultaneous"])
-    except ValueError as e:
-        raise _as_typed(e, given) from None
-    return state, dict(start._setup)
+    given = dict(
+        d=d, space=space, a=a, b=b, abs_tol=abs_tol, level=level, simultaneous=simultaneous,
+        first_estimator=first_estimator, replicates=replicates, max_n=max_n, seed=seed,
+        correlation=correlation,
+    )
+    return SobolResult(*_run(SobolResult, f, given, start, executor, progress, _line))
 
 
 def _line(state: Any, setup: Dict[str, Any], t: float) -> None:

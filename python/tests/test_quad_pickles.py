@@ -1,0 +1,44 @@
+"""QuadResult and SobolResult pickles made by the earlier release (data/, written by
+data/make_quad_pickles.py) load, say what they said, and continue as they did then."""
+
+import json
+import pathlib
+import pickle
+
+import numpy as np
+import pytest
+
+import stillpoint as sp
+
+DATA = pathlib.Path(__file__).resolve().parent / "data"
+RECORD = json.loads((DATA / "quad_pickles.json").read_text())
+
+
+def _module():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("make_quad_pickles", DATA / "make_quad_pickles.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+MAKER = _module()
+
+
+@pytest.mark.parametrize("name", sorted(RECORD))
+def test_an_old_result_loads_and_continues_as_it_did(name):
+    rec = RECORD[name]
+    r = pickle.loads((DATA / f"{name}.pkl").read_bytes())
+    assert MAKER.summary(r) == rec["then"]
+    f = MAKER.FUNCTIONS.get(name, lambda x: x[:, 0] * x[:, 1])
+    if isinstance(r, sp.QuadResult):
+        later = sp.quad(f, r.d, start=r, **rec["more"])
+    else:
+        assert isinstance(r, sp.SobolResult)
+        later = sp.sobol_indices(f, r.d, start=r, **rec["more"])
+    assert MAKER.summary(later) == rec["continued"]
+    # Pickled again by this version, it loads to the same.
+    again = pickle.loads(pickle.dumps(later))
+    assert MAKER.summary(again) == rec["continued"]
+    assert np.array_equal(np.asarray(again.n), np.asarray(later.n))

@@ -1,0 +1,534 @@
+//! The settings of an integration ([`Cubature`]) or a sensitivity analysis
+//! ([`Sensitivity`]) from the options a front end received (a [`Request`] holding the
+//! integration options of [`crate::pipeline::options`]): each value read by its
+//! declaration's kind, the defaults of [`QuadOptions`] and [`SensitivityOptions`], every
+//! check and every refused combination written here once. Each refusal names the option
+//! as the front end spells it and echoes the value as the user typed it ([`Spelling`]).
+//! The command line and Python only collect what was given; Python's continuation
+//! (`start=`) is resolved here too ([`Cubature::continued`], [`Sensitivity::continued`]).
+
+use super::{Cubature, QuadOptions, Rule};
+use crate::design::DesignSpace;
+use crate::pipeline::options::{Command, Opt, Value, ALL};
+use crate::pipeline::request::{Arg, Request};
+use crate::sensitivity::{FirstOrder, Sensitivity, SensitivityOptions};
+use crate::Error;
+
+/// How a front end writes refusals: the option the library calls `name` as its users
+/// spell it (`--max-n`, `max_n`), and a value as they typed it (`1e-3` on the command
+/// line, `'x'` in Python).
+#[derive(Clone, Copy)]
+pub struct Spelling<'a> {
+    /// The option's name as the front end spells it.
+    pub name: &'a dyn Fn(&str) -> String,
+    /// The value given for the option `name`, as typed.
+    pub shown: &'a dyn Fn(&str, &Arg) -> String,
+}
+
+fn plain_name(name: &str) -> String {
+    name.to_string()
+}
+
+fn plain_value(_: &str, value: &Arg) -> String {
+    value.to_string()
+}
+
+impl Spelling<'static> {
+    /// The library's own: names as they are, values as [`Arg`] writes them.
+    pub const PLAIN: Spelling<'static> = Spelling {
+        name: &plain_name,
+        shown: &plain_value,
+    };
+}
+
+/// The option a library refusal's name belongs to: the state machines name the
+/// dimension `d` and the box's corners `a`, `b`.
+fn option_of(name: &str) -> &str {
+    match name {
+        "d" => Opt::s.name(),
+        "a" | "b" | "a, b" => Opt::bounds.name(),
+        other => other,
+    }
+}
+
+impl Spelling<'_> {
+    /// A library refusal as the front end shows it: the option spelled its way, and the
+    /// value as typed when that option was given (the library writes the number it got:
+    /// `-0.001` for `-1e-3`). A space's refusals name one of its variables: their value
+    /// is kept.
+    pub fn error(&self, e: Error, given: &Request) -> Error {
+        match e {
+            Error::InvalidArgument {
+                name,
+                value,
+                expected,
+            } => {
+                let option = option_of(&name);
+                let typed = given.get(option).filter(|_| option != Opt::space.name());
+                let value = typed.map_or(value, |v| (self.shown)(option, v));
+                Error::invalid(self.spell(option), value, expected)
+            }
+            other => other,
+        }
+    }
+
+    /// A refusal that is not `name = value: expected ...` (`invalid a with start: ...`),
+    /// in the front end's names. The library's error type carries such a sentence as
+    /// its free-text variant.
+    fn together(&self, head: &str, why: &str) -> Error {
+        Error::Numerical(format!("invalid {head}: {why}"))
+    }
+
+    fn spell(&self, name: &str) -> String {
+        (self.name)(name)
+    }
+
+    /// The option `opt` and its value as typed: `name = value`.
+    fn typed(&self, opt: Opt, value: &Arg) -> String {
+        format!(
+            "{} = {}",
+            self.spell(opt.name()),
+            (self.shown)(opt.name(), value)
+        )
+    }
+}
+
+/// An option's value read by its declaration's kind (`None`: not given); the refusal
+/// names it as the library does, which [`Spelling::error`] then spells.
+fn read<T>(r: &Request, opt: Opt, typed: fn(Value) -> Option<T>) -> Result<Option<T>, Error> {
+    let Some(arg) = r.arg(opt) else {
+        return Ok(None);
+    };
+    Ok(opt.declared().parse(arg, &plain_name)?.and_then(typed))
+}
+
+fn real(r: &Request, opt: Opt) -> Result<Option<f64>, Error> {
+    read(r, opt, |v| match v {
+        Value::Real(x) => Some(x),
+        _ => None,
+    })
+}
+
+fn count(r: &Request, opt: Opt) -> Result<Option<u64>, Error> {
+    read(r, opt, |v| match v {
+        Value::Count(c) | Value::Seed(c) => Some(c),
+        _ => None,
+    })
+}
+
+fn word(r: &Request, opt: Opt) -> Result<Option<String>, Error> {
+    read(r, opt, |v| match v {
+        Value::Word(w) => Some(w),
+        _ => None,
+    })
+}
+
+/// Refuses the first option given that `command` does not take, naming it.
+fn refuse_others(r: &Request, command: Command, sp: &Spelling) -> Result<(), Error> {
+    let Some(d) = ALL
+        .iter()
+        .find(|d| !d.takes(command) && r.get(d.name).is_some())
+    else {
+        return Ok(());
+    };
+    let takes: Vec<&str> = d.commands.iter().map(|c| c.name()).collect();
+    Err(Error::invalid(
+        d.name,
+        r.get(d.name).map_or(String::new(), |v| v.to_string()),
+        format!(
+            "no {} with {}: it is an option of {}",
+            sp.spell(d.name),
+            command.name(),
+            takes.join(" and ")
+        ),
+    ))
+}
+
+/// The design space given, parsed and checked as an integration takes it (its
+/// continuous variables can hold [`super::SPACE_RESOLUTION`] distinct values), with its
+/// correlation; a correlation without a space is refused.
+fn design_space(r: &Request, sp: &Spelling) -> Result<Option<DesignSpace>, Error> {
+    let texts = read(r, Opt::space, |v| match v {
+        Value::Texts(t) => Some(t),
+        _ => None,
+    })?;
+    let Some(texts) = texts.filter(|t| !t.is_empty()) else {
+        if r.correlation.is_some() {
+            return Err(sp.together(
+                &format!(
+                    "{} without {}",
+                    sp.spell(Opt::correlation.name()),
+                    sp.spell(Opt::space.name())
+                ),
+                "it correlates a space's variables",
+            ));
+        }
+        return Ok(None);
+    };
+    let name = Opt::correlation.name();
+    let mut space = DesignSpace::parse(Opt::space.name(), &texts)?;
+    super::check_space(&space, Opt::space.name())?;
+    match opt_rows(r)? {
+        None => {}
+        Some(Value::RowsText(rows)) => space.correlate_rows(name, &rows)?,
+        Some(Value::RowsNumbers(m)) => space.correlate(name, "", m)?,
+        Some(_) => {}
+    }
+    Ok(Some(space))
+}
+
+fn opt_rows(r: &Request) -> Result<Option<Value>, Error> {
+    read(r, Opt::correlation, Some)
+}
+
+/// The dimension: as given (checked against a space's coordinates), else the space's,
+/// else (with `infer`) the length of a corner given as a list.
+fn dimension(
+    r: &Request,
+    space: Option<&DesignSpace>,
+    infer: bool,
+    sp: &Spelling,
+) -> Result<usize, Error> {
+    let d = count(r, Opt::s)?.map(|d| d as usize);
+    match (d, space, r.arg(Opt::s)) {
+        (Some(d), Some(space), Some(typed)) if d != space.dim() => Err(sp.together(
+            &sp.typed(Opt::s, typed),
+            &format!(
+                "{} has {} coordinates; expected {} equal to it",
+                sp.spell(Opt::space.name()),
+                space.dim(),
+                sp.spell(Opt::s.name())
+            ),
+        )),
+        (Some(d), _, _) => Ok(d),
+        (None, Some(space), _) => Ok(space.dim()),
+        (None, None, _) => {
+            let from_corner = match r.arg(Opt::bounds) {
+                Some(Arg::Pair(lo, hi)) if infer => Some(lo.len().max(hi.len())),
+                _ => None,
+            };
+            from_corner.filter(|d| *d > 1).ok_or_else(|| {
+                Error::invalid(
+                    "d",
+                    "None",
+                    "the number of inputs (or a space, or corners a, b of d numbers)",
+                )
+            })
+        }
+    }
+}
+
+/// The box (`None`: the unit cube), checked as every box of the package is
+/// ([`crate::plan::space::Bounds`]): LO1,HI1,... or the corners apart (one number for
+/// every dimension, a missing one the cube's); refused with a space, whose laws give the
+/// range.
+#[allow(clippy::type_complexity)]
+fn corners(
+    r: &Request,
+    d: usize,
+    space: bool,
+    sp: &Spelling,
+) -> Result<(Option<Vec<f64>>, Option<Vec<f64>>), Error> {
+    let Some(typed) = r.arg(Opt::bounds) else {
+        return Ok((None, None));
+    };
+    let name = Opt::bounds.name();
+    if space {
+        return Err(sp.together(
+            &format!("{} with {}", sp.spell(name), sp.spell(Opt::space.name())),
+            "the space's distributions give the range",
+        ));
+    }
+    let shown = (sp.shown)(name, typed);
+    let values = match read(r, Opt::bounds, Some)? {
+        Some(Value::Pair(lo, hi)) => {
+            let side = |v: Vec<f64>| if v.len() == 1 { vec![v[0]; d] } else { v };
+            let (lo, hi) = (side(lo), side(hi));
+            if lo.len() != d || hi.len() != d {
+                return Err(Error::invalid(
+                    name,
+                    shown,
+                    format!("{d} finite numbers per corner (one per dimension), or one"),
+                ));
+            }
+            lo.iter().zip(&hi).flat_map(|(a, b)| [*a, *b]).collect()
+        }
+        Some(Value::Numbers(v)) => v,
+        _ => Vec::new(),
+    };
+    let bounds = crate::plan::space::Bounds::new(name, &shown, &values, d)?;
+    Ok((Some(bounds.lo), Some(bounds.hi)))
+}
+
+impl Cubature {
+    /// A new integration from the options a front end received: the dimension (checked
+    /// against a space's coordinates), the box (not with a space), the space and its
+    /// correlation (not without a space), the tolerances, level, replicates, budget and
+    /// seed (their defaults those of [`QuadOptions::default`]) and the rule (asked for,
+    /// or [`Rule::for_space`]). Returns the state and the space, whose map the caller
+    /// applies to the points ([`super::space_values`]).
+    pub fn from_request(
+        r: &Request,
+        sp: &Spelling,
+    ) -> Result<(Cubature, Option<DesignSpace>), Error> {
+        Self::resolved(r, sp).map_err(|e| sp.error(e, r))
+    }
+
+    fn resolved(r: &Request, sp: &Spelling) -> Result<(Cubature, Option<DesignSpace>), Error> {
+        refuse_others(r, Command::Quad, sp)?;
+        let space = design_space(r, sp)?;
+        let d = dimension(r, space.as_ref(), false, sp)?;
+        // The dimension first, so that d = 0 is refused as d rather than by what needs it.
+        crate::sequences::ExtensibleLattice::new(d, 0, 0)?;
+        let (a, b) = corners(r, d, space.is_some(), sp)?;
+        let (rule, rule_reason) = match (word(r, Opt::rule)?, r.arg(Opt::rule)) {
+            (Some(word), Some(typed)) => (
+                Rule::parse(Opt::rule.name(), &word)?,
+                format!(
+                    "as asked ({}={})",
+                    sp.spell(Opt::rule.name()),
+                    (sp.shown)(Opt::rule.name(), typed)
+                ),
+            ),
+            _ => Rule::for_space(space.as_ref()),
+        };
+        let o = QuadOptions::default();
+        let options = QuadOptions {
+            a,
+            b,
+            abs_tol: real(r, Opt::abs_tol)?.unwrap_or(o.abs_tol),
+            rel_tol: real(r, Opt::rel_tol)?.unwrap_or(o.rel_tol),
+            level: real(r, Opt::level)?.unwrap_or(o.level),
+            replicates: count(r, Opt::replicates)?.map_or(o.replicates, |r| r as usize),
+            max_n: count(r, Opt::max_n)?.unwrap_or(o.max_n),
+            seed: count(r, Opt::seed)?.unwrap_or(o.seed),
+            rule,
+            rule_reason,
+            ..o
+        };
+        Ok((Cubature::new(d, options)?, space))
+    }
+
+    /// This integration continued with the options given (the state itself is not
+    /// changed): the tolerances (either given sets both, the other at its default),
+    /// level and budget are honoured; the dimension must match; the box, space and
+    /// correlation are refused, and the replicates, seed and rule unless equal to this
+    /// one's.
+    pub fn continued(&self, r: &Request, sp: &Spelling) -> Result<Cubature, Error> {
+        let mut state = self.clone();
+        let o = &self.options;
+        let kept = Kept {
+            what: "integration",
+            sp,
+            r,
+        };
+        (|| {
+            refuse_others(r, Command::Quad, sp)?;
+            kept.dimension(self.d, "was computed in", "dimensions")?;
+            kept.fixed(&[Opt::bounds, Opt::space, Opt::correlation])?;
+            kept.seed(o.seed)?;
+            if let Some(n) = count(r, Opt::replicates)? {
+                let earlier = format!("{} replicates (their shifts and sums)", o.replicates);
+                kept.equal(Opt::replicates, n == o.replicates as u64, &earlier)?;
+            }
+            if let Some(rule) = word(r, Opt::rule)? {
+                let earlier = format!("rule ({})", o.rule.as_str());
+                kept.equal(Opt::rule, rule == o.rule.as_str(), &earlier)?;
+            }
+            if r.abs_tol.is_some() || r.rel_tol.is_some() {
+                let d = QuadOptions::default();
+                let abs = real(r, Opt::abs_tol)?.unwrap_or(d.abs_tol);
+                state.set_tolerance(abs, real(r, Opt::rel_tol)?.unwrap_or(d.rel_tol))?;
+            }
+            if let Some(level) = real(r, Opt::level)? {
+                state.set_level(level)?;
+            }
+            if let Some(max_n) = count(r, Opt::max_n)? {
+                state.set_max_n(max_n)?;
+            }
+            Ok(())
+        })()
+        .map_err(|e| sp.error(e, r))?;
+        Ok(state)
+    }
+}
+
+impl Sensitivity {
+    /// A new sensitivity analysis from the options a front end received: the number of
+    /// inputs (or the space's, or the length of a corner), the box (not with a space), a
+    /// space of independent inputs (a correlation or a Brownian path refused), the
+    /// tolerance, level, intervals, estimator, replicates, budget and seed (their
+    /// defaults those of [`SensitivityOptions::default`]). Returns the state and the
+    /// space.
+    pub fn from_request(
+        r: &Request,
+        sp: &Spelling,
+    ) -> Result<(Sensitivity, Option<DesignSpace>), Error> {
+        Self::resolved(r, sp).map_err(|e| sp.error(e, r))
+    }
+
+    fn resolved(r: &Request, sp: &Spelling) -> Result<(Sensitivity, Option<DesignSpace>), Error> {
+        if let Some(c) = r.arg(Opt::correlation) {
+            return Err(Error::invalid(
+                Opt::correlation.name(),
+                c,
+                "no correlation: Sobol' indices are computed for independent inputs",
+            ));
+        }
+        refuse_others(r, Command::Sensitivity, sp)?;
+        let space = design_space(r, sp)?;
+        if let Some(space) = &space {
+            crate::sensitivity::check_independent(Opt::space.name(), space)?;
+        }
+        let d = dimension(r, space.as_ref(), true, sp)?;
+        Sensitivity::new(d, SensitivityOptions::default())?;
+        let (a, b) = corners(r, d, space.is_some(), sp)?;
+        let o = SensitivityOptions::default();
+        let first_order = match word(r, Opt::first_estimator)? {
+            Some(w) => FirstOrder::parse(Opt::first_estimator.name(), &w)?,
+            None => o.first_order,
+        };
+        let simultaneous = read(r, Opt::simultaneous, |v| match v {
+            Value::Flag(b) => Some(b),
+            _ => None,
+        })?;
+        let options = SensitivityOptions {
+            a,
+            b,
+            names: space
+                .as_ref()
+                .map(|s| s.vars.iter().map(|v| v.name.clone()).collect()),
+            abs_tol: real(r, Opt::abs_tol)?.unwrap_or(o.abs_tol),
+            level: real(r, Opt::level)?.unwrap_or(o.level),
+            simultaneous: simultaneous.unwrap_or(o.simultaneous),
+            first_order,
+            replicates: count(r, Opt::replicates)?.map_or(o.replicates, |r| r as usize),
+            max_n: count(r, Opt::max_n)?.unwrap_or(o.max_n),
+            seed: count(r, Opt::seed)?.unwrap_or(o.seed),
+            ..o
+        };
+        Ok((Sensitivity::new(d, options)?, space))
+    }
+
+    /// This analysis continued with the options given (the state itself is not
+    /// changed): the tolerance, level, intervals and budget are honoured; the number of
+    /// inputs must match; the box and space are refused, and the replicates, estimator
+    /// and seed unless equal to this one's.
+    pub fn continued(&self, r: &Request, sp: &Spelling) -> Result<Sensitivity, Error> {
+        let mut state = self.clone();
+        let o = self.options();
+        let kept = Kept {
+            what: "analysis",
+            sp,
+            r,
+        };
+        (|| {
+            refuse_others(r, Command::Sensitivity, sp)?;
+            kept.dimension(self.d(), "has", "inputs")?;
+            kept.fixed(&[Opt::bounds, Opt::space])?;
+            kept.seed(o.seed)?;
+            if let Some(n) = count(r, Opt::replicates)? {
+                let earlier = format!("({})", o.replicates);
+                kept.equal(Opt::replicates, n == o.replicates as u64, &earlier)?;
+            }
+            if let Some(w) = word(r, Opt::first_estimator)? {
+                let earlier = format!("({})", o.first_order.as_str());
+                kept.equal(Opt::first_estimator, w == o.first_order.as_str(), &earlier)?;
+            }
+            if let Some(t) = real(r, Opt::abs_tol)? {
+                state.set_tolerance(t)?;
+            }
+            if let Some(level) = real(r, Opt::level)? {
+                state.set_level(level)?;
+            }
+            if let Some(max_n) = count(r, Opt::max_n)? {
+                state.set_max_n(max_n)?;
+            }
+            if let Some(Value::Flag(s)) = read(r, Opt::simultaneous, Some)? {
+                state.set_simultaneous(s);
+            }
+            Ok(())
+        })()
+        .map_err(|e| sp.error(e, r))?;
+        Ok(state)
+    }
+}
+
+/// The refusals of a continuation: what it keeps of the earlier run (`what`: the
+/// computation's noun).
+struct Kept<'a> {
+    what: &'static str,
+    sp: &'a Spelling<'a>,
+    r: &'a Request,
+}
+
+impl Kept<'_> {
+    fn start(&self) -> String {
+        self.sp.spell(Opt::start.name())
+    }
+
+    /// The dimension, if given, equal to the earlier run's.
+    fn dimension(&self, d: usize, verb: &str, noun: &str) -> Result<(), Error> {
+        match (count(self.r, Opt::s)?, self.r.arg(Opt::s)) {
+            (Some(given), Some(typed)) if given != d as u64 => Err(self.sp.together(
+                &self.sp.typed(Opt::s, typed),
+                &format!("{} {verb} {d} {noun}", self.start()),
+            )),
+            _ => Ok(()),
+        }
+    }
+
+    /// Options a continuation takes from the earlier run and cannot be given.
+    fn fixed(&self, opts: &[Opt]) -> Result<(), Error> {
+        match opts.iter().find(|o| self.r.arg(**o).is_some()) {
+            Some(opt) => {
+                let spelled = self.sp.spell(opt.name());
+                Err(self.sp.together(
+                    &format!("{spelled} with {}", self.start()),
+                    &format!(
+                        "a continued {} keeps the earlier one's {spelled}",
+                        self.what
+                    ),
+                ))
+            }
+            None => Ok(()),
+        }
+    }
+
+    /// The seed, if given, equal to the earlier run's.
+    fn seed(&self, earlier: u64) -> Result<(), Error> {
+        let Some(typed) = self.r.arg(Opt::seed) else {
+            return Ok(());
+        };
+        if count(self.r, Opt::seed).ok().flatten() == Some(earlier) {
+            return Ok(());
+        }
+        let seed = Opt::seed.name();
+        Err(self.sp.together(
+            &format!(
+                "{} with {} = {}",
+                self.sp.spell(seed),
+                self.start(),
+                (self.sp.shown)(seed, typed)
+            ),
+            &format!(
+                "a continued {} keeps the earlier one's shifts (seed {earlier})",
+                self.what
+            ),
+        ))
+    }
+
+    /// `opt`, given, refused unless `equal` to the earlier run's (`earlier`).
+    fn equal(&self, opt: Opt, equal: bool, earlier: &str) -> Result<(), Error> {
+        match self.r.arg(opt) {
+            Some(typed) if !equal => Err(self.sp.together(
+                &format!("{} with {}", self.sp.typed(opt, typed), self.start()),
+                &format!(
+                    "a continued {} keeps the earlier one's {earlier}",
+                    self.what
+                ),
+            )),
+            _ => Ok(()),
+        }
+    }
+}
