@@ -1,7 +1,6 @@
 //! The command line's arguments: one clap struct per subcommand.
 
 use super::*;
-use crate::quad_args::Typed;
 
 #[derive(Parser)]
 #[command(
@@ -53,12 +52,6 @@ fn numbers_are_values(cmd: clap::Command) -> clap::Command {
             ValueParser::new(Number::<u32>::whole())
         } else if id == TypeId::of::<f64>() {
             ValueParser::new(Number::<f64>::real())
-        } else if id == TypeId::of::<Typed<usize>>() {
-            ValueParser::new(WithText(Number::<usize>::whole()))
-        } else if id == TypeId::of::<Typed<u64>>() {
-            ValueParser::new(WithText(Number::<u64>::whole()))
-        } else if id == TypeId::of::<Typed<f64>>() {
-            ValueParser::new(WithText(Number::<f64>::real()))
         } else {
             return a;
         };
@@ -127,30 +120,6 @@ where
             format!("invalid {flag} = {typed}: expected {expected}\n"),
         )
         .with_cmd(cmd))
-    }
-}
-
-/// [`Number`] for an option that keeps the text typed beside its value ([`Typed`]), so
-/// that a later refusal can show it as typed.
-#[derive(Clone)]
-pub(crate) struct WithText<T>(Number<T>);
-
-impl<T> clap::builder::TypedValueParser for WithText<T>
-where
-    T: std::str::FromStr + Clone + Send + Sync + 'static,
-{
-    type Value = Typed<T>;
-
-    fn parse_ref(
-        &self,
-        cmd: &clap::Command,
-        arg: Option<&clap::Arg>,
-        value: &std::ffi::OsStr,
-    ) -> Result<Typed<T>, clap::Error> {
-        Ok(Typed {
-            value: self.0.parse_ref(cmd, arg, value)?,
-            text: value.to_string_lossy().into_owned(),
-        })
     }
 }
 
