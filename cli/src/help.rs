@@ -1,9 +1,10 @@
 //! `--help` and `-h` written from the option declarations
 //! ([`stillpoint::pipeline::options::ALL`]): for every flag of every subcommand that
-//! sets a declared option, the short help is the declaration's doc line, and both helps
-//! list the values the declaration accepts (clap's `[possible values: …]`) and its
-//! default (`[default: …]`). The prose of the clap structs stays the long help's
-//! explanation, so a value list or a default written there cannot go stale: the
+//! sets a declared option, the short help is the declaration's doc line (in the command
+//! it is declared for first), and both helps show its default (`[default: …]`) and the
+//! values it accepts: its words as clap's `[possible values: …]`, a number's range as
+//! its refusal words it (`[values: …]`). The prose of the clap structs stays the long
+//! help's explanation, so a value list or a default written there cannot go stale: the
 //! declaration says them.
 
 use clap::builder::{PossibleValue, TypedValueParser};
