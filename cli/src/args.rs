@@ -1,7 +1,6 @@
 //! The command line's arguments: one clap struct per subcommand.
 
 use super::*;
-use crate::quad_args::Typed;
 
 #[derive(Parser)]
 #[command(
@@ -20,44 +19,13 @@ pub(crate) struct Cli {
 }
 
 impl Cli {
-    /// clap's command, with each declared option's short help (`-h`) taken from its
-    /// declaration ([`stillpoint::pipeline::options::OPTIONS`]), so that the command line
-    /// and Python describe an option in the same words; the doc comments below stay the
-    /// long help (`--help`).
+    /// clap's command, with the help of every declared flag of every subcommand written
+    /// from its declaration ([`crate::help`]: the doc line, every accepted word, the
+    /// default), so that the command line and Python describe an option in the same
+    /// words, and with every number read as [`numbers_are_values`] says.
     pub(crate) fn command_with_declared_help() -> clap::Command {
         use clap::CommandFactory;
-        use stillpoint::pipeline::options::OPTIONS;
-        let mut cli = Cli::command();
-        for sub in ["generate", "eval"] {
-            cli = cli.mut_subcommand(sub, |mut c| {
-                let declared: Vec<(String, &'static str)> = c
-                    .get_arguments()
-                    .filter_map(|a| {
-                        let flag = match (a.get_long(), a.get_short()) {
-                            (Some(long), _) => format!("--{long}"),
-                            (None, Some(short)) => format!("-{short}"),
-                            (None, None) => return None,
-                        };
-                        let d = OPTIONS
-                            .iter()
-                            .find(|d| d.cli == flag || d.cli_also.contains(&flag.as_str()))?;
-                        Some((a.get_id().to_string(), d.doc))
-                    })
-                    .collect();
-                for (id, doc) in declared {
-                    c = c.mut_arg(id, |a| {
-                        let long = a.get_long_help().or(a.get_help()).cloned();
-                        let a = a.help(doc);
-                        match long {
-                            Some(long) => a.long_help(long),
-                            None => a,
-                        }
-                    });
-                }
-                c
-            });
-        }
-        numbers_are_values(cli)
+        numbers_are_values(crate::help::declared_help(Cli::command()))
     }
 }
 
@@ -84,12 +52,6 @@ fn numbers_are_values(cmd: clap::Command) -> clap::Command {
             ValueParser::new(Number::<u32>::whole())
         } else if id == TypeId::of::<f64>() {
             ValueParser::new(Number::<f64>::real())
-        } else if id == TypeId::of::<Typed<usize>>() {
-            ValueParser::new(WithText(Number::<usize>::whole()))
-        } else if id == TypeId::of::<Typed<u64>>() {
-            ValueParser::new(WithText(Number::<u64>::whole()))
-        } else if id == TypeId::of::<Typed<f64>>() {
-            ValueParser::new(WithText(Number::<f64>::real()))
         } else {
             return a;
         };
@@ -144,10 +106,8 @@ where
         if let Some(v) = value.to_str().and_then(|t| t.parse::<T>().ok()) {
             return Ok(v);
         }
-        let flag = arg.map_or_else(String::new, |a| match (a.get_long(), a.get_short()) {
-            (Some(long), _) => format!("--{long}"),
-            (None, Some(short)) => format!("-{short}"),
-            (None, None) => a.get_id().to_string(),
+        let flag = arg.map_or_else(String::new, |a| {
+            crate::help::flag_of(a).unwrap_or_else(|| a.get_id().to_string())
         });
         let expected = match typed.trim().parse::<i128>() {
             _ if !self.whole => "a number".to_string(),
@@ -160,30 +120,6 @@ where
             format!("invalid {flag} = {typed}: expected {expected}\n"),
         )
         .with_cmd(cmd))
-    }
-}
-
-/// [`Number`] for an option that keeps the text typed beside its value ([`Typed`]), so
-/// that a later refusal can show it as typed.
-#[derive(Clone)]
-pub(crate) struct WithText<T>(Number<T>);
-
-impl<T> clap::builder::TypedValueParser for WithText<T>
-where
-    T: std::str::FromStr + Clone + Send + Sync + 'static,
-{
-    type Value = Typed<T>;
-
-    fn parse_ref(
-        &self,
-        cmd: &clap::Command,
-        arg: Option<&clap::Arg>,
-        value: &std::ffi::OsStr,
-    ) -> Result<Typed<T>, clap::Error> {
-        Ok(Typed {
-            value: self.0.parse_ref(cmd, arg, value)?,
-            text: value.to_string_lossy().into_owned(),
-        })
     }
 }
 
@@ -215,9 +151,9 @@ pub(crate) struct GenerateArgs {
     /// points go to standard output as CSV and the report to standard error.
     #[arg(short = 'o', long = "output", value_name = "FILE")]
     pub(crate) output: Option<PathBuf>,
-    /// What the points are for: `integration` (the cube's default: every coordinate
-    /// stratified, discrepancy as low as we can make it) or `space-filling` (stratified,
-    /// largest minimum distance; a region's default).
+    /// What the points are for: `integration` (every coordinate stratified, discrepancy as
+    /// low as we can make it) or `space-filling` (stratified, largest minimum distance;
+    /// what a region is given when --goal is not).
     #[arg(long, value_name = "integration|space-filling")]
     pub(crate) goal: Option<String>,
     /// `paper`: the paper's pipeline exactly (Halton start, U_{q,p} with eq. 48, the DEM,
@@ -514,8 +450,9 @@ pub(crate) enum Command {
         /// Step or iteration budget per run.
         #[arg(long, default_value_t = 1000)]
         steps: usize,
-        /// The discrepancy energy: l2star, md, cd or periodic.
-        #[arg(long, default_value = "md")]
+        /// The discrepancy energy.
+        #[arg(long, default_value = "md",
+              value_parser = crate::help::listed(stillpoint::pipeline::options::words::discrepancies()))]
         energy: String,
         /// Output directory.
         #[arg(long, default_value = "comparison")]
@@ -528,7 +465,8 @@ pub(crate) enum Command {
     /// halton-scrambled, sobol, hua-wang, lattice, lhs, lhs-maximin.
     Baseline {
         /// The generator; `stillpoint baseline --list` describes each exactly.
-        #[arg(value_name = "NAME", required_unless_present = "list")]
+        #[arg(value_name = "NAME", required_unless_present = "list",
+              value_parser = crate::help::listed(Baseline::names()))]
         name: Option<String>,
         /// Number of points n ≥ 1.
         #[arg(short = 'n', value_name = "N", required_unless_present = "list")]
@@ -610,121 +548,7 @@ pub(crate) enum Command {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use clap::CommandFactory;
-    use stillpoint::pipeline::options::{Group, OPTIONS};
-
-    /// The flags of `generate` and `eval` that set no option of the request, each with
-    /// why it is the command line's own.
-    const FRONT_END: [(&str, &str); 9] = [
-        ("--output", "where the points are written"),
-        ("--json", "how the report is printed"),
-        ("--quiet", "whether progress is shown"),
-        ("--progress", "how progress is shown"),
-        ("--plot", "a picture drawn from the result"),
-        (
-            "--threads",
-            "the size of the thread pool, which changes no byte",
-        ),
-        (
-            "--checkpoint-every",
-            "how often the checkpoint file is written, which changes no byte",
-        ),
-        ("--help", "clap's own"),
-        ("--version", "clap's own"),
-    ];
-
-    /// Each flag of a subcommand as the user types it (`--box`, `-n`), read from clap's
-    /// own command; positional arguments have none.
-    fn flags(subcommand: &str) -> Vec<String> {
-        let mut cli = Cli::command();
-        cli.build();
-        let sub = cli
-            .find_subcommand(subcommand)
-            .unwrap_or_else(|| panic!("no {subcommand}"));
-        sub.get_arguments()
-            .filter_map(|a| match (a.get_long(), a.get_short()) {
-                (Some(long), _) => Some(format!("--{long}")),
-                (None, Some(short)) => Some(format!("-{short}")),
-                (None, None) => None,
-            })
-            .collect()
-    }
-
-    #[test]
-    fn short_help_is_the_declaration() {
-        let mut cli = Cli::command_with_declared_help();
-        cli.build();
-        for sub in ["generate", "eval"] {
-            let c = cli.find_subcommand(sub).unwrap();
-            for a in c.get_arguments() {
-                let flag = match (a.get_long(), a.get_short()) {
-                    (Some(long), _) => format!("--{long}"),
-                    (None, Some(short)) => format!("-{short}"),
-                    (None, None) => continue,
-                };
-                if let Some(d) = OPTIONS
-                    .iter()
-                    .find(|d| d.cli == flag || d.cli_also.contains(&flag.as_str()))
-                {
-                    let help = a.get_help().map(|h| h.to_string());
-                    assert_eq!(help.as_deref(), Some(d.doc), "{sub} {flag}");
-                    assert!(
-                        a.get_long_help().is_some(),
-                        "{sub} {flag} keeps a long help"
-                    );
-                }
-            }
-        }
-    }
-
-    fn declared_flags(
-        keep: impl Fn(&stillpoint::pipeline::options::Declared) -> bool,
-    ) -> Vec<String> {
-        OPTIONS
-            .iter()
-            .filter(|d| keep(d))
-            .flat_map(|d| std::iter::once(d.cli).chain(d.cli_also.iter().copied()))
-            .map(str::to_string)
-            .collect()
-    }
-
-    #[test]
-    fn every_flag_of_generate_is_a_declared_option_or_the_front_ends_own() {
-        let declared = declared_flags(|_| true);
-        let flags = flags("generate");
-        for f in &flags {
-            assert!(
-                declared.contains(f) || FRONT_END.iter().any(|(g, _)| g == f),
-                "generate {f} is neither a declared option nor in FRONT_END"
-            );
-        }
-        for f in &declared {
-            assert!(
-                flags.contains(f),
-                "the declared {f} is not a flag of generate"
-            );
-        }
-    }
-
-    #[test]
-    fn every_flag_of_eval_is_an_option_of_eval_or_the_front_ends_own() {
-        let declared = declared_flags(|d| d.is(Group::Eval));
-        let others = declared_flags(|d| !d.is(Group::Eval));
-        let flags = flags("eval");
-        for f in &flags {
-            assert!(
-                declared.contains(f) || FRONT_END.iter().any(|(g, _)| g == f),
-                "eval {f} is neither an option of eval nor in FRONT_END"
-            );
-            assert!(
-                !others.contains(f),
-                "eval {f} is declared outside eval's group"
-            );
-        }
-        for f in &declared {
-            assert!(flags.contains(f), "the declared {f} is not a flag of eval");
-        }
-    }
+    use crate::help::flag_of;
 
     /// Every value-taking flag of every subcommand, at any depth, as `(path, flag,
     /// whole)`: the subcommands leading to it, the flag as typed, and whether clap reads
@@ -736,11 +560,7 @@ mod tests {
                 if !a.get_action().takes_values() {
                     continue;
                 }
-                let flag = match (a.get_long(), a.get_short()) {
-                    (Some(long), _) => format!("--{long}"),
-                    (None, Some(short)) => format!("-{short}"),
-                    (None, None) => continue,
-                };
+                let Some(flag) = flag_of(a) else { continue };
                 let id = a.get_value_parser().type_id();
                 let whole = [
                     TypeId::of::<usize>(),

@@ -8,6 +8,7 @@ mod args;
 mod design;
 mod dispatch;
 mod generate;
+mod help;
 mod output;
 mod plot;
 mod progress;

@@ -189,15 +189,3 @@ pub(crate) fn integration_flag(name: &str, space_flag: &str) -> String {
         _ => cli_name(name),
     }
 }
-
-/// An option's value as parsed and as typed. The integration flags no longer use it
-/// (they are text, read by their declarations); it stays for the parsers of `args.rs`
-/// that name it, until they go.
-#[derive(Debug, Clone)]
-#[allow(dead_code)]
-pub(crate) struct Typed<T> {
-    /// The value.
-    pub(crate) value: T,
-    /// The text on the command line.
-    pub(crate) text: String,
-}

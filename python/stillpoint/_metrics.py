@@ -50,7 +50,9 @@ def metrics(
         request["region"] = region
     if shape is not None:
         request["shape"] = shape
-    if box is not None:
+    if isinstance(box, str):
+        request["box"] = box  # text is the library's to read, as generate's box is
+    elif box is not None:
         try:
             request["box"] = [float(v) for v in np.ravel(np.asarray(box, dtype=np.float64))]
         except (TypeError, ValueError):
