@@ -587,7 +587,15 @@ fn estimate(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<f64> {
 #[pyfunction]
 #[pyo3(signature = (**kwargs))]
 fn notes(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
-    resolve(kwargs).map(|r| r.notes())
+    resolve(kwargs).map(|r| r.unusual_as(&declared::python_name))
+}
+
+/// The library's note before a run it estimates above its long-run threshold (the same
+/// rule and words as the command line's), `None` below it.
+#[pyfunction]
+#[pyo3(signature = (**kwargs))]
+fn long_run_note(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Option<String>> {
+    resolve(kwargs).map(|r| r.long_run_note_as(&declared::python_name))
 }
 
 /// `x` randomised from `seed` as `generate(..., randomize=kind)` randomises its result:
@@ -762,6 +770,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(space_names, m)?)?;
     m.add_function(wrap_pyfunction!(estimate, m)?)?;
     m.add_function(wrap_pyfunction!(notes, m)?)?;
+    m.add_function(wrap_pyfunction!(long_run_note, m)?)?;
     m.add_function(wrap_pyfunction!(discrepancy, m)?)?;
     m.add_function(wrap_pyfunction!(baselines, m)?)?;
     m.add_function(wrap_pyfunction!(integrate, m)?)?;

@@ -103,8 +103,8 @@ def generate(
     Warns
     -----
     RuntimeWarning
-        Before a run the library's cost model estimates at more than 30 seconds
-        (on this machine's cores), with the estimate; ``warnings.filterwarnings``
+        Before a run the library's cost model estimates at more than 5 seconds
+        (on this machine's cores), with the estimate (the command line's note); ``warnings.filterwarnings``
         silences it or, with ``'error'``, turns it into an exception before any work.
     UserWarning
         Before a run of the default lattice with more columns than its φ(n)/2

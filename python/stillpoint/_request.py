@@ -24,9 +24,6 @@ def _check_generate(n: Any = None, d: Any = None, **options: Any) -> None:
     _core.check_generate(**_arrays({"n": n, "d": d, **options}))
 
 
-# A call estimated to take longer than this warns before it starts.
-_LONG_CALL_SECONDS = 30.0
-
 _PACKAGE_DIR = os.path.dirname(os.path.abspath(__file__))
 
 
@@ -43,17 +40,12 @@ def _caller_stacklevel() -> int:
 
 
 def _warn_if_long(kwargs: Dict[str, Any]) -> None:
-    """A ``RuntimeWarning`` with the library's estimate of the call's seconds when it is
-    above 30 seconds, before any work starts (the estimate also refuses
-    a bad argument, with generate's message)."""
-    seconds = _core.estimate(**kwargs)
-    if seconds > _LONG_CALL_SECONDS:
-        warnings.warn(
-            f"this stillpoint run is estimated to take about {seconds:.0f} seconds on this "
-            "machine; Ctrl-C stops it",
-            RuntimeWarning,
-            stacklevel=_caller_stacklevel(),
-        )
-    # What the run will do that the caller may not expect (the command line's notes).
+    """Before any work starts: a ``RuntimeWarning`` with the library's note when its cost
+    model puts the call above its long-run threshold (the command line's rule and words),
+    and a ``UserWarning`` for each thing the run will do that the caller may not expect.
+    Resolving the request here also refuses a bad argument, with generate's message."""
+    note = _core.long_run_note(**kwargs)
+    if note is not None:
+        warnings.warn(f"stillpoint: {note}", RuntimeWarning, stacklevel=_caller_stacklevel())
     for note in _core.notes(**kwargs):
         warnings.warn(note, UserWarning, stacklevel=_caller_stacklevel())

@@ -19,7 +19,7 @@ def test_a_lattice_run_at_large_d_warns_before_it_starts(n, d):
         # is an error here, and it stops the call before any work.
         warnings.simplefilter("ignore", UserWarning)
         warnings.simplefilter("error", RuntimeWarning)
-        with pytest.raises(RuntimeWarning, match=r"estimated to take about \d+ seconds"):
+        with pytest.raises(RuntimeWarning, match=r"may take about .*estimated for this machine"):
             sp.generate(n, d)
 
 
@@ -44,7 +44,7 @@ def test_no_note_within_the_distinct_generators_or_off_the_lattice():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         sp.generate(510, 64)
-        sp.generate(400, 100)
+        sp.generate(400, 30)
         sp.generate(510, 100, method="sobol")
     assert _core.notes(n=510, d=64) == []
     with pytest.raises(ValueError, match="n"):
