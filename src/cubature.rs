@@ -42,12 +42,26 @@
 
 use serde::{Deserialize, Serialize};
 
-mod given;
 mod progress;
-pub use given::Spelling;
+
+/// The options the library's own checks name, as the option table
+/// ([`crate::pipeline::options`]) declares them. The table sits above this module (it
+/// reads the defaults here), so the names are written once here and a test of the table
+/// holds them equal to its declarations.
+pub mod names {
+    /// `abs_tol`.
+    pub const ABS_TOL: &str = "abs_tol";
+    /// `rel_tol`.
+    pub const REL_TOL: &str = "rel_tol";
+    /// `level`.
+    pub const LEVEL: &str = "level";
+    /// `max_n`.
+    pub const MAX_N: &str = "max_n";
+    /// `replicates`.
+    pub const REPLICATES: &str = "replicates";
+}
 
 use crate::design::DesignSpace;
-use crate::pipeline::options::Opt;
 use crate::sequences::{ExtensibleLattice, EXTENSIBLE_MAX_POINTS};
 use crate::{Error, PointSet};
 
@@ -296,7 +310,7 @@ impl Cubature {
         check_level(o.level)?;
         if !(2..=MAX_REPLICATES).contains(&o.replicates) {
             return Err(Error::invalid(
-                Opt::replicates.name(),
+                names::REPLICATES,
                 o.replicates,
                 format!(
                     "2 to {MAX_REPLICATES} (the interval comes from their spread; 8 or more \
@@ -997,9 +1011,9 @@ pub fn mean_interval(estimates: &[f64], level: f64) -> Result<MeanInterval, Erro
 
 /// Refuses a negative or non-finite tolerance, naming it.
 fn check_tolerances(abs_tol: f64, rel_tol: f64) -> Result<(), Error> {
-    for (opt, t) in [(Opt::abs_tol, abs_tol), (Opt::rel_tol, rel_tol)] {
+    for (name, t) in [(names::ABS_TOL, abs_tol), (names::REL_TOL, rel_tol)] {
         if !(t.is_finite() && t >= 0.0) {
-            return Err(Error::invalid(opt.name(), t, "a finite value ≥ 0"));
+            return Err(Error::invalid(name, t, "a finite value ≥ 0"));
         }
     }
     Ok(())
@@ -1008,11 +1022,7 @@ fn check_tolerances(abs_tol: f64, rel_tol: f64) -> Result<(), Error> {
 /// Refuses a confidence level outside (0, 1).
 fn check_level(level: f64) -> Result<(), Error> {
     if !(level > 0.0 && level < 1.0) {
-        return Err(Error::invalid(
-            Opt::level.name(),
-            level,
-            "a value in (0, 1)",
-        ));
+        return Err(Error::invalid(names::LEVEL, level, "a value in (0, 1)"));
     }
     Ok(())
 }
@@ -1022,7 +1032,7 @@ fn check_budget(max_n: u64, o: &QuadOptions) -> Result<(), Error> {
     let first = o.start_n.saturating_mul(o.replicates as u64);
     if max_n < first {
         return Err(Error::invalid(
-            Opt::max_n.name(),
+            names::MAX_N,
             max_n,
             format!(
                 "at least one first batch: {} points for each of the {} replicates, {first} \

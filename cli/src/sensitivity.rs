@@ -3,8 +3,9 @@
 //! JSON and drawn as bars with their intervals.
 
 use super::*;
-use stillpoint::cubature::{Spelling, StopReason};
+use stillpoint::cubature::StopReason;
 use stillpoint::parse::expr::RegionExpr;
+use stillpoint::pipeline::integration::Spelling;
 use stillpoint::pipeline::options::Opt;
 use stillpoint::sensitivity::Sensitivity;
 

@@ -11,8 +11,9 @@ use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
-use stillpoint::cubature::{Cubature, QuadOptions, Rounds, Spelling, StopReason};
+use stillpoint::cubature::{Cubature, QuadOptions, Rounds, StopReason};
 use stillpoint::design::DesignSpace;
+use stillpoint::pipeline::integration::Spelling;
 use stillpoint::pipeline::options::{python_name, Opt, ALL};
 use stillpoint::pipeline::request::{Arg, Request};
 use stillpoint::sensitivity::{Sensitivity, SensitivityOptions};

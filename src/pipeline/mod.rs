@@ -7,6 +7,7 @@
 pub mod dispatch;
 pub mod estimate;
 pub mod evaluation;
+pub mod integration;
 pub mod measure;
 pub mod options;
 pub mod request;

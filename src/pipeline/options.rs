@@ -642,6 +642,16 @@ mod tests {
         assert_eq!(Opt::rule.declared().flag(), None);
     }
 
+    #[test]
+    fn the_integration_checks_name_declared_options() {
+        use crate::cubature::names;
+        assert_eq!(names::ABS_TOL, Opt::abs_tol.name());
+        assert_eq!(names::REL_TOL, Opt::rel_tol.name());
+        assert_eq!(names::LEVEL, Opt::level.name());
+        assert_eq!(names::MAX_N, Opt::max_n.name());
+        assert_eq!(names::REPLICATES, Opt::replicates.name());
+    }
+
     /// Every word an option lists is read back as itself, and the refusal of a word it
     /// does not list names the option as spelt and echoes the value as typed.
     #[test]

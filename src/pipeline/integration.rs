@@ -7,10 +7,10 @@
 //! The command line and Python only collect what was given; Python's continuation
 //! (`start=`) is resolved here too ([`Cubature::continued`], [`Sensitivity::continued`]).
 
-use super::{Cubature, QuadOptions, Rule};
+use super::options::{Command, Opt, Value, ALL};
+use super::request::{Arg, Request};
+use crate::cubature::{Cubature, QuadOptions, Rule};
 use crate::design::DesignSpace;
-use crate::pipeline::options::{Command, Opt, Value, ALL};
-use crate::pipeline::request::{Arg, Request};
 use crate::sensitivity::{FirstOrder, Sensitivity, SensitivityOptions};
 use crate::Error;
 
@@ -172,7 +172,7 @@ fn design_space(r: &Request, sp: &Spelling) -> Result<Option<DesignSpace>, Error
     };
     let name = Opt::correlation.name();
     let mut space = DesignSpace::parse(Opt::space.name(), &texts)?;
-    super::check_space(&space, Opt::space.name())?;
+    crate::cubature::check_space(&space, Opt::space.name())?;
     match opt_rows(r)? {
         None => {}
         Some(Value::RowsText(rows)) => space.correlate_rows(name, &rows)?,
@@ -321,7 +321,7 @@ impl Cubature {
     /// one's.
     pub fn continued(&self, r: &Request, sp: &Spelling) -> Result<Cubature, Error> {
         let mut state = self.clone();
-        let o = &self.options;
+        let o = self.options();
         let kept = Kept {
             what: "integration",
             sp,
@@ -329,7 +329,7 @@ impl Cubature {
         };
         (|| {
             refuse_others(r, Command::Quad, sp)?;
-            kept.dimension(self.d, "was computed in", "dimensions")?;
+            kept.dimension(self.d(), "was computed in", "dimensions")?;
             kept.fixed(&[Opt::bounds, Opt::space, Opt::correlation])?;
             kept.seed(o.seed)?;
             if let Some(n) = count(r, Opt::replicates)? {
