@@ -42,7 +42,7 @@
 
 use serde::{Deserialize, Serialize};
 
-mod progress;
+pub(crate) mod progress;
 
 /// The options the library's own checks name, as the option table
 /// ([`crate::pipeline::options`]) declares them. The table sits above this module (it

@@ -811,3 +811,33 @@ pub fn check_independent(option: &str, space: &crate::design::DesignSpace) -> Re
     }
     Ok(())
 }
+
+impl Sensitivity {
+    /// `{prefix}: n=4096  widest half-width=3.1e-02 (T of x2) (target 1.0e-02)  2.3 s`: the
+    /// widest interval of every first-order (S) and total (T) index, named by its input
+    /// (and output, with several).
+    pub fn progress_line(&self, prefix: &str, seconds: f64) -> String {
+        let [_, _, first, total] = self.current();
+        let k = self.outputs().max(1);
+        let widths = first.iter().map(|h| (*h, 'S')).enumerate();
+        let widths = widths.chain(total.iter().map(|h| (*h, 'T')).enumerate());
+        // The widest; among equals the total, then the later index.
+        let widest =
+            widths.max_by(|(i, (h, s)), (j, (g, t))| h.total_cmp(g).then(s.cmp(t)).then(i.cmp(j)));
+        let Some((i, (h, kind))) = widest else {
+            return format!("{prefix}: n={}", self.n());
+        };
+        let output = if k > 1 {
+            format!(", output {}", i % k)
+        } else {
+            String::new()
+        };
+        format!(
+            "{prefix}: n={}  widest half-width={} ({kind} of {}{output}) (target {})  {seconds:.1} s",
+            self.n(),
+            crate::cubature::progress::sci(h, 1),
+            self.names()[i / k],
+            crate::cubature::progress::sci(self.options().abs_tol, 1)
+        )
+    }
+}

@@ -208,7 +208,7 @@ fn values(d: &Declared) -> Option<(Vec<String>, Vec<String>)> {
             vec!["{old}".into()],
             vec!["{far}".into(), "{dir}/none.csv".into()],
         ),
-        Kind::Numbers => (vec!["0,1,0,1".into()], vec!["0,x".into()]),
+        Kind::Numbers | Kind::Bounds => (vec!["0,1,0,1".into()], vec!["0,x".into()]),
         Kind::Sizes => (
             vec!["4,8".into()],
             vec!["8,4".into(), "0,4".into(), "x".into()],

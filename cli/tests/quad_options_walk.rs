@@ -54,7 +54,7 @@ fn good(flag: &str, d: &Declared, command: Command) -> Vec<String> {
             "abs_tol" => "0.05",
             _ => default.as_deref().unwrap_or("0.5"),
         }),
-        Kind::Numbers => with("0,1,0,2"),
+        Kind::Numbers | Kind::Bounds => with("0,1,0,2"),
         Kind::Texts { .. } => vec![
             flag.into(),
             "x=uniform(0,1)".into(),
@@ -85,7 +85,7 @@ fn bad(d: &Declared) -> Vec<&'static str> {
             v
         }
         Kind::Word(_) => vec!["nope"],
-        Kind::Numbers => vec!["0,1,x,2", "0,2,1,1"],
+        Kind::Numbers | Kind::Bounds => vec!["0,1,x,2", "0,2,1,1"],
         Kind::Texts { .. } => vec!["x=nope(1)"],
         Kind::Rows => vec!["1,a;0.5,1"],
         _ => Vec::new(),

@@ -4,7 +4,6 @@
 //! and the seconds since the start, numbers as C's `%e` writes them.
 
 use super::Cubature;
-use crate::sensitivity::Sensitivity;
 
 impl Cubature {
     /// `{prefix}: n=4096  estimate=1.23457e+00  half-width=3.1e-04 (target 1.2e-04)  2.3 s`:
@@ -37,39 +36,9 @@ impl Cubature {
     }
 }
 
-impl Sensitivity {
-    /// `{prefix}: n=4096  widest half-width=3.1e-02 (T of x2) (target 1.0e-02)  2.3 s`: the
-    /// widest interval of every first-order (S) and total (T) index, named by its input
-    /// (and output, with several).
-    pub fn progress_line(&self, prefix: &str, seconds: f64) -> String {
-        let [_, _, first, total] = self.current();
-        let k = self.outputs().max(1);
-        let widths = first.iter().map(|h| (*h, 'S')).enumerate();
-        let widths = widths.chain(total.iter().map(|h| (*h, 'T')).enumerate());
-        // The widest; among equals the total, then the later index.
-        let widest =
-            widths.max_by(|(i, (h, s)), (j, (g, t))| h.total_cmp(g).then(s.cmp(t)).then(i.cmp(j)));
-        let Some((i, (h, kind))) = widest else {
-            return format!("{prefix}: n={}", self.n());
-        };
-        let output = if k > 1 {
-            format!(", output {}", i % k)
-        } else {
-            String::new()
-        };
-        format!(
-            "{prefix}: n={}  widest half-width={} ({kind} of {}{output}) (target {})  {seconds:.1} s",
-            self.n(),
-            sci(h, 1),
-            self.names()[i / k],
-            sci(self.options().abs_tol, 1)
-        )
-    }
-}
-
 /// `x` in scientific notation with `digits` decimals and a signed two-digit exponent, as
 /// C's `%e` writes it (`1.23457e+00`, `3.1e-04`).
-fn sci(x: f64, digits: usize) -> String {
+pub(crate) fn sci(x: f64, digits: usize) -> String {
     let s = format!("{x:.digits$e}");
     match s.split_once('e') {
         Some((mantissa, exp)) if x.is_finite() => {
