@@ -97,6 +97,14 @@ pub enum Goal {
     SpaceFilling,
 }
 
+impl Goal {
+    /// Whether the goal is integration (with any target): the rules of grown sets and of
+    /// the lattice from 500 points on ask only this.
+    pub fn is_integration(&self) -> bool {
+        matches!(self, Goal::Integration(_))
+    }
+}
+
 /// Everything a `generate` run needs, in the cube or in a region.
 /// [`GenerateConfig::new`] and [`GenerateConfig::in_region`] give the defaults.
 #[derive(Debug, Clone, PartialEq)]

@@ -176,7 +176,7 @@ impl Ctx<'_> {
             return Err(self.box_alone());
         }
         let (given, s) = self.given_points()?;
-        self.check_grown(matches!(goal, Goal::Integration(_)), given.old.is_some())?;
+        self.check_grown(goal.is_integration(), given.old.is_some())?;
         let nested = self.p.nested.value()?.unwrap_or_default();
         let n = self.cube_n(&given, &nested)?;
         let s = s.ok_or_else(|| self.absent(Opt::s, "the dimension (at least 1)"))?;
@@ -215,7 +215,7 @@ impl Ctx<'_> {
                 ),
             ));
         }
-        cfg.lattice = matches!(cfg.goal, Goal::Integration(_))
+        cfg.lattice = cfg.goal.is_integration()
             && !in_region
             && (asked
                 || (plain && !self.given(Opt::target) && (cfg.n >= LATTICE_FROM_N || cfg.s == 1)));

@@ -11,11 +11,9 @@ pub(crate) mod eval;
 mod paper;
 mod region;
 
-use crate::config::Goal;
 use crate::pipeline::options::{Command, Group, Opt, Parsed, MAX_COUNT, OPTS};
 use crate::pipeline::request::{Job, Request, Resolved};
 use crate::plan::space::{numbers_text, Bounds};
-use crate::quality::target::Target;
 use crate::sequences;
 use crate::Error;
 use std::fmt::Display;
@@ -236,25 +234,5 @@ impl<'a> Ctx<'a> {
             rule: None,
             mixture,
         })
-    }
-
-    /// The goal with its target for the run's size: the default target follows the
-    /// dimension ([`Target::default_for`], for a grown set [`Target::default_grown_for`]),
-    /// and `blend-smooth` by name weighs its smooth part for s
-    /// ([`Target::smooth_blend_for`]).
-    fn default_target(&self, goal: Goal, cfg: &crate::config::GenerateConfig) -> Goal {
-        match goal {
-            Goal::Integration(_) if !self.given(Opt::target) => {
-                Goal::Integration(if cfg.extend.is_some() || !cfg.nested.is_empty() {
-                    Target::default_grown_for(cfg.n, cfg.s)
-                } else {
-                    Target::default_for(cfg.n, cfg.s)
-                })
-            }
-            Goal::Integration(t) if t == Target::smooth_blend() => {
-                Goal::Integration(Target::smooth_blend_for(cfg.s))
-            }
-            g => g,
-        }
     }
 }

@@ -301,3 +301,25 @@ impl Ctx<'_> {
 fn cube_energies() -> String {
     (Opt::energy.declared().expected)()
 }
+
+impl Ctx<'_> {
+    /// The goal with its target for the run's size: the default target follows the
+    /// dimension ([`Target::default_for`], for a grown set [`Target::default_grown_for`]),
+    /// and `blend-smooth` by name weighs its smooth part for s
+    /// ([`Target::smooth_blend_for`]).
+    pub(super) fn default_target(&self, goal: Goal, cfg: &crate::config::GenerateConfig) -> Goal {
+        match goal {
+            Goal::Integration(_) if !self.given(Opt::target) => {
+                Goal::Integration(if cfg.extend.is_some() || !cfg.nested.is_empty() {
+                    Target::default_grown_for(cfg.n, cfg.s)
+                } else {
+                    Target::default_for(cfg.n, cfg.s)
+                })
+            }
+            Goal::Integration(t) if t == Target::smooth_blend() => {
+                Goal::Integration(Target::smooth_blend_for(cfg.s))
+            }
+            g => g,
+        }
+    }
+}
