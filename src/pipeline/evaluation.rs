@@ -1,5 +1,5 @@
 //! The request of `eval` (Python's `metrics`): a [`Request`] holding options of the
-//! [`Group::Eval`] group, resolved into how a point set is measured ([`Measure`]). As
+//! [`Group::Eval`](super::options::Group::Eval) group, resolved into how a point set is measured ([`Measure`]). As
 //! for a run, the resolution is the only place where a combination is refused, each
 //! refusal naming the option as the front end spells it.
 
@@ -51,7 +51,7 @@ impl Request {
     }
 
     /// Resolves an `eval` request: how the points are measured, or a refusal naming the
-    /// option as `spell` writes it. Only options of [`Group::Eval`] are taken.
+    /// option as `spell` writes it. Only options of [`Group::Eval`](super::options::Group::Eval) are taken.
     pub fn resolve_eval_as(&self, spell: &dyn Fn(&str) -> String) -> Result<Measure, Error> {
         super::request::resolve::Ctx::new(self, spell).resolve_eval()
     }

@@ -271,7 +271,7 @@ impl Cubature {
     /// correlation (not without a space), the tolerances, level, replicates, budget and
     /// seed (their defaults those of [`QuadOptions::default`]) and the rule (asked for,
     /// or [`Rule::for_space`]). Returns the state and the space, whose map the caller
-    /// applies to the points ([`super::space_values`]).
+    /// applies to the points ([`crate::cubature::space_values`]).
     pub fn from_request(
         r: &Request,
         sp: &Spelling,

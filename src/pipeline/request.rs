@@ -155,7 +155,7 @@ pub struct Resolved {
     /// The design space the set is carried into (levels, slices, marginals).
     pub design: Option<DesignSpace>,
     /// With a design space, how its unit-cube set is made and carried into it, as
-    /// [`cube_rule`] decided once for the request.
+    /// [`cube_rule`](super::measure::cube_rule) decided once for the request.
     pub rule: Option<CubeRule>,
     /// The mixture whose last component is appended to the run's points.
     pub mixture: Option<Mixture>,
@@ -165,7 +165,7 @@ impl Resolved {
     /// The request with its design space carried by `rule`: the rule's own construction,
     /// if it has one, makes the unit-cube set in place of the request's run (same n,
     /// dimension and seed), so that the run, its estimate and its report all follow the
-    /// rule. The resolution calls it with [`cube_rule`]'s answer.
+    /// rule. The resolution calls it with [`cube_rule`](super::measure::cube_rule)'s answer.
     pub fn with_rule(mut self, rule: CubeRule) -> Resolved {
         let (n, seed) = (self.job.n(), self.job.seed());
         let s = match &self.job {
