@@ -312,10 +312,7 @@ impl Cubature {
             return Err(Error::invalid(
                 names::REPLICATES,
                 o.replicates,
-                format!(
-                    "2 to {MAX_REPLICATES} (the interval comes from their spread; 8 or more \
-                     recommended)"
-                ),
+                replicates_accepted(),
             ));
         }
         if !o.start_n.is_power_of_two() || o.start_n > EXTENSIBLE_MAX_POINTS {
@@ -785,7 +782,8 @@ impl Cubature {
         if r < MIN_QUIET_REPLICATES {
             vec![format!(
                 "{r} replicates give an unreliable interval at level {}: its half-width \
-                 varies widely between runs (t quantile {:.2}); use 8 or more",
+                 varies widely between runs (t quantile {:.2}); use {MIN_QUIET_REPLICATES} \
+                 or more",
                 self.options.level,
                 student_t_quantile((1.0 + self.options.level) / 2.0, (r - 1) as f64)
             )]
@@ -1007,6 +1005,13 @@ pub fn mean_interval(estimates: &[f64], level: f64) -> Result<MeanInterval, Erro
         standard_error: Some(se),
         half_width: Some(t * se),
     })
+}
+
+/// What a count of replicates may be, as its refusal and the help say it: at least two
+/// (the interval comes from their spread), at most as many first batches as the budget
+/// holds.
+pub fn replicates_accepted() -> String {
+    format!("2 to {MAX_REPLICATES} (the interval comes from their spread)")
 }
 
 /// Refuses a negative or non-finite tolerance, naming it.

@@ -570,7 +570,8 @@ impl Sensitivity {
         if r < crate::cubature::MIN_QUIET_REPLICATES {
             vec![format!(
                 "{r} replicates give unreliable intervals: their half-widths vary widely \
-                 between runs; use 8 or more"
+                 between runs; use {} or more",
+                crate::cubature::MIN_QUIET_REPLICATES
             )]
         } else {
             Vec::new()

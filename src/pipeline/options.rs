@@ -501,10 +501,7 @@ options! {
     replicates: "replicates", cli "--replicates", python Some("replicates"),
         for [Quad, Sensitivity],
         usize: Kind::Count { min: 2, max: crate::cubature::MAX_REPLICATES as u64 },
-        format!(
-            "2 to {} (the interval comes from their spread; 8 or more recommended)",
-            crate::cubature::MAX_REPLICATES
-        ),
+        crate::cubature::replicates_accepted(),
         default |c| Some(match c {
             Command::Sensitivity => crate::sensitivity::REPLICATES.to_string(),
             _ => crate::cubature::DEFAULT_REPLICATES.to_string(),
