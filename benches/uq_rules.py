@@ -60,6 +60,43 @@ def dup(x, seed):
     k = np.random.default_rng(seed).integers(len(x))
     return np.vstack([x, x[k][None]])
 
+def owen(n, d, seed):
+    p = f"{CACHE}/o_{n}_{d}_{seed}.npy"
+    if not os.path.exists(p):
+        subprocess.run([BIN, "baseline", "sobol", "-n", str(n), "-s", str(d), "--seed",
+                        str(seed), "-o", p], check=True, capture_output=True)
+    return np.load(p)
+
+_Z = {}
+def cbc_b2(m, s, g):
+    """Component-by-component vector for the first-order kernel 2π²B2, weight g."""
+    if (m, s, g) not in _Z:
+        k = np.arange(m); x = k / m; om = 2 * np.pi ** 2 * (x * x - x + 1 / 6)
+        cand = np.array([c for c in range(1, m // 2 + 1) if math.gcd(c, m) == 1])
+        prod = 1 + g * om; z = [1]
+        for j in range(1, s):
+            best, bv = None, np.inf
+            for c0 in range(0, len(cand), 64):
+                cc = cand[c0:c0 + 64]
+                vals = ((1 + g * om[np.outer(cc, k) % m]) * prod).sum(1)
+                i = int(np.argmin(vals))
+                if vals[i] < bv:
+                    bv, best = vals[i], int(cc[i])
+            z.append(best); prod = prod * (1 + g * om[(k * best) % m])
+        _Z[(m, s, g)] = np.array(z)
+    return _Z[(m, s, g)]
+
+def halves_w(n, d, g, seed, whole=False):
+    parts = [n] if n % 2 or whole else ([n // 2, n // 2] if (n // 2) % 2 else [n // 2 - 1, n // 2 + 1])
+    rng = np.random.default_rng(seed)
+    out = []
+    for m in parts:
+        z = cbc_b2(m, d, g)
+        x = (np.outer(np.arange(m), z) % m) / m
+        x = (x + rng.random(d)) % 1.0
+        out.append(1 - np.abs(2 * x - 1))
+    return np.vstack(out)
+
 def make(cand, fam, v, p, n, d, r):
     seed = 1000 + r
     if cand == "cur":
@@ -81,6 +118,16 @@ def make(cand, fam, v, p, n, d, r):
     if cand == "law_odd_dup":
         texts = [U.law_text(nm, l) for nm, l in fam.laws(v, p)]
         return dup(law(texts, n - 1, seed), seed) if n % 2 == 0 else law(texts, n, seed)
+    if cand == "sobol_fresh":  # the reference's own method, other seeds: its noise
+        from scipy.stats import qmc
+        return qmc.Sobol(d, scramble=True, seed=50000 + r).random(n)
+    if cand == "owen":
+        return owen(n, d, seed)
+    if cand.startswith("even_w"):  # one lattice of n points, first-order kernel, weight g
+        return halves_w(n, d, float(cand[6:]), seed, whole=True)
+    if cand.startswith("law_w"):  # the lattice for the laws at another product weight
+        texts = [U.law_text(nm, l) for nm, l in fam.laws(v, p)]
+        return halves_w(n, d, float(cand[5:]), seed)
     raise SystemExit(cand)
 
 data = json.load(open(os.path.join(ROOT, "results", "uq-models", "uq_models.json")))["cells"]
