@@ -16,6 +16,13 @@ divided by the stored scrambled Sobol' RMSE.
     law_pq      the lattice made for the laws as two prime-sized lattices adding to n
     law_odd     the lattice made for the laws at n - 1 points alone (a bound)
     law_odd_dup the same and one of its points again
+    sobol_fresh SciPy's scrambled Sobol' with other seeds: the noise of the stored
+                denominator (its ratio would be 1 with exact RMSEs)
+    owen        Owen-scrambled Sobol' (`stillpoint baseline sobol --seed`)
+    law_wG      prototype (NumPy): the lattice for the laws as two odd halves for even
+                n, every coordinate scored with the first-order kernel at weight G
+    even_wG     the same as one lattice of n points (the rule where a bounded law takes
+                part: `law_halves` is it since)
 
 Run (the bench venv of benches/uq_models.py, the CLI built in target/release):
 
@@ -126,7 +133,6 @@ def make(cand, fam, v, p, n, d, r):
     if cand.startswith("even_w"):  # one lattice of n points, first-order kernel, weight g
         return halves_w(n, d, float(cand[6:]), seed, whole=True)
     if cand.startswith("law_w"):  # the lattice for the laws at another product weight
-        texts = [U.law_text(nm, l) for nm, l in fam.laws(v, p)]
         return halves_w(n, d, float(cand[5:]), seed)
     raise SystemExit(cand)
 
