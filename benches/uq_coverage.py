@@ -17,8 +17,6 @@ Families (fixed parameters; exact values in closed form or from a documented lon
   lognormal-10  ∏ X_j, X_j ~ lognormal(0, σ_j), σ_j = 0.4 / √j, s = 10;
                 exact exp(Σ σ_j² / 2)
   ishigami      sin x1 + 7 sin² x2 + 0.1 x3⁴ sin x1, x_j ~ uniform(−π, π); exact 3.5
-  morokoff-caflisch-10  (1 + 1/s)^s Π x_j^{1/s}, x_j ~ uniform(0, 1), s = 10 (a
-                derivative that blows up at a face); exact 1
   asian-32      arithmetic Asian call on m = 32 equal steps (standard construction),
                 S0 = K = 100, r = 0.05, σ = 0.2, T = 1: the discounted max(mean S − K, 0)
                 of 32 standard normals (a kink where the payoff starts); reference from
@@ -27,8 +25,8 @@ Families (fixed parameters; exact values in closed form or from a documented lon
 
 Methods, each randomised afresh per set:
   stillpoint  stillpoint.design(n, space, randomize=True, seed=...): the lattice made
-              for the laws, shifted and folded, every column through its law's inverse
-              CDF (the package's own mapping, not ours)
+              for the tent randomisation, shifted and folded, every column through its
+              law's inverse CDF (the package's own mapping, not ours)
   sobol       scipy.stats.qmc.Sobol(d, scramble=True) (LMS + digital shift), mapped
               through SciPy's ppf of the same laws
 
@@ -85,16 +83,6 @@ def lognormal_product(cols):
     out = np.ones(len(cols["x1"]))
     for j in range(10):
         out = out * cols[f"x{j + 1}"]
-    return out
-
-
-MC_S = 10
-
-
-def morokoff_caflisch(cols):
-    out = np.full(len(cols["x1"]), (1.0 + 1.0 / MC_S) ** MC_S)
-    for j in range(MC_S):
-        out = out * cols[f"x{j + 1}"] ** (1.0 / MC_S)
     return out
 
 
@@ -157,13 +145,6 @@ def families():
         lambda: (3.5, 0.0),
     ))
     fams.append((
-        "morokoff-caflisch-10",
-        [f"x{j + 1}=uniform(0,1)" for j in range(MC_S)],
-        [stats.uniform(0, 1)] * MC_S,
-        morokoff_caflisch,
-        lambda: (1.0, 0.0),
-    ))
-    fams.append((
         "asian-32",
         [f"z{j + 1}=normal(0,1)" for j in range(ASIAN["m"])],
         [stats.norm()] * ASIAN["m"],
@@ -177,23 +158,28 @@ def families():
 
 
 class Stillpoint:
-    """stillpoint's randomised sets under ``space`` at n points, from the package's own
-    two steps: the lattice made for the laws, randomised from the seed
-    (``_core.law_set``, the library's construction: two odd parts where every law is
-    unbounded, one lattice of n points otherwise), and the space's inverse-CDF map
-    (``_core.space_values``, the library's one map). :meth:`check` asserts that they
-    are the same bits as ``design(n, space, randomize=True, seed=k)``'s for a few seeds
-    of every cell."""
+    """stillpoint's randomised sets under ``space`` at n points. ``design(n, space,
+    randomize=True, seed=k)`` recomputes the (seed-independent) lattice and its report
+    for every seed; the same sets come from the package's own three steps, the lattice
+    made for the tent randomisation once (``_core.tent_set``), its randomisation from
+    the seed (``_core.randomize``) and the space's inverse-CDF map (``_core.space_values``,
+    the library's one map). :meth:`check` asserts that they are the same bits as
+    ``design``'s for a few seeds of every cell."""
 
     def __init__(self, space, n):
         self.space, self.n = space, n
         self.names = [t.split("=", 1)[0] for t in space]
-        rule = sp.design(min(n, 64), space, randomize=True, seed=0).rule
-        if not rule.startswith("lattice made for the laws"):
-            raise SystemExit(f"design(randomize=True) under {space[0]}, …: rule {rule!r}")
+        # A space whose every law is unbounded takes the lattice made for the laws
+        # (``_core.law_set``, the library's construction); the others the cube's.
+        self.law = sp.design(min(n, 64), space, randomize=True, seed=0).rule.startswith(
+            "lattice made for the laws")
+        self.base = None if self.law else _core.tent_set(n, len(space))
 
     def values(self, seed):
-        u = _core.law_set(self.space, self.n, seed)
+        if self.law:
+            u = _core.law_set(self.space, self.n, seed)
+        else:
+            u = _core.randomize(self.base, "tent", seed)
         x = _core.space_values(self.space, u, None)
         return {name: x[:, j] for j, name in enumerate(self.names)}
 
@@ -319,9 +305,9 @@ def write_md(rows, seconds):
         ) + f" (the last run {seconds / 60:.1f} min of wall time on the shared 2-core machine). "
         "Every interval is the Student interval m ± t₇ · s/√8 from R = 8 "
         "randomised sets (95 %). stillpoint: "
-        "`design(n, space, randomize=True, seed=…)` (the lattice made for the laws: two "
-        "odd parts where every law is unbounded, one lattice of n points where a bounded "
-        "law takes part; each column through its law's inverse CDF); Sobol': "
+        "`design(n, space, randomize=True, seed=…)` (the lattice made for the laws where "
+        "every law is unbounded, the cube's tent-randomised lattice otherwise, as "
+        "`Design.rule` names it; each column through its law's inverse CDF); Sobol': "
         "SciPy's `qmc.Sobol(scramble=True)`"
         " mapped through SciPy's `ppf`. RMSE is one set's; ratios are stillpoint / Sobol' "
         "(below 1: stillpoint better). The coverage's binomial standard error is in "

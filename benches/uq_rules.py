@@ -21,8 +21,8 @@ divided by the stored scrambled Sobol' RMSE.
     owen        Owen-scrambled Sobol' (`stillpoint baseline sobol --seed`)
     law_wG      prototype (NumPy): the lattice for the laws as two odd halves for even
                 n, every coordinate scored with the first-order kernel at weight G
-    even_wG     the same as one lattice of n points (the rule where a bounded law takes
-                part: `law_halves` is it since)
+    even_wG     the same as one lattice of n points (measured where a bounded law takes
+                part and not taken: results/law-lattice/rules-by-law.md)
 
 Run (the bench venv of benches/uq_models.py, the CLI built in target/release):
 

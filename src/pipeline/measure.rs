@@ -28,9 +28,9 @@ pub enum CubeRule {
     /// mean of f is an unbiased estimate of E f(X).
     Randomized(Randomize),
     /// The randomised lattice made for the laws ([`crate::sequences::law_lattice`]: the
-    /// first-order kernel on every coordinate; odd-sized parts, so that the tent makes no
-    /// reflected pairs, where every law is unbounded), mapped as
-    /// [`CubeRule::Randomized`]: unbiased for every seed.
+    /// first-order kernel on unbounded coordinates, odd-sized parts so that the tent
+    /// makes no reflected pairs), mapped as [`CubeRule::Randomized`]: unbiased for every
+    /// seed.
     LawLattice,
     /// Owen-scrambled Sobol' points from the seed ([`crate::sequences::sobol_scrambled`]),
     /// mapped as [`CubeRule::Randomized`]: unbiased for every seed.
@@ -40,24 +40,25 @@ pub enum CubeRule {
 /// The rule for a space, with the randomisation the request asked for (`None`: the
 /// best design for one seed).
 ///
-/// The rule, by law: `--randomize` (tent) under a space takes the lattice made for the
-/// laws ([`CubeRule::LawLattice`]): the first-order kernel on every coordinate, two odd
-/// lattices for an even n where every law is unbounded (normal, lognormal, Student, a
-/// Brownian path), one lattice of n points where a bounded or discrete variable takes
-/// part; the other randomisations the request's own set ([`CubeRule::Randomized`]).
-/// Why, measured on the models with input laws (ratio to scrambled Sobol', geometric
-/// means): where every law is unbounded, an even lattice's tent pairs every point with
-/// its reflection, (Z, −Z) through a symmetric law, and the odd parts win Keister's
-/// family (0.72× against 1.87×) and the lognormal product (1.08× against 1.40×)
-/// (results/law-lattice/rules-by-law.md, n = 1 024 and 4 096); where bounded laws take
-/// part, the first-order kernel wins Morokoff–Caflisch (1.02× against 1.34× with the
-/// cube's smoothness-2 tent lattice) and keeps the smooth bounded models (0.57× against
-/// 0.58× over the seven families with bounded laws; 64 randomisations, n = 1 024 and
-/// 4 096), where two odd halves would lose the smooth rate (1.1–3.0× against 0.04–0.6×).
-pub fn cube_rule(_space: &DesignSpace, randomize: Option<Randomize>) -> CubeRule {
+/// The rule, by law: `--randomize` (tent) under a space whose every coordinate has an
+/// unbounded law (normal, lognormal, Student, a Brownian path; no bounded or discrete
+/// variable) takes the lattice made for the laws ([`CubeRule::LawLattice`]); every other
+/// space, and the other randomisations, the request's own set ([`CubeRule::Randomized`]).
+/// Why, measured on the models with input laws (results/uq-models, n = 1 024 and 4 096,
+/// ratio to scrambled Sobol', geometric means): where every law is unbounded, an even
+/// lattice's tent pairs every point with its reflection, (Z, −Z) through a symmetric
+/// law, and the odd parts of the lattice made for the laws win Keister's family (0.72×
+/// against 1.87×) and the lognormal product (1.08× against 1.40×); where bounded laws
+/// take part (the engineering models, Ishigami, Morokoff–Caflisch, Sobol' G) the cube's
+/// even tent lattice wins all but Sobol' G (0.04–1.25× against 1.11–2.96×): 0.76× over those
+/// cells against 0.86× for the cube's lattice everywhere and 0.86× for the lattice made
+/// for the laws wherever one law is unbounded (results/law-lattice/rules-by-law.md).
+pub fn cube_rule(space: &DesignSpace, randomize: Option<Randomize>) -> CubeRule {
+    let unbounded = space.unbounded();
+    let every_law_unbounded = !unbounded.is_empty() && unbounded.iter().all(|&u| u);
     match randomize {
         None => CubeRule::Dealt,
-        Some(Randomize::Tent) => CubeRule::LawLattice,
+        Some(Randomize::Tent) if every_law_unbounded => CubeRule::LawLattice,
         Some(kind) => CubeRule::Randomized(kind),
     }
 }
@@ -148,9 +149,12 @@ mod tests {
             assert_eq!(rule, CubeRule::Randomized(kind));
             assert!(rule.unbiased() && rule.construction().is_none());
         }
-        // The recommended randomisation: the lattice made for the laws under every space
-        // (its parts follow the laws: law_lattice's tests).
-        assert_eq!(cube_rule(&s, Some(Randomize::Tent)), CubeRule::LawLattice);
+        // The recommended randomisation: the lattice made for the laws where every law
+        // is unbounded, the cube's tent lattice where one variable is bounded or discrete.
+        assert_eq!(
+            cube_rule(&s, Some(Randomize::Tent)),
+            CubeRule::Randomized(Randomize::Tent)
+        );
         for laws in [
             &["x=normal(0,1)", "y=lognormal(0,0.5)"][..],
             &["W=brownian(1,8,pca)"][..],
@@ -166,10 +170,15 @@ mod tests {
                 CubeRule::Randomized(Randomize::Shift)
             );
         }
+        let mixed = space(&["x=normal(0,1)", "u=uniform(0,1)"]);
+        assert_eq!(
+            cube_rule(&mixed, Some(Randomize::Tent)),
+            CubeRule::Randomized(Randomize::Tent)
+        );
         let bounded = space(&["x=uniform(0,2)", "b=beta(2,3)", "k=int(1,3)"]);
         assert_eq!(
             cube_rule(&bounded, Some(Randomize::Tent)),
-            CubeRule::LawLattice
+            CubeRule::Randomized(Randomize::Tent)
         );
         assert_eq!(cube_rule(&bounded, None), CubeRule::Dealt);
         assert_eq!(s.unbounded(), vec![true, false]);

@@ -4,29 +4,21 @@
 //! Such an integrand, seen on the unit cube, has derivatives that blow up at the faces
 //! where an unbounded law's quantile does, so the smoothness the cube's tent lattice is
 //! built for (square-integrable second derivatives, [`super::tent_criterion`]) is not
-//! there. Two changes, both measured against scrambled Sobol' on the models of
-//! results/uq-models and results/law-lattice:
+//! there. Two changes, both measured against scrambled Sobol' on radial, lognormal,
+//! oscillatory and path integrands of normal inputs:
 //!
-//! - **the kernel**: every coordinate is scored with the first-order kernel 2π²B2(x)
-//!   (the shift-averaged kernel of the Sobolev space of smoothness 1) with product weight
-//!   [`LAW_WEIGHT`]. An unbounded law's quantile leaves no second derivative to rely on,
-//!   and neither do the bounded models users bring whose derivative blows up at a face
-//!   (Morokoff–Caflisch's Π x_j^{q_j}: 1.34× scrambled Sobol' with the smoothness-2
-//!   kernel, 1.02× with this one, 64 randomisations at n = 1 024 and 4 096, while the
-//!   smooth bounded models stay where they were: 0.57× against 0.58× over seven families
-//!   with bounded laws);
-//! - **odd sizes where every law is unbounded**: for even n every rank-1 lattice holds
-//!   the point x + (½, …, ½) beside each x (k and k + n/2 differ by z·n/2 / n, and every
-//!   z_j is odd), and the tent turns that pair into a point and its reflection 1 − x.
-//!   Through symmetric laws the pair becomes (Z, −Z): an integrand even in Z (radial
-//!   ones, Keister's) sees n/2 distinct points, and loses 1.4–1.7× to scrambled Sobol'
-//!   where an odd-sized lattice of the same size wins by 0.45–0.65×. An even n is then
-//!   made as two odd lattices of about n/2 points with independent shifts, which measured
-//!   0.83× Sobol' in geometric mean over seven such integrands at n = 4 096, against
-//!   0.96× for the single even lattice (and 0.67× for a single odd one, which only odd n
-//!   can have). Where a bounded variable takes part the set stays one lattice of n
-//!   points: two halves lose the smooth rate there (the engineering models and Ishigami
-//!   1.1–3.0× against 0.04–0.6×, results/law-lattice/rules-by-law.md).
+//! - **the kernel**: an unbounded coordinate is scored with the first-order kernel
+//!   2π²B2(x) (the shift-averaged kernel of the Sobolev space of smoothness 1), a bounded
+//!   one with the tent lattice's smoothness-2 kernel; one product weight for both;
+//! - **odd sizes**: for even n every rank-1 lattice holds the point x + (½, …, ½) beside
+//!   each x (k and k + n/2 differ by z·n/2 / n, and every z_j is odd), and the tent turns
+//!   that pair into a point and its reflection 1 − x. Through symmetric laws the pair
+//!   becomes (Z, −Z): an integrand even in Z (radial ones, Keister's) sees n/2 distinct
+//!   points, and loses 1.4–1.7× to scrambled Sobol' where an odd-sized lattice of the
+//!   same size wins by 0.45–0.65×. An even n is therefore made as two odd lattices of
+//!   about n/2 points with independent shifts, which measured 0.83× Sobol' in geometric
+//!   mean over seven such integrands at n = 4 096, against 0.96× for the single even
+//!   lattice (and 0.67× for a single odd one, which only odd n can have).
 //!
 //! Every point is uniform in the cube (a uniform shift modulo 1, then the tent), so each
 //! seed gives an unbiased estimate of the integral.
@@ -34,10 +26,13 @@
 use rand::RngExt;
 
 use super::fast_cbc::FastCbc;
-use super::lattices::{extend_terms, generators, pick, rank1_lattice, rough_terms, RoughTieBreak};
+use super::lattices::{
+    extend_terms, generators, pick, rank1_lattice, rough_terms, tent_terms, RoughTieBreak,
+    TENT_WEIGHT,
+};
 use crate::{Error, PointSet};
 
-/// The product weight of every coordinate's first-order kernel. Chosen among 1,
+/// The product weight of an unbounded coordinate's first-order kernel. Chosen among 1,
 /// 0.3, 0.05 and the decaying j⁻¹ and j⁻² at n = 4 096 on Keister's function (s = 5, 10),
 /// ‖Z‖ (s = 16), a lognormal product (s = 10), cos(c + a·Z) (s = 8) and an arithmetic
 /// Asian call on 32 steps (standard and PCA paths): 0.05 had the best geometric mean,
@@ -47,35 +42,43 @@ pub const LAW_WEIGHT: f64 = 0.05;
 /// The label of the shifts' random stream ([`super::substream`]).
 const SHIFT_STREAM: u64 = 0x6c61_7773_6869_6674;
 
-/// The generating vector of an n-point lattice for the laws in `s` dimensions: every
-/// coordinate scored with the first-order kernel, each candidate tried by the fast
-/// component-by-component construction (ties to the smaller generator, then decided by
-/// the same kernel's exact scores). z_1 = 1.
+/// The generating vector of an n-point lattice for the laws: coordinate j scored with
+/// the first-order kernel where `unbounded[j]`, the smoothness-2 kernel otherwise, each
+/// candidate tried by the fast component-by-component construction (ties to the smaller
+/// generator). z_1 = 1.
 ///
-/// Refuses n = 0 or s = 0, naming the argument.
-pub fn law_lattice_generator(n: usize, s: usize) -> Result<Vec<u64>, Error> {
-    super::check_shape(n, s)?;
+/// Refuses n = 0 or no coordinates, naming the argument.
+pub fn law_lattice_generator(n: usize, unbounded: &[bool]) -> Result<Vec<u64>, Error> {
+    super::check_shape(n, unbounded.len())?;
+    let s = unbounded.len();
     let n64 = n as u64;
     let candidates = generators(n64);
     if s == 1 || candidates.len() <= 1 {
         return Ok(vec![1 % n64; s]);
     }
     let rough = rough_terms(n, LAW_WEIGHT);
-    let fast = FastCbc::new(&rough, &candidates);
+    let smooth = tent_terms(n, TENT_WEIGHT);
+    // A planner per kernel the coordinates need (each is O(n) memory and one set of
+    // transforms).
+    let plan = |needed: bool, terms: &[f64]| needed.then(|| FastCbc::new(terms, &candidates));
+    let rough_plan = plan(unbounded[1..].iter().any(|&u| u), &rough);
+    let smooth_plan = plan(unbounded[1..].iter().any(|&u| !u), &smooth);
     let mut q = vec![0.0f64; n];
     let mut z: Vec<u64> = Vec::with_capacity(s);
-    // The fast scores cannot tell the best candidates apart above a few 10⁴ points; the
-    // exact first-order ones decide between them (see [`RoughTieBreak`]).
+    // The smoothness-2 scores cannot tell the best candidates apart above a few 10⁴
+    // points; the first-order ones decide between them (see [`RoughTieBreak`]).
     let mut ties: Option<RoughTieBreak> = None;
-    for j in 0..s {
+    for (j, &u) in unbounded.iter().enumerate() {
+        let terms = if u { &rough } else { &smooth };
         let zj = if j == 0 {
             1
         } else {
-            let (scores, rounding) = fast.scores(&q);
+            let fast = if u { &rough_plan } else { &smooth_plan };
+            let (scores, rounding) = fast.as_ref().expect("planned for this kernel").scores(&q);
             let ties = ties.get_or_insert_with(|| RoughTieBreak::new(n, &candidates, &z));
             pick(&candidates, &scores, rounding, || ties.scores())
         };
-        extend_terms(&mut q, &rough, zj);
+        extend_terms(&mut q, terms, zj);
         if let Some(t) = ties.as_mut() {
             t.extend(zj);
         }
@@ -84,20 +87,18 @@ pub fn law_lattice_generator(n: usize, s: usize) -> Result<Vec<u64>, Error> {
     Ok(z)
 }
 
-/// The sizes of the lattices an n-point set for these laws is made of: one lattice of n
-/// points when n is odd or a bounded variable takes part (`unbounded[j]` false), else
-/// two odd sizes adding to n as near n/2 as they can be.
-pub fn law_lattice_parts(n: usize, unbounded: &[bool]) -> Vec<usize> {
+/// The sizes of the odd lattices an n-point set is made of: n itself when odd, else two
+/// odd sizes adding to n as near n/2 as they can be.
+pub fn law_lattice_parts(n: usize) -> Vec<usize> {
     match n {
-        _ if n % 2 == 1 || !unbounded.iter().all(|&u| u) => vec![n],
+        _ if n % 2 == 1 => vec![n],
         _ if (n / 2) % 2 == 1 => vec![n / 2, n / 2],
         _ => vec![n / 2 - 1, n / 2 + 1],
     }
 }
 
-/// n points for the laws (`unbounded[j]`: coordinate j's law is unbounded), randomised
-/// from `seed`: the lattices of [`law_lattice_parts`] (each with
-/// [`law_lattice_generator`]'s vector), each shifted by its own uniform
+/// n points for the laws, randomised from `seed`: the lattices of [`law_lattice_parts`]
+/// (each with [`law_lattice_generator`]'s vector), each shifted by its own uniform
 /// vector modulo 1, then every coordinate through the tent x ↦ 1 − |2x − 1|; the parts
 /// follow one another. Every point is uniform in [0, 1)^s, so the mean of f over the
 /// points is an unbiased estimate of ∫ f, and independent seeds give independent
@@ -108,8 +109,8 @@ pub fn law_lattice(n: usize, unbounded: &[bool], seed: u64) -> Result<PointSet, 
     super::check_shape(n, unbounded.len())?;
     let s = unbounded.len();
     let mut data = Vec::with_capacity(n * s);
-    for (part, m) in law_lattice_parts(n, unbounded).into_iter().enumerate() {
-        let z = law_lattice_generator(m, s)?;
+    for (part, m) in law_lattice_parts(n).into_iter().enumerate() {
+        let z = law_lattice_generator(m, unbounded)?;
         let lattice = rank1_lattice(m, &z)?;
         let mut rng = super::substream(seed, SHIFT_STREAM, part as u64);
         let shift: Vec<f64> = (0..s).map(|_| rng.random::<f64>()).collect();
@@ -127,16 +128,19 @@ pub fn law_lattice(n: usize, unbounded: &[bool], seed: u64) -> Result<PointSet, 
 mod tests {
     use super::*;
 
-    /// The criterion Σ_k Π_j (1 + t(k z_j mod m)) summed directly, per candidate.
-    fn direct_best(m: usize, z: &[u64]) -> u64 {
+    /// The criterion Σ_k Π_j (1 + t_j(k z_j mod m)) summed directly, per candidate.
+    fn direct_best(m: usize, unbounded: &[bool], z: &[u64]) -> u64 {
         let rough = rough_terms(m, LAW_WEIGHT);
+        let smooth = tent_terms(m, TENT_WEIGHT);
         let score = |c: u64| -> f64 {
             (0..m)
                 .map(|k| {
-                    z.iter()
-                        .chain(std::iter::once(&c))
-                        .map(|&zi| 1.0 + rough[(k * zi as usize) % m])
-                        .product::<f64>()
+                    let mut p = 1.0;
+                    for (i, &zi) in z.iter().chain(std::iter::once(&c)).enumerate() {
+                        let t = if unbounded[i] { &rough } else { &smooth };
+                        p *= 1.0 + t[(k * zi as usize) % m];
+                    }
+                    p
                 })
                 .sum()
         };
@@ -153,11 +157,16 @@ mod tests {
 
     #[test]
     fn the_fast_search_picks_what_the_direct_sums_pick() {
-        for m in [7usize, 31, 97, 101, 255, 256, 343, 1023, 1024] {
-            let z = law_lattice_generator(m, 6).unwrap();
+        for m in [7usize, 31, 97, 101, 255, 343, 1023] {
+            let laws = [false, true, true, false, true, true];
+            let z = law_lattice_generator(m, &laws).unwrap();
             assert_eq!(z[0], 1);
-            for j in 1..z.len() {
-                assert_eq!(z[j], direct_best(m, &z[..j]), "m = {m}, coordinate {j}");
+            for j in 1..laws.len() {
+                assert_eq!(
+                    z[j],
+                    direct_best(m, &laws, &z[..j]),
+                    "m = {m}, coordinate {j}"
+                );
             }
         }
     }
@@ -177,30 +186,12 @@ mod tests {
     }
 
     #[test]
-    fn the_parts_are_odd_where_every_law_is_unbounded_and_one_lattice_otherwise() {
+    fn the_parts_are_odd_and_add_up() {
         for n in 1..200usize {
-            let parts = law_lattice_parts(n, &[true, true]);
+            let parts = law_lattice_parts(n);
             assert_eq!(parts.iter().sum::<usize>(), n);
             assert!(parts.iter().all(|m| m % 2 == 1), "n = {n}: {parts:?}");
             assert!(parts.len() <= 2);
-            assert_eq!(law_lattice_parts(n, &[true, false]), vec![n]);
-        }
-    }
-
-    /// With a bounded law the set is the one n-point lattice of the generator, shifted and
-    /// folded: every coordinate stratified (one point in each [k/n, (k+1)/n)), as the
-    /// two odd halves are not.
-    #[test]
-    fn a_bounded_law_keeps_one_lattice_of_n_points() {
-        let (n, laws) = (128usize, [true, false, true]);
-        let x = law_lattice(n, &laws, 4).unwrap();
-        for j in 0..laws.len() {
-            // The tent folds the n shifted values onto n/2 cells, two points in each.
-            let mut cells = vec![0usize; n / 2];
-            for i in 0..n {
-                cells[((x.point(i)[j] * (n / 2) as f64) as usize).min(n / 2 - 1)] += 1;
-            }
-            assert!(cells.iter().all(|&c| c == 2), "coordinate {j}: {cells:?}");
         }
     }
 
