@@ -19,6 +19,9 @@ divided by the stored scrambled Sobol' RMSE.
     sobol_fresh SciPy's scrambled Sobol' with other seeds: the noise of the stored
                 denominator (its ratio would be 1 with exact RMSEs)
     owen        Owen-scrambled Sobol' (`stillpoint baseline sobol --seed`)
+    eng_seq     `Engine(d, seed=...).random(n)`: the engine's default (the sequence)
+    eng_ind     `Engine(d, seed=..., draws='independent').random(n)`: the tent lattice
+                made for n, shifted and folded
     law_wG      prototype (NumPy): the lattice for the laws as two odd halves for even
                 n, every coordinate scored with the first-order kernel at weight G
     even_wG     the same as one lattice of n points (measured where a bounded law takes
@@ -130,6 +133,12 @@ def make(cand, fam, v, p, n, d, r):
         return qmc.Sobol(d, scramble=True, seed=50000 + r).random(n)
     if cand == "owen":
         return owen(n, d, seed)
+    if cand in ("eng_seq", "eng_ind"):  # Engine(d)'s default draws, and independent ones
+        import stillpoint, warnings
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            draws = "sequence" if cand == "eng_seq" and d <= 1000 else "independent"
+            return stillpoint.Engine(d, seed=seed, draws=draws).random(n)
     if cand.startswith("even_w"):  # one lattice of n points, first-order kernel, weight g
         return halves_w(n, d, float(cand[6:]), seed, whole=True)
     if cand.startswith("law_w"):  # the lattice for the laws at another product weight
