@@ -1,115 +1,26 @@
 //! Integration to a tolerance and Sobol' indices for Python: the library's state machines
 //! `Cubature` and `Sensitivity` as classes, made from `quad`'s and `sobol_indices`'s
 //! keyword arguments by the library's one resolution (`Cubature::from_request`:
-//! defaults, checks and refused combinations); the Python side evaluates f on each batch. Also the extensible
-//! randomised lattice sequence's points by index.
-
-use std::collections::HashMap;
+//! defaults, checks and refused combinations; the keywords read by
+//! [`stillpoint::pipeline::calls::with_request`]); the Python side evaluates f on each
+//! batch. Also the extensible randomised lattice sequence's points by index.
 
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
-use stillpoint::cubature::{Cubature, QuadOptions, Rounds, StopReason};
-use stillpoint::design::DesignSpace;
-use stillpoint::pipeline::integration::Spelling;
-use stillpoint::pipeline::options::{python_name, Opt, ALL};
-use stillpoint::pipeline::request::{Arg, Request};
+use stillpoint::cubature::{Cubature, QuadOptions, StopReason};
+use stillpoint::pipeline::calls::{feed, space_parts, with_request};
 use stillpoint::sensitivity::{Sensitivity, SensitivityOptions};
 use stillpoint::sequences::ExtensibleLattice;
 use stillpoint::PointSet;
 
-use super::{arg, to_array, value_error};
+use super::{keywords, to_array, value_error};
 
 /// What `resolve` returns besides the state: the space's names and its correlation,
 /// row-major (for the map Python applies to each batch).
 type SpaceParts = (Option<Vec<String>>, Option<Vec<f64>>);
-
-/// One corner of the box (Python's `a`, `b`: one number for every dimension, or one
-/// per dimension) as the library's lower or upper ends.
-fn corner(key: &str, value: Arg, shown: &str) -> PyResult<Vec<f64>> {
-    match value {
-        Arg::Float(x) => Ok(vec![x]),
-        Arg::Int(i) => Ok(vec![i as f64]),
-        Arg::Numbers(v) => Ok(v),
-        Arg::Counts(v) => Ok(v.into_iter().map(|i| i as f64).collect()),
-        _ => Err(value_error(format!(
-            "invalid {key} = {shown}: expected a number, or one per dimension"
-        ))),
-    }
-}
-
-/// The request of the keyword arguments, each echoed in refusals as Python's repr of
-/// it, resolved by `resolve`. Python's keywords are the declared ones ([`ALL`]), but for
-/// the box: its corners `a` and `b` apart, the library's `bounds` as lower and upper
-/// ends (spelled in refusals as the corners given).
-fn with_request<T>(
-    kwargs: Option<&Bound<'_, PyDict>>,
-    resolve: impl FnOnce(&Request, &Spelling) -> Result<T, stillpoint::Error>,
-) -> PyResult<T> {
-    let mut r = Request::default();
-    let mut typed: HashMap<&str, String> = HashMap::new();
-    let mut box_ends: [Option<(Vec<f64>, String)>; 2] = [None, None];
-    for (k, v) in kwargs.into_iter().flat_map(|d| d.iter()) {
-        let key: String = k.extract()?;
-        let Some(value) = arg(&key, &v)? else {
-            continue;
-        };
-        let shown = v.repr()?.to_string();
-        let end = ["a", "b"].iter().position(|c| *c == key);
-        if let Some(i) = end {
-            box_ends[i] = Some((corner(&key, value, &shown)?, shown));
-            continue;
-        }
-        let d = ALL
-            .iter()
-            .find(|d| d.python == Some(key.as_str()))
-            .ok_or_else(|| value_error(format!("invalid keyword argument = {key}")))?;
-        r.set(d.name, value).map_err(value_error)?;
-        typed.insert(d.name, shown);
-    }
-    let [lo, hi] = box_ends;
-    let corners = match (&lo, &hi) {
-        (Some(_), Some(_)) => "a, b",
-        (Some(_), None) => "a",
-        _ => "b",
-    };
-    if lo.is_some() || hi.is_some() {
-        let show =
-            |e: &Option<(Vec<f64>, String)>| e.as_ref().map_or("None".into(), |e| e.1.clone());
-        typed.insert(
-            Opt::bounds.name(),
-            format!("({}, {})", show(&lo), show(&hi)),
-        );
-        let end = |e: Option<(Vec<f64>, String)>, fill: f64| e.map_or(vec![fill], |e| e.0);
-        r.bounds = Some(Arg::Pair(end(lo, 0.0), end(hi, 1.0)));
-    }
-    let name = |n: &str| {
-        if n == Opt::bounds.name() {
-            corners.to_string()
-        } else {
-            python_name(n)
-        }
-    };
-    let shown = |n: &str, v: &Arg| typed.get(n).cloned().unwrap_or_else(|| v.to_string());
-    let spelling = Spelling {
-        name: &name,
-        shown: &shown,
-    };
-    resolve(&r, &spelling).map_err(value_error)
-}
-
-/// The parts of a resolved space Python needs.
-fn parts(space: Option<DesignSpace>) -> SpaceParts {
-    match space {
-        Some(s) => (
-            Some(s.vars.iter().map(|v| v.name.clone()).collect()),
-            s.copula.map(|c| c.matrix),
-        ),
-        None => (None, None),
-    }
-}
 
 /// Declares a driver class: made from keyword arguments (or continued), handing out
 /// batches and taking f's values, its figures as getters, picklable (JSON, readable by
@@ -143,11 +54,12 @@ macro_rules! driver {
                 start: Option<PyRef<'_, Self>>,
                 kwargs: Option<&Bound<'_, PyDict>>,
             ) -> PyResult<(Self, SpaceParts)> {
-                let (inner, space) = with_request(kwargs, |r, sp| match &start {
+                let (inner, space) = with_request(keywords(kwargs)?.0, |r, sp| match &start {
                     Some(s) => s.inner.continued(r, sp).map(|i| (i, None)),
                     None => $inner::from_request(r, sp),
-                })?;
-                Ok(($py { inner, batch: None }, parts(space)))
+                })
+                .map_err(value_error)?;
+                Ok(($py { inner, batch: None }, space_parts(space)))
             }
 
             /// The next batch as an array (the same until it is fed); None when the
@@ -165,10 +77,11 @@ macro_rules! driver {
 
             /// f's values at the batch of `next_points()`, an (n, k) array.
             fn feed(&mut self, values: PyReadonlyArray2<'_, f64>) -> PyResult<()> {
-                take_values(&mut self.inner, &mut self.batch, values)
+                let v: Vec<f64> = values.as_array().iter().copied().collect();
+                feed(&mut self.inner, &mut self.batch, &v).map_err(value_error)
             }
 
-            /// Why the run stops here: "met", "max_n" or "sequence"; None while another
+            /// Why the run stops here ([`StopReason::as_str`]); None while another
             /// doubling may be made.
             #[getter]
             fn reason(&self) -> Option<&'static str> {
@@ -255,27 +168,6 @@ driver!(PySensitivity, "Sensitivity", Sensitivity, SensitivityOptions, {
     warnings -> Vec<String> = Sensitivity::warnings;
 });
 
-/// Feeds f's values at the batch handed out. A state restored from a pickle has no batch
-/// kept (it is not pickled), so the pending one is made again first.
-fn take_values(
-    driver: &mut impl Rounds,
-    batch: &mut Option<PointSet>,
-    values: PyReadonlyArray2<'_, f64>,
-) -> PyResult<()> {
-    if batch.is_none() && driver.pending() > 0 {
-        *batch = driver.next_points();
-    }
-    let Some(points) = batch.as_ref() else {
-        return Err(value_error(
-            "feed: no batch is pending; call next_points() first",
-        ));
-    };
-    let v: Vec<f64> = values.as_array().iter().copied().collect();
-    driver.feed(points, &v).map_err(value_error)?;
-    *batch = None;
-    Ok(())
-}
-
 /// Points [start, start + count) of replicate `replicate` of the extensible randomised
 /// lattice sequence in d dimensions seeded by `seed`, as a (count, d) array.
 #[pyfunction]
@@ -291,8 +183,9 @@ fn sequence_points<'py>(
     let seq = ExtensibleLattice::new(d, seed, replicate).map_err(value_error)?;
     let mut data = vec![0.0; count * d];
     seq.fill(start, count, &mut data).map_err(value_error)?;
-    let a = Array2::from_shape_vec((count, d), data).map_err(value_error)?;
-    Ok(a.into_pyarray(py))
+    Ok(Array2::from_shape_vec((count, d), data)
+        .map_err(value_error)?
+        .into_pyarray(py))
 }
 
 /// Registers the classes and the sequence's points in the extension module.

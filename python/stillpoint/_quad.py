@@ -128,27 +128,12 @@ def quad(
     """The integral of f over the box [a, b] (the unit cube by default), or its
     expectation under the distributions of ``space``, to a tolerance.
 
-    The points are R = ``replicates`` independent randomisations of one extensible rule:
-    the rank-1 lattice, shifted and tent-transformed, or, when ``space`` has an unbounded
-    law (normal, lognormal, a Brownian path), Owen-scrambled Sobol' points (through such
-    a law the lattice's points pair up as (Z, -Z), and Sobol' integrated every model of
-    normal inputs measured better); ``rule`` and ``rule_reason`` of the result say which
-    and why. Starting from 64 points per replicate, the number of points doubles, each
-    new batch extending the previous one (no evaluation is thrown away), until for every
-    output the half-width is at most ``max(abs_tol, rel_tol * |estimate|)``, or until
-    the next doubling would pass ``max_n`` evaluations or the sequence's 2^20 points per
-    replicate (then ``met`` is False and ``reason`` says which). The half-width is the
-    larger of the Student t half-width from the R replicate means and the change of the
-    estimate since each replicate had half its points (the round guard: it assumes the
-    error does not grow when the points double, and catches replicates that agree by
-    chance while all missing a peak). At a fixed number of evaluations this interval
-    covered the exact integral at least 93 % of the time at level 0.95 on 300 seeds of
-    each benchmark family, except corner peaks at a few hundred to a few thousand points
-    (88–93 %; results/quad/interval.md). Any representable integral of a
-    representable integrand is computed (``1e308 * x`` over [0, 1] gives 5e307 with a
-    finite half-width); one beyond the largest float is refused. ``met`` is claimed only
-    for a finite, honest interval: a half-width of 0 only when f took one value at every
-    point.
+    The points are R = ``replicates`` randomisations of one extensible rule; n doubles,
+    keeping every evaluation, until each output's half-width is at most
+    ``max(abs_tol, rel_tol * |estimate|)`` or ``max_n`` would be passed. The rule, the
+    interval and its measured coverage: [Integration, to a
+    tolerance](integration.md#to-a-tolerance); examples: [Python and
+    SciPy](python.md#integrating-to-a-tolerance).
 
     Parameters
     ----------
@@ -161,61 +146,47 @@ def quad(
     a, b : array_like, optional
         The box's corners (d numbers each, or one for every dimension), as in
         ``scipy.integrate.qmc_quad``; the estimate includes the volume. Checked as every
-        box of the package is: b > a, and each width finite, above 1e-150 and not
-        vanishing next to the coordinates (``a=1e15, b=1e15 + 0.1`` is refused). Not
-        with ``space``.
+        box of the package (b > a, each width finite, above 1e-150 and not vanishing
+        next to the coordinates). Not with ``space``.
     abs_tol, rel_tol : float, optional
-        The tolerance, by default 0 and 1e-3. The relative 1e-3 is three significant
-        digits, which a smooth integrand in a few dimensions reaches in thousands of
-        evaluations; set ``rel_tol=0`` and ``abs_tol`` for an integral near zero.
+        The tolerance, by default 0 and 1e-3 (three significant digits); set
+        ``rel_tol=0`` and ``abs_tol`` for an integral near zero.
     level : float, optional
         The confidence level of the interval, in (0, 1); by default 0.95.
     replicates : int, optional
-        Independent randomisations R, 2 to 16384 (by default 4: a few long replicates
-        give a narrower interval than many short ones); fewer than 4 warn (the t
-        quantile is then large and the interval unreliable).
+        Independent randomisations R, 2 to 16384, by default 4; fewer than 4 warn (the
+        t quantile is then large and the interval unreliable).
     max_n : int, optional
         The most evaluations of f, all replicates together; by default 2^20.
     space : list or dict, optional
         A design space as :func:`design` takes it (``{"x": "normal(0,1)", "k":
-        "int(1,3)"}``): f receives the space's values (continuous variables through
-        their quantile functions, levels equally likely, a label as its index in its
-        list) and the result is the expectation of f. SciPy frozen laws are mapped
-        through their ``ppf``. A continuous variable whose range cannot hold 4096
-        distinct floats (``uniform(1e15,1e15+0.1)``) is refused, as :func:`design`
-        refuses one that cannot hold its n points.
+        "int(1,3)"}``, SciPy frozen laws through their ``ppf``): f receives the space's
+        values and the result is the expectation of f. A continuous variable whose
+        range cannot hold 4096 distinct floats is refused.
     correlation : array_like or str, optional
         With ``space``, the continuous variables' correlation (a Gaussian copula): a
-        k × k matrix, or its rows as :func:`design` takes them, ``"1,0.5;0.5,1"``.
+        k × k matrix, or its rows as text, ``"1,0.5;0.5,1"``.
     seed : int or None
-        The shifts' seed (a whole number), 0 when omitted, as everywhere in the package;
-        None draws a fresh one.
+        The shifts' seed, 0 when omitted, as everywhere in the package; None draws a
+        fresh one.
     executor : concurrent.futures.Executor, optional
         Evaluates f on chunks of each batch in parallel (a process pool, Dask's
-        ``Client.get_executor()``, ...); f must then be picklable. The result is the same
-        as in one process.
+        ``Client.get_executor()``, ...; f must then be picklable), with the result of
+        one process.
     start : QuadResult, optional
-        An earlier result to continue from: its evaluations are kept and only new
-        points are evaluated. ``abs_tol``, ``rel_tol`` (either given sets both, the
-        other at its default; neither keeps the earlier ones), ``level`` and ``max_n``
-        (a larger one continues a run stopped by ``max_n``) are honoured when given;
-        the rest is kept. ``d`` must match; ``a``, ``b``, ``space`` and ``correlation``
-        are refused with it, and ``replicates`` and ``seed`` unless equal to the
-        earlier ones. The earlier result is not changed.
+        An earlier result to continue from, keeping its evaluations (it is not
+        changed). ``abs_tol``, ``rel_tol`` (either sets both), ``level`` and ``max_n``
+        are honoured when given, the rest is kept; ``d`` must match; ``a``, ``b``,
+        ``space`` and ``correlation`` are refused, ``replicates``, ``seed`` and ``rule``
+        unless equal to the earlier ones.
     progress : bool or callable
-        After each doubling (one round of evaluations): False (the default) says
-        nothing; True writes one line to standard error, the evaluations so far, the
-        estimate, the half-width, the half-width it must reach and the seconds since
-        the call, e.g. ``quad: n=4096  estimate=1.23457e+00  half-width=3.1e-04 (target
-        1.2e-04)  2.3 s`` (with several outputs, the one furthest from its target); a
-        callable is called with the :class:`QuadResult` so far (a copy, which stays as
-        it is, and can be passed as ``start=`` to continue), e.g. to drive a progress
-        bar or a logger. An exception it raises stops the run and propagates, as
-        Ctrl-C does; a ``start`` given is not changed. With True, a first line says the
-        rule and why.
+        After each doubling: False (the default) says nothing; True writes the rule and
+        why, then a line per doubling to standard error (``quad: n=4096
+        estimate=1.23457e+00  half-width=3.1e-04 (target 1.2e-04)  2.3 s``); a callable
+        is given the :class:`QuadResult` so far (a copy, which ``start=`` can continue),
+        and an exception it raises stops the run as Ctrl-C does.
     rule : str, optional
-        ``"lattice"`` or ``"sobol"`` to choose the rule instead of letting the laws
-        choose it (None, the default). Not with ``start`` unless equal to its rule.
+        ``"lattice"`` or ``"sobol"`` chooses the rule instead of the laws (None by default).
 
     Returns
     -------
@@ -229,11 +200,8 @@ def quad(
     KeyboardInterrupt
         On Ctrl-C while f runs, as any Python code.
     """
-    given = dict(
-        d=d, a=a, b=b, abs_tol=abs_tol, rel_tol=rel_tol, level=level,
-        replicates=replicates, max_n=max_n, space=space, correlation=correlation,
-        seed=seed, rule=rule,
-    )
+    given = dict(d=d, a=a, b=b, abs_tol=abs_tol, rel_tol=rel_tol, level=level, rule=rule,
+                 replicates=replicates, max_n=max_n, space=space, correlation=correlation, seed=seed)
     state, setup = _run(QuadResult, f, given, start, executor, progress)
     # An early estimate may overflow where a later one does not: checked where it stops.
     state.check_representable()

@@ -348,3 +348,18 @@ def test_ctrl_c_stops_a_long_call_every_time(call):
     # this is a promise about not hanging, not a speed claim.
     latencies = [float(v) for v in lines[1::2]]
     assert max(latencies) < 3.5, latencies
+
+
+def test_every_form_of_a_value_is_the_same_request():
+    # Tuples of sides, lists, arrays, pandas Series and a box's pairs: the library reads
+    # each form into one request, so the points are the same.
+    import pandas as pd
+
+    want = sp._core.generate(n=16, d=2, bounds=([0, 0], [2, 3]))
+    for bounds in [(0, [2, 3]), (np.zeros(2), np.array([2.0, 3.0])),
+                   (pd.Series([0, 0]), (2, 3)), [0, 2, 0, 3], np.array([0, 2, 0, 3]),
+                   [(0, 2), (0, 3)]]:
+        np.testing.assert_array_equal(sp._core.generate(n=16, d=2, bounds=bounds), want)
+    with pytest.raises(ValueError, match=r"^invalid bounds = \{'lo': 0\}: expected a number, "
+                       r"a string, a list of numbers or an \(n, d\) array$"):
+        sp._core.generate(n=16, d=2, bounds={"lo": 0})

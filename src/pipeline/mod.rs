@@ -4,6 +4,7 @@
 //! applies the post-steps (randomisation last), and reports on the set it returns.
 //! [`generate`], [`paper`] and [`region`] are the one-call entry points.
 
+pub mod calls;
 pub mod dispatch;
 pub mod estimate;
 pub mod evaluation;
@@ -11,6 +12,7 @@ pub mod integration;
 pub mod measure;
 pub mod options;
 pub mod request;
+pub mod worker;
 
 use crate::integrators::Record;
 use crate::{Error, PointSet};
