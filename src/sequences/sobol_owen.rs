@@ -138,19 +138,60 @@ pub fn sobol_plain(n: usize, s: usize) -> Result<PointSet, Error> {
 /// bits: bit ℓ (ℓ = 1 is the 1/2 digit) is flipped by a hash of (dimension key, ℓ, the
 /// original first ℓ−1 bits), and the 21 bits below the net's resolution, which are all
 /// zero in the net, become hash bits of the whole 32-bit value, as nested scrambling of
-/// those zero digits implies.
-fn owen_scramble(y: u32, dim_key: u64) -> u64 {
+/// those zero digits implies. The flips of the first `top.levels` levels are read from
+/// `top`, the same hashes computed once per node instead of once per point.
+fn owen_scramble(y: u32, dim_key: u64, top: &TopFlips) -> u64 {
     let y = u64::from(y);
-    let mut out = 0u64;
-    for level in 1..=BITS {
-        // A leading 1 marks the prefix length, so (level, prefix) pairs never collide.
-        let node = (1u64 << (level - 1)) | (y >> (BITS - level + 1));
-        let flip = hash2(dim_key, node) >> 63;
-        let bit = (y >> (BITS - level)) & 1;
-        out |= (bit ^ flip) << (BITS - level);
+    let mut out = (y ^ top.mask(y)) & !(u64::from(u32::MAX) >> top.levels) & 0xffff_ffff;
+    for level in top.levels + 1..=BITS {
+        out |= (((y >> (BITS - level)) & 1) ^ flip(dim_key, level, y)) << (BITS - level);
     }
     let tail = hash2(dim_key, (1u64 << BITS) | y) >> (64 - 21);
     (out << 21) | tail
+}
+
+/// The flip of bit `level` of net value y: a hash of the node (level, y's first
+/// level − 1 bits).
+fn flip(dim_key: u64, level: u32, y: u64) -> u64 {
+    // A leading 1 marks the prefix length, so (level, prefix) pairs never collide.
+    let node = (1u64 << (level - 1)) | (y >> (BITS - level + 1));
+    hash2(dim_key, node) >> 63
+}
+
+/// The flips of the first `levels` levels of one dimension's scramble for every prefix,
+/// as masks over the top bits, indexed by the first levels − 1 bits: 2^levels − 1 hashes,
+/// worth it when more than 2^levels points are scrambled at once.
+struct TopFlips {
+    levels: u32,
+    masks: Vec<u64>,
+}
+
+impl TopFlips {
+    /// The deepest table worth building for `count` points (at most 2^16 nodes).
+    fn new(dim_key: u64, count: usize) -> TopFlips {
+        let levels = count.max(1).ilog2().min(16);
+        let mut masks = vec![0u64];
+        for level in 1..=levels {
+            // Level ℓ's nodes are the prefixes p of ℓ − 1 bits; a prefix's mask is its
+            // parent's with this level's flip added.
+            masks = (0..1u64 << (level - 1))
+                .map(|p| {
+                    let y = p << (BITS - level + 1);
+                    masks[(p >> 1) as usize] | flip(dim_key, level, y) << (BITS - level)
+                })
+                .collect();
+        }
+        TopFlips { levels, masks }
+    }
+
+    /// The flips of the first `levels` bits of y, in place.
+    fn mask(&self, y: u64) -> u64 {
+        if self.levels == 0 {
+            0
+        } else {
+            self.masks[(y >> (BITS - self.levels + 1)) as usize]
+        }
+    }
 }
 
 /// Owen-scrambled Sobol' points: the net of [`sobol_plain`] (indices 0..n−1, natural
@@ -196,9 +237,10 @@ pub fn sobol_scrambled_range(
         .enumerate()
         .map(|(j, v)| {
             let dim_key = hash2(seed_key, j as u64);
+            let top = TopFlips::new(dim_key, end - start);
             net_column(start, end, v)
                 .into_iter()
-                .map(|y| owen_scramble(y, dim_key) as f64 * scale)
+                .map(|y| owen_scramble(y, dim_key, &top) as f64 * scale)
                 .collect()
         })
         .collect();
@@ -249,6 +291,35 @@ mod tests {
                     .filter(|k| (i >> k) & 1 == 1)
                     .fold(0u32, |acc, k| acc ^ v[k]);
                 assert_eq!(*y, direct, "dimension {j}, point {i}");
+            }
+        }
+    }
+
+    /// The scramble as defined, one hash per level and point.
+    fn owen_by_levels(y: u32, dim_key: u64) -> u64 {
+        let y = u64::from(y);
+        let mut out = 0u64;
+        for level in 1..=BITS {
+            let node = (1u64 << (level - 1)) | (y >> (BITS - level + 1));
+            let bit = (y >> (BITS - level)) & 1;
+            out |= (bit ^ (hash2(dim_key, node) >> 63)) << (BITS - level);
+        }
+        (out << 21) | (hash2(dim_key, (1u64 << BITS) | y) >> (64 - 21))
+    }
+
+    #[test]
+    fn the_table_of_top_flips_gives_the_per_level_hashes() {
+        let dirs = direction_numbers(2);
+        let ys = net_column(0, 5000, &dirs[1]);
+        for count in [1, 2, 3, 4096, 1 << 17] {
+            let top = TopFlips::new(99, count);
+            assert_eq!(top.levels, (count as u32).ilog2().min(16));
+            for &y in ys.iter().chain(&[0, u32::MAX, 1 << 31]) {
+                assert_eq!(
+                    owen_scramble(y, 99, &top),
+                    owen_by_levels(y, 99),
+                    "{y} {count}"
+                );
             }
         }
     }
