@@ -22,7 +22,6 @@ exactly N (the round guard included). Per case and setting:
 Writes results/quad/fixed-n-<N>.json and prints a Markdown table.
 """
 
-import json
 import math
 import os
 import sys
@@ -32,7 +31,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(__file__))
 import quad as bench  # noqa: E402
-from quad_interval import study  # noqa: E402
+from quad_interval import study_main  # noqa: E402
 
 CASES = [  # (label, family of benches/quad.py, s)
     ("keister s=5 (cube)", "keister", 5),
@@ -100,18 +99,7 @@ def table(data, n):
 
 
 def main():
-    if "--markdown" in sys.argv:
-        # Every N measured, from results/quad/fixed-n-<N>.json, for results/quad/fixed-n.md.
-        folder = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
-                              "results", "quad")
-        sizes = sorted(int(f[8:-5]) for f in os.listdir(folder)
-                       if f.startswith("fixed-n-") and f.endswith(".json"))
-        for n in sizes:
-            with open(os.path.join(folder, f"fixed-n-{n}.json")) as fh:
-                print("\n".join(table(json.load(fh), n)) + "\n")
-        return
-    args, data = study("fixed-n", CASES, run_case, summary)
-    print("\n" + "\n".join(table(data, args.n)))
+    study_main("fixed-n", CASES, run_case, summary, table)
 
 
 if __name__ == "__main__":

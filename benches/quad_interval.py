@@ -147,6 +147,21 @@ def study(name, cases, run_case, summary):
     return args, data
 
 
+def study_main(name, cases, run_case, summary, table):
+    """The main of a fixed-n study: ``--markdown`` prints ``table(data, n)`` for every N
+    in results/quad/<name>-<N>.json; otherwise [`study`] runs and its table is printed."""
+    if "--markdown" in sys.argv:
+        folder = os.path.join(ROOT, "results", "quad")
+        sizes = sorted(int(f[len(name) + 1:-5]) for f in os.listdir(folder)
+                       if f.startswith(f"{name}-") and f.endswith(".json"))
+        for n in sizes:
+            with open(os.path.join(folder, f"{name}-{n}.json")) as fh:
+                print("\n".join(table(json.load(fh), n)) + "\n")
+        return
+    args, data = study(name, cases, run_case, summary)
+    print("\n" + "\n".join(table(data, args.n)))
+
+
 def main():
     args, data = study("interval", CASES, run_case, summary)
     print(f"\n| family (n = {args.n}, {args.seeds} seeds) | "
