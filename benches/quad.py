@@ -456,7 +456,7 @@ def time_outside_lines(data, order, stats):
                 if keep(k.split("|")[0]) and a and b and b["out"] > 0:
                     ratios.append(a["out"] / b["out"])
             if ratios:
-                out.append(f"{m} {np.median(ratios):.2f} ({len(ratios)} cells)")
+                out.append(f"{m} {np.median(ratios):.2g} ({len(ratios)} cells)")
         if out:
             lines += [f"Time outside f over {what}, the median over the cells of "
                       "stillpoint's median over the reference's (the claim: ≤ 1): "

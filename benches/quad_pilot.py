@@ -18,7 +18,6 @@ for the lattice alone (today's rule on the cube), Sobol' alone, and the pilot's 
 Writes results/quad/pilot-<N>.json.
 """
 
-import json
 import os
 import sys
 import warnings
