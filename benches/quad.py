@@ -419,6 +419,7 @@ def table(out, runs):
             lines += [f"Cells where no reference reaches 92.5 %: {len(no_ref)} (stillpoint "
                       f"≥ 92.5 % in {sum(ok for _, ok in no_ref)}); they are counted above on "
                       "stillpoint's reliability alone and left out of the mean.", ""]
+        lines += time_outside_lines(data, order, stats)
         lines += ["Cells that miss:" if misses else "No cell misses.", ""]
         lines += [f"- {m}" for m in misses]
         lines.append("")
@@ -439,6 +440,28 @@ def table(out, runs):
     with open(os.path.join(out, "quad.md"), "w") as fh:
         fh.write("\n".join(lines))
     print("\n".join(lines))
+
+
+def time_outside_lines(data, order, stats):
+    """Per QMCPy method, the median over the cells both ran of the ratio of stillpoint's
+    median time outside f to that method's (the claim: ≤ 1)."""
+    lines = []
+    for what, keep in [("all cells", lambda f: True),
+                       ("the model families", lambda f: f in MODEL_FAMILIES)]:
+        out = []
+        for m in [m for m in data if m.startswith("qmcpy")]:
+            ratios = []
+            for k in order:
+                a, b = stats("stillpoint", k), stats(m, k)
+                if keep(k.split("|")[0]) and a and b and b["out"] > 0:
+                    ratios.append(a["out"] / b["out"])
+            if ratios:
+                out.append(f"{m} {np.median(ratios):.2g} ({len(ratios)} cells)")
+        if out:
+            lines += [f"Time outside f over {what}, the median over the cells of "
+                      "stillpoint's median over the reference's (the claim: ≤ 1): "
+                      + "; ".join(out) + ".", ""]
+    return lines
 
 
 def main():

@@ -124,24 +124,46 @@ def summary(rows):
     return out
 
 
-def main():
+def study(name, cases, run_case, summary):
+    """Runs the cases the command line asks for (--seeds, --n, --cases), adding each
+    case's summary to results/quad/<name>-<n>.json as it finishes; returns (args, data)."""
     ap = argparse.ArgumentParser()
     ap.add_argument("--seeds", type=int, default=300)
     ap.add_argument("--n", type=int, default=4096)
     ap.add_argument("--cases", default="", help="comma-separated labels (default: all)")
     args = ap.parse_args()
-    path = os.path.join(ROOT, "results", "quad", f"interval-{args.n}.json")
+    path = os.path.join(ROOT, "results", "quad", f"{name}-{args.n}.json")
     data = {}
     if os.path.exists(path):
         with open(path) as fh:
             data = json.load(fh)
-    wanted = [c for c in CASES if not args.cases or c[0] in args.cases.split(",")]
+    wanted = [c for c in cases if not args.cases or c[0] in args.cases.split(",")]
     for label, family, s in wanted:
         rows = run_case(family, s, args.n, args.seeds)
         data[label] = {"seeds": args.seeds, "n": args.n, "summary": summary(rows)}
         with open(path, "w") as fh:
             json.dump(data, fh, indent=1)
         print(label, json.dumps(data[label]["summary"]), flush=True)
+    return args, data
+
+
+def study_main(name, cases, run_case, summary, table):
+    """The main of a fixed-n study: ``--markdown`` prints ``table(data, n)`` for every N
+    in results/quad/<name>-<N>.json; otherwise [`study`] runs and its table is printed."""
+    if "--markdown" in sys.argv:
+        folder = os.path.join(ROOT, "results", "quad")
+        sizes = sorted(int(f[len(name) + 1:-5]) for f in os.listdir(folder)
+                       if f.startswith(f"{name}-") and f.endswith(".json"))
+        for n in sizes:
+            with open(os.path.join(folder, f"{name}-{n}.json")) as fh:
+                print("\n".join(table(json.load(fh), n)) + "\n")
+        return
+    args, data = study(name, cases, run_case, summary)
+    print("\n" + "\n".join(table(data, args.n)))
+
+
+def main():
+    args, data = study("interval", CASES, run_case, summary)
     print(f"\n| family (n = {args.n}, {args.seeds} seeds) | "
           + " | ".join(METHODS) + " |")
     print("|---" * (len(METHODS) + 1) + "|")

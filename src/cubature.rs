@@ -463,14 +463,15 @@ impl Cubature {
             }
             Rule::Sobol => {
                 // Each replicate's scramble from its own key; the net in natural order, so
-                // the first start + m points extend the first start.
+                // points start..start + m extend the first start: only they are computed.
                 let key = crate::sequences::hash2(
                     crate::sequences::hash2(crate::sequences::mix64(self.options.seed), SOBOL_KEY),
                     rep,
                 );
-                let all = crate::sequences::sobol_scrambled(start as usize + m, self.d, key)
+                let start = start as usize;
+                let new = crate::sequences::sobol_scrambled_range(start, start + m, self.d, key)
                     .expect("d and the range checked at construction");
-                out.copy_from_slice(&all.as_slice()[start as usize * self.d..]);
+                out.copy_from_slice(new.as_slice());
             }
         }
     }

@@ -41,7 +41,9 @@ pub use lattices::{
 };
 pub use law_lattice::{law_lattice, law_lattice_generator, law_lattice_parts, LAW_WEIGHT};
 pub use scrambled_halton::{halton_scrambled, HALTON_SCRAMBLED_MAX_S};
-pub use sobol_owen::{sobol_plain, sobol_scrambled, SOBOL_MAX_N, SOBOL_MAX_S};
+pub use sobol_owen::{
+    sobol_plain, sobol_scrambled, sobol_scrambled_range, SOBOL_MAX_N, SOBOL_MAX_S,
+};
 
 pub use crate::domains::halton::first_primes;
 

@@ -76,12 +76,23 @@ fn check_sobol_shape(n: usize, s: usize) -> Result<(), Error> {
     check_shape(n, s)
 }
 
-/// The 32-bit net values of points 0..n in one dimension, natural order.
-fn net_column(n: usize, v: &[u32]) -> Vec<u32> {
-    let mut y = vec![0u32; n];
-    // y(i) = y(i with its lowest set bit cleared) ^ v[that bit]: one XOR per point.
-    for i in 1..n {
-        y[i] = y[i & (i - 1)] ^ v[i.trailing_zeros() as usize];
+/// The 32-bit net values of points start..end in one dimension, natural order.
+fn net_column(start: usize, end: usize, v: &[u32]) -> Vec<u32> {
+    // Going from i to i + 1 clears i's trailing ones and sets the bit above them, the
+    // lowest set bit of i + 1: XOR the direction numbers of all those bits at once.
+    let mut through = v.to_vec();
+    for k in 1..through.len() {
+        through[k] ^= through[k - 1];
+    }
+    let mut y = Vec::with_capacity(end - start);
+    // Point `start` directly: the XOR of the direction numbers of its set bits.
+    let mut current = (0..v.len())
+        .filter(|&k| (start >> k) & 1 == 1)
+        .fold(0u32, |acc, k| acc ^ v[k]);
+    y.push(current);
+    for i in start + 1..end {
+        current ^= through[i.trailing_zeros() as usize];
+        y.push(current);
     }
     y
 }
@@ -114,7 +125,7 @@ pub fn sobol_plain(n: usize, s: usize) -> Result<PointSet, Error> {
     let columns: Vec<Vec<f64>> = dirs
         .par_iter()
         .map(|v| {
-            net_column(n, v)
+            net_column(0, n, v)
                 .into_iter()
                 .map(|y| f64::from(y) * scale)
                 .collect()
@@ -127,19 +138,60 @@ pub fn sobol_plain(n: usize, s: usize) -> Result<PointSet, Error> {
 /// bits: bit ℓ (ℓ = 1 is the 1/2 digit) is flipped by a hash of (dimension key, ℓ, the
 /// original first ℓ−1 bits), and the 21 bits below the net's resolution, which are all
 /// zero in the net, become hash bits of the whole 32-bit value, as nested scrambling of
-/// those zero digits implies.
-fn owen_scramble(y: u32, dim_key: u64) -> u64 {
+/// those zero digits implies. The flips of the first `top.levels` levels are read from
+/// `top`, the same hashes computed once per node instead of once per point.
+fn owen_scramble(y: u32, dim_key: u64, top: &TopFlips) -> u64 {
     let y = u64::from(y);
-    let mut out = 0u64;
-    for level in 1..=BITS {
-        // A leading 1 marks the prefix length, so (level, prefix) pairs never collide.
-        let node = (1u64 << (level - 1)) | (y >> (BITS - level + 1));
-        let flip = hash2(dim_key, node) >> 63;
-        let bit = (y >> (BITS - level)) & 1;
-        out |= (bit ^ flip) << (BITS - level);
+    let mut out = (y ^ top.mask(y)) & !(u64::from(u32::MAX) >> top.levels) & 0xffff_ffff;
+    for level in top.levels + 1..=BITS {
+        out |= (((y >> (BITS - level)) & 1) ^ flip(dim_key, level, y)) << (BITS - level);
     }
     let tail = hash2(dim_key, (1u64 << BITS) | y) >> (64 - 21);
     (out << 21) | tail
+}
+
+/// The flip of bit `level` of net value y: a hash of the node (level, y's first
+/// level − 1 bits).
+fn flip(dim_key: u64, level: u32, y: u64) -> u64 {
+    // A leading 1 marks the prefix length, so (level, prefix) pairs never collide.
+    let node = (1u64 << (level - 1)) | (y >> (BITS - level + 1));
+    hash2(dim_key, node) >> 63
+}
+
+/// The flips of the first `levels` levels of one dimension's scramble for every prefix,
+/// as masks over the top bits, indexed by the first levels − 1 bits: 2^levels − 1 hashes,
+/// worth it when more than 2^levels points are scrambled at once.
+struct TopFlips {
+    levels: u32,
+    masks: Vec<u64>,
+}
+
+impl TopFlips {
+    /// The deepest table worth building for `count` points (at most 2^16 nodes).
+    fn new(dim_key: u64, count: usize) -> TopFlips {
+        let levels = count.max(1).ilog2().min(16);
+        let mut masks = vec![0u64];
+        for level in 1..=levels {
+            // Level ℓ's nodes are the prefixes p of ℓ − 1 bits; a prefix's mask is its
+            // parent's with this level's flip added.
+            masks = (0..1u64 << (level - 1))
+                .map(|p| {
+                    let y = p << (BITS - level + 1);
+                    masks[(p >> 1) as usize] | flip(dim_key, level, y) << (BITS - level)
+                })
+                .collect();
+        }
+        TopFlips { levels, masks }
+    }
+
+    /// The flips of the first `levels` bits of y, in place.
+    fn mask(&self, y: u64) -> u64 {
+        if self.levels == 0 {
+            0
+        } else {
+            self.masks[(y >> (BITS - self.levels + 1)) as usize]
+        }
+    }
 }
 
 /// Owen-scrambled Sobol' points: the net of [`sobol_plain`] (indices 0..n−1, natural
@@ -153,7 +205,29 @@ fn owen_scramble(y: u32, dim_key: u64) -> u64 {
 ///
 /// Refuses n = 0, s = 0, n > 2^32 and s > 21 201, naming the argument.
 pub fn sobol_scrambled(n: usize, s: usize, seed: u64) -> Result<PointSet, Error> {
-    check_sobol_shape(n, s)?;
+    sobol_scrambled_range(0, n, s, seed)
+}
+
+/// The points with indices start..end of the sequence of [`sobol_scrambled`] (same seed,
+/// same scramble): bit for bit rows start..end of `sobol_scrambled(end, s, seed)`, at the
+/// cost of end − start points, so a sequence extended in rounds computes each point once.
+///
+/// Refuses end ≤ start (naming `start`), end > 2^32 (naming `n`) and s = 0 or s > 21 201
+/// (naming `s`).
+pub fn sobol_scrambled_range(
+    start: usize,
+    end: usize,
+    s: usize,
+    seed: u64,
+) -> Result<PointSet, Error> {
+    check_sobol_shape(end, s)?;
+    if start >= end {
+        return Err(Error::invalid(
+            "start",
+            start,
+            format!("an index below the end of the range, {end}"),
+        ));
+    }
     let dirs = direction_numbers(s);
     let scale = (-53f64).exp2();
     // A label of its own keeps these bits unrelated to other generators fed the same seed.
@@ -163,11 +237,100 @@ pub fn sobol_scrambled(n: usize, s: usize, seed: u64) -> Result<PointSet, Error>
         .enumerate()
         .map(|(j, v)| {
             let dim_key = hash2(seed_key, j as u64);
-            net_column(n, v)
+            let top = TopFlips::new(dim_key, end - start);
+            net_column(start, end, v)
                 .into_iter()
-                .map(|y| owen_scramble(y, dim_key) as f64 * scale)
+                .map(|y| owen_scramble(y, dim_key, &top) as f64 * scale)
                 .collect()
         })
         .collect();
-    PointSet::new(n, s, rows_from_columns(n, &columns))
+    PointSet::new(end - start, s, rows_from_columns(end - start, &columns))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_range_is_the_prefix_s_rows_bit_for_bit() {
+        let (s, seed) = (5, 17);
+        let all = sobol_scrambled(1000, s, seed).unwrap();
+        // Starts at 0, inside a power of two, at a power of two, and ranges of one point.
+        for (start, end) in [
+            (0, 1),
+            (0, 1000),
+            (1, 2),
+            (3, 64),
+            (64, 128),
+            (100, 1000),
+            (999, 1000),
+        ] {
+            let part = sobol_scrambled_range(start, end, s, seed).unwrap();
+            assert_eq!(part.n(), end - start);
+            let want: Vec<u64> = all.as_slice()[start * s..end * s]
+                .iter()
+                .map(|x| x.to_bits())
+                .collect();
+            let got: Vec<u64> = part.as_slice().iter().map(|x| x.to_bits()).collect();
+            assert_eq!(got, want, "rows {start}..{end}");
+        }
+    }
+
+    #[test]
+    fn a_range_far_out_matches_the_net_s_definition() {
+        // Point i's net value is the XOR of the direction numbers of i's set bits; the
+        // range starting at a large i must agree with that, unscrambled, digit for digit.
+        let s = 3;
+        let dirs = direction_numbers(s);
+        let start = (1usize << 31) + 12_345;
+        for (j, v) in dirs.iter().enumerate() {
+            let col = net_column(start, start + 70, v);
+            for (offset, y) in col.iter().enumerate() {
+                let i = start + offset;
+                let direct = (0..32)
+                    .filter(|k| (i >> k) & 1 == 1)
+                    .fold(0u32, |acc, k| acc ^ v[k]);
+                assert_eq!(*y, direct, "dimension {j}, point {i}");
+            }
+        }
+    }
+
+    /// The scramble as defined, one hash per level and point.
+    fn owen_by_levels(y: u32, dim_key: u64) -> u64 {
+        let y = u64::from(y);
+        let mut out = 0u64;
+        for level in 1..=BITS {
+            let node = (1u64 << (level - 1)) | (y >> (BITS - level + 1));
+            let bit = (y >> (BITS - level)) & 1;
+            out |= (bit ^ (hash2(dim_key, node) >> 63)) << (BITS - level);
+        }
+        (out << 21) | (hash2(dim_key, (1u64 << BITS) | y) >> (64 - 21))
+    }
+
+    #[test]
+    fn the_table_of_top_flips_gives_the_per_level_hashes() {
+        let dirs = direction_numbers(2);
+        let ys = net_column(0, 5000, &dirs[1]);
+        for count in [1, 2, 3, 4096, 1 << 17] {
+            let top = TopFlips::new(99, count);
+            assert_eq!(top.levels, (count as u32).ilog2().min(16));
+            for &y in ys.iter().chain(&[0, u32::MAX, 1 << 31]) {
+                assert_eq!(
+                    owen_scramble(y, 99, &top),
+                    owen_by_levels(y, 99),
+                    "{y} {count}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn an_empty_or_too_long_range_is_refused_by_name() {
+        let e = sobol_scrambled_range(5, 5, 2, 0).unwrap_err().to_string();
+        assert!(e.contains("start") && e.contains('5'), "{e}");
+        let e = sobol_scrambled_range(0, SOBOL_MAX_N + 1, 2, 0)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("n") && e.contains("4294967297"), "{e}");
+    }
 }
