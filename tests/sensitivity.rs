@@ -492,6 +492,7 @@ fn designs_measured() {
     let reps: usize = setting("SP_R", 4);
     let seeds: u64 = setting("SP_SEEDS", 30);
     type Model = Box<dyn Fn(&PointSet) -> Vec<f64>>;
+    type Case = (usize, SensitivityOptions, Indices, Model);
     let lin = [1.0, 2.0, 3.0, 0.5, 0.0];
     let ls: Vec<f64> = lin.iter().map(|c: &f64| c * c / 14.25).collect();
     let v = 3f64.powi(-4) - 4f64.powi(-4);
@@ -499,7 +500,7 @@ fn designs_measured() {
         vec![4f64.powi(-3) / 12.0 / v; 4],
         vec![3f64.powi(-3) / 12.0 / v; 4],
     );
-    let g = |a: Vec<f64>| -> (usize, SensitivityOptions, Indices, Model) {
+    let g = |a: Vec<f64>| -> Case {
         (
             a.len(),
             SensitivityOptions::default(),
@@ -515,7 +516,7 @@ fn designs_measured() {
             .collect()
     });
     let product: Model = Box::new(|x: &PointSet| x.rows().map(|p| p.iter().product()).collect());
-    let models: Vec<(&str, (usize, SensitivityOptions, Indices, Model))> = vec![
+    let models: Vec<(&str, Case)> = vec![
         (
             "ishigami",
             (3, box3(), ishigami_exact(), Box::new(ishigami)),
