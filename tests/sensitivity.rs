@@ -332,6 +332,41 @@ fn every_half_width_covers_the_change_since_half_the_points() {
 }
 
 #[test]
+fn each_inputs_a_and_b_are_neighbouring_coordinates_and_saved_states_keep_theirs() {
+    // Input i's A and B are the lattice's coordinates 2i and 2i + 1 (from 0); a state
+    // saved before the layout was kept (no `layout` field) keeps A in the first d.
+    let d = 3;
+    let mut u = vec![0.0; 64 * 2 * d];
+    stillpoint::sequences::ExtensibleLattice::new(2 * d, 0, 0)
+        .unwrap()
+        .fill(0, 64, &mut u)
+        .unwrap();
+    let o = SensitivityOptions {
+        rule: stillpoint::cubature::Rule::TentLattice,
+        ..SensitivityOptions::default()
+    };
+    let mut state = Sensitivity::new(d, o).unwrap();
+    let mut old: serde_json::Value = serde_json::to_value(&state).unwrap();
+    old.as_object_mut().unwrap().remove("layout").unwrap();
+    let mut old: Sensitivity = serde_json::from_value(old).unwrap();
+    let (new_rows, old_rows) = (state.next_points().unwrap(), old.next_points().unwrap());
+    // Point 0 of replicate 0: rows A, B, AB_1, …
+    let row = |p: &PointSet, r: usize| p.as_slice()[r * d..(r + 1) * d].to_vec();
+    let (a, b): (Vec<f64>, Vec<f64>) = (0..d).map(|i| (u[2 * i], u[2 * i + 1])).unzip();
+    assert_eq!(
+        (row(&new_rows, 0), row(&new_rows, 1)),
+        (a.clone(), b.clone())
+    );
+    let mut ab1 = a;
+    ab1[1] = b[1];
+    assert_eq!(row(&new_rows, 3), ab1);
+    assert_eq!(
+        (row(&old_rows, 0), row(&old_rows, 1)),
+        (u[..d].to_vec(), u[d..2 * d].to_vec())
+    );
+}
+
+#[test]
 fn refusals_name_the_argument_and_the_value() {
     let err = |d: usize, o: SensitivityOptions| Sensitivity::new(d, o).unwrap_err().to_string();
     let e = err(MAX_INPUTS + 1, SensitivityOptions::default());
