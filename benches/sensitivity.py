@@ -5,7 +5,7 @@ closed-form indices.
 Two measurements:
 
 * equal evaluations: every method gets N·(d + 2) evaluations (N = 2^m base points;
-  stillpoint's 8 replicates share them, N/8 points each), and the RMSE of all 2d indices
+  stillpoint's 4 replicates share them, N/4 points each), and the RMSE of all 2d indices
   against the closed form is taken over `--reps` seeds;
 * to a tolerance: stillpoint runs with abs_tol; each reference doubles its base sample N
   (from 64) until every half-width it reports (SALib's bootstrap `*_conf`, SciPy's
@@ -149,6 +149,35 @@ def scipy_si(f, d, lo, hi, n_base, seed=0, conf=False):
     return (np.ravel(res.first_order), np.ravel(res.total_order), n_base * (d + 2), h)
 
 
+def qmcpy_si(f, d, lo, hi, n_base=None, seed=0, tol=None, largest=2**17):
+    """QMCPy's SensitivityIndices on its randomised digital net (LMS + digital shift):
+    at n_base points, its estimates from the means of its pick-freeze integrand; with
+    tol, CubQMCNetG to abs_tol on every index (its own guaranteed bounds). Evaluations
+    are counted at f (QMCPy skips the indices already within tol)."""
+    import qmcpy
+
+    calls = [0]
+
+    def g(x):
+        shape = x.shape
+        flat = x.reshape(-1, shape[-1])
+        calls[0] += flat.shape[0]
+        return f(flat).reshape(shape[:-1])
+
+    net = qmcpy.DigitalNetB2(d, seed=seed)
+    integrand = qmcpy.CustomFun(qmcpy.Uniform(net, lower_bound=lo, upper_bound=hi), g=g)
+    si = qmcpy.SensitivityIndices(integrand, indices="singletons")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if tol is None:
+            m = si(n_base).mean(-1)  # (closed/total, (numerator, mean, 2nd moment), d)
+            first, total = (m[k, 0] / (m[k, 2] - m[k, 1] ** 2) for k in (0, 1))
+            return first, total, calls[0], float("nan")
+        sol, data = qmcpy.CubQMCNetG(si, abs_tol=tol, n_limit=largest).integrate()
+    h = float(np.max((data.comb_bound_high - data.comb_bound_low) / 2))
+    return np.asarray(sol[0]), np.asarray(sol[1]), calls[0], h
+
+
 def rmse(first, total, exact):
     e = np.concatenate([first - exact[0], total - exact[1]])
     return float(np.sqrt(np.mean(e**2)))
@@ -161,7 +190,7 @@ def equal_evaluations(out, reps, bases):
     rows = []
     for name, f, d, lo, hi, exact in models():
         for n_base in bases:
-            se = {"stillpoint": [], "salib": [], "scipy": []}
+            se = {"stillpoint": [], "salib": [], "scipy": [], "qmcpy": []}
             evals = {}
             for seed in range(reps):
                 fs, ts, n, _, _ = ours(f, d, lo, hi, n_base=n_base, seed=seed)
@@ -173,16 +202,21 @@ def equal_evaluations(out, reps, bases):
                 fs, ts, n, _ = scipy_si(f, d, lo, hi, n_base, seed=seed)
                 se["scipy"].append(rmse(fs, ts, exact) ** 2)
                 evals["scipy"] = n
+                fs, ts, n, _ = qmcpy_si(f, d, lo, hi, n_base, seed=seed)
+                se["qmcpy"].append(rmse(fs, ts, exact) ** 2)
+                evals["qmcpy"] = n
             row = {"model": name, "d": d, "n_base": n_base}
             for m in se:
                 row[f"{m}_rmse"] = math.sqrt(np.mean(se[m]))
                 row[f"{m}_evals"] = evals[m]
             row["ratio_salib"] = row["stillpoint_rmse"] / row["salib_rmse"]
             row["ratio_scipy"] = row["stillpoint_rmse"] / row["scipy_rmse"]
+            row["ratio_qmcpy"] = row["stillpoint_rmse"] / row["qmcpy_rmse"]
             print(
                 f"{name:22s} N={n_base:6d}  ours {row['stillpoint_rmse']:.2e}  "
                 f"SALib {row['salib_rmse']:.2e}  SciPy {row['scipy_rmse']:.2e}  "
-                f"ratios {row['ratio_salib']:.2f} {row['ratio_scipy']:.2f}",
+                f"QMCPy {row['qmcpy_rmse']:.2e}  ratios {row['ratio_salib']:.2f} "
+                f"{row['ratio_scipy']:.2f} {row['ratio_qmcpy']:.2f}",
                 flush=True,
             )
             rows.append(row)
@@ -213,8 +247,12 @@ def to_tolerance(out, tol, reps, largest):
                 row.update({f"{label}_evals": n if done else float("nan"),
                             f"{label}_met": done,
                             f"{label}_share_within": share_within(fs, ts, exact, tol)})
+            fs, ts, n, h = qmcpy_si(f, d, lo, hi, seed=seed, tol=tol, largest=largest)
+            row.update(qmcpy_evals=n if h <= tol else float("nan"), qmcpy_met=h <= tol,
+                       qmcpy_share_within=share_within(fs, ts, exact, tol))
             print(f"{name:22s} seed {seed}  ours {row['stillpoint_evals']}  SALib "
-                  f"{row['salib_evals']}  SciPy {row['scipy_evals']}", flush=True)
+                  f"{row['salib_evals']}  SciPy {row['scipy_evals']}  QMCPy "
+                  f"{row['qmcpy_evals']}", flush=True)
             rows.append(row)
     write_csv(os.path.join(out, "to_tolerance.csv"), rows)
     return rows
@@ -259,27 +297,31 @@ def main():
     started = time.time()
     if a.skip_equal:
         with open(os.path.join(a.out, "equal_evaluations.csv")) as fh:
-            eq = [{k: (float(v) if k.startswith("ratio") else v) for k, v in r.items()}
+            eq = [{k: (float(v) if k.startswith("ratio") else v) for k, v in r.items() if v}
                   for r in csv.DictReader(fh)]
     else:
         eq = equal_evaluations(a.out, a.reps, [int(b) for b in a.bases.split(",")])
     summary = {
         "versions": {"stillpoint": sp.__version__, "SALib": version("salib"),
-                     "scipy": version("scipy"), "numpy": np.__version__},
+                     "scipy": version("scipy"), "qmcpy": version("qmcpy"),
+                     "numpy": np.__version__},
         "reps": a.reps,
         "bases": a.bases,
         "geomean_ratio_salib": geomean([r["ratio_salib"] for r in eq]),
         "geomean_ratio_scipy": geomean([r["ratio_scipy"] for r in eq]),
+        "geomean_ratio_qmcpy": geomean([r["ratio_qmcpy"] for r in eq if "ratio_qmcpy" in r]),
         "max_ratio_salib": max(r["ratio_salib"] for r in eq),
         "max_ratio_scipy": max(r["ratio_scipy"] for r in eq),
+        "max_ratio_qmcpy": max((r["ratio_qmcpy"] for r in eq if "ratio_qmcpy" in r),
+                               default=float("nan")),
     }
     if not a.skip_tolerance:
         tt = to_tolerance(a.out, a.tol, a.tol_reps, a.largest)
         per = {}
         for r in tt:
             m = per.setdefault(r["model"], {"stillpoint": [], "salib": [], "scipy": [],
-                                            "within": []})
-            for k in ("stillpoint", "salib", "scipy"):
+                                            "qmcpy": [], "within": []})
+            for k in ("stillpoint", "salib", "scipy", "qmcpy"):
                 m[k].append(r[f"{k}_evals"])
             m["within"].append(r["stillpoint_share_within"])
         summary["to_tolerance"] = {

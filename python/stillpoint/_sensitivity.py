@@ -140,14 +140,16 @@ def sobol_indices(
 
     The inputs are independent: uniform on the box [a, b] (the unit cube by default), or
     distributed as the variables of ``space``. For each point (A, B) of R independent
-    shifts of the extensible randomised lattice in 2d dimensions, f is evaluated at A, at
-    B and at each AB_i (A with input i taken from B): d + 2 evaluations per point. From
+    shifts of the extensible randomised lattice in 2d dimensions (each input's A and B
+    coordinates neighbours), f is evaluated at A, at B and at each AB_i (A with input i
+    taken from B): d + 2 evaluations per point. From
     64 points per replicate, the points double, extending the earlier ones, until every
     index's half-width is at most ``abs_tol``, or the next round would pass ``max_n``
     evaluations (``met`` is then False). Total indices are Jansen's estimator; first
     order ones Saltelli et al. (2010)'s by default (the more accurate of the two
     measured, for small indices most of all), Janon et al. (2014)'s by name. The
-    intervals are Student t intervals from a jackknife over the replicates. Up to 500
+    intervals are Student t intervals from a jackknife over the replicates, raised to
+    each index's change since half the points when that is larger. Up to 500
     inputs (the sequence's 1 000 coordinates hold A and B).
 
     Parameters
@@ -175,7 +177,7 @@ def sobol_indices(
     first_estimator : str, optional
         ``"saltelli"`` or ``"janon"``; by default ``"saltelli"``.
     replicates : int, optional
-        Independent shifts R, 2 to 16384 (by default 8).
+        Independent shifts R, 2 to 16384 (by default 4).
     max_n : int, optional
         The most evaluations of f, all rounds; by default 2^22.
     seed : int or None

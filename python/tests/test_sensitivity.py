@@ -76,8 +76,8 @@ def test_a_continuation_equals_the_direct_run_and_pickles():
     direct = sp.sobol_indices(ishigami, 3, a=-math.pi, b=math.pi, abs_tol=0.01)
     assert tight.n == direct.n and np.array_equal(tight.total, direct.total)
     assert back.n == loose.n  # the earlier result is not changed
-    with pytest.raises(ValueError, match=r"invalid replicates = 4 with start"):
-        sp.sobol_indices(ishigami, 3, start=loose, replicates=4)
+    with pytest.raises(ValueError, match=r"invalid replicates = 8 with start"):
+        sp.sobol_indices(ishigami, 3, start=loose, replicates=8)
     with pytest.raises(ValueError, match=r"invalid a with start"):
         sp.sobol_indices(ishigami, 3, start=loose, a=0)
 
@@ -101,11 +101,15 @@ def test_progress_gets_a_copy_each_round(capsys):
 
 
 def test_simultaneous_intervals_are_wider():
+    # Wider by the quantile; the round guard (the change since half the points) is a
+    # floor under both that does not depend on the level.
     o = dict(a=-math.pi, b=math.pi, abs_tol=0.0, max_n=40960)
     own = sp.sobol_indices(ishigami, 3, **o)
     together = sp.sobol_indices(ishigami, 3, simultaneous=True, **o)
     assert together.simultaneous and not own.simultaneous
-    assert np.all(together.total_half_width > own.total_half_width)
+    for w in ("first_half_width", "total_half_width"):
+        assert np.all(getattr(together, w) >= getattr(own, w))
+    assert np.any(together.total_half_width > own.total_half_width)
     assert not own.met and own.reason == "max_n"
 
 
