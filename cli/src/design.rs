@@ -5,6 +5,7 @@
 use super::*;
 use stillpoint::design::figures::DesignFigures;
 use stillpoint::design::{Design, DesignSpace};
+use stillpoint::quality::metrics::Sums;
 
 /// Refuses, before any work, an output format that cannot hold the space's labels.
 pub(crate) fn check_design_output(space: &DesignSpace, output: Option<&PathBuf>) -> Result<()> {
@@ -22,8 +23,11 @@ pub(crate) fn check_design_output(space: &DesignSpace, output: Option<&PathBuf>)
 
 /// Writes the design (to `output`, or as CSV to standard output) and its figures (a
 /// table on standard output, or standard error when the points went there; or JSON).
+/// `sums` says whether its pair figures are exact (the run's `--exact`) or follow the
+/// report's rule.
 pub(crate) fn emit_design(
     design: &Design,
+    sums: Sums,
     meta: &Value,
     run_line: &str,
     output: Option<&PathBuf>,
@@ -32,7 +36,7 @@ pub(crate) fn emit_design(
 ) -> Result<()> {
     // The figures are those of the values as written (and read back by `eval`): a value
     // rounded to a float, a correlated column decorrelated again.
-    let figures = DesignFigures::of(&design.as_written()?);
+    let figures = DesignFigures::of_with(&design.as_written()?, sums);
     // The header describes the written design: the unit-cube set's metrics would not.
     let mut meta = meta.clone();
     if let Some(m) = meta.as_object_mut() {
@@ -101,8 +105,18 @@ pub(crate) fn design_table(design: &Design, f: &DesignFigures, run_line: &str) -
         match mean_max(&s.centered_l2) {
             Some((mean, max)) => t.push_str(&format!(
                 "  slices of {}: stratified in {} of {} (slice, continuous column); centred \
-                 L2 per slice mean {:.6}, max {:.6}\n",
-                s.name, s.stratified, s.columns, mean, max
+                 L2 per slice mean {:.6}, max {:.6}{}\n",
+                s.name,
+                s.stratified,
+                s.columns,
+                mean,
+                max,
+                s.centered_l2_errors
+                    .as_ref()
+                    .map_or(String::new(), |e| format!(
+                        " (estimated from random pairs, standard errors up to {:.1e})",
+                        e.iter().cloned().fold(0.0, f64::max)
+                    ))
             )),
             None => t.push_str(&format!(
                 "  slices of {}: no continuous column to stratify within its levels\n",
@@ -115,13 +129,29 @@ pub(crate) fn design_table(design: &Design, f: &DesignFigures, run_line: &str) -
             "  continuous part: stratified in {} of {} columns; centred L2 {}\n",
             f.stratified,
             f.continuous,
-            f.centered_l2.map_or("-".into(), |v| format!("{v:.6}"))
+            match (
+                f.centered_l2,
+                f.estimate.as_ref().and_then(|e| e.centered_l2_error)
+            ) {
+                (None, _) => "-".into(),
+                (Some(v), None) => format!("{v:.6}"),
+                (Some(v), Some(e)) => format!(
+                    "{v:.6} ± {e:.1e} (estimated from {} random pairs)",
+                    f.estimate.as_ref().map_or(0, |e| e.pairs)
+                ),
+            }
         ));
     }
     if f.n > 1 {
         t.push_str(&format!(
-            "  minimum distance (unit scale; levels by rank, unordered levels 0/1): {:.6}\n",
-            f.min_distance
+            "  minimum distance (unit scale; levels by rank, unordered levels 0/1): {}\n",
+            if f.min_distance.is_nan() {
+                "not computed (above the exact size the grid of cells could not prove it; \
+                 --exact computes it over every pair)"
+                    .to_string()
+            } else {
+                format!("{:.6}", f.min_distance)
+            }
         ));
     } else {
         t.push_str("  minimum distance: none (a single point has no pair)\n");
@@ -162,7 +192,13 @@ fn mean_max(v: &[f64]) -> Option<(f64, f64)> {
 
 /// `stillpoint eval --var ... FILE` (or `--space`): each labelled file read back onto
 /// the unit scale and measured as a design.
-pub(crate) fn design_eval(files: &[PathBuf], json_out: bool, space: &DesignSpace) -> Result<()> {
+/// `sums` as [`emit_design`]'s (`eval --exact`).
+pub(crate) fn design_eval(
+    files: &[PathBuf],
+    json_out: bool,
+    space: &DesignSpace,
+    sums: Sums,
+) -> Result<()> {
     let mut all = Vec::new();
     for file in files {
         let source = file.display().to_string();
@@ -186,7 +222,7 @@ pub(crate) fn design_eval(files: &[PathBuf], json_out: bool, space: &DesignSpace
                 }
             }
         };
-        let figures = DesignFigures::of(&design);
+        let figures = DesignFigures::of_with(&design, sums);
         if json_out {
             all.push(json!({"file": file.display().to_string(), "figures": figures}));
         } else {

@@ -93,7 +93,8 @@ fn eval_command(c: Command) -> Result<()> {
     let measure = request.resolve_eval_as(&spell)?;
     match &measure {
         stillpoint::pipeline::evaluation::Measure::Design(design) => {
-            return design_eval(&files, json, design)
+            let sums = stillpoint::quality::metrics::Sums::asked(exact);
+            return design_eval(&files, json, design, sums);
         }
         stillpoint::pipeline::evaluation::Measure::Region { .. }
         | stillpoint::pipeline::evaluation::Measure::Constrained { .. } => {

@@ -82,7 +82,15 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
             goal_name(cfg).map_or("paper's pipeline".into(), |g| format!("goal {g}")),
             report.seconds
         );
-        emit_design(design, &meta, &run_line, a.output.as_ref(), a.json, staging)?;
+        emit_design(
+            design,
+            cfg.sums,
+            &meta,
+            &run_line,
+            a.output.as_ref(),
+            a.json,
+            staging,
+        )?;
         return plot();
     }
     let summary = match (a.json, cfg.region().is_some()) {
@@ -344,7 +352,16 @@ fn write_baseline(a: &GenerateArgs, resolved: &Resolved) -> Result<()> {
                 a.method.as_deref().unwrap_or("scrambled Sobol'")
             ),
         };
-        return emit_design(design, &meta, &run_line, a.output.as_ref(), false, staging);
+        let sums = stillpoint::quality::metrics::Sums::asked(a.exact);
+        return emit_design(
+            design,
+            sums,
+            &meta,
+            &run_line,
+            a.output.as_ref(),
+            false,
+            staging,
+        );
     }
     emit(
         &outcome.points,

@@ -58,6 +58,32 @@ fn a_design_is_written_with_names_and_labels_and_eval_reads_the_same_figures() {
 }
 
 #[test]
+fn eval_takes_exact_for_a_design_and_below_the_estimate_s_size_it_changes_nothing() {
+    let dir = TempDir::new("design-exact");
+    let out = dir.0.join("d.csv");
+    let o = bin()
+        .args(["generate", "-n", "40", "-q", "-o"])
+        .arg(&out)
+        .args(var_args())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let figures = |exact: bool| -> serde_json::Value {
+        let mut c = bin();
+        c.args(["eval", "--json"]).args(var_args()).arg(&out);
+        if exact {
+            c.arg("--exact");
+        }
+        let e = c.output().unwrap();
+        assert!(e.status.success(), "{}", String::from_utf8_lossy(&e.stderr));
+        serde_json::from_slice::<serde_json::Value>(&e.stdout).unwrap()["figures"].clone()
+    };
+    let (exact, auto) = (figures(true), figures(false));
+    assert_eq!(exact, auto);
+    assert!(exact.get("estimate").is_none(), "{exact}");
+}
+
+#[test]
 fn a_space_file_gives_the_bytes_of_the_same_vars() {
     let dir = TempDir::new("design-file");
     let space = dir.0.join("space.json");

@@ -260,7 +260,7 @@ impl Resolved {
             Job::Law { n, unbounded, .. } => generator_seconds(*n as f64, unbounded.len() as f64),
         };
         let design = match (&self.design, &self.job) {
-            (Some(_), Job::Run(cfg)) => design_figures_seconds(cfg.n, cfg.s),
+            (Some(space), Job::Run(cfg)) => design_figures_seconds(cfg, space),
             _ => 0.0,
         };
         on_threads(seconds + design, threads)
@@ -386,10 +386,33 @@ fn pair_seconds(s: f64) -> f64 {
     (PAIR.a + PAIR.b * s + PAIR.c * s * s).min(REPORT.at(s))
 }
 
-/// A design space's figures: two exact passes over the pairs at any n (92 s of processor
-/// time at 10⁵ points and 20 variables, where the rest of the run took about 1.5 s).
-fn design_figures_seconds(n: usize, s: usize) -> f64 {
-    n as f64 * n as f64 * pair_seconds(s as f64)
+/// A design space's figures under the report's rule ([`crate::quality::metrics::Sums`]):
+/// up to its size two exact passes over the pairs (92 s of processor time at 10⁵ points
+/// and 20 variables when they were exact at every n, where the rest of the run took
+/// about 1.5 s), above it the random pairs and the grid of cells; and each unordered
+/// factor's slices, one pass each (the centred L2 of the slice) by the same rule.
+fn design_figures_seconds(cfg: &GenerateConfig, space: &crate::design::DesignSpace) -> f64 {
+    let s = cfg.s as f64;
+    let passes = |m: usize, count: f64| {
+        if cfg.sums.estimates(m) {
+            cfg.sums.pairs as f64 * RANDOM_PAIR.at(s)
+        } else {
+            count * m as f64 * m as f64 / 2.0 * pair_seconds(s)
+        }
+    };
+    let slices: f64 = space
+        .vars
+        .iter()
+        .filter(|v| v.kind.is_categorical())
+        .filter_map(|v| v.kind.levels())
+        .map(|l| l as f64 * passes(cfg.n / l.max(1), 1.0))
+        .sum();
+    let cells = if cfg.sums.estimates(cfg.n) {
+        CELLS_POINT * cfg.n as f64
+    } else {
+        0.0
+    };
+    passes(cfg.n, 2.0) + cells + slices
 }
 
 /// The figures estimated above the threshold, per random pair: a + b·s (0.15 s of
@@ -716,6 +739,13 @@ mod tests {
             r.resolve().unwrap().estimate_seconds_on(1)
         };
         let none = |_: &mut Request| {};
+        // A design space of k variables of one law.
+        let space = |n: usize, k: usize, law: &str| {
+            cell(n, k, &|r| {
+                r.s = None;
+                r.space = Some(Arg::Texts((0..k).map(|i| format!("x{i}={law}")).collect()));
+            })
+        };
         for (what, t, measured) in [
             ("descent 200 × 50", cell(200, 50, &none), 2.60),
             ("descent 400 × 10", cell(400, 10, &none), 1.51),
@@ -757,6 +787,9 @@ mod tests {
                 cell(2048, 2, &|r| r.method = Some("paper".into())),
                 14.1,
             ),
+            // The design's figures by the report's rule: estimated above its size.
+            ("space 10^5 × 20", space(100_000, 20, "uniform(0,1)"), 3.31),
+            ("space 10^4 × 5", space(10_000, 5, "normal(0,1)"), 0.49),
             (
                 "space-filling 256 × 2",
                 cell(256, 2, &|r| r.goal = Some("space-filling".into())),

@@ -229,10 +229,38 @@ impl Sums {
         seed: 0,
     };
 
+    /// [`Sums::EXACT`] when the user asked for exact figures (`--exact`, `exact=True`),
+    /// [`Sums::AUTO`] otherwise.
+    pub fn asked(exact: bool) -> Sums {
+        if exact {
+            Sums::EXACT
+        } else {
+            Sums::AUTO
+        }
+    }
+
     /// Whether the pair sums of n points are estimated.
     pub fn estimates(&self, n: usize) -> bool {
         n > self.estimate_above
     }
+}
+
+/// The centred L2 discrepancy (root) of `points` under `sums`' rule, the one every report
+/// follows: exact up to [`Sums::estimate_above`] points (the same bits as [`centered_l2`]),
+/// estimated from [`Sums::pairs`] random pairs above, with the standard error of the
+/// root ([`Estimate::root_error`]) as the second value (`None` when exact).
+pub fn centered_l2_with(points: &PointSet, sums: Sums) -> (f64, Option<f64>) {
+    if !sums.estimates(points.n()) {
+        return (centered_l2(points), None);
+    }
+    let [_, _, centered, _, _] = sampled_squared_discrepancies(points, sums.pairs, sums.seed);
+    (
+        centered.value.max(0.0).sqrt(),
+        Some(Estimate::root_error(
+            centered.value,
+            centered.standard_error,
+        )),
+    )
 }
 
 /// What an estimate of [`Metrics`] rests on, and the standard error of each root.

@@ -32,17 +32,17 @@ impl Ctx<'_> {
         }
         let exact = self.p.exact.value()? == Some(true);
         let mixture = self.p.mixture.value()? == Some(true);
-        // The figures of a region or a design are exact at every size: `exact` would
-        // change nothing there.
-        let not_cube = mixture
+        // The figures of a region are exact at every size: `exact` would change nothing
+        // there. A design's pair figures follow the cube's rule, which `exact` lifts.
+        let in_region = mixture
             || self
-                .first_of(&[Opt::region, Opt::shape, Opt::constraints, Opt::space])
+                .first_of(&[Opt::region, Opt::shape, Opt::constraints])
                 .is_some();
-        if exact && not_cube {
+        if exact && in_region {
             return Err(self.bad(
                 Opt::exact,
-                &"given to measure points in a region or a design space",
-                "exact only for the unit cube's figures (a region's and a design's are \
+                &"given to measure points in a region",
+                "exact only for the unit cube's and a design's figures (a region's are \
                  computed whole)",
             ));
         }
