@@ -50,8 +50,10 @@ pub(crate) fn emit_design(
     }
     staging.commit()?;
     if json_out {
-        let mut v = json!({"run": run_line, "figures": figures});
-        design_header(&mut v, design);
+        let mut v = json!({"run": run_line, "space": design.space.texts(), "figures": figures});
+        if let Some(c) = design.space.correlation_text() {
+            v["correlation"] = json!(c);
+        }
         if output.is_none() {
             v["rows"] = Value::String(design.to_text(&Value::Null, ','));
         }
@@ -204,13 +206,4 @@ pub(crate) fn design_eval(files: &[PathBuf], json_out: bool, space: &DesignSpace
         outln!("{}", serde_json::to_string_pretty(&v)?);
     }
     Ok(())
-}
-
-/// Records a design's space and correlation (when it has one) in a header or a report
-/// under their options' names.
-pub(crate) fn design_header(v: &mut Value, design: &stillpoint::design::Design) {
-    record(v, [(Opt::space, json!(design.space.texts()))]);
-    if let Some(c) = design.space.correlation_text() {
-        record(v, [(Opt::correlation, json!(c))]);
-    }
 }

@@ -368,6 +368,15 @@ fn rule_header(meta: &mut Value, resolved: &Resolved) -> &'static str {
     phrase
 }
 
+/// Records a design's space and correlation (when it has one) in the file header under
+/// their options' names.
+fn design_header(meta: &mut Value, design: &stillpoint::design::Design) {
+    record(meta, [(Opt::space, json!(design.space.texts()))]);
+    if let Some(c) = design.space.correlation_text() {
+        record(meta, [(Opt::correlation, json!(c))]);
+    }
+}
+
 /// Says what is unusual (even with -q, which hides progress only), and how long a long
 /// run may take (not with -q), before it starts.
 fn notes_before(resolved: &Resolved, quiet: bool) {
