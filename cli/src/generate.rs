@@ -196,16 +196,9 @@ fn request_of(a: &GenerateArgs) -> Result<Request> {
         checkpoint: (a.checkpoint.is_some() || a.resume.is_some()).then_some(Arg::Bool(true)),
         space: space_of(a)?,
         correlation: text(&a.correlation),
-        // The options of the integration commands, which generate does not take.
-        abs_tol: None,
-        rel_tol: None,
-        level: None,
-        replicates: None,
-        max_n: None,
-        rule: None,
-        simultaneous: None,
-        first_estimator: None,
-        start: None,
+        // The integration commands' options, which generate does not take. A flag of
+        // generate left out here is caught by the walk (its bad value goes unrefused).
+        ..Request::default()
     })
 }
 
