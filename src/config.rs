@@ -284,16 +284,61 @@ pub fn points_fingerprint(points: &PointSet) -> String {
     )
 }
 
+/// The DEM's settings under their options' names (the fields' names are the keys).
+#[derive(serde::Serialize)]
+struct DemRecord {
+    steps: usize,
+    kappa: String,
+    restart: String,
+    tolerance: f64,
+    dt: f64,
+    #[serde(rename = "G")]
+    g: f64,
+}
+
 /// The DEM's settings under their parameter names.
 pub(crate) fn dem_json(dem: &Dem, steps: usize) -> Value {
-    json!({
-        "steps": steps,
-        "kappa": format!("{:?}", dem.kappa),
-        "restart": format!("{:?}", dem.restart),
-        "tolerance": dem.tolerance,
-        "dt": dem.dt,
-        "G": dem.g,
+    json!(DemRecord {
+        steps,
+        kappa: format!("{:?}", dem.kappa),
+        restart: format!("{:?}", dem.restart),
+        tolerance: dem.tolerance,
+        dt: dem.dt,
+        g: dem.g,
     })
+}
+
+/// What decides a run's output, each under its option's name: the fields' names are the
+/// keys of [`config_json`], so no name is written twice. The fields a paper run never had
+/// are left out when unset, so that its record is what it always was.
+#[derive(serde::Serialize)]
+struct ConfigRecord {
+    run: &'static str,
+    region: Value,
+    n: usize,
+    s: usize,
+    energy: String,
+    q: Option<String>,
+    p: Option<f64>,
+    precision: &'static str,
+    init: String,
+    seed: u64,
+    integrator: String,
+    log_every: usize,
+    shifts: usize,
+    polish: Option<String>,
+    lbfgs: String,
+    // The vector code path: the bytes of a run are the same for any thread count on one
+    // path, and may differ in the last bits between paths.
+    kernel: &'static str,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    goal: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    extend: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    nested: Option<Vec<usize>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    randomize: Option<String>,
 }
 
 /// Everything in a configuration that decides its output, under the parameters' names:
@@ -306,43 +351,33 @@ pub fn config_json(cfg: &GenerateConfig) -> Value {
             description,
         } => ("region", json!(format!("{domain:?}")), description.clone()),
     };
-    let mut v = json!({
-        "run": run,
-        "region": region,
-        "n": cfg.n,
-        "s": cfg.s,
-        "energy": format!("{:?}", cfg.energy),
-        "q": cfg.q.map(|q| format!("{q:?}")),
-        "p": cfg.p,
-        "precision": cfg.precision.label(),
-        "init": match &cfg.init {
+    let mut v = json!(ConfigRecord {
+        run,
+        region,
+        n: cfg.n,
+        s: cfg.s,
+        energy: format!("{:?}", cfg.energy),
+        q: cfg.q.map(|q| format!("{q:?}")),
+        p: cfg.p,
+        precision: cfg.precision.label(),
+        init: match &cfg.init {
             Init::Halton => "halton".to_string(),
             Init::Random => "random".to_string(),
             Init::Points(p) => format!("file: {}", points_fingerprint(p)),
         },
-        "seed": cfg.seed,
-        "integrator": format!("{:?}", cfg.solver),
-        "log_every": cfg.log_every,
-        "shifts": cfg.shifts,
-        "polish": cfg.polish.map(|k| format!("{k:?}")),
-        "lbfgs": format!("{:?}", cfg.lbfgs),
-        // The vector code path: the bytes of a run are the same for any thread count on
-        // one path, and may differ in the last bits between paths.
-        "kernel": crate::energies::pairs::vector_path(),
+        seed: cfg.seed,
+        integrator: format!("{:?}", cfg.solver),
+        log_every: cfg.log_every,
+        shifts: cfg.shifts,
+        polish: cfg.polish.map(|k| format!("{k:?}")),
+        lbfgs: format!("{:?}", cfg.lbfgs),
+        kernel: crate::energies::pairs::vector_path(),
+        // Only a goal run records its goal, so a paper run's record is what it always was.
+        goal: (cfg.goal != Goal::Paper).then(|| format!("{:?}", cfg.goal)),
+        extend: cfg.extend.as_ref().map(points_fingerprint),
+        nested: (!cfg.nested.is_empty()).then(|| cfg.nested.clone()),
+        randomize: cfg.randomize.map(|r| format!("{r:?}")),
     });
-    // Only a goal run records its goal, so a paper run's record is what it always was.
-    if let (Value::Object(map), false) = (&mut v, cfg.goal == Goal::Paper) {
-        map.insert("goal".into(), json!(format!("{:?}", cfg.goal)));
-    }
-    if let (Value::Object(map), Some(old)) = (&mut v, &cfg.extend) {
-        map.insert("extend".into(), json!(points_fingerprint(old)));
-    }
-    if let (Value::Object(map), false) = (&mut v, cfg.nested.is_empty()) {
-        map.insert("nested".into(), json!(cfg.nested));
-    }
-    if let (Value::Object(map), Some(r)) = (&mut v, cfg.randomize) {
-        map.insert("randomize".into(), json!(format!("{r:?}")));
-    }
     if let (Value::Object(map), Value::Object(dem)) = (&mut v, dem_json(&cfg.dem, cfg.steps)) {
         map.extend(dem);
     }

@@ -228,7 +228,7 @@ pub(crate) struct GenerateArgs {
     #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
     pub(crate) region: Option<String>,
     /// Bounding box of --region (or of a polytope): LO1,HI1,LO2,HI2,...
-    #[arg(long = "box", value_name = "LO1,HI1,...", allow_hyphen_values = true)]
+    #[arg(long = long(Opt::bbox), value_name = "LO1,HI1,...", allow_hyphen_values = true)]
     pub(crate) bbox: Option<String>,
     /// A built-in region: `ball:R[@C1,C2,..]`, `ellipsoid:A1,A2,..[@C1,..]`,
     /// `box:LO1,HI1,LO2,HI2,..`, `simplex` (dimension from -s), or `polytope:FILE`
@@ -238,7 +238,7 @@ pub(crate) struct GenerateArgs {
     /// A linear constraint, repeatable: e.g. "x1 + 2*x2 <= 1" (numbers, x1..xs, + - * /,
     /// parentheses; one of <=, >=, ≤, ≥, or a chain "0.2 <= x1 + x2 <= 0.8"). With --box,
     /// which gives s and bounds the set: the region {A x ≤ b} ∩ box.
-    #[arg(long = "constraint", value_name = "EXPR", allow_hyphen_values = true)]
+    #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
     pub(crate) constraint: Vec<String>,
     /// Mixtures: -s S components (S ≥ 2), each ≥ 0, summing to 1; --box LO1,HI1,... bounds
     /// each component and --constraint adds cuts in x1..xS. The run spreads the first S − 1
@@ -376,7 +376,7 @@ pub(crate) enum Command {
         #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
         region: Option<String>,
         /// The plotted box, and the bounding box of --region: LO1,HI1,LO2,HI2,...
-        #[arg(long = "box", value_name = "LO1,HI1,...", allow_hyphen_values = true)]
+        #[arg(long = long(Opt::bbox), value_name = "LO1,HI1,...", allow_hyphen_values = true)]
         bbox: Option<String>,
         /// Draw the boundary of a built-in region, as in generate.
         #[arg(long, value_name = "SHAPE", allow_hyphen_values = true)]
@@ -417,7 +417,7 @@ pub(crate) enum Command {
         #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
         region: Option<String>,
         /// The bounding box of --region (or of a polytope): LO1,HI1,LO2,HI2,...
-        #[arg(long = "box", value_name = "LO1,HI1,...", allow_hyphen_values = true)]
+        #[arg(long = long(Opt::bbox), value_name = "LO1,HI1,...", allow_hyphen_values = true)]
         bbox: Option<String>,
         /// Measure the points in a built-in region, as in generate.
         #[arg(long, value_name = "SHAPE", allow_hyphen_values = true)]
@@ -434,7 +434,7 @@ pub(crate) enum Command {
         correlation: Option<String>,
         /// Measure the points in {A x ≤ b} ∩ --box, as generate --constraint makes them
         /// (repeatable): energy distance to uniform on it, minimum distance, share inside.
-        #[arg(long = "constraint", value_name = "EXPR", allow_hyphen_values = true)]
+        #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
         constraint: Vec<String>,
         /// The points are mixtures (generate --mixture): components summing to 1, within
         /// the --box bounds and --constraint cuts; measured in the first S − 1 components.

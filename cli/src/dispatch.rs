@@ -70,10 +70,7 @@ fn eval_command(c: Command) -> Result<()> {
         bail!("eval: not this subcommand");
     };
     let text = |v: &Option<String>| v.as_deref().map(Arg::from);
-    let items = match &space {
-        Some(path) => Some(Arg::Texts(read_space(path)?)),
-        None => (!var.is_empty()).then(|| Arg::Texts(var.clone())),
-    };
+    let items = space_items(&var, space.as_deref())?;
     let request = Request {
         bounds: text(&bounds),
         exact: exact.then_some(Arg::Bool(true)),
@@ -86,10 +83,7 @@ fn eval_command(c: Command) -> Result<()> {
         mixture: mixture.then_some(Arg::Bool(true)),
         ..Request::default()
     };
-    let spell = |p: &str| match p {
-        "space" if space.is_some() => "--space".to_string(),
-        other => flag_name(other),
-    };
+    let spell = spelling(space.is_some());
     let measure = request.resolve_eval_as(&spell)?;
     match &measure {
         stillpoint::pipeline::evaluation::Measure::Design(design) => {
@@ -232,20 +226,21 @@ fn baseline_command(c: Command) -> Result<()> {
         );
     }
     let metrics = (n <= METRICS_LIMIT).then(|| Metrics::compute(&points));
-    let meta = json!({
+    let mut meta = json!({
         "generator": format!("stillpoint baseline {}", b.name()),
         "version": env!("CARGO_PKG_VERSION"),
-        "seed": if b.is_randomized() { Some(seed) } else { None },
         "parameters": {
             "baseline": b.name(),
             "label": b.label(),
             "n": n,
             "s": s,
             "randomized": b.is_randomized(),
-            "bounds": bounds,
         },
         "metrics": metrics.as_ref().map(metrics_json),
     });
+    // The seed and the box under their options' names.
+    meta[Opt::seed.name()] = json!(b.is_randomized().then_some(seed));
+    meta["parameters"][Opt::bounds.name()] = json!(bounds);
     // The metrics are the unit cube's; the points written are in the box.
     let points = match &scale {
         Some(b) => b.scale(&points)?,
@@ -315,21 +310,13 @@ fn integrate_command(c: Command) -> Result<()> {
     points
         .check_unit_cube()
         .with_context(|| format!("{}", file.display()))?;
-    let report = stillpoint::quality::integrands::integrate(&points)?;
-    let fns = stillpoint::quality::integrands::TestFunction::all();
     if json {
-        let rows: Vec<Value> = fns
-            .iter()
-            .zip(report.estimates)
-            .map(|(f, e)| {
-                json!({"function": f.name(), "formula": f.formula(),
-                       "estimate": e, "error": e.map(f64::abs)})
-            })
-            .collect();
-        let v = json!({"file": file, "n": points.n(), "s": points.s(),
-                       "exact": 0.0, "functions": rows});
+        let mut v = stillpoint::quality::integrands::report_json(&points)?;
+        v["file"] = json!(file);
         outln!("{}", serde_json::to_string_pretty(&v)?);
     } else {
+        let report = stillpoint::quality::integrands::integrate(&points)?;
+        let fns = stillpoint::quality::integrands::TestFunction::all();
         outln!(
             "{}: n = {}, s = {}; every exact integral is 0, so |estimate| is the error\n",
             file.display(),
@@ -438,7 +425,7 @@ fn plot_command(c: Command) -> Result<()> {
         &[("-o", Some(output.as_path()))],
         &[
             ("FILE", file.as_deref()),
-            ("--trajectory", trajectory.as_deref()),
+            (flag(Opt::trajectory), trajectory.as_deref()),
             ("--shape polytope", polytope),
         ],
     )?;

@@ -14,10 +14,7 @@ pub(crate) const METRICS_LIMIT: usize = 20_000;
 pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     check_outputs(&a)?;
     let request = request_of(&a)?;
-    let resolved = request.resolve_as(&|p| match p {
-        "space" if a.space.is_some() => "--space".to_string(),
-        other => flag_name(other),
-    })?;
+    let resolved = request.resolve_as(&spelling(a.space.is_some()))?;
     if let Some(space) = &resolved.design {
         check_design_output(space, a.output.as_ref())?;
     }
@@ -41,10 +38,17 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     progress.finish();
     let report = outcome.report.context("a run's report")?;
     // How the command line named the region: recorded in the file header.
-    let mut given = json!({"--region": a.region, "--box": a.bbox, "--shape": a.shape});
+    let mut given = json!({});
+    for (opt, value) in [
+        (Opt::region, json!(a.region)),
+        (Opt::bbox, json!(a.bbox)),
+        (Opt::shape, json!(a.shape)),
+    ] {
+        given[flag(opt)] = value;
+    }
     if !a.constraint.is_empty() || a.mixture {
-        given["--constraint"] = json!(a.constraint);
-        given["--mixture"] = json!(a.mixture);
+        given[flag(Opt::constraints)] = json!(a.constraint);
+        given[flag(Opt::mixture)] = json!(a.mixture);
     }
     let mut meta = file_header(&report, cfg, &given, &resolved)?;
     // The run's outputs appear together or not at all.
@@ -70,10 +74,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         )
     };
     if let Some(design) = &outcome.design {
-        meta["space"] = json!(design.space.texts());
-        if let Some(c) = design.space.correlation_text() {
-            meta["correlation"] = json!(c);
-        }
+        design_header(&mut meta, design);
         let run_line = format!(
             "{}: from {} points in [0, 1)^{} made by the {} in {:.2} s",
             rule_header(&mut meta, &resolved),
@@ -119,7 +120,7 @@ fn check_outputs(a: &GenerateArgs) -> Result<()> {
         check_picture_extension(out, "--plot")?;
     }
     if let Some(out) = &a.trajectory {
-        check_writable(out, "--trajectory")?;
+        check_writable(out, flag(Opt::trajectory))?;
     }
     let init_file = a
         .init
@@ -140,15 +141,15 @@ fn check_outputs(a: &GenerateArgs) -> Result<()> {
         &[
             ("-o", a.output.as_deref()),
             ("--plot", a.plot.as_deref()),
-            ("--trajectory", a.trajectory.as_deref()),
-            ("--checkpoint", a.checkpoint.as_deref()),
+            (flag(Opt::trajectory), a.trajectory.as_deref()),
+            (flag(Opt::checkpoint), a.checkpoint.as_deref()),
         ],
         &[
-            ("--init", init_file),
-            ("--extend", a.extend.as_deref()),
-            ("--resume", resume_file),
+            (flag(Opt::init), init_file),
+            (flag(Opt::extend), a.extend.as_deref()),
+            (other_flag(Opt::checkpoint), resume_file),
             ("--shape polytope", polytope),
-            ("--space", a.space.as_deref()),
+            (other_flag(Opt::space), a.space.as_deref()),
         ],
     )
 }
@@ -160,11 +161,13 @@ fn request_of(a: &GenerateArgs) -> Result<Request> {
         None => None,
         Some(w @ ("halton" | "random")) => Some(Arg::from(w)),
         Some(path) => Some(Arg::Points(
-            io::read_points(std::path::Path::new(path)).context("--init")?,
+            io::read_points(std::path::Path::new(path)).context(flag(Opt::init))?,
         )),
     };
     let extend = match &a.extend {
-        Some(path) => Some(Arg::Points(io::read_points(path).context("--extend")?)),
+        Some(path) => Some(Arg::Points(
+            io::read_points(path).context(flag(Opt::extend))?,
+        )),
         None => None,
     };
     Ok(Request {
@@ -201,16 +204,9 @@ fn request_of(a: &GenerateArgs) -> Result<Request> {
         checkpoint: (a.checkpoint.is_some() || a.resume.is_some()).then_some(Arg::Bool(true)),
         space: space_of(a)?,
         correlation: text(&a.correlation),
-        // The options of the integration commands, which generate does not take.
-        abs_tol: None,
-        rel_tol: None,
-        level: None,
-        replicates: None,
-        max_n: None,
-        rule: None,
-        simultaneous: None,
-        first_estimator: None,
-        start: None,
+        // The integration commands' options, which generate does not take. A flag of
+        // generate left out here is caught by the walk (its bad value goes unrefused).
+        ..Request::default()
     })
 }
 
@@ -326,7 +322,7 @@ fn write_baseline(a: &GenerateArgs, resolved: &Resolved) -> Result<()> {
     for (flag, given) in [
         ("--plot", a.plot.is_some()),
         ("--json", a.json),
-        ("--resume", a.resume.is_some()),
+        (other_flag(Opt::checkpoint), a.resume.is_some()),
     ] {
         if given {
             bail!("invalid {flag} with --method {}: a baseline writes its points only (see `stillpoint baseline`)", a.method.as_deref().unwrap_or_default());
@@ -334,16 +330,18 @@ fn write_baseline(a: &GenerateArgs, resolved: &Resolved) -> Result<()> {
     }
     notes_before(resolved, a.quiet);
     let outcome = resolved.run(None, |_| {})?;
-    let mut meta = json!({"generator": "stillpoint", "method": a.method, "seed": a.seed});
+    // The header records the options under their names.
+    let mut meta = json!({"generator": "stillpoint"});
+    record(
+        &mut meta,
+        [(Opt::method, json!(a.method)), (Opt::seed, json!(a.seed))],
+    );
     if let Some(b) = &resolved.bounds {
-        meta["bounds"] = json!(b.text());
+        record(&mut meta, [(Opt::bounds, json!(b.text()))]);
     }
     let staging = io::Staging::begin();
     if let Some(design) = &outcome.design {
-        meta["space"] = json!(design.space.texts());
-        if let Some(c) = design.space.correlation_text() {
-            meta["correlation"] = json!(c);
-        }
+        design_header(&mut meta, design);
         let rule = rule_header(&mut meta, resolved);
         let run_line = match &resolved.job {
             Job::Law { n, seed, .. } => format!("{rule}: {n} points from seed {seed}"),
@@ -376,8 +374,17 @@ fn write_baseline(a: &GenerateArgs, resolved: &Resolved) -> Result<()> {
 /// in the file header, and gives its phrase for the report's run line.
 fn rule_header(meta: &mut Value, resolved: &Resolved) -> &'static str {
     let phrase = resolved.rule.map_or("", |r| r.phrase());
-    meta["rule"] = json!(phrase);
+    record(meta, [(Opt::rule, json!(phrase))]);
     phrase
+}
+
+/// Records a design's space and correlation (when it has one) in the file header under
+/// their options' names.
+fn design_header(meta: &mut Value, design: &stillpoint::design::Design) {
+    record(meta, [(Opt::space, json!(design.space.texts()))]);
+    if let Some(c) = design.space.correlation_text() {
+        record(meta, [(Opt::correlation, json!(c))]);
+    }
 }
 
 /// Says what is unusual (even with -q, which hides progress only), and how long a long
@@ -434,7 +441,7 @@ pub(crate) fn checkpoint_plan(
     let Some(path) = checkpoint.or_else(|| resume_path.clone()) else {
         return Ok(None);
     };
-    check_writable(&path, "--checkpoint")?;
+    check_writable(&path, flag(Opt::checkpoint))?;
     // Only a checkpoint is replaced: any other file there (a point set, a report) is
     // someone's result, not this run's state.
     if resume_path.is_none() && path.exists() && read_checkpoint(&path).is_err() {

@@ -61,7 +61,8 @@ pub(crate) fn declared_help(cmd: clap::Command) -> clap::Command {
 /// declaration's doc line in the command the option is declared for first (another
 /// command may give it another use, as `integrate --bounds` integrates over the box
 /// that `generate --bounds` scales to: there it is the line written beside the flag);
-/// the long help is the prose written beside the flag. Both end with the declared
+/// the long help is the prose written beside the flag. A command the declaration gives a
+/// line of its own ([`Declared::doc_in`]) shows that line in both. Both end with the declared
 /// default and what the option accepts: its words as clap's possible values, or the
 /// declaration's own words for a range ([`accepted`]).
 fn described(a: clap::Arg, d: &Declared, command: Option<Command>) -> clap::Arg {
@@ -74,11 +75,18 @@ fn described(a: clap::Arg, d: &Declared, command: Option<Command>) -> clap::Arg 
     let values = accepted(d)
         .filter(|_| takes_value)
         .map_or_else(String::new, |t| format!(" [values: {t}]"));
-    let prose = a
-        .get_long_help()
-        .or(a.get_help())
-        .map_or_else(|| d.doc.to_string(), |h| without_default(&h.to_string()));
+    // A flag shared by several commands (one clap field flattened into each) says
+    // there what the declaration gives the command as its own line.
+    let own = command.and_then(|c| d.doc_in(c));
+    let prose = match own {
+        Some(line) => line.to_string(),
+        None => a
+            .get_long_help()
+            .or(a.get_help())
+            .map_or_else(|| d.doc.to_string(), |h| without_default(&h.to_string())),
+    };
     let short = match command {
+        _ if own.is_some() => prose.clone(),
         Some(c) if d.commands.first() != Some(&c) => prose.clone(),
         _ => d.doc.to_string(),
     };
@@ -334,8 +342,13 @@ mod tests {
     fn short_help_is_the_declarations_doc_in_its_first_command() {
         for (sub, flag, a, d) in declared_flags() {
             let help = a.get_help().map(|h| h.to_string()).unwrap_or_default();
-            if command_of(&sub) == d.commands.first().copied() {
-                assert!(help.starts_with(d.doc), "{sub} {flag}: {help}");
+            let command = command_of(&sub);
+            match command.and_then(|c| d.doc_in(c)) {
+                Some(own) => assert!(help.starts_with(own), "{sub} {flag}: {help}"),
+                None if command == d.commands.first().copied() => {
+                    assert!(help.starts_with(d.doc), "{sub} {flag}: {help}")
+                }
+                None => {}
             }
             assert!(
                 a.get_long_help().is_some(),

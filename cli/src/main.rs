@@ -49,6 +49,7 @@ use {
     stillpoint::config::{points_fingerprint, GenerateConfig, Init, Space},
     stillpoint::energies::discrepancy::DiscrepancyKind,
     stillpoint::energies::Domain,
+    stillpoint::pipeline::options::Opt,
     stillpoint::pipeline::request::{Arg, Job, Resolved},
     stillpoint::quality::metrics::Metrics,
     stillpoint::report::GenerateReport,

@@ -283,7 +283,8 @@ pub(crate) fn check_distinct(
         let Some(path) = path else { continue };
         let p = resolved(path);
         for (o, po) in &outs {
-            let resumed_checkpoint = *input == "--resume" && *o == "--checkpoint";
+            let resumed_checkpoint =
+                *input == other_flag(Opt::checkpoint) && *o == flag(Opt::checkpoint);
             if *po == p && !resumed_checkpoint {
                 bail!(
                     "invalid {o} {}: it is also the {input} file, which the run reads; \

@@ -85,13 +85,26 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
     let reason = r.reason.map_or("running", StopReason::as_str);
     if json {
         let mut v = json!({"expr": text, "s": s, "estimate": r.estimate[0],
-                       "half_width": r.half_width[0], "n": r.n, "replicates": r.replicates,
-                       "level": options.level, "rel_tol": options.rel_tol,
-                       "abs_tol": options.abs_tol, "met": r.met, "reason": reason,
-                       "rule": r.rule.as_str(), "rule_reason": r.rule_reason});
+                       "half_width": r.half_width[0], "n": r.n, "met": r.met,
+                       "reason": reason, "rule_reason": r.rule_reason});
+        record(
+            &mut v,
+            [
+                (Opt::replicates, json!(r.replicates)),
+                (Opt::level, json!(options.level)),
+                (Opt::rel_tol, json!(options.rel_tol)),
+                (Opt::abs_tol, json!(options.abs_tol)),
+                (Opt::rule, json!(r.rule.as_str())),
+            ],
+        );
         if let Some(space) = &space {
-            v["space"] = json!(space.texts());
-            v["correlation"] = json!(space.correlation_text());
+            record(
+                &mut v,
+                [
+                    (Opt::space, json!(space.texts())),
+                    (Opt::correlation, json!(space.correlation_text())),
+                ],
+            );
         }
         outln!("{}", serde_json::to_string_pretty(&v)?);
     } else {
@@ -170,9 +183,10 @@ pub(crate) fn files_command(files: &[PathBuf], q: QuadArgs, json: bool) -> Resul
             .iter()
             .map(|(f, n, mean)| json!({"file": f, "n": n, "mean": mean}))
             .collect();
-        let v = json!({"expr": text, "s": s, "estimate": m.mean,
+        let mut v = json!({"expr": text, "s": s, "estimate": m.mean,
                        "standard_error": m.standard_error, "half_width": m.half_width,
-                       "level": level, "n": total, "files": per});
+                       "n": total, "files": per});
+        record(&mut v, [(Opt::level, json!(level))]);
         outln!("{}", serde_json::to_string_pretty(&v)?);
         return Ok(());
     }

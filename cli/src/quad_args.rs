@@ -1,5 +1,6 @@
 //! The options of `stillpoint integrate --expr`: integration to a tolerance.
 
+use crate::values::{flag, other_flag};
 use stillpoint::pipeline::options::{cli_name, Opt};
 use stillpoint::pipeline::request::Arg;
 use stillpoint::Request;
@@ -29,21 +30,8 @@ pub(crate) struct QuadArgs {
     /// Relative tolerance: stop when the half-width ≤ max(--abs-tol, T·|estimate|).
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub(crate) rel_tol: Option<String>,
-    /// Absolute tolerance.
-    #[arg(long, value_name = "A", allow_hyphen_values = true)]
-    pub(crate) abs_tol: Option<String>,
-    /// Confidence level of the interval.
-    #[arg(long, value_name = "P", allow_hyphen_values = true)]
-    pub(crate) level: Option<String>,
-    /// Independent random shifts (the interval comes from their spread).
-    #[arg(long, value_name = "R", allow_hyphen_values = true)]
-    pub(crate) replicates: Option<String>,
-    /// The most evaluations, all replicates together.
-    #[arg(long, value_name = "M", allow_hyphen_values = true)]
-    pub(crate) max_n: Option<String>,
-    /// Seed of the shifts.
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
-    pub(crate) seed: Option<String>,
+    #[command(flatten)]
+    pub(crate) tolerance: ToleranceArgs,
     /// Integrate over this box instead of the unit cube: LO1,HI1,... (the volume is
     /// included).
     #[arg(long, value_name = "LO1,HI1,...", allow_hyphen_values = true)]
@@ -92,19 +80,17 @@ impl QuadArgs {
         [
             ("-s", self.s.is_some()),
             (flag(Opt::rel_tol), self.rel_tol.is_some()),
-            (flag(Opt::abs_tol), self.abs_tol.is_some()),
-            (flag(Opt::level), self.level.is_some()),
-            (flag(Opt::replicates), self.replicates.is_some()),
-            (flag(Opt::max_n), self.max_n.is_some()),
-            (flag(Opt::seed), self.seed.is_some()),
+        ]
+        .into_iter()
+        .chain(self.tolerance.given())
+        .chain([
             (flag(Opt::bounds), self.bounds.is_some()),
             (flag(Opt::space), !self.var.is_empty()),
-            (space_file(), self.space.is_some()),
+            (other_flag(Opt::space), self.space.is_some()),
             (flag(Opt::correlation), self.correlation.is_some()),
             ("-q (--quiet)", self.quiet),
             ("--progress", self.progress.is_some()),
-        ]
-        .into_iter()
+        ])
         .filter(|(_, given)| *given)
         .map(|(flag, _)| flag)
     }
@@ -113,25 +99,20 @@ impl QuadArgs {
     /// text typed, which the library parses, checks and echoes; `--var`/`--space` as the
     /// space's variables.
     pub(crate) fn options(&self) -> anyhow::Result<Request> {
-        Ok(Request {
+        Ok(self.tolerance.onto(Request {
             s: self.s.map(|s| Arg::Int(s as i128)),
             bounds: self.bounds.as_deref().map(Arg::from),
-            abs_tol: typed_arg(&self.abs_tol),
             rel_tol: typed_arg(&self.rel_tol),
-            level: typed_arg(&self.level),
-            replicates: typed_arg(&self.replicates),
-            max_n: typed_arg(&self.max_n),
-            seed: typed_arg(&self.seed),
             space: space_items(&self.var, self.space.as_deref())?,
             correlation: self.correlation.as_deref().map(Arg::from),
             ..Request::default()
-        })
+        }))
     }
 
     /// The flag `--var` or `--space` that gives the space, for refusals.
     pub(crate) fn space_flag(&self) -> &'static str {
         match (&self.space, self.var.is_empty()) {
-            (Some(_), _) => space_file(),
+            (Some(_), _) => other_flag(Opt::space),
             (None, false) => flag(Opt::space),
             (None, true) => "--var or --space",
         }
@@ -139,7 +120,7 @@ impl QuadArgs {
 
     /// `--level` read by its declaration (the integration's default when not given).
     pub(crate) fn level(&self) -> anyhow::Result<f64> {
-        let Some(text) = self.level.as_deref() else {
+        let Some(text) = self.tolerance.level.as_deref() else {
             return Ok(stillpoint::cubature::QuadOptions::default().level);
         };
         match Opt::level.declared().parse(&Arg::from(text), &cli_name)? {
@@ -149,19 +130,53 @@ impl QuadArgs {
     }
 }
 
-/// The command line's flag of `opt` (every option these commands walk has one).
-fn flag(opt: Opt) -> &'static str {
-    opt.declared().flag().unwrap_or_default()
+/// The options of every integration to a tolerance (`integrate --expr`, `sensitivity`),
+/// one clap field each, flattened into both commands: the same flags, read the same way.
+/// Their short help, default and accepted values are written from the declarations
+/// ([`crate::help`]), which also give a command its own line where the option means
+/// more there (the intervals of `sensitivity`).
+#[derive(clap::Args, Debug, Clone)]
+pub(crate) struct ToleranceArgs {
+    /// Absolute tolerance on the half-width.
+    #[arg(long, value_name = "A", allow_hyphen_values = true)]
+    pub(crate) abs_tol: Option<String>,
+    /// Confidence level of the interval.
+    #[arg(long, value_name = "P", allow_hyphen_values = true)]
+    pub(crate) level: Option<String>,
+    /// Independent random shifts (the interval comes from their spread).
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
+    pub(crate) replicates: Option<String>,
+    /// The most evaluations, all replicates together.
+    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    pub(crate) max_n: Option<String>,
+    /// Seed of the shifts.
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub(crate) seed: Option<String>,
 }
 
-/// The flag that reads the space's variables from a file (`--space`).
-fn space_file() -> &'static str {
-    Opt::space
-        .declared()
-        .cli_also
-        .first()
-        .copied()
-        .unwrap_or_default()
+impl ToleranceArgs {
+    /// Each flag and whether it was given, in the order of the help.
+    fn given(&self) -> [(&'static str, bool); 5] {
+        [
+            (flag(Opt::abs_tol), self.abs_tol.is_some()),
+            (flag(Opt::level), self.level.is_some()),
+            (flag(Opt::replicates), self.replicates.is_some()),
+            (flag(Opt::max_n), self.max_n.is_some()),
+            (flag(Opt::seed), self.seed.is_some()),
+        ]
+    }
+
+    /// `r` with these options as typed, for the library to parse by their declarations.
+    pub(crate) fn onto(&self, r: Request) -> Request {
+        Request {
+            abs_tol: typed_arg(&self.abs_tol),
+            level: typed_arg(&self.level),
+            replicates: typed_arg(&self.replicates),
+            max_n: typed_arg(&self.max_n),
+            seed: typed_arg(&self.seed),
+            ..r
+        }
+    }
 }
 
 /// A value as typed, for the library to parse by its declaration.

@@ -6,14 +6,14 @@ use stillpoint::plan::space::{self, Bounds};
 
 /// `--box LO1,HI1,LO2,HI2,...` as (lo, hi).
 pub(crate) fn parse_box(text: &str) -> Result<(Vec<f64>, Vec<f64>)> {
-    let v = space::number_list("--box", text, text)?;
-    Ok(space::intervals("--box", text, &v)?)
+    let v = space::number_list(flag(Opt::bbox), text, text)?;
+    Ok(space::intervals(flag(Opt::bbox), text, &v)?)
 }
 
 /// `--bounds LO1,HI1,...` for `s` coordinates.
 pub(crate) fn parse_bounds(text: &str, s: usize) -> Result<Bounds> {
-    let v = space::number_list("--bounds", text, text)?;
-    Ok(Bounds::new("--bounds", text, &v, s)?)
+    let v = space::number_list(flag(Opt::bounds), text, text)?;
+    Ok(Bounds::new(flag(Opt::bounds), text, &v, s)?)
 }
 
 /// The domain of `--region EXPR --box ..` or `--shape SPEC`.
@@ -24,7 +24,7 @@ pub(crate) fn region_domain(
     s: Option<usize>,
 ) -> Result<Arc<dyn Domain>> {
     let bbox = match bbox {
-        Some(text) => Some(space::number_list("--box", text, text)?),
+        Some(text) => Some(space::number_list(flag(Opt::bbox), text, text)?),
         None => None,
     };
     let spec = space::RegionSpec {

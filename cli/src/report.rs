@@ -9,6 +9,9 @@ use stillpoint::post::shift::ShiftOutcome;
 use stillpoint::quality::region::RegionMetrics;
 use stillpoint::report::Stage;
 
+/// The key under which the DEM reports the κ it ran with (its own choice under `auto`).
+const KAPPA: &str = "kappa";
+
 pub(crate) fn metrics_json(m: &Metrics) -> Value {
     serde_json::to_value(m).unwrap_or(Value::Null)
 }
@@ -142,7 +145,7 @@ pub(crate) fn report_json(r: &GenerateReport, cfg: &GenerateConfig) -> Result<Va
         seed: cfg.seed,
         steps: last_step(solver),
         stop: solver.stop,
-        kappa: solver.info("kappa"),
+        kappa: solver.info(KAPPA),
         restarts: solver.info("restarts"),
         eq48: Eq48 {
             used: choice.from_eq48,
@@ -402,7 +405,7 @@ pub(crate) fn file_header(
     let solver_facts = goal.is_none().then(|| SolverFacts {
         steps: solver.map(last_step),
         stop: solver.map(|o| o.stop),
-        kappa: info("kappa"),
+        kappa: info(KAPPA),
         restarts: place.is_none().then(|| info("restarts")),
     });
     let components = resolved.mixture.as_ref().map(|m| m.components());
@@ -440,7 +443,7 @@ fn solver_line(output: &stillpoint::integrators::RunOutput) -> String {
     let r = output;
     let steps = r.trajectory.iter().map(|x| x.step).max().unwrap_or(0);
     let restarts = r.info("restarts").unwrap_or(0.0);
-    match r.info("kappa") {
+    match r.info(KAPPA) {
         Some(kappa) => format!(
             "DEM: {steps} steps ({:?}), κ = {kappa} after {} trial(s){}, {restarts} restart(s)",
             r.stop,
@@ -552,14 +555,18 @@ pub(crate) fn report_table(
     Ok(t)
 }
 
+/// The header of a table of figures at the start, the result and their change.
+fn change_header() -> String {
+    format!(
+        "  {:<36} {:>14} {:>14} {:>9}\n",
+        "", "start", "result", "change"
+    )
+}
+
 /// The start/result table of a run: its energy or target, the discrepancies, minimum
 /// distances and mean gap, each with its change.
 fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Metrics) -> String {
-    let mut t = String::new();
-    t += &format!(
-        "  {:<36} {:>14} {:>14} {:>9}\n",
-        "", "start", "result", "change"
-    );
+    let mut t = change_header();
     let pipeline = Pipeline::of(cfg);
     let energy_label = pipeline.value_label(&r.energy_name);
     // A construction with no start of its own (the lattice) has one set: its figures are
@@ -920,7 +927,7 @@ pub(crate) fn region_json(
         seed: cfg.seed,
         steps: last_step(&r.output),
         stop: r.output.stop,
-        kappa: r.output.info("kappa"),
+        kappa: r.output.info(KAPPA),
         energy_e_inf_g_reduction: r.reduction()?,
         run: facts(r),
         metrics_start: m0,
@@ -949,7 +956,7 @@ fn run_coordinates(components: usize) -> String {
 
 /// A region of linear constraints (a mixture's among them) as the user gave it.
 fn constrained_name(description: &Value) -> Option<String> {
-    let texts: Vec<&str> = description["constraints"]
+    let texts: Vec<&str> = description[Opt::constraints.name()]
         .as_array()?
         .iter()
         .filter_map(|v| v.as_str())
@@ -959,8 +966,8 @@ fn constrained_name(description: &Value) -> Option<String> {
     } else {
         format!(" with {}", texts.join(", "))
     };
-    let b = description["box"].as_str();
-    Some(match description["mixture"].as_u64() {
+    let b = description[Opt::bbox.name()].as_str();
+    Some(match description[Opt::mixture.name()].as_u64() {
         Some(k) => format!(
             "mixtures of {k} components (each ≥ 0, sum 1{}){cuts}; run in {}, x{k} = 1 − \
              their sum",
@@ -986,8 +993,8 @@ pub(crate) fn region_name(cfg: &GenerateConfig) -> String {
     }
     match (
         description["expression"].as_str(),
-        description["box"].as_str(),
-        description["shape"].as_str(),
+        description[Opt::bbox.name()].as_str(),
+        description[Opt::shape.name()].as_str(),
     ) {
         (Some(e), Some(b), _) => format!("{{x : {e} ≤ 0}} within the box {b}"),
         (Some(e), None, _) => format!("{{x : {e} ≤ 0}}"),
@@ -1007,7 +1014,7 @@ pub(crate) fn region_table(
     let solver = r.solver().map(solver_line).unwrap_or_default();
     // A mixture's written points have one component more than the run's.
     let shown_s = match &cfg.space {
-        Space::Region { description, .. } => description["mixture"]
+        Space::Region { description, .. } => description[Opt::mixture.name()]
             .as_u64()
             .map_or(cfg.s, |k| k as usize),
         _ => cfg.s,
@@ -1047,10 +1054,7 @@ fn region_rows(
     out: Option<&PathBuf>,
     integration: bool,
 ) -> String {
-    let mut t = format!(
-        "  {:<36} {:>14} {:>14} {:>9}\n",
-        "", "start", "result", "change"
-    );
+    let mut t = change_header();
     let cell = |v: f64| {
         if v.is_finite() && v != 0.0 && !(1e-3..1e7).contains(&v.abs()) {
             // A region of radius 1e-90 has distances that six decimals show as 0, and

@@ -27,27 +27,14 @@ pub(crate) struct SensitivityArgs {
     /// The inputs' box instead of the unit cube: LO1,HI1,... (with -s).
     #[arg(long, value_name = "LO1,HI1,...", allow_hyphen_values = true)]
     pub(crate) bounds: Option<String>,
-    /// The half-width every index must reach.
-    #[arg(long, value_name = "T", allow_hyphen_values = true)]
-    pub(crate) abs_tol: Option<String>,
-    /// Confidence level of the intervals.
-    #[arg(long, value_name = "P", allow_hyphen_values = true)]
-    pub(crate) level: Option<String>,
+    #[command(flatten)]
+    pub(crate) tolerance: ToleranceArgs,
     /// The intervals hold all together at --level (Bonferroni), not each on its own.
     #[arg(long)]
     pub(crate) simultaneous: bool,
     /// The first-order estimator: saltelli or janon.
     #[arg(long, value_name = "NAME")]
     pub(crate) first_estimator: Option<String>,
-    /// Independent random shifts (the intervals come from their spread).
-    #[arg(long, value_name = "R", allow_hyphen_values = true)]
-    pub(crate) replicates: Option<String>,
-    /// The most evaluations, all rounds.
-    #[arg(long, value_name = "M", allow_hyphen_values = true)]
-    pub(crate) max_n: Option<String>,
-    /// Seed of the shifts.
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
-    pub(crate) seed: Option<String>,
     /// Print one JSON object.
     #[arg(long)]
     pub(crate) json: bool,
@@ -66,19 +53,14 @@ pub(crate) struct SensitivityArgs {
 impl SensitivityArgs {
     /// The options given as the library resolves them ([`Request`]), each value as typed.
     fn given(&self) -> Result<Request> {
-        Ok(Request {
+        Ok(self.tolerance.onto(Request {
             s: self.s.map(|s| Arg::Int(s as i128)),
             bounds: self.bounds.as_deref().map(Arg::from),
-            abs_tol: typed_arg(&self.abs_tol),
-            level: typed_arg(&self.level),
             simultaneous: self.simultaneous.then_some(Arg::Bool(true)),
             first_estimator: self.first_estimator.as_deref().map(Arg::from),
-            replicates: typed_arg(&self.replicates),
-            max_n: typed_arg(&self.max_n),
-            seed: typed_arg(&self.seed),
             space: space_items(&self.var, None)?,
             ..Request::default()
-        })
+        }))
     }
 }
 
@@ -158,13 +140,20 @@ pub(crate) fn sensitivity_command(q: SensitivityArgs) -> Result<()> {
             .with_context(|| format!("--plot {}", path.display()))?;
     }
     if q.json {
-        let v = json!({"expr": text, "names": r.names, "first": r.first, "total": r.total,
+        let mut v = json!({"expr": text, "names": r.names, "first": r.first, "total": r.total,
                        "first_half_width": r.first_half_width,
                        "total_half_width": r.total_half_width, "n": r.n,
-                       "replicates": options.replicates, "level": options.level,
-                       "simultaneous": options.simultaneous, "abs_tol": options.abs_tol,
-                       "first_estimator": options.first_order.as_str(),
                        "met": r.met, "reason": reason});
+        record(
+            &mut v,
+            [
+                (Opt::replicates, json!(options.replicates)),
+                (Opt::level, json!(options.level)),
+                (Opt::simultaneous, json!(options.simultaneous)),
+                (Opt::abs_tol, json!(options.abs_tol)),
+                (Opt::first_estimator, json!(options.first_order.as_str())),
+            ],
+        );
         outln!("{}", serde_json::to_string_pretty(&v)?);
     } else {
         let width = r

@@ -5,6 +5,7 @@
 
 use crate::config::{EnergyKind, GenerateConfig, Goal};
 use crate::design::balance::Finish;
+use crate::pipeline::options::Opt;
 use crate::quality::target::Target;
 use crate::report::GenerateReport;
 use crate::solve::checkpoint::CheckpointPlan;
@@ -206,8 +207,8 @@ impl<'a> Pipeline<'a> {
                 format!(", up to {} steps", cfg.steps),
                 format!(
                     "{} K or a smaller {} make it cheaper",
-                    spell("steps"),
-                    spell("n")
+                    spell(Opt::steps.name()),
+                    spell(Opt::n.name())
                 ),
             ),
             Pipeline::Descent(_)
@@ -257,7 +258,7 @@ fn paper_notes(cfg: &GenerateConfig, spell: &dyn Fn(&str) -> String) -> Vec<Stri
         notes.push(format!(
             "the DEM is unstable on a discrepancy energy and returns its lowest early state; \
              {} lbfgs is the solver for discrepancy energies",
-            spell("integrator")
+            spell(Opt::integrator.name())
         ));
     }
     let fit = crate::energies::paper_qp(cfg.n, cfg.s);

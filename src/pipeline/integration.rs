@@ -6,6 +6,8 @@
 //! as the front end spells it and echoes the value as the user typed it ([`Spelling`]).
 //! The command line and Python only collect what was given; Python's continuation
 //! (`start=`) is resolved here too ([`Cubature::continued`], [`Sensitivity::continued`]).
+//! Both commands are resolved by one shape, written once over what differs between
+//! them (the private trait `Integration`): a new request and a continuation.
 
 use super::options::{Command, Opt, Value, ALL};
 use super::request::{Arg, Request};
@@ -119,6 +121,13 @@ fn count(r: &Request, opt: Opt) -> Result<Option<u64>, Error> {
 fn word(r: &Request, opt: Opt) -> Result<Option<String>, Error> {
     read(r, opt, |v| match v {
         Value::Word(w) => Some(w),
+        _ => None,
+    })
+}
+
+fn flag(r: &Request, opt: Opt) -> Result<Option<bool>, Error> {
+    read(r, opt, |v| match v {
+        Value::Flag(b) => Some(b),
         _ => None,
     })
 }
@@ -265,6 +274,147 @@ fn corners(
     Ok((Some(bounds.lo), Some(bounds.hi)))
 }
 
+/// The options every integration command takes beyond its box and space, each read by
+/// its declaration (`None`: not given, the command's default).
+struct Shared {
+    abs_tol: Option<f64>,
+    level: Option<f64>,
+    replicates: Option<usize>,
+    max_n: Option<u64>,
+    seed: Option<u64>,
+}
+
+impl Shared {
+    fn read(r: &Request) -> Result<Shared, Error> {
+        Ok(Shared {
+            abs_tol: real(r, Opt::abs_tol)?,
+            level: real(r, Opt::level)?,
+            replicates: count(r, Opt::replicates)?.map(|n| n as usize),
+            max_n: count(r, Opt::max_n)?,
+            seed: count(r, Opt::seed)?,
+        })
+    }
+}
+
+/// Where an integration runs: its dimension and its box (`None`: the unit cube).
+struct Region {
+    d: usize,
+    a: Option<Vec<f64>>,
+    b: Option<Vec<f64>>,
+}
+
+/// What differs between the integration commands' states ([`Cubature`],
+/// [`Sensitivity`]): the resolution of a request ([`from_request`]) and of a
+/// continuation ([`continued`]) are written once over it.
+trait Integration: Clone {
+    /// The command whose options it takes.
+    const COMMAND: Command;
+    /// The computation's noun in a continuation's refusals.
+    const NOUN: &'static str;
+    /// How a continuation's refusal of another dimension says the earlier one's: its
+    /// verb and noun (`was computed in 2 dimensions`, `has 2 inputs`).
+    const DIMENSION: (&'static str, &'static str);
+    /// Whether the dimension may be read off a corner given as a list.
+    const INFER_D: bool;
+    /// What a continuation takes from the earlier run and refuses.
+    const FIXED: &'static [Opt];
+
+    /// Refusals said before any other.
+    fn first(_r: &Request) -> Result<(), Error> {
+        Ok(())
+    }
+    /// The space's own check, before the dimension is read.
+    fn check_space(_space: &DesignSpace) -> Result<(), Error> {
+        Ok(())
+    }
+    /// The dimension's own check, before the box is read.
+    fn check_d(d: usize) -> Result<(), Error>;
+    /// The state from its region, its space and the options given.
+    fn build(
+        region: Region,
+        space: Option<&DesignSpace>,
+        r: &Request,
+        sp: &Spelling,
+    ) -> Result<Self, Error>;
+
+    fn d(&self) -> usize;
+    fn seed(&self) -> u64;
+    fn replicates(&self) -> usize;
+    /// How a continuation's refusal names the earlier replicates.
+    fn earlier_replicates(&self) -> String;
+    /// The word a continuation keeps (the rule, the estimator): its option, the earlier
+    /// word and how a refusal names it.
+    fn kept_word(&self) -> (Opt, &'static str, String);
+    /// The tolerances given to a continuation, honoured.
+    fn set_tolerances(&mut self, r: &Request) -> Result<(), Error>;
+    fn set_level(&mut self, level: f64) -> Result<(), Error>;
+    fn set_max_n(&mut self, max_n: u64) -> Result<(), Error>;
+    /// What else a continuation honours.
+    fn set_more(&mut self, _r: &Request) -> Result<(), Error> {
+        Ok(())
+    }
+}
+
+/// A new state of `T` from the options a front end received, with its space; every
+/// refusal spelled by the front end.
+fn from_request<T: Integration>(
+    r: &Request,
+    sp: &Spelling,
+) -> Result<(T, Option<DesignSpace>), Error> {
+    (|| {
+        T::first(r)?;
+        refuse_others(r, T::COMMAND, sp)?;
+        let space = design_space(r, sp)?;
+        if let Some(space) = &space {
+            T::check_space(space)?;
+        }
+        let d = dimension(r, space.as_ref(), T::INFER_D, sp)?;
+        // The dimension first, so that d = 0 is refused as d rather than by what needs it.
+        T::check_d(d)?;
+        let (a, b) = corners(r, d, space.is_some(), sp)?;
+        Ok((T::build(Region { d, a, b }, space.as_ref(), r, sp)?, space))
+    })()
+    .map_err(|e| sp.error(e, r))
+}
+
+/// `earlier` continued with the options given (`earlier` itself is not changed): the
+/// tolerances, level and budget (and what [`Integration::set_more`] takes) are honoured;
+/// the dimension must match; the options of [`Integration::FIXED`] are refused, and the
+/// replicates, seed and kept word unless equal to the earlier one's.
+fn continued<T: Integration>(earlier: &T, r: &Request, sp: &Spelling) -> Result<T, Error> {
+    let mut state = earlier.clone();
+    let kept = Kept {
+        what: T::NOUN,
+        sp,
+        r,
+    };
+    (|| {
+        refuse_others(r, T::COMMAND, sp)?;
+        let (verb, noun) = T::DIMENSION;
+        kept.dimension(earlier.d(), verb, noun)?;
+        kept.fixed(T::FIXED)?;
+        kept.seed(earlier.seed())?;
+        if let Some(n) = count(r, Opt::replicates)? {
+            let same = n == earlier.replicates() as u64;
+            kept.equal(Opt::replicates, same, &earlier.earlier_replicates())?;
+        }
+        let (opt, word_then, said) = earlier.kept_word();
+        if let Some(w) = word(r, opt)? {
+            kept.equal(opt, w == word_then, &said)?;
+        }
+        state.set_tolerances(r)?;
+        if let Some(level) = real(r, Opt::level)? {
+            state.set_level(level)?;
+        }
+        if let Some(max_n) = count(r, Opt::max_n)? {
+            state.set_max_n(max_n)?;
+        }
+        state.set_more(r)
+    })()
+    .map_err(|e| sp.error(e, r))?;
+    Ok(state)
+}
+
 impl Cubature {
     /// A new integration from the options a front end received: the dimension (checked
     /// against a space's coordinates), the box (not with a space), the space and its
@@ -276,16 +426,36 @@ impl Cubature {
         r: &Request,
         sp: &Spelling,
     ) -> Result<(Cubature, Option<DesignSpace>), Error> {
-        Self::resolved(r, sp).map_err(|e| sp.error(e, r))
+        from_request(r, sp)
     }
 
-    fn resolved(r: &Request, sp: &Spelling) -> Result<(Cubature, Option<DesignSpace>), Error> {
-        refuse_others(r, Command::Quad, sp)?;
-        let space = design_space(r, sp)?;
-        let d = dimension(r, space.as_ref(), false, sp)?;
-        // The dimension first, so that d = 0 is refused as d rather than by what needs it.
-        crate::sequences::ExtensibleLattice::new(d, 0, 0)?;
-        let (a, b) = corners(r, d, space.is_some(), sp)?;
+    /// This integration continued with the options given (the state itself is not
+    /// changed): the tolerances (either given sets both, the other at its default),
+    /// level and budget are honoured; the dimension must match; the box, space and
+    /// correlation are refused, and the replicates, seed and rule unless equal to this
+    /// one's.
+    pub fn continued(&self, r: &Request, sp: &Spelling) -> Result<Cubature, Error> {
+        continued(self, r, sp)
+    }
+}
+
+impl Integration for Cubature {
+    const COMMAND: Command = Command::Quad;
+    const NOUN: &'static str = "integration";
+    const DIMENSION: (&'static str, &'static str) = ("was computed in", "dimensions");
+    const INFER_D: bool = false;
+    const FIXED: &'static [Opt] = &[Opt::bounds, Opt::space, Opt::correlation];
+
+    fn check_d(d: usize) -> Result<(), Error> {
+        crate::sequences::ExtensibleLattice::new(d, 0, 0).map(|_| ())
+    }
+
+    fn build(
+        region: Region,
+        space: Option<&DesignSpace>,
+        r: &Request,
+        sp: &Spelling,
+    ) -> Result<Cubature, Error> {
         let (rule, rule_reason) = match (word(r, Opt::rule)?, r.arg(Opt::rule)) {
             (Some(word), Some(typed)) => (
                 Rule::parse(Opt::rule.name(), &word)?,
@@ -295,66 +465,57 @@ impl Cubature {
                     (sp.shown)(Opt::rule.name(), typed)
                 ),
             ),
-            _ => Rule::for_space(space.as_ref()),
+            _ => Rule::for_space(space),
         };
+        let rel_tol = real(r, Opt::rel_tol)?;
+        let g = Shared::read(r)?;
         let o = QuadOptions::default();
         let options = QuadOptions {
-            a,
-            b,
-            abs_tol: real(r, Opt::abs_tol)?.unwrap_or(o.abs_tol),
-            rel_tol: real(r, Opt::rel_tol)?.unwrap_or(o.rel_tol),
-            level: real(r, Opt::level)?.unwrap_or(o.level),
-            replicates: count(r, Opt::replicates)?.map_or(o.replicates, |r| r as usize),
-            max_n: count(r, Opt::max_n)?.unwrap_or(o.max_n),
-            seed: count(r, Opt::seed)?.unwrap_or(o.seed),
+            a: region.a,
+            b: region.b,
+            abs_tol: g.abs_tol.unwrap_or(o.abs_tol),
+            rel_tol: rel_tol.unwrap_or(o.rel_tol),
+            level: g.level.unwrap_or(o.level),
+            replicates: g.replicates.unwrap_or(o.replicates),
+            max_n: g.max_n.unwrap_or(o.max_n),
+            seed: g.seed.unwrap_or(o.seed),
             rule,
             rule_reason,
             ..o
         };
-        Ok((Cubature::new(d, options)?, space))
+        Cubature::new(region.d, options)
     }
 
-    /// This integration continued with the options given (the state itself is not
-    /// changed): the tolerances (either given sets both, the other at its default),
-    /// level and budget are honoured; the dimension must match; the box, space and
-    /// correlation are refused, and the replicates, seed and rule unless equal to this
-    /// one's.
-    pub fn continued(&self, r: &Request, sp: &Spelling) -> Result<Cubature, Error> {
-        let mut state = self.clone();
-        let o = self.options();
-        let kept = Kept {
-            what: "integration",
-            sp,
-            r,
-        };
-        (|| {
-            refuse_others(r, Command::Quad, sp)?;
-            kept.dimension(self.d(), "was computed in", "dimensions")?;
-            kept.fixed(&[Opt::bounds, Opt::space, Opt::correlation])?;
-            kept.seed(o.seed)?;
-            if let Some(n) = count(r, Opt::replicates)? {
-                let earlier = format!("{} replicates (their shifts and sums)", o.replicates);
-                kept.equal(Opt::replicates, n == o.replicates as u64, &earlier)?;
-            }
-            if let Some(rule) = word(r, Opt::rule)? {
-                let earlier = format!("rule ({})", o.rule.as_str());
-                kept.equal(Opt::rule, rule == o.rule.as_str(), &earlier)?;
-            }
-            if r.abs_tol.is_some() || r.rel_tol.is_some() {
-                let d = QuadOptions::default();
-                let abs = real(r, Opt::abs_tol)?.unwrap_or(d.abs_tol);
-                state.set_tolerance(abs, real(r, Opt::rel_tol)?.unwrap_or(d.rel_tol))?;
-            }
-            if let Some(level) = real(r, Opt::level)? {
-                state.set_level(level)?;
-            }
-            if let Some(max_n) = count(r, Opt::max_n)? {
-                state.set_max_n(max_n)?;
-            }
-            Ok(())
-        })()
-        .map_err(|e| sp.error(e, r))?;
-        Ok(state)
+    fn d(&self) -> usize {
+        Cubature::d(self)
+    }
+    fn seed(&self) -> u64 {
+        self.options().seed
+    }
+    fn replicates(&self) -> usize {
+        self.options().replicates
+    }
+    fn earlier_replicates(&self) -> String {
+        let n = self.options().replicates;
+        format!("{n} replicates (their shifts and sums)")
+    }
+    fn kept_word(&self) -> (Opt, &'static str, String) {
+        let rule = self.options().rule.as_str();
+        (Opt::rule, rule, format!("rule ({rule})"))
+    }
+    fn set_tolerances(&mut self, r: &Request) -> Result<(), Error> {
+        if r.abs_tol.is_some() || r.rel_tol.is_some() {
+            let d = QuadOptions::default();
+            let abs = real(r, Opt::abs_tol)?.unwrap_or(d.abs_tol);
+            Cubature::set_tolerance(self, abs, real(r, Opt::rel_tol)?.unwrap_or(d.rel_tol))?;
+        }
+        Ok(())
+    }
+    fn set_level(&mut self, level: f64) -> Result<(), Error> {
+        Cubature::set_level(self, level)
+    }
+    fn set_max_n(&mut self, max_n: u64) -> Result<(), Error> {
+        Cubature::set_max_n(self, max_n)
     }
 }
 
@@ -369,50 +530,7 @@ impl Sensitivity {
         r: &Request,
         sp: &Spelling,
     ) -> Result<(Sensitivity, Option<DesignSpace>), Error> {
-        Self::resolved(r, sp).map_err(|e| sp.error(e, r))
-    }
-
-    fn resolved(r: &Request, sp: &Spelling) -> Result<(Sensitivity, Option<DesignSpace>), Error> {
-        if let Some(c) = r.arg(Opt::correlation) {
-            return Err(Error::invalid(
-                Opt::correlation.name(),
-                c,
-                "no correlation: Sobol' indices are computed for independent inputs",
-            ));
-        }
-        refuse_others(r, Command::Sensitivity, sp)?;
-        let space = design_space(r, sp)?;
-        if let Some(space) = &space {
-            crate::sensitivity::check_independent(Opt::space.name(), space)?;
-        }
-        let d = dimension(r, space.as_ref(), true, sp)?;
-        Sensitivity::new(d, SensitivityOptions::default())?;
-        let (a, b) = corners(r, d, space.is_some(), sp)?;
-        let o = SensitivityOptions::default();
-        let first_order = match word(r, Opt::first_estimator)? {
-            Some(w) => FirstOrder::parse(Opt::first_estimator.name(), &w)?,
-            None => o.first_order,
-        };
-        let simultaneous = read(r, Opt::simultaneous, |v| match v {
-            Value::Flag(b) => Some(b),
-            _ => None,
-        })?;
-        let options = SensitivityOptions {
-            a,
-            b,
-            names: space
-                .as_ref()
-                .map(|s| s.vars.iter().map(|v| v.name.clone()).collect()),
-            abs_tol: real(r, Opt::abs_tol)?.unwrap_or(o.abs_tol),
-            level: real(r, Opt::level)?.unwrap_or(o.level),
-            simultaneous: simultaneous.unwrap_or(o.simultaneous),
-            first_order,
-            replicates: count(r, Opt::replicates)?.map_or(o.replicates, |r| r as usize),
-            max_n: count(r, Opt::max_n)?.unwrap_or(o.max_n),
-            seed: count(r, Opt::seed)?.unwrap_or(o.seed),
-            ..o
-        };
-        Ok((Sensitivity::new(d, options)?, space))
+        from_request(r, sp)
     }
 
     /// This analysis continued with the options given (the state itself is not
@@ -420,42 +538,98 @@ impl Sensitivity {
     /// inputs must match; the box and space are refused, and the replicates, estimator
     /// and seed unless equal to this one's.
     pub fn continued(&self, r: &Request, sp: &Spelling) -> Result<Sensitivity, Error> {
-        let mut state = self.clone();
-        let o = self.options();
-        let kept = Kept {
-            what: "analysis",
-            sp,
-            r,
+        continued(self, r, sp)
+    }
+}
+
+impl Integration for Sensitivity {
+    const COMMAND: Command = Command::Sensitivity;
+    const NOUN: &'static str = "analysis";
+    const DIMENSION: (&'static str, &'static str) = ("has", "inputs");
+    const INFER_D: bool = true;
+    const FIXED: &'static [Opt] = &[Opt::bounds, Opt::space];
+
+    fn first(r: &Request) -> Result<(), Error> {
+        match r.arg(Opt::correlation) {
+            Some(c) => Err(Error::invalid(
+                Opt::correlation.name(),
+                c,
+                "no correlation: Sobol' indices are computed for independent inputs",
+            )),
+            None => Ok(()),
+        }
+    }
+
+    fn check_space(space: &DesignSpace) -> Result<(), Error> {
+        crate::sensitivity::check_independent(Opt::space.name(), space)
+    }
+
+    fn check_d(d: usize) -> Result<(), Error> {
+        Sensitivity::new(d, SensitivityOptions::default()).map(|_| ())
+    }
+
+    fn build(
+        region: Region,
+        space: Option<&DesignSpace>,
+        r: &Request,
+        _: &Spelling,
+    ) -> Result<Sensitivity, Error> {
+        let o = SensitivityOptions::default();
+        let first_order = match word(r, Opt::first_estimator)? {
+            Some(w) => FirstOrder::parse(Opt::first_estimator.name(), &w)?,
+            None => o.first_order,
         };
-        (|| {
-            refuse_others(r, Command::Sensitivity, sp)?;
-            kept.dimension(self.d(), "has", "inputs")?;
-            kept.fixed(&[Opt::bounds, Opt::space])?;
-            kept.seed(o.seed)?;
-            if let Some(n) = count(r, Opt::replicates)? {
-                let earlier = format!("({})", o.replicates);
-                kept.equal(Opt::replicates, n == o.replicates as u64, &earlier)?;
-            }
-            if let Some(w) = word(r, Opt::first_estimator)? {
-                let earlier = format!("({})", o.first_order.as_str());
-                kept.equal(Opt::first_estimator, w == o.first_order.as_str(), &earlier)?;
-            }
-            if let Some(t) = real(r, Opt::abs_tol)? {
-                state.set_tolerance(t)?;
-            }
-            if let Some(level) = real(r, Opt::level)? {
-                state.set_level(level)?;
-            }
-            if let Some(max_n) = count(r, Opt::max_n)? {
-                state.set_max_n(max_n)?;
-            }
-            if let Some(Value::Flag(s)) = read(r, Opt::simultaneous, Some)? {
-                state.set_simultaneous(s);
-            }
-            Ok(())
-        })()
-        .map_err(|e| sp.error(e, r))?;
-        Ok(state)
+        let simultaneous = flag(r, Opt::simultaneous)?;
+        let g = Shared::read(r)?;
+        let options = SensitivityOptions {
+            a: region.a,
+            b: region.b,
+            names: space.map(|s| s.vars.iter().map(|v| v.name.clone()).collect()),
+            abs_tol: g.abs_tol.unwrap_or(o.abs_tol),
+            level: g.level.unwrap_or(o.level),
+            simultaneous: simultaneous.unwrap_or(o.simultaneous),
+            first_order,
+            replicates: g.replicates.unwrap_or(o.replicates),
+            max_n: g.max_n.unwrap_or(o.max_n),
+            seed: g.seed.unwrap_or(o.seed),
+            ..o
+        };
+        Sensitivity::new(region.d, options)
+    }
+
+    fn d(&self) -> usize {
+        Sensitivity::d(self)
+    }
+    fn seed(&self) -> u64 {
+        self.options().seed
+    }
+    fn replicates(&self) -> usize {
+        self.options().replicates
+    }
+    fn earlier_replicates(&self) -> String {
+        format!("({})", self.options().replicates)
+    }
+    fn kept_word(&self) -> (Opt, &'static str, String) {
+        let estimator = self.options().first_order.as_str();
+        (Opt::first_estimator, estimator, format!("({estimator})"))
+    }
+    fn set_tolerances(&mut self, r: &Request) -> Result<(), Error> {
+        match real(r, Opt::abs_tol)? {
+            Some(t) => Sensitivity::set_tolerance(self, t),
+            None => Ok(()),
+        }
+    }
+    fn set_level(&mut self, level: f64) -> Result<(), Error> {
+        Sensitivity::set_level(self, level)
+    }
+    fn set_max_n(&mut self, max_n: u64) -> Result<(), Error> {
+        Sensitivity::set_max_n(self, max_n)
+    }
+    fn set_more(&mut self, r: &Request) -> Result<(), Error> {
+        if let Some(s) = flag(r, Opt::simultaneous)? {
+            self.set_simultaneous(s);
+        }
+        Ok(())
     }
 }
 

@@ -101,6 +101,9 @@ pub struct Declared {
     pub python: Option<&'static str>,
     /// What it sets, in one line.
     pub doc: &'static str,
+    /// Its line in a command where it means more than [`Declared::doc`] says (the
+    /// intervals of `sensitivity`, where `quad` has one), as [`Declared::doc_in`] gives it.
+    pub docs: &'static [(Command, &'static str)],
     /// The groups whose rules it falls under.
     pub groups: &'static [Group],
     /// The commands that take it; any other refuses it.
@@ -115,6 +118,14 @@ pub struct Declared {
 }
 
 impl Declared {
+    /// Its line in `command`: the command's own where it has one, else `None`.
+    pub fn doc_in(&self, command: Command) -> Option<&'static str> {
+        self.docs
+            .iter()
+            .find(|(c, _)| *c == command)
+            .map(|(_, t)| *t)
+    }
+
     /// Whether the option is in `group`.
     pub fn is(&self, group: Group) -> bool {
         self.groups.contains(&group)
@@ -166,7 +177,7 @@ macro_rules! options {
         python $ipython:expr,
         for [$($icommand:ident),*],
         $ity:ty: $ikind:expr, $iexpected:expr, default $idefault:expr,
-        $idoc:literal;
+        $idoc:literal $(, in $hcommand:ident $hdoc:literal)*;
     )*) => {
         /// Every user-settable option of a run, each as a front end received it; `None`
         /// takes the default. Declared in [`ALL`], which gives each field's name,
@@ -207,6 +218,7 @@ macro_rules! options {
                 cli_also: &[$($($cli_also),*)?],
                 python: $python,
                 doc: $doc,
+                docs: &[],
                 groups: &[$(Group::$group),*],
                 commands: &[$(Command::$command),*],
                 kind: $kind,
@@ -221,6 +233,7 @@ macro_rules! options {
                 cli_also: &[],
                 python: $ipython,
                 doc: $idoc,
+                docs: &[$((Command::$hcommand, $hdoc)),*],
                 groups: &[],
                 commands: &[$(Command::$icommand),*],
                 kind: $ikind,
@@ -484,7 +497,8 @@ options! {
             Command::Sensitivity => crate::sensitivity::DEFAULT_ABS_TOL.to_string(),
             _ => crate::cubature::QuadOptions::default().abs_tol.to_string(),
         }),
-        "Absolute tolerance on the half-width.";
+        "Absolute tolerance on the half-width.",
+        in Sensitivity "The half-width every index must reach.";
     rel_tol: "rel_tol", cli "--rel-tol", python Some("rel_tol"), for [Quad],
         f64: NON_NEGATIVE, "a finite value ≥ 0",
         default |_| Some(crate::cubature::QuadOptions::default().rel_tol.to_string()),
@@ -497,7 +511,8 @@ options! {
             }
             _ => crate::cubature::QuadOptions::default().level.to_string(),
         }),
-        "Confidence level of the interval.";
+        "Confidence level of the interval.",
+        in Sensitivity "Confidence level of the intervals.";
     replicates: "replicates", cli "--replicates", python Some("replicates"),
         for [Quad, Sensitivity],
         usize: Kind::Count { min: 2, max: crate::cubature::MAX_REPLICATES as u64 },
@@ -506,14 +521,16 @@ options! {
             Command::Sensitivity => crate::sensitivity::REPLICATES.to_string(),
             _ => crate::cubature::DEFAULT_REPLICATES.to_string(),
         }),
-        "Independent random shifts (the interval comes from their spread).";
+        "Independent random shifts (the interval comes from their spread).",
+        in Sensitivity "Independent random shifts (the intervals come from their spread).";
     max_n: "max_n", cli "--max-n", python Some("max_n"), for [Quad, Sensitivity],
         u64: Kind::Count { min: 1, max: u64::MAX }, "a whole number ≥ 1",
         default |c| Some(match c {
             Command::Sensitivity => crate::sensitivity::DEFAULT_MAX_N.to_string(),
             _ => crate::cubature::DEFAULT_MAX_N.to_string(),
         }),
-        "The most evaluations, all replicates together.";
+        "The most evaluations, all replicates together.",
+        in Sensitivity "The most evaluations, all rounds.";
     rule: "rule", cli "", python Some("rule"), for [Quad],
         String: Kind::Word(words::rules),
         "lattice (the tent-transformed extensible lattice) or sobol (Owen-scrambled Sobol')",
@@ -647,6 +664,18 @@ mod tests {
         assert_eq!(names::LEVEL, Opt::level.name());
         assert_eq!(names::MAX_N, Opt::max_n.name());
         assert_eq!(names::REPLICATES, Opt::replicates.name());
+        use crate::plan::names as plan;
+        for (name, opt) in [
+            (plan::BOX, Opt::bbox),
+            (plan::CONSTRAINTS, Opt::constraints),
+            (plan::MIXTURE, Opt::mixture),
+            (plan::REGION, Opt::region),
+            (plan::SHAPE, Opt::shape),
+            (plan::ENERGY, Opt::energy),
+            (plan::SHIFTS, Opt::shifts),
+        ] {
+            assert_eq!(name, opt.name());
+        }
     }
 
     /// Every word an option lists is read back as itself, and the refusal of a word it

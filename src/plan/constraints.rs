@@ -9,6 +9,7 @@
 
 use crate::energies::shapes::Polytope;
 use crate::parse::constraint::{parse_constraint, Row};
+use crate::plan::names;
 use crate::plan::space::{intervals, numbers_text};
 use crate::{Domain, Error, PointSet};
 use rand::{RngExt, SeedableRng};
@@ -264,16 +265,16 @@ impl ConstraintSpec<'_> {
         }
         let v = self.bbox.ok_or_else(|| {
             Error::invalid(
-                spell("box"),
+                spell(names::BOX),
                 "none",
                 format!(
                     "LO1,HI1,LO2,HI2,...: {} needs a box (it gives the dimension and \
                      bounds the set)",
-                    spell("constraints")
+                    spell(names::CONSTRAINTS)
                 ),
             )
         })?;
-        let (lo, hi) = intervals(&spell("box"), &numbers_text(v), v)?;
+        let (lo, hi) = intervals(&spell(names::BOX), &numbers_text(v), v)?;
         let s = lo.len();
         if let Some(given) = self.s.filter(|&g| g != s) {
             return Err(Error::invalid(
@@ -288,12 +289,12 @@ impl ConstraintSpec<'_> {
             for row in self.rows(text, s, spell)? {
                 if row.equality {
                     return Err(Error::invalid(
-                        spell("constraints"),
+                        spell(names::CONSTRAINTS),
                         text,
                         format!(
                             "an inequality (<= or >=): an equality leaves a flat set with no \
                              room for points; for components that sum to 1 use {}",
-                            spell("mixture")
+                            spell(names::MIXTURE)
                         ),
                     ));
                 }
@@ -315,7 +316,7 @@ impl ConstraintSpec<'_> {
         // without interior.
         let polytope = Polytope::new(a, b, lo, hi).map_err(|_| {
             Error::invalid(
-                spell("constraints"),
+                spell(names::CONSTRAINTS),
                 self.texts.join("; "),
                 format!(
                     "constraints that leave a set with interior inside the box {}; these \
@@ -338,7 +339,7 @@ impl ConstraintSpec<'_> {
     ) -> Result<Vec<Row>, Error> {
         parse_constraint(text, s).map_err(|e| {
             Error::invalid(
-                spell("constraints"),
+                spell(names::CONSTRAINTS),
                 text,
                 format!(
                     "a linear constraint in x1..x{s} such as \"x1 + 2*x2 <= 1\" (numbers, \
@@ -352,7 +353,7 @@ impl ConstraintSpec<'_> {
     /// highs above it.
     fn mixture_bounds(&self, spell: &dyn Fn(&str) -> String) -> Result<Mixture, Error> {
         let (lo, hi) = match self.bbox {
-            Some(v) => intervals(&spell("box"), &numbers_text(v), v)?,
+            Some(v) => intervals(&spell(names::BOX), &numbers_text(v), v)?,
             None => {
                 let s = self.s.ok_or_else(|| {
                     Error::invalid(
@@ -360,7 +361,7 @@ impl ConstraintSpec<'_> {
                         "none",
                         format!(
                             "the number of components of {} (at least 2)",
-                            spell("mixture")
+                            spell(names::MIXTURE)
                         ),
                     )
                 })?;
@@ -375,7 +376,7 @@ impl ConstraintSpec<'_> {
                 given,
                 format!(
                     "the number of components, {big_s} (one LO,HI pair of {} each)",
-                    spell("box")
+                    spell(names::BOX)
                 ),
             ));
         }
@@ -383,17 +384,17 @@ impl ConstraintSpec<'_> {
             return Err(Error::invalid(
                 spell("s"),
                 big_s,
-                format!("at least 2 components with {}", spell("mixture")),
+                format!("at least 2 components with {}", spell(names::MIXTURE)),
             ));
         }
         if let Some(k) = (0..big_s).find(|&k| lo[k] < 0.0 || hi[k] > 1.0) {
             return Err(Error::invalid(
-                spell("box"),
+                spell(names::BOX),
                 shown(),
                 format!(
                     "bounds of mixture components within [0, 1] ({}), but component {} has \
                      [{}, {}]",
-                    spell("mixture"),
+                    spell(names::MIXTURE),
                     k + 1,
                     lo[k],
                     hi[k]
@@ -403,12 +404,12 @@ impl ConstraintSpec<'_> {
         let (sum_lo, sum_hi) = (lo.iter().sum::<f64>(), hi.iter().sum::<f64>());
         if sum_lo >= 1.0 || sum_hi <= 1.0 {
             return Err(Error::invalid(
-                spell("box"),
+                spell(names::BOX),
                 shown(),
                 format!(
                     "component bounds that leave mixtures with room ({}: the lows must sum \
                      below 1 and the highs above 1, but they sum to {sum_lo} and {sum_hi})",
-                    spell("mixture")
+                    spell(names::MIXTURE)
                 ),
             ));
         }
@@ -450,23 +451,23 @@ impl ConstraintSpec<'_> {
                         continue;
                     }
                     return Err(Error::invalid(
-                        spell("constraints"),
+                        spell(names::CONSTRAINTS),
                         text,
                         format!(
                             "a constraint some mixture meets: with {} the components sum \
                              to 1, which this contradicts",
-                            spell("mixture")
+                            spell(names::MIXTURE)
                         ),
                     ));
                 }
                 if row.equality {
                     return Err(Error::invalid(
-                        spell("constraints"),
+                        spell(names::CONSTRAINTS),
                         text,
                         format!(
                             "an inequality (<= or >=): {} holds the sum to 1 already, and \
                              any other equality leaves a flat set with no room for points",
-                            spell("mixture")
+                            spell(names::MIXTURE)
                         ),
                     ));
                 }
@@ -477,7 +478,7 @@ impl ConstraintSpec<'_> {
         let bounds: Vec<f64> = m.lo.iter().zip(&m.hi).flat_map(|(a, b)| [*a, *b]).collect();
         let polytope = Polytope::new(a, b, lo, hi).map_err(|_| {
             Error::invalid(
-                spell("constraints"),
+                spell(names::CONSTRAINTS),
                 if self.texts.is_empty() {
                     "none".to_string()
                 } else {
@@ -486,9 +487,9 @@ impl ConstraintSpec<'_> {
                 format!(
                     "constraints that leave mixtures with room within the component bounds \
                      ({} {}, {}); these leave none, or only a flat set",
-                    spell("box"),
+                    spell(names::BOX),
                     numbers_text(&bounds),
-                    spell("mixture")
+                    spell(names::MIXTURE)
                 ),
             )
         })?;
@@ -543,7 +544,7 @@ pub fn constrained_eval_json(
     };
     let mut v = crate::quality::region::region_eval_json(&built.domain, &inner)?;
     if built.mixture.is_some() {
-        v["mixture"] = serde_json::json!(true);
+        v[names::MIXTURE] = serde_json::json!(true);
         v["note"] = serde_json::json!(
             "a mixture's figures are taken in its first S − 1 components (the last is 1 minus \
              their sum)"

@@ -3,8 +3,26 @@
 
 use crate::energies::region::ImplicitRegion;
 use crate::energies::shapes::{Ball, BoxRegion, Ellipsoid, Polytope, Simplex};
+use crate::plan::names;
 use crate::{Domain, Error, PointSet};
 use std::sync::Arc;
+
+/// The built-in shapes of the grammar ([`RegionSpec::domain`]), each followed by its
+/// numbers (`ball:1`): the one list the option table and help read.
+pub mod shape {
+    /// `ball:R[@C1,C2,..]`.
+    pub const BALL: &str = "ball";
+    /// `ellipsoid:A1,A2,..[@C1,..]`.
+    pub const ELLIPSOID: &str = "ellipsoid";
+    /// `box:LO1,HI1,LO2,HI2,..`.
+    pub const BOX: &str = "box";
+    /// `simplex` (its dimension from s).
+    pub const SIMPLEX: &str = "simplex";
+    /// `polytope:FILE` (rows a1 .. as b meaning a·x ≤ b, within a bounding box).
+    pub const POLYTOPE: &str = "polytope";
+    /// Every shape, in the order help lists them.
+    pub const ALL: [&str; 5] = [BALL, ELLIPSOID, BOX, SIMPLEX, POLYTOPE];
+}
 
 /// A box or bounds given as LO1, HI1, LO2, HI2, …: split into (lo, hi), refusing an odd
 /// count, LO ≥ HI, and a width that overflows or vanishes next to the coordinates (it
@@ -178,33 +196,41 @@ impl RegionSpec<'_> {
         let box_of = |what: &str| -> Result<(Vec<f64>, Vec<f64>), Error> {
             let v = self.bbox.ok_or_else(|| {
                 Error::invalid(
-                    spell("box"),
+                    spell(names::BOX),
                     "none",
                     format!("LO1,HI1,LO2,HI2,...: {what} needs a bounding box"),
                 )
             })?;
-            intervals(&spell("box"), &numbers_text(v), v)
+            intervals(&spell(names::BOX), &numbers_text(v), v)
         };
         if self.expression.is_some() && self.shape.is_some() {
             return Err(Error::invalid(
-                spell("shape"),
+                spell(names::SHAPE),
                 self.shape.unwrap_or_default(),
-                format!("either {} or {}, not both", spell("region"), spell("shape")),
+                format!(
+                    "either {} or {}, not both",
+                    spell(names::REGION),
+                    spell(names::SHAPE)
+                ),
             ));
         }
         if let Some(expr) = self.expression {
             let (lo, hi) = box_of("a region expression")?;
             dim_check(lo.len())?;
             let g = crate::parse::expr::RegionExpr::parse(expr, lo.len()).map_err(|e| {
-                Error::invalid(spell("region"), expr, format!("an expression g(x): {e}"))
+                Error::invalid(
+                    spell(names::REGION),
+                    expr,
+                    format!("an expression g(x): {e}"),
+                )
             })?;
             let r = ImplicitRegion::new(g.into_fn(), lo, hi)?;
             r.check(REGION_PROBES, 0)
-                .map_err(|e| Error::invalid(spell("region"), expr, e.to_string()))?;
+                .map_err(|e| Error::invalid(spell(names::REGION), expr, e.to_string()))?;
             return Ok(Arc::new(r));
         }
         let spec = self.shape.unwrap_or_default();
-        let name = spell("shape");
+        let name = spell(names::SHAPE);
         let (kind, rest) = spec.split_once(':').unwrap_or((spec, ""));
         let need_s = || {
             self.s.ok_or_else(|| {
@@ -224,7 +250,7 @@ impl RegionSpec<'_> {
         };
         let lib = |e: Error| Error::invalid(&name, spec, e.to_string());
         let domain: Arc<dyn Domain> = match kind.trim() {
-            "ball" => {
+            shape::BALL => {
                 let (r, c) = split_at(rest)?;
                 if r.len() != 1 {
                     return Err(Error::invalid(&name, spec, "ball:R or ball:R@C1,C2,..."));
@@ -235,17 +261,17 @@ impl RegionSpec<'_> {
                 };
                 Arc::new(Ball::new(c, r[0]).map_err(lib)?)
             }
-            "ellipsoid" => {
+            shape::ELLIPSOID => {
                 let (a, c) = split_at(rest)?;
                 let c = c.unwrap_or_else(|| vec![0.0; a.len()]);
                 Arc::new(Ellipsoid::new(c, a).map_err(lib)?)
             }
-            "box" => {
+            shape::BOX => {
                 let (lo, hi) = intervals(&name, spec, &numbers(rest)?)?;
                 Arc::new(BoxRegion::new(lo, hi).map_err(lib)?)
             }
-            "simplex" => Arc::new(Simplex::new(need_s()?).map_err(lib)?),
-            "polytope" => {
+            shape::SIMPLEX => Arc::new(Simplex::new(need_s()?).map_err(lib)?),
+            shape::POLYTOPE => {
                 let rows = crate::io::read_points(std::path::Path::new(rest))
                     .map_err(|e| Error::invalid(&name, spec, format!("a readable file: {e}")))?;
                 if rows.s() < 2 {

@@ -59,8 +59,9 @@ pub const RESTART_WORDS: [&str; 3] = ["auto", "off", "none"];
 /// [`crate::energies::Distance::parse`] reads them).
 pub const Q_WORDS: [&str; 4] = ["inf", "infinity", "∞", "e"];
 
-/// The built-in shapes `shape` names (each followed by its numbers, as `ball:1`).
-pub const SHAPES: [&str; 5] = ["ball", "ellipsoid", "box", "simplex", "polytope"];
+/// The built-in shapes `shape` names (each followed by its numbers, as `ball:1`), as the
+/// grammar that reads them lists them.
+pub const SHAPES: [&str; 5] = crate::plan::space::shape::ALL;
 
 /// Every name of every discrepancy kind (aliases too).
 pub fn discrepancies() -> Vec<&'static str> {

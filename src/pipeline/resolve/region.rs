@@ -140,7 +140,7 @@ impl Ctx<'_> {
             s,
         };
         let constrained = self.constrained(s, bbox.as_deref())?;
-        let polytope = words::SHAPES[4];
+        let polytope = crate::plan::space::shape::POLYTOPE;
         if bbox.is_some()
             && constrained.is_none()
             && spec.expression.is_none()
@@ -150,15 +150,16 @@ impl Ctx<'_> {
         {
             return Err(self.box_alone());
         }
-        let mut description = json!({
-            "expression": expression,
-            "box": bbox.as_deref().map(numbers_text),
-            "shape": shape,
-        });
+        // The region as the user gave it, under its options' names (the report reads
+        // them back by the same names).
+        let mut description = json!({"expression": expression});
+        description[Opt::bbox.name()] = json!(bbox.as_deref().map(numbers_text));
+        description[Opt::shape.name()] = json!(shape);
         Ok(match constrained {
             Some((c, texts)) => {
-                description["constraints"] = json!(texts);
-                description["mixture"] = json!(c.mixture.as_ref().map(|m| m.components()));
+                description[Opt::constraints.name()] = json!(texts);
+                description[Opt::mixture.name()] =
+                    json!(c.mixture.as_ref().map(|m| m.components()));
                 (c.domain, c.mixture, description)
             }
             None => (spec.domain(self.spell)?, None, description),
