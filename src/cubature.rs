@@ -44,22 +44,8 @@ use serde::{Deserialize, Serialize};
 
 pub(crate) mod progress;
 
-/// The options the library's own checks name, as the option table
-/// ([`crate::pipeline::options`]) declares them. The table sits above this module (it
-/// reads the defaults here), so the names are written once here and a test of the table
-/// holds them equal to its declarations.
-pub mod names {
-    /// `abs_tol`.
-    pub const ABS_TOL: &str = "abs_tol";
-    /// `rel_tol`.
-    pub const REL_TOL: &str = "rel_tol";
-    /// `level`.
-    pub const LEVEL: &str = "level";
-    /// `max_n`.
-    pub const MAX_N: &str = "max_n";
-    /// `replicates`.
-    pub const REPLICATES: &str = "replicates";
-}
+/// The option names this module's checks spell (kept at this path for callers).
+pub use crate::names;
 
 use crate::design::DesignSpace;
 use crate::sequences::{ExtensibleLattice, EXTENSIBLE_MAX_POINTS};

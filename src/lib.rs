@@ -45,6 +45,7 @@ pub mod cubature;
 pub mod design;
 pub mod goals;
 pub mod io;
+pub mod names;
 pub mod parse;
 pub mod pipeline;
 pub mod plan;

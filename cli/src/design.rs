@@ -54,9 +54,10 @@ pub(crate) fn emit_design(
     }
     staging.commit()?;
     if json_out {
-        let mut v = json!({"run": run_line, "space": design.space.texts(), "figures": figures});
+        let mut v = json!({"run": run_line, "figures": figures});
+        record(&mut v, [(Opt::space, json!(design.space.texts()))]);
         if let Some(c) = design.space.correlation_text() {
-            v["correlation"] = json!(c);
+            record(&mut v, [(Opt::correlation, json!(c))]);
         }
         if output.is_none() {
             v["rows"] = Value::String(design.to_text(&Value::Null, ','));

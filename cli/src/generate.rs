@@ -350,7 +350,7 @@ fn write_baseline(a: &GenerateArgs, resolved: &Resolved) -> Result<()> {
                 a.method.as_deref().unwrap_or("scrambled Sobol'")
             ),
         };
-        let sums = stillpoint::quality::metrics::Sums::asked(a.exact);
+        let sums = resolved.sums;
         return emit_design(
             design,
             sums,

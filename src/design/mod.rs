@@ -599,7 +599,7 @@ impl Design {
     ) -> Result<Design, Error> {
         if base.s() != space.dim() {
             return Err(Error::invalid(
-                "space",
+                crate::names::SPACE,
                 format!("{} variables", space.dim()),
                 format!(
                     "one variable per coordinate of the {}-dimensional set",
@@ -707,7 +707,7 @@ impl Design {
 pub fn mapped(space: &DesignSpace, unit: &PointSet) -> Result<Design, Error> {
     if unit.s() != space.dim() {
         return Err(Error::invalid(
-            "space",
+            crate::names::SPACE,
             format!("{} variables", space.dim()),
             format!(
                 "one variable per coordinate of the {}-dimensional set",

@@ -24,7 +24,7 @@ pub(crate) fn paper_run(
     let (problem, choice) = build_problem(cfg)?;
     if cfg.polish.is_some() && cfg.region().is_some() {
         return Err(Error::invalid(
-            "polish",
+            crate::names::POLISH,
             format!("{:?}", cfg.polish),
             "no polish in a region (the discrepancies live in the unit cube)",
         ));
@@ -176,7 +176,7 @@ fn post_steps(
             PostStep::Shift(_) => {}
             PostStep::Polish(kind) => {
                 on_event(Event::Stage {
-                    name: "polish",
+                    name: crate::names::POLISH,
                     steps: Some(cfg.steps as u64),
                 });
                 let p = crate::post::polish::polish(

@@ -81,7 +81,7 @@ pub(crate) fn region_integration_run(
     let domain: Arc<dyn Domain> = cfg
         .region()
         .cloned()
-        .ok_or_else(|| Error::invalid("region", "none", "a region"))?;
+        .ok_or_else(|| Error::invalid(crate::names::REGION, "none", "a region"))?;
     let (n, s) = (cfg.n, cfg.s);
     on_event(Event::Stage {
         name: "reference",

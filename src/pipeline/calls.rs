@@ -440,7 +440,7 @@ pub fn design(resolved: &Resolved) -> Result<(serde_json::Value, PointSet), Erro
         correlation: design.space.correlation_text(),
         names: design.space.vars.iter().map(|v| v.name.clone()).collect(),
         columns: columns.collect(),
-        figures: crate::design::figures::DesignFigures::of(&written),
+        figures: crate::design::figures::DesignFigures::of_with(&written, resolved.sums),
         rule: resolved.rule.map(|r| r.phrase()),
         unbiased: resolved.rule.is_some_and(|r| r.unbiased()),
     };
@@ -539,6 +539,32 @@ mod tests {
             value,
             shown,
         }
+    }
+
+    /// `exact=True` reaches the figures of a design, whichever rule makes its cube set,
+    /// as it reaches a run's report; without it the report's rule applies.
+    #[test]
+    fn exact_reaches_a_design_s_figures_as_it_reaches_a_run_s() {
+        use crate::quality::metrics::Sums;
+        let space = || {
+            kw(
+                "space",
+                Loose::List(vec![Loose::Text("x=normal(0,1)".into())]),
+            )
+        };
+        let cube = |extra: Vec<Keyword>| {
+            let mut k = vec![kw("n", Loose::Int(64)), kw("d", Loose::Int(1))];
+            k.extend(extra);
+            resolve(k, &HashMap::new()).unwrap().sums
+        };
+        let exact = || kw("exact", Loose::Bool(true));
+        let draw = || kw("randomize", Loose::Bool(true));
+        assert_eq!(cube(vec![]), Sums::AUTO);
+        assert_eq!(cube(vec![exact()]), Sums::EXACT);
+        assert_eq!(cube(vec![space()]), Sums::AUTO);
+        assert_eq!(cube(vec![space(), exact()]), Sums::EXACT);
+        assert_eq!(cube(vec![space(), draw(), exact()]), Sums::EXACT);
+        assert_eq!(cube(vec![space(), draw()]), Sums::AUTO);
     }
 
     fn arg(v: Loose, pair: bool) -> Result<Option<Arg>, Error> {

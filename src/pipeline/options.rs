@@ -657,22 +657,26 @@ mod tests {
     }
 
     #[test]
-    fn the_integration_checks_name_declared_options() {
-        use crate::cubature::names;
-        assert_eq!(names::ABS_TOL, Opt::abs_tol.name());
-        assert_eq!(names::REL_TOL, Opt::rel_tol.name());
-        assert_eq!(names::LEVEL, Opt::level.name());
-        assert_eq!(names::MAX_N, Opt::max_n.name());
-        assert_eq!(names::REPLICATES, Opt::replicates.name());
-        use crate::plan::names as plan;
+    fn the_names_below_the_table_are_declared_options() {
+        use crate::names as n;
         for (name, opt) in [
-            (plan::BOX, Opt::bbox),
-            (plan::CONSTRAINTS, Opt::constraints),
-            (plan::MIXTURE, Opt::mixture),
-            (plan::REGION, Opt::region),
-            (plan::SHAPE, Opt::shape),
-            (plan::ENERGY, Opt::energy),
-            (plan::SHIFTS, Opt::shifts),
+            (n::ABS_TOL, Opt::abs_tol),
+            (n::REL_TOL, Opt::rel_tol),
+            (n::LEVEL, Opt::level),
+            (n::MAX_N, Opt::max_n),
+            (n::REPLICATES, Opt::replicates),
+            (n::BOX, Opt::bbox),
+            (n::CONSTRAINTS, Opt::constraints),
+            (n::MIXTURE, Opt::mixture),
+            (n::REGION, Opt::region),
+            (n::SHAPE, Opt::shape),
+            (n::ENERGY, Opt::energy),
+            (n::SHIFTS, Opt::shifts),
+            (n::POLISH, Opt::polish),
+            (n::NESTED, Opt::nested),
+            (n::CHECKPOINT, Opt::checkpoint),
+            (n::RANDOMIZE, Opt::randomize),
+            (n::SPACE, Opt::space),
         ] {
             assert_eq!(name, opt.name());
         }

@@ -159,6 +159,9 @@ pub struct Resolved {
     pub rule: Option<CubeRule>,
     /// The mixture whose last component is appended to the run's points.
     pub mixture: Option<Mixture>,
+    /// How the report's pair figures are computed (exact when `exact` was asked, else
+    /// estimated above the exact size), for the run and for a design's figures alike.
+    pub sums: crate::quality::metrics::Sums,
 }
 
 impl Resolved {

@@ -8,8 +8,8 @@
 //! on the others. [`Mixture::lift`] appends x_S to every point afterwards.
 
 use crate::energies::shapes::Polytope;
+use crate::names;
 use crate::parse::constraint::{parse_constraint, Row};
-use crate::plan::names;
 use crate::plan::space::{intervals, numbers_text};
 use crate::{Domain, Error, PointSet};
 use rand::{RngExt, SeedableRng};

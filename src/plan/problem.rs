@@ -124,7 +124,7 @@ pub(crate) fn build_problem(
             ),
             (Space::Cube, other) => {
                 return Err(Error::invalid(
-                    crate::plan::names::ENERGY,
+                    crate::names::ENERGY,
                     format!("{other:?}"),
                     "an energy of the cube (U_{q,p}, U_{E,∞} or a discrepancy); the \
                      boundary-aware energies need a region",
@@ -132,7 +132,7 @@ pub(crate) fn build_problem(
             }
             (Space::Region { .. }, other) => {
                 return Err(Error::invalid(
-                    crate::plan::names::ENERGY,
+                    crate::names::ENERGY,
                     format!("{other:?}"),
                     "an energy of a region (U_{E,∞,g}, U_{E,p,g} or U_{E,∞})",
                 ))

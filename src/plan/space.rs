@@ -3,7 +3,7 @@
 
 use crate::energies::region::ImplicitRegion;
 use crate::energies::shapes::{Ball, BoxRegion, Ellipsoid, Polytope, Simplex};
-use crate::plan::names;
+use crate::names;
 use crate::{Domain, Error, PointSet};
 use std::sync::Arc;
 

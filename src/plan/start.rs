@@ -14,7 +14,7 @@ pub fn start_set(cfg: &GenerateConfig) -> Result<PointSet, Error> {
     sequences::check_size(cfg.n, cfg.s)?;
     if cfg.shifts > MAX_SHIFTS {
         return Err(Error::invalid(
-            crate::plan::names::SHIFTS,
+            crate::names::SHIFTS,
             cfg.shifts,
             format!("at most {MAX_SHIFTS} candidate shifts"),
         ));
@@ -73,7 +73,7 @@ pub fn start_in_region(
                 }
             }
             Err(Error::invalid(
-                crate::plan::names::REGION,
+                crate::names::REGION,
                 format!("{} of {budget} Halton points inside", data.len() / s),
                 format!("a region filling enough of its box to hold {} points", n),
             ))

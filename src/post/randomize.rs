@@ -47,7 +47,7 @@ impl Randomize {
         Randomize::ALL
             .into_iter()
             .find(|r| r.name() == key)
-            .ok_or_else(|| Error::invalid("randomize", text, Randomize::EXPECTED))
+            .ok_or_else(|| Error::invalid(crate::names::RANDOMIZE, text, Randomize::EXPECTED))
     }
 
     /// The name [`Randomize::parse`] reads.

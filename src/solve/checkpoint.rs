@@ -63,14 +63,14 @@ impl CheckpointPlan {
     ) -> Result<(), Error> {
         let bytes = encode_checkpoint(&self.config(config), state).map_err(|e| {
             Error::invalid(
-                "checkpoint",
+                crate::names::CHECKPOINT,
                 self.path.display(),
                 format!("a state that can be written as JSON ({e})"),
             )
         })?;
         crate::io::write_atomic(&self.path, &bytes).map_err(|e| {
             Error::invalid(
-                "checkpoint",
+                crate::names::CHECKPOINT,
                 self.path.display(),
                 format!("a file that can be written ({e})"),
             )

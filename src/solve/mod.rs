@@ -164,7 +164,7 @@ impl Solve<'_> {
                         expected,
                     },
                     Some(path),
-                ) if name.starts_with("checkpoint") => Error::invalid(
+                ) if name.starts_with(crate::names::CHECKPOINT) => Error::invalid(
                     "resume checkpoint",
                     path.display(),
                     format!(

@@ -952,12 +952,16 @@ pub fn nested_run(
     seed: u64,
     effort: &Effort,
 ) -> Result<Nested, Error> {
-    let first = *stages
-        .first()
-        .ok_or_else(|| Error::invalid("nested", "an empty list", "N1,N2,... increasing"))?;
+    let first = *stages.first().ok_or_else(|| {
+        Error::invalid(
+            crate::names::NESTED,
+            "an empty list",
+            "N1,N2,... increasing",
+        )
+    })?;
     if first == 0 || stages.windows(2).any(|w| w[1] <= w[0]) {
         return Err(Error::invalid(
-            "nested",
+            crate::names::NESTED,
             format!("{stages:?}"),
             "increasing sizes N1 < N2 < ..., the first at least 1",
         ));

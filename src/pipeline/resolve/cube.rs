@@ -71,6 +71,7 @@ impl Ctx<'_> {
             design: None,
             rule: None,
             mixture: None,
+            sums: self.sums()?,
         }))
     }
 

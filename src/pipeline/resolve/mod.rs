@@ -161,6 +161,13 @@ impl<'a> Ctx<'a> {
             })
     }
 
+    /// Exact pair figures when `exact` was asked, the report's rule otherwise.
+    fn sums(&self) -> Result<crate::quality::metrics::Sums, Error> {
+        Ok(crate::quality::metrics::Sums::asked(
+            self.p.exact.value()? == Some(true),
+        ))
+    }
+
     /// The box `bounds` scales the unit cube's points to, for dimension `s`.
     fn bounds(&self, s: usize) -> Result<Option<Bounds>, Error> {
         use crate::pipeline::options::Value;
@@ -213,9 +220,7 @@ impl<'a> Ctx<'a> {
         cfg.goal = self.default_target(goal, &cfg);
         self.common(&mut cfg)?;
         self.lattice(&mut cfg, in_region)?;
-        if self.p.exact.value()? == Some(true) {
-            cfg.sums = crate::quality::metrics::Sums::EXACT;
-        }
+        cfg.sums = self.sums()?;
         sequences::check_size(cfg.n, cfg.s).map_err(|e| self.too_large(e, cfg.n))?;
         if in_region && self.given(Opt::bounds) {
             return Err(self.refuse(
@@ -229,6 +234,7 @@ impl<'a> Ctx<'a> {
         }
         Ok(Resolved {
             bounds: self.bounds(cfg.s)?,
+            sums: cfg.sums,
             job: Job::Run(Box::new(cfg)),
             design: None,
             rule: None,
