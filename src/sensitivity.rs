@@ -752,7 +752,7 @@ fn check_budget(o: &SensitivityOptions, d: usize) -> Result<(), Error> {
         .saturating_mul(d as u64 + 2);
     if o.max_n < first {
         return Err(Error::invalid(
-            crate::cubature::names::MAX_N,
+            crate::names::MAX_N,
             o.max_n,
             format!(
                 "at least one first batch: {} points for each of the {} replicates, each \
