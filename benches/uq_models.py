@@ -714,8 +714,16 @@ def main():
 
     def write():
         save_json(json_path, data)
-        with open(os.path.join(a.out, "uq_models.md"), "w") as fh:
-            fh.write(report(data))
+        md = os.path.join(a.out, "uq_models.md")
+        # The commit mark (a "## Fingerprints" section, see results/README.md) is
+        # written by whoever checks what the cells describe; a rewrite keeps it.
+        kept = ""
+        if os.path.exists(md):
+            old = open(md).read()
+            if "\n## Fingerprints\n" in old:
+                kept = old[old.index("\n## Fingerprints\n"):]
+        with open(md, "w") as fh:
+            fh.write(report(data).rstrip("\n") + "\n" + kept)
 
     wanted = [w.strip() for w in a.families.split(",")] if a.families else None
     vwanted = [w.strip() for w in a.variants.split(";")] if a.variants else None
