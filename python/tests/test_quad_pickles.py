@@ -26,6 +26,20 @@ def _module():
 MAKER = _module()
 
 
+def _as_continued(r, got, record):
+    """`got` with a continued SobolResult's half-widths checked against the record and
+    replaced by it: this version raises each index's half-width to its change since half
+    the points (the round guard quad's intervals take), so a continued analysis is at
+    least as wide as it was; its points, indices, evaluations and stop are as they were."""
+    if isinstance(r, sp.SobolResult):
+        want = record["total_half_width"]
+        widths = got["total_half_width"]
+        assert len(widths) == len(want)
+        assert all(w >= old for w, old in zip(widths, want)), (widths, want)
+        got = dict(got, total_half_width=want)
+    return got
+
+
 @pytest.mark.parametrize("name", sorted(RECORD))
 def test_an_old_result_loads_and_continues_as_it_did(name):
     rec = RECORD[name]
@@ -37,8 +51,8 @@ def test_an_old_result_loads_and_continues_as_it_did(name):
     else:
         assert isinstance(r, sp.SobolResult)
         later = sp.sobol_indices(f, r.d, start=r, **rec["more"])
-    assert MAKER.summary(later) == rec["continued"]
+    assert _as_continued(r, MAKER.summary(later), rec["continued"]) == rec["continued"]
     # Pickled again by this version, it loads to the same.
     again = pickle.loads(pickle.dumps(later))
-    assert MAKER.summary(again) == rec["continued"]
+    assert MAKER.summary(again) == MAKER.summary(later)
     assert np.array_equal(np.asarray(again.n), np.asarray(later.n))
