@@ -146,6 +146,29 @@ pub enum Rule {
 }
 
 impl Rule {
+    /// Points `start..start + m` of replicate `rep` of the rule in `s` dimensions into
+    /// `out` (row-major, m·s values), computing only those: the lattice by its index, the
+    /// Owen-scrambled net in natural order from its own range. `key` separates the
+    /// scrambles of different users of one seed (quad's, the Sobol' indices').
+    pub(crate) fn fill(self, s: usize, seed: u64, key: u64, rep: u64, start: u64, out: &mut [f64]) {
+        let m = out.len() / s;
+        match self {
+            Rule::TentLattice => {
+                let seq = ExtensibleLattice::new(s, seed, rep).expect("s checked by the caller");
+                seq.fill(start, m, out)
+                    .expect("range checked by the caller");
+            }
+            Rule::Sobol => {
+                use crate::sequences::{hash2, mix64, sobol_scrambled_range};
+                let scramble = hash2(hash2(mix64(seed), key), rep);
+                let start = start as usize;
+                let new = sobol_scrambled_range(start, start + m, s, scramble)
+                    .expect("s and the range checked by the caller");
+                out.copy_from_slice(new.as_slice());
+            }
+        }
+    }
+
     /// The rule as front ends name it: `lattice` or `sobol`.
     pub fn as_str(self) -> &'static str {
         match self {
@@ -439,27 +462,11 @@ impl Cubature {
 
     /// Replicate `rep`'s next m points, before the box's scaling, into `out`.
     fn fill_replicate(&self, rep: u64, m: usize, out: &mut [f64]) {
-        let start = self.per_replicate;
-        match self.options.rule {
-            Rule::TentLattice => {
-                let seq = ExtensibleLattice::new(self.d, self.options.seed, rep)
-                    .expect("d checked at construction");
-                seq.fill(start, m, out)
-                    .expect("range checked by exhausted()");
-            }
-            Rule::Sobol => {
-                // Each replicate's scramble from its own key; the net in natural order, so
-                // points start..start + m extend the first start: only they are computed.
-                let key = crate::sequences::hash2(
-                    crate::sequences::hash2(crate::sequences::mix64(self.options.seed), SOBOL_KEY),
-                    rep,
-                );
-                let start = start as usize;
-                let new = crate::sequences::sobol_scrambled_range(start, start + m, self.d, key)
-                    .expect("d and the range checked at construction");
-                out.copy_from_slice(new.as_slice());
-            }
-        }
+        let (seed, start) = (self.options.seed, self.per_replicate);
+        debug_assert_eq!(out.len(), m * self.d);
+        self.options
+            .rule
+            .fill(self.d, seed, SOBOL_KEY, rep, start, out);
     }
 
     /// Takes f's values at the batch of [`Cubature::next_points`]: rows × k values,

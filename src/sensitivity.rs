@@ -42,7 +42,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::cubature::{student_t_quantile, Rule, StopReason, DEFAULT_START_N};
-use crate::sequences::{ExtensibleLattice, EXTENSIBLE_MAX_D, EXTENSIBLE_MAX_POINTS};
+use crate::sequences::{EXTENSIBLE_MAX_D, EXTENSIBLE_MAX_POINTS};
 use crate::{Error, PointSet};
 
 /// Independent randomisations by default, as quad's: the pooled estimate of R
@@ -439,26 +439,11 @@ impl Sensitivity {
 
     /// Replicate `rep`'s next m points in 2d dimensions, before the box's scaling.
     fn fill_replicate(&self, rep: u64, m: usize, out: &mut [f64]) {
-        let (start, s) = (self.per_replicate, 2 * self.d);
-        match self.options.rule {
-            Rule::TentLattice => {
-                let seq = ExtensibleLattice::new(s, self.options.seed, rep)
-                    .expect("d checked at construction");
-                seq.fill(start, m, out)
-                    .expect("range checked by exhausted()");
-            }
-            Rule::Sobol => {
-                // The net in natural order: the first start + m points extend the first
-                // start, so the new ones are the tail.
-                let key = crate::sequences::hash2(
-                    crate::sequences::hash2(crate::sequences::mix64(self.options.seed), SOBOL_KEY),
-                    rep,
-                );
-                let all = crate::sequences::sobol_scrambled(start as usize + m, s, key)
-                    .expect("d and the range checked at construction");
-                out.copy_from_slice(&all.as_slice()[start as usize * s..]);
-            }
-        }
+        let (seed, start) = (self.options.seed, self.per_replicate);
+        debug_assert_eq!(out.len(), m * 2 * self.d);
+        self.options
+            .rule
+            .fill(2 * self.d, seed, SOBOL_KEY, rep, start, out);
     }
 
     /// Takes f's values at the batch of [`Sensitivity::next_points`]: rows × k values,
