@@ -40,21 +40,17 @@ pub use stillpoint_integrators as integrators;
 
 pub use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Uqp};
 
-pub mod config;
-pub mod cubature;
-pub mod design;
-pub mod goals;
-pub mod io;
-pub mod names;
-pub mod parse;
+pub use stillpoint_cubature as cubature;
+pub use stillpoint_cubature::sensitivity;
+pub use stillpoint_design as design;
+pub use stillpoint_io as io;
+pub use stillpoint_parse as parse;
+pub use stillpoint_parse::names;
+pub use stillpoint_quality as quality;
+pub use stillpoint_run::{config, goals, plan, post, report, solve};
+pub use stillpoint_sequences as sequences;
+
 pub mod pipeline;
-pub mod plan;
-pub mod post;
-pub mod quality;
-pub mod report;
-pub mod sensitivity;
-pub mod sequences;
-pub mod solve;
 
 pub use cubature::{quad, Cubature, QuadOptions, QuadResult};
 pub use pipeline::request::Request;

@@ -5,7 +5,7 @@ use super::*;
 use std::io::Write as _;
 use stillpoint::cubature::{Cubature, StopReason};
 use stillpoint::parse::expr::RegionExpr;
-use stillpoint::pipeline::integration::Spelling;
+use stillpoint::pipeline::integration::{FromRequest, Spelling};
 use stillpoint::sequences::EXTENSIBLE_MAX_POINTS;
 
 /// A refusal of the library's as an `--expr` command shows it: f's own (the expression)

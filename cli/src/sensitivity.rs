@@ -5,7 +5,7 @@
 use super::*;
 use stillpoint::cubature::StopReason;
 use stillpoint::parse::expr::RegionExpr;
-use stillpoint::pipeline::integration::Spelling;
+use stillpoint::pipeline::integration::{FromRequest, Spelling};
 use stillpoint::pipeline::options::Opt;
 use stillpoint::sensitivity::Sensitivity;
 

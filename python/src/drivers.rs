@@ -12,6 +12,7 @@ use pyo3::types::{PyBytes, PyDict};
 
 use stillpoint::cubature::{Cubature, QuadOptions, StopReason};
 use stillpoint::pipeline::calls::{feed, space_parts, with_request};
+use stillpoint::pipeline::integration::FromRequest;
 use stillpoint::sensitivity::{Sensitivity, SensitivityOptions};
 use stillpoint::sequences::ExtensibleLattice;
 use stillpoint::PointSet;

@@ -415,17 +415,26 @@ fn continued<T: Integration>(earlier: &T, r: &Request, sp: &Spelling) -> Result<
     Ok(state)
 }
 
-impl Cubature {
+/// An integration made from the options a front end received, and continued with more:
+/// [`Cubature`] (`quad`) and [`Sensitivity`] (the Sobol' indices). A trait because the
+/// states live in the cubature crate, below the options that resolve them.
+pub trait FromRequest: Sized {
+    /// A new state from the options given, and the space whose map the caller applies to
+    /// the points.
+    fn from_request(r: &Request, sp: &Spelling) -> Result<(Self, Option<DesignSpace>), Error>;
+
+    /// This state continued with the options given (the state itself is not changed).
+    fn continued(&self, r: &Request, sp: &Spelling) -> Result<Self, Error>;
+}
+
+impl FromRequest for Cubature {
     /// A new integration from the options a front end received: the dimension (checked
     /// against a space's coordinates), the box (not with a space), the space and its
     /// correlation (not without a space), the tolerances, level, replicates, budget and
     /// seed (their defaults those of [`QuadOptions::default`]) and the rule (asked for,
     /// or [`Rule::for_space`]). Returns the state and the space, whose map the caller
     /// applies to the points ([`crate::cubature::space_values`]).
-    pub fn from_request(
-        r: &Request,
-        sp: &Spelling,
-    ) -> Result<(Cubature, Option<DesignSpace>), Error> {
+    fn from_request(r: &Request, sp: &Spelling) -> Result<(Cubature, Option<DesignSpace>), Error> {
         from_request(r, sp)
     }
 
@@ -434,7 +443,7 @@ impl Cubature {
     /// level and budget are honoured; the dimension must match; the box, space and
     /// correlation are refused, and the replicates, seed and rule unless equal to this
     /// one's.
-    pub fn continued(&self, r: &Request, sp: &Spelling) -> Result<Cubature, Error> {
+    fn continued(&self, r: &Request, sp: &Spelling) -> Result<Cubature, Error> {
         continued(self, r, sp)
     }
 }
@@ -519,14 +528,14 @@ impl Integration for Cubature {
     }
 }
 
-impl Sensitivity {
+impl FromRequest for Sensitivity {
     /// A new sensitivity analysis from the options a front end received: the number of
     /// inputs (or the space's, or the length of a corner), the box (not with a space), a
     /// space of independent inputs (a correlation or a Brownian path refused), the
     /// tolerance, level, intervals, estimator, replicates, budget and seed (their
     /// defaults those of [`SensitivityOptions::default`]). Returns the state and the
     /// space.
-    pub fn from_request(
+    fn from_request(
         r: &Request,
         sp: &Spelling,
     ) -> Result<(Sensitivity, Option<DesignSpace>), Error> {
@@ -537,7 +546,7 @@ impl Sensitivity {
     /// changed): the tolerance, level, intervals and budget are honoured; the number of
     /// inputs must match; the box and space are refused, and the replicates, estimator
     /// and seed unless equal to this one's.
-    pub fn continued(&self, r: &Request, sp: &Spelling) -> Result<Sensitivity, Error> {
+    fn continued(&self, r: &Request, sp: &Spelling) -> Result<Sensitivity, Error> {
         continued(self, r, sp)
     }
 }

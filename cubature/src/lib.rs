@@ -1,0 +1,1908 @@
+//! Integration to a tolerance: the number of points doubles on R independently
+//! randomised replicates of one extensible rule, never discarding an evaluation, until
+//! the confidence interval is narrow enough.
+//!
+//! [`Cubature`] is the state machine every front end drives (ask for the next batch of
+//! points, feed back f's values, read the estimate); [`quad`] runs it on a Rust closure.
+//!
+//! The rule ([`Rule`]): the extensible rank-1 lattice, shifted and tent-transformed
+//! ([`stillpoint_sequences::ExtensibleLattice`]), or Owen-scrambled Sobol' points, chosen from
+//! the laws integrated against by [`Rule::for_space`] (Sobol' when a law is unbounded).
+//!
+//! The interval. After each doubling, with μ_r the mean of f over replicate r's n_r
+//! points (each μ_r an unbiased estimate, independent across replicates), the estimate is
+//! the mean Q_n of the μ_r and the half-width the larger of
+//! - the Student t half-width t_{R−1,(1+level)/2}·sd(μ_r)/√R, exact when the μ_r are
+//!   normal, and
+//! - the round guard |Q_n − Q_{n/2}|, the change since each replicate had half its
+//!   points (nested, so it costs no evaluation): the error at n/2 bounds the error at n
+//!   when the error at least halves per doubling, and it catches the replicates that
+//!   agree by chance while all missing a peak.
+//!
+//! R = 4 by default: the replicates' error falls faster than 1/n for the integrands a
+//! lattice or a net is for, so four long replicates give a narrower interval than eight
+//! short ones (0.6–0.9× on smooth families at 1 024–16 384 evaluations), and the guard
+//! keeps its coverage (results/quad/interval.md: at least 93 % at level 0.95 on 300 seeds
+//! except the corner peaks at the smallest n, 88–93 %, where the former eight-replicate
+//! interval covered 84–90 %). It stops when, for every output,
+//! half-width ≤ max(abs_tol, rel_tol·|estimate|), or when the next doubling would pass
+//! `max_n` evaluations in total (all replicates together), and then says the tolerance
+//! was not met. Over a box [a, b] the points are scaled and the estimate and half-width
+//! include the volume, as in SciPy's `qmc_quad`.
+//!
+//! Any representable integral of a representable integrand is computed: each output's
+//! sums are kept divided by a power of two chosen from the largest |f| seen, the volume
+//! as a mantissa and a power of two, and the spread of the replicate means is scaled by
+//! a power of two before it is squared (scaling by powers of two is exact, so ordinary
+//! magnitudes give the same bits as plain sums). Only an estimate or half-width beyond
+//! the largest float is refused, naming why. A result claims `met` only when its
+//! interval is finite and honest: a half-width of 0 is believed only of an output that
+//! took one value at every point; otherwise it is raised to the rounding error of the
+//! sums.
+
+#![deny(missing_docs)]
+
+use stillpoint_domains::{Error, PointSet};
+
+use serde::{Deserialize, Serialize};
+
+pub(crate) mod progress;
+pub mod sensitivity;
+
+/// The option names this module's checks spell (kept at this path for callers).
+pub use stillpoint_parse::names;
+
+use stillpoint_design::DesignSpace;
+use stillpoint_sequences::{ExtensibleLattice, EXTENSIBLE_MAX_POINTS};
+
+/// Each output's sums are kept below 2^(this + 20): with at most 2^20 points per
+/// replicate, the largest |f|·2^−shift stays below 2^SUM_EXP, far from the overflow at
+/// 2^1024.
+const SUM_EXP: i32 = 1000;
+
+/// Replicates (independent randomisations) by default: few long sequences make a
+/// narrower interval than many short ones when the error falls faster than 1/n, and the
+/// round guard keeps its level (results/quad/interval.md).
+pub const DEFAULT_REPLICATES: usize = 4;
+
+/// Keeps the Sobol' replicates' scrambles apart from other users of the same seed.
+const SOBOL_KEY: u64 = 0x7175_6164_536f_626f;
+
+/// The most evaluations of f in total by default (2^20).
+pub const DEFAULT_MAX_N: u64 = 1 << 20;
+
+/// Points per replicate in the first batch by default (the smallest prefix whose quality
+/// is checked against a lattice made for its size).
+pub const DEFAULT_START_N: u64 = 64;
+
+/// The most replicates: the default `max_n` holds one first batch of
+/// [`DEFAULT_START_N`] points for each of them.
+pub const MAX_REPLICATES: usize = (DEFAULT_MAX_N / DEFAULT_START_N) as usize;
+
+/// Why a run stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum StopReason {
+    /// Every output's half-width is within its target.
+    Met,
+    /// The next doubling would pass `max_n` evaluations.
+    MaxN,
+    /// The next doubling would pass the sequence's 2^20 points per replicate (a larger
+    /// `max_n` cannot help).
+    Sequence,
+}
+
+impl StopReason {
+    /// The reason as front ends name it: `met`, `max_n` or `sequence`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            StopReason::Met => "met",
+            StopReason::MaxN => "max_n",
+            StopReason::Sequence => "sequence",
+        }
+    }
+}
+
+/// Fewer replicates than this get a warning: the t quantile is large (t_{2,0.975} = 4.30)
+/// and the half-width itself varies so much from run to run that a stop is often early
+/// or late.
+pub const MIN_QUIET_REPLICATES: usize = 4;
+
+/// Settings of an integration; [`Default`] gives the documented defaults.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct QuadOptions {
+    /// Lower corner of the box (the unit cube's 0 when `None`).
+    pub a: Option<Vec<f64>>,
+    /// Upper corner of the box (the unit cube's 1 when `None`).
+    pub b: Option<Vec<f64>>,
+    /// Absolute tolerance on the half-width (0: only the relative one counts).
+    pub abs_tol: f64,
+    /// Relative tolerance: half-width ≤ rel_tol·|estimate| suffices.
+    pub rel_tol: f64,
+    /// Confidence level of the interval, in (0, 1).
+    pub level: f64,
+    /// Independent shifts R, at least 2.
+    pub replicates: usize,
+    /// The most evaluations of f, all replicates together.
+    pub max_n: u64,
+    /// Points per replicate in the first batch (a power of two).
+    pub start_n: u64,
+    /// Seed of the shifts.
+    pub seed: u64,
+    /// The randomised rule evaluated (states saved before it existed: the tent lattice).
+    #[serde(default)]
+    pub rule: Rule,
+    /// Why the rule was chosen, as the result and the progress say it (empty: not said).
+    #[serde(default)]
+    pub rule_reason: String,
+}
+
+/// The randomised rule a run evaluates: each of its replicates is an independent
+/// randomisation of one extensible sequence, so every doubling extends every replicate.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Rule {
+    /// The extensible rank-1 lattice, uniformly shifted and tent-transformed
+    /// ([`ExtensibleLattice`]), one shift per replicate.
+    #[default]
+    TentLattice,
+    /// Sobol' points in natural order (each 2^m prefix a net) with Owen's nested
+    /// scrambling ([`stillpoint_sequences::sobol_scrambled`]), one scramble per replicate.
+    Sobol,
+}
+
+impl Rule {
+    /// Points `start..start + m` of replicate `rep` of the rule in `s` dimensions into
+    /// `out` (row-major, m·s values), computing only those: the lattice by its index, the
+    /// Owen-scrambled net in natural order from its own range. `key` separates the
+    /// scrambles of different users of one seed (quad's, the Sobol' indices').
+    pub(crate) fn fill(self, s: usize, seed: u64, key: u64, rep: u64, start: u64, out: &mut [f64]) {
+        let m = out.len() / s;
+        match self {
+            Rule::TentLattice => {
+                let seq = ExtensibleLattice::new(s, seed, rep).expect("s checked by the caller");
+                seq.fill(start, m, out)
+                    .expect("range checked by the caller");
+            }
+            Rule::Sobol => {
+                use stillpoint_sequences::{hash2, mix64, sobol_scrambled_range};
+                let scramble = hash2(hash2(mix64(seed), key), rep);
+                let start = start as usize;
+                let new = sobol_scrambled_range(start, start + m, s, scramble)
+                    .expect("s and the range checked by the caller");
+                out.copy_from_slice(new.as_slice());
+            }
+        }
+    }
+
+    /// The rule as front ends name it: `lattice` or `sobol`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Rule::TentLattice => "lattice",
+            Rule::Sobol => "sobol",
+        }
+    }
+
+    /// The rule named `name` (`lattice`, `sobol`), refused naming `option` otherwise.
+    pub fn parse(option: &str, name: &str) -> Result<Rule, Error> {
+        match name {
+            "lattice" => Ok(Rule::TentLattice),
+            "sobol" => Ok(Rule::Sobol),
+            _ => Err(Error::invalid(
+                option,
+                format!("{name:?}"),
+                "lattice (the tent-transformed extensible lattice) or sobol (Owen-scrambled \
+                 Sobol')",
+            )),
+        }
+    }
+
+    /// The rule for integrating against the laws of `space` (the cube's or a box's
+    /// uniform law without one), and why. A space with an unbounded law (normal,
+    /// lognormal, a Brownian path) takes scrambled Sobol': through such a law the tent
+    /// lattice's points come in reflected pairs (u, 1 − u) ↦ (Z, −Z), which an integrand
+    /// even in Z sees as half as many, and f ∘ Φ⁻¹ is too rough at the faces for the
+    /// lattice's smoothness to pay (benches/quad_rule_study.py: Sobol' beat the tent
+    /// lattice on every model family with normal inputs, by 1.1–2.2× in RMSE). Bounded
+    /// laws keep the tent lattice, which beat Sobol' there by 1.3–8×.
+    pub fn for_space(space: Option<&DesignSpace>) -> (Rule, String) {
+        let Some(space) = space else {
+            return (
+                Rule::TentLattice,
+                "tent lattice: a smooth integrand over a box gains from the tent".to_string(),
+            );
+        };
+        let unbounded: Vec<&str> = space
+            .vars
+            .iter()
+            .zip(space.unbounded())
+            .filter(|(_, u)| *u)
+            .map(|(v, _)| v.name.as_str())
+            .collect();
+        match unbounded.as_slice() {
+            [] => (
+                Rule::TentLattice,
+                "tent lattice: every law is bounded".to_string(),
+            ),
+            names => {
+                let shown = if names.len() > 3 {
+                    format!("{}, … ({} coordinates)", names[..3].join(", "), names.len())
+                } else {
+                    names.join(", ")
+                };
+                (
+                    Rule::Sobol,
+                    format!(
+                        "scrambled Sobol': unbounded laws ({shown}) give the tent lattice \
+                         reflected pairs (Z, −Z)"
+                    ),
+                )
+            }
+        }
+    }
+}
+
+impl Default for QuadOptions {
+    fn default() -> Self {
+        QuadOptions {
+            a: None,
+            b: None,
+            abs_tol: 0.0,
+            rel_tol: 1e-3,
+            level: 0.95,
+            replicates: DEFAULT_REPLICATES,
+            max_n: DEFAULT_MAX_N,
+            start_n: DEFAULT_START_N,
+            seed: 0,
+            rule: Rule::TentLattice,
+            rule_reason: String::new(),
+        }
+    }
+}
+
+/// The state of an integration (see the module documentation). Serializable, so a
+/// front end can save it and continue later with a tighter tolerance.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Cubature {
+    d: usize,
+    options: QuadOptions,
+    lower: Vec<f64>,
+    width: Vec<f64>,
+    /// Outputs of f (0 until the first values are fed).
+    k: usize,
+    /// Points evaluated per replicate.
+    per_replicate: u64,
+    /// Points per replicate in the batch handed out and not yet fed (0: none).
+    pending: u64,
+    /// Σ f·2^−shift over each replicate's points, replicate-major (R × k).
+    sums: Vec<f64>,
+    /// Per output, the power of two its sums are divided by (empty in states saved
+    /// before it existed: 0).
+    #[serde(default)]
+    shift: Vec<i32>,
+    /// Per output, the least and the greatest value fed (empty in states saved before it
+    /// existed: a zero spread is then believed as it was).
+    #[serde(default)]
+    range: Vec<(f64, f64)>,
+    /// The sums of `sums` over each replicate's first half of its points (same layout
+    /// and scale), for the round guard of the interval (empty in states saved before it
+    /// existed, and after a first batch of one point: no guard).
+    #[serde(default)]
+    half_sums: Vec<f64>,
+}
+
+impl Cubature {
+    /// A new integration of a function of d variables. Refuses d = 0 or beyond the
+    /// sequence's dimensions (naming `d`), a corner of the wrong length (`a`, `b`), a box
+    /// that [`stillpoint_run::plan::space::intervals`] refuses (`a, b`: b ≤ a, or a width that
+    /// overflows or vanishes next to the coordinates), negative or non-finite tolerances
+    /// (`abs_tol`, `rel_tol`), a level outside (0, 1) (`level`), replicates outside 2 to
+    /// [`MAX_REPLICATES`] (`replicates`), a `start_n` that is not a power of two, and a
+    /// `max_n` below one first batch.
+    pub fn new(d: usize, options: QuadOptions) -> Result<Cubature, Error> {
+        ExtensibleLattice::new(d, 0, 0)?;
+        let o = &options;
+        let corner = |v: &Option<Vec<f64>>, name: &str, fill: f64| match v {
+            None => Ok(vec![fill; d]),
+            Some(v) if v.len() == d && v.iter().all(|x| x.is_finite()) => Ok(v.clone()),
+            Some(v) => Err(Error::invalid(
+                name,
+                format!("{v:?}"),
+                format!("{d} finite values (one per dimension)"),
+            )),
+        };
+        let lower = corner(&o.a, "a", 0.0)?;
+        let upper = corner(&o.b, "b", 1.0)?;
+        // The one check of boxes every front end applies (a width that is positive,
+        // finite and not vanishing next to the coordinates).
+        let interleaved: Vec<f64> = lower
+            .iter()
+            .zip(&upper)
+            .flat_map(|(a, b)| [*a, *b])
+            .collect();
+        stillpoint_run::plan::space::intervals(
+            "a, b",
+            &format!("({lower:?}, {upper:?})"),
+            &interleaved,
+        )?;
+        check_tolerances(o.abs_tol, o.rel_tol)?;
+        check_level(o.level)?;
+        if !(2..=MAX_REPLICATES).contains(&o.replicates) {
+            return Err(Error::invalid(
+                names::REPLICATES,
+                o.replicates,
+                replicates_accepted(),
+            ));
+        }
+        if !o.start_n.is_power_of_two() || o.start_n > EXTENSIBLE_MAX_POINTS {
+            return Err(Error::invalid(
+                "start_n",
+                o.start_n,
+                format!("a power of two up to {EXTENSIBLE_MAX_POINTS}"),
+            ));
+        }
+        check_budget(o.max_n, o)?;
+        let width = lower.iter().zip(&upper).map(|(a, b)| b - a).collect();
+        Ok(Cubature {
+            d,
+            options,
+            lower,
+            width,
+            k: 0,
+            per_replicate: 0,
+            pending: 0,
+            sums: Vec::new(),
+            shift: Vec::new(),
+            range: Vec::new(),
+            half_sums: Vec::new(),
+        })
+    }
+
+    /// The dimension d.
+    pub fn d(&self) -> usize {
+        self.d
+    }
+
+    /// The settings (with the current tolerances).
+    pub fn options(&self) -> &QuadOptions {
+        &self.options
+    }
+
+    /// Outputs of f (0 before the first values are fed).
+    pub fn outputs(&self) -> usize {
+        self.k
+    }
+
+    /// Evaluations of f so far, all replicates together.
+    pub fn n(&self) -> u64 {
+        self.per_replicate * self.options.replicates as u64
+    }
+
+    /// Points per replicate of the batch handed out and not yet fed (0: none).
+    pub fn pending(&self) -> u64 {
+        self.pending
+    }
+
+    /// Points evaluated per replicate so far.
+    pub fn per_replicate(&self) -> u64 {
+        self.per_replicate
+    }
+
+    /// Sets new tolerances (to continue after the interval met the old ones); the
+    /// evaluations made are kept. Refuses negative or non-finite values, naming them.
+    pub fn set_tolerance(&mut self, abs_tol: f64, rel_tol: f64) -> Result<(), Error> {
+        check_tolerances(abs_tol, rel_tol)?;
+        self.options.abs_tol = abs_tol;
+        self.options.rel_tol = rel_tol;
+        Ok(())
+    }
+
+    /// Sets a new budget (a larger one continues a run stopped by `max_n`); the
+    /// evaluations made are kept. Refuses less than one first batch, naming `max_n`.
+    pub fn set_max_n(&mut self, max_n: u64) -> Result<(), Error> {
+        check_budget(max_n, &self.options)?;
+        self.options.max_n = max_n;
+        Ok(())
+    }
+
+    /// Sets a new confidence level (the half-width is recomputed from the same
+    /// replicate means). Refuses a level outside (0, 1), naming `level`.
+    pub fn set_level(&mut self, level: f64) -> Result<(), Error> {
+        check_level(level)?;
+        self.options.level = level;
+        Ok(())
+    }
+
+    /// Why the run stops here: `None` while another doubling may be made and the
+    /// tolerance is not met.
+    pub fn reason(&self) -> Option<StopReason> {
+        if self.met() {
+            Some(StopReason::Met)
+        } else if self.per_replicate + self.next_size() > EXTENSIBLE_MAX_POINTS {
+            Some(StopReason::Sequence)
+        } else if self.exhausted() {
+            Some(StopReason::MaxN)
+        } else {
+            None
+        }
+    }
+
+    /// Points per replicate of the next batch (the first batch, then as many as already
+    /// evaluated, doubling the total).
+    fn next_size(&self) -> u64 {
+        if self.per_replicate == 0 {
+            self.options.start_n
+        } else {
+            self.per_replicate
+        }
+    }
+
+    /// Whether the next doubling would pass `max_n` evaluations or the sequence's 2^20
+    /// points per replicate.
+    pub fn exhausted(&self) -> bool {
+        let next = self.per_replicate + self.next_size();
+        next > EXTENSIBLE_MAX_POINTS
+            || next.saturating_mul(self.options.replicates as u64) > self.options.max_n
+    }
+
+    /// The next batch of points, scaled to the box, as (rows, d) row-major values:
+    /// replicate 0's new points, then replicate 1's, and so on (each replicate's points
+    /// n_r..2n_r of its sequence, or its first `start_n`). Asking again before
+    /// [`Cubature::feed`] gives the same batch. `None` when the budget is spent
+    /// ([`Cubature::exhausted`]).
+    pub fn next_points(&mut self) -> Option<PointSet> {
+        if self.pending == 0 {
+            if self.exhausted() {
+                return None;
+            }
+            self.pending = self.next_size();
+        }
+        let (r, m) = (self.options.replicates, self.pending as usize);
+        let mut data = vec![0.0; r * m * self.d];
+        for (rep, chunk) in data.chunks_exact_mut(m * self.d).enumerate() {
+            self.fill_replicate(rep as u64, m, chunk);
+            for row in chunk.chunks_exact_mut(self.d) {
+                for ((x, a), w) in row.iter_mut().zip(&self.lower).zip(&self.width) {
+                    *x = a + w * *x;
+                }
+            }
+        }
+        Some(PointSet::new(r * m, self.d, data).expect("non-empty batch"))
+    }
+
+    /// Replicate `rep`'s next m points, before the box's scaling, into `out`.
+    fn fill_replicate(&self, rep: u64, m: usize, out: &mut [f64]) {
+        let (seed, start) = (self.options.seed, self.per_replicate);
+        debug_assert_eq!(out.len(), m * self.d);
+        self.options
+            .rule
+            .fill(self.d, seed, SOBOL_KEY, rep, start, out);
+    }
+
+    /// Takes f's values at the batch of [`Cubature::next_points`]: rows × k values,
+    /// row-major (k outputs per point; k is fixed by the first batch). Refuses values
+    /// without a batch handed out, a length that is not a multiple of the rows (or a
+    /// different k), and NaN or ±∞, naming the point; the state is unchanged then.
+    pub fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
+        let r = self.options.replicates;
+        let m = self.pending as usize;
+        let rows = r * m;
+        if m == 0 || points.n() != rows {
+            return Err(Error::invalid(
+                "values",
+                format!("{} values", values.len()),
+                "f's values at the points of next_points() (none are pending)",
+            ));
+        }
+        let k = if self.k == 0 {
+            values.len() / rows
+        } else {
+            self.k
+        };
+        if k == 0 || values.len() != rows * k {
+            return Err(Error::invalid(
+                "values",
+                format!("{} values for {rows} points", values.len()),
+                if self.k == 0 {
+                    format!("{rows}·k values (k ≥ 1 outputs per point)")
+                } else {
+                    format!("{} values ({} outputs per point)", rows * k, k)
+                },
+            ));
+        }
+        if let Some(at) = values.iter().position(|v| !v.is_finite()) {
+            let i = at / k;
+            let p = &points.as_slice()[i * self.d..(i + 1) * self.d];
+            return Err(Error::invalid(
+                "f",
+                format!("{} at x = {:?} (output {})", values[at], p, at % k),
+                "a finite value at every point",
+            ));
+        }
+        self.accumulate(k, m, values);
+        Ok(())
+    }
+
+    /// Adds a batch's values (m points per replicate, k outputs) to the sums, first
+    /// raising an output's shift when its largest |f| so far needs it.
+    fn accumulate(&mut self, k: usize, m: usize, values: &[f64]) {
+        let r = self.options.replicates;
+        if self.k == 0 {
+            self.k = k;
+            self.sums = vec![0.0; r * k];
+        }
+        if self.shift.len() != k {
+            self.shift = vec![0; k];
+        }
+        let mut range = vec![(f64::INFINITY, f64::NEG_INFINITY); k];
+        for row in values.chunks_exact(k) {
+            for (g, v) in range.iter_mut().zip(row) {
+                *g = (g.0.min(*v), g.1.max(*v));
+            }
+        }
+        // Merged with the earlier range; a state saved before the range was kept has
+        // none and keeps none (its zero spreads are believed as they were).
+        if self.range.len() == k {
+            for (g, old) in range.iter_mut().zip(&self.range) {
+                *g = (g.0.min(old.0), g.1.max(old.1));
+            }
+        }
+        if self.range.len() == k || self.per_replicate == 0 {
+            self.range.clone_from(&range);
+        }
+        for (j, g) in range.iter().enumerate() {
+            let largest = g.0.abs().max(g.1.abs());
+            let need = (libm::frexp(largest).1 - SUM_EXP).max(self.shift[j]);
+            if need > self.shift[j] {
+                for rep in 0..r {
+                    let s = &mut self.sums[rep * k + j];
+                    *s = libm::scalbn(*s, self.shift[j] - need);
+                }
+                self.shift[j] = need;
+            }
+        }
+        // The sums at half the points after this batch: those before it, or, for a first
+        // batch, those of its first half (a state saved without them keeps none).
+        let first = self.per_replicate == 0;
+        if !first && self.half_sums.len() == self.sums.len() {
+            self.half_sums.clone_from(&self.sums);
+        }
+        let mut half = vec![0.0; if first && m > 1 { r * k } else { 0 }];
+        for (rep, block) in values.chunks_exact(m * k).enumerate() {
+            let sums = &mut self.sums[rep * k..(rep + 1) * k];
+            for (i, row) in block.chunks_exact(k).enumerate() {
+                if i == m / 2 && !half.is_empty() {
+                    half[rep * k..(rep + 1) * k].copy_from_slice(sums);
+                }
+                for ((s, v), e) in sums.iter_mut().zip(row).zip(&self.shift) {
+                    *s += if *e == 0 { *v } else { libm::scalbn(*v, -e) };
+                }
+            }
+        }
+        if first {
+            self.half_sums = half;
+        }
+        self.per_replicate += self.pending;
+        self.pending = 0;
+    }
+
+    /// Refuses an estimate or half-width beyond the largest float, naming f and why. A
+    /// run checks it where it stops (an early estimate may overflow where a later one
+    /// does not); a front end driving [`Cubature::feed`] itself calls it then too.
+    pub fn check_representable(&self) -> Result<(), Error> {
+        let (estimate, half_width) = (self.estimate(), self.half_width());
+        for j in 0..self.k {
+            for (what, v) in [("integral", estimate[j]), ("half-width", half_width[j])] {
+                if !v.is_finite() {
+                    let (scaled, e) = self.scaled(j);
+                    let m = if what == "integral" {
+                        scaled.iter().sum::<f64>() / scaled.len() as f64
+                    } else {
+                        self.guarded_half_width(j, &scaled)
+                    };
+                    let log10 = m.abs().log10() + e as f64 * std::f64::consts::LOG10_2;
+                    let mantissa = 10f64.powf(log10.fract()).copysign(m);
+                    let output = if self.k > 1 {
+                        format!(" (output {j})")
+                    } else {
+                        String::new()
+                    };
+                    return Err(Error::invalid(
+                        "f",
+                        format!(
+                            "values whose estimated {what} over the box is about \
+                             {mantissa:.1}e{} after {} evaluations{output}",
+                            log10.trunc() as i64,
+                            self.n()
+                        ),
+                        format!(
+                            "an integral and a half-width within ±{:e}, the largest float",
+                            f64::MAX
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The volume of the box as a mantissa in [0.5, 1) and a power of two (a product of
+    /// widths may overflow or underflow where the integral does not).
+    fn volume(&self) -> (f64, i32) {
+        self.width.iter().fold((1.0, 0), |(m, e), w| {
+            let (m, de) = libm::frexp(m * w);
+            (m, e + de)
+        })
+    }
+
+    /// Output j's R replicate means divided by 2^e, and e.
+    fn scaled(&self, j: usize) -> (Vec<f64>, i32) {
+        let (r, k) = (self.options.replicates, self.k);
+        let (mantissa, e) = self.volume();
+        let scale = mantissa / self.per_replicate.max(1) as f64;
+        let shift = self.shift.get(j).copied().unwrap_or(0);
+        let means = (0..r).map(|rep| self.sums[rep * k + j] * scale).collect();
+        (means, e + shift)
+    }
+
+    /// Output j's estimate at half the points of each replicate divided by the 2^e of
+    /// [`Cubature::scaled`] (`None` without the half sums).
+    fn scaled_half_estimate(&self, j: usize) -> Option<f64> {
+        let (r, k) = (self.options.replicates, self.k);
+        if self.half_sums.len() != r * k || self.per_replicate < 2 {
+            return None;
+        }
+        let scale = self.volume().0 / (self.per_replicate / 2) as f64;
+        let total: f64 = (0..r).map(|rep| self.half_sums[rep * k + j] * scale).sum();
+        Some(total / r as f64)
+    }
+
+    /// The half-width of output j from its scaled replicate means: the Student t
+    /// half-width, raised to the change of the estimate since half the points when that
+    /// is larger (the round guard).
+    fn guarded_half_width(&self, j: usize, means: &[f64]) -> f64 {
+        let h = self.scaled_half_width(means);
+        // An output that took one value has no error; its sums differ only by rounding.
+        if self.constant(j) {
+            return h;
+        }
+        match self.scaled_half_estimate(j) {
+            Some(half) => h.max((means.iter().sum::<f64>() / means.len() as f64 - half).abs()),
+            None => h,
+        }
+    }
+
+    /// The Student t half-width of scaled replicate means: t·sd/√R, the deviations divided
+    /// by the power of two of the largest before they are squared (exact, and no overflow).
+    fn scaled_half_width(&self, means: &[f64]) -> f64 {
+        let r = means.len();
+        let t = student_t_quantile((1.0 + self.options.level) / 2.0, (r - 1) as f64);
+        // Equal means have no spread (their mean may differ from them in the last bit).
+        if means.iter().all(|x| *x == means[0]) {
+            return 0.0;
+        }
+        let mean = means.iter().sum::<f64>() / r as f64;
+        let largest = means.iter().map(|x| (x - mean).abs()).fold(0.0, f64::max);
+        let e = libm::frexp(largest).1;
+        let var = means
+            .iter()
+            .map(|x| libm::scalbn(x - mean, -e).powi(2))
+            .sum::<f64>()
+            / (r - 1) as f64;
+        libm::scalbn(t * (var / r as f64).sqrt(), e)
+    }
+
+    /// Whether output j took one value at every point (true for states saved before
+    /// the values' range was kept).
+    fn constant(&self, j: usize) -> bool {
+        self.range.get(j).is_none_or(|(lo, hi)| lo == hi)
+    }
+
+    /// The estimate of each output's integral (empty before the first values).
+    pub fn estimate(&self) -> Vec<f64> {
+        (0..self.k)
+            .map(|j| {
+                let (m, e) = self.scaled(j);
+                libm::scalbn(m.iter().sum::<f64>() / m.len() as f64, e)
+            })
+            .collect()
+    }
+
+    /// Per output, the R replicate means (scaled by the volume).
+    pub fn replicate_means(&self) -> Vec<Vec<f64>> {
+        (0..self.k)
+            .map(|j| {
+                let (m, e) = self.scaled(j);
+                m.into_iter().map(|x| libm::scalbn(x, e)).collect()
+            })
+            .collect()
+    }
+
+    /// The half-width of each output's interval at the level asked (empty before the
+    /// first values). Replicate means that agree while the output took different values
+    /// agree only to rounding: the half-width is then the sums' rounding error bound,
+    /// per_replicate·ε·max|f|·volume, not 0.
+    pub fn half_width(&self) -> Vec<f64> {
+        (0..self.k)
+            .map(|j| {
+                let (m, e) = self.scaled(j);
+                let h = self.guarded_half_width(j, &m);
+                if h > 0.0 || self.constant(j) {
+                    return libm::scalbn(h, e);
+                }
+                let (lo, hi) = self.range[j];
+                let shift = self.shift.get(j).copied().unwrap_or(0);
+                let largest = libm::scalbn(lo.abs().max(hi.abs()), -shift);
+                let floor = self.per_replicate as f64 * f64::EPSILON * largest * self.volume().0;
+                libm::scalbn(floor, e)
+            })
+            .collect()
+    }
+
+    /// Per output, the change of the estimate since half the points of each replicate,
+    /// |Q_n − Q_{n/2}|, the round guard's floor under the half-width (`None` before two
+    /// points per replicate, and for states saved before it was kept).
+    pub fn round_change(&self) -> Vec<Option<f64>> {
+        (0..self.k)
+            .map(|j| {
+                let (m, e) = self.scaled(j);
+                let half = self.scaled_half_estimate(j)?;
+                let mean = m.iter().sum::<f64>() / m.len() as f64;
+                Some(libm::scalbn((mean - half).abs(), e))
+            })
+            .collect()
+    }
+
+    /// The half-width each output must reach: max(abs_tol, rel_tol·|estimate|) (empty
+    /// before the first values).
+    pub fn targets(&self) -> Vec<f64> {
+        let (abs_tol, rel_tol) = (self.options.abs_tol, self.options.rel_tol);
+        self.estimate()
+            .iter()
+            .map(|e| abs_tol.max(rel_tol * e.abs()))
+            .collect()
+    }
+
+    /// Whether every output's half-width is within its [`Cubature::targets`] (false
+    /// before the first values).
+    /// A half-width is trusted only when it and the estimate are finite, and a
+    /// half-width of 0 only of an output that took one value at every point (one that
+    /// underflowed is not).
+    pub fn met(&self) -> bool {
+        self.k > 0
+            && self
+                .half_width()
+                .iter()
+                .zip(self.targets())
+                .enumerate()
+                .all(|(j, (h, t))| {
+                    t.is_finite() && h.is_finite() && *h <= t && (*h > 0.0 || self.constant(j))
+                })
+    }
+
+    /// Warnings about the settings: too few replicates for a trustworthy interval.
+    pub fn warnings(&self) -> Vec<String> {
+        let r = self.options.replicates;
+        if r < MIN_QUIET_REPLICATES {
+            vec![format!(
+                "{r} replicates give an unreliable interval at level {}: its half-width \
+                 varies widely between runs (t quantile {:.2}); use {MIN_QUIET_REPLICATES} \
+                 or more",
+                self.options.level,
+                student_t_quantile((1.0 + self.options.level) / 2.0, (r - 1) as f64)
+            )]
+        } else {
+            Vec::new()
+        }
+    }
+
+    /// Doubles until [`Cubature::met`] or [`Cubature::exhausted`], calling f on each
+    /// batch (f returns rows × k values, row-major). Returns whether the tolerance is met.
+    pub fn run<F>(&mut self, f: F) -> Result<bool, Error>
+    where
+        F: FnMut(&PointSet) -> Vec<f64>,
+    {
+        self.run_observed(f, |_| {})
+    }
+
+    /// [`Cubature::run`], calling `after` with the state after each doubling (progress
+    /// displays).
+    pub fn run_observed<F, A>(&mut self, f: F, after: A) -> Result<bool, Error>
+    where
+        F: FnMut(&PointSet) -> Vec<f64>,
+        A: FnMut(&Cubature),
+    {
+        run_rounds(self, f, after)?;
+        self.check_representable()?;
+        Ok(self.met())
+    }
+}
+
+/// A computation that asks for batches of points and takes f's values there until its
+/// targets are met or its budget is spent: the integration ([`Cubature`]) and the
+/// sensitivity analysis ([`crate::sensitivity::Sensitivity`]). [`run_rounds`] drives
+/// either, and so do the front ends that evaluate f themselves.
+pub trait Rounds {
+    /// Whether every target is met.
+    fn met(&self) -> bool;
+    /// Points of the batch due next and not yet fed (0: none, the budget is spent).
+    fn pending(&self) -> u64;
+    /// The next batch (the same one until it is fed); None when the budget is spent.
+    fn next_points(&mut self) -> Option<PointSet>;
+    /// f's values at the batch, rows × outputs, row-major.
+    fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error>;
+}
+
+impl Rounds for Cubature {
+    fn met(&self) -> bool {
+        Cubature::met(self)
+    }
+    fn pending(&self) -> u64 {
+        Cubature::pending(self)
+    }
+    fn next_points(&mut self) -> Option<PointSet> {
+        Cubature::next_points(self)
+    }
+    fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
+        Cubature::feed(self, points, values)
+    }
+}
+
+/// Evaluates f on each batch of `state` until it is met or its budget is spent, calling
+/// `after` after each batch; stops with [`stillpoint_run::solve::interrupted`] between two
+/// batches when a stop is asked for ([`stillpoint_run::solve::cancel`]).
+pub fn run_rounds<R, F, A>(state: &mut R, mut f: F, mut after: A) -> Result<(), Error>
+where
+    R: Rounds,
+    F: FnMut(&PointSet) -> Vec<f64>,
+    A: FnMut(&R),
+{
+    while !state.met() {
+        stillpoint_run::solve::stop_if_cancelled()?;
+        let Some(points) = state.next_points() else {
+            break;
+        };
+        let values = f(&points);
+        state.feed(&points, &values)?;
+        after(state);
+    }
+    Ok(())
+}
+
+/// What [`quad`] returns.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct QuadResult {
+    /// The estimate of each output's integral.
+    pub estimate: Vec<f64>,
+    /// The half-width of each output's interval at the level asked.
+    pub half_width: Vec<f64>,
+    /// Evaluations of f.
+    pub n: u64,
+    /// Independent shifts R.
+    pub replicates: usize,
+    /// Whether every output met the tolerance.
+    pub met: bool,
+    /// Why the run stopped (`None` for a state that may go on, e.g. one seen by a
+    /// progress observer before its last doubling).
+    #[serde(default)]
+    pub reason: Option<StopReason>,
+    /// Warnings about the settings.
+    pub warnings: Vec<String>,
+    /// The rule evaluated.
+    #[serde(default)]
+    pub rule: Rule,
+    /// Why that rule (empty when the caller chose it without saying).
+    #[serde(default)]
+    pub rule_reason: String,
+    /// The state, to continue with a tighter tolerance.
+    pub state: Cubature,
+}
+
+impl From<Cubature> for QuadResult {
+    /// The result a state has reached so far.
+    fn from(state: Cubature) -> QuadResult {
+        QuadResult {
+            estimate: state.estimate(),
+            half_width: state.half_width(),
+            n: state.n(),
+            replicates: state.options.replicates,
+            met: state.met(),
+            reason: state.reason(),
+            warnings: state.warnings(),
+            rule: state.options.rule,
+            rule_reason: state.options.rule_reason.clone(),
+            state,
+        }
+    }
+}
+
+impl QuadResult {
+    /// Continues with new tolerances, evaluating f only at new points.
+    pub fn refine<F>(self, f: F, abs_tol: f64, rel_tol: f64) -> Result<QuadResult, Error>
+    where
+        F: FnMut(&PointSet) -> Vec<f64>,
+    {
+        let mut state = self.state;
+        state.set_tolerance(abs_tol, rel_tol)?;
+        state.run(f)?;
+        Ok(QuadResult::from(state))
+    }
+}
+
+/// ∫ f over [a, b] (the unit cube by default) to the tolerance of `options` (see the
+/// module documentation). f gets a batch of points and returns its values, rows × k
+/// row-major (k outputs per point, the same k every call).
+///
+/// ```
+/// use stillpoint::cubature::{quad, QuadOptions};
+/// let opts = QuadOptions { rel_tol: 1e-4, ..QuadOptions::default() };
+/// let r = quad(|x| x.rows().map(|p| p[0] * p[1]).collect(), 2, opts)?;
+/// assert!(r.met && (r.estimate[0] - 0.25).abs() < 1e-3);
+/// # Ok::<(), stillpoint::Error>(())
+/// ```
+pub fn quad<F>(f: F, d: usize, options: QuadOptions) -> Result<QuadResult, Error>
+where
+    F: FnMut(&PointSet) -> Vec<f64>,
+{
+    let mut state = Cubature::new(d, options)?;
+    state.run(f)?;
+    Ok(QuadResult::from(state))
+}
+
+/// The points a continuous variable of an integration's space must be able to hold
+/// distinct: a range narrower than 4096 floats (`uniform(1e15,1e15+0.1)`) is refused as
+/// `generate` refuses one that cannot hold its n points.
+pub const SPACE_RESOLUTION: usize = 4096;
+
+/// Checks a space for integration against its laws (`option` names it as the user gave
+/// it): the vanishing-range check of [`SPACE_RESOLUTION`] points.
+pub fn check_space(space: &DesignSpace, option: &str) -> Result<(), Error> {
+    space.check_n(option, SPACE_RESOLUTION)
+}
+
+/// The values of `space` at points of the unit cube, one row per point (every front
+/// end's map of an integration under distributions): continuous variables through the
+/// copula and their quantile functions, levels equally likely, a label as its index.
+/// The shifted, tent-transformed points reach 1 only with probability zero, where an
+/// unbounded quantile is infinite: they are kept inside [0, 1).
+pub fn space_values(space: &DesignSpace, unit: &PointSet) -> Result<PointSet, Error> {
+    let below_one = 1.0 - f64::EPSILON / 2.0;
+    let data = unit.as_slice().iter().map(|x| x.min(below_one)).collect();
+    let inside = PointSet::new(unit.n(), unit.s(), data)?;
+    stillpoint_design::mapped(space, &inside)?.numbers()
+}
+
+/// The mean of independent unbiased estimates (randomised point sets, replicates), its
+/// standard error sd/√R and the Student t half-width of its interval at a level,
+/// t_{R−1}·sd/√R ([`mean_interval`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeanInterval {
+    /// The mean of the estimates.
+    pub mean: f64,
+    /// sd/√R (`None` for one estimate).
+    pub standard_error: Option<f64>,
+    /// t_{R−1,(1+level)/2}·sd/√R (`None` for one estimate).
+    pub half_width: Option<f64>,
+}
+
+/// The [`MeanInterval`] of `estimates` at `level`. Refuses a level outside (0, 1)
+/// (naming `level`) and no estimates (naming `estimates`).
+pub fn mean_interval(estimates: &[f64], level: f64) -> Result<MeanInterval, Error> {
+    check_level(level)?;
+    let r = estimates.len();
+    if r == 0 {
+        return Err(Error::invalid("estimates", "none", "one or more"));
+    }
+    let mean = estimates.iter().sum::<f64>() / r as f64;
+    if r == 1 {
+        return Ok(MeanInterval {
+            mean,
+            standard_error: None,
+            half_width: None,
+        });
+    }
+    let var = estimates.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (r - 1) as f64;
+    let se = (var / r as f64).sqrt();
+    let t = student_t_quantile((1.0 + level) / 2.0, (r - 1) as f64);
+    Ok(MeanInterval {
+        mean,
+        standard_error: Some(se),
+        half_width: Some(t * se),
+    })
+}
+
+/// What a count of replicates may be, as its refusal and the help say it: at least two
+/// (the interval comes from their spread), at most as many first batches as the budget
+/// holds.
+pub fn replicates_accepted() -> String {
+    format!("2 to {MAX_REPLICATES} (the interval comes from their spread)")
+}
+
+/// Refuses a negative or non-finite tolerance, naming it.
+fn check_tolerances(abs_tol: f64, rel_tol: f64) -> Result<(), Error> {
+    for (name, t) in [(names::ABS_TOL, abs_tol), (names::REL_TOL, rel_tol)] {
+        if !(t.is_finite() && t >= 0.0) {
+            return Err(Error::invalid(name, t, "a finite value ≥ 0"));
+        }
+    }
+    Ok(())
+}
+
+/// Refuses a confidence level outside (0, 1).
+fn check_level(level: f64) -> Result<(), Error> {
+    if !(level > 0.0 && level < 1.0) {
+        return Err(Error::invalid(names::LEVEL, level, "a value in (0, 1)"));
+    }
+    Ok(())
+}
+
+/// Refuses a budget below one first batch of the settings `o`, naming `max_n`.
+fn check_budget(max_n: u64, o: &QuadOptions) -> Result<(), Error> {
+    let first = o.start_n.saturating_mul(o.replicates as u64);
+    if max_n < first {
+        return Err(Error::invalid(
+            names::MAX_N,
+            max_n,
+            format!(
+                "at least one first batch: {} points for each of the {} replicates, {first} \
+                 evaluations",
+                o.start_n, o.replicates
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The regularised incomplete beta function I_x(a, b), by the continued fraction of
+/// Numerical Recipes (Press et al., 3rd ed., §6.4), using the symmetry
+/// I_x(a, b) = 1 − I_{1−x}(b, a) where the fraction converges slowly.
+fn incomplete_beta(x: f64, a: f64, b: f64) -> f64 {
+    if x <= 0.0 {
+        return 0.0;
+    }
+    if x >= 1.0 {
+        return 1.0;
+    }
+    let ln_front =
+        libm::lgamma(a + b) - libm::lgamma(a) - libm::lgamma(b) + a * x.ln() + b * (1.0 - x).ln();
+    if x < (a + 1.0) / (a + b + 2.0) {
+        ln_front.exp() * beta_fraction(x, a, b) / a
+    } else {
+        1.0 - ln_front.exp() * beta_fraction(1.0 - x, b, a) / b
+    }
+}
+
+/// The continued fraction of I_x(a, b) (modified Lentz).
+fn beta_fraction(x: f64, a: f64, b: f64) -> f64 {
+    let tiny = 1e-300;
+    let (qab, qap, qam) = (a + b, a + 1.0, a - 1.0);
+    let mut c = 1.0;
+    let mut d = 1.0 - qab * x / qap;
+    if d.abs() < tiny {
+        d = tiny;
+    }
+    d = 1.0 / d;
+    let mut h = d;
+    for m in 1..10_000 {
+        let m = m as f64;
+        let m2 = 2.0 * m;
+        for aa in [
+            m * (b - m) * x / ((qam + m2) * (a + m2)),
+            -(a + m) * (qab + m) * x / ((a + m2) * (qap + m2)),
+        ] {
+            d = 1.0 + aa * d;
+            if d.abs() < tiny {
+                d = tiny;
+            }
+            c = 1.0 + aa / c;
+            if c.abs() < tiny {
+                c = tiny;
+            }
+            d = 1.0 / d;
+            h *= d * c;
+        }
+        if (d * c - 1.0).abs() < 1e-16 {
+            break;
+        }
+    }
+    h
+}
+
+/// The Student t distribution function with ν degrees of freedom at t.
+pub fn student_t_cdf(t: f64, nu: f64) -> f64 {
+    let tail = 0.5 * incomplete_beta(nu / (nu + t * t), nu / 2.0, 0.5);
+    if t >= 0.0 {
+        1.0 - tail
+    } else {
+        tail
+    }
+}
+
+/// The p-quantile of the Student t distribution with ν > 0 degrees of freedom, for p in
+/// (0, 1): [`student_t_cdf`] inverted by bisection to the last bits (a bracket found by
+/// doubling), which needs no approximation of its own.
+pub fn student_t_quantile(p: f64, nu: f64) -> f64 {
+    if p < 0.5 {
+        return -student_t_quantile(1.0 - p, nu);
+    }
+    if p == 0.5 {
+        return 0.0;
+    }
+    let mut hi = 1.0;
+    while student_t_cdf(hi, nu) < p && hi < 1e300 {
+        hi *= 2.0;
+    }
+    let mut lo = 0.0;
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if student_t_cdf(mid, nu) < p {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn t_quantiles_match_the_tables() {
+        // Reference values from standard t tables (and t_1 = tan(π(p − ½)) exactly).
+        for (p, nu, want) in [
+            (0.975, 7.0, 2.364624),
+            (0.975, 1.0, 12.706205),
+            (0.995, 3.0, 5.840909),
+            (0.95, 30.0, 1.697261),
+            (0.975, 1e7, 1.959964),
+            (0.9, 2.0, 1.885618),
+        ] {
+            let t = student_t_quantile(p, nu);
+            assert!((t - want).abs() < 2e-6, "t({p}, {nu}) = {t}, want {want}");
+        }
+        let t = student_t_quantile(0.8, 1.0);
+        assert!((t - (std::f64::consts::PI * 0.3).tan()).abs() < 1e-10);
+        assert_eq!(
+            student_t_quantile(0.025, 7.0),
+            -student_t_quantile(0.975, 7.0)
+        );
+    }
+
+    /// Π_i (1 + c_i (x_i − ½)) + e^{x_1 + x_2}: integral 1 + (e − 1)² over the unit cube.
+    fn product_exp(x: &PointSet) -> Vec<f64> {
+        x.rows()
+            .map(|p| {
+                p.iter()
+                    .enumerate()
+                    .map(|(i, v)| 1.0 + (0.5 + 0.2 * i as f64) * (v - 0.5))
+                    .product::<f64>()
+                    + (p[0] + p[1]).exp()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn known_integrals_are_reached_within_the_tolerance() {
+        let exact = 1.0 + (std::f64::consts::E - 1.0).powi(2);
+        for rel_tol in [1e-2, 1e-4, 1e-6] {
+            let opts = QuadOptions {
+                rel_tol,
+                ..QuadOptions::default()
+            };
+            let r = quad(product_exp, 4, opts).unwrap();
+            assert!(r.met, "rel_tol {rel_tol}: {r:?}");
+            assert!(
+                (r.estimate[0] - exact).abs() <= rel_tol * exact,
+                "rel_tol {rel_tol}: {} vs {exact}",
+                r.estimate[0]
+            );
+            assert!(r.half_width[0] <= rel_tol * r.estimate[0].abs());
+        }
+    }
+
+    #[test]
+    fn a_box_scales_the_points_and_the_volume() {
+        // ∫ over [1, 3] × [−1, 0] of x·y² = (9 − 1)/2 · 1/3 = 4/3.
+        let opts = QuadOptions {
+            a: Some(vec![1.0, -1.0]),
+            b: Some(vec![3.0, 0.0]),
+            abs_tol: 1e-6,
+            rel_tol: 0.0,
+            ..QuadOptions::default()
+        };
+        let r = quad(|x| x.rows().map(|p| p[0] * p[1] * p[1]).collect(), 2, opts).unwrap();
+        assert!(r.met && (r.estimate[0] - 4.0 / 3.0).abs() < 1e-5, "{r:?}");
+    }
+
+    #[test]
+    fn the_interval_covers_the_error_in_most_runs() {
+        // A peaked integrand (Genz product peak, 3-D) at a modest tolerance, 100 seeds.
+        let c = [4.0f64, 6.0, 5.0];
+        let u = [0.3f64, 0.6, 0.45];
+        let exact: f64 = (0..3)
+            .map(|i| c[i] * ((c[i] * (1.0 - u[i])).atan() + (c[i] * u[i]).atan()))
+            .product();
+        let f = |x: &PointSet| -> Vec<f64> {
+            x.rows()
+                .map(|p| {
+                    (0..3)
+                        .map(|i| 1.0 / ((c[i] * c[i]).recip() + (p[i] - u[i]).powi(2)))
+                        .product()
+                })
+                .collect()
+        };
+        let mut covered = 0;
+        for seed in 0..100 {
+            let opts = QuadOptions {
+                rel_tol: 1e-3,
+                seed,
+                ..QuadOptions::default()
+            };
+            let r = quad(f, 3, opts).unwrap();
+            if (r.estimate[0] - exact).abs() <= r.half_width[0] {
+                covered += 1;
+            }
+        }
+        assert!(covered >= 90, "covered {covered} of 100");
+    }
+
+    #[test]
+    fn nan_is_refused_naming_the_point() {
+        let e = quad(
+            |x| {
+                x.rows()
+                    .map(|p| if p[0] > 0.9 { f64::NAN } else { p[0] })
+                    .collect()
+            },
+            2,
+            QuadOptions::default(),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("invalid f = NaN at x = ["), "{e}");
+        let at: Vec<f64> = e
+            .split(['[', ']'])
+            .nth(1)
+            .unwrap()
+            .split(", ")
+            .map(|v| v.parse().unwrap())
+            .collect();
+        assert!(at[0] > 0.9, "{e}");
+    }
+
+    #[test]
+    fn the_observer_sees_every_doubling_and_the_last_state() {
+        let mut state = Cubature::new(
+            3,
+            QuadOptions {
+                rel_tol: 1e-4,
+                ..QuadOptions::default()
+            },
+        )
+        .unwrap();
+        let mut seen = Vec::new();
+        let met = state
+            .run_observed(product_exp, |s| {
+                // The target is the stopping rule's, recomputed from its definition.
+                let e = s.estimate()[0];
+                assert_eq!(s.targets(), vec![1e-4 * e.abs()]);
+                assert_eq!(s.met(), s.half_width()[0] <= 1e-4 * e.abs());
+                seen.push(s.n());
+            })
+            .unwrap();
+        assert!(met);
+        assert!(seen.len() >= 2, "{seen:?}");
+        assert!(seen.windows(2).all(|w| w[1] == 2 * w[0]), "{seen:?}");
+        assert_eq!(*seen.last().unwrap(), state.n());
+    }
+
+    #[test]
+    fn a_tighter_tolerance_evaluates_only_new_points() {
+        let calls = std::cell::Cell::new(0u64);
+        let count = |x: &PointSet| {
+            calls.set(calls.get() + x.n() as u64);
+            product_exp(x)
+        };
+        let first = quad(
+            count,
+            3,
+            QuadOptions {
+                rel_tol: 1e-2,
+                ..QuadOptions::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(calls.get(), first.n);
+        let n1 = first.n;
+        let second = first.refine(count, 0.0, 1e-6).unwrap();
+        assert!(second.met && second.n > n1);
+        assert_eq!(calls.get(), second.n, "every point evaluated once");
+        // The same as one run at the tight tolerance from the start.
+        let direct = quad(
+            product_exp,
+            3,
+            QuadOptions {
+                rel_tol: 1e-6,
+                ..QuadOptions::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(direct.n, second.n);
+        assert_eq!(direct.estimate, second.estimate);
+    }
+
+    #[test]
+    fn the_state_round_trips_through_serde() {
+        let r = quad(product_exp, 2, QuadOptions::default()).unwrap();
+        let text = serde_json::to_string(&r.state).unwrap();
+        let back: Cubature = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, r.state);
+    }
+
+    #[test]
+    fn stops_at_max_n_and_says_so() {
+        let opts = QuadOptions {
+            rel_tol: 1e-14,
+            max_n: 4096,
+            ..QuadOptions::default()
+        };
+        let r = quad(product_exp, 3, opts).unwrap();
+        assert!(!r.met);
+        assert_eq!(r.n, 4096);
+    }
+
+    #[test]
+    fn refuses_bad_settings_by_name() {
+        let bad = |o: QuadOptions, name: &str| {
+            let e = Cubature::new(2, o).unwrap_err().to_string();
+            assert!(e.starts_with(&format!("invalid {name} =")), "{e}");
+        };
+        let d = QuadOptions::default;
+        bad(
+            QuadOptions {
+                replicates: 1,
+                ..d()
+            },
+            "replicates",
+        );
+        bad(QuadOptions { level: 1.0, ..d() }, "level");
+        bad(
+            QuadOptions {
+                rel_tol: -1.0,
+                ..d()
+            },
+            "rel_tol",
+        );
+        bad(
+            QuadOptions {
+                abs_tol: f64::NAN,
+                ..d()
+            },
+            "abs_tol",
+        );
+        bad(
+            QuadOptions {
+                b: Some(vec![1.0, 0.0]),
+                ..d()
+            },
+            "a, b",
+        );
+        bad(
+            QuadOptions {
+                a: Some(vec![0.0]),
+                ..d()
+            },
+            "a",
+        );
+        bad(QuadOptions { start_n: 48, ..d() }, "start_n");
+        bad(QuadOptions { max_n: 100, ..d() }, "max_n");
+        assert!(Cubature::new(0, d()).is_err());
+        let few = Cubature::new(
+            2,
+            QuadOptions {
+                replicates: 3,
+                ..d()
+            },
+        )
+        .unwrap();
+        assert_eq!(few.warnings().len(), 1);
+        assert!(Cubature::new(2, d()).unwrap().warnings().is_empty());
+    }
+    /// c times [`product_exp`], for the overflow tests.
+    fn scaled_line(c: f64) -> impl FnMut(&PointSet) -> Vec<f64> {
+        move |x: &PointSet| product_exp(x).into_iter().map(|v| c * v).collect()
+    }
+
+    #[test]
+    fn huge_integrands_give_finite_estimates_and_half_widths() {
+        // ∫_0^1 1e308·x = 5e307: representable, though the plain sums overflow.
+        let r = quad(
+            |x: &PointSet| x.rows().map(|p| 1e308 * p[0]).collect(),
+            1,
+            QuadOptions::default(),
+        )
+        .unwrap();
+        assert!(r.met, "{r:?}");
+        assert!((r.estimate[0] / 5e307 - 1.0).abs() < 1e-3, "{r:?}");
+        assert!(
+            r.half_width[0].is_finite() && r.half_width[0] > 0.0,
+            "{r:?}"
+        );
+        assert_eq!(r.reason, Some(StopReason::Met));
+        // c·f: the run and the interval of f, scaled by c (up to the rounding of c·f).
+        let one = quad(scaled_line(1.0), 2, QuadOptions::default()).unwrap();
+        for c in [1e200, 1e300, 1e-300, -1e307, 1.5e307] {
+            let big = quad(scaled_line(c), 2, QuadOptions::default()).unwrap();
+            assert!(big.met, "{c}: {big:?}");
+            assert_eq!(big.n, one.n, "{c}");
+            let rel = (big.estimate[0] / (c * one.estimate[0]) - 1.0).abs();
+            assert!(rel < 1e-12, "{c}: {big:?}");
+            let hw = big.half_width[0] / c.abs();
+            assert!(
+                (hw / one.half_width[0] - 1.0).abs() < 1e-6,
+                "{c}: {big:?} {one:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn ordinary_magnitudes_give_the_bits_of_plain_sums() {
+        // The same batches summed the plain way: the scaling by powers of two is exact.
+        let opts = QuadOptions {
+            rel_tol: 1e-5,
+            a: Some(vec![-1.0, 0.5, 2.0]),
+            b: Some(vec![3.0, 0.75, 9.0]),
+            ..QuadOptions::default()
+        };
+        let r = quad(product_exp, 3, opts.clone()).unwrap();
+        let reps = DEFAULT_REPLICATES;
+        let mut state = Cubature::new(3, opts).unwrap();
+        let mut plain = vec![0.0f64; reps];
+        let mut before = plain.clone();
+        while let Some(p) = state.next_points() {
+            if state.n() >= r.n {
+                break;
+            }
+            before.clone_from(&plain);
+            let v = product_exp(&p);
+            for (i, y) in v.iter().enumerate() {
+                plain[i / (p.n() / reps)] += y;
+            }
+            state.feed(&p, &v).unwrap();
+        }
+        assert!(
+            state.n() > (reps * 64) as u64,
+            "the sums before the last batch are the half sums"
+        );
+        let volume = 4.0 * 0.25 * 7.0;
+        let scale = volume / state.per_replicate() as f64;
+        let means: Vec<f64> = plain.iter().map(|s| s * scale).collect();
+        assert_eq!(state.replicate_means()[0], means);
+        let r_f = reps as f64;
+        let mean = means.iter().sum::<f64>() / r_f;
+        assert_eq!(r.estimate[0], mean);
+        let var = means.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (r_f - 1.0);
+        let t = student_t_quantile(0.975, r_f - 1.0);
+        // The round guard: the estimate of the sums before the last batch (half the points).
+        let half = before.iter().map(|s| s * 2.0 * scale).sum::<f64>() / r_f;
+        assert_eq!(r.state.round_change()[0], Some((mean - half).abs()));
+        assert_eq!(
+            r.half_width[0],
+            (t * (var / r_f).sqrt()).max((mean - half).abs())
+        );
+    }
+
+    #[test]
+    fn a_volume_that_overflows_is_computed_when_the_integral_is_representable() {
+        // [0, 1e120]^3 has volume 1e360; f = 1e-100 integrates to 1e260.
+        let opts = |abs| QuadOptions {
+            a: Some(vec![0.0; 3]),
+            b: Some(vec![1e120; 3]),
+            ..abs
+        };
+        let r = quad(
+            |x: &PointSet| vec![1e-100; x.n()],
+            3,
+            opts(QuadOptions::default()),
+        )
+        .unwrap();
+        assert!(
+            r.met && (r.estimate[0] / 1e260 - 1.0).abs() < 1e-12,
+            "{r:?}"
+        );
+        assert!(r.half_width[0] <= 1e-14 * r.estimate[0], "{r:?}");
+        // f = ±1 integrates to ±1e360: refused where the run stops, naming f and the
+        // magnitude.
+        for (v, about) in [
+            (1.0, "about 1.0e360 after 1048576"),
+            (-1.0, "about -1.0e360 after 1048576"),
+        ] {
+            let e = quad(
+                |x: &PointSet| vec![v; x.n()],
+                3,
+                opts(QuadOptions::default()),
+            )
+            .unwrap_err()
+            .to_string();
+            assert!(
+                e.starts_with("invalid f = values whose estimated integral"),
+                "{e}"
+            );
+            assert!(e.contains(about), "{e}");
+        }
+        // x1 over a symmetric box of volume 1.6e401: the estimates never fit a float;
+        // the run goes to its budget, then is refused.
+        let sym = QuadOptions {
+            a: Some(vec![-1e200; 2]),
+            b: Some(vec![1e200; 2]),
+            max_n: 4096,
+            ..QuadOptions::default()
+        };
+        let mut state = Cubature::new(2, sym).unwrap();
+        let e = state
+            .run(|x: &PointSet| x.rows().map(|p| p[0]).collect())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("after 4096 evaluations"), "{e}");
+        assert_eq!(state.n(), 4096);
+        // A tiny volume: [0, 1e-120]^3 with f = 1e300 integrates to 1e-60.
+        let r = quad(
+            |x: &PointSet| x.rows().map(|p| 1e300 * (1.0 + p[0] * 1e120)).collect(),
+            3,
+            QuadOptions {
+                a: Some(vec![0.0; 3]),
+                b: Some(vec![1e-120; 3]),
+                ..QuadOptions::default()
+            },
+        )
+        .unwrap();
+        assert!(
+            r.met && (r.estimate[0] / 1.5e-60 - 1.0).abs() < 1e-3,
+            "{r:?}"
+        );
+    }
+
+    #[test]
+    fn k_outputs_are_scaled_each_on_its_own() {
+        // Output 0 overflows plain sums, output 1 is ordinary: each reaches its integral.
+        let r = quad(
+            |x: &PointSet| x.rows().flat_map(|p| [1e308 * p[0], p[0] * p[0]]).collect(),
+            2,
+            QuadOptions::default(),
+        )
+        .unwrap();
+        assert!(r.met, "{r:?}");
+        assert!((r.estimate[0] / 5e307 - 1.0).abs() < 1e-3, "{r:?}");
+        assert!((r.estimate[1] * 3.0 - 1.0).abs() < 1e-3, "{r:?}");
+        let alone = quad(
+            |x: &PointSet| x.rows().map(|p| p[0] * p[0]).collect(),
+            2,
+            QuadOptions {
+                max_n: r.n,
+                rel_tol: 0.0,
+                ..QuadOptions::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(alone.estimate[0], r.estimate[1]);
+        assert_eq!(alone.half_width[0], r.half_width[1]);
+    }
+
+    #[test]
+    fn met_only_when_the_interval_is_honest() {
+        // A constant: half-width 0, legitimately met.
+        let r = quad(|x: &PointSet| vec![3.5; x.n()], 2, QuadOptions::default()).unwrap();
+        assert!(
+            r.met && r.half_width[0] == 0.0 && r.estimate[0] == 3.5,
+            "{r:?}"
+        );
+        // 1e16 + 4·x1 (values 1e16, 1e16 + 2, 1e16 + 4) rounds every sum alike: the
+        // means agree to rounding only. The half-width is the rounding bound, so an
+        // absolute tolerance of 0.1 (far below the spacing of floats near 1e16, 2) is
+        // not claimed.
+        let opts = QuadOptions {
+            abs_tol: 0.1,
+            rel_tol: 0.0,
+            max_n: 1 << 14,
+            ..QuadOptions::default()
+        };
+        let r = quad(
+            |x: &PointSet| x.rows().map(|p| 1e16 + 4.0 * p[0]).collect(),
+            1,
+            opts,
+        )
+        .unwrap();
+        assert!(!r.met, "{r:?}");
+        assert!(
+            r.half_width[0] > 0.1 && r.half_width[0].is_finite(),
+            "{r:?}"
+        );
+        assert_eq!(r.reason, Some(StopReason::MaxN));
+        // At a relative tolerance that floats can meet, it is met.
+        let r = quad(
+            |x: &PointSet| x.rows().map(|p| 1e16 + 4.0 * p[0]).collect(),
+            1,
+            QuadOptions::default(),
+        )
+        .unwrap();
+        assert!(r.met && r.half_width[0] > 0.0, "{r:?}");
+        // Tiny values whose spread would underflow when squared: a true half-width.
+        let r = quad(
+            |x: &PointSet| x.rows().map(|p| 1e-300 * (1.0 + p[0])).collect(),
+            1,
+            QuadOptions::default(),
+        )
+        .unwrap();
+        assert!(r.met && r.half_width[0] > 0.0, "{r:?}");
+    }
+
+    #[test]
+    fn the_box_check_is_the_one_of_intervals() {
+        let bad = |a: Vec<f64>, b: Vec<f64>| {
+            let o = QuadOptions {
+                a: Some(a.clone()),
+                b: Some(b.clone()),
+                ..QuadOptions::default()
+            };
+            let mine = Cubature::new(a.len(), o).unwrap_err().to_string();
+            let v: Vec<f64> = a.iter().zip(&b).flat_map(|(x, y)| [*x, *y]).collect();
+            let theirs = stillpoint_run::plan::space::intervals("a, b", "s", &v)
+                .unwrap_err()
+                .to_string();
+            let tail = |m: &str| m.split_once(": expected").unwrap().1.to_string();
+            assert!(mine.starts_with("invalid a, b = "), "{mine}");
+            assert_eq!(tail(&mine), tail(&theirs));
+        };
+        bad(vec![-1e308], vec![1e308]);
+        bad(vec![1e15], vec![1e15 + 0.1]);
+        bad(vec![0.0, 0.0], vec![1.0, 1e-160]);
+        bad(vec![0.0, 2.0], vec![1.0, 2.0]);
+        // The widest and narrowest accepted boxes run without a panic.
+        for (a, b) in [(-8e307, 8e307), (1e15, 1e15 + 1e4), (0.0, 1e-140)] {
+            let o = QuadOptions {
+                a: Some(vec![a]),
+                b: Some(vec![b]),
+                ..QuadOptions::default()
+            };
+            let r = quad(|x: &PointSet| vec![1.0; x.n()], 1, o).unwrap();
+            assert!(
+                r.met && (r.estimate[0] / (b - a) - 1.0).abs() < 1e-12,
+                "{r:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_stop_reason_is_the_real_one() {
+        // max_n beyond 8 × 2^20: the sequence's points per replicate stop it.
+        let r = quad(
+            product_exp,
+            2,
+            QuadOptions {
+                rel_tol: 0.0,
+                max_n: 100_000_000,
+                ..QuadOptions::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(r.n, DEFAULT_REPLICATES as u64 * EXTENSIBLE_MAX_POINTS);
+        assert_eq!(r.reason, Some(StopReason::Sequence));
+        assert_eq!(r.reason.unwrap().as_str(), "sequence");
+        let r = quad(
+            product_exp,
+            2,
+            QuadOptions {
+                rel_tol: 0.0,
+                max_n: 5000,
+                ..QuadOptions::default()
+            },
+        )
+        .unwrap();
+        assert_eq!((r.n, r.reason), (4096, Some(StopReason::MaxN)));
+        let r = quad(product_exp, 2, QuadOptions::default()).unwrap();
+        assert_eq!(r.reason, Some(StopReason::Met));
+        // A state with budget left and the tolerance not met has no reason yet.
+        let tight = QuadOptions {
+            rel_tol: 1e-9,
+            ..QuadOptions::default()
+        };
+        let mut s = Cubature::new(2, tight).unwrap();
+        assert_eq!(s.reason(), None);
+        let p = s.next_points().unwrap();
+        s.feed(&p, &product_exp(&p)).unwrap();
+        assert_eq!(s.reason(), None);
+    }
+
+    #[test]
+    fn a_continuation_takes_a_larger_budget_and_another_level() {
+        let small = QuadOptions {
+            rel_tol: 1e-7,
+            max_n: 4096,
+            ..QuadOptions::default()
+        };
+        let r = quad(product_exp, 3, small.clone()).unwrap();
+        assert_eq!((r.n, r.reason), (4096, Some(StopReason::MaxN)));
+        let mut state = r.state.clone();
+        state.set_max_n(1 << 20).unwrap();
+        assert_eq!(state.reason(), None);
+        state.run(product_exp).unwrap();
+        let direct = quad(
+            product_exp,
+            3,
+            QuadOptions {
+                max_n: 1 << 20,
+                ..small.clone()
+            },
+        )
+        .unwrap();
+        assert_eq!(state.n(), direct.n);
+        assert_eq!(state.estimate(), direct.estimate);
+        // A level changes the t half-width by the ratio of the t quantiles; the round
+        // guard under it does not depend on the level.
+        let mut wide = r.state.clone();
+        wide.set_level(0.99).unwrap();
+        let nu = (DEFAULT_REPLICATES - 1) as f64;
+        let ratio = student_t_quantile(0.995, nu) / student_t_quantile(0.975, nu);
+        let means = &r.state.replicate_means()[0];
+        let mean = means.iter().sum::<f64>() / means.len() as f64;
+        let sd = (means.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / nu).sqrt();
+        let t_part = student_t_quantile(0.975, nu) * sd / (means.len() as f64).sqrt();
+        let change = r.state.round_change()[0].unwrap();
+        assert!((r.half_width[0] / t_part.max(change) - 1.0).abs() < 1e-12);
+        let got = wide.half_width()[0] / (t_part * ratio).max(change);
+        assert!((got - 1.0).abs() < 1e-12, "{got}");
+        // The earlier result is unchanged, and bad values are refused by name.
+        assert_eq!(r.state.options().max_n, 4096);
+        let mut s = r.state.clone();
+        assert!(s
+            .set_max_n(100)
+            .unwrap_err()
+            .to_string()
+            .starts_with("invalid max_n = 100"));
+        assert!(s
+            .set_level(1.5)
+            .unwrap_err()
+            .to_string()
+            .starts_with("invalid level = 1.5"));
+        assert_eq!(s, r.state);
+    }
+
+    #[test]
+    fn refusals_name_no_internal_setting() {
+        for (o, name) in [
+            (
+                QuadOptions {
+                    replicates: 100_000,
+                    ..QuadOptions::default()
+                },
+                "replicates",
+            ),
+            (
+                QuadOptions {
+                    replicates: 100,
+                    max_n: 1000,
+                    ..QuadOptions::default()
+                },
+                "max_n",
+            ),
+        ] {
+            let e = Cubature::new(2, o).unwrap_err().to_string();
+            assert!(e.starts_with(&format!("invalid {name} = ")), "{e}");
+            assert!(!e.contains("start_n"), "{e}");
+        }
+        // The largest number of replicates fits the default budget.
+        let o = QuadOptions {
+            replicates: MAX_REPLICATES,
+            ..QuadOptions::default()
+        };
+        assert!(Cubature::new(1, o).is_ok());
+    }
+
+    #[test]
+    fn states_saved_before_the_scaling_read_back_alike() {
+        let r = quad(product_exp, 2, QuadOptions::default()).unwrap();
+        let mut v = serde_json::to_value(&r.state).unwrap();
+        let o = v.as_object_mut().unwrap();
+        o.remove("shift");
+        o.remove("range");
+        let old: Cubature = serde_json::from_value(v).unwrap();
+        assert_eq!(old.estimate(), r.estimate);
+        assert_eq!(old.half_width(), r.half_width);
+        assert_eq!(old.met(), r.met);
+    }
+
+    #[test]
+    fn the_sobol_rule_extends_each_replicate_scramble() {
+        let opts = QuadOptions {
+            rule: Rule::Sobol,
+            rel_tol: 1e-4,
+            ..QuadOptions::default()
+        };
+        let mut state = Cubature::new(3, opts.clone()).unwrap();
+        let first = state.next_points().unwrap();
+        state.feed(&first, &product_exp(&first)).unwrap();
+        let second = state.next_points().unwrap();
+        // Replicate 1's second batch: points 64..128 of its own scrambled sequence, whose
+        // first 64 were its first batch.
+        let key = stillpoint_sequences::hash2(
+            stillpoint_sequences::hash2(stillpoint_sequences::mix64(0), SOBOL_KEY),
+            1,
+        );
+        let all = stillpoint_sequences::sobol_scrambled(128, 3, key).unwrap();
+        let rows = |p: &PointSet, from: usize| p.as_slice()[from * 3..(from + 64) * 3].to_vec();
+        assert_eq!(rows(&first, 64), all.as_slice()[..64 * 3].to_vec());
+        assert_eq!(rows(&second, 64), all.as_slice()[64 * 3..].to_vec());
+        // The replicates' scrambles differ.
+        assert_ne!(rows(&first, 0), rows(&first, 64));
+        let r = quad(product_exp, 3, opts).unwrap();
+        let exact = 1.0 + (std::f64::consts::E - 1.0).powi(2);
+        assert!(r.met && (r.estimate[0] - exact).abs() <= 3.0 * r.half_width[0]);
+        assert_eq!(r.rule, Rule::Sobol);
+    }
+
+    #[test]
+    fn the_first_batch_guards_with_its_first_half() {
+        let mut state = Cubature::new(2, QuadOptions::default()).unwrap();
+        let p = state.next_points().unwrap();
+        let v = product_exp(&p);
+        state.feed(&p, &v).unwrap();
+        // Each replicate's first 32 of 64 points: their mean against the full estimate.
+        let r = DEFAULT_REPLICATES;
+        let half: f64 = (0..r)
+            .map(|rep| v[rep * 64..rep * 64 + 32].iter().sum::<f64>() / 32.0)
+            .sum::<f64>()
+            / r as f64;
+        let change = state.round_change()[0].unwrap();
+        assert!((change - (state.estimate()[0] - half).abs()).abs() < 1e-14);
+        assert!(state.half_width()[0] >= change);
+    }
+
+    #[test]
+    fn the_rule_follows_the_laws() {
+        let space = |items: &[&str]| DesignSpace::parse("space", items).unwrap();
+        assert_eq!(Rule::for_space(None).0, Rule::TentLattice);
+        let (rule, why) = Rule::for_space(Some(&space(&["x=uniform(0,1)", "k=int(1,3)"])));
+        assert_eq!(rule, Rule::TentLattice);
+        assert!(why.contains("bounded"), "{why}");
+        let (rule, why) = Rule::for_space(Some(&space(&["x=uniform(0,1)", "z=normal(0,1)"])));
+        assert_eq!(rule, Rule::Sobol);
+        assert!(why.contains("(z)"), "{why}");
+        let (rule, why) = Rule::for_space(Some(&space(&["W=brownian(1,8)"])));
+        assert_eq!(rule, Rule::Sobol);
+        assert!(why.contains("8 coordinates"), "{why}");
+        assert_eq!(Rule::parse("rule", "sobol").unwrap(), Rule::Sobol);
+        let e = Rule::parse("rule", "halton").unwrap_err().to_string();
+        assert!(e.starts_with("invalid rule = \"halton\""), "{e}");
+    }
+
+    #[test]
+    fn the_mean_interval_is_students() {
+        let m = mean_interval(&[1.0, 2.0, 4.0], 0.95).unwrap();
+        assert_eq!(m.mean, 7.0 / 3.0);
+        let sd = ((16.0 / 9.0 + 1.0 / 9.0 + 25.0 / 9.0) / 2.0f64).sqrt();
+        assert!((m.standard_error.unwrap() - sd / 3f64.sqrt()).abs() < 1e-15);
+        // t_{2, 0.975} = 4.302652729911275.
+        let hw = 4.302652729911275 * sd / 3f64.sqrt();
+        assert!((m.half_width.unwrap() / hw - 1.0).abs() < 1e-9);
+        let one = mean_interval(&[5.0], 0.95).unwrap();
+        assert_eq!(
+            (one.mean, one.standard_error, one.half_width),
+            (5.0, None, None)
+        );
+        let e = mean_interval(&[1.0, 2.0], 1.5).unwrap_err().to_string();
+        assert!(e.starts_with("invalid level = 1.5"), "{e}");
+    }
+
+    #[test]
+    fn space_values_stay_finite_at_the_cube_s_upper_face() {
+        let space = DesignSpace::parse("space", &["z=normal(0,1)", "k=int(1,3)"]).unwrap();
+        let unit = PointSet::new(2, 2, vec![1.0, 1.0, 0.5, 0.0]).unwrap();
+        let v = space_values(&space, &unit).unwrap();
+        assert!(v.as_slice()[0].is_finite() && v.as_slice()[0] > 8.0);
+        assert_eq!(v.as_slice()[1], 3.0);
+        assert_eq!(&v.as_slice()[2..], &[0.0, 1.0]);
+    }
+}

@@ -1,0 +1,941 @@
+//! Sobol' sensitivity indices to a tolerance: which inputs of a model matter, as the
+//! first-order index S_i (the share of the output's variance explained by input i alone)
+//! and the total index T_i (the share in which input i takes part at all), each with a
+//! confidence interval, for independent inputs.
+//!
+//! The design is pick-freeze on a randomised extensible rule in 2d dimensions (by
+//! default the tent-transformed lattice [`stillpoint_sequences::ExtensibleLattice`], or
+//! Owen-scrambled Sobol' points, [`Rule`]): point k of replicate r is u ∈ [0, 1)^{2d},
+//! input i's A coordinate is u_{2i−1} and its B coordinate u_{2i} (neighbours among the
+//! rule's leading coordinates, whose projections are its best), and f is evaluated at A, at B and, for each input i, at AB_i (A with
+//! coordinate i taken from B): d + 2 evaluations per point. The number of points
+//! doubles, each batch extending the last (no evaluation is discarded), on R independent
+//! randomisations (4 by default), until every index's half-width is at most `abs_tol`.
+//! The lattice has 1 000 coordinates, so d ≤ 500 inputs.
+//!
+//! The estimators (with y the output centred by a constant fixed at the first batch, V
+//! its variance from the A and B values together):
+//!
+//! ```text
+//! total:  T_i = (1/2n) Σ (y_A − y_ABi)² / V                  (Jansen 1999)
+//! first:  S_i = (1/n) Σ y_B (y_ABi − y_A) / V                (Saltelli et al. 2010)
+//!     or  S_i = Janon et al. (2014): the correlation of y_B and y_ABi with the means and
+//!               variances pooled over both
+//! ```
+//!
+//! Jansen's total is the one Saltelli et al. (2010) and Puy et al. (2022) recommend. Of
+//! the first-order ones, Saltelli 2010's difference form has a variance that vanishes
+//! with T_i (small indices are estimated well); Janon's is asymptotically efficient for
+//! large S_i. `benches/sensitivity.py` and `tests/sensitivity.rs` measure both; the
+//! default is the one with the lower error over the closed-form models
+//! ([`FirstOrder::Saltelli`]).
+//!
+//! The interval: every index is a smooth function of means over the points; the estimate
+//! uses the means pooled over the R replicates, and its standard error is the jackknife
+//! over the replicates (leave one replicate out, which are independent), with the
+//! Student t quantile on R − 1 degrees of freedom, as `stillpoint::cubature`'s interval,
+//! raised to the index's change since half the points when that is larger (quad's round
+//! guard: it costs no evaluation, and catches replicates that agree by chance).
+//! Each index has its own interval at `level`; `simultaneous` widens every one
+//! (Bonferroni over the 2·d·k indices) so that all hold together at `level`.
+
+use serde::{Deserialize, Serialize};
+
+use crate::{student_t_quantile, Rule, StopReason, DEFAULT_START_N};
+use crate::{Error, PointSet};
+use stillpoint_sequences::{EXTENSIBLE_MAX_D, EXTENSIBLE_MAX_POINTS};
+
+/// Independent randomisations by default, as quad's: the pooled estimate of R
+/// replicates of n/R points errs about R^(α−1/2) times more than one sample of n when
+/// the error falls as n^−α, so fewer replicates give both a smaller error and (with the
+/// t quantile on R − 1 degrees of freedom) a narrower interval; the round guard keeps
+/// the intervals' coverage (results/sensitivity/design.md).
+pub const REPLICATES: usize = crate::DEFAULT_REPLICATES;
+
+/// The rule by default: the tent lattice, whose error at equal evaluations was lower
+/// than Owen-scrambled Sobol' points' on five of seven models and which reaches a
+/// tolerance in up to 8× fewer evaluations on a G function with six equal inputs
+/// (results/sensitivity/design.md).
+pub const DEFAULT_RULE: Rule = Rule::TentLattice;
+
+/// Keeps the replicates' scrambles apart from other users of the same seed.
+const SOBOL_KEY: u64 = 0x7365_6e73_536f_626f;
+
+/// The most inputs: the sequence's coordinates hold the two halves A and B.
+pub const MAX_INPUTS: usize = EXTENSIBLE_MAX_D / 2;
+
+/// The most evaluations of f by default (2^22).
+pub const DEFAULT_MAX_N: u64 = 1 << 22;
+
+/// The absolute tolerance on every index's half-width by default.
+pub const DEFAULT_ABS_TOL: f64 = 0.01;
+
+/// The estimator of first-order indices.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum FirstOrder {
+    /// Saltelli et al. (2010): (1/n) Σ y_B (y_ABi − y_A) / V.
+    #[default]
+    Saltelli,
+    /// Janon, Klein, Lagnoux, Nodet and Prieur (2014): the pooled correlation of y_B and
+    /// y_ABi.
+    Janon,
+}
+
+impl FirstOrder {
+    /// The estimator as front ends name it: `saltelli` or `janon`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            FirstOrder::Saltelli => "saltelli",
+            FirstOrder::Janon => "janon",
+        }
+    }
+
+    /// The estimator named `text` (`saltelli`, `janon`), refused naming `name`.
+    pub fn parse(name: &str, text: &str) -> Result<FirstOrder, Error> {
+        match text {
+            "saltelli" => Ok(FirstOrder::Saltelli),
+            "janon" => Ok(FirstOrder::Janon),
+            _ => Err(Error::invalid(name, text, "saltelli or janon")),
+        }
+    }
+}
+
+/// Settings of a sensitivity analysis; [`Default`] gives the documented defaults.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SensitivityOptions {
+    /// Lower corner of the inputs' box (0 when `None`).
+    pub a: Option<Vec<f64>>,
+    /// Upper corner of the inputs' box (1 when `None`).
+    pub b: Option<Vec<f64>>,
+    /// The inputs' names (`x1` … `xd` when `None`).
+    pub names: Option<Vec<String>>,
+    /// Absolute tolerance on every index's half-width.
+    pub abs_tol: f64,
+    /// Confidence level of the intervals, in (0, 1).
+    pub level: f64,
+    /// Whether the intervals hold all together at `level` (Bonferroni) rather than each
+    /// on its own.
+    pub simultaneous: bool,
+    /// The first-order estimator.
+    pub first_order: FirstOrder,
+    /// Independent shifts R, at least 2.
+    pub replicates: usize,
+    /// The most evaluations of f, all replicates together.
+    pub max_n: u64,
+    /// Points per replicate in the first batch (a power of two).
+    pub start_n: u64,
+    /// Seed of the shifts.
+    pub seed: u64,
+    /// The randomised rule the pick-freeze points come from (states saved before it
+    /// existed: the tent lattice).
+    #[serde(default)]
+    pub rule: Rule,
+}
+
+impl Default for SensitivityOptions {
+    fn default() -> Self {
+        SensitivityOptions {
+            a: None,
+            b: None,
+            names: None,
+            abs_tol: DEFAULT_ABS_TOL,
+            level: 0.95,
+            simultaneous: false,
+            first_order: FirstOrder::default(),
+            replicates: REPLICATES,
+            max_n: DEFAULT_MAX_N,
+            start_n: DEFAULT_START_N,
+            seed: 0,
+            rule: DEFAULT_RULE,
+        }
+    }
+}
+
+/// Every input's first-order and total indices.
+type Indices = (Vec<f64>, Vec<f64>);
+
+/// Sums kept per replicate and output: Σ y_A, Σ y_B, Σ y_A², Σ y_B².
+const HEAD: usize = 4;
+/// Sums kept per replicate, output and input: Σ y_B(y_ABi − y_A), Σ (y_A − y_ABi)²,
+/// Σ y_B·y_ABi, Σ y_ABi, Σ y_ABi².
+const PER_INPUT: usize = 5;
+
+/// The state of a sensitivity analysis (see the module documentation): ask for the next
+/// batch of points, feed back f's values, read the indices. Serializable, so a front end
+/// can save it and continue with a tighter tolerance.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Sensitivity {
+    d: usize,
+    options: SensitivityOptions,
+    names: Vec<String>,
+    lower: Vec<f64>,
+    width: Vec<f64>,
+    /// Outputs of f (0 until the first values are fed).
+    k: usize,
+    /// Points evaluated per replicate (each d + 2 evaluations).
+    per_replicate: u64,
+    /// Points per replicate in the batch handed out and not yet fed (0: none).
+    pending: u64,
+    /// Per output, the centre subtracted and the power of two divided by before summing
+    /// (fixed by the first batch; the indices do not depend on either).
+    centre: Vec<f64>,
+    scale: Vec<i32>,
+    /// The sums, replicate-major, then output, then [`HEAD`] + d·[`PER_INPUT`].
+    sums: Vec<f64>,
+    /// The sums before the last batch (half the points), for the round guard (empty
+    /// after one batch, and in states saved before it existed).
+    #[serde(default)]
+    half_sums: Vec<f64>,
+    /// Which coordinates of the 2d-dimensional points are A's and which B's.
+    #[serde(default)]
+    layout: Layout,
+}
+
+/// Where A and B sit among the sequence's 2d coordinates. Interleaved, each input's A
+/// and B coordinates are neighbours among the lattice's leading coordinates, whose
+/// projections are its best: against the split layout, the RMSE of the indices at 2^13
+/// base points fell 3.4× on Ishigami and 1.4× and 2× on two G functions, and held on
+/// the others (results/sensitivity/design.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+enum Layout {
+    /// A in coordinates 1..d, B in d+1..2d (states saved before the layout was kept).
+    #[default]
+    Split,
+    /// A in the odd coordinates 1, 3, …, B in the even ones.
+    Interleaved,
+}
+
+impl Layout {
+    /// A point of 2d coordinates as its A and B halves.
+    fn split(self, point: &[f64], a: &mut [f64], b: &mut [f64]) {
+        match self {
+            Layout::Split => {
+                let (x, y) = point.split_at(a.len());
+                a.copy_from_slice(x);
+                b.copy_from_slice(y);
+            }
+            Layout::Interleaved => {
+                for ((pair, x), y) in point.chunks_exact(2).zip(a.iter_mut()).zip(b.iter_mut()) {
+                    (*x, *y) = (pair[0], pair[1]);
+                }
+            }
+        }
+    }
+}
+
+impl Sensitivity {
+    /// A new analysis of a function of d inputs. Refuses d = 0 or beyond [`MAX_INPUTS`]
+    /// (naming `d`), corners of the wrong length or an empty box (`a`, `b`, `a, b`),
+    /// names of the wrong length (`names`), a tolerance that is negative or not finite
+    /// (`abs_tol`), a level outside (0, 1) (`level`), fewer than 2 replicates
+    /// (`replicates`), a `start_n` that is not a power of two and a `max_n` below one
+    /// first batch.
+    pub fn new(d: usize, options: SensitivityOptions) -> Result<Sensitivity, Error> {
+        if d == 0 || d > MAX_INPUTS {
+            return Err(Error::invalid(
+                "d",
+                d,
+                format!(
+                    "1 to {MAX_INPUTS} inputs (the sequence's {EXTENSIBLE_MAX_D} coordinates \
+                     hold two points per input)"
+                ),
+            ));
+        }
+        // The box, tolerance, level, replicates, start and budget are checked as quad
+        // checks them (one rule), on the 2d-dimensional cube the design lives in.
+        let o = &options;
+        let lower = o.a.clone().unwrap_or_else(|| vec![0.0; d]);
+        let upper = o.b.clone().unwrap_or_else(|| vec![1.0; d]);
+        for (name, v) in [("a", &o.a), ("b", &o.b)] {
+            if let Some(v) = v {
+                if v.len() != d {
+                    return Err(Error::invalid(
+                        name,
+                        format!("{v:?}"),
+                        format!("{d} finite values (one per input)"),
+                    ));
+                }
+            }
+        }
+        crate::Cubature::new(d, quad_options(o))?;
+        if let Some(names) = &o.names {
+            if names.len() != d {
+                return Err(Error::invalid(
+                    "names",
+                    format!("{names:?}"),
+                    format!("{d} names (one per input)"),
+                ));
+            }
+        }
+        check_budget(o, d)?;
+        let names = o
+            .names
+            .clone()
+            .unwrap_or_else(|| (1..=d).map(|i| format!("x{i}")).collect());
+        let width = lower.iter().zip(&upper).map(|(a, b)| b - a).collect();
+        Ok(Sensitivity {
+            d,
+            options,
+            names,
+            lower,
+            width,
+            k: 0,
+            per_replicate: 0,
+            pending: 0,
+            centre: Vec::new(),
+            scale: Vec::new(),
+            sums: Vec::new(),
+            half_sums: Vec::new(),
+            layout: Layout::Interleaved,
+        })
+    }
+
+    /// The number of inputs d.
+    pub fn d(&self) -> usize {
+        self.d
+    }
+
+    /// The inputs' names.
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// The settings (with the current tolerance, level and budget).
+    pub fn options(&self) -> &SensitivityOptions {
+        &self.options
+    }
+
+    /// Outputs of f (0 before the first values are fed).
+    pub fn outputs(&self) -> usize {
+        self.k
+    }
+
+    /// Evaluations of f so far: (d + 2) per point, all replicates together.
+    pub fn n(&self) -> u64 {
+        self.per_replicate * self.options.replicates as u64 * (self.d as u64 + 2)
+    }
+
+    /// Points per replicate so far (each d + 2 evaluations).
+    pub fn per_replicate(&self) -> u64 {
+        self.per_replicate
+    }
+
+    /// Points per replicate of the batch handed out and not yet fed (0: none).
+    pub fn pending(&self) -> u64 {
+        self.pending
+    }
+
+    /// Sets a new tolerance (the evaluations made are kept). Refuses a negative or
+    /// non-finite one, naming `abs_tol`.
+    pub fn set_tolerance(&mut self, abs_tol: f64) -> Result<(), Error> {
+        let mut o = self.options.clone();
+        o.abs_tol = abs_tol;
+        crate::Cubature::new(self.d, quad_options(&o))?;
+        self.options.abs_tol = abs_tol;
+        Ok(())
+    }
+
+    /// Sets a new budget (a larger one continues a run stopped by `max_n`). Refuses less
+    /// than one first batch, naming `max_n`.
+    pub fn set_max_n(&mut self, max_n: u64) -> Result<(), Error> {
+        let o = SensitivityOptions {
+            max_n,
+            ..self.options.clone()
+        };
+        check_budget(&o, self.d)?;
+        self.options.max_n = max_n;
+        Ok(())
+    }
+
+    /// Sets a new confidence level (the half-widths are recomputed from the same sums).
+    /// Refuses a level outside (0, 1), naming `level`.
+    pub fn set_level(&mut self, level: f64) -> Result<(), Error> {
+        let o = SensitivityOptions {
+            level,
+            ..self.options.clone()
+        };
+        crate::Cubature::new(self.d, quad_options(&o))?;
+        self.options.level = level;
+        Ok(())
+    }
+
+    /// Whether the intervals hold all together (Bonferroni) or each on its own.
+    pub fn set_simultaneous(&mut self, simultaneous: bool) {
+        self.options.simultaneous = simultaneous;
+    }
+
+    fn next_size(&self) -> u64 {
+        if self.per_replicate == 0 {
+            self.options.start_n
+        } else {
+            self.per_replicate
+        }
+    }
+
+    /// Evaluations of a batch of `m` points per replicate.
+    fn cost(&self, m: u64) -> u64 {
+        m.saturating_mul(self.options.replicates as u64)
+            .saturating_mul(self.d as u64 + 2)
+    }
+
+    /// Whether the next doubling would pass `max_n` evaluations or the sequence's 2^20
+    /// points per replicate.
+    pub fn exhausted(&self) -> bool {
+        let next = self.per_replicate + self.next_size();
+        next > EXTENSIBLE_MAX_POINTS || self.cost(next) > self.options.max_n
+    }
+
+    /// Why the run stops here: `None` while another doubling may be made and the
+    /// tolerance is not met.
+    pub fn reason(&self) -> Option<StopReason> {
+        if self.met() {
+            Some(StopReason::Met)
+        } else if self.per_replicate + self.next_size() > EXTENSIBLE_MAX_POINTS {
+            Some(StopReason::Sequence)
+        } else if self.exhausted() {
+            Some(StopReason::MaxN)
+        } else {
+            None
+        }
+    }
+
+    /// The next batch, scaled to the box, as rows of d values: for replicate 0's new
+    /// points, each point's A, B, AB_1, …, AB_d in turn; then replicate 1's, and so on
+    /// (R·m·(d + 2) rows). Asking again before [`Sensitivity::feed`] gives the same
+    /// batch. `None` when the budget is spent ([`Sensitivity::exhausted`]).
+    pub fn next_points(&mut self) -> Option<PointSet> {
+        if self.pending == 0 {
+            if self.exhausted() {
+                return None;
+            }
+            self.pending = self.next_size();
+        }
+        let (r, m, d) = (self.options.replicates, self.pending as usize, self.d);
+        let rows = d + 2;
+        let mut u = vec![0.0; m * 2 * d];
+        let (mut a, mut b) = (vec![0.0; d], vec![0.0; d]);
+        let mut data = vec![0.0; r * m * rows * d];
+        for (rep, chunk) in data.chunks_exact_mut(m * rows * d).enumerate() {
+            self.fill_replicate(rep as u64, m, &mut u);
+            for (point, block) in u.chunks_exact(2 * d).zip(chunk.chunks_exact_mut(rows * d)) {
+                self.layout.split(point, &mut a, &mut b);
+                let (a, b) = (&a[..], &b[..]);
+                let mut rows_of = block.chunks_exact_mut(d);
+                rows_of.next().expect("A").copy_from_slice(a);
+                rows_of.next().expect("B").copy_from_slice(b);
+                for (i, row) in rows_of.enumerate() {
+                    row.copy_from_slice(a);
+                    row[i] = b[i];
+                }
+            }
+            for row in chunk.chunks_exact_mut(d) {
+                for ((x, lo), w) in row.iter_mut().zip(&self.lower).zip(&self.width) {
+                    *x = lo + w * *x;
+                }
+            }
+        }
+        Some(PointSet::new(r * m * rows, d, data).expect("non-empty batch"))
+    }
+
+    /// Replicate `rep`'s next m points in 2d dimensions, before the box's scaling.
+    fn fill_replicate(&self, rep: u64, m: usize, out: &mut [f64]) {
+        let (seed, start) = (self.options.seed, self.per_replicate);
+        debug_assert_eq!(out.len(), m * 2 * self.d);
+        self.options
+            .rule
+            .fill(2 * self.d, seed, SOBOL_KEY, rep, start, out);
+    }
+
+    /// Takes f's values at the batch of [`Sensitivity::next_points`]: rows × k values,
+    /// row-major. Refuses values without a batch handed out, a length that is not a
+    /// multiple of the rows (or another k than before), NaN or ±∞ (naming the point and
+    /// the output), and, at the first batch, an output that took one value at every
+    /// point (its variance, which every index divides by, is 0); the state is unchanged
+    /// then.
+    pub fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
+        let (r, d) = (self.options.replicates, self.d);
+        let m = self.pending as usize;
+        let rows = r * m * (d + 2);
+        if m == 0 || points.n() != rows {
+            return Err(Error::invalid(
+                "values",
+                format!("{} values", values.len()),
+                "f's values at the points of next_points() (none are pending)",
+            ));
+        }
+        let k = if self.k == 0 {
+            values.len() / rows
+        } else {
+            self.k
+        };
+        if k == 0 || values.len() != rows * k {
+            return Err(Error::invalid(
+                "values",
+                format!("{} values for {rows} points", values.len()),
+                format!("{rows}·k values (k ≥ 1 outputs per point, as at the first points)"),
+            ));
+        }
+        if let Some(at) = values.iter().position(|v| !v.is_finite()) {
+            let i = at / k;
+            let p = &points.as_slice()[i * d..(i + 1) * d];
+            return Err(Error::invalid(
+                "f",
+                format!("{} at x = {:?} (output {})", values[at], p, at % k),
+                "a finite value at every point",
+            ));
+        }
+        if self.k == 0 {
+            let (centre, scale) = first_scaling(values, k)?;
+            self.k = k;
+            self.centre = centre;
+            self.scale = scale;
+            self.sums = vec![0.0; r * k * (HEAD + d * PER_INPUT)];
+        }
+        self.half_sums = if self.per_replicate == 0 {
+            Vec::new()
+        } else {
+            self.sums.clone()
+        };
+        self.accumulate(m, values);
+        self.per_replicate += self.pending;
+        self.pending = 0;
+        Ok(())
+    }
+
+    fn accumulate(&mut self, m: usize, values: &[f64]) {
+        let (r, d, k) = (self.options.replicates, self.d, self.k);
+        let width = HEAD + d * PER_INPUT;
+        let scale: Vec<f64> = self.scale.iter().map(|&e| pow2(-e)).collect();
+        let y = |row: usize, j: usize| (values[row * k + j] - self.centre[j]) * scale[j];
+        let mut sums = std::mem::take(&mut self.sums);
+        for rep in 0..r {
+            for j in 0..k {
+                let s = &mut sums[(rep * k + j) * width..(rep * k + j + 1) * width];
+                for p in 0..m {
+                    let base = (rep * m + p) * (d + 2);
+                    let (ya, yb) = (y(base, j), y(base + 1, j));
+                    s[0] += ya;
+                    s[1] += yb;
+                    s[2] += ya * ya;
+                    s[3] += yb * yb;
+                    for i in 0..d {
+                        let yi = y(base + 2 + i, j);
+                        let t = &mut s[HEAD + i * PER_INPUT..HEAD + (i + 1) * PER_INPUT];
+                        t[0] += yb * (yi - ya);
+                        t[1] += (ya - yi) * (ya - yi);
+                        t[2] += yb * yi;
+                        t[3] += yi;
+                        t[4] += yi * yi;
+                    }
+                }
+            }
+        }
+        self.sums = sums;
+    }
+
+    /// The sums of output j in `sums` over the replicates whose flag is set, and their
+    /// points (`per` each).
+    fn pooled(
+        &self,
+        sums: &[f64],
+        per: u64,
+        j: usize,
+        keep: impl Fn(usize) -> bool,
+    ) -> (Vec<f64>, f64) {
+        let width = HEAD + self.d * PER_INPUT;
+        let mut out = vec![0.0; width];
+        let mut count = 0.0;
+        for rep in (0..self.options.replicates).filter(|&rep| keep(rep)) {
+            let s = &sums[(rep * self.k + j) * width..(rep * self.k + j + 1) * width];
+            for (o, v) in out.iter_mut().zip(s) {
+                *o += v;
+            }
+            count += per as f64;
+        }
+        (out, count)
+    }
+
+    /// (first, total) of every input from pooled sums over `n` points.
+    fn indices(&self, s: &[f64], n: f64) -> (Vec<f64>, Vec<f64>) {
+        let mean = (s[0] + s[1]) / (2.0 * n);
+        let v = (s[2] + s[3]) / (2.0 * n) - mean * mean;
+        let (mb, mbb) = (s[1] / n, s[3] / n);
+        let mut first = Vec::with_capacity(self.d);
+        let mut total = Vec::with_capacity(self.d);
+        for t in s[HEAD..].chunks_exact(PER_INPUT) {
+            total.push(t[1] / (2.0 * n) / v);
+            first.push(match self.options.first_order {
+                FirstOrder::Saltelli => t[0] / n / v,
+                FirstOrder::Janon => {
+                    let m = (mb + t[3] / n) / 2.0;
+                    let num = t[2] / n - m * m;
+                    let den = (mbb + t[4] / n) / 2.0 - m * m;
+                    num / den
+                }
+            });
+        }
+        (first, total)
+    }
+
+    /// Per output, the estimates (first, total), their jackknife standard errors and
+    /// the estimates from the sums before the last batch (`None` after one batch).
+    #[allow(clippy::type_complexity)]
+    fn estimates(&self) -> Vec<(Indices, Indices, Option<Indices>)> {
+        let r = self.options.replicates;
+        let per = self.per_replicate;
+        (0..self.k)
+            .map(|j| {
+                let (s, n) = self.pooled(&self.sums, per, j, |_| true);
+                let whole = self.indices(&s, n);
+                let loo: Vec<_> = (0..r)
+                    .map(|out| {
+                        let (s, n) = self.pooled(&self.sums, per, j, |rep| rep != out);
+                        self.indices(&s, n)
+                    })
+                    .collect();
+                let se = |pick: &dyn Fn(&Indices) -> &Vec<f64>| -> Vec<f64> {
+                    (0..self.d)
+                        .map(|i| {
+                            let mean = loo.iter().map(|l| pick(l)[i]).sum::<f64>() / r as f64;
+                            let ss: f64 =
+                                loo.iter().map(|l| (pick(l)[i] - mean).powi(2)).sum::<f64>();
+                            ((r as f64 - 1.0) / r as f64 * ss).sqrt()
+                        })
+                        .collect()
+                };
+                let errors = (se(&|l| &l.0), se(&|l| &l.1));
+                let half = (!self.half_sums.is_empty()).then(|| {
+                    let (s, n) = self.pooled(&self.half_sums, per / 2, j, |_| true);
+                    self.indices(&s, n)
+                });
+                (whole, errors, half)
+            })
+            .collect()
+    }
+
+    /// The t quantile the standard errors are multiplied by: each index's own at
+    /// `level`, or, simultaneous, Bonferroni's over the 2·d·k indices.
+    fn quantile(&self) -> f64 {
+        let o = &self.options;
+        let alpha = 1.0 - o.level;
+        let alpha = if o.simultaneous {
+            alpha / (2 * self.d * self.k.max(1)) as f64
+        } else {
+            alpha
+        };
+        student_t_quantile(1.0 - alpha / 2.0, (o.replicates - 1) as f64)
+    }
+
+    /// The indices and half-widths so far, each d × k, input-major (`[i·k + j]`):
+    /// (first, total, first half-width, total half-width). Empty before the first batch.
+    pub fn current(&self) -> [Vec<f64>; 4] {
+        let t = self.quantile();
+        let (d, k) = (self.d, self.k);
+        let mut out: [Vec<f64>; 4] = std::array::from_fn(|_| vec![0.0; d * k]);
+        for (j, ((first, total), (sf, st), half)) in self.estimates().into_iter().enumerate() {
+            // The round guard: the change since half the points, when that is larger.
+            let change = |now: &[f64], i: usize, pick: fn(&Indices) -> &Vec<f64>| {
+                half.as_ref().map_or(0.0, |h| (now[i] - pick(h)[i]).abs())
+            };
+            for i in 0..d {
+                out[0][i * k + j] = first[i];
+                out[1][i * k + j] = total[i];
+                out[2][i * k + j] = (t * sf[i]).max(change(&first, i, |h| &h.0));
+                out[3][i * k + j] = (t * st[i]).max(change(&total, i, |h| &h.1));
+            }
+        }
+        out
+    }
+
+    /// Whether every index's half-width is within `abs_tol` (and finite).
+    pub fn met(&self) -> bool {
+        if self.k == 0 {
+            return false;
+        }
+        let [first, total, hf, ht] = self.current();
+        let tol = self.options.abs_tol;
+        first.iter().chain(&total).all(|x| x.is_finite())
+            && hf.iter().chain(&ht).all(|h| h.is_finite() && *h <= tol)
+    }
+
+    /// Warnings about the settings: too few replicates for a trustworthy interval.
+    pub fn warnings(&self) -> Vec<String> {
+        let r = self.options.replicates;
+        if r < crate::MIN_QUIET_REPLICATES {
+            vec![format!(
+                "{r} replicates give unreliable intervals: their half-widths vary widely \
+                 between runs; use {} or more",
+                crate::MIN_QUIET_REPLICATES
+            )]
+        } else {
+            Vec::new()
+        }
+    }
+
+    /// Doubles until [`Sensitivity::met`] or [`Sensitivity::exhausted`], calling f on
+    /// each batch (rows × k values, row-major). Returns whether the tolerance is met.
+    pub fn run<F>(&mut self, f: F) -> Result<bool, Error>
+    where
+        F: FnMut(&PointSet) -> Vec<f64>,
+    {
+        self.run_observed(f, |_| {})
+    }
+
+    /// [`Sensitivity::run`], calling `after` with the state after each doubling
+    /// (progress displays); stops with [`stillpoint_run::solve::interrupted`] when a stop is
+    /// asked for ([`stillpoint_run::solve::cancel`]), between two batches.
+    pub fn run_observed<F, A>(&mut self, f: F, after: A) -> Result<bool, Error>
+    where
+        F: FnMut(&PointSet) -> Vec<f64>,
+        A: FnMut(&Sensitivity),
+    {
+        crate::run_rounds(self, f, after)?;
+        Ok(self.met())
+    }
+}
+
+impl crate::Rounds for Sensitivity {
+    fn met(&self) -> bool {
+        Sensitivity::met(self)
+    }
+    fn pending(&self) -> u64 {
+        Sensitivity::pending(self)
+    }
+    fn next_points(&mut self) -> Option<PointSet> {
+        Sensitivity::next_points(self)
+    }
+    fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
+        Sensitivity::feed(self, points, values)
+    }
+}
+
+/// The settings as an integration over the inputs' box takes them: its checks of the
+/// box, tolerance, level, replicates and first batch are the rule here too.
+fn quad_options(o: &SensitivityOptions) -> crate::QuadOptions {
+    crate::QuadOptions {
+        a: o.a.clone(),
+        b: o.b.clone(),
+        abs_tol: o.abs_tol,
+        rel_tol: 0.0,
+        level: o.level,
+        replicates: o.replicates,
+        max_n: u64::MAX,
+        start_n: o.start_n,
+        seed: o.seed,
+        // The pick-freeze points are the extensible lattice's in 2d dimensions; quad's
+        // rule is not what this run evaluates, only its checks are shared.
+        rule: crate::Rule::TentLattice,
+        rule_reason: String::new(),
+    }
+}
+
+/// Refuses a budget below one first batch (naming `max_n`).
+fn check_budget(o: &SensitivityOptions, d: usize) -> Result<(), Error> {
+    let first = o
+        .start_n
+        .saturating_mul(o.replicates as u64)
+        .saturating_mul(d as u64 + 2);
+    if o.max_n < first {
+        return Err(Error::invalid(
+            stillpoint_parse::names::MAX_N,
+            o.max_n,
+            format!(
+                "at least one first batch: {} points for each of the {} replicates, each \
+                 {} evaluations (d + 2), {first} evaluations",
+                o.start_n,
+                o.replicates,
+                d + 2
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// 2^e as a float (e within the normal range).
+fn pow2(e: i32) -> f64 {
+    f64::from_bits(((1023 + e.clamp(-1022, 1023)) as u64) << 52)
+}
+
+/// Per output, the centre (the mean of the first batch) and the power of two that brings
+/// the largest deviation from it near 1, so that squares and products of later values
+/// neither overflow nor underflow; refuses an output that took one value at every point.
+fn first_scaling(values: &[f64], k: usize) -> Result<(Vec<f64>, Vec<i32>), Error> {
+    let rows = values.len() / k;
+    let mut centre = Vec::with_capacity(k);
+    let mut scale = Vec::with_capacity(k);
+    for j in 0..k {
+        let column = || values.iter().skip(j).step_by(k).copied();
+        let first = values[j];
+        if column().all(|v| v == first) {
+            return Err(Error::invalid(
+                "f",
+                format!(
+                    "{first} at every one of the first {rows} points{}",
+                    if k > 1 {
+                        format!(" (output {j})")
+                    } else {
+                        String::new()
+                    }
+                ),
+                "an output that varies: Sobol' indices are shares of its variance",
+            ));
+        }
+        // The mean without overflow: each value halved before summing.
+        let c = column().map(|v| v / rows as f64).sum::<f64>();
+        let spread = column().map(|v| (v - c).abs()).fold(0.0f64, f64::max);
+        let e = if spread.is_finite() && spread > 0.0 {
+            spread.log2().floor() as i32
+        } else {
+            0
+        };
+        centre.push(c);
+        scale.push(e.clamp(-1000, 1000));
+    }
+    Ok((centre, scale))
+}
+
+/// What [`sobol_indices`] returns; every index vector is d × k, input-major
+/// (`first[i·k + j]` is input i's index for output j).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SobolResult {
+    /// First-order indices.
+    pub first: Vec<f64>,
+    /// Total indices.
+    pub total: Vec<f64>,
+    /// Half-width of each first-order index's interval (its own at `level`, or all
+    /// together with `simultaneous`).
+    pub first_half_width: Vec<f64>,
+    /// Half-width of each total index's interval.
+    pub total_half_width: Vec<f64>,
+    /// Outputs k.
+    pub outputs: usize,
+    /// The inputs' names.
+    pub names: Vec<String>,
+    /// Evaluations of f, all rounds.
+    pub n: u64,
+    /// Whether every half-width is within `abs_tol`.
+    pub met: bool,
+    /// Why the run stopped.
+    pub reason: Option<StopReason>,
+    /// Warnings about the settings.
+    pub warnings: Vec<String>,
+    /// The state, to continue with a tighter tolerance.
+    pub state: Sensitivity,
+}
+
+impl From<Sensitivity> for SobolResult {
+    fn from(state: Sensitivity) -> SobolResult {
+        let [first, total, first_half_width, total_half_width] = state.current();
+        SobolResult {
+            first,
+            total,
+            first_half_width,
+            total_half_width,
+            outputs: state.outputs(),
+            names: state.names().to_vec(),
+            n: state.n(),
+            met: state.met(),
+            reason: state.reason(),
+            warnings: state.warnings(),
+            state,
+        }
+    }
+}
+
+impl SobolResult {
+    /// Continues with a new tolerance, evaluating f only at new points.
+    pub fn refine<F>(self, f: F, abs_tol: f64) -> Result<SobolResult, Error>
+    where
+        F: FnMut(&PointSet) -> Vec<f64>,
+    {
+        let mut state = self.state;
+        state.set_tolerance(abs_tol)?;
+        state.run(f)?;
+        Ok(SobolResult::from(state))
+    }
+}
+
+/// The first-order and total Sobol' indices of f's d inputs (independent, uniform on the
+/// box of `options`) to the tolerance of `options` (see the module documentation). f
+/// gets a batch of points and returns rows × k values, row-major.
+///
+/// ```
+/// use stillpoint::sensitivity::{sobol_indices, SensitivityOptions};
+/// // f = x1 + 2·x2: S = T = (1/5, 4/5).
+/// let r = sobol_indices(
+///     |x| x.rows().map(|p| p[0] + 2.0 * p[1]).collect(),
+///     2,
+///     SensitivityOptions::default(),
+/// )?;
+/// assert!(r.met && (r.first[1] - 0.8).abs() < 0.02 && (r.total[0] - 0.2).abs() < 0.02);
+/// # Ok::<(), stillpoint::Error>(())
+/// ```
+pub fn sobol_indices<F>(f: F, d: usize, options: SensitivityOptions) -> Result<SobolResult, Error>
+where
+    F: FnMut(&PointSet) -> Vec<f64>,
+{
+    let mut state = Sensitivity::new(d, options)?;
+    state.run(f)?;
+    Ok(SobolResult::from(state))
+}
+
+/// Refuses a design space whose inputs are not independent, naming `option` (`space`,
+/// `--var`): a correlation between its variables, or a Brownian path (whose coordinates
+/// are the path's values, dependent on one another). The indices are defined here for
+/// independent inputs only: under dependence their shares of the variance no longer add
+/// up, and no one definition is standard.
+pub fn check_independent(
+    option: &str,
+    space: &stillpoint_design::DesignSpace,
+) -> Result<(), Error> {
+    if space.copula.is_some() {
+        return Err(Error::invalid(
+            option,
+            "variables with a correlation",
+            "independent inputs (Sobol' indices are defined here for independent inputs)",
+        ));
+    }
+    if let Some(v) = space
+        .vars
+        .iter()
+        .find(|v| matches!(v.kind, stillpoint_design::Kind::Path { .. }))
+    {
+        return Err(Error::invalid(
+            option,
+            format!("{} (a coordinate of a Brownian path)", v.name),
+            "independent inputs: a path's values depend on one another; give its \
+             increments as normal(0,s) variables instead",
+        ));
+    }
+    Ok(())
+}
+
+impl Sensitivity {
+    /// `{prefix}: n=4096  widest half-width=3.1e-02 (T of x2) (target 1.0e-02)  2.3 s`: the
+    /// widest interval of every first-order (S) and total (T) index, named by its input
+    /// (and output, with several).
+    pub fn progress_line(&self, prefix: &str, seconds: f64) -> String {
+        let [_, _, first, total] = self.current();
+        let k = self.outputs().max(1);
+        let widths = first.iter().map(|h| (*h, 'S')).enumerate();
+        let widths = widths.chain(total.iter().map(|h| (*h, 'T')).enumerate());
+        // The widest; among equals the total, then the later index.
+        let widest =
+            widths.max_by(|(i, (h, s)), (j, (g, t))| h.total_cmp(g).then(s.cmp(t)).then(i.cmp(j)));
+        let Some((i, (h, kind))) = widest else {
+            return format!("{prefix}: n={}", self.n());
+        };
+        let output = if k > 1 {
+            format!(", output {}", i % k)
+        } else {
+            String::new()
+        };
+        format!(
+            "{prefix}: n={}  widest half-width={} ({kind} of {}{output}) (target {})  {seconds:.1} s",
+            self.n(),
+            crate::progress::sci(h, 1),
+            self.names()[i / k],
+            crate::progress::sci(self.options().abs_tol, 1)
+        )
+    }
+}
