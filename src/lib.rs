@@ -38,7 +38,8 @@ pub use stillpoint_domains as domains;
 pub use stillpoint_energies as energies;
 pub use stillpoint_integrators as integrators;
 
-pub use stillpoint_energies::{Domain, Energy, Error, PeriodicCube, PointSet, Uqp};
+pub use stillpoint_domains::{Domain, Error, PeriodicCube, PointSet};
+pub use stillpoint_energies::{Energy, Uqp};
 
 pub use stillpoint_cubature as cubature;
 pub use stillpoint_cubature::sensitivity;
@@ -47,8 +48,9 @@ pub use stillpoint_io as io;
 pub use stillpoint_parse as parse;
 pub use stillpoint_parse::names;
 pub use stillpoint_quality as quality;
-pub use stillpoint_run::{config, goals, plan, post, report, solve};
+pub use stillpoint_run::{config, goals, plan, post, report};
 pub use stillpoint_sequences as sequences;
+pub use stillpoint_solve as solve;
 
 pub mod pipeline;
 

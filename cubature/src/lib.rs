@@ -292,7 +292,7 @@ pub struct Cubature {
 impl Cubature {
     /// A new integration of a function of d variables. Refuses d = 0 or beyond the
     /// sequence's dimensions (naming `d`), a corner of the wrong length (`a`, `b`), a box
-    /// that [`stillpoint_run::plan::space::intervals`] refuses (`a, b`: b ≤ a, or a width that
+    /// that [`stillpoint_parse::space::intervals`] refuses (`a, b`: b ≤ a, or a width that
     /// overflows or vanishes next to the coordinates), negative or non-finite tolerances
     /// (`abs_tol`, `rel_tol`), a level outside (0, 1) (`level`), replicates outside 2 to
     /// [`MAX_REPLICATES`] (`replicates`), a `start_n` that is not a power of two, and a
@@ -318,7 +318,7 @@ impl Cubature {
             .zip(&upper)
             .flat_map(|(a, b)| [*a, *b])
             .collect();
-        stillpoint_run::plan::space::intervals(
+        stillpoint_parse::space::intervals(
             "a, b",
             &format!("({lower:?}, {upper:?})"),
             &interleaved,
@@ -847,8 +847,8 @@ impl Rounds for Cubature {
 }
 
 /// Evaluates f on each batch of `state` until it is met or its budget is spent, calling
-/// `after` after each batch; stops with [`stillpoint_run::solve::interrupted`] between two
-/// batches when a stop is asked for ([`stillpoint_run::solve::cancel`]).
+/// `after` after each batch; stops with [`stillpoint_solve::interrupted`] between two
+/// batches when a stop is asked for ([`stillpoint_solve::cancel`]).
 pub fn run_rounds<R, F, A>(state: &mut R, mut f: F, mut after: A) -> Result<(), Error>
 where
     R: Rounds,
@@ -856,7 +856,7 @@ where
     A: FnMut(&R),
 {
     while !state.met() {
-        stillpoint_run::solve::stop_if_cancelled()?;
+        stillpoint_solve::stop_if_cancelled()?;
         let Some(points) = state.next_points() else {
             break;
         };
@@ -1649,7 +1649,7 @@ mod tests {
             };
             let mine = Cubature::new(a.len(), o).unwrap_err().to_string();
             let v: Vec<f64> = a.iter().zip(&b).flat_map(|(x, y)| [*x, *y]).collect();
-            let theirs = stillpoint_run::plan::space::intervals("a, b", "s", &v)
+            let theirs = stillpoint_parse::space::intervals("a, b", "s", &v)
                 .unwrap_err()
                 .to_string();
             let tail = |m: &str| m.split_once(": expected").unwrap().1.to_string();

@@ -682,8 +682,8 @@ impl Sensitivity {
     }
 
     /// [`Sensitivity::run`], calling `after` with the state after each doubling
-    /// (progress displays); stops with [`stillpoint_run::solve::interrupted`] when a stop is
-    /// asked for ([`stillpoint_run::solve::cancel`]), between two batches.
+    /// (progress displays); stops with [`stillpoint_solve::interrupted`] when a stop is
+    /// asked for ([`stillpoint_solve::cancel`]), between two batches.
     pub fn run_observed<F, A>(&mut self, f: F, after: A) -> Result<bool, Error>
     where
         F: FnMut(&PointSet) -> Vec<f64>,

@@ -162,9 +162,8 @@ fn polish_continuous(
     };
     let target = stillpoint_quality::target::Target::default_for(n, cont.len());
     let lbfgs = stillpoint_integrators::lbfgs::Lbfgs::default();
-    let better =
-        stillpoint_run::goals::integration::descend_in_cells(&part, &target, POLISH_STEPS, &lbfgs)
-            .unwrap_or(part);
+    let better = stillpoint_solve::cells::descend_in_cells(&part, &target, POLISH_STEPS, &lbfgs)
+        .unwrap_or(part);
     put_continuous(unit, &cont, better.as_slice());
 }
 

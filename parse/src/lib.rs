@@ -5,6 +5,7 @@
 #![deny(missing_docs)]
 
 pub mod names;
+pub mod space;
 
 pub mod constraint;
 pub mod expr;

@@ -9,8 +9,8 @@
 
 use crate::Error;
 use std::sync::Arc;
+use stillpoint_domains::{Domain, PointSet};
 use stillpoint_energies::energy_distance::{cross_distance_sum, pair_distance_sum};
-use stillpoint_energies::{Domain, PointSet};
 use stillpoint_sequences::{sobol_scrambled, stream_seed};
 
 /// Independent batches of the uniform sample: the standard error is their spread.

@@ -8,8 +8,9 @@
 use crate::energy_distance::{energy_distance, fraction_inside};
 use crate::Error;
 use std::sync::Arc;
+use stillpoint_domains::{Domain, PointSet};
 use stillpoint_energies::boundary::UEInfG;
-use stillpoint_energies::{Domain, Energy, PointSet};
+use stillpoint_energies::Energy;
 
 /// Uniformity figures of a set in a region.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]

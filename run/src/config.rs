@@ -2,14 +2,15 @@
 //! the settings record that a checkpoint keeps and a file header shows.
 
 use crate::post::randomize::Randomize;
-use crate::solve::Solver;
 use serde_json::{json, Value};
 use std::sync::Arc;
+use stillpoint_domains::{Domain, PointSet};
 use stillpoint_energies::discrepancy::DiscrepancyKind;
-use stillpoint_energies::{Distance, Domain, PointSet, Precision};
+use stillpoint_energies::{Distance, Precision};
 use stillpoint_integrators::lbfgs::Lbfgs;
 use stillpoint_integrators::Dem;
 use stillpoint_quality::target::Target;
+use stillpoint_solve::Solver;
 
 /// Where the points live.
 #[derive(Debug, Clone)]
@@ -280,7 +281,7 @@ pub fn points_fingerprint(points: &PointSet) -> String {
         "{} points in {} dimensions, fnv1a64 {:016x}",
         points.n(),
         points.s(),
-        crate::solve::checkpoint::fnv1a64(&bytes)
+        stillpoint_solve::checkpoint::fnv1a64(&bytes)
     )
 }
 

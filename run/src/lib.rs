@@ -3,8 +3,9 @@
 //!
 //! [`config`] holds a run's settings, [`plan`] what it is made of (space, start,
 //! problem), [`goals`] the three goals (integration, space-filling, the paper's),
-//! [`solve`] the executor and checkpoints, [`post`] the steps after it (shift, polish,
-//! randomise) and [`report`] what the run did. The resolver that fills a configuration
+//! [`post`] the steps after it (shift, polish,
+//! randomise) and [`report`] what the run did; the executor and checkpoints are
+//! `stillpoint-solve`. The resolver that fills a configuration
 //! from a request, and the dispatch that runs it, are the layer above
 //! (`stillpoint::pipeline`).
 
@@ -15,6 +16,5 @@ pub mod goals;
 pub mod plan;
 pub mod post;
 pub mod report;
-pub mod solve;
 
 use stillpoint_domains::{Domain, Error, PointSet};

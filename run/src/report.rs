@@ -6,7 +6,7 @@ use crate::post::shift::ShiftOutcome;
 use crate::Error;
 use serde::Serialize;
 use std::fmt;
-use stillpoint_energies::PointSet;
+use stillpoint_domains::PointSet;
 use stillpoint_integrators::{RunOutput, StopReason};
 use stillpoint_quality::metrics::Metrics;
 use stillpoint_quality::region::RegionMetrics;

@@ -10,7 +10,7 @@ pub mod space_filling;
 use crate::config::GenerateConfig;
 use crate::report::{quality, GenerateReport, Stage};
 use crate::Error;
-use stillpoint_energies::PointSet;
+use stillpoint_domains::PointSet;
 use stillpoint_integrators::RunOutput;
 
 /// A goal's run as a report: the start and the result with their quality, the value the

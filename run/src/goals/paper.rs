@@ -5,13 +5,14 @@ use crate::plan::problem::{build_problem, choose_energy};
 use crate::plan::start::start_set;
 use crate::post::shift::{self};
 use crate::report::{quality, GenerateReport};
-use crate::solve::checkpoint::CheckpointPlan;
-use crate::solve::Solver;
-use crate::solve::{Event, LoggingObserver, Solve};
 use crate::Error;
 use std::time::Instant;
-use stillpoint_energies::{Distance, Energy, PeriodicCube, PointSet, Precision};
+use stillpoint_domains::{PeriodicCube, PointSet};
+use stillpoint_energies::{Distance, Energy, Precision};
 use stillpoint_integrators::Record;
+use stillpoint_solve::checkpoint::CheckpointPlan;
+use stillpoint_solve::Solver;
+use stillpoint_solve::{Event, LoggingObserver, Solve};
 
 /// The configured pipeline: start, solver through the executor, post-steps.
 pub fn paper_run(

@@ -22,15 +22,15 @@
 use crate::config::GenerateConfig;
 use crate::goals::goal_report;
 use crate::report::{GenerateReport, Stage};
-use crate::solve::{Event, LoggingObserver, Solve};
 use crate::Error;
 use serde_json::Value;
 use std::sync::Arc;
+use stillpoint_domains::Domain;
 use stillpoint_energies::energy_distance::EnergyDistance;
-use stillpoint_energies::Domain;
 use stillpoint_integrators::{Control, Observer, Problem, Record, StopReason};
 use stillpoint_quality::energy_distance::uniform_reference;
 use stillpoint_sequences::stream_seed;
+use stillpoint_solve::{Event, LoggingObserver, Solve};
 
 /// Reference points per set point.
 const REFERENCE_PER_POINT: usize = 8;
@@ -161,7 +161,7 @@ impl<O> Stall<O> {
 }
 
 impl<O: Observer> Observer for Stall<O> {
-    fn observe(&mut self, record: &mut Record, points: &stillpoint_energies::PointSet) -> Control {
+    fn observe(&mut self, record: &mut Record, points: &stillpoint_domains::PointSet) -> Control {
         if let Control::Stop = self.inner.observe(record, points) {
             return Control::Stop;
         }

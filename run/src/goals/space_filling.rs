@@ -4,11 +4,11 @@ use crate::config::GenerateConfig;
 use crate::goals::goal_report;
 use crate::goals::paper::paper_run;
 use crate::report::{Candidate, GenerateReport, Stage};
-use crate::solve::Event;
 use crate::Error;
-use stillpoint_energies::PointSet;
+use stillpoint_domains::PointSet;
 use stillpoint_quality::metrics::{self};
 use stillpoint_sequences as sequences;
+use stillpoint_solve::Event;
 
 /// Latin hypercube starts of the space-filling goal's maximin search (each about half a
 /// second at most).

@@ -7,14 +7,15 @@
 //! the bounds of x_S into two cuts on the sum and every constraint mentioning x_S into one
 //! on the others. [`Mixture::lift`] appends x_S to every point afterwards.
 
-use crate::plan::space::{intervals, numbers_text};
 use crate::{Domain, Error, PointSet};
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use std::sync::Arc;
+pub use stillpoint_domains::shapes::MixtureRegion;
 use stillpoint_domains::shapes::Polytope;
 use stillpoint_parse::constraint::{parse_constraint, Row};
 use stillpoint_parse::names;
+use stillpoint_parse::space::{intervals, numbers_text};
 
 /// The fewest of [`ACCEPTANCE_PROBE`] uniform draws in the box that must fall in the
 /// polytope for the box to be kept as given; a smaller share (a simplex of side 1e-6 in
@@ -147,92 +148,6 @@ impl Mixture {
             data.push(last);
         }
         PointSet::new(p.n(), big_s, data)
-    }
-}
-
-/// A mixture's polytope in its first S − 1 components, whose uniform draws come from
-/// the simplex {y ≥ 0, Σ y ≤ 1} when that is smaller than the polytope's box: with many
-/// components the simplex fills 1/(S − 1)! of the unit box, too little for rejection
-/// from the box (S = 8 keeps 1 draw in 5040).
-#[derive(Debug, Clone)]
-pub struct MixtureRegion {
-    polytope: Polytope,
-    from_simplex: bool,
-}
-
-impl MixtureRegion {
-    fn new(polytope: Polytope) -> MixtureRegion {
-        let (lo, hi) = polytope.bounding_box();
-        let s = lo.len();
-        let box_volume: f64 = lo.iter().zip(&hi).map(|(l, h)| h - l).product();
-        let simplex_volume = 1.0 / (1..=s).map(|k| k as f64).product::<f64>();
-        MixtureRegion {
-            polytope,
-            from_simplex: simplex_volume < box_volume,
-        }
-    }
-}
-
-impl Domain for MixtureRegion {
-    fn dim(&self) -> usize {
-        self.polytope.dim()
-    }
-
-    fn contains(&self, x: &[f64]) -> bool {
-        self.polytope.contains(x)
-    }
-
-    fn sample(&self, n: usize, seed: u64) -> Result<PointSet, Error> {
-        if !self.from_simplex {
-            return self.polytope.sample(n, seed);
-        }
-        if n == 0 {
-            return Err(Error::invalid("n", n, "at least 1 point"));
-        }
-        let s = self.dim();
-        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-        let max_draws = n.saturating_mul(1000).max(10_000);
-        let mut data = Vec::with_capacity(n * s);
-        let mut e = vec![0.0; s + 1];
-        for _ in 0..max_draws {
-            // Normalised exponentials are uniform on the simplex (a flat Dirichlet).
-            for v in e.iter_mut() {
-                *v = -(1.0 - rng.random::<f64>()).ln();
-            }
-            let total: f64 = e.iter().sum();
-            let y: Vec<f64> = e[..s].iter().map(|v| v / total).collect();
-            if self.polytope.contains(&y) {
-                data.extend_from_slice(&y);
-                if data.len() == n * s {
-                    return PointSet::new(n, s, data);
-                }
-            }
-        }
-        Err(Error::Numerical(format!(
-            "only {} of {max_draws} uniform mixtures met the bounds and constraints, and {n} \
-             points were asked for: they leave too little room; loosen them",
-            data.len() / s
-        )))
-    }
-
-    fn bring_back(&self, x: &mut [f64], prev: &mut [f64]) {
-        self.polytope.bring_back(x, prev)
-    }
-
-    fn keep_inside(&self, from: &[f64], to: &mut [f64], prev: &mut [f64]) -> bool {
-        self.polytope.keep_inside(from, to, prev)
-    }
-
-    fn closest_boundary_point(&self, x: &[f64], foot: &mut [f64]) -> Option<f64> {
-        self.polytope.closest_boundary_point(x, foot)
-    }
-
-    fn bounding_box(&self) -> (Vec<f64>, Vec<f64>) {
-        self.polytope.bounding_box()
-    }
-
-    fn level(&self, x: &[f64]) -> Option<f64> {
-        self.polytope.level(x)
     }
 }
 

@@ -5,5 +5,5 @@
 
 pub mod constraints;
 pub mod problem;
-pub mod space;
+pub use stillpoint_parse::space;
 pub mod start;

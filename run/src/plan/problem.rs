@@ -8,10 +8,11 @@ use serde::Serialize;
 use std::sync::Arc;
 use std::time::Instant;
 use stillpoint_domains::shapes::BoxRegion;
+use stillpoint_domains::{Domain, PeriodicCube};
 use stillpoint_energies::boundary::{UEInfG, UEpG};
 use stillpoint_energies::discrepancy::DiscrepancyEnergy;
 use stillpoint_energies::einf::UEInf;
-use stillpoint_energies::{paper_qp, Distance, Domain, Energy, PeriodicCube, Uqp};
+use stillpoint_energies::{paper_qp, Distance, Energy, Uqp};
 use stillpoint_integrators::Problem;
 use stillpoint_sequences as sequences;
 

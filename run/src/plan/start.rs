@@ -2,7 +2,7 @@
 
 use crate::config::{GenerateConfig, Init};
 use crate::Error;
-use stillpoint_energies::{Domain, PointSet};
+use stillpoint_domains::{Domain, PointSet};
 use stillpoint_sequences as sequences;
 
 /// The most candidate shifts the shift selection tries (each costs one discrepancy

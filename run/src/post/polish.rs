@@ -1,15 +1,15 @@
 //! The polish, a post-step: L-BFGS on a squared discrepancy from a finished set, run
 //! through the executor like any solver, kept only if it lowers the discrepancy.
 
-use crate::solve::{LoggingObserver, Solve};
 use crate::Error;
 use serde_json::Value;
 use std::sync::Arc;
 use stillpoint_domains::shapes::BoxRegion;
+use stillpoint_domains::{Domain, PeriodicCube, PointSet};
 use stillpoint_energies::discrepancy::{DiscrepancyEnergy, DiscrepancyKind};
-use stillpoint_energies::{Domain, PeriodicCube, PointSet};
 use stillpoint_integrators::lbfgs::Lbfgs;
 use stillpoint_integrators::{Problem, Record};
+use stillpoint_solve::{LoggingObserver, Solve};
 
 /// What the polish did.
 #[derive(Debug, Clone)]

@@ -4,7 +4,7 @@
 use crate::Error;
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
-use stillpoint_energies::PointSet;
+use stillpoint_domains::PointSet;
 use stillpoint_quality::stratification::{cell_of, in_cell};
 
 /// How a finished set is randomised (`--randomize`), so that independent seeds give

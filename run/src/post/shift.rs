@@ -8,7 +8,7 @@
 //! energy and its minimum periodic distance; only its placement in the cube changes.
 
 use stillpoint_domains::wrap_unit;
-use stillpoint_energies::PointSet;
+use stillpoint_domains::PointSet;
 use stillpoint_quality::metrics;
 use stillpoint_sequences as sequences;
 

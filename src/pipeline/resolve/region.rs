@@ -4,7 +4,7 @@
 
 use super::Ctx;
 use crate::config::{EnergyKind, GenerateConfig, Init, Space};
-use crate::energies::Domain;
+use crate::domains::Domain;
 use crate::pipeline::options::{kind::normal_word, words, Opt, Value};
 use crate::pipeline::request::Arg;
 use crate::plan::constraints::{Constrained, ConstraintSpec, Mixture};

@@ -294,7 +294,7 @@ pub fn block_exchanges(
     let form_cost = 2 * n as u64;
     let mut refusals = vec![0usize; kinds.len()];
     while outcome.work + load_cost + proposal_cost <= work {
-        if crate::solve::cancelled() {
+        if stillpoint_solve::cancelled() {
             break;
         }
         state.load(&rand::seq::index::sample(&mut rng, n, b).into_vec());
@@ -303,7 +303,7 @@ pub fn block_exchanges(
         for _ in 0..PROPOSALS_PER_POINT * b {
             // A stop request is seen within a few dozen proposals (each O(n)).
             if outcome.work + proposal_cost > work
-                || (outcome.proposals.is_multiple_of(64) && crate::solve::cancelled())
+                || (outcome.proposals.is_multiple_of(64) && stillpoint_solve::cancelled())
             {
                 break;
             }

@@ -42,14 +42,14 @@
 //! say which ([`shared_note`]), and front ends warn before the run ([`sharing_warning`]).
 
 use super::shift_fft::{self, Accumulator, Spectrum};
-use crate::solve::Event;
 use crate::Error;
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
 use std::time::Instant;
-use stillpoint_energies::PointSet;
+use stillpoint_domains::PointSet;
 use stillpoint_sequences::{self as sequences, TENT_WEIGHT};
+use stillpoint_solve::Event;
 
 /// From this many points on, the default set for integration is [`lattice_rule`]
 /// (without a target, a set to extend or nested sizes). Below it the stratified descent on
@@ -117,7 +117,7 @@ pub fn lattice_rule(n: usize, s: usize, seed: u64) -> Result<LatticeRule, Error>
 }
 
 /// [`lattice_rule`], telling `on_event` its stages and, in the shift search, the
-/// coordinates done; stops at a cancellation ([`crate::solve::stop_if_cancelled`]).
+/// coordinates done; stops at a cancellation ([`stillpoint_solve::stop_if_cancelled`]).
 pub(crate) fn lattice_rule_observed(
     n: usize,
     s: usize,
@@ -132,7 +132,7 @@ pub(crate) fn lattice_rule_observed(
     let clock = Instant::now();
     let generator = sequences::tent_lattice_generator(n, s)?;
     let built = clock.elapsed().as_secs_f64();
-    crate::solve::stop_if_cancelled()?;
+    stillpoint_solve::stop_if_cancelled()?;
     on_event(Event::Stage {
         name: "shift selection",
         steps: Some(s as u64),
@@ -276,7 +276,7 @@ fn search(
         acc.push(zj, q);
         shift.push(q);
         on_event(Event::Progress(shift.len() as u64));
-        crate::solve::stop_if_cancelled()?;
+        stillpoint_solve::stop_if_cancelled()?;
     }
     Ok((shift, acc.value(TENT_WEIGHT)))
 }

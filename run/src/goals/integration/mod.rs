@@ -18,13 +18,13 @@ pub use descent::{
 use crate::config::GenerateConfig;
 use crate::goals::goal_report;
 use crate::report::{GenerateReport, Stage};
-use crate::solve::Event;
 use crate::Error;
-use stillpoint_energies::PointSet;
+use stillpoint_domains::PointSet;
 use stillpoint_quality::effort::Effort;
 use stillpoint_quality::metrics::{Metrics, Sums};
 use stillpoint_quality::stratification::is_stratified;
 use stillpoint_quality::target::Target;
+use stillpoint_solve::Event;
 
 /// The figures of a part of a result, as a report stage.
 fn figures(of: String, p: &PointSet, stratified: Option<bool>, sums: Sums) -> Stage {
@@ -84,7 +84,7 @@ pub fn integration_run(
     }
     let (points, outcome) =
         crate::goals::integration::integration_set(cfg.n, cfg.s, target, cfg.seed, &effort)?;
-    crate::solve::stop_if_cancelled()?;
+    stillpoint_solve::stop_if_cancelled()?;
     on_event(Event::Stage {
         name: "metrics",
         steps: None,

@@ -20,16 +20,17 @@
 
 use crate::goals::region_integration::Stall;
 use crate::report::TentDescent;
-use crate::solve::{LoggingObserver, Solve};
 use crate::Error;
 use rand::{RngExt, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde_json::Value;
+use stillpoint_domains::{PeriodicCube, PointSet};
 use stillpoint_energies::tent_kernel::TentKernel;
-use stillpoint_energies::{Energy, PeriodicCube, PointSet};
+use stillpoint_energies::Energy;
 use stillpoint_integrators::lbfgs::Lbfgs;
 use stillpoint_integrators::{Problem, Record};
 use stillpoint_sequences::{self as sequences, TENT_WEIGHT};
+use stillpoint_solve::{LoggingObserver, Solve};
 
 /// L-BFGS iterations at most (the runs measured stalled after 60–200).
 const MAX_ITERATIONS: usize = 300;
@@ -123,7 +124,7 @@ pub fn tent_set(n: usize, s: usize) -> Result<TentSet, Error> {
         config: &Value::Null,
     };
     let out = run.execute(Lbfgs::default(), start, &mut observer)?;
-    crate::solve::stop_if_cancelled()?;
+    stillpoint_solve::stop_if_cancelled()?;
     let ranked = ranks(&out.points);
     let criterion = energy.value(&ranked);
     let kept = criterion < lattice_criterion;

@@ -1,12 +1,16 @@
 //! Running a solver: one `Solve` drives any integrator through the executor, with
-//! checkpoints; observers log discrepancies and pass progress events on.
+//! checkpoints; observers log discrepancies and pass progress events on. [`cells`] is the
+//! descent that keeps a stratified set stratified, which goals and designs both run.
 
+#![deny(missing_docs)]
+
+pub mod cells;
 pub mod checkpoint;
 
-use crate::solve::checkpoint::CheckpointPlan;
-use crate::Error;
+use stillpoint_domains::{Error, PointSet};
+
+use crate::checkpoint::CheckpointPlan;
 use serde_json::Value;
-use stillpoint_energies::PointSet;
 use stillpoint_integrators::lbfgs::Lbfgs;
 use stillpoint_integrators::{
     Control, Dem, Executor, Integrator, Observer, Problem, Record, RunOutput, Snapshot,
@@ -106,13 +110,16 @@ pub enum Event<'a> {
 }
 
 /// One run of a solver on a problem: the budget and where checkpoints go. Every solver
-/// of the crate is run through [`Run::solve`] (and so through the one executor).
-pub(crate) struct Solve<'a> {
-    pub(crate) problem: &'a Problem<'a>,
-    pub(crate) steps: usize,
-    pub(crate) checkpoint: Option<&'a CheckpointPlan>,
+/// of the workspace is run through [`Solve::solve`] (and so through the one executor).
+pub struct Solve<'a> {
+    /// The energy and domain.
+    pub problem: &'a Problem<'a>,
+    /// The step budget.
+    pub steps: usize,
+    /// Where checkpoints are written and read, if anywhere.
+    pub checkpoint: Option<&'a CheckpointPlan>,
     /// The run's configuration, recorded in checkpoints and compared on resume.
-    pub(crate) config: &'a Value,
+    pub config: &'a Value,
 }
 
 impl Solve<'_> {
@@ -131,7 +138,9 @@ impl Solve<'_> {
         }
     }
 
-    pub(crate) fn execute<I: Integrator>(
+    /// Runs `integrator` from `start` (or from the plan's checkpoint) through the
+    /// executor, for a solver that is not one of [`Solver`]'s.
+    pub fn execute<I: Integrator>(
         &self,
         integrator: I,
         start: PointSet,

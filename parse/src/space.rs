@@ -1,11 +1,11 @@
 //! Where the points live, as users write it: boxes and bounds as LO1,HI1,..., region
 //! expressions and the built-in shapes' grammar, checked once for every front end.
 
-use crate::{Domain, Error, PointSet};
+use crate::names;
 use std::sync::Arc;
 use stillpoint_domains::region::ImplicitRegion;
 use stillpoint_domains::shapes::{Ball, BoxRegion, Ellipsoid, Polytope, Simplex};
-use stillpoint_parse::names;
+use stillpoint_domains::{Domain, Error, PointSet};
 
 /// The built-in shapes of the grammar ([`RegionSpec::domain`]), each followed by its
 /// numbers (`ball:1`): the one list the option table and help read.
@@ -217,7 +217,7 @@ impl RegionSpec<'_> {
         if let Some(expr) = self.expression {
             let (lo, hi) = box_of("a region expression")?;
             dim_check(lo.len())?;
-            let g = stillpoint_parse::expr::RegionExpr::parse(expr, lo.len()).map_err(|e| {
+            let g = crate::expr::RegionExpr::parse(expr, lo.len()).map_err(|e| {
                 Error::invalid(
                     spell(names::REGION),
                     expr,
