@@ -1,7 +1,7 @@
 """The extensible randomised lattice of `stillpoint.quad` in NumPy, with and without the
 tent transform, for the studies of its interval and of its rule (benches/quad_interval.py):
 point k of a replicate is tent(frac(φ₂(k)·z/2^20 + Δ)) with φ₂(k) the 20-bit reversal
-of k, z the tabulated generating vector (src/sequences/extensible_table.rs) and Δ the
+of k, z the tabulated generating vector (sequences/src/extensible_table.rs) and Δ the
 replicate's uniform shift. ``check()`` compares it bit for bit with the package's
 ``_core.sequence_points`` at the package's own shifts.
 """

@@ -1,6 +1,7 @@
-//! The root crate's module graph: among the top-level modules of src/, the `crate::` paths
-//! (and `super::` paths that leave their top-level module) of non-test code form no cycle,
-//! and no `pub use …::*` gives a type a second public path.
+//! Each crate's module graph: among the top-level modules of a workspace crate's src/, the
+//! `crate::` paths (and `super::` paths that leave their top-level module) of non-test
+//! code form no cycle, and no `pub use …::*` gives a type a second public path. (Between
+//! crates the compiler forbids cycles; tests/crates.rs draws that graph.)
 //!
 //! The source is read as text: comments and string literals are blanked, then every item
 //! under `#[cfg(test)]` is dropped, so that test code may reach anywhere.
@@ -266,9 +267,32 @@ fn module_path(rel: &Path) -> Vec<String> {
     parts
 }
 
-/// The graph among top-level modules: for each, the others its non-test code names.
-fn module_graph() -> BTreeMap<String, BTreeSet<String>> {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+/// The src/ directory of every member of the workspace, read from its manifest's
+/// `members` list.
+fn crate_sources() -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let manifest = fs::read_to_string(root.join("Cargo.toml")).unwrap();
+    let line = manifest
+        .lines()
+        .find(|l| l.trim_start().starts_with("members"))
+        .expect("a members list");
+    let dirs: Vec<PathBuf> = line
+        .split('"')
+        .skip(1)
+        .step_by(2)
+        .map(|m| root.join(m).join("src"))
+        .collect();
+    assert!(
+        dirs.len() > 10 && dirs.iter().all(|d| d.is_dir()),
+        "{dirs:?}"
+    );
+    dirs
+}
+
+/// The graph among the top-level modules of `src`: for each, the others its non-test
+/// code names.
+fn module_graph(src: &Path) -> BTreeMap<String, BTreeSet<String>> {
+    let src = src.to_path_buf();
     let files = rust_files(&src);
     let top: BTreeSet<String> = files
         .iter()
@@ -334,14 +358,25 @@ fn find_cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>>
 
 #[test]
 fn top_level_modules_form_no_cycle() {
-    let mut graph = module_graph();
+    let mut graphs: Vec<(PathBuf, BTreeMap<String, BTreeSet<String>>)> = crate_sources()
+        .into_iter()
+        .map(|src| (src.clone(), module_graph(&src)))
+        .collect();
     for (from, to) in TEMPORARY_EDGES {
         assert!(
-            graph.get_mut(*from).is_some_and(|e| e.remove(*to)),
+            graphs
+                .iter_mut()
+                .any(|(_, g)| g.get_mut(*from).is_some_and(|e| e.remove(*to))),
             "{from} no longer names {to}: remove the edge from TEMPORARY_EDGES"
         );
     }
-    if let Some(cycle) = find_cycle(&graph) {
+    for (src, graph) in &graphs {
+        check_no_cycle(src, graph);
+    }
+}
+
+fn check_no_cycle(src: &Path, graph: &BTreeMap<String, BTreeSet<String>>) {
+    if let Some(cycle) = find_cycle(graph) {
         let edges: Vec<String> = graph
             .iter()
             .map(|(m, e)| {
@@ -352,7 +387,8 @@ fn top_level_modules_form_no_cycle() {
             })
             .collect();
         panic!(
-            "the top-level modules of src/ form a cycle: {}\nthe graph:\n{}",
+            "the top-level modules of {} form a cycle: {}\nthe graph:\n{}",
+            src.display(),
             cycle.join(" → "),
             edges.join("\n")
         );
@@ -361,24 +397,25 @@ fn top_level_modules_form_no_cycle() {
 
 #[test]
 fn no_glob_re_exports() {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
     let mut globs = Vec::new();
-    for f in rust_files(&src) {
-        let code = blank_comments_and_strings(&fs::read_to_string(&f).unwrap());
-        for (at, _) in code.match_indices("use ") {
-            let before = code[..at].trim_end();
-            let public = before.ends_with("pub")
-                || (before.ends_with(')')
-                    && before
-                        .rfind("pub(")
-                        .is_some_and(|p| !before[p..].contains([';', '{', '}'])));
-            if !public || !path_starts_at(code.as_str(), at) {
-                continue;
-            }
-            let statement = &code[at..at + code[at..].find(';').unwrap_or(code.len() - at)];
-            if statement.contains('*') {
-                let s = statement.split_whitespace().collect::<Vec<_>>().join(" ");
-                globs.push(format!("{}: {s}", f.strip_prefix(&src).unwrap().display()));
+    for src in crate_sources() {
+        for f in rust_files(&src) {
+            let code = blank_comments_and_strings(&fs::read_to_string(&f).unwrap());
+            for (at, _) in code.match_indices("use ") {
+                let before = code[..at].trim_end();
+                let public = before.ends_with("pub")
+                    || (before.ends_with(')')
+                        && before
+                            .rfind("pub(")
+                            .is_some_and(|p| !before[p..].contains([';', '{', '}'])));
+                if !public || !path_starts_at(code.as_str(), at) {
+                    continue;
+                }
+                let statement = &code[at..at + code[at..].find(';').unwrap_or(code.len() - at)];
+                if statement.contains('*') {
+                    let s = statement.split_whitespace().collect::<Vec<_>>().join(" ");
+                    globs.push(format!("{}: {s}", f.display()));
+                }
             }
         }
     }

@@ -20,10 +20,7 @@ pub mod slices;
 pub mod table;
 
 pub use dist::Marginal;
-
-/// The most levels one categorical variable may list (a design with more levels than
-/// points cannot show each of them).
-const MAX_LEVELS: usize = 1 << 16;
+use stillpoint_parse::design::{self, TypeText, VariableText};
 
 /// What one variable of a design space takes.
 #[derive(Debug, Clone, PartialEq)]
@@ -341,63 +338,26 @@ impl DesignSpace {
 }
 
 fn parse_variable(option: &str, item: &str) -> Result<Vec<Variable>, Error> {
-    let bad = |expected: String| Error::invalid(option, item, expected);
-    let Some((name, spec)) = item.split_once('=') else {
-        return Err(bad(
-            "NAME=TYPE, e.g. x=uniform(0,1), k=int(1,5) or c={a,b,c}".into(),
-        ));
-    };
-    let name = name.trim();
-    let first_ok = name
-        .chars()
-        .next()
-        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_');
-    if !first_ok
-        || !name
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '.' | '-'))
-    {
-        return Err(bad(
-            "a NAME of letters, digits, '_', '.' or '-' starting with a letter or '_'".into(),
-        ));
-    }
-    let spec = spec.trim();
-    if let Some(args) = spec
-        .split_once('(')
-        .filter(|(f, _)| f.trim().eq_ignore_ascii_case("brownian"))
-        .map(|(_, rest)| rest)
-    {
-        let Some(args) = args.trim_end().strip_suffix(')') else {
-            return Err(bad(format!(
-                "{name}=brownian(...) with a closing parenthesis"
-            )));
-        };
-        let path = path::Brownian::parse(args, |expected| {
-            Error::invalid(option, item, format!("{name}={expected}"))
-        })?;
-        return Ok((0..path.m)
-            .map(|step| Variable {
-                name: format!("{name}_{}", step + 1),
-                kind: Kind::Path {
-                    base: name.to_string(),
-                    path,
-                    step,
-                },
-            })
-            .collect());
-    }
-    let kind = if let Some(body) = braces(spec.strip_prefix("ordered").unwrap_or("")) {
-        Kind::Levels {
-            labels: labels(option, item, name, body)?,
-            ordered: true,
+    let VariableText { name, ty } = design::variable(option, item)?;
+    let kind = match ty {
+        TypeText::Brownian { args } => {
+            let path = path::Brownian::parse(args, |expected| {
+                Error::invalid(option, item, format!("{name}={expected}"))
+            })?;
+            return Ok((0..path.m)
+                .map(|step| Variable {
+                    name: format!("{name}_{}", step + 1),
+                    kind: Kind::Path {
+                        base: name.to_string(),
+                        path,
+                        step,
+                    },
+                })
+                .collect());
         }
-    } else if let Some(body) = braces(spec) {
-        Kind::Levels {
-            labels: labels(option, item, name, body)?,
-            ordered: false,
-        }
-    } else {
-        call(option, item, name, spec)?
+        TypeText::Levels { labels, ordered } => Kind::Levels { labels, ordered },
+        TypeText::Integer { lo, hi } => Kind::Integer { lo, hi },
+        TypeText::Law { func, numbers } => law(option, item, name, &func, &numbers)?,
     };
     Ok(vec![Variable {
         name: name.to_string(),
@@ -405,94 +365,9 @@ fn parse_variable(option: &str, item: &str) -> Result<Vec<Variable>, Error> {
     }])
 }
 
-fn braces(spec: &str) -> Option<&str> {
-    spec.trim()
-        .strip_prefix('{')
-        .and_then(|b| b.strip_suffix('}'))
-}
-
-/// Labels are written bare in a CSV cell, so a comma, quote, brace or line break (which
-/// would change the file's columns or the grammar) is refused.
-fn labels(option: &str, item: &str, name: &str, body: &str) -> Result<Vec<String>, Error> {
-    let labels: Vec<String> = body.split(',').map(|l| l.trim().to_string()).collect();
-    if labels.iter().any(|l| l.is_empty()) {
-        return Err(Error::invalid(
-            option,
-            item,
-            format!("{name}={{a,b,...}}: one or more non-empty labels, comma-separated"),
-        ));
-    }
-    if let Some(l) = labels.iter().find(|l| {
-        l.chars()
-            .any(|c| matches!(c, '"' | '{' | '}' | '\n' | '\r' | '\t'))
-            || l.starts_with('#')
-    }) {
-        return Err(Error::invalid(
-            option,
-            item,
-            format!(
-                "labels without quotes, braces, tabs or line breaks, not starting with '#' ({l:?})"
-            ),
-        ));
-    }
-    if labels.len() > MAX_LEVELS {
-        return Err(Error::invalid(
-            option,
-            item,
-            format!("at most {MAX_LEVELS} levels"),
-        ));
-    }
-    for (i, l) in labels.iter().enumerate() {
-        if labels[..i].contains(l) {
-            return Err(Error::invalid(
-                option,
-                item,
-                format!("distinct labels, but {l} appears twice"),
-            ));
-        }
-    }
-    Ok(labels)
-}
-
-/// `FUNCTION(ARGS)`: a distribution or an integer range.
-fn call(option: &str, item: &str, name: &str, spec: &str) -> Result<Kind, Error> {
-    const TYPES: &str = "uniform(lo,hi), normal(mu,sigma), truncnormal(mu,sigma,lo,hi), \
-                         lognormal(mu,sigma), beta(a,b[,lo,hi]), triangular(lo,mode,hi), \
-                         int(lo,hi), {a,b,c}, ordered{low,mid,high} or \
-                         brownian(T,m[,construction])";
+/// A law by its name and parameters, checked.
+fn law(option: &str, item: &str, name: &str, func: &str, numbers: &[f64]) -> Result<Kind, Error> {
     let bad = |expected: String| Error::invalid(option, item, expected);
-    let Some((func, rest)) = spec.split_once('(') else {
-        return Err(bad(format!("{name}= one of {TYPES}")));
-    };
-    let Some(args) = rest.trim_end().strip_suffix(')') else {
-        return Err(bad(format!(
-            "{name}={func}(...) with a closing parenthesis"
-        )));
-    };
-    let func = func.trim().to_ascii_lowercase();
-    if func == "int" || func == "integer" {
-        let ends: Vec<Option<i64>> = args.split(',').map(|a| a.trim().parse().ok()).collect();
-        return match ends.as_slice() {
-            [Some(lo), Some(hi)]
-                if lo <= hi
-                    && lo.abs() < 1 << 53
-                    && hi.abs() < 1 << 53
-                    && ((hi - lo) as u64) < MAX_LEVELS as u64 * 16 =>
-            {
-                Ok(Kind::Integer { lo: *lo, hi: *hi })
-            }
-            _ => Err(bad(format!(
-                "{name}=int(lo,hi): whole numbers lo ≤ hi below 2^53 in size, at most {} \
-                 values",
-                MAX_LEVELS * 16
-            ))),
-        };
-    }
-    let numbers: Vec<f64> = args
-        .split(',')
-        .map(|a| a.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| bad(format!("{name}={func}(...) with numbers as its parameters")))?;
     let arity = |k: &[usize]| -> Result<(), Error> {
         if k.contains(&numbers.len()) {
             Ok(())
@@ -506,7 +381,7 @@ fn call(option: &str, item: &str, name: &str, spec: &str) -> Result<Kind, Error>
             )))
         }
     };
-    let m = match func.as_str() {
+    let m = match func {
         "uniform" => {
             arity(&[2])?;
             Marginal::Uniform {
@@ -559,7 +434,7 @@ fn call(option: &str, item: &str, name: &str, spec: &str) -> Result<Kind, Error>
                 hi: numbers[2],
             }
         }
-        _ => return Err(bad(format!("{name}= one of {TYPES}"))),
+        _ => return Err(bad(format!("{name}= one of {}", design::TYPES))),
     };
     m.check(&format!("{option} {name}"))?;
     Ok(Kind::Continuous(m))

@@ -8,5 +8,6 @@ pub mod names;
 pub mod space;
 
 pub mod constraint;
+pub mod design;
 pub mod expr;
 pub(crate) mod lexer;
