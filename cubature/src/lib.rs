@@ -1,4 +1,7 @@
-//! Integration to a tolerance: the number of points doubles on R independently
+//! Integration to a tolerance, and Sobol' sensitivity indices on the same rules
+//! ([`sensitivity`]).
+//!
+//! The number of points doubles on R independently
 //! randomised replicates of one extensible rule, never discarding an evaluation, until
 //! the confidence interval is narrow enough.
 //!
@@ -932,11 +935,11 @@ impl QuadResult {
 /// row-major (k outputs per point, the same k every call).
 ///
 /// ```
-/// use stillpoint::cubature::{quad, QuadOptions};
+/// use stillpoint_cubature::{quad, QuadOptions};
 /// let opts = QuadOptions { rel_tol: 1e-4, ..QuadOptions::default() };
 /// let r = quad(|x| x.rows().map(|p| p[0] * p[1]).collect(), 2, opts)?;
 /// assert!(r.met && (r.estimate[0] - 0.25).abs() < 1e-3);
-/// # Ok::<(), stillpoint::Error>(())
+/// # Ok::<(), stillpoint_domains::Error>(())
 /// ```
 pub fn quad<F>(f: F, d: usize, options: QuadOptions) -> Result<QuadResult, Error>
 where

@@ -860,7 +860,7 @@ impl SobolResult {
 /// gets a batch of points and returns rows × k values, row-major.
 ///
 /// ```
-/// use stillpoint::sensitivity::{sobol_indices, SensitivityOptions};
+/// use stillpoint_cubature::sensitivity::{sobol_indices, SensitivityOptions};
 /// // f = x1 + 2·x2: S = T = (1/5, 4/5).
 /// let r = sobol_indices(
 ///     |x| x.rows().map(|p| p[0] + 2.0 * p[1]).collect(),
@@ -868,7 +868,7 @@ impl SobolResult {
 ///     SensitivityOptions::default(),
 /// )?;
 /// assert!(r.met && (r.first[1] - 0.8).abs() < 0.02 && (r.total[0] - 0.2).abs() < 0.02);
-/// # Ok::<(), stillpoint::Error>(())
+/// # Ok::<(), stillpoint_domains::Error>(())
 /// ```
 pub fn sobol_indices<F>(f: F, d: usize, options: SensitivityOptions) -> Result<SobolResult, Error>
 where

@@ -63,7 +63,7 @@ pub const EXTENSIBLE_MAX_POINTS: u64 = 1 << EXTENSIBLE_BITS;
 pub const EXTENSIBLE_MAX_D: usize = table::GENERATOR.len();
 
 /// The smallest level 2^m the construction's criterion looks at: 64 points, the first
-/// round of [`crate::cubature`] per replicate. Below it there are at most 16 generators
+/// round of `stillpoint::cubature` per replicate. Below it there are at most 16 generators
 /// to choose from, and holding 2^4 and 2^5 to their best made higher levels worse (up
 /// to 25× the best criterion at 2^4 in three dimensions).
 const MIN_LEVEL: u32 = 6;

@@ -122,7 +122,7 @@ pub struct Checkpoint {
     /// The stillpoint version that wrote it; a resume needs the same one, since another
     /// version may step differently.
     pub stillpoint: String,
-    /// The run's configuration, as [`crate::config::config_json`] gives it (plus the plan's extra keys).
+    /// The run's configuration, as `stillpoint::config::config_json` gives it (plus the plan's extra keys).
     pub config: Value,
     /// FNV-1a 64 of the compact JSON of `state`, in hex: detects an edited or damaged
     /// state that still parses.
