@@ -67,7 +67,10 @@ fn laws_give_names_and_the_table_and_plot_are_written() {
     ];
     let v = run_json(&args);
     assert_eq!(v["names"], serde_json::json!(["a", "b", "c"]));
-    assert_eq!(v["rule"], "sobol", "unbounded laws: Sobol' points, as quad's");
+    assert_eq!(
+        v["rule"], "sobol",
+        "unbounded laws: Sobol' points, as quad's"
+    );
     for (got, want) in floats(&v["first"]).iter().zip([0.2, 0.8, 0.0]) {
         assert!((got - want).abs() <= 0.01, "{v}");
     }
