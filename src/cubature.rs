@@ -314,7 +314,8 @@ pub struct Cubature {
     /// Evaluations of a rule the pilot tried and did not keep (counted in `n`).
     #[serde(default)]
     spent: u64,
-    /// During the pilot's Sobol' round, the lattice's state after its first round.
+    /// While the pilot's round is due, scrambled Sobol's state (this state is the
+    /// lattice's after its first round, as a progress display sees it).
     #[serde(default)]
     tried: Option<Box<Cubature>>,
 }
@@ -411,7 +412,7 @@ impl Cubature {
 
     /// Points per replicate of the batch handed out and not yet fed (0: none).
     pub fn pending(&self) -> u64 {
-        self.pending
+        self.tried.as_ref().map_or(self.pending, |t| t.pending)
     }
 
     /// Points evaluated per replicate so far.
@@ -471,6 +472,9 @@ impl Cubature {
     /// Whether the next doubling would pass `max_n` evaluations or the sequence's 2^20
     /// points per replicate.
     pub fn exhausted(&self) -> bool {
+        if let Some(sobol) = &self.tried {
+            return sobol.exhausted();
+        }
         let next = self.per_replicate + self.next_size();
         let others = self.n() - self.own_n();
         next > EXTENSIBLE_MAX_POINTS
@@ -486,6 +490,9 @@ impl Cubature {
     /// [`Cubature::feed`] gives the same batch. `None` when the budget is spent
     /// ([`Cubature::exhausted`]).
     pub fn next_points(&mut self) -> Option<PointSet> {
+        if let Some(sobol) = self.tried.as_mut() {
+            return sobol.next_points();
+        }
         if self.pending == 0 {
             if self.exhausted() {
                 return None;
@@ -519,6 +526,11 @@ impl Cubature {
     /// without a batch handed out, a length that is not a multiple of the rows (or a
     /// different k), and NaN or ±∞, naming the point; the state is unchanged then.
     pub fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
+        if let Some(sobol) = self.tried.as_mut() {
+            sobol.feed(points, values)?;
+            self.pilot();
+            return Ok(());
+        }
         let r = self.options.replicates;
         let m = self.pending as usize;
         let rows = r * m;
@@ -561,29 +573,29 @@ impl Cubature {
 
     /// After a round, the pilot's steps ([`Rule::Pilot`]): after the lattice's first
     /// round, either keep the lattice (met, near the tolerance, or no budget for Sobol's
-    /// first round and one doubling more) or set it aside and start Sobol's first round;
+    /// first round and one doubling more) or make Sobol's first round the next batch;
     /// after that round, keep the rule with the narrower interval as [`PILOT_SHARE`]
     /// weighs them, counting the other's evaluations.
     fn pilot(&mut self) {
         const WHY: &str = "no law decides over a box";
-        if let Some(lattice) = self.tried.take() {
-            let (s, l) = (self.half_width(), lattice.half_width());
+        if let Some(sobol) = self.tried.take() {
+            let (s, l) = (sobol.half_width(), self.half_width());
             let ratio = s
                 .iter()
                 .zip(&l)
                 .map(|(s, l)| if s == l { 1.0 } else { s / l })
                 .fold(0.0, f64::max);
-            let pilot = format!("a pilot of {} evaluations, counted", self.own_n());
+            let pilot = format!("a pilot of {} evaluations, counted", sobol.own_n());
             if ratio < PILOT_SHARE {
-                self.spent += lattice.own_n();
+                let spent = self.spent + self.own_n();
+                *self = *sobol;
+                self.spent = spent;
                 self.options.rule_reason = format!(
                     "scrambled Sobol': its first round's half-width was {ratio:.2}× the tent \
                      lattice's ({pilot}; {WHY})"
                 );
             } else {
-                let spent = self.spent + self.own_n();
-                *self = *lattice;
-                self.spent = spent;
+                self.spent += sobol.own_n();
                 self.options.rule_reason = format!(
                     "tent lattice: scrambled Sobol's first round's half-width was {ratio:.2}× \
                      its, not below {PILOT_SHARE} ({pilot}; {WHY})"
@@ -614,12 +626,12 @@ impl Cubature {
             sobol.options.rule = Rule::Sobol;
             sobol.k = 0;
             sobol.per_replicate = 0;
+            sobol.spent = 0;
             sobol.sums.clear();
             sobol.half_sums.clear();
             sobol.shift.clear();
             sobol.range.clear();
-            let lattice = std::mem::replace(self, sobol);
-            self.tried = Some(Box::new(lattice));
+            self.tried = Some(Box::new(sobol));
             return;
         };
         self.options.rule_reason = format!("tent lattice: {kept} ({WHY})");
@@ -1356,9 +1368,14 @@ mod tests {
         };
         let whole = quad(at_the_faces, 5, opts.clone()).unwrap();
         let mut state = Cubature::new(5, opts).unwrap();
-        for _ in 0..2 {
+        for round in 0..2 {
             let p = state.next_points().unwrap();
             state.feed(&p, &at_the_faces(&p)).unwrap();
+            if round == 0 {
+                // Until Sobol's round is fed, an observer sees the lattice's first round.
+                assert_eq!((state.n(), state.estimate().len()), (256, 1));
+                assert_eq!(state.options().rule, Rule::TentLattice);
+            }
         }
         assert_eq!(state.n(), 512, "both first rounds are evaluated");
         let text = serde_json::to_string(&state).unwrap();
