@@ -8,9 +8,11 @@
 //! The rule ([`Rule`]): the extensible rank-1 lattice, shifted and tent-transformed
 //! ([`crate::sequences::ExtensibleLattice`]), or Owen-scrambled Sobol' points, chosen from
 //! the laws integrated against by [`Rule::for_space`] (Sobol' when a law is unbounded),
-//! and where no law decides (the cube, a box) by a pilot ([`Rule::Pilot`]): when the
-//! lattice's first round is far from the tolerance, Sobol's first round is evaluated too
-//! and the rule with the clearly narrower interval goes on from its own first round.
+//! or, asked for by name, by a pilot round ([`Rule::Pilot`]): when the lattice's first
+//! round is far from the tolerance, Sobol's first round is evaluated too and the rule
+//! with the clearly narrower interval goes on from its own first round. The pilot is not
+//! the default over the cube: its 256 evaluations cost more of the benchmark's cells than
+//! its choice wins (results/quad/pilot.md).
 //!
 //! The interval. After each doubling, with μ_r the mean of f over replicate r's n_r
 //! points (each μ_r an unbiased estimate, independent across replicates), the estimate is
@@ -146,7 +148,7 @@ pub enum Rule {
     /// Sobol' points in natural order (each 2^m prefix a net) with Owen's nested
     /// scrambling ([`crate::sequences::sobol_scrambled`]), one scramble per replicate.
     Sobol,
-    /// Chosen by a pilot ([`Cubature`]): the tent lattice's first round, then, when its
+    /// Chosen by a pilot round (by name only): the tent lattice's first round, then, when its
     /// interval is far from the tolerance, Sobol's first round too; Sobol' is kept when
     /// its half-width is below [`PILOT_SHARE`] of the lattice's, the lattice otherwise.
     /// The kept rule's first round is its run's first round (reused); the other one's
@@ -192,25 +194,28 @@ impl Rule {
         }
     }
 
-    /// The rule as front ends name it: `lattice` or `sobol` (a pilot not yet run
-    /// evaluates the lattice).
+    /// The rule as front ends name it: `lattice`, `sobol` or `pilot` (a state holds
+    /// `pilot` only before its first round).
     pub fn as_str(self) -> &'static str {
         match self {
-            Rule::TentLattice | Rule::Pilot => "lattice",
+            Rule::TentLattice => "lattice",
+            Rule::Pilot => "pilot",
             Rule::Sobol => "sobol",
         }
     }
 
-    /// The rule named `name` (`lattice`, `sobol`), refused naming `option` otherwise.
+    /// The rule named `name` (`lattice`, `sobol`, `pilot`), refused naming `option`
+    /// otherwise.
     pub fn parse(option: &str, name: &str) -> Result<Rule, Error> {
         match name {
             "lattice" => Ok(Rule::TentLattice),
             "sobol" => Ok(Rule::Sobol),
+            "pilot" => Ok(Rule::Pilot),
             _ => Err(Error::invalid(
                 option,
                 format!("{name:?}"),
-                "lattice (the tent-transformed extensible lattice) or sobol (Owen-scrambled \
-                 Sobol')",
+                "lattice (the tent-transformed extensible lattice), sobol (Owen-scrambled \
+                 Sobol') or pilot (the one a first round of both shows narrower)",
             )),
         }
     }
@@ -223,15 +228,11 @@ impl Rule {
     /// lattice's smoothness to pay (benches/quad_rule_study.py: Sobol' beat the tent
     /// lattice on every model family with normal inputs, by 1.1–2.2× in RMSE). Bounded
     /// laws keep the tent lattice, which beat Sobol' there by 1.3–8×.
-    /// Without a space (the cube's or a box's uniform law) no law decides: the rule is
-    /// [`Rule::Pilot`]'s choice.
     pub fn for_space(space: Option<&DesignSpace>) -> (Rule, String) {
         let Some(space) = space else {
             return (
-                Rule::Pilot,
-                "tent lattice, or scrambled Sobol' if a first round of both shows it \
-                 narrower (no law decides over a box)"
-                    .to_string(),
+                Rule::TentLattice,
+                "tent lattice: a smooth integrand over a box gains from the tent".to_string(),
             );
         };
         let unbounded: Vec<&str> = space
@@ -577,7 +578,6 @@ impl Cubature {
     /// after that round, keep the rule with the narrower interval as [`PILOT_SHARE`]
     /// weighs them, counting the other's evaluations.
     fn pilot(&mut self) {
-        const WHY: &str = "no law decides over a box";
         if let Some(sobol) = self.tried.take() {
             let (s, l) = (sobol.half_width(), self.half_width());
             let ratio = s
@@ -592,13 +592,13 @@ impl Cubature {
                 self.spent = spent;
                 self.options.rule_reason = format!(
                     "scrambled Sobol': its first round's half-width was {ratio:.2}× the tent \
-                     lattice's ({pilot}; {WHY})"
+                     lattice's ({pilot})"
                 );
             } else {
                 self.spent += sobol.own_n();
                 self.options.rule_reason = format!(
                     "tent lattice: scrambled Sobol's first round's half-width was {ratio:.2}× \
-                     its, not below {PILOT_SHARE} ({pilot}; {WHY})"
+                     its, not below {PILOT_SHARE} ({pilot})"
                 );
             }
             return;
@@ -617,10 +617,10 @@ impl Cubature {
         } else if near {
             format!(
                 "its first round's half-width is within {PILOT_DISTANCE}× the tolerance, too \
-                 near for a pilot round of scrambled Sobol' to pay"
+                 near for it to pay"
             )
         } else if self.options.max_n < 3 * self.own_n() {
-            "max_n leaves no room for a pilot round of scrambled Sobol'".to_string()
+            "max_n leaves no room for it".to_string()
         } else {
             let mut sobol = self.clone();
             sobol.options.rule = Rule::Sobol;
@@ -634,7 +634,8 @@ impl Cubature {
             self.tried = Some(Box::new(sobol));
             return;
         };
-        self.options.rule_reason = format!("tent lattice: {kept} ({WHY})");
+        self.options.rule_reason =
+            format!("tent lattice, without a pilot round of scrambled Sobol': {kept}");
     }
 
     /// Adds a batch's values (m points per replicate, k outputs) to the sums, first
@@ -2098,7 +2099,7 @@ mod tests {
     #[test]
     fn the_rule_follows_the_laws() {
         let space = |items: &[&str]| DesignSpace::parse("space", items).unwrap();
-        assert_eq!(Rule::for_space(None).0, Rule::Pilot);
+        assert_eq!(Rule::for_space(None).0, Rule::TentLattice);
         let (rule, why) = Rule::for_space(Some(&space(&["x=uniform(0,1)", "k=int(1,3)"])));
         assert_eq!(rule, Rule::TentLattice);
         assert!(why.contains("bounded"), "{why}");

@@ -61,8 +61,6 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
     let options = state.options().clone();
     let rounds = Rounds::new(q.quiet, q.progress);
     rounds.say(&format!("stillpoint: {}", options.rule_reason));
-    // A pilot settles the rule after a round: its reason is said when it changes.
-    let mut said = options.rule_reason.clone();
     while !state.met() {
         let Some(points) = state.next_points() else {
             break;
@@ -77,10 +75,6 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
         };
         state.feed(&points, &values).map_err(refused)?;
         rounds.done(&state);
-        if state.options().rule_reason != said {
-            said.clone_from(&state.options().rule_reason);
-            rounds.say(&format!("stillpoint: {said}"));
-        }
     }
     state.check_representable().map_err(refused)?;
     drop(rounds);

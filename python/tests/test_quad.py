@@ -101,18 +101,10 @@ def test_continuing_evaluates_only_new_points():
     old = np.concatenate(seen[:calls])
     # No point evaluated before is asked again.
     assert not (set(map(tuple, new)) & set(map(tuple, old)))
-    # The earlier result stands; a run straight to the finer tolerance with the rule
-    # kept is the same.
+    # The earlier result stands; a run straight to the finer tolerance is the same.
     assert first.n == evaluated
-    direct = sp.quad(product_peak, 4, rel_tol=1e-5, seed=5, rule=finer.rule)
+    direct = sp.quad(product_peak, 4, rel_tol=1e-5, seed=5)
     assert direct.n == finer.n and direct.estimate == finer.estimate
-    # Without a rule named, the direct run is far enough from its tolerance for the
-    # pilot round (the first run, near its own, had none): the same points, plus
-    # scrambled Sobol's first round, here not kept.
-    piloted = sp.quad(product_peak, 4, rel_tol=1e-5, seed=5)
-    assert "a pilot of 256" in piloted.rule_reason and "a pilot of" not in first.rule_reason
-    assert (piloted.rule, piloted.n, piloted.estimate) == ("lattice", finer.n + 256,
-                                                            finer.estimate)
 
 
 def test_a_result_pickles_and_continues():
@@ -231,10 +223,8 @@ def test_progress_true_writes_one_line_per_round(capsys):
     captured = capsys.readouterr()
     assert captured.out == ""
     rule_line, *lines = captured.err.splitlines()
-    # The first line says how the rule is chosen (no law: a pilot round may decide);
-    # then one line per round.
-    assert rule_line.startswith("quad: tent lattice, or scrambled Sobol'"), rule_line
-    assert "no law decides over a box" in r.rule_reason
+    # The first line says the rule and why; then one line per round.
+    assert rule_line == f"quad: {r.rule_reason}" and "tent lattice" in rule_line
     assert len(lines) == len(rounds) >= 2
     ns = [int(re.search(r"\bn=(\d+)", line).group(1)) for line in lines]
     assert ns == list(np.cumsum(rounds))
@@ -299,14 +289,14 @@ def test_a_raising_progress_callable_stops_the_run_like_ctrl_c():
     assert len(calls) == 2
     # The earlier result given as start= is unchanged, and a result the callable got
     # continues as an uninterrupted run would.
-    first = sp.quad(product_peak, 3, rel_tol=1e-2, seed=23, rule="lattice")
+    first = sp.quad(product_peak, 3, rel_tol=1e-2, seed=23)
     before = (first.n, first.estimate, first.half_width)
     with pytest.raises(RuntimeError, match="enough"):
         seen.clear()
         sp.quad(product_peak, 3, rel_tol=1e-6, start=first, progress=stop)
     assert (first.n, first.estimate, first.half_width) == before
     resumed = sp.quad(product_peak, 3, rel_tol=1e-6, start=seen[-1])
-    direct = sp.quad(product_peak, 3, rel_tol=1e-6, seed=23, rule="lattice")
+    direct = sp.quad(product_peak, 3, rel_tol=1e-6, seed=23)
     assert (resumed.n, resumed.estimate) == (direct.n, direct.estimate)
 
 
@@ -377,24 +367,31 @@ def test_start_keeps_its_dimension():
         sp.quad(product_peak, 2, start=r, seed=1)
 
 
-def test_over_the_cube_a_pilot_round_chooses_the_rule_and_is_counted():
+def test_a_pilot_round_chooses_the_rule_when_asked_and_is_counted():
     # Singular at every face, where either rule may be narrower after one round.
     f = lambda x: np.prod(x * (1 - x), axis=1) ** -0.25  # noqa: E731
     kept = set()
     for seed in range(8):
-        r = sp.quad(f, 4, rel_tol=1e-7, max_n=4096 + 256, seed=seed)
+        r = sp.quad(f, 4, rel_tol=1e-7, max_n=4096 + 256, seed=seed, rule="pilot")
         assert "a pilot of 256 evaluations, counted" in r.rule_reason
         alone = sp.quad(f, 4, rel_tol=1e-7, max_n=4096, seed=seed, rule=r.rule)
-        # The rule kept goes on from its own first round: its answer, 256 more
-        # evaluations.
+        # The rule kept goes on from its own first round: its answer, and the other
+        # rule's first round counted.
         assert (r.estimate, r.half_width, r.n) == (alone.estimate, alone.half_width,
                                                    alone.n + 256)
         kept.add(r.rule)
     assert kept == {"lattice", "sobol"}
-    # Near the tolerance there is no pilot: the lattice's run as it was.
-    r = sp.quad(f, 4, rel_tol=0.5, seed=1)
-    assert r.rule == "lattice" and "a pilot of" not in r.rule_reason
-    assert r.n == sp.quad(f, 4, rel_tol=0.5, seed=1, rule="lattice").n
+    # Near the tolerance there is no pilot round: the lattice's run as it is.
+    r = sp.quad(f, 4, rel_tol=0.5, seed=1, rule="pilot")
+    assert r.rule == "lattice" and "without a pilot round" in r.rule_reason
+    assert r.n == sp.quad(f, 4, rel_tol=0.5, seed=1).n
+    # A progress display sees the lattice's first round, then the rule kept.
+    seen = []
+    sp.quad(f, 4, rel_tol=1e-7, max_n=4096 + 256, seed=0, rule="pilot",
+            progress=seen.append)
+    assert [s.n for s in seen][:2] == [256, 512] and seen[0].rule == "lattice"
+    with pytest.raises(ValueError, match=r"invalid rule = 'halton': expected lattice.*pilot"):
+        sp.quad(f, 1, rule="halton")
 
 
 def test_the_rule_follows_the_laws_and_says_why():
