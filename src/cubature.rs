@@ -148,8 +148,8 @@ pub enum Rule {
     /// Sobol' points in natural order (each 2^m prefix a net) with Owen's nested
     /// scrambling ([`crate::sequences::sobol_scrambled`]), one scramble per replicate.
     Sobol,
-    /// Chosen by a pilot round (by name only): the tent lattice's first round, then, when its
-    /// interval is far from the tolerance, Sobol's first round too; Sobol' is kept when
+    /// Chosen by a pilot round (by name only): the tent lattice's first round, then, when
+    /// its interval is far from the tolerance, Sobol's first round too; Sobol' is kept when
     /// its half-width is below [`PILOT_SHARE`] of the lattice's, the lattice otherwise.
     /// The kept rule's first round is its run's first round (reused); the other one's
     /// evaluations are counted in `n`. After the first round a state holds the rule
@@ -160,9 +160,9 @@ pub enum Rule {
 /// The pilot keeps Sobol' only when its first-round half-width is below this share of
 /// the lattice's, on every output: one round of four replicates is a noisy judge (the
 /// ratio of two spreads of four means), and on the cube the lattice is the better rule
-/// more often (results/quad/pilot.md: at 0.7 the Genz families pay 1.04–1.08× the
-/// lattice's width at 4 096 evaluations, Keister gains 0.76–0.82×; at 1, 1.10–1.18× and
-/// 0.67–0.73×).
+/// more often (results/quad/pilot.md, at 4 096 evaluations: at 0.7 the Genz families pay
+/// 1.01–1.12× the lattice's half-width and Keister gains 0.75–0.82×; at 1, 1.02–1.18×
+/// and 0.67–0.73×).
 pub const PILOT_SHARE: f64 = 0.7;
 
 /// The pilot runs only when the lattice's first-round half-width is above this many
