@@ -53,7 +53,7 @@ CASES = [  # (label, family, s)
     ("lognormal s=5", "lognormal", 5),
 ]
 METHODS = ["t8", "t2", "t4", "t16", "t4+round", "t8+round", "t16+round", "t4+skew",
-           "t8+skew", "t16+skew", "quantile8"]
+           "t8+skew", "t16+skew", "quantile8", "pool4+round", "pool4+round/3", "t4+round/3", "t4+round/2", "t4+round/rate"]
 LEVEL = 0.95
 
 
@@ -92,6 +92,24 @@ def intervals(y, n):
         # Johnson's (1978) correction of the mean's bias term μ3/(6 s² R), added to the
         # half-width on both sides (the estimate stays the mean).
         out[f"t{r}+skew"] = (est, hw + abs(np.mean(dev ** 3)) / (6 * var * r) if var > 0 else hw)
+    # Cheaper guards and spreads on four replicates: the spread pooled with the one at
+    # half the points (its variance divided by 4: an error falling like 1/n), Student t
+    # on 2(R − 1) degrees of freedom; the round guard divided by 3 (the bound on the
+    # error at n when it falls like 1/n², as the tent lattice's does on smooth f).
+    m4 = np.array([v[: n // 4].mean() for v in y[:4]])
+    h4 = np.array([v[: n // 8].mean() for v in y[:4]])
+    pooled = math.sqrt((m4.var(ddof=1) + h4.var(ddof=1) / 4) / 2 / 4)
+    change = abs(m4.mean() - h4.mean())
+    tp = stats.t.ppf((1 + LEVEL) / 2, 6) * pooled
+    out["pool4+round"] = (m4.mean(), max(tp, change))
+    out["pool4+round/3"] = (m4.mean(), max(tp, change / 3))
+    out["t4+round/3"] = (m4.mean(), max(out["t4"][1], change / 3))
+    out["t4+round/2"] = (m4.mean(), max(out["t4"][1], change / 2))
+    # The guard divided by 2^α − 1 for the rate α the last two rounds' changes show
+    # (|Q_{n/2} − Q_{n/4}| / |Q_n − Q_{n/2}| ≈ 2^α), held between 1 and 3.
+    quarter = np.mean([v[: n // 16].mean() for v in y[:4]])
+    rho = abs(h4.mean() - quarter) / change if change > 0 else 4.0
+    out["t4+round/rate"] = (m4.mean(), max(out["t4"][1], change / min(max(rho - 1, 1), 3)))
     m = np.sort([v[: n // 8].mean() for v in y[:8]])
     lo, hi = m[1], m[6]
     out["quantile8"] = ((lo + hi) / 2, (hi - lo) / 2)

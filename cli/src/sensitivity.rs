@@ -152,6 +152,7 @@ pub(crate) fn sensitivity_command(q: SensitivityArgs) -> Result<()> {
                 (Opt::simultaneous, json!(options.simultaneous)),
                 (Opt::abs_tol, json!(options.abs_tol)),
                 (Opt::first_estimator, json!(options.first_order.as_str())),
+                (Opt::rule, json!(options.rule.as_str())),
             ],
         );
         outln!("{}", serde_json::to_string_pretty(&v)?);

@@ -49,6 +49,7 @@ fn ishigami_is_within_the_tolerance_of_its_closed_form() {
     }
     assert!(floats(&v["total_half_width"]).iter().all(|h| *h <= 0.01));
     assert_eq!(v["names"], serde_json::json!(["x1", "x2", "x3"]));
+    assert_eq!(v["rule"], "lattice", "a box: the tent lattice");
 }
 
 #[test]
@@ -66,6 +67,10 @@ fn laws_give_names_and_the_table_and_plot_are_written() {
     ];
     let v = run_json(&args);
     assert_eq!(v["names"], serde_json::json!(["a", "b", "c"]));
+    assert_eq!(
+        v["rule"], "sobol",
+        "unbounded laws: Sobol' points, as quad's"
+    );
     for (got, want) in floats(&v["first"]).iter().zip([0.2, 0.8, 0.0]) {
         assert!((got - want).abs() <= 0.01, "{v}");
     }

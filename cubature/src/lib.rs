@@ -10,7 +10,12 @@
 //!
 //! The rule ([`Rule`]): the extensible rank-1 lattice, shifted and tent-transformed
 //! ([`stillpoint_sequences::ExtensibleLattice`]), or Owen-scrambled Sobol' points, chosen from
-//! the laws integrated against by [`Rule::for_space`] (Sobol' when a law is unbounded).
+//! the laws integrated against by [`Rule::for_space`] (Sobol' when a law is unbounded),
+//! or, asked for by name, by a pilot round ([`Rule::Pilot`]): when the lattice's first
+//! round is far from the tolerance, Sobol's first round is evaluated too and the rule
+//! with the clearly narrower interval goes on from its own first round. The pilot is not
+//! the default over the cube: its 256 evaluations cost more of the benchmark's cells than
+//! its choice wins (results/quad/pilot.md).
 //!
 //! The interval. After each doubling, with μ_r the mean of f over replicate r's n_r
 //! points (each μ_r an unbiased estimate, independent across replicates), the estimate is
@@ -150,7 +155,27 @@ pub enum Rule {
     /// Sobol' points in natural order (each 2^m prefix a net) with Owen's nested
     /// scrambling ([`stillpoint_sequences::sobol_scrambled`]), one scramble per replicate.
     Sobol,
+    /// Chosen by a pilot round (by name only): the tent lattice's first round, then, when
+    /// its interval is far from the tolerance, Sobol's first round too; Sobol' is kept when
+    /// its half-width is below [`PILOT_SHARE`] of the lattice's, the lattice otherwise.
+    /// The kept rule's first round is its run's first round (reused); the other one's
+    /// evaluations are counted in `n`. After the first round a state holds the rule
+    /// chosen, never this.
+    Pilot,
 }
+
+/// The pilot keeps Sobol' only when its first-round half-width is below this share of
+/// the lattice's, on every output: one round of four replicates is a noisy judge (the
+/// ratio of two spreads of four means), and on the cube the lattice is the better rule
+/// more often (results/quad/pilot.md, at 4 096 evaluations: at 0.7 the Genz families pay
+/// 1.01–1.12× the lattice's half-width and Keister gains 0.75–0.82×; at 1, 1.02–1.18×
+/// and 0.67–0.73×).
+pub const PILOT_SHARE: f64 = 0.7;
+
+/// The pilot runs only when the lattice's first-round half-width is above this many
+/// times the target (about four more doublings at an error falling like 1/n): in a
+/// shorter run Sobol's first round would cost a large share of the evaluations.
+pub const PILOT_DISTANCE: f64 = 16.0;
 
 impl Rule {
     /// Points `start..start + m` of replicate `rep` of the rule in `s` dimensions into
@@ -160,7 +185,7 @@ impl Rule {
     pub(crate) fn fill(self, s: usize, seed: u64, key: u64, rep: u64, start: u64, out: &mut [f64]) {
         let m = out.len() / s;
         match self {
-            Rule::TentLattice => {
+            Rule::TentLattice | Rule::Pilot => {
                 let seq = ExtensibleLattice::new(s, seed, rep).expect("s checked by the caller");
                 seq.fill(start, m, out)
                     .expect("range checked by the caller");
@@ -176,24 +201,28 @@ impl Rule {
         }
     }
 
-    /// The rule as front ends name it: `lattice` or `sobol`.
+    /// The rule as front ends name it: `lattice`, `sobol` or `pilot` (a state holds
+    /// `pilot` only before its first round).
     pub fn as_str(self) -> &'static str {
         match self {
             Rule::TentLattice => "lattice",
+            Rule::Pilot => "pilot",
             Rule::Sobol => "sobol",
         }
     }
 
-    /// The rule named `name` (`lattice`, `sobol`), refused naming `option` otherwise.
+    /// The rule named `name` (`lattice`, `sobol`, `pilot`), refused naming `option`
+    /// otherwise.
     pub fn parse(option: &str, name: &str) -> Result<Rule, Error> {
         match name {
             "lattice" => Ok(Rule::TentLattice),
             "sobol" => Ok(Rule::Sobol),
+            "pilot" => Ok(Rule::Pilot),
             _ => Err(Error::invalid(
                 option,
                 format!("{name:?}"),
-                "lattice (the tent-transformed extensible lattice) or sobol (Owen-scrambled \
-                 Sobol')",
+                "lattice (the tent-transformed extensible lattice), sobol (Owen-scrambled \
+                 Sobol') or pilot (the one a first round of both shows narrower)",
             )),
         }
     }
@@ -290,6 +319,13 @@ pub struct Cubature {
     /// existed, and after a first batch of one point: no guard).
     #[serde(default)]
     half_sums: Vec<f64>,
+    /// Evaluations of a rule the pilot tried and did not keep (counted in `n`).
+    #[serde(default)]
+    spent: u64,
+    /// While the pilot's round is due, scrambled Sobol's state (this state is the
+    /// lattice's after its first round, as a progress display sees it).
+    #[serde(default)]
+    tried: Option<Box<Cubature>>,
 }
 
 impl Cubature {
@@ -356,6 +392,8 @@ impl Cubature {
             shift: Vec::new(),
             range: Vec::new(),
             half_sums: Vec::new(),
+            spent: 0,
+            tried: None,
         })
     }
 
@@ -376,12 +414,17 @@ impl Cubature {
 
     /// Evaluations of f so far, all replicates together.
     pub fn n(&self) -> u64 {
+        self.own_n() + self.spent + self.tried.as_ref().map_or(0, |t| t.own_n())
+    }
+
+    /// Evaluations of the rule this state holds.
+    fn own_n(&self) -> u64 {
         self.per_replicate * self.options.replicates as u64
     }
 
     /// Points per replicate of the batch handed out and not yet fed (0: none).
     pub fn pending(&self) -> u64 {
-        self.pending
+        self.tried.as_ref().map_or(self.pending, |t| t.pending)
     }
 
     /// Points evaluated per replicate so far.
@@ -441,9 +484,16 @@ impl Cubature {
     /// Whether the next doubling would pass `max_n` evaluations or the sequence's 2^20
     /// points per replicate.
     pub fn exhausted(&self) -> bool {
+        if let Some(sobol) = &self.tried {
+            return sobol.exhausted();
+        }
         let next = self.per_replicate + self.next_size();
+        let others = self.n() - self.own_n();
         next > EXTENSIBLE_MAX_POINTS
-            || next.saturating_mul(self.options.replicates as u64) > self.options.max_n
+            || next
+                .saturating_mul(self.options.replicates as u64)
+                .saturating_add(others)
+                > self.options.max_n
     }
 
     /// The next batch of points, scaled to the box, as (rows, d) row-major values:
@@ -452,6 +502,9 @@ impl Cubature {
     /// [`Cubature::feed`] gives the same batch. `None` when the budget is spent
     /// ([`Cubature::exhausted`]).
     pub fn next_points(&mut self) -> Option<PointSet> {
+        if let Some(sobol) = self.tried.as_mut() {
+            return sobol.next_points();
+        }
         if self.pending == 0 {
             if self.exhausted() {
                 return None;
@@ -485,6 +538,11 @@ impl Cubature {
     /// without a batch handed out, a length that is not a multiple of the rows (or a
     /// different k), and NaN or ±∞, naming the point; the state is unchanged then.
     pub fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
+        if let Some(sobol) = self.tried.as_mut() {
+            sobol.feed(points, values)?;
+            self.pilot();
+            return Ok(());
+        }
         let r = self.options.replicates;
         let m = self.pending as usize;
         let rows = r * m;
@@ -521,7 +579,74 @@ impl Cubature {
             ));
         }
         self.accumulate(k, m, values);
+        self.pilot();
         Ok(())
+    }
+
+    /// After a round, the pilot's steps ([`Rule::Pilot`]): after the lattice's first
+    /// round, either keep the lattice (met, near the tolerance, or no budget for Sobol's
+    /// first round and one doubling more) or make Sobol's first round the next batch;
+    /// after that round, keep the rule with the narrower interval as [`PILOT_SHARE`]
+    /// weighs them, counting the other's evaluations.
+    fn pilot(&mut self) {
+        if let Some(sobol) = self.tried.take() {
+            let (s, l) = (sobol.half_width(), self.half_width());
+            let ratio = s
+                .iter()
+                .zip(&l)
+                .map(|(s, l)| if s == l { 1.0 } else { s / l })
+                .fold(0.0, f64::max);
+            let pilot = format!("a pilot of {} evaluations, counted", sobol.own_n());
+            if ratio < PILOT_SHARE {
+                let spent = self.spent + self.own_n();
+                *self = *sobol;
+                self.spent = spent;
+                self.options.rule_reason = format!(
+                    "scrambled Sobol': its first round's half-width was {ratio:.2}× the tent \
+                     lattice's ({pilot})"
+                );
+            } else {
+                self.spent += sobol.own_n();
+                self.options.rule_reason = format!(
+                    "tent lattice: scrambled Sobol's first round's half-width was {ratio:.2}× \
+                     its, not below {PILOT_SHARE} ({pilot})"
+                );
+            }
+            return;
+        }
+        if self.options.rule != Rule::Pilot {
+            return;
+        }
+        self.options.rule = Rule::TentLattice;
+        let near = self
+            .half_width()
+            .iter()
+            .zip(self.targets())
+            .all(|(h, t)| *h <= PILOT_DISTANCE * t);
+        let kept = if self.met() {
+            "its first round met the tolerance".to_string()
+        } else if near {
+            format!(
+                "its first round's half-width is within {PILOT_DISTANCE}× the tolerance, too \
+                 near for it to pay"
+            )
+        } else if self.options.max_n < 3 * self.own_n() {
+            "max_n leaves no room for it".to_string()
+        } else {
+            let mut sobol = self.clone();
+            sobol.options.rule = Rule::Sobol;
+            sobol.k = 0;
+            sobol.per_replicate = 0;
+            sobol.spent = 0;
+            sobol.sums.clear();
+            sobol.half_sums.clear();
+            sobol.shift.clear();
+            sobol.range.clear();
+            self.tried = Some(Box::new(sobol));
+            return;
+        };
+        self.options.rule_reason =
+            format!("tent lattice, without a pilot round of scrambled Sobol': {kept}");
     }
 
     /// Adds a batch's values (m points per replicate, k outputs) to the sums, first
@@ -1151,6 +1276,125 @@ pub fn student_t_quantile(p: f64, nu: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Π_i (x_i (1 − x_i))^(−1/4), singular at every face (as f ∘ Φ⁻¹ of a model of
+    /// normal inputs is), where either rule may be narrower after one round.
+    fn at_the_faces(x: &PointSet) -> Vec<f64> {
+        x.rows()
+            .map(|p| p.iter().map(|u| (u * (1.0 - u)).powf(-0.25)).product())
+            .collect()
+    }
+
+    fn pilot_run(seed: u64, max_n: u64, rule: Rule) -> QuadResult {
+        let opts = QuadOptions {
+            abs_tol: 0.0,
+            rel_tol: 0.0,
+            max_n,
+            seed,
+            rule,
+            ..QuadOptions::default()
+        };
+        quad(at_the_faces, 5, opts).unwrap()
+    }
+
+    #[test]
+    fn the_pilot_keeps_one_rule_s_own_run_and_counts_the_other_s_first_round() {
+        let (round, n) = (4 * DEFAULT_START_N, 4096);
+        let mut kept = Vec::new();
+        for seed in 0..12 {
+            let r = pilot_run(seed, n + round, Rule::Pilot);
+            let alone = pilot_run(seed, n, r.rule);
+            // The kept rule's first round is its run's first: the same bits as that rule
+            // alone, with the other rule's first round added to n.
+            assert_eq!(
+                (r.estimate.clone(), r.half_width.clone()),
+                (alone.estimate, alone.half_width)
+            );
+            assert_eq!(r.n, n + round, "seed {seed}");
+            assert_eq!(r.state.replicate_means(), alone.state.replicate_means());
+            assert!(
+                r.rule != Rule::Pilot && r.rule_reason.contains("pilot of 256"),
+                "{}",
+                r.rule_reason
+            );
+            kept.push(r.rule);
+        }
+        // Both outcomes occur, so both paths are the ones checked above.
+        assert!(
+            kept.contains(&Rule::Sobol) && kept.contains(&Rule::TentLattice),
+            "{kept:?}"
+        );
+    }
+
+    #[test]
+    fn the_pilot_is_skipped_near_the_tolerance_and_without_room_in_max_n() {
+        let lattice = |max_n, rel_tol| {
+            let o = QuadOptions {
+                max_n,
+                rel_tol,
+                seed: 3,
+                ..QuadOptions::default()
+            };
+            (
+                quad(at_the_faces, 5, o.clone()).unwrap(),
+                quad(
+                    at_the_faces,
+                    5,
+                    QuadOptions {
+                        rule: Rule::Pilot,
+                        ..o
+                    },
+                )
+                .unwrap(),
+            )
+        };
+        // A loose tolerance: the first round is within PILOT_DISTANCE of it.
+        let (alone, r) = lattice(DEFAULT_MAX_N, 0.5);
+        assert_eq!(
+            (r.rule, r.n, r.estimate.clone()),
+            (Rule::TentLattice, alone.n, alone.estimate)
+        );
+        assert!(
+            r.rule_reason.contains("met the tolerance") || r.rule_reason.contains("too near"),
+            "{}",
+            r.rule_reason
+        );
+        // No budget for a pilot round and a doubling after it.
+        let (alone, r) = lattice(512, 1e-6);
+        assert_eq!(
+            (r.rule, r.n, r.estimate.clone()),
+            (Rule::TentLattice, alone.n, alone.estimate)
+        );
+        assert!(r.rule_reason.contains("no room"), "{}", r.rule_reason);
+    }
+
+    #[test]
+    fn a_state_saved_during_the_pilot_round_continues_to_the_same_answer() {
+        let opts = QuadOptions {
+            abs_tol: 0.0,
+            rel_tol: 0.0,
+            max_n: 2048,
+            seed: 5,
+            rule: Rule::Pilot,
+            ..QuadOptions::default()
+        };
+        let whole = quad(at_the_faces, 5, opts.clone()).unwrap();
+        let mut state = Cubature::new(5, opts).unwrap();
+        for round in 0..2 {
+            let p = state.next_points().unwrap();
+            state.feed(&p, &at_the_faces(&p)).unwrap();
+            if round == 0 {
+                // Until Sobol's round is fed, an observer sees the lattice's first round.
+                assert_eq!((state.n(), state.estimate().len()), (256, 1));
+                assert_eq!(state.options().rule, Rule::TentLattice);
+            }
+        }
+        assert_eq!(state.n(), 512, "both first rounds are evaluated");
+        let text = serde_json::to_string(&state).unwrap();
+        let mut back: Cubature = serde_json::from_str(&text).unwrap();
+        back.run(at_the_faces).unwrap();
+        assert_eq!(QuadResult::from(back), whole);
+    }
 
     #[test]
     fn t_quantiles_match_the_tables() {

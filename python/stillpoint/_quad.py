@@ -77,13 +77,14 @@ class QuadResult(_Result):
     @property
     def rule(self) -> str:
         """The rule evaluated: ``"lattice"`` (the extensible lattice, shifted and
-        tent-transformed) or ``"sobol"`` (Owen-scrambled Sobol')."""
+        tent-transformed) or ``"sobol"`` (Owen-scrambled Sobol'), also when a pilot round
+        chose it (``rule="pilot"``)."""
         return str(self._state.rule[0])
 
     @property
     def rule_reason(self) -> str:
         """Why that rule: from the laws of ``space`` (an unbounded law takes Sobol'), the
-        box, or as asked through ``rule=``."""
+        box, as asked through ``rule=``, or the pilot round's ratio of half-widths."""
         return str(self._state.rule[1])
 
     @property
@@ -186,7 +187,9 @@ def quad(
         is given the :class:`QuadResult` so far (a copy, which ``start=`` can continue),
         and an exception it raises stops the run as Ctrl-C does.
     rule : str, optional
-        ``"lattice"`` or ``"sobol"`` chooses the rule instead of the laws (None by default).
+        ``"lattice"`` or ``"sobol"`` chooses the rule instead of the laws (None by default);
+        ``"pilot"`` keeps the one whose first round is clearly narrower, the other's first
+        round counted in ``n`` (docs/integration.md).
 
     Returns
     -------

@@ -1,7 +1,8 @@
 """Sobol' sensitivity indices to a tolerance: :func:`sobol_indices` evaluates f on a
-pick-freeze design drawn from the extensible randomised lattice in 2d dimensions,
-doubling the points (never discarding an evaluation) on R independent shifts until every
-index's interval is narrow enough; :class:`SobolResult` holds the indices, their
+pick-freeze design drawn from the extensible randomised lattice in 2d dimensions
+(Owen-scrambled Sobol' points under an unbounded law), doubling the points (never
+discarding an evaluation) on R independent randomisations until every index's interval
+is narrow enough; :class:`SobolResult` holds the indices, their
 half-widths and the state to continue from."""
 
 from __future__ import annotations
@@ -140,12 +141,13 @@ def sobol_indices(
 
     The inputs are independent: uniform on the box [a, b] (the unit cube by default), or
     distributed as the variables of ``space``. For each point (A, B) of R independent
-    shifts of the extensible randomised lattice in 2d dimensions (each input's A and B
-    coordinates neighbours), f is evaluated at A, at B and at each AB_i (A with input i
+    shifts of the extensible randomised lattice in 2d dimensions (Owen-scrambled Sobol'
+    points when a law of ``space`` is unbounded, as for :func:`quad`; each input's A and
+    B coordinates neighbours), f is evaluated at A, at B and at each AB_i (A with input i
     taken from B): d + 2 evaluations per point. From
     64 points per replicate, the points double, extending the earlier ones, until every
     index's half-width is at most ``abs_tol``, or the next round would pass ``max_n``
-    evaluations (``met`` is then False). Total indices are Jansen's estimator; first
+    evaluations (``met`` is then False). Total indices are Janon et al. (2014)'s; first
     order ones Saltelli et al. (2010)'s by default (the more accurate of the two
     measured, for small indices most of all), Janon et al. (2014)'s by name. The
     intervals are Student t intervals from a jackknife over the replicates, raised to

@@ -367,6 +367,33 @@ def test_start_keeps_its_dimension():
         sp.quad(product_peak, 2, start=r, seed=1)
 
 
+def test_a_pilot_round_chooses_the_rule_when_asked_and_is_counted():
+    # Singular at every face, where either rule may be narrower after one round.
+    f = lambda x: np.prod(x * (1 - x), axis=1) ** -0.25  # noqa: E731
+    kept = set()
+    for seed in range(8):
+        r = sp.quad(f, 4, rel_tol=1e-7, max_n=4096 + 256, seed=seed, rule="pilot")
+        assert "a pilot of 256 evaluations, counted" in r.rule_reason
+        alone = sp.quad(f, 4, rel_tol=1e-7, max_n=4096, seed=seed, rule=r.rule)
+        # The rule kept goes on from its own first round: its answer, and the other
+        # rule's first round counted.
+        assert (r.estimate, r.half_width, r.n) == (alone.estimate, alone.half_width,
+                                                   alone.n + 256)
+        kept.add(r.rule)
+    assert kept == {"lattice", "sobol"}
+    # Near the tolerance there is no pilot round: the lattice's run as it is.
+    r = sp.quad(f, 4, rel_tol=0.5, seed=1, rule="pilot")
+    assert r.rule == "lattice" and "without a pilot round" in r.rule_reason
+    assert r.n == sp.quad(f, 4, rel_tol=0.5, seed=1).n
+    # A progress display sees the lattice's first round, then the rule kept.
+    seen = []
+    sp.quad(f, 4, rel_tol=1e-7, max_n=4096 + 256, seed=0, rule="pilot",
+            progress=seen.append)
+    assert [s.n for s in seen][:2] == [256, 512] and seen[0].rule == "lattice"
+    with pytest.raises(ValueError, match=r"invalid rule = 'halton': expected lattice.*pilot"):
+        sp.quad(f, 1, rule="halton")
+
+
 def test_the_rule_follows_the_laws_and_says_why():
     from scipy import stats
 

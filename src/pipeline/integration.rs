@@ -601,6 +601,7 @@ impl Integration for Sensitivity {
             replicates: g.replicates.unwrap_or(o.replicates),
             max_n: g.max_n.unwrap_or(o.max_n),
             seed: g.seed.unwrap_or(o.seed),
+            rule: Rule::for_space(space).0,
             ..o
         };
         Sensitivity::new(region.d, options)

@@ -533,9 +533,9 @@ options! {
         in Sensitivity "The most evaluations, all rounds.";
     rule: "rule", cli "", python Some("rule"), for [Quad],
         String: Kind::Word(words::rules),
-        "lattice (the tent-transformed extensible lattice) or sobol (Owen-scrambled Sobol')",
+        "lattice (the tent-transformed extensible lattice), sobol (Owen-scrambled Sobol') or pilot (the one a first round of both shows narrower)",
         default none,
-        "The randomised rule: lattice or sobol (by default chosen from the laws).";
+        "The randomised rule: lattice, sobol or pilot (by default chosen from the laws).";
     simultaneous: "simultaneous", cli "--simultaneous", python Some("simultaneous"),
         for [Sensitivity],
         bool: Kind::Flag, "true or false", default |_| Some("false".into()),

@@ -113,7 +113,7 @@ pub fn randomizations() -> Vec<&'static str> {
 
 /// `rule`: the rules of the integration to a tolerance.
 pub fn rules() -> Vec<&'static str> {
-    [Rule::TentLattice, Rule::Sobol]
+    [Rule::TentLattice, Rule::Sobol, Rule::Pilot]
         .iter()
         .map(|r| r.as_str())
         .collect()
