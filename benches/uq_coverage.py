@@ -213,14 +213,22 @@ class Stillpoint:
         # `sobol` baseline from the seed); one whose every law is unbounded the lattice
         # made for the laws (``_core.law_set``, the library's construction); the others
         # the cube's.
-        rule = sp.design(min(n, 64), space, randomize=True, seed=0).rule
-        self.owen = rule.startswith("Owen-scrambled Sobol'")
-        self.law = rule.startswith("lattice made for the laws")
+        probe = sp.design(min(n, 64), space, randomize=True, seed=0)
+        self.owen = probe.rule.startswith("Owen-scrambled Sobol'")
+        self.law = probe.rule.startswith("lattice made for the laws")
         self.base = None if self.law or self.owen else _core.tent_set(n, len(self.names))
+        if self.owen:  # the net's columns as the rule deals them to the coordinates
+            net = self.net(min(n, 64), 0)
+            self.order = [next(i for i in range(net.shape[1])
+                               if np.array_equal(net[:, i], probe.unit[:, j]))
+                          for j in range(net.shape[1])]
+
+    def net(self, n, seed):
+        return np.asarray(sp.generate(n, len(self.names), method="sobol", seed=seed))
 
     def values(self, seed):
         if self.owen:
-            u = np.asarray(sp.generate(self.n, len(self.names), method="sobol", seed=seed))
+            u = self.net(self.n, seed)[:, self.order]
         elif self.law:
             u = _core.law_set(self.space, self.n, seed)
         else:

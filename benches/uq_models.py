@@ -206,11 +206,13 @@ def _law_set_columns(n, texts, seed, key):
     if not hasattr(core, "law_set"):
         return False
 
-    def unit(rule, m):
+    def unit(rule, m, order=None):
         if rule.startswith("lattice made for the laws"):
             return core.law_set(list(texts), m, seed)
         d = len(core.space_names(list(texts)))
-        return np.asarray(stillpoint.generate(m, d, method="sobol", seed=seed))
+        net = np.asarray(stillpoint.generate(m, d, method="sobol", seed=seed))
+        # the net's columns as the rule deals them to the space's coordinates
+        return net if order is None else net[:, order]
 
     if texts not in _LAW_CHECKED:
         with warnings.catch_warnings():
@@ -218,13 +220,20 @@ def _law_set_columns(n, texts, seed, key):
             d = stillpoint.design(min(n, 256), list(texts), seed=seed, randomize=True)
         if not d.rule.startswith(("lattice made for the laws", "Owen-scrambled Sobol'")):
             return False
-        x = core.space_values(list(texts), unit(d.rule, min(n, 256)), None)
+        order = None
+        if d.rule.startswith("Owen-scrambled Sobol'"):
+            net = unit(d.rule, min(n, 256))
+            order = [next(i for i in range(net.shape[1])
+                          if np.array_equal(net[:, i], d.unit[:, j]))
+                     for j in range(net.shape[1])]
+        x = core.space_values(list(texts), unit(d.rule, min(n, 256), order), None)
         cols = np.column_stack([np.asarray(d.columns[nm], dtype=np.float64)
                                 for nm in d.names])
         if not np.array_equal(x, cols):
             raise SystemExit(f"the rule's set differs from design(randomize=True) for {texts}")
-        _LAW_CHECKED[texts] = d.rule
-    _DESIGNS[key] = core.space_values(list(texts), unit(_LAW_CHECKED[texts], n), None)
+        _LAW_CHECKED[texts] = (d.rule, order)
+    rule, order = _LAW_CHECKED[texts]
+    _DESIGNS[key] = core.space_values(list(texts), unit(rule, n, order), None)
     if len(_DESIGNS) > 24:
         _DESIGNS.pop(next(iter(_DESIGNS)))
     return True
