@@ -498,11 +498,12 @@ def report(data):
                     given[(m, ps)] = given.get((m, ps), 0) + 1
     for m in ("default", "randomize"):
         if given.get((m, "brownian")):
+            rest = given.get((m, "normals"), 0)
             lines += [f"Path families, `{m}`: {given[(m, 'brownian')]} cells give stillpoint "
-                      "the path as one variable, `W=brownian(1,m,construction)` (the space a "
-                      "user writes for a path), the other "
-                      f"{given.get((m, 'normals'), 0)} m normals with the path built in the "
-                      "function.", ""]
+                      "the path as one variable, `W=brownian(1,m,construction)` per asset "
+                      "(the space a user writes for a path)"
+                      + (f", the other {rest} m normals with the path built in the function"
+                         if rest else "") + ".", ""]
     if probes.get("brownian"):
         lines += ["A Brownian variable in a space is refused by this build "
                   f"(`{probes['brownian']}`): path families give stillpoint m normals and "
