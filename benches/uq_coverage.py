@@ -22,6 +22,9 @@ Families (fixed parameters; exact values in closed form or from a documented lon
                 of 32 standard normals (a kink where the payoff starts); reference from
                 64 scrambled Sobol' sets of 2^18 points (its standard error is printed
                 and is below 2 % of every half-width)
+  asian-32-pca-path  the same call with the path one variable of the space,
+                W=brownian(1,32,pca) (stillpoint builds the path by principal
+                components; Sobol' gets 32 normals and f builds the same path)
 
 Methods, each randomised afresh per set:
   stillpoint  stillpoint.design(n, space, randomize=True, seed=...): the lattice made
@@ -108,6 +111,33 @@ def asian(cols):
     return asian_payoff(np.stack([cols[f"z{j + 1}"] for j in range(ASIAN["m"])], axis=1))
 
 
+def pca_matrix(m, t=1.0):
+    """A with W = Z Aᵀ: the principal components of the Brownian path at m equal steps,
+    largest variance first (the construction of ``brownian(T,m,pca)``)."""
+    times = t * np.arange(1, m + 1) / m
+    lam, vec = np.linalg.eigh(np.minimum.outer(times, times))
+    order = np.argsort(lam)[::-1]
+    return vec[:, order] * np.sqrt(np.maximum(lam[order], 0.0))
+
+
+def asian_path_payoff(w):
+    """The discounted arithmetic Asian call of Brownian paths w, shape (n, m)."""
+    a = ASIAN
+    times = a["t"] / a["m"] * np.arange(1, a["m"] + 1)
+    s = a["s0"] * np.exp((a["r"] - 0.5 * a["sigma"] ** 2) * times + a["sigma"] * w)
+    return math.exp(-a["r"] * a["t"]) * np.maximum(s.mean(axis=1) - a["k"], 0.0)
+
+
+def asian_path(cols):
+    """The same call with the path given as one variable W (columns W_1 … W_m), or as
+    m normals z1 … zm made into the path by principal components."""
+    m = ASIAN["m"]
+    if "W_1" in cols:
+        return asian_path_payoff(np.stack([cols[f"W_{j + 1}"] for j in range(m)], axis=1))
+    z = np.stack([cols[f"z{j + 1}"] for j in range(m)], axis=1)
+    return asian_path_payoff(z @ pca_matrix(m, ASIAN["t"]).T)
+
+
 def asian_reference(reps=64, m=18, seed=20261128):
     rng = np.random.default_rng(seed)
     est = []
@@ -151,6 +181,16 @@ def families():
         asian,
         asian_reference,
     ))
+    # The same option with the path a variable of the space (stillpoint builds it by
+    # principal components; Sobol' gets 32 normals and the function builds the same
+    # path): the value is the standard construction's, so the reference is shared.
+    fams.append((
+        "asian-32-pca-path",
+        [f"W=brownian({ASIAN['t']!r},{ASIAN['m']},pca)"],
+        [stats.norm()] * ASIAN["m"],
+        asian_path,
+        asian_reference,
+    ))
     return fams
 
 
@@ -168,15 +208,28 @@ class Stillpoint:
 
     def __init__(self, space, n):
         self.space, self.n = space, n
-        self.names = [t.split("=", 1)[0] for t in space]
-        # A space whose every law is unbounded takes the lattice made for the laws
-        # (``_core.law_set``, the library's construction); the others the cube's.
-        self.law = sp.design(min(n, 64), space, randomize=True, seed=0).rule.startswith(
-            "lattice made for the laws")
-        self.base = None if self.law else _core.tent_set(n, len(space))
+        self.names = list(_core.space_names(space))
+        # A space holding a Brownian path takes Owen-scrambled Sobol' (``generate``'s
+        # `sobol` baseline from the seed); one whose every law is unbounded the lattice
+        # made for the laws (``_core.law_set``, the library's construction); the others
+        # the cube's.
+        probe = sp.design(min(n, 64), space, randomize=True, seed=0)
+        self.owen = probe.rule.startswith("Owen-scrambled Sobol'")
+        self.law = probe.rule.startswith("lattice made for the laws")
+        self.base = None if self.law or self.owen else _core.tent_set(n, len(self.names))
+        if self.owen:  # the net's columns as the rule deals them to the coordinates
+            net = self.net(min(n, 64), 0)
+            self.order = [next(i for i in range(net.shape[1])
+                               if np.array_equal(net[:, i], probe.unit[:, j]))
+                          for j in range(net.shape[1])]
+
+    def net(self, n, seed):
+        return np.asarray(sp.generate(n, len(self.names), method="sobol", seed=seed))
 
     def values(self, seed):
-        if self.law:
+        if self.owen:
+            u = self.net(self.n, seed)[:, self.order]
+        elif self.law:
             u = _core.law_set(self.space, self.n, seed)
         else:
             u = _core.randomize(self.base, "tent", seed)
@@ -202,6 +255,8 @@ def sobol_estimate(space, laws, f, n, rng):
     # unbounded law gives a finite value on both sides.
     u = np.clip(qmc.Sobol(len(laws), scramble=True, seed=rng).random(n), 2.0**-53, 1 - 2.0**-53)
     names = [t.split("=", 1)[0] for t in space]
+    if len(names) != len(laws):  # a path variable: its normals, built into it by f
+        names = [f"z{j + 1}" for j in range(len(laws))]
     cols = {name: law.ppf(u[:, j]) for j, (name, law) in enumerate(zip(names, laws))}
     return float(np.mean(f(cols)))
 
@@ -305,8 +360,9 @@ def write_md(rows, seconds):
         ) + f" (the last run {seconds / 60:.1f} min of wall time on the shared 2-core machine). "
         "Every interval is the Student interval m ± t₇ · s/√8 from R = 8 "
         "randomised sets (95 %). stillpoint: "
-        "`design(n, space, randomize=True, seed=…)` (the lattice made for the laws where "
-        "every law is unbounded, the cube's tent-randomised lattice otherwise, as "
+        "`design(n, space, randomize=True, seed=…)` (Owen-scrambled Sobol' where the space "
+        "holds a Brownian path, the lattice made for the laws where every law is "
+        "unbounded, the cube's tent-randomised lattice otherwise, as "
         "`Design.rule` names it; each column through its law's inverse CDF); Sobol': "
         "SciPy's `qmc.Sobol(scramble=True)`"
         " mapped through SciPy's `ppf`. RMSE is one set's; ratios are stillpoint / Sobol' "

@@ -31,7 +31,9 @@ Run:
     ... --refine                   cells whose reference is too coarse measured again,
                                    with long runs 4× as long (the report lists them)
     ... --path-space brownian      path families given to stillpoint as
-                                   W=brownian(T,m,construction) (HOOK; refused on main)
+                                   W=brownian(T,m,construction), one per asset (the
+                                   space a user writes for a path; the report says
+                                   which method's cells were given it)
 
 Every finished cell (family, variant, n) is stored in DIR/uq_models.json at once; a
 rerun skips it unless --fresh (or unless it was measured with fewer reps or instances).
@@ -188,33 +190,50 @@ def design_sets(family, v, insts, n, seed, path_space, **kw):
     return get
 
 
-_LAW_CHECKED = set()  # spaces whose law_set columns were checked against design()'s
+_LAW_CHECKED = {}  # space -> its rule, once its columns were checked against design()'s
 
 
 def _law_set_columns(n, texts, seed, key):
     """``design(n, texts, seed=seed, randomize=True)``'s columns without its figures
-    (an O(n²) pass per set): for a space with an unbounded law, the library's lattice
-    made for the laws (``_core.law_set``) through its inverse-CDF map
-    (``_core.space_values``). Checked bit for bit against ``design`` once per space;
-    False where the package has no ``law_set`` or the space takes another rule."""
+    (an O(n²) pass per set): the unit set of the space's rule, through the library's
+    inverse-CDF map (``_core.space_values``): for a space of unbounded laws the lattice
+    made for the laws (``_core.law_set``), for a space holding a Brownian path
+    Owen-scrambled Sobol' (``generate(n, d, method='sobol', seed=seed)``). Checked bit
+    for bit against ``design`` once per space; False where the package has no
+    ``law_set`` or the space takes another rule."""
     import stillpoint
     core = stillpoint._core
     if not hasattr(core, "law_set"):
         return False
+
+    def unit(rule, m, order=None):
+        if rule.startswith("lattice made for the laws"):
+            return core.law_set(list(texts), m, seed)
+        d = len(core.space_names(list(texts)))
+        net = np.asarray(stillpoint.generate(m, d, method="sobol", seed=seed))
+        # the net's columns as the rule deals them to the space's coordinates
+        return net if order is None else net[:, order]
+
     if texts not in _LAW_CHECKED:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             d = stillpoint.design(min(n, 256), list(texts), seed=seed, randomize=True)
-        if not d.rule.startswith("lattice made for the laws"):
+        if not d.rule.startswith(("lattice made for the laws", "Owen-scrambled Sobol'")):
             return False
-        x = core.space_values(list(texts), core.law_set(list(texts), min(n, 256), seed),
-                              None)
+        order = None
+        if d.rule.startswith("Owen-scrambled Sobol'"):
+            net = unit(d.rule, min(n, 256))
+            order = [next(i for i in range(net.shape[1])
+                          if np.array_equal(net[:, i], d.unit[:, j]))
+                     for j in range(net.shape[1])]
+        x = core.space_values(list(texts), unit(d.rule, min(n, 256), order), None)
         cols = np.column_stack([np.asarray(d.columns[nm], dtype=np.float64)
                                 for nm in d.names])
         if not np.array_equal(x, cols):
-            raise SystemExit(f"law_set differs from design(randomize=True) for {texts}")
-        _LAW_CHECKED.add(texts)
-    _DESIGNS[key] = core.space_values(list(texts), core.law_set(list(texts), n, seed), None)
+            raise SystemExit(f"the rule's set differs from design(randomize=True) for {texts}")
+        _LAW_CHECKED[texts] = (d.rule, order)
+    rule, order = _LAW_CHECKED[texts]
+    _DESIGNS[key] = core.space_values(list(texts), unit(rule, n, order), None)
     if len(_DESIGNS) > 24:
         _DESIGNS.pop(next(iter(_DESIGNS)))
     return True
@@ -405,6 +424,9 @@ def run_cell(family, v, n, a, refs, refs_path, notes, boost=0):
         cell["methods"][m] = {"label": label, "rmse": float(np.sqrt(np.mean(e ** 2))),
                               "sets": len(errs), "seconds": time.perf_counter() - t0,
                               "instance_rmse": np.sqrt(np.mean(e ** 2, axis=0)).tolist()}
+        if isinstance(family, PathOption) and m in ("default", "randomize"):
+            # what stillpoint was given: m normals, or the path as one variable
+            cell["methods"][m]["path_space"] = a.path_space
     base = cell["methods"].get("sobol", {}).get("rmse")
     for rec in cell["methods"].values():
         rec["ratio"] = rec["rmse"] / base if base else None
@@ -467,6 +489,21 @@ def report(data):
                   "randomisation (the lattice made for the shift and the tent transform), "
                   "drawn as `Engine(d, draws='independent', seed=r).random(n)` (which makes "
                   "the set once per process), mapped by the peers' map.", ""]
+    given = {}  # (method, path space) -> path cells; records without one: normals
+    for c in data["cells"].values():
+        if c.get("path_space"):
+            for m in ("default", "randomize"):
+                if m in c["methods"]:
+                    ps = c["methods"][m].get("path_space", "normals")
+                    given[(m, ps)] = given.get((m, ps), 0) + 1
+    for m in ("default", "randomize"):
+        if given.get((m, "brownian")):
+            rest = given.get((m, "normals"), 0)
+            lines += [f"Path families, `{m}`: {given[(m, 'brownian')]} cells give stillpoint "
+                      "the path as one variable, `W=brownian(1,m,construction)` per asset "
+                      "(the space a user writes for a path)"
+                      + (f", the other {rest} m normals with the path built in the function"
+                         if rest else "") + ".", ""]
     if probes.get("brownian"):
         lines += ["A Brownian variable in a space is refused by this build "
                   f"(`{probes['brownian']}`): path families give stillpoint m normals and "

@@ -275,6 +275,41 @@ fn a_scrambled_sobol_rule_runs_as_its_construction_and_stays_unbiased() {
     });
 }
 
+/// A space holding a Brownian path takes Owen-scrambled Sobol' under the tent
+/// randomisation: the unit set is that construction's for the seed (its first column
+/// to the variable that is not a path, the next ones to the path's steps), and each seed's
+/// means of W(t_j), W(t_j)² and W(t_1)·W(t_4) estimate 0, t_j and min(t_1, t_4) = t_1
+/// without bias, beside a normal variable whose square has mean 1.
+#[test]
+fn a_space_with_a_brownian_path_takes_owen_scrambled_sobol() {
+    let items = ["W=brownian(2,4,pca)", "z=normal(0,1)"];
+    let resolved = request(64, &items, None, Randomize::Tent, 7)
+        .resolve()
+        .unwrap();
+    assert_eq!(resolved.rule, Some(CubeRule::ScrambledSobol));
+    let d = design_of(&resolved);
+    let net = stillpoint::sequences::sobol_scrambled(64, 5, 7).unwrap();
+    for (dealt, row) in d.unit.rows().zip(net.rows()) {
+        assert_eq!(dealt, &[row[1], row[2], row[3], row[4], row[0]][..]);
+    }
+    let stats: Vec<Stat> = vec![
+        ("W_1", |p| p[0], 0.0),
+        ("W_4", |p| p[3], 0.0),
+        // t_j = jT/m = j/2.
+        ("W_1^2", |p| p[0] * p[0], 0.5),
+        ("W_3^2", |p| p[2] * p[2], 1.5),
+        ("W_1*W_4", |p| p[0] * p[3], 0.5),
+        ("z^2", |p| p[4] * p[4], 1.0),
+    ];
+    assert_unbiased("a Brownian path", 300, &stats, |seed| {
+        design_of(
+            &request(32, &items, None, Randomize::Tent, seed)
+                .resolve()
+                .unwrap(),
+        )
+    });
+}
+
 #[test]
 fn what_stays_unsupported_is_refused_by_name() {
     let cases: [(&str, Arg, &str); 4] = [

@@ -121,3 +121,22 @@ def test_what_stays_unsupported_is_refused_by_name(extra, named):
 def test_a_bad_randomisation_under_a_space_echoes_the_value():
     with pytest.raises(ValueError, match="randomize.*nope"):
         sp.generate(16, space=SPACE, randomize="nope")
+
+
+def test_a_space_holding_a_brownian_path_takes_owen_scrambled_sobol():
+    space = {"W": "brownian(1,8,bridge)", "z": "normal(0,1)"}
+    d = sp.design(64, space, randomize=True, seed=5)
+    assert d.rule.startswith("Owen-scrambled Sobol'") and d.unbiased
+    # The net's first column goes to z (not a path), the next eight to the path's steps.
+    net = sp.generate(64, 9, method="sobol", seed=5)
+    assert np.array_equal(d.unit, net[:, [1, 2, 3, 4, 5, 6, 7, 8, 0]])
+    np.testing.assert_allclose(d.columns["z"], stats.norm().ppf(d.unit[:, 8]), rtol=1e-12, atol=1e-14)
+    # Each seed's mean of W(t_8)² = W(1)² estimates t_8 = 1, of W(t_2)·W(t_8) estimates
+    # min(t_2, t_8) = 1/4, without bias.
+    ends, products = [], []
+    for seed in range(200):
+        d = sp.design(32, space, randomize=True, seed=seed)
+        ends.append(np.mean(d.columns["W_8"] ** 2))
+        products.append(np.mean(d.columns["W_2"] * d.columns["W_8"]))
+    _assert_unbiased("W_8^2", ends, 1.0)
+    _assert_unbiased("W_2*W_8", products, 0.25)
