@@ -436,7 +436,7 @@ fn the_rule_follows_the_laws_as_quad_s_does() {
     // was lower than the tent lattice's in 7 of 9 cells on three models of normal
     // inputs, results/sensitivity/design.md); over a box or bounded laws, the lattice.
     use stillpoint::cubature::Rule;
-    use stillpoint::pipeline::integration::Spelling;
+    use stillpoint::pipeline::integration::{FromRequest, Spelling};
     use stillpoint::pipeline::request::Arg;
     let rule = |pairs: &[(&str, Arg)]| {
         let mut r = stillpoint::Request::default();
