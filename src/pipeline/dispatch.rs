@@ -421,6 +421,33 @@ mod tests {
     }
 
     #[test]
+    fn an_option_of_the_paper_s_pipeline_given_alone_says_it_selects_that_pipeline() {
+        let spell = |p: &str| format!("--{p}");
+        let selects = |options: &[(&str, &str)]| {
+            let r = resolved(600, 2, options);
+            let paper = matches!(&r.job, Job::Run(cfg) if Pipeline::of(cfg) == Pipeline::Paper);
+            let note = r
+                .notes_as(&spell)
+                .into_iter()
+                .find(|t| t.contains("option of the paper's pipeline"));
+            (paper, note)
+        };
+        let (paper, note) = selects(&[("steps", "50")]);
+        assert!(paper);
+        let note = note.expect("a note for --steps alone");
+        assert!(
+            note.starts_with("--steps is an option") && note.contains("--method paper"),
+            "{note}"
+        );
+        // Named by the method, or the default run: nothing to point out.
+        assert_eq!(
+            selects(&[("method", "paper"), ("steps", "50")]),
+            (true, None)
+        );
+        assert_eq!(selects(&[]), (false, None));
+    }
+
+    #[test]
     fn the_threshold_is_the_boundary_of_the_note() {
         let note = |t: f64| long_run_note(t, 10, 2, "", STOPS);
         assert!(note(LONG_RUN_SECONDS).is_none());

@@ -162,6 +162,9 @@ pub struct Resolved {
     /// How the report's pair figures are computed (exact when `exact` was asked, else
     /// estimated above the exact size), for the run and for a design's figures alike.
     pub sums: crate::quality::metrics::Sums,
+    /// The option that made the run the paper's pipeline without `method` naming it (an
+    /// option of that pipeline given alone), which the notes before the run point out.
+    pub paper_by: Option<super::options::Opt>,
 }
 
 impl Resolved {

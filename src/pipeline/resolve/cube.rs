@@ -72,6 +72,7 @@ impl Ctx<'_> {
             rule: None,
             mixture: None,
             sums: self.sums()?,
+            paper_by: None,
         }))
     }
 

@@ -211,6 +211,12 @@ impl<'a> Ctx<'a> {
         let constrained = self.given(Opt::constraints) || self.p.mixture.value()? == Some(true);
         let in_region = self.given(Opt::region) || self.given(Opt::shape) || constrained;
         let goal = self.goal(in_region)?;
+        let paper_by = match goal {
+            crate::config::Goal::Paper if !in_region && !self.given(Opt::method) => {
+                self.paper_given(false).first().copied()
+            }
+            _ => None,
+        };
         let (mut cfg, mixture) = if in_region {
             self.region_config()?
         } else {
@@ -239,6 +245,7 @@ impl<'a> Ctx<'a> {
             design: None,
             rule: None,
             mixture,
+            paper_by,
         })
     }
 }

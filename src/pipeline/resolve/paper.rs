@@ -32,7 +32,7 @@ impl Ctx<'_> {
 
     /// The given options of the paper's pipeline (and the descent's budget, which the
     /// space-filling goal takes as its own).
-    fn paper_given(&self, space_filling: bool) -> Vec<Opt> {
+    pub(super) fn paper_given(&self, space_filling: bool) -> Vec<Opt> {
         OPTS.iter()
             .copied()
             .filter(|o| {
