@@ -243,8 +243,8 @@ impl Resolved {
             .paper_by
             .map(|o| {
                 format!(
-                    "{} is an option of the paper's pipeline, so this run is {} paper (the \
-                     DEM from its start), not the default lattice or descent",
+                    "{} is an option of the paper's pipeline, so this run is that pipeline \
+                     ({} paper: the DEM from its start), not the default lattice or descent",
                     spell(o.name()),
                     spell(Opt::method.name())
                 )
