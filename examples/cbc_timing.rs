@@ -1,7 +1,7 @@
 //! Time and criterion of the tent lattice's generating vector, fast (every candidate) against
 //! the plain search it replaced (a sample of the candidates above 2^28 point steps per
 //! coordinate), at each (n, s) given; one line per (n, s) and method, median of `reps` runs.
-//! `cargo run --release --example cbc_timing -- [REPS] [N×S ...]`, by default
+//! `cargo run --release -p stillpoint --example cbc_timing -- [REPS] [N×S ...]`, by default
 //! `3 100000x20 200000x50 1000000x50`.
 
 use std::time::Instant;

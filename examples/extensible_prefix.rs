@@ -1,7 +1,7 @@
 //! The generating vectors benches/extensible_prefix.py compares, as one JSON object:
 //! the extensible sequence's (its first s components) and, for each n = 2^m given, the
 //! lattice made for n alone (`tent_lattice_generator`).
-//! `cargo run --release --example extensible_prefix -- S M1,M2,...`.
+//! `cargo run --release -p stillpoint --example extensible_prefix -- S M1,M2,...`.
 
 fn main() -> Result<(), stillpoint::Error> {
     let args: Vec<String> = std::env::args().collect();

@@ -5,7 +5,7 @@
 //! that n alone, in D_MD and D_L2*: whether `--nested` should be that sequence.
 //! Writes results/nested/nested.md.
 //!
-//!     cargo run --release --example nested
+//!     cargo run --release -p stillpoint --example nested
 
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -26,7 +26,7 @@ fn main() {
     let scrambles = 16;
     let mut md = String::from(
         "# Nested sets: every prefix against scrambled Sobol' and a set made for its size\n\n\
-         Command: `cargo run --release --example nested` on a 2-core machine. Each row is a\n\
+         Command: `cargo run --release -p stillpoint --example nested` on a 2-core machine. Each row is a\n\
          prefix of one nested set (`stillpoint generate --nested 16,32,...,1024`); Sobol' is\n\
          the mean over 16 Owen scrambles of the first n points of the sequence; \"lattice\" the\n\
          mean over 16 shifts of the first n points of the extensible lattice sequence\n\

@@ -2,7 +2,7 @@
 //! from plain Halton, run through the executor once with the DEM and once with L-BFGS,
 //! and the squared modified L2 discrepancy in the closed cube under L-BFGS.
 //!
-//! `cargo run --release --example solver_comparison [-- S N STEPS]` (default 2 400 1000).
+//! `cargo run --release -p stillpoint --example solver_comparison [-- S N STEPS]` (default 2 400 1000).
 //! For the full comparison with tables and pictures: `stillpoint compare`.
 
 use stillpoint::energies::discrepancy::{DiscrepancyEnergy, DiscrepancyKind};

@@ -2,7 +2,7 @@
 //! smallest Euclidean distance (higher is better) and whether each set is stratified.
 //! Writes results/space-filling/space-filling.md.
 //!
-//!     cargo run --release --example space_filling
+//!     cargo run --release -p stillpoint --example space_filling
 
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -15,7 +15,7 @@ use stillpoint::sequences;
 fn main() {
     let mut md = String::from(
         "# Space-filling goal: smallest distance against a maximin LHS and the paper's set\n\n\
-         Command: `cargo run --release --example space_filling` on a 2-core machine.\n\
+         Command: `cargo run --release -p stillpoint --example space_filling` on a 2-core machine.\n\
          `goal` is `stillpoint generate --goal space-filling` (seed 0); `LHS-maximin` is\n\
          `stillpoint baseline lhs-maximin` (best of seeds 0–3); `paper` is `--method paper`.\n\
          Minimum Euclidean distance, higher is better.\n\n\

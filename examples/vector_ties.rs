@@ -1,6 +1,6 @@
 //! Prints the default lattice's generating vector and its smoothness-2 criterion at the
 //! sizes where the fast search's scores cannot resolve that criterion (see
-//! results/large-n/vector_ties.md): `cargo run --release --example vector_ties -- N S`.
+//! results/large-n/vector_ties.md): `cargo run --release -p stillpoint --example vector_ties -- N S`.
 
 fn main() {
     let args: Vec<usize> = std::env::args()
