@@ -361,6 +361,8 @@ pub(crate) enum Command {
     /// Draw a point file (a scatter plot for s = 2, a matrix of 2-D projections of the
     /// first --dims coordinates for s > 2), or a run's trajectory (--trajectory), as PNG
     /// or SVG.
+    #[command(override_usage = "stillpoint plot [OPTIONS] <FILE> -o <OUT>\n       \
+                                stillpoint plot --trajectory <TRAJ> -o <OUT>")]
     Plot {
         /// The point file (CSV, TSV, whitespace, JSON, .npy).
         #[arg(value_name = "FILE", required_unless_present = "trajectory")]
@@ -496,6 +498,9 @@ pub(crate) enum Command {
     /// --expr, integrate an expression to a tolerance over the unit cube, a box or the
     /// distributions of --var/--space; with point files and --expr, the expression's
     /// mean over each file's points and their standard error.
+    // The usage names both forms: clap's own would ask for a file where --expr alone runs.
+    #[command(override_usage = "stillpoint integrate [OPTIONS] <FILES>...\n       \
+                                stillpoint integrate --expr <EXPR> -s <S> [OPTIONS]")]
     Integrate {
         /// The point files (CSV, TSV, whitespace, JSON, .npy); coordinates in [0, 1]
         /// without --expr.
