@@ -402,8 +402,8 @@ pub(crate) enum Command {
         /// The point files; coordinates must lie in [0, 1] (or in --bounds).
         #[arg(required = true, value_name = "FILE")]
         files: Vec<PathBuf>,
-        /// Print one JSON object (an array of them for several files; keys documented in
-        /// the README).
+        /// Print one JSON object (an array of them for several files; its keys are in
+        /// docs/metrics.md, "Metrics and their names").
         #[arg(long)]
         json: bool,
         /// The box the points were scaled to (`generate --bounds`): LO1,HI1,...; they are
