@@ -62,6 +62,7 @@ def verify_large_n(out, max_n, binary):
     with open(path) as fh:
         data = json.load(fh)
     kept, refused = 0, []
+    above = any(c["n"] > max_n for c in data["cells"].values())
     with tempfile.TemporaryDirectory() as tmp:
         for key, cell in sorted(data["cells"].items(), key=lambda kv: (kv[1]["s"], kv[1]["n"])):
             rec = cell["methods"].get("default")
@@ -81,13 +82,17 @@ def verify_large_n(out, max_n, binary):
             else:
                 refused.append(key)
             print(key, "same errors" if errs == rec["errors"] else "DIFFERENT", flush=True)
-    data["fingerprint_note"] = (
+    # A later pass (a larger --max-n) adds its sentence to the note of the earlier ones.
+    earlier = data.get("fingerprint_note", "")
+    data["fingerprint_note"] = (earlier + " " if earlier else "") + (
         f"The fingerprints were added later (`python3 benches/fingerprint.py --large-n "
         f"{out} --max-n {max_n}`): each cell's sets were made again at commit {commit()[:7]} "
         "and kept only where their errors on the cell's instances equal the stored ones bit "
-        f"for bit ({kept} cells); cells above {max_n} points"
-        + (f" and {', '.join(refused)}, whose sets changed," if refused else "")
-        + " have none.")
+        f"for bit ({kept} cells)"
+        + (f"; cells above {max_n} points" if above else "")
+        + (f"{' and' if above else ';'} {', '.join(refused)}, whose sets changed,"
+           if refused else "")
+        + (" have none." if above or refused else "."))
     large_n.save_json(path, data)
     with open(os.path.join(out, "large_n.md"), "w") as fh:
         fh.write(large_n.report(data, data["runs"][-1]["binary_sha256"]))

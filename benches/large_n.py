@@ -20,6 +20,9 @@ Run:
     ... --skip-peers     only the default and scrambled Sobol' (the reference)
     ... --out DIR        where large_n.md and large_n.json go (results/large-n)
     ... --fresh          measure the chosen cells again even if large_n.json has them
+    ... --default-only   measure only the default's side again (its sets, errors and
+                         discrepancies) and keep the stored Sobol' reference and peers:
+                         they do not depend on stillpoint's build
 
 Every finished cell (and every n of the sweep) is stored in DIR/large_n.json at once, and
 a rerun skips it unless --fresh: an interrupted run goes on where it stopped. The report
@@ -297,11 +300,17 @@ def method_record(errs, times, count, extra=None):
     return rec
 
 
-def run_cell(binary, s, n, a, tmp, log):
+def run_cell(binary, s, n, a, tmp, log, old=None):
+    """One cell; with `old` (--default-only) only the default is measured and the stored
+    Sobol' reference and peers are kept."""
     inst, exact = instances(s, a.instances)
     cell = {"s": s, "n": n, "methods": {}, "failures": {}, "skip_peers": a.skip_peers,
             "binary_sha256": sha256(binary), "instances": a.instances,
             "instance_seed": INSTANCE_SEED, "date": now()}
+    if old is not None:
+        cell["skip_peers"] = old["skip_peers"]
+        cell["peers_date"] = old.get("peers_date", old["date"])
+        cell["failures"] = {k: v for k, v in old["failures"].items() if k != "default"}
     flags, why = disc_plan(n, s, a)
     disc = flags is not None
     if why:
@@ -327,6 +336,11 @@ def run_cell(binary, s, n, a, tmp, log):
             p = os.path.join(tmp, f"default-s{s}-n{n}-seed{k}.npy")
             if os.path.exists(p):
                 os.remove(p)
+    if old is not None:
+        for name, rec in old["methods"].items():
+            if name != "default":
+                cell["methods"][name] = rec
+        return ratios(cell)
     # (2) scrambled Sobol', the reference
     keep = a.disc_sets if disc else 0
     errs, times, kept = run_sets(sobol_set, s, n, REPLICATES, inst, exact, keep, tmp, "sobol")
@@ -352,6 +366,10 @@ def run_cell(binary, s, n, a, tmp, log):
             except Exception as e:  # noqa: BLE001
                 cell["failures"][name] = f"{type(e).__name__}: {e}"
                 log(f"  {name} FAILED: {e}")
+    return ratios(cell)
+
+
+def ratios(cell):
     ref = np.array(cell["methods"]["sobol"]["rms"])
     for rec in cell["methods"].values():
         rec["ratio"] = (np.array(rec["rms"]) / ref).tolist()
@@ -481,6 +499,15 @@ def report(data, current_sha):
               "discontinuous family). Times: the default's is the median wall time of "
               "`stillpoint generate -n N -s S --seed K -o x.npy` (K = 1, 2, 3, its report "
               "included); a peer's is the median time to draw one set in Python.", ""]
+    kept = sorted({c["peers_date"][:10] for c in cells if "peers_date" in c})
+    if kept:
+        lines += ["The Sobol' reference and the peers of "
+                  + ("every cell" if all("peers_date" in c for c in cells) else "the cells "
+                     + ", ".join(f"({c['s']}, {c['n']})" for c in cells if "peers_date" in c))
+                  + f" were measured on {', '.join(kept)} and kept when "
+                  "`--default-only` measured the default again (they do not depend on "
+                  "stillpoint's build; the Sobol' sets' discrepancies are from that "
+                  "run's `stillpoint eval`).", ""]
     stale = [c for c in cells if c.get("binary_sha256") != current_sha]
     if stale:
         lines += [f"† measured with another build of `stillpoint` than the current one "
@@ -745,6 +772,9 @@ def main():
     ap.add_argument("--out", default="results/large-n")
     ap.add_argument("--fresh", action="store_true",
                     help="measure the chosen cells again even if large_n.json has them")
+    ap.add_argument("--default-only", action="store_true",
+                    help="measure only the default of the chosen cells again; keep the "
+                    "Sobol' reference and the peers large_n.json holds")
     ap.add_argument("--instances", type=int, default=16, help="Genz instances per family")
     ap.add_argument("--disc-max-n", type=int, default=100000,
                     help="exact discrepancies up to this n")
@@ -807,14 +837,18 @@ def main():
             for s, n in cells:
                 key = cell_key(s, n)
                 old = data["cells"].get(key)
-                if old is not None and not a.fresh and (a.skip_peers or not old["skip_peers"]):
+                if a.default_only and (old is None or "sobol" not in old["methods"]):
+                    sys.exit(f"--default-only: ({s}, {n}) has no stored Sobol' reference "
+                             f"in {json_path}; run it without --default-only")
+                if (old is not None and not a.fresh and not a.default_only
+                        and (a.skip_peers or not old["skip_peers"])):
                     if old.get("binary_sha256") != a.binary_sha:
                         log(f"({s}, {n}) cached from another build of stillpoint; "
                             "--fresh measures it again")
                     continue
                 log(f"cell s = {s}, n = {n}")
                 t0 = time.perf_counter()
-                cell = run_cell(binary, s, n, a, tmp, log)
+                cell = run_cell(binary, s, n, a, tmp, log, old if a.default_only else None)
                 cell["seconds"] = time.perf_counter() - t0
                 data["cells"][key] = cell
                 measured += 1

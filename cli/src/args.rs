@@ -361,6 +361,8 @@ pub(crate) enum Command {
     /// Draw a point file (a scatter plot for s = 2, a matrix of 2-D projections of the
     /// first --dims coordinates for s > 2), or a run's trajectory (--trajectory), as PNG
     /// or SVG.
+    #[command(override_usage = "stillpoint plot [OPTIONS] <FILE> -o <OUT>\n       \
+                                stillpoint plot --trajectory <TRAJ> -o <OUT>")]
     Plot {
         /// The point file (CSV, TSV, whitespace, JSON, .npy).
         #[arg(value_name = "FILE", required_unless_present = "trajectory")]
@@ -400,8 +402,8 @@ pub(crate) enum Command {
         /// The point files; coordinates must lie in [0, 1] (or in --bounds).
         #[arg(required = true, value_name = "FILE")]
         files: Vec<PathBuf>,
-        /// Print one JSON object (an array of them for several files; keys documented in
-        /// the README).
+        /// Print one JSON object (an array of them for several files; its keys are in
+        /// docs/metrics.md, "Metrics and their names").
         #[arg(long)]
         json: bool,
         /// The box the points were scaled to (`generate --bounds`): LO1,HI1,...; they are
@@ -496,6 +498,9 @@ pub(crate) enum Command {
     /// --expr, integrate an expression to a tolerance over the unit cube, a box or the
     /// distributions of --var/--space; with point files and --expr, the expression's
     /// mean over each file's points and their standard error.
+    // The usage names both forms: clap's own would ask for a file where --expr alone runs.
+    #[command(override_usage = "stillpoint integrate [OPTIONS] <FILES>...\n       \
+                                stillpoint integrate --expr <EXPR> -s <S> [OPTIONS]")]
     Integrate {
         /// The point files (CSV, TSV, whitespace, JSON, .npy); coordinates in [0, 1]
         /// without --expr.

@@ -78,12 +78,18 @@ pub(crate) fn emit_design(
 
 /// The figures as a table: level counts, pair balance, slices, the continuous part.
 pub(crate) fn design_table(design: &Design, f: &DesignFigures, run_line: &str) -> String {
+    let texts = design.space.texts();
+    // A path is one variable written as m columns: both counts, where they differ.
+    let columns = match design.space.dim() {
+        d if d == texts.len() => String::new(),
+        d => format!(", {d} columns"),
+    };
     let mut t = format!(
-        "stillpoint: design of {} points in {} variables ({}); figures on the unit scale \
-         (continuous values through their CDF)\n",
+        "stillpoint: design of {} points in {} variables{columns} ({}); figures on the unit \
+         scale (continuous values through their CDF)\n",
         f.n,
-        design.space.dim(),
-        design.space.texts().join(" ")
+        texts.len(),
+        texts.join(" ")
     );
     if !run_line.is_empty() {
         t.push_str(&format!("  {run_line}\n"));
