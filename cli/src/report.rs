@@ -510,7 +510,8 @@ pub(crate) fn report_table(
     }
     t += &figures_table(r, cfg, m0, m1);
     if let Some(e) = &m1.estimate {
-        t += &estimate_lines(m1, e, cfg.sums.estimate_above);
+        let descended = r.stages.iter().any(|st| matches!(st, Stage::Descent(_)));
+        t += &estimate_lines(m1, e, cfg.sums.estimate_above, descended);
     }
     if let Some(sh) = &r.shift {
         t += &format!(
@@ -688,7 +689,12 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
 
 /// What an estimate of a report's metrics rests on, with each discrepancy's standard
 /// error and, when the distances could not be proven, why they are missing.
-fn estimate_lines(m: &Metrics, e: &stillpoint::quality::metrics::Estimate, above: usize) -> String {
+fn estimate_lines(
+    m: &Metrics,
+    e: &stillpoint::quality::metrics::Estimate,
+    above: usize,
+    descended: bool,
+) -> String {
     let values = [
         ("D_L2*", m.star_l2),
         ("D_MD", m.modified_l2),
@@ -706,10 +712,14 @@ fn estimate_lines(m: &Metrics, e: &stillpoint::quality::metrics::Estimate, above
          pairs (one standard error, the roots' by the delta method); the result's: {}; an \
          error above the value means the set is more even than the sample can resolve, and \
          the start's and the result's estimates differ by that error, not by what the run \
-         changed (the descent line states exact changes where it made any); --exact for \
-         the exact sums (O(n² s))\n",
+         changed{}; --exact for the exact sums (O(n² s))\n",
         e.pairs,
-        each.join(", ")
+        each.join(", "),
+        if descended {
+            " (the descent line states the exact changes it made)"
+        } else {
+            ""
+        }
     );
     if !e.min_distances_exact {
         t += "  minimum distances not computed: the grid of cells could not prove the \
