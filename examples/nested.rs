@@ -27,11 +27,13 @@ fn main() {
     let mut md = String::from(
         "# Nested sets: every prefix against scrambled Sobol' and a set made for its size\n\n\
          Command: `cargo run --release -p stillpoint --example nested` on a 2-core machine. Each row is a\n\
-         prefix of one nested set (`stillpoint generate --nested 16,32,...,1024`); Sobol' is\n\
-         the mean over 16 Owen scrambles of the first n points of the sequence; \"lattice\" the\n\
-         mean over 16 shifts of the first n points of the extensible lattice sequence\n\
-         (`stillpoint.Engine(d)`, tent-transformed); \"alone\" is the default set made for that\n\
-         n (`generate -n N`). Nesting price = nested / alone − 1.\n\n",
+         prefix of one nested set made with the blend target (`stillpoint generate --nested\n\
+         16,32,...,1024` at s ≤ 5; from s = 8 the command line's target is the curved one);\n\
+         Sobol' is the mean over 16 Owen scrambles of the first n points of the sequence;\n\
+         \"lattice\" the mean over 16 shifts of the first n points of the extensible lattice\n\
+         sequence (`stillpoint.Engine(d)`, tent-transformed); \"alone\" is the descent's set\n\
+         made for that n with the same target (`generate -n N --target blend`: from 500 points\n\
+         the default is a lattice instead). Nesting price = nested / alone − 1.\n\n",
     );
     for s in [2, 3, 5, 10] {
         let clock = Instant::now();
