@@ -27,10 +27,36 @@ divided by the stored scrambled Sobol' RMSE.
     even_wG     the same as one lattice of n points (measured where a bounded law takes
                 part and not taken: results/law-lattice/rules-by-law.md)
 
+Deterministic candidates, for the default under a space (one set per seed r; compare
+with STORED=default, the stored default's ratio; results/law-lattice/deterministic.md):
+
+    cube        the cube's default, `stillpoint generate -n N -s D --seed r+1` (the
+                lattice with its shift searched on the cosine-space error): what the
+                default under a space maps through the quantiles
+    odd2        the same made as two odd sets of n/2 -+ 1 points (no reflected pairs)
+    cq          the cube's default shifted by 1/4 modulo 1 (pairs not reflected)
+    mid_wG      the lattice for the laws (weight G, odd parts), each part shifted by
+                (a_j + 1/4)/m with integer offsets a_j drawn from the seed: every column
+                the midpoints after the tent
+    mid0_wG     the same with every a_j = 0
+    tmid        the cube's tent generator, one lattice of n, drawn midpoint offsets
+    tmid_odd    the same in odd parts
+    bestKgC     mid_w0.05's offsets, the best of K draws on the unanchored Sobolev
+                (smoothness 1, weight C) worst-case error
+    srchA       the lattice for the laws in odd parts with the shift searched as the
+                cube's default searches it (greedy, every odd numerator q < 2m, on the
+                pair part of the cosine-space error of smoothness A = 1, 2); srchTA
+                with the cube's tent generator; srchFA adds the error of the set folded
+                by y -> 2y mod 1 (what an integrand even in every normal input sees)
+    pickK       mid_w0.05's offsets, the draw among K whose errors on exp(-|Z|^2/2),
+                cos(sum Z/sqrt(s)) and exp(sum Z/sqrt(s)) (Z the normal scores
+                Phi^-1(u), closed forms) are smallest, each over its median
+
 Run (the bench venv of benches/uq_models.py, the CLI built in target/release):
 
     REPS=12 NS=1024,4096 CANDS=cur,law_halves target/bench-venv/bin/python benches/uq_rules.py
     (FAM=keister,lognormal: only those families)
+    REPS=3 STORED=default CANDS=cube,mid_w0.05,srch2 ... (the default's candidates)
 """
 import json, math, os, subprocess, sys, hashlib
 import numpy as np
@@ -70,6 +96,10 @@ def dup(x, seed):
     k = np.random.default_rng(seed).integers(len(x))
     return np.vstack([x, x[k][None]])
 
+def parts(n):
+    """The odd sizes of the lattice for the laws (`law_lattice_parts`)."""
+    return [n] if n % 2 else ([n // 2, n // 2] if (n // 2) % 2 else [n // 2 - 1, n // 2 + 1])
+
 def owen(n, d, seed):
     p = f"{CACHE}/o_{n}_{d}_{seed}.npy"
     if not os.path.exists(p):
@@ -97,18 +127,179 @@ def cbc_b2(m, s, g):
     return _Z[(m, s, g)]
 
 def halves_w(n, d, g, seed, whole=False):
-    parts = [n] if n % 2 or whole else ([n // 2, n // 2] if (n // 2) % 2 else [n // 2 - 1, n // 2 + 1])
     rng = np.random.default_rng(seed)
     out = []
-    for m in parts:
+    for m in ([n] if whole else parts(n)):
         z = cbc_b2(m, d, g)
         x = (np.outer(np.arange(m), z) % m) / m
         x = (x + rng.random(d)) % 1.0
         out.append(1 - np.abs(2 * x - 1))
     return np.vstack(out)
 
+def mid_part(m, z, a):
+    """The m-point lattice with generator z shifted by (a + 1/4)/m, then the tent: every
+    column the midpoints (i + 1/2)/m."""
+    x = ((np.outer(np.arange(m), z) + a) % m + 0.25) / m
+    return 1 - np.abs(2 * x - 1)
+
+def law_mid(n, d, g, seed, pick="seed"):
+    """The lattice for the laws (two odd parts for even n), each part shifted by
+    (a + 1/4)/m per coordinate: after the tent every coordinate is the m-point midpoint
+    rule; a from the seed."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for m in parts(n):
+        z = cbc_b2(m, d, g)
+        a = rng.integers(0, m, d) if pick == "seed" else np.zeros(d, dtype=int)
+        out.append(mid_part(m, z, a))
+    return np.vstack(out)
+
+def cube(n, d, seed):
+    """The cube's deterministic default, `stillpoint generate -n N -s D --seed K`."""
+    p = f"{CACHE}/c_{n}_{d}_{seed}.npy"
+    if not os.path.exists(p):
+        subprocess.run([BIN, "generate", "-n", str(n), "-s", str(d), "--seed", str(seed),
+                        "-q", "-o", p], check=True, capture_output=True)
+    return np.load(p)
+
+def sob1(X, g):
+    """Squared worst-case error of the equal-weight rule X in the unanchored Sobolev
+    space of smoothness 1, product weight g (kernel 1 + g(B1(x)B1(y) + B2(|x-y|)/2))."""
+    m = len(X); tot = 0.0
+    b1 = X - 0.5
+    for lo in range(0, m, 256):
+        A = X[lo:lo + 256, None, :]; t = np.abs(A - X[None, :, :])
+        k = b1[lo:lo + 256, None, :] * b1[None, :, :] + 0.5 * (t * t - t + 1 / 6)
+        tot += np.prod(1 + g * k, axis=2).sum()
+    return tot / m / m - 1
+
+_BEST = {}
+def law_mid_best(n, d, g, seed, tries=8, crit_g=1.0):
+    key = (n, d, g, seed, tries, crit_g)
+    if key not in _BEST:
+        rng = np.random.default_rng(seed)
+        out = []
+        for m in parts(n):
+            z = cbc_b2(m, d, g)
+            best = None
+            for t in range(tries):
+                X = mid_part(m, z, rng.integers(0, m, d))
+                c = sob1(X, crit_g)
+                if best is None or c < best[0]:
+                    best = (c, X)
+            out.append(best[1])
+        _BEST[key] = np.vstack(out)
+    return _BEST[key]
+
+def tent_z(m, d):
+    import stillpoint
+    x = np.asarray(stillpoint._core.tent_set(m, d))
+    return np.round(x[1] * m).astype(np.int64) if m >= 2 else np.ones(d, dtype=np.int64)
+
+def tent_mid(n, d, seed, split):
+    rng = np.random.default_rng(seed)
+    out = []
+    for m in (parts(n) if split else [n]):
+        out.append(mid_part(m, tent_z(m, d), rng.integers(0, m, d)))
+    return np.vstack(out)
+
+def p_alpha(t, alpha):
+    """sum_{h>=1} cos(2 pi h t)/h^(2 alpha), t in [0, 1)."""
+    if alpha == 1:
+        return np.pi ** 2 * (t * t - t + 1 / 6)
+    return -(np.pi ** 4 / 3) * (t ** 4 - 2 * t ** 3 + t ** 2 - 1 / 30)
+
+_SRCH = {}
+def law_searched(n, d, g, alpha, gen="law", fold=False):
+    """Odd parts; q_j odd < 2m chosen greedily on the order-2 part of the shifted, tented
+    set's cosine-space error of smoothness alpha (the cube default's kind of search)."""
+    key = (n, d, g, alpha, gen, fold)
+    if key in _SRCH:
+        return _SRCH[key]
+    out = []
+    for m in parts(n):
+        z = cbc_b2(m, d, g) if gen == "law" else tent_z(m, d)
+        e = np.arange(m)
+        qs = np.arange(1, 2 * m, 2)
+        C = np.zeros(m)
+        CF = np.zeros(m)  # the folded set's (2y mod 1: what an integrand even in each
+        q = []            # coordinate's Z sees) sums over k + k'
+        def folded(r, qq):
+            return p_alpha(((2 * r[None, :] + 2 * qq[:, None]) % (2 * m)) / (2 * m), alpha)
+        for j in range(d):
+            r = (2 * e * z[j]) % (2 * m)
+            if j == 0:
+                qj = 1
+            else:
+                # B_j(e; q) = P((2 e z_j + q)/(2m)); score(q) = sum_e B_j(e;q) C(e)
+                best, bv = None, np.inf
+                for c0 in range(0, len(qs), 256):
+                    qq = qs[c0:c0 + 256]
+                    B = p_alpha(((r[None, :] + qq[:, None]) % (2 * m)) / (2 * m), alpha)
+                    sc = B @ C
+                    if fold:
+                        sc = sc + folded(r, qq) @ CF
+                    i = int(np.argmin(sc))
+                    if best is None or sc[i] < bv - 1e-12 * abs(bv):
+                        bv, best = sc[i], int(qq[i])
+                qj = best
+            q.append(qj)
+            C += p_alpha(((r + qj) % (2 * m)) / (2 * m), alpha)
+            CF += folded(r, np.array([qj]))[0]
+        x = (((np.outer(e, z) % m) + np.array(q) / 4.0) / m) % 1.0
+        out.append(1 - np.abs(2 * x - 1))
+    _SRCH[key] = np.vstack(out)
+    return _SRCH[key]
+
+_PICK = {}
+def law_mid_pick(n, d, g, seed, tries):
+    """Among `tries` draws of the midpoint offsets, the set whose errors on three test
+    integrals of normal scores Z = Phi^-1(u) with closed forms are smallest (each
+    error over its median among the draws): exp(-|Z|^2/2) (radial, even),
+    cos(sum Z/sqrt(s)) and exp(sum Z/sqrt(s)) (a ridge, odd and even parts)."""
+    from scipy.special import ndtri
+    key = (n, d, g, seed, tries)
+    if key not in _PICK:
+        rng = np.random.default_rng(seed)
+        cands = []
+        for t in range(tries):
+            out = []
+            for m in parts(n):
+                out.append(mid_part(m, cbc_b2(m, d, g), rng.integers(0, m, d)))
+            X = np.vstack(out)
+            Z = ndtri(X)
+            w = Z.sum(1) / np.sqrt(d)
+            errs = [np.exp(-0.5 * (Z * Z).sum(1)).mean() / 2 ** (-d / 2) - 1,
+                    np.cos(w).mean() / np.exp(-0.5) - 1,
+                    np.exp(w).mean() / np.exp(0.5) - 1]
+            cands.append((np.abs(errs), X))
+        E = np.array([c[0] for c in cands])
+        score = ((E / np.median(E, axis=0)) ** 2).sum(1)
+        _PICK[key] = cands[int(np.argmin(score))][1]
+    return _PICK[key]
+
 def make(cand, fam, v, p, n, d, r):
     seed = 1000 + r
+    if cand.startswith("pick"):
+        return law_mid_pick(n, d, 0.05, seed, int(cand[4:]))
+    if cand.startswith("srch"):  # srch1, srch2, srchT2 (tent generator), srchF2 (folded)
+        gen = "tent" if cand[4] == "T" else "law"
+        return law_searched(n, d, 0.05, int(cand[-1]), gen, fold=cand[4] == "F")
+    if cand in ("tmid", "tmid_odd"):
+        return tent_mid(n, d, seed, cand == "tmid_odd")
+    if cand.startswith("best"):  # best8g1 : 8 tries, criterion weight 1
+        t, cg = cand[4:].split("g")
+        return law_mid_best(n, d, 0.05, seed, int(t), float(cg))
+    if cand == "cube":
+        return cube(n, d, r + 1)
+    if cand == "odd2":
+        return np.vstack([cube(m, d, r + 1) for m in parts(n)])
+    if cand == "cq":
+        return (cube(n, d, r + 1) + 0.25) % 1.0
+    if cand.startswith("mid_w"):
+        return law_mid(n, d, float(cand[5:]), seed)
+    if cand.startswith("mid0_w"):
+        return law_mid(n, d, float(cand[6:]), seed, pick="zero")
     if cand == "cur":
         return cli(n, d, seed)
     if cand == "odd_dup":
@@ -170,7 +361,7 @@ for key, c in data.items():
             q = U.means_on(fam, v, insts, sets)
             errs.append(U.relative(q, ref))
         out[cand] = math.sqrt(np.mean(np.array(errs) ** 2)) / sob
-    stored = c["methods"].get("randomize", {}).get("ratio")
+    stored = c["methods"].get(os.environ.get("STORED", "randomize"), {}).get("ratio")
     rows.append((c["family"], c["variant"], c["n"], stored, out))
     print(c["family"], c["variant"], c["n"], f"stored={stored:.2f}" if stored else "", " ".join(f"{k}={x:.2f}" for k, x in out.items()), flush=True)
 
