@@ -3,7 +3,9 @@
 //!
 //! The number of points doubles on R independently
 //! randomised replicates of one extensible rule, never discarding an evaluation, until
-//! the confidence interval is narrow enough.
+//! the confidence interval is narrow enough. When a few more replicates at the points
+//! each has are predicted to meet the tolerance ([`Cubature::growth`]), they are
+//! evaluated instead of a doubling: each costs 1/R of one, and later doublings keep them.
 //!
 //! [`Cubature`] is the state machine every front end drives (ask for the next batch of
 //! points, feed back f's values, read the estimate); [`quad`] runs it on a Rust closure.
@@ -172,10 +174,13 @@ pub enum Rule {
 /// and 0.67–0.73×).
 pub const PILOT_SHARE: f64 = 0.7;
 
-/// An added replicate must be predicted to bring every half-width within this share of
-/// its target: the prediction rests on the spread of a few replicate means, and a
-/// replicate that falls short costs its evaluations on top of the doubling that follows.
-pub const GROW_MARGIN: f64 = 1.0;
+/// Added replicates must be predicted to bring every half-width within this share of
+/// its target. The prediction rests on the spread of a few replicate means, and runs
+/// whose spread came out small by chance are the ones that add replicates and stop: at
+/// the full target the lognormal model at s = 2 and 10⁻³ was within the tolerance in 180
+/// of 200 runs (188 when doubling), at 0.9 in 186, at 0.8 in 185 with half the saving
+/// (results/quad/grow.md).
+pub const GROW_MARGIN: f64 = 0.9;
 
 /// The pilot runs only when the lattice's first-round half-width is above this many
 /// times the target (about four more doublings at an error falling like 1/n): in a
@@ -2328,7 +2333,7 @@ mod tests {
             2.178812829667228,
         ];
         let (mut grew, mut doubled) = (0, 0);
-        for rel_tol in [3e-3, 1e-3, 7e-4, 5e-4, 3e-4, 2e-4, 1e-4, 5e-5, 2e-5] {
+        for rel_tol in (0..40).map(|i| 3e-3 * 0.85f64.powi(i)) {
             let opts = QuadOptions {
                 rel_tol,
                 ..QuadOptions::default()
@@ -2341,7 +2346,7 @@ mod tests {
             // The prediction from the values alone: the Student half-width with R + a
             // replicates at the measured spread, and the round guard's expected size with
             // a new replicates whose changes since half their points have the mean square
-            // of the measured ones.
+            // of the measured ones, both within 0.9 of the target.
             let r = kept.len();
             let means: Vec<f64> = kept
                 .iter()
@@ -2360,7 +2365,7 @@ mod tests {
                     let student = t[r + a - 4] * sd(&means) / ((r + a) as f64).sqrt();
                     let sum: f64 = changes.iter().sum();
                     let guard = (sum * sum + a as f64 * square).sqrt() / (r + a) as f64;
-                    student <= target && guard <= target
+                    student <= 0.9 * target && guard <= 0.9 * target
                 })
                 .unwrap_or(0);
             assert_eq!(state.growth(), expected, "rel_tol {rel_tol}");
