@@ -3,7 +3,9 @@
 //!
 //! The number of points doubles on R independently
 //! randomised replicates of one extensible rule, never discarding an evaluation, until
-//! the confidence interval is narrow enough.
+//! the confidence interval is narrow enough. When a few more replicates at the points
+//! each has are predicted to meet the tolerance ([`Cubature::growth`]), they are
+//! evaluated instead of a doubling: each costs 1/R of one, and later doublings keep them.
 //!
 //! [`Cubature`] is the state machine every front end drives (ask for the next batch of
 //! points, feed back f's values, read the estimate); [`quad`] runs it on a Rust closure.
@@ -172,6 +174,14 @@ pub enum Rule {
 /// and 0.67–0.73×).
 pub const PILOT_SHARE: f64 = 0.7;
 
+/// Added replicates must be predicted to bring every half-width within this share of
+/// its target. The prediction rests on the spread of a few replicate means, and runs
+/// whose spread came out small by chance are the ones that add replicates and stop: at
+/// the full target the lognormal model at s = 2 and 10⁻³ was within the tolerance in 180
+/// of 200 runs (188 when doubling), at 0.9 in 186, at 0.8 in 185 with half the saving
+/// (results/quad/grow.md).
+pub const GROW_MARGIN: f64 = 0.9;
+
 /// The pilot runs only when the lattice's first-round half-width is above this many
 /// times the target (about four more doublings at an error falling like 1/n): in a
 /// shorter run Sobol's first round would cost a large share of the evaluations.
@@ -326,6 +336,14 @@ pub struct Cubature {
     /// lattice's after its first round, as a progress display sees it).
     #[serde(default)]
     tried: Option<Box<Cubature>>,
+    /// Replicates added to the `replicates` asked for, each evaluated at as many points as
+    /// the others ([`Cubature::growth`]; 0 in states saved before they could be added).
+    #[serde(default)]
+    added: usize,
+    /// Replicates the batch handed out and not yet fed adds (0: it doubles every
+    /// replicate).
+    #[serde(default)]
+    pending_added: usize,
 }
 
 impl Cubature {
@@ -394,6 +412,8 @@ impl Cubature {
             half_sums: Vec::new(),
             spent: 0,
             tried: None,
+            added: 0,
+            pending_added: 0,
         })
     }
 
@@ -419,7 +439,13 @@ impl Cubature {
 
     /// Evaluations of the rule this state holds.
     fn own_n(&self) -> u64 {
-        self.per_replicate * self.options.replicates as u64
+        self.per_replicate * self.replicates() as u64
+    }
+
+    /// Replicates evaluated: the `replicates` asked for and those added when another
+    /// replicate was predicted to meet the tolerance for less than a doubling.
+    pub fn replicates(&self) -> usize {
+        self.options.replicates + self.added
     }
 
     /// Points per replicate of the batch handed out and not yet fed (0: none).
@@ -462,6 +488,8 @@ impl Cubature {
     pub fn reason(&self) -> Option<StopReason> {
         if self.met() {
             Some(StopReason::Met)
+        } else if self.growth() > 0 {
+            None
         } else if self.per_replicate + self.next_size() > EXTENSIBLE_MAX_POINTS {
             Some(StopReason::Sequence)
         } else if self.exhausted() {
@@ -487,13 +515,75 @@ impl Cubature {
         if let Some(sobol) = &self.tried {
             return sobol.exhausted();
         }
+        if self.growth() > 0 {
+            return false;
+        }
         let next = self.per_replicate + self.next_size();
         let others = self.n() - self.own_n();
         next > EXTENSIBLE_MAX_POINTS
             || next
-                .saturating_mul(self.options.replicates as u64)
+                .saturating_mul(self.replicates() as u64)
                 .saturating_add(others)
                 > self.options.max_n
+    }
+
+    /// How many replicates to add at the points each has before doubling (0: double
+    /// now). After a round that missed the tolerance, the cheapest number of added
+    /// replicates, fewer than a doubling's cost of as many as there are, predicted to
+    /// meet it on every output: the Student half-width scaled by t_{R'−1}/√R' over
+    /// t_{R−1}/√R (the replicates' spread as measured), and the round guard by its
+    /// expected size with the new replicates' changes since half their points, each as
+    /// large as the mean square of the measured ones. When the last doubling brought the
+    /// interval to within a small factor of the tolerance, another doubling would
+    /// overshoot it; a replicate costs 1/R of one (results/quad/grow.md).
+    pub fn growth(&self) -> usize {
+        let r = self.replicates();
+        if self.k == 0 || self.tried.is_some() || self.options.rule == Rule::Pilot || self.met() {
+            return 0;
+        }
+        let targets = self.targets();
+        // A half-width that is not finite, or an output whose target is not, is no
+        // spread more replicates narrow.
+        if !(self.half_width().iter().chain(&targets)).all(|v| v.is_finite()) {
+            return 0;
+        }
+        let level = (1.0 + self.options.level) / 2.0;
+        let spread = |r: usize| student_t_quantile(level, (r - 1) as f64) / (r as f64).sqrt();
+        // Per output, the Student half-width and the replicates' changes since half their
+        // points, in the output's scaled units, and its target there.
+        let measured: Vec<(f64, Vec<f64>, f64)> = (0..self.k)
+            .filter(|&j| !self.constant(j))
+            .map(|j| {
+                let (means, e) = self.scaled(j);
+                let changes = self.scaled_half_means(j).map_or(Vec::new(), |half| {
+                    means.iter().zip(&half).map(|(m, h)| m - h).collect()
+                });
+                (
+                    self.scaled_half_width(&means),
+                    changes,
+                    libm::scalbn(targets[j], -e),
+                )
+            })
+            .collect();
+        let budget = self.options.max_n.saturating_sub(self.n());
+        (1..r)
+            .take_while(|add| {
+                r + add <= MAX_REPLICATES && (*add as u64) * self.per_replicate <= budget
+            })
+            .find(|&add| {
+                let wider = spread(r + add) / spread(r);
+                measured.iter().all(|(student, changes, target)| {
+                    let guard = if changes.is_empty() {
+                        0.0
+                    } else {
+                        let sum: f64 = changes.iter().sum();
+                        let square = changes.iter().map(|c| c * c).sum::<f64>() / r as f64;
+                        (sum * sum + add as f64 * square).sqrt() / (r + add) as f64
+                    };
+                    student * wider <= GROW_MARGIN * target && guard <= GROW_MARGIN * target
+                })
+            })
+            .unwrap_or(0)
     }
 
     /// The next batch of points, scaled to the box, as (rows, d) row-major values:
@@ -509,12 +599,18 @@ impl Cubature {
             if self.exhausted() {
                 return None;
             }
-            self.pending = self.next_size();
+            self.pending_added = self.growth();
+            self.pending = if self.pending_added > 0 {
+                self.per_replicate
+            } else {
+                self.next_size()
+            };
         }
-        let (r, m) = (self.options.replicates, self.pending as usize);
+        let (reps, start) = self.pending_replicates();
+        let (r, m) = (reps.len(), self.pending as usize);
         let mut data = vec![0.0; r * m * self.d];
-        for (rep, chunk) in data.chunks_exact_mut(m * self.d).enumerate() {
-            self.fill_replicate(rep as u64, m, chunk);
+        for (rep, chunk) in reps.zip(data.chunks_exact_mut(m * self.d)) {
+            self.fill_replicate(rep as u64, start, m, chunk);
             for row in chunk.chunks_exact_mut(self.d) {
                 for ((x, a), w) in row.iter_mut().zip(&self.lower).zip(&self.width) {
                     *x = a + w * *x;
@@ -524,13 +620,23 @@ impl Cubature {
         Some(PointSet::new(r * m, self.d, data).expect("non-empty batch"))
     }
 
-    /// Replicate `rep`'s next m points, before the box's scaling, into `out`.
-    fn fill_replicate(&self, rep: u64, m: usize, out: &mut [f64]) {
-        let (seed, start) = (self.options.seed, self.per_replicate);
+    /// The replicates of the pending batch and the index of their first point: every
+    /// replicate from its `per_replicate`-th point, or the added ones from their first.
+    fn pending_replicates(&self) -> (std::ops::Range<usize>, u64) {
+        let r = self.replicates();
+        if self.pending_added > 0 {
+            (r..r + self.pending_added, 0)
+        } else {
+            (0..r, self.per_replicate)
+        }
+    }
+
+    /// Replicate `rep`'s points `start..start + m`, before the box's scaling, into `out`.
+    fn fill_replicate(&self, rep: u64, start: u64, m: usize, out: &mut [f64]) {
         debug_assert_eq!(out.len(), m * self.d);
         self.options
             .rule
-            .fill(self.d, seed, SOBOL_KEY, rep, start, out);
+            .fill(self.d, self.options.seed, SOBOL_KEY, rep, start, out);
     }
 
     /// Takes f's values at the batch of [`Cubature::next_points`]: rows × k values,
@@ -543,7 +649,7 @@ impl Cubature {
             self.pilot();
             return Ok(());
         }
-        let r = self.options.replicates;
+        let r = self.pending_replicates().0.len();
         let m = self.pending as usize;
         let rows = r * m;
         if m == 0 || points.n() != rows {
@@ -652,7 +758,7 @@ impl Cubature {
     /// Adds a batch's values (m points per replicate, k outputs) to the sums, first
     /// raising an output's shift when its largest |f| so far needs it.
     fn accumulate(&mut self, k: usize, m: usize, values: &[f64]) {
-        let r = self.options.replicates;
+        let r = self.replicates();
         if self.k == 0 {
             self.k = k;
             self.sums = vec![0.0; r * k];
@@ -687,29 +793,41 @@ impl Cubature {
                 self.shift[j] = need;
             }
         }
-        // The sums at half the points after this batch: those before it, or, for a first
-        // batch, those of its first half (a state saved without them keeps none).
-        let first = self.per_replicate == 0;
-        if !first && self.half_sums.len() == self.sums.len() {
+        // The sums at half the points after this batch: those before it, or, for a batch
+        // of each replicate's first points (the first batch, or added replicates), those
+        // of its first half (a state saved without them keeps none).
+        let (reps, start) = self.pending_replicates();
+        let fresh = start == 0;
+        if !fresh && self.half_sums.len() == self.sums.len() {
             self.half_sums.clone_from(&self.sums);
         }
-        let mut half = vec![0.0; if first && m > 1 { r * k } else { 0 }];
-        for (rep, block) in values.chunks_exact(m * k).enumerate() {
+        self.sums.resize(reps.end * k, 0.0);
+        let mut half = Vec::new();
+        for (rep, block) in reps.clone().zip(values.chunks_exact(m * k)) {
             let sums = &mut self.sums[rep * k..(rep + 1) * k];
             for (i, row) in block.chunks_exact(k).enumerate() {
-                if i == m / 2 && !half.is_empty() {
-                    half[rep * k..(rep + 1) * k].copy_from_slice(sums);
+                if fresh && m > 1 && i == m / 2 {
+                    half.extend_from_slice(sums);
                 }
                 for ((s, v), e) in sums.iter_mut().zip(row).zip(&self.shift) {
                     *s += if *e == 0 { *v } else { libm::scalbn(*v, -e) };
                 }
             }
         }
-        if first {
-            self.half_sums = half;
+        if fresh {
+            if self.half_sums.len() == reps.start * k {
+                self.half_sums.append(&mut half);
+            } else {
+                self.half_sums.clear();
+            }
         }
-        self.per_replicate += self.pending;
+        if self.pending_added > 0 {
+            self.added += self.pending_added;
+        } else {
+            self.per_replicate += self.pending;
+        }
         self.pending = 0;
+        self.pending_added = 0;
     }
 
     /// Refuses an estimate or half-width beyond the largest float, naming f and why. A
@@ -763,7 +881,7 @@ impl Cubature {
 
     /// Output j's R replicate means divided by 2^e, and e.
     fn scaled(&self, j: usize) -> (Vec<f64>, i32) {
-        let (r, k) = (self.options.replicates, self.k);
+        let (r, k) = (self.replicates(), self.k);
         let (mantissa, e) = self.volume();
         let scale = mantissa / self.per_replicate.max(1) as f64;
         let shift = self.shift.get(j).copied().unwrap_or(0);
@@ -774,13 +892,23 @@ impl Cubature {
     /// Output j's estimate at half the points of each replicate divided by the 2^e of
     /// [`Cubature::scaled`] (`None` without the half sums).
     fn scaled_half_estimate(&self, j: usize) -> Option<f64> {
-        let (r, k) = (self.options.replicates, self.k);
+        let half = self.scaled_half_means(j)?;
+        Some(half.iter().sum::<f64>() / half.len() as f64)
+    }
+
+    /// Output j's replicate means at half the points of each, divided by the 2^e of
+    /// [`Cubature::scaled`] (`None` without the half sums).
+    fn scaled_half_means(&self, j: usize) -> Option<Vec<f64>> {
+        let (r, k) = (self.replicates(), self.k);
         if self.half_sums.len() != r * k || self.per_replicate < 2 {
             return None;
         }
         let scale = self.volume().0 / (self.per_replicate / 2) as f64;
-        let total: f64 = (0..r).map(|rep| self.half_sums[rep * k + j] * scale).sum();
-        Some(total / r as f64)
+        Some(
+            (0..r)
+                .map(|rep| self.half_sums[rep * k + j] * scale)
+                .collect(),
+        )
     }
 
     /// The half-width of output j from its scaled replicate means: the Student t
@@ -1031,7 +1159,7 @@ impl From<Cubature> for QuadResult {
             estimate: state.estimate(),
             half_width: state.half_width(),
             n: state.n(),
-            replicates: state.options.replicates,
+            replicates: state.replicates(),
             met: state.met(),
             reason: state.reason(),
             warnings: state.warnings(),
@@ -1433,20 +1561,23 @@ mod tests {
 
     #[test]
     fn known_integrals_are_reached_within_the_tolerance() {
+        // The interval is at level 0.95: of 20 seeds, a miss or two is its level; more
+        // than three would be a fault (1.6 % likely at 95 % coverage).
         let exact = 1.0 + (std::f64::consts::E - 1.0).powi(2);
         for rel_tol in [1e-2, 1e-4, 1e-6] {
-            let opts = QuadOptions {
-                rel_tol,
-                ..QuadOptions::default()
-            };
-            let r = quad(product_exp, 4, opts).unwrap();
-            assert!(r.met, "rel_tol {rel_tol}: {r:?}");
-            assert!(
-                (r.estimate[0] - exact).abs() <= rel_tol * exact,
-                "rel_tol {rel_tol}: {} vs {exact}",
-                r.estimate[0]
-            );
-            assert!(r.half_width[0] <= rel_tol * r.estimate[0].abs());
+            let mut within = 0;
+            for seed in 0..20 {
+                let opts = QuadOptions {
+                    rel_tol,
+                    seed,
+                    ..QuadOptions::default()
+                };
+                let r = quad(product_exp, 4, opts).unwrap();
+                assert!(r.met, "rel_tol {rel_tol}: {r:?}");
+                assert!(r.half_width[0] <= rel_tol * r.estimate[0].abs());
+                within += usize::from((r.estimate[0] - exact).abs() <= rel_tol * exact);
+            }
+            assert!(within >= 17, "rel_tol {rel_tol}: {within} of 20 within");
         }
     }
 
@@ -1542,7 +1673,13 @@ mod tests {
             .unwrap();
         assert!(met);
         assert!(seen.len() >= 2, "{seen:?}");
-        assert!(seen.windows(2).all(|w| w[1] == 2 * w[0]), "{seen:?}");
+        // Each round doubles, or adds whole replicates for less than a doubling.
+        let per = state.per_replicate();
+        assert!(
+            seen.windows(2)
+                .all(|w| w[1] == 2 * w[0] || (w[1] < 2 * w[0] && (w[1] - w[0]) % per == 0)),
+            "{seen:?}"
+        );
         assert_eq!(*seen.last().unwrap(), state.n());
     }
 
@@ -2151,5 +2288,173 @@ mod tests {
         assert!(v.as_slice()[0].is_finite() && v.as_slice()[0] > 8.0);
         assert_eq!(v.as_slice()[1], 3.0);
         assert_eq!(&v.as_slice()[2..], &[0.0, 1.0]);
+    }
+
+    /// Drives `state` with f, keeping each replicate's values in the order of its points
+    /// (doubling batches extend every replicate, added ones start new replicates).
+    fn drive(state: &mut Cubature, f: fn(&PointSet) -> Vec<f64>, rounds: usize) -> Vec<Vec<f64>> {
+        let mut kept: Vec<Vec<f64>> = Vec::new();
+        for _ in 0..rounds {
+            let Some(p) = state.next_points() else { break };
+            let v = f(&p);
+            let m = state.pending() as usize;
+            let added = state.pending_added;
+            if added == 0 {
+                kept.resize(v.len() / m, Vec::new());
+                for (rep, block) in v.chunks_exact(m).enumerate() {
+                    kept[rep].extend_from_slice(block);
+                }
+            } else {
+                kept.extend(v.chunks_exact(m).map(|b| b.to_vec()));
+            }
+            state.feed(&p, &v).unwrap();
+        }
+        kept
+    }
+
+    fn sd(x: &[f64]) -> f64 {
+        let mean = x.iter().sum::<f64>() / x.len() as f64;
+        (x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (x.len() - 1) as f64).sqrt()
+    }
+
+    #[test]
+    fn replicates_are_added_when_predicted_to_meet_the_tolerance_for_less_than_a_doubling() {
+        // t_{ν, 0.975} for ν = 3 … 7 (tables).
+        let t = [
+            3.182446305284263,
+            2.776445105197799,
+            2.570581835636314,
+            2.446911851144969,
+            2.364624251592785,
+            2.306004135204166,
+            2.262157162798205,
+            2.228138851986274,
+            2.200985160082949,
+            2.178812829667228,
+        ];
+        let (mut grew, mut doubled) = (0, 0);
+        for rel_tol in (0..40).map(|i| 3e-3 * 0.85f64.powi(i)) {
+            let opts = QuadOptions {
+                rel_tol,
+                ..QuadOptions::default()
+            };
+            let mut state = Cubature::new(3, opts).unwrap();
+            let kept = drive(&mut state, product_exp, 2);
+            if state.met() {
+                continue;
+            }
+            // The prediction from the values alone: the Student half-width with R + a
+            // replicates at the measured spread, and the round guard's expected size with
+            // a new replicates whose changes since half their points have the mean square
+            // of the measured ones, both within 0.9 of the target.
+            let r = kept.len();
+            let means: Vec<f64> = kept
+                .iter()
+                .map(|v| v.iter().sum::<f64>() / v.len() as f64)
+                .collect();
+            let changes: Vec<f64> = kept
+                .iter()
+                .zip(&means)
+                .map(|(v, m)| m - v[..v.len() / 2].iter().sum::<f64>() / (v.len() / 2) as f64)
+                .collect();
+            let estimate = means.iter().sum::<f64>() / r as f64;
+            let target = rel_tol * estimate.abs();
+            let square = changes.iter().map(|c| c * c).sum::<f64>() / r as f64;
+            let expected = (1..r)
+                .find(|&a| {
+                    let student = t[r + a - 4] * sd(&means) / ((r + a) as f64).sqrt();
+                    let sum: f64 = changes.iter().sum();
+                    let guard = (sum * sum + a as f64 * square).sqrt() / (r + a) as f64;
+                    student <= 0.9 * target && guard <= 0.9 * target
+                })
+                .unwrap_or(0);
+            assert_eq!(state.growth(), expected, "rel_tol {rel_tol}");
+            // The next batch is that many replicates at the points each has, or a doubling.
+            let per = state.per_replicate();
+            let n = state.next_points().unwrap().n() as u64;
+            if expected > 0 {
+                grew += 1;
+                assert_eq!(n, expected as u64 * per);
+            } else {
+                doubled += 1;
+                assert_eq!(n, r as u64 * per);
+            }
+        }
+        assert!(grew > 0 && doubled > 0, "grew {grew}, doubled {doubled}");
+    }
+
+    #[test]
+    fn an_added_replicate_is_the_one_a_run_with_more_replicates_holds() {
+        // A run that added replicates holds the sums, the guard and the interval of a run
+        // asked for that many, at the same points per replicate.
+        let grown = (0..12)
+            .map(|i| {
+                let opts = QuadOptions {
+                    rel_tol: 1e-3 * 0.7f64.powi(i),
+                    ..QuadOptions::default()
+                };
+                quad(product_exp, 3, opts).unwrap()
+            })
+            .find(|r| r.replicates > DEFAULT_REPLICATES)
+            .expect("some tolerance adds a replicate");
+        let state = &grown.state;
+        assert_eq!(state.replicate_means()[0].len(), grown.replicates);
+        assert_eq!(grown.n, state.per_replicate() * grown.replicates as u64);
+        // The same seed asked for that many replicates, never meeting (targets of 0, so
+        // never adding), to the same points per replicate.
+        let mut asked = Cubature::new(
+            3,
+            QuadOptions {
+                rel_tol: 0.0,
+                replicates: grown.replicates,
+                ..QuadOptions::default()
+            },
+        )
+        .unwrap();
+        while asked.per_replicate() < state.per_replicate() {
+            drive(&mut asked, product_exp, 1);
+        }
+        assert_eq!(asked.replicate_means(), state.replicate_means());
+        assert_eq!(asked.round_change(), state.round_change());
+        assert_eq!(asked.half_width(), state.half_width());
+    }
+
+    #[test]
+    fn a_state_saved_with_added_replicates_pending_continues_alike() {
+        let mut state = (0..12)
+            .map(|i| {
+                let opts = QuadOptions {
+                    rel_tol: 1e-3 * 0.7f64.powi(i),
+                    ..QuadOptions::default()
+                };
+                let mut s = Cubature::new(3, opts).unwrap();
+                while !s.met() && s.growth() == 0 && !s.exhausted() {
+                    drive(&mut s, product_exp, 1);
+                }
+                s
+            })
+            .find(|s| s.growth() > 0)
+            .expect("some tolerance adds a replicate");
+        let p = state.next_points().unwrap();
+        let text = serde_json::to_string(&state).unwrap();
+        let mut back: Cubature = serde_json::from_str(&text).unwrap();
+        assert_eq!(back.next_points().unwrap(), p);
+        let v = product_exp(&p);
+        state.feed(&p, &v).unwrap();
+        back.feed(&p, &v).unwrap();
+        assert_eq!(back, state);
+        assert!(state.replicates() > DEFAULT_REPLICATES);
+        // A state saved before replicates could be added reads back with none added.
+        let mut old: serde_json::Value = serde_json::to_value(&state).unwrap();
+        let fields = old.as_object_mut().unwrap();
+        let added = fields.remove("added").unwrap();
+        fields.remove("pending_added").unwrap();
+        fields["options"]["replicates"] = added
+            .as_u64()
+            .map(|a| (a as usize + DEFAULT_REPLICATES).into())
+            .unwrap();
+        let old: Cubature = serde_json::from_value(old).unwrap();
+        assert_eq!(old.replicates(), state.replicates());
+        assert_eq!(old.half_width(), state.half_width());
     }
 }

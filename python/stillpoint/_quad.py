@@ -52,8 +52,11 @@ class QuadResult(_Result):
 
     @property
     def replicates(self) -> int:
-        """Independent random shifts R."""
-        return int(self._state.replicates)
+        """Independent randomisations R evaluated: the ``replicates`` asked for, and those
+        added when one more was predicted to meet the tolerance for less than a
+        doubling."""
+        means = self._state.replicate_means
+        return len(means[0]) if means else int(self._state.replicates)
 
     @property
     def d(self) -> int:
@@ -131,7 +134,9 @@ def quad(
 
     The points are R = ``replicates`` randomisations of one extensible rule; n doubles,
     keeping every evaluation, until each output's half-width is at most
-    ``max(abs_tol, rel_tol * |estimate|)`` or ``max_n`` would be passed. The rule, the
+    ``max(abs_tol, rel_tol * |estimate|)`` or ``max_n`` would be passed; when a few more
+    replicates at the points each has are predicted to meet the tolerance for less than a
+    doubling, they are evaluated instead (and later doublings keep them). The rule, the
     interval and its measured coverage: [Integration, to a
     tolerance](integration.md#to-a-tolerance); examples: [Python and
     SciPy](python.md#integrating-to-a-tolerance).
@@ -155,8 +160,9 @@ def quad(
     level : float, optional
         The confidence level of the interval, in (0, 1); by default 0.95.
     replicates : int, optional
-        Independent randomisations R, 2 to 16384, by default 4; fewer than 4 warn (the
-        t quantile is then large and the interval unreliable).
+        Independent randomisations R to start with, 2 to 16384, by default 4; fewer
+        than 4 warn (the t quantile is then large and the interval unreliable). The
+        result's ``replicates`` counts those added on the way.
     max_n : int, optional
         The most evaluations of f, all replicates together; by default 2^20.
     space : list or dict, optional

@@ -417,3 +417,28 @@ def test_the_rule_follows_the_laws_and_says_why():
         sp.quad(f, 1, start=r, rule="lattice")
     with pytest.raises(ValueError, match=r"invalid rule = 'halton': expected lattice"):
         sp.quad(f, 1, rule="halton")
+
+
+def _grown():
+    """A result that added replicates (the first tolerance, from a sweep, at which one
+    did)."""
+    for i in range(40):
+        r = sp.quad(product_peak, 3, rel_tol=3e-3 * 0.85**i, seed=2)
+        if r.replicates > 4:
+            return r, 3e-3 * 0.85**i
+    pytest.fail("no tolerance of the sweep added a replicate")
+
+
+def test_added_replicates_are_counted_and_continued():
+    r, tol = _grown()
+    assert r.met and r.half_width <= tol * abs(r.estimate)
+    # Every replicate has as many points; the means are the replicates counted.
+    assert len(r.replicate_means) == r.replicates
+    assert r.n % r.replicates == 0
+    assert abs(r.estimate - float(np.mean(r.replicate_means))) <= 1e-12 * abs(r.estimate)
+    # The replicates asked for (4, the default) continue it; doublings keep the added.
+    more = sp.quad(product_peak, 3, rel_tol=tol / 10, start=r, replicates=4)
+    assert more.met and more.replicates >= r.replicates and more.n > r.n
+    # A pickled result continues to the same answer.
+    back = sp.quad(product_peak, 3, rel_tol=tol / 10, start=pickle.loads(pickle.dumps(r)))
+    assert (back.n, back.estimate, back.replicates) == (more.n, more.estimate, more.replicates)
