@@ -893,6 +893,8 @@ mod tests {
         }
         // The largest prime and power of two the plain search tries exhaustively.
         cases.extend([(23_167, 4), (32_768, 3)]);
+        // The pair guard refuses the criterion's pick from the 36th coordinate on.
+        cases.push((4_096, 40));
         for (n, s) in cases {
             let plain = tent_lattice_generator_plain(n, s).unwrap();
             assert_eq!(tent_lattice_generator(n, s).unwrap(), plain, "n = {n}");
