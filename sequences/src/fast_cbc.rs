@@ -235,7 +235,7 @@ fn transform(buf: &mut [Complex<f64>], dims: &[usize], plans: &[Arc<dyn Fft<f64>
     }
 }
 
-fn mul_mod(a: u64, b: u64, m: u64) -> u64 {
+pub(super) fn mul_mod(a: u64, b: u64, m: u64) -> u64 {
     ((u128::from(a) * u128::from(b)) % u128::from(m)) as u64
 }
 
@@ -294,8 +294,8 @@ fn divisors(factors: &Factors) -> Vec<(u64, Vec<(u64, u32)>)> {
     out
 }
 
-/// The inverse of a modulo m (gcd(a, m) = 1).
-fn inverse_mod(a: u64, m: u64) -> u64 {
+/// The inverse of a modulo m (gcd(a, m) = 1; 0 for m = 1).
+pub(super) fn inverse_mod(a: u64, m: u64) -> u64 {
     let (mut r0, mut r1) = (i128::from(m), i128::from(a % m));
     let (mut s0, mut s1) = (0i128, 1i128);
     while r1 != 0 {
