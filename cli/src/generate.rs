@@ -25,7 +25,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     if a.plot.is_some() && cfg.s < 2 {
         bail!("invalid --plot with -s = {}: plots need s ≥ 2", cfg.s);
     }
-    notes_before(&resolved, a.quiet);
+    // A refused checkpoint is refused before any note, as every other refusal is.
     let plan = checkpoint_plan(
         a.checkpoint.clone(),
         a.checkpoint_every,
@@ -33,6 +33,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         Value::Null,
         a.quiet,
     )?;
+    notes_before(&resolved, a.quiet);
     let mut progress = Progress::new(a.quiet, a.progress);
     let outcome = resolved.run(plan.as_ref(), |e| progress.event(e))?;
     progress.finish();
