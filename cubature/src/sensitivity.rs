@@ -148,7 +148,8 @@ pub struct SensitivityOptions {
     /// The total estimator (states saved before it existed: Jansen's).
     #[serde(default = "TotalOrder::saved")]
     pub total_order: TotalOrder,
-    /// Independent shifts R, at least 2.
+    /// Replicates R, at least 2: aligned blocks of the one randomised sequence (in states
+    /// saved before blocks, independent randomisations).
     pub replicates: usize,
     /// The most evaluations of f, all replicates together.
     pub max_n: u64,
