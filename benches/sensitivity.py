@@ -5,7 +5,8 @@ closed-form indices.
 Two measurements:
 
 * equal evaluations: every method gets N·(d + 2) evaluations (N = 2^m base points;
-  stillpoint's 4 replicates share them, N/4 points each), and the RMSE of all 2d indices
+  stillpoint's estimate uses all N, its 8 replicates being blocks of N/8 for the
+  interval), and the RMSE of all 2d indices
   against the closed form is taken over `--reps` seeds;
 * to a tolerance: stillpoint runs with abs_tol; each reference doubles its base sample N
   (from 64) until every half-width it reports (SALib's bootstrap `*_conf`, SciPy's

@@ -192,7 +192,7 @@ pub(crate) fn sensitivity_command(q: SensitivityArgs) -> Result<()> {
             Some(StopReason::Met) | None => "yes".to_string(),
             Some(StopReason::MaxN) => format!("no: --max-n {} reached first", options.max_n),
             Some(StopReason::Sequence) => {
-                "no: the sequence's points per replicate reached first".to_string()
+                "no: the sequence's 2^20 points reached first".to_string()
             }
         };
         outln!("met          {why}");

@@ -8,10 +8,11 @@
 //! Owen-scrambled Sobol' points, [`Rule`]): point k of replicate r is u ∈ [0, 1)^{2d},
 //! input i's A coordinate is u_{2i−1} and its B coordinate u_{2i} (neighbours among the
 //! rule's leading coordinates, whose projections are its best), and f is evaluated at A, at B and, for each input i, at AB_i (A with
-//! coordinate i taken from B): d + 2 evaluations per point. The number of points
-//! doubles, each batch extending the last (no evaluation is discarded), on R independent
-//! randomisations (4 by default), until every index's half-width is at most `abs_tol`.
-//! The lattice has 1 000 coordinates, so d ≤ 500 inputs.
+//! coordinate i taken from B): d + 2 evaluations per point. The points are the first N
+//! of one randomised sequence, cut into R aligned blocks of N/R (4 by default, the
+//! replicates); N doubles, each batch extending the last (no evaluation is discarded;
+//! the earlier blocks merge in pairs), until every index's half-width is at most
+//! `abs_tol`. The lattice has 1 000 coordinates, so d ≤ 500 inputs, and 2^20 points.
 //!
 //! The estimators (with y the output centred by a constant fixed at the first batch, V
 //! its variance from the A and B values together):
@@ -35,8 +36,11 @@
 //! ([`FirstOrder::Saltelli`]).
 //!
 //! The interval: every index is a smooth function of means over the points; the estimate
-//! uses the means pooled over the R replicates, and its standard error is the jackknife
-//! over the replicates (leave one replicate out, which are independent), with the
+//! uses the means pooled over the R blocks (the one rule of N points), and its standard
+//! error is the jackknife over the blocks (leave one block out; each block is itself a
+//! randomised rule, and as they are dependent the jackknife measures the spread of rules
+//! of N/R points, wider than the error of the rule of N when that errs less than R
+//! independent rules of N/R would), with the
 //! Student t quantile on R − 1 degrees of freedom, as `stillpoint::cubature`'s interval,
 //! raised to the index's change since half the points when that is larger (quad's round
 //! guard: it costs no evaluation, and catches replicates that agree by chance).
@@ -49,12 +53,13 @@ use crate::{student_t_quantile, Rule, StopReason, DEFAULT_START_N};
 use crate::{Error, PointSet};
 use stillpoint_sequences::{EXTENSIBLE_MAX_D, EXTENSIBLE_MAX_POINTS};
 
-/// Independent randomisations by default, as quad's: the pooled estimate of R
-/// replicates of n/R points errs about R^(α−1/2) times more than one sample of n when
-/// the error falls as n^−α, so fewer replicates give both a smaller error and (with the
-/// t quantile on R − 1 degrees of freedom) a narrower interval; the round guard keeps
-/// the intervals' coverage (results/sensitivity/design.md).
-pub const REPLICATES: usize = crate::DEFAULT_REPLICATES;
+/// Replicates (blocks of the one sequence) by default: 8, not quad's 4. The estimate
+/// is the rule of all N points whatever R is, so more blocks cost no accuracy, and the
+/// interval on 7 degrees of freedom rather than 3 reached a half-width of 0.02 in at
+/// most the evaluations of SALib's bootstrap on all seven models of the benchmark (the
+/// G function with six a = 0 in a quarter of 4 blocks' evaluations, the product in half;
+/// results/sensitivity/design.md).
+pub const REPLICATES: usize = 8;
 
 /// The rule by default: the tent lattice, whose error at equal evaluations was lower
 /// than Owen-scrambled Sobol' points' on five of seven models and which reaches a
@@ -143,7 +148,8 @@ pub struct SensitivityOptions {
     /// The total estimator (states saved before it existed: Jansen's).
     #[serde(default = "TotalOrder::saved")]
     pub total_order: TotalOrder,
-    /// Independent shifts R, at least 2.
+    /// Replicates R, at least 2: aligned blocks of the one randomised sequence (in states
+    /// saved before blocks, independent randomisations).
     pub replicates: usize,
     /// The most evaluations of f, all replicates together.
     pub max_n: u64,
@@ -215,6 +221,31 @@ pub struct Sensitivity {
     /// Which coordinates of the 2d-dimensional points are A's and which B's.
     #[serde(default)]
     layout: Layout,
+    /// How the R replicates are drawn (states saved before blocks were kept:
+    /// independent randomisations).
+    #[serde(default)]
+    replicas: Replicas,
+}
+
+/// How the R replicates the interval is computed from are drawn. As blocks, the points
+/// are the first N of one randomised sequence and replicate r is its r-th aligned block
+/// of N/R (for the lattice a randomly shifted copy of the N/R-point lattice, for
+/// Owen-scrambled Sobol' a scrambled net): each block is an unbiased rule, and the
+/// estimate pools them into the one rule of N points, whose error on smooth models is
+/// far below that of R independent rules of N/R points pooled (at N = 1 024 base points:
+/// 17× lower on the linear model, 2× on the product, 1.3–1.6× on three G functions;
+/// results/sensitivity/design.md). The blocks are dependent, so the jackknife over them
+/// measures the spread of rules of N/R points rather than the pooled rule's error: the
+/// interval is wider than the error it bounds whenever the rule of N points errs less
+/// than R independent rules of N/R would (the expected squared spread exceeds the
+/// pooled error's variance when the variance falls at least as fast as 1/N).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+enum Replicas {
+    /// R independent randomisations of N/R points each (states saved before blocks).
+    #[default]
+    Independent,
+    /// R aligned blocks of one randomised sequence of N points.
+    Blocks,
 }
 
 /// Where A and B sit among the sequence's 2d coordinates. Interleaved, each input's A
@@ -313,6 +344,7 @@ impl Sensitivity {
             sums: Vec::new(),
             half_sums: Vec::new(),
             layout: Layout::Interleaved,
+            replicas: Replicas::Blocks,
         })
     }
 
@@ -404,11 +436,22 @@ impl Sensitivity {
             .saturating_mul(self.d as u64 + 2)
     }
 
+    /// Whether the next doubling would pass the sequence's 2^20 points (per replicate
+    /// for independent ones, all blocks together for blocks of one sequence).
+    fn beyond_sequence(&self) -> bool {
+        let next = self.per_replicate + self.next_size();
+        let points = match self.replicas {
+            Replicas::Independent => next,
+            Replicas::Blocks => next.saturating_mul(self.options.replicates as u64),
+        };
+        points > EXTENSIBLE_MAX_POINTS
+    }
+
     /// Whether the next doubling would pass `max_n` evaluations or the sequence's 2^20
-    /// points per replicate.
+    /// points.
     pub fn exhausted(&self) -> bool {
         let next = self.per_replicate + self.next_size();
-        next > EXTENSIBLE_MAX_POINTS || self.cost(next) > self.options.max_n
+        self.beyond_sequence() || self.cost(next) > self.options.max_n
     }
 
     /// Why the run stops here: `None` while another doubling may be made and the
@@ -416,7 +459,7 @@ impl Sensitivity {
     pub fn reason(&self) -> Option<StopReason> {
         if self.met() {
             Some(StopReason::Met)
-        } else if self.per_replicate + self.next_size() > EXTENSIBLE_MAX_POINTS {
+        } else if self.beyond_sequence() {
             Some(StopReason::Sequence)
         } else if self.exhausted() {
             Some(StopReason::MaxN)
@@ -438,11 +481,23 @@ impl Sensitivity {
         }
         let (r, m, d) = (self.options.replicates, self.pending as usize, self.d);
         let rows = d + 2;
-        let mut u = vec![0.0; m * 2 * d];
+        let mut raw = vec![0.0; r * m * 2 * d];
+        match self.replicas {
+            Replicas::Independent => {
+                for (rep, u) in raw.chunks_exact_mut(m * 2 * d).enumerate() {
+                    self.fill(rep as u64, self.per_replicate, m, u);
+                }
+            }
+            // The next R·m points of the one sequence: R new blocks of m, which merge
+            // with the earlier R in pairs (see `accumulate`).
+            Replicas::Blocks => self.fill(0, r as u64 * self.per_replicate, r * m, &mut raw),
+        }
         let (mut a, mut b) = (vec![0.0; d], vec![0.0; d]);
         let mut data = vec![0.0; r * m * rows * d];
-        for (rep, chunk) in data.chunks_exact_mut(m * rows * d).enumerate() {
-            self.fill_replicate(rep as u64, m, &mut u);
+        for (u, chunk) in raw
+            .chunks_exact(m * 2 * d)
+            .zip(data.chunks_exact_mut(m * rows * d))
+        {
             for (point, block) in u.chunks_exact(2 * d).zip(chunk.chunks_exact_mut(rows * d)) {
                 self.layout.split(point, &mut a, &mut b);
                 let (a, b) = (&a[..], &b[..]);
@@ -463,13 +518,13 @@ impl Sensitivity {
         Some(PointSet::new(r * m * rows, d, data).expect("non-empty batch"))
     }
 
-    /// Replicate `rep`'s next m points in 2d dimensions, before the box's scaling.
-    fn fill_replicate(&self, rep: u64, m: usize, out: &mut [f64]) {
-        let (seed, start) = (self.options.seed, self.per_replicate);
+    /// Points `start`.. of randomisation `rep` in 2d dimensions, before the box's
+    /// scaling (as many as `out` holds).
+    fn fill(&self, rep: u64, start: u64, m: usize, out: &mut [f64]) {
         debug_assert_eq!(out.len(), m * 2 * self.d);
         self.options
             .rule
-            .fill(2 * self.d, seed, SOBOL_KEY, rep, start, out);
+            .fill(2 * self.d, self.options.seed, SOBOL_KEY, rep, start, out);
     }
 
     /// Takes f's values at the batch of [`Sensitivity::next_points`]: rows × k values,
@@ -528,12 +583,20 @@ impl Sensitivity {
         Ok(())
     }
 
+    /// Adds the batch's sums to the replicates'. Blocks of one sequence: the batch is R
+    /// new blocks as long as the earlier ones, and block r after it is the union of
+    /// blocks 2r and 2r + 1 of the 2R (earlier, then new) before it.
     fn accumulate(&mut self, m: usize, values: &[f64]) {
         let (r, d, k) = (self.options.replicates, self.d, self.k);
         let width = HEAD + d * PER_INPUT;
+        let fresh = self.replicas == Replicas::Blocks && self.per_replicate > 0;
         let scale: Vec<f64> = self.scale.iter().map(|&e| pow2(-e)).collect();
         let y = |row: usize, j: usize| (values[row * k + j] - self.centre[j]) * scale[j];
-        let mut sums = std::mem::take(&mut self.sums);
+        let mut sums = if fresh {
+            vec![0.0; self.sums.len()]
+        } else {
+            std::mem::take(&mut self.sums)
+        };
         for rep in 0..r {
             for j in 0..k {
                 let s = &mut sums[(rep * k + j) * width..(rep * k + j + 1) * width];
@@ -555,6 +618,18 @@ impl Sensitivity {
                     }
                 }
             }
+        }
+        if fresh {
+            let block = k * width;
+            let earlier = std::mem::take(&mut self.sums);
+            let all: Vec<&[f64]> = earlier
+                .chunks_exact(block)
+                .chain(sums.chunks_exact(block))
+                .collect();
+            sums = all
+                .chunks_exact(2)
+                .flat_map(|pair| pair[0].iter().zip(pair[1]).map(|(x, y)| x + y))
+                .collect();
         }
         self.sums = sums;
     }

@@ -1,8 +1,8 @@
 """Sobol' sensitivity indices to a tolerance: :func:`sobol_indices` evaluates f on a
 pick-freeze design drawn from the extensible randomised lattice in 2d dimensions
 (Owen-scrambled Sobol' points under an unbounded law), doubling the points (never
-discarding an evaluation) on R independent randomisations until every index's interval
-is narrow enough; :class:`SobolResult` holds the indices, their
+discarding an evaluation), the estimate from all of them and the interval from R blocks
+of them, until every index's interval is narrow enough; :class:`SobolResult` holds the indices, their
 half-widths and the state to continue from."""
 
 from __future__ import annotations
@@ -87,7 +87,7 @@ class SobolResult(_Result):
     @property
     def reason(self) -> Optional[str]:
         """Why the run stopped: ``"met"``, ``"max_n"`` (continue with a larger one
-        through ``start=``) or ``"sequence"`` (2^20 points per replicate are used). None
+        through ``start=``) or ``"sequence"`` (the sequence's 2^20 points are used). None
         only for a result seen by a ``progress`` callable before the last round."""
         return self._state.reason
 
@@ -103,7 +103,8 @@ class SobolResult(_Result):
 
     @property
     def replicates(self) -> int:
-        """Independent random shifts R."""
+        """Replicates R: the blocks of the one randomised sequence the intervals come
+        from."""
         return int(self._state.settings[4])
 
     @property
@@ -140,17 +141,19 @@ def sobol_indices(
     """The first-order and total Sobol' indices of f's inputs to a tolerance.
 
     The inputs are independent: uniform on the box [a, b] (the unit cube by default), or
-    distributed as the variables of ``space``. For each point (A, B) of R independent
-    shifts of the extensible randomised lattice in 2d dimensions (Owen-scrambled Sobol'
-    points when a law of ``space`` is unbounded, as for :func:`quad`; each input's A and
-    B coordinates neighbours), f is evaluated at A, at B and at each AB_i (A with input i
-    taken from B): d + 2 evaluations per point. From
-    64 points per replicate, the points double, extending the earlier ones, until every
-    index's half-width is at most ``abs_tol``, or the next round would pass ``max_n``
-    evaluations (``met`` is then False). Total indices are Janon et al. (2014)'s; first
+    distributed as the variables of ``space``. For each point (A, B) of the extensible
+    randomised lattice in 2d dimensions (Owen-scrambled Sobol' points when a law of
+    ``space`` is unbounded, as for :func:`quad`; each input's A and B coordinates
+    neighbours), f is evaluated at A, at B and at each AB_i (A with input i taken from
+    B): d + 2 evaluations per point. The points are the first N of one randomised
+    sequence, cut into R aligned blocks (the replicates, 8 by default); from 64 points
+    per block, N doubles, extending the earlier points, until every index's half-width
+    is at most ``abs_tol``, or the next round would pass ``max_n`` evaluations (``met``
+    is then False). Total indices are Janon et al. (2014)'s; first
     order ones Saltelli et al. (2010)'s by default (the more accurate of the two
-    measured, for small indices most of all), Janon et al. (2014)'s by name. The
-    intervals are Student t intervals from a jackknife over the replicates, raised to
+    measured, for small indices most of all), Janon et al. (2014)'s by name, each from
+    all N points. The intervals are Student t intervals from a jackknife over the
+    blocks (each a randomised rule of N/R points, so they err on the wide side), raised to
     each index's change since half the points when that is larger. Up to 500
     inputs (the sequence's 1 000 coordinates hold A and B).
 
@@ -179,11 +182,12 @@ def sobol_indices(
     first_estimator : str, optional
         ``"saltelli"`` or ``"janon"``; by default ``"saltelli"``.
     replicates : int, optional
-        Independent shifts R, 2 to 16384 (by default 4).
+        Replicates R, 2 to 16384 (by default 8): the blocks of the one sequence the
+        intervals come from; the estimate uses every point whatever R is.
     max_n : int, optional
         The most evaluations of f, all rounds; by default 2^22.
     seed : int or None
-        The shifts' seed, 0 when omitted; None draws a fresh one.
+        The sequence's seed, 0 when omitted; None draws a fresh one.
     executor : concurrent.futures.Executor, optional
         Evaluates f on chunks of each round in parallel (f must then be picklable); the
         result is the same as in one process.
