@@ -33,7 +33,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
         Value::Null,
         a.quiet,
     )?;
-    notes_before(&resolved, a.quiet);
+    notes_before(&resolved, a.quiet, plan.as_ref().and_then(resumed_at));
     let mut progress = Progress::new(a.quiet, a.progress);
     let outcome = resolved.run(plan.as_ref(), |e| progress.event(e))?;
     progress.finish();
@@ -329,7 +329,7 @@ fn write_baseline(a: &GenerateArgs, resolved: &Resolved) -> Result<()> {
             bail!("invalid {flag} with --method {}: a baseline writes its points only (see `stillpoint baseline`)", a.method.as_deref().unwrap_or_default());
         }
     }
-    notes_before(resolved, a.quiet);
+    notes_before(resolved, a.quiet, None);
     let outcome = resolved.run(None, |_| {})?;
     // The header records the options under their names.
     let mut meta = json!({"generator": "stillpoint"});
@@ -389,9 +389,13 @@ fn design_header(meta: &mut Value, design: &stillpoint::design::Design) {
 }
 
 /// Says what is unusual (even with -q, which hides progress only), and how long a long
-/// run may take (not with -q), before it starts.
-fn notes_before(resolved: &Resolved, quiet: bool) {
-    let long = (!quiet).then(|| resolved.long_run_note_as(&flag_name));
+/// run may take (not with -q), before it starts; a resumed run (`resumed`: the step its
+/// checkpoint holds, and whether it had stopped) by the steps it has left.
+fn notes_before(resolved: &Resolved, quiet: bool, resumed: Option<(usize, bool)>) {
+    let long = (!quiet).then(|| match resumed {
+        Some((step, converged)) => resolved.resumed_note_as(&flag_name, step, converged),
+        None => resolved.long_run_note_as(&flag_name),
+    });
     for text in resolved
         .unusual_as(&flag_name)
         .into_iter()
@@ -406,6 +410,16 @@ fn notes_before(resolved: &Resolved, quiet: bool) {
 fn note(text: &str) {
     use std::io::Write;
     let _ = writeln!(std::io::stderr(), "{text}");
+}
+
+/// The step a resumed checkpoint holds and whether its integrator had stopped; `None`
+/// when the plan resumes nothing or the file cannot be read (the run refuses it then,
+/// with the reason).
+fn resumed_at(plan: &CheckpointPlan) -> Option<(usize, bool)> {
+    let checkpoint = read_checkpoint(plan.resume.as_ref()?).ok()?;
+    let step = checkpoint.state.get("step")?.as_u64()?;
+    let converged = checkpoint.state.get("converged")?.as_bool()?;
+    Some((step as usize, converged))
 }
 
 /// The checkpoint plan of `--checkpoint FILE [--checkpoint-every K] [--resume [FILE]]`.

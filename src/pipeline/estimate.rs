@@ -263,6 +263,26 @@ impl Resolved {
         job_note(&self.job, self.estimate_seconds(), spell)
     }
 
+    /// [`Resolved::long_run_note_as`] for a run resumed from a checkpoint that holds
+    /// `step` steps (`converged`: its integrator had already stopped): only the steps
+    /// left are counted, since a resumed run does not take again the steps it holds.
+    pub fn resumed_note_as(
+        &self,
+        spell: &dyn Fn(&str) -> String,
+        step: usize,
+        converged: bool,
+    ) -> Option<String> {
+        let left = match &self.job {
+            Job::Run(cfg) if converged => 1.0 - steps_share(cfg),
+            Job::Run(cfg) => {
+                let steps = dem_steps(cfg).max(1.0);
+                1.0 - steps_share(cfg) * (step as f64 / steps).min(1.0)
+            }
+            Job::Baseline { .. } | Job::Law { .. } => 1.0,
+        };
+        job_note(&self.job, self.estimate_seconds() * left, spell)
+    }
+
     /// The estimated seconds of what the request runs, on `threads` threads.
     pub fn estimate_seconds_on(&self, threads: usize) -> f64 {
         let seconds = match &self.job {
@@ -295,6 +315,26 @@ fn core_seconds(cfg: &GenerateConfig) -> f64 {
 /// core's time at n = 100 (10 000 steps) and 3.3e-5 at n = 200, beside other jobs; the
 /// 20 s its guide page states for n = 100 on two idle cores is 2.0e-5.
 const REGION_EXPRESSION_STEP: f64 = 2.0e-5;
+
+/// The share of a checkpointed run's estimate that its steps take (the rest is its
+/// report): the paper's pipeline, in the cube or a region, is the one a checkpoint
+/// records.
+fn steps_share(cfg: &GenerateConfig) -> f64 {
+    if Pipeline::of(cfg) != Pipeline::Paper {
+        return 0.0;
+    }
+    if cfg.region().is_some() {
+        return 1.0;
+    }
+    let (n, s) = (cfg.n as f64, cfg.s as f64);
+    let steps = dem_steps(cfg) * n * n * PAPER_STEP.at(s);
+    let total = paper_seconds(cfg);
+    if total > 0.0 {
+        (steps / total).clamp(0.0, 1.0)
+    } else {
+        0.0
+    }
+}
 
 /// A region's run ([`REGION_STEP`], and [`REGION_EXPRESSION_STEP`] when an expression
 /// bounds it).
@@ -600,6 +640,32 @@ mod tests {
         let mut r = Request::new(2048, 5);
         edit(&mut r);
         r.resolve().unwrap().estimate_seconds_on(MEASURED_THREADS)
+    }
+
+    #[test]
+    fn a_resumed_run_is_estimated_by_the_steps_it_has_left() {
+        let mut r = Request::new(2048, 5);
+        r.method = Some("paper".into());
+        let resolved = r.resolve().unwrap();
+        let spell = |p: &str| p.to_string();
+        let full = resolved.long_run_note_as(&spell).expect("about 35 s");
+        assert_eq!(
+            resolved.resumed_note_as(&spell, 0, false),
+            Some(full.clone())
+        );
+        // Every step taken, or the integrator stopped: only the report is left.
+        assert_eq!(resolved.resumed_note_as(&spell, 1000, false), None);
+        assert_eq!(resolved.resumed_note_as(&spell, 10, true), None);
+        let half = resolved
+            .resumed_note_as(&spell, 500, false)
+            .expect("half the steps");
+        assert_ne!(half, full);
+        // A run that records no steps is estimated whole.
+        let lattice = Request::new(100_000, 50).resolve().unwrap();
+        assert_eq!(
+            lattice.resumed_note_as(&spell, 1000, true),
+            lattice.long_run_note_as(&spell)
+        );
     }
 
     #[test]
