@@ -2319,7 +2319,7 @@ mod tests {
 
     #[test]
     fn replicates_are_added_when_predicted_to_meet_the_tolerance_for_less_than_a_doubling() {
-        // t_{ν, 0.975} for ν = 3 … 7 (tables).
+        // t_{ν, 0.975} for ν = 3 … 12 (tables).
         let t = [
             3.182446305284263,
             2.776445105197799,

@@ -9,7 +9,7 @@
 //! input i's A coordinate is u_{2i−1} and its B coordinate u_{2i} (neighbours among the
 //! rule's leading coordinates, whose projections are its best), and f is evaluated at A, at B and, for each input i, at AB_i (A with
 //! coordinate i taken from B): d + 2 evaluations per point. The points are the first N
-//! of one randomised sequence, cut into R aligned blocks of N/R (4 by default, the
+//! of one randomised sequence, cut into R aligned blocks of N/R (8 by default, the
 //! replicates); N doubles, each batch extending the last (no evaluation is discarded;
 //! the earlier blocks merge in pairs), until every index's half-width is at most
 //! `abs_tol`. The lattice has 1 000 coordinates, so d ≤ 500 inputs, and 2^20 points.
@@ -589,10 +589,11 @@ impl Sensitivity {
     fn accumulate(&mut self, m: usize, values: &[f64]) {
         let (r, d, k) = (self.options.replicates, self.d, self.k);
         let width = HEAD + d * PER_INPUT;
-        let fresh = self.replicas == Replicas::Blocks && self.per_replicate > 0;
+        // Blocks after the first batch: the batch's sums are R new blocks, merged below.
+        let merge = self.replicas == Replicas::Blocks && self.per_replicate > 0;
         let scale: Vec<f64> = self.scale.iter().map(|&e| pow2(-e)).collect();
         let y = |row: usize, j: usize| (values[row * k + j] - self.centre[j]) * scale[j];
-        let mut sums = if fresh {
+        let mut sums = if merge {
             vec![0.0; self.sums.len()]
         } else {
             std::mem::take(&mut self.sums)
@@ -619,7 +620,7 @@ impl Sensitivity {
                 }
             }
         }
-        if fresh {
+        if merge {
             let block = k * width;
             let earlier = std::mem::take(&mut self.sums);
             let all: Vec<&[f64]> = earlier

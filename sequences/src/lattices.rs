@@ -315,9 +315,10 @@ pub(super) fn generators(n: u64) -> Vec<u64> {
 /// give the same value) among those whose two-dimensional projection with every earlier
 /// coordinate has no dual vector (h₁, h₂) with max(1, |h₁|)·max(1, |h₂|) < ⌊n^{1/4}⌋,
 /// from 4 096 points on (such a projection lies on few lines; the criterion alone took
-/// one of Zaremba index 4 at 16 384 points and 50 coordinates). Every candidate is tried, at every n, by the fast construction
-/// of Nuyens and Cools (2006): the criteria of all candidates at once by FFTs over the
-/// multiplicative group of Z_n, O(n log n) per coordinate.
+/// one of Zaremba index 4 at 16 384 points and 50 coordinates). Every candidate is
+/// tried, at every n, by the fast construction of Nuyens and Cools (2006): the criteria
+/// of all candidates at once by FFTs over the multiplicative group of Z_n, O(n log n)
+/// per coordinate.
 ///
 /// The candidates are ranked on per-point products carried as Π(1 + t) − 1, which
 /// resolve differences of criteria far below the 10⁻¹⁶·√n a plain sum of the products
