@@ -1,6 +1,7 @@
 """The interval of `stillpoint.quad` under input laws (the rule the laws choose:
-Owen-scrambled Sobol' where a law is unbounded) at a fixed number of evaluations: which
-part of it binds, and what a round guard scaled to the net's rate would cost in coverage.
+Owen-scrambled Sobol' where a law is unbounded, the tent lattice where every law is
+bounded, as Morokoff–Caflisch's uniform inputs) at a fixed number of evaluations: which
+part of it binds, and what a round guard scaled to the rule's rate would cost in coverage.
 
 For each model family of benches/quad.py (through ``space=``) and each seed 0 … SEEDS−1
 (a new instance and a new randomisation), ``stillpoint.quad(f, s, abs_tol=0, rel_tol=0,
@@ -30,7 +31,8 @@ Writes results/quad/models-interval-<N>.json and prints a Markdown table.
 from one sequence could win: per case and seed, the relative error of one scrambled
 Sobol' sequence of N points (SciPy's, LMS + digital shift, on the cube through the same
 laws' quantiles) and of the mean of 4 independent ones of N/4 (quad's layout); per case
-their RMSEs and the ratio (results/quad/models-ceiling-<N>.json).
+their RMSEs and the ratio (results/quad/models-ceiling-<N>.json). Sobol' on every case,
+also Morokoff–Caflisch's, whose bounded laws take the lattice in quad.
 """
 
 import math
@@ -103,14 +105,15 @@ def summary(rows):
 
 
 def table(data, n):
-    lines = [f"| family (N = {n}, seeds) | rmse | guard binds | " + " | ".join(METHODS)
-             + " |", "|---" * (len(METHODS) + 3) + "|"]
+    lines = [f"| family (N = {n}, seeds) | rule | rmse | guard binds | " + " | ".join(METHODS)
+             + " |", "|---" * (len(METHODS) + 4) + "|"]
     for label, _, _ in CASES:
         if label not in data:
             continue
         sm = data[label]["summary"]
         cells = [f"{sm[m]['coverage'] * 100:.1f} % ({sm[m]['width']:.2f}×)" for m in METHODS]
-        lines.append(f"| {label} ({data[label]['seeds']}) | {sm['rmse']:.2g} | "
+        lines.append(f"| {label} ({data[label]['seeds']}) | {', '.join(sm['rule'])} | "
+                     f"{sm['rmse']:.2g} | "
                      f"{sm['bound'] * 100:.0f} % | " + " | ".join(cells) + " |")
     return lines
 
