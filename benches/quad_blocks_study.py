@@ -16,9 +16,10 @@ seed (a new instance, new scrambles), N evaluations in each layout:
   (÷ 4), t_6, over √2 for the two sequences; raised to the round change and to the
   two sequences' difference |Q_a − Q_b|/2 (an independent measurement of the error);
 - ``2seq a=est``: the same with the rate measured per run from the pooled spreads of
-  blocks of N/8 and N/16 (2^α = their ratio, α held in [0.5, 1.5]);
+  blocks of N/8 and N/16 (2^α = their ratio, α held in [0.5, 1.5]); ``a=est≤1``: held
+  in [0.5, 1] (never faster than 1/n);
 - ``1seq a=1``: one sequence of N, 4 blocks of N/4, t_3, ÷ 4^1, raised to the round
-  change.
+  change; ``1seq a=est≤1``: the rate from its blocks of N/4 and N/8, held in [0.5, 1].
 
 Per case and interval: coverage at level 0.95 (±1.3 % at 300 seeds), the geometric mean
 of the half-width over ``t4+round``'s, the RMSE of the relative error over quad's layout's.
@@ -42,7 +43,7 @@ from quad_interval import study_main  # noqa: E402
 from quad_models_interval import CASES as ALL_CASES  # noqa: E402
 
 CASES = [c for c in ALL_CASES if c[1] != "uq morokoff-caflisch"]  # bounded laws: lattice
-METHODS = ["t4+round", "2seq a=1", "2seq a=est", "1seq a=1"]
+METHODS = ["t4+round", "2seq a=1", "2seq a=est", "2seq a=est≤1", "1seq a=1", "1seq a=est≤1"]
 
 
 def t(df):
@@ -58,6 +59,14 @@ def pooled(seqs, b):
     """The pooled variance of b-block means over the sequences, and its degrees of freedom."""
     v = [np.var(blocks(y, b), ddof=1) for y in seqs]
     return float(np.mean(v)), len(seqs) * (b - 1)
+
+
+def rate(v, v_half, top):
+    """The rate α of an error falling like n^−α from the block variances at m and m/2
+    points, held in [0.5, top] (1 when a variance is 0)."""
+    if v <= 0 or v_half <= 0:
+        return 1.0
+    return min(top, max(0.5, 0.5 * math.log2(v_half / v)))
 
 
 def run_case(family, s, n, seeds):
@@ -88,16 +97,18 @@ def run_case(family, s, n, seeds):
         floor = max(abs(q - half), abs(qa - qb) / 2)
         v8, df8 = pooled(y2, 4)
         v16, _ = pooled(y2, 8)
-        for name, alpha in (("2seq a=1", 1.0),
-                            ("2seq a=est", min(1.5, max(0.5, 0.5 * math.log2(v16 / v8)))
-                             if v8 > 0 and v16 > 0 else 1.0)):
+        for name, alpha in (("2seq a=1", 1.0), ("2seq a=est", rate(v8, v16, 1.5)),
+                            ("2seq a=est≤1", rate(v8, v16, 1.0))):
             sd = math.sqrt(v8) / 4 ** alpha / math.sqrt(2)
             out[name] = (q, max(t(df8) * sd, floor))
         # one sequence
         y1 = seq(n, 30)
         q = y1.mean()
-        sd = np.std(blocks(y1, 4), ddof=1) / 4  # one block's error (N/4) at 1/n to N
-        out["1seq a=1"] = (q, max(t(3) * sd, abs(q - y1[: n // 2].mean())))
+        v4, _ = pooled([y1], 4)
+        v8, _ = pooled([y1], 8)
+        floor = abs(q - y1[: n // 2].mean())
+        for name, alpha in (("1seq a=1", 1.0), ("1seq a=est≤1", rate(v4, v8, 1.0))):
+            out[name] = (q, max(t(3) * math.sqrt(v4) / 4 ** alpha, floor))
         rows.append({k: [(e - truth) / abs(truth), h / abs(truth)] for k, (e, h) in out.items()})
     return rows
 
