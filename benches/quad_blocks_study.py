@@ -17,7 +17,8 @@ seed (a new instance, new scrambles), N evaluations in each layout:
   two sequences' difference |Q_a − Q_b|/2 (an independent measurement of the error);
 - ``2seq a=est``: the same with the rate measured per run from the pooled spreads of
   blocks of N/8 and N/16 (2^α = their ratio, α held in [0.5, 1.5]); ``a=est≤1``: held
-  in [0.5, 1] (never faster than 1/n);
+  in [0.5, 1] (never faster than 1/n); ``d×c``: the two sequences' half difference
+  multiplied by c (2, 3) before it is compared (the independent check made stronger);
 - ``1seq a=1``: one sequence of N, 4 blocks of N/4, t_3, ÷ 4^1, raised to the round
   change; ``1seq a=est≤1``: the rate from its blocks of N/4 and N/8, held in [0.5, 1].
 
@@ -43,7 +44,8 @@ from quad_interval import study_main  # noqa: E402
 from quad_models_interval import CASES as ALL_CASES  # noqa: E402
 
 CASES = [c for c in ALL_CASES if c[1] != "uq morokoff-caflisch"]  # bounded laws: lattice
-METHODS = ["t4+round", "2seq a=1", "2seq a=est", "2seq a=est≤1", "1seq a=1", "1seq a=est≤1"]
+METHODS = ["t4+round", "2seq a=1", "2seq a=est", "2seq a=est≤1", "2seq a=est≤1 d×2",
+           "2seq a=est≤1 d×3", "1seq a=1", "1seq a=est≤1"]
 
 
 def t(df):
@@ -94,12 +96,14 @@ def run_case(family, s, n, seeds):
         qa, qb = (y.mean() for y in y2)
         q = (qa + qb) / 2
         half = np.mean([y[: len(y) // 2].mean() for y in y2])
-        floor = max(abs(q - half), abs(qa - qb) / 2)
         v8, df8 = pooled(y2, 4)
         v16, _ = pooled(y2, 8)
-        for name, alpha in (("2seq a=1", 1.0), ("2seq a=est", rate(v8, v16, 1.5)),
-                            ("2seq a=est≤1", rate(v8, v16, 1.0))):
+        for name, alpha, c in (("2seq a=1", 1.0, 1), ("2seq a=est", rate(v8, v16, 1.5), 1),
+                               ("2seq a=est≤1", rate(v8, v16, 1.0), 1),
+                               ("2seq a=est≤1 d×2", rate(v8, v16, 1.0), 2),
+                               ("2seq a=est≤1 d×3", rate(v8, v16, 1.0), 3)):
             sd = math.sqrt(v8) / 4 ** alpha / math.sqrt(2)
+            floor = max(abs(q - half), c * abs(qa - qb) / 2)
             out[name] = (q, max(t(df8) * sd, floor))
         # one sequence
         y1 = seq(n, 30)
