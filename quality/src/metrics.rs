@@ -241,7 +241,11 @@ pub const GRID_EXPECTED_PAIRS: f64 = 1e-3;
 pub fn uniform_pairs_within(n: usize, s: usize, r: f64) -> f64 {
     // ln V_s by V_s = V_{s−2}·2π/s from V_0 = 1, V_1 = 2: in logarithms, as V_s and r^s
     // underflow apart in many dimensions.
-    let (mut ln_volume, mut k) = if s % 2 == 0 { (0.0, 2) } else { (2f64.ln(), 3) };
+    let (mut ln_volume, mut k) = if s.is_multiple_of(2) {
+        (0.0, 2)
+    } else {
+        (2f64.ln(), 3)
+    };
     while k <= s {
         ln_volume += (2.0 * std::f64::consts::PI / k as f64).ln();
         k += 2;

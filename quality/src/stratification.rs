@@ -31,6 +31,20 @@ pub fn is_stratified(points: &PointSet) -> bool {
     })
 }
 
+/// The value (c + u)/n, moved by the last bits if rounding put it in a neighbouring cell,
+/// so that [`cell_of`] gives exactly c.
+pub fn in_cell(c: usize, u: f64, n: usize) -> f64 {
+    let mut x = (c as f64 + u.clamp(0.0, 1.0)) / n as f64;
+    for _ in 0..64 {
+        match cell_of(x, n).cmp(&c) {
+            std::cmp::Ordering::Greater => x = f64::from_bits(x.to_bits() - 1),
+            std::cmp::Ordering::Less => x = f64::from_bits(x.to_bits() + 1),
+            std::cmp::Ordering::Equal => break,
+        }
+    }
+    x
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -55,18 +69,4 @@ mod tests {
         outside[0] = 1.0;
         assert!(!is_stratified(&p(&[&good, &outside])));
     }
-}
-
-/// The value (c + u)/n, moved by the last bits if rounding put it in a neighbouring cell,
-/// so that [`cell_of`] gives exactly c.
-pub fn in_cell(c: usize, u: f64, n: usize) -> f64 {
-    let mut x = (c as f64 + u.clamp(0.0, 1.0)) / n as f64;
-    for _ in 0..64 {
-        match cell_of(x, n).cmp(&c) {
-            std::cmp::Ordering::Greater => x = f64::from_bits(x.to_bits() - 1),
-            std::cmp::Ordering::Less => x = f64::from_bits(x.to_bits() + 1),
-            std::cmp::Ordering::Equal => break,
-        }
-    }
-    x
 }

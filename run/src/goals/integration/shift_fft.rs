@@ -335,7 +335,7 @@ mod tests {
                 .into_iter()
                 .filter(|&z| gcd(z as usize % n, n) == 1)
                 .collect();
-            let shared = (2..n).find(|&d| n % d == 0).unwrap() as u64;
+            let shared = (2..n).find(|&d| n.is_multiple_of(d)).unwrap() as u64;
             zs.push(shared);
             for (j, &z) in zs.iter().enumerate() {
                 if j > 0 {
