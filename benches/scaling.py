@@ -17,7 +17,8 @@ With --versus-sobol (cells NxS, by default 100000x20, 200000x50 and 1000000x50) 
 three times (median), with the peak memory of each (the children's maximum resident
 set, read from /usr/bin/time when it is there, from getrusage otherwise), and prints the
 time ratio and each peak's ratio to the output's n·s·8 bytes; it writes
-results/scaling/versus-sobol.md with the command, commit and machine.
+results/scaling/versus-sobol.md a section with the command, commit, machine and load
+average (the file's earlier sections are kept).
 
     python3 benches/scaling.py --bin target/release/stillpoint --versus-sobol
 
@@ -171,6 +172,7 @@ def versus_sobol(binary, cells, runs, out_dir):
     lines = list(header)
     for line in header:
         print(line, flush=True)
+    load_before = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as tmp:
         for cell in cells:
             n, s = (int(v) for v in cell.split("x"))
@@ -195,14 +197,26 @@ def versus_sobol(binary, cells, runs, out_dir):
                     f"{med['sobol'][1] / output:.2f} |")
             lines.append(line)
             print(line, flush=True)
+    load_after = os.getloadavg()[0]
     os.makedirs(out_dir, exist_ok=True)
     command = "python3 benches/scaling.py --versus-sobol" + (
         f" {','.join(cells)}" if ",".join(cells) != VERSUS_CELLS else "")
-    with open(os.path.join(out_dir, "versus-sobol.md"), "w") as f:
-        f.write(f"# The default run against writing a Sobol' set (`{command}`)\n\n"
-                f"Commit {commit()}; {machine()}; median of {runs} runs each, alternating; "
-                "peak = largest maximum resident set of the runs; output = the points' "
-                "n·s·8 bytes.\n\n" + "\n".join(lines) + "\n")
+    section = (f"## Commit {commit()} ({time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())})"
+               f"\n\n`{command} --runs {runs}`; {machine()}; median of {runs} runs each, "
+               "alternating; peak = largest maximum resident set of the runs; output = the "
+               f"points' n·s·8 bytes; load average (1 min) {load_before:.1f} before, "
+               f"{load_after:.1f} after.\n\n" + "\n".join(lines) + "\n")
+    # Each run adds its section and keeps the earlier ones (before the fingerprint, which
+    # stays last).
+    path = os.path.join(out_dir, "versus-sobol.md")
+    try:
+        with open(path) as f:
+            old = f.read()
+    except FileNotFoundError:
+        old = "# The default run against writing a Sobol' set (`benches/scaling.py --versus-sobol`)\n"
+    head, mark, tail = old.partition("\n## Fingerprints")
+    with open(path, "w") as f:
+        f.write(head.rstrip("\n") + "\n\n" + section + (mark + tail if mark else ""))
 
 
 # (pipeline, n, s, the Python keywords, the command line's arguments): --cost's grid.

@@ -722,8 +722,10 @@ fn estimate_lines(
         }
     );
     if !e.min_distances_exact {
-        t += "  minimum distances not computed: the grid of cells could not prove the \
-              closest pair; --exact computes them\n";
+        t += &format!(
+            "  minimum distances not computed: {}; --exact computes them\n",
+            e.min_distances_why()
+        );
     }
     t
 }

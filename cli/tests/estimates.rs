@@ -73,7 +73,8 @@ fn estimates_are_the_same_bits_for_a_seed_and_exact_sums_are_the_exact_metrics()
     let other = Metrics::compute_with(&p, forced(100_000, 6));
     assert_ne!(a.modified_l2.to_bits(), other.modified_l2.to_bits());
     let e = a.estimate.expect("an estimate");
-    assert_eq!(e.pairs, 100_000);
+    // Four pairs a point, below the cap of 100 000.
+    assert_eq!(e.pairs, 4 * 3000);
     // The grid of cells proves the minimum distances, with the pair loop's bits.
     let exact = Metrics::compute(&p);
     assert!(e.min_distances_exact);
@@ -133,6 +134,69 @@ fn the_fused_mixture_equals_its_formula_written_out() {
     }
 }
 
+#[test]
+fn just_above_the_exact_size_the_default_estimate_is_within_four_standard_errors() {
+    // The default rule's own pairs (four a point) at the first estimated size, against
+    // the exact pass: a random set (D² of order 1/n) and a scrambled Sobol' set (D² far
+    // below the error), several seeds each.
+    let n = stillpoint::quality::metrics::ESTIMATE_ABOVE + 1;
+    let sets = [
+        sequences::random(n, 3, 21).unwrap(),
+        sequences::sobol_scrambled(n, 2, 22).unwrap(),
+    ];
+    for p in &sets {
+        let exact = squared_discrepancies_with_mixture(p);
+        for seed in 0..3 {
+            let sums = Sums { seed, ..Sums::AUTO };
+            let m = Metrics::compute_with(p, sums);
+            let e = m.estimate.expect("estimated above the exact size");
+            assert_eq!(e.pairs, 4 * n);
+            let roots = [
+                m.star_l2,
+                m.modified_l2,
+                m.centered_l2,
+                m.wrap_around_l2,
+                m.mixture,
+            ];
+            for (k, ((r, se), x)) in roots
+                .iter()
+                .zip(e.squared_standard_errors)
+                .zip(exact)
+                .enumerate()
+            {
+                // The root is of the estimate clamped at 0, which only moves it nearer
+                // a non-negative exact value.
+                assert!(se > 0.0 && se.is_finite());
+                assert!(
+                    (r * r - x).abs() <= 4.0 * se,
+                    "kernel {k}, s = {}, seed {seed}: {} ± {se} against {x}",
+                    p.s(),
+                    r * r
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn eval_says_why_the_grid_of_cells_was_not_run() {
+    // At s = 15 and 50 001 points random points have 1.4·10⁻⁵ pairs nearer than the
+    // grid's side (1/8) on average: the grid is not run, and the note says so.
+    let dir = std::env::temp_dir().join(format!("stillpoint-grid-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("wide.npy");
+    let n = stillpoint::quality::metrics::ESTIMATE_ABOVE + 1;
+    let p = sequences::random(n, 15, 5).unwrap();
+    stillpoint::io::write_points(&file, &p, &serde_json::Value::Null).unwrap();
+    let v: serde_json::Value =
+        serde_json::from_str(&eval(&[file.to_str().unwrap(), "--json"])).unwrap();
+    assert!(v["min_distance"].is_null());
+    let note = v["notes"]["min_distance"].as_str().unwrap();
+    assert!(note.contains("was not run"), "{note}");
+    assert!(note.contains("--exact"), "{note}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 fn eval(args: &[&str]) -> String {
     succeeded(common::bin().arg("eval").args(args), &args).0
 }
@@ -148,10 +212,7 @@ fn eval_estimates_above_the_threshold_deterministically_and_exact_below() {
     let a = eval(&[big.to_str().unwrap(), "--json"]);
     assert_eq!(a, eval(&[big.to_str().unwrap(), "--json"]));
     let v: serde_json::Value = serde_json::from_str(&a).unwrap();
-    assert_eq!(
-        v["estimate"]["pairs"],
-        stillpoint::quality::metrics::ESTIMATE_PAIRS
-    );
+    assert_eq!(v["estimate"]["pairs"], 4 * n);
     for k in [
         "star_l2",
         "modified_l2",

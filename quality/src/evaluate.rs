@@ -134,12 +134,14 @@ fn value_notes(
         let skipped = "not computed: above the size where the O(n² s) sums are estimated, \
                        this pair sum is skipped (--exact computes it)";
         note("energy_uqp", skipped);
-        if m.min_distance.is_nan() {
-            let why = "not computed: the grid of cells could not prove the closest pair and \
-                       the pair loop is O(n² s) (--exact computes it)";
-            note("min_distance", why);
-            note("min_distance_periodic", why);
-            note("energy_e_inf", why);
+        if let Some(e) = m.estimate.filter(|_| m.min_distance.is_nan()) {
+            let why = format!(
+                "not computed: {} and the pair loop is O(n² s) (--exact computes it)",
+                e.min_distances_why()
+            );
+            note("min_distance", &why);
+            note("min_distance_periodic", &why);
+            note("energy_e_inf", &why);
         }
         for k in DISCREPANCY_KEYS {
             note(

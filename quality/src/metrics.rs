@@ -194,12 +194,13 @@ pub struct Metrics {
 }
 
 /// How the O(n² s) pair sums of [`Metrics`] are formed: exactly up to `estimate_above`
-/// points, estimated from `pairs` random pairs (drawn from `seed`) above.
+/// points, estimated above from [`Sums::pairs_for`] random pairs (drawn from `seed`):
+/// [`ESTIMATE_PAIRS_PER_POINT`] per point, at most `pairs`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Sums {
     /// The largest n whose pair sums are exact.
     pub estimate_above: usize,
-    /// Random pairs of an estimate.
+    /// The most random pairs of an estimate (see [`Sums::pairs_for`]).
     pub pairs: usize,
     /// Seed of the random pairs.
     pub seed: u64,
@@ -207,11 +208,55 @@ pub struct Sums {
 
 /// The largest n whose metrics are exact by default: the exact pass over the pairs of
 /// 50 000 points takes about 4 s at s = 5 on 2 cores (and grows as n²), the estimate
-/// about 0.2 s at any n.
+/// about half as long as writing the points ([`ESTIMATE_PAIRS_PER_POINT`]).
 pub const ESTIMATE_ABOVE: usize = 50_000;
 
-/// Random pairs of an estimate: 4·10⁶, about 0.2 s at s = 5 on 2 cores.
+/// The most random pairs of an estimate: 4·10⁶, about 0.2 s at s = 5 and 1.4 s at s = 50
+/// on 2 cores; the budget of 10⁶ points ([`ESTIMATE_PAIRS_PER_POINT`]).
 pub const ESTIMATE_PAIRS: usize = 4_000_000;
+
+/// Random pairs an estimate draws per point, so that it costs a fixed share of writing
+/// the points, whatever n and s: a random pair's five kernel products cost about 7 ns a
+/// coordinate on 2 cores (two rows fetched from anywhere in the set), writing a point
+/// about 55 ns a coordinate (`baseline sobol` at 10⁶ × 50: 2.8 s for 5·10⁷ of them), so
+/// 4 pairs a point cost about half of writing the set. Its standard error grows as
+/// 1/√pairs: at 10⁵ points √10 times that of the 4·10⁶ pairs drawn before at every size
+/// (and stated beside each value, as before).
+pub const ESTIMATE_PAIRS_PER_POINT: usize = 4;
+
+/// The grid of cells that looks for the closest pair of an estimated set runs only where
+/// n independent uniform points would have, on average, at least this many pairs nearer
+/// than its cells' side ([`uniform_pairs_within`]): only such a pair can it prove the
+/// closest. Below, it could prove the minimum of at most one random set in a thousand
+/// (the mean bounds the chance of any pair), and of an even set (more even than random)
+/// fewer still, while it costs as much as the rest of the figures (at 10⁶ × 50 more than
+/// twice the random pairs). With the grid's cells (about n^(1/5) a side over five
+/// coordinates) it runs up to s = 12 at 10⁵–10⁶ points and not from s = 13 on.
+pub const GRID_EXPECTED_PAIRS: f64 = 1e-3;
+
+/// The mean number of pairs nearer than `r` among n independent uniform points on the
+/// unit torus, C(n, 2)·V_s·r^s (V_s the volume of the unit ball), for r ≤ ½ where a ball
+/// does not wrap onto itself. It bounds the count for the Euclidean distance in the cube
+/// too, which is never below the torus distance.
+pub fn uniform_pairs_within(n: usize, s: usize, r: f64) -> f64 {
+    // ln V_s by V_s = V_{s−2}·2π/s from V_0 = 1, V_1 = 2: in logarithms, as V_s and r^s
+    // underflow apart in many dimensions.
+    let (mut ln_volume, mut k) = if s.is_multiple_of(2) {
+        (0.0, 2)
+    } else {
+        (2f64.ln(), 3)
+    };
+    while k <= s {
+        ln_volume += (2.0 * std::f64::consts::PI / k as f64).ln();
+        k += 2;
+    }
+    let nf = n as f64;
+    let pairs = nf * (nf - 1.0) / 2.0;
+    if pairs <= 0.0 {
+        return 0.0;
+    }
+    (pairs.ln() + ln_volume + s as f64 * r.ln()).exp()
+}
 
 impl Sums {
     /// Exact at every size (`--exact`).
@@ -242,6 +287,12 @@ impl Sums {
     /// Whether the pair sums of n points are estimated.
     pub fn estimates(&self, n: usize) -> bool {
         n > self.estimate_above
+    }
+
+    /// The random pairs an estimate of n points' pair sums draws:
+    /// [`ESTIMATE_PAIRS_PER_POINT`]·n, at most [`Sums::pairs`].
+    pub fn pairs_for(&self, n: usize) -> usize {
+        self.pairs.min(ESTIMATE_PAIRS_PER_POINT.saturating_mul(n))
     }
 }
 
@@ -279,9 +330,37 @@ pub struct Estimate {
     /// Whether the minimum distances are exact (found by a grid of cells); when not, they
     /// are NaN (null in JSON): the grid could not prove them and the pair loop is O(n²).
     pub min_distances_exact: bool,
+    /// Why the grid of cells was not run, when it was not ([`GRID_EXPECTED_PAIRS`]). Not
+    /// serialised (the JSON says only whether the distances are exact).
+    #[serde(skip)]
+    pub grid_skipped: Option<GridSkipped>,
+}
+
+/// A grid of cells not run: the side of its cells and the mean number of pairs that near
+/// among as many independent uniform points ([`uniform_pairs_within`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GridSkipped {
+    /// The side of the cells: only a closer pair could be proven the closest.
+    pub side: f64,
+    /// Pairs nearer than `side` among n independent uniform points, on average.
+    pub expected_pairs: f64,
 }
 
 impl Estimate {
+    /// Why the minimum distances are missing (when they are): the grid of cells ran and
+    /// could not prove the closest pair, or it was not run.
+    pub fn min_distances_why(&self) -> String {
+        match self.grid_skipped {
+            Some(g) => format!(
+                "the grid of cells could prove only a pair nearer than its side {:.3}, of \
+                 which as many independent uniform points have {:.1e} on average, so it was \
+                 not run",
+                g.side, g.expected_pairs
+            ),
+            None => "the grid of cells could not prove the closest pair".to_string(),
+        }
+    }
+
     /// The standard error of a root D = √max(D², 0) from that of its square.
     pub fn root_error(square: f64, square_error: f64) -> f64 {
         let root = square.max(0.0).sqrt();
@@ -303,9 +382,11 @@ impl Metrics {
     }
 
     /// [`Metrics::compute`] where `sums` asks for exact sums; above its size, the five
-    /// discrepancies from random pairs ([`sampled_squared_discrepancies`]) with their
-    /// standard errors in [`Metrics::estimate`], and the minimum distances from a grid of
-    /// cells where it proves them (NaN otherwise). O(n s + pairs · s) then.
+    /// discrepancies from [`Sums::pairs_for`] random pairs
+    /// ([`sampled_squared_discrepancies`]) with their standard errors in
+    /// [`Metrics::estimate`], and the minimum distances from a grid of cells where it
+    /// proves them (NaN otherwise, and where [`GRID_EXPECTED_PAIRS`] finds it could prove
+    /// nothing it is not run). O(n s + pairs · s) then.
     pub fn compute_with(points: &PointSet, sums: Sums) -> Metrics {
         Metrics::compute_with_energy(points, sums, None).0
     }
@@ -323,9 +404,10 @@ impl Metrics {
         if !sums.estimates(points.n()) {
             return Metrics::compute_exact(points, energy);
         }
-        let sampled = sampled_squared_discrepancies(points, sums.pairs, sums.seed);
+        let pairs = sums.pairs_for(points.n());
+        let sampled = sampled_squared_discrepancies(points, pairs, sums.seed);
         let root = sampled.map(|e| e.value.max(0.0).sqrt());
-        let [euclid, periodic] = crate::nearest::min_squared_distances_by_cells(points);
+        let ([euclid, periodic], grid_skipped) = grid_minimum(points);
         let metrics = Metrics {
             star_l2: root[0],
             modified_l2: root[1],
@@ -335,11 +417,12 @@ impl Metrics {
             min_distance: euclid.map_or(f64::NAN, f64::sqrt),
             min_distance_periodic: periodic.map_or(f64::NAN, f64::sqrt),
             estimate: Some(Estimate {
-                pairs: sums.pairs,
+                pairs,
                 seed: sums.seed,
                 squared_standard_errors: sampled.map(|e| e.standard_error),
                 standard_errors: sampled.map(|e| Estimate::root_error(e.value, e.standard_error)),
                 min_distances_exact: euclid.is_some() && periodic.is_some(),
+                grid_skipped,
             }),
         };
         (metrics, None)
@@ -376,6 +459,24 @@ impl Metrics {
         };
         (metrics, value)
     }
+}
+
+/// The smallest squared distances (Euclidean, torus) by the grid of cells where
+/// [`GRID_EXPECTED_PAIRS`] lets it run (`None` each where it cannot prove them), or why
+/// it was not run. The points lie in [0, 1]^s, which the bound assumes.
+fn grid_minimum(points: &PointSet) -> ([Option<f64>; 2], Option<GridSkipped>) {
+    let (n, s) = (points.n(), points.s());
+    if let Some(side) = crate::nearest::grid_side(n, s) {
+        let expected_pairs = uniform_pairs_within(n, s, side);
+        if expected_pairs < GRID_EXPECTED_PAIRS {
+            let skipped = GridSkipped {
+                side,
+                expected_pairs,
+            };
+            return ([None, None], Some(skipped));
+        }
+    }
+    (crate::nearest::min_squared_distances_by_cells(points), None)
 }
 
 /// The squared discrepancies of `kinds` (one fused pass over the pairs for the lists
@@ -443,6 +544,89 @@ mod tests {
         // n = 1, x = 1/2: ∫_0^½ t² dt + ∫_½^1 (1 − t)² dt = 1/12.
         let p = set(&[&[0.5]]);
         assert!((star_l2_squared(&p) - 1.0 / 12.0).abs() < 1e-16);
+    }
+
+    #[test]
+    fn uniform_pairs_within_is_the_ball_volume_and_the_count_of_random_points() {
+        // Two points: the chance that the second lies within r of the first, V_s·r^s.
+        let pi = std::f64::consts::PI;
+        for (s, volume) in [
+            (1, 2.0),
+            (2, pi),
+            (3, 4.0 * pi / 3.0),
+            (4, pi * pi / 2.0),
+            (5, 8.0 * pi * pi / 15.0),
+        ] {
+            let got = uniform_pairs_within(2, s, 0.5);
+            let want = volume * 0.5f64.powi(s as i32);
+            assert!(
+                (got - want).abs() <= 1e-12 * want,
+                "s = {s}: {got} against {want}"
+            );
+        }
+        assert_eq!(uniform_pairs_within(1, 3, 0.5), 0.0);
+        // Pairs of random points on the torus counted one by one: within 5 Poisson
+        // standard deviations of the mean.
+        let (n, s, r) = (2000, 3, 0.05);
+        let p = stillpoint_sequences::random(n, s, 17).unwrap();
+        let rows: Vec<&[f64]> = p.rows().collect();
+        let mut count = 0usize;
+        for i in 0..n {
+            for l in i + 1..n {
+                let d2: f64 = rows[i]
+                    .iter()
+                    .zip(rows[l])
+                    .map(|(a, b)| {
+                        let d = (a - b).abs();
+                        d.min(1.0 - d).powi(2)
+                    })
+                    .sum();
+                count += usize::from(d2 < r * r);
+            }
+        }
+        let mean = uniform_pairs_within(n, s, r);
+        assert!(
+            (count as f64 - mean).abs() <= 5.0 * mean.sqrt(),
+            "{count} pairs against {mean}"
+        );
+    }
+
+    #[test]
+    fn the_pairs_grow_with_n_up_to_their_cap() {
+        for n in [2, 1000, 50_001, 999_999] {
+            assert_eq!(Sums::AUTO.pairs_for(n), ESTIMATE_PAIRS_PER_POINT * n);
+        }
+        for n in [1_000_000, 1_000_001, usize::MAX] {
+            assert_eq!(Sums::AUTO.pairs_for(n), ESTIMATE_PAIRS);
+        }
+    }
+
+    #[test]
+    fn the_grid_runs_where_random_points_could_be_proven_and_not_beyond() {
+        let forced = Sums {
+            estimate_above: 0,
+            ..Sums::AUTO
+        };
+        // At s = 20 the grid's side is 1/m and random points have ~0 pairs that near: not
+        // run, and the report says why.
+        let p = stillpoint_sequences::random(3000, 20, 1).unwrap();
+        let e = Metrics::compute_with(&p, forced).estimate.unwrap();
+        let side = crate::nearest::grid_side(3000, 20).unwrap();
+        let g = e.grid_skipped.expect("the grid skipped");
+        assert_eq!(g.side, side);
+        assert!(g.expected_pairs < GRID_EXPECTED_PAIRS);
+        assert!(!e.min_distances_exact);
+        assert!(e.min_distances_why().contains("not run"));
+        // At s = 3 it runs and proves the pair loop's minimum.
+        let q = stillpoint_sequences::random(3000, 3, 1).unwrap();
+        let m = Metrics::compute_with(&q, forced);
+        let e = m.estimate.unwrap();
+        assert!(e.grid_skipped.is_none() && e.min_distances_exact);
+        assert_eq!(
+            m.min_distance.to_bits(),
+            min_distance_euclidean(&q).to_bits()
+        );
+        assert_eq!(e.pairs, ESTIMATE_PAIRS_PER_POINT * 3000);
     }
 
     #[test]

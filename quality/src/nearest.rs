@@ -51,6 +51,13 @@ impl Grid {
     }
 }
 
+/// The side of the cells of the grid [`min_squared_distances_by_cells`] lays over n
+/// points in s coordinates (it proves a closest pair only when it is nearer than this);
+/// `None` where no grid fits.
+pub fn grid_side(n: usize, s: usize) -> Option<f64> {
+    Grid::choose(n, s).map(|g| 1.0 / g.m as f64)
+}
+
 /// The squared distances of a pair as the pair loop of
 /// [`stillpoint_energies::pairs::min_squared_distances`] forms them (same operations, same
 /// order, so the same bits): Euclidean and on the torus; `None` as soon as the torus

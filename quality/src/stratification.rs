@@ -10,18 +10,23 @@ pub fn cell_of(x: f64, n: usize) -> usize {
 
 /// Whether every coordinate of `points` lies in [0, 1) and each column has exactly one
 /// point in each cell [c/n, (c+1)/n) (as [`cell_of`] computes the cell).
+///
+/// One pass over the points in the order they are stored, a bit per cell and column:
+/// column by column the reads are n·s strides of a row apart (at 2·10⁵ × 50 the check
+/// cost a quarter as much as the report's estimated figures).
 pub fn is_stratified(points: &PointSet) -> bool {
     let (n, s) = (points.n(), points.s());
-    let x = points.as_slice();
-    (0..s).all(|k| {
-        let mut seen = vec![false; n];
-        (0..n).all(|i| {
-            let v = x[i * s + k];
+    let mut seen = vec![0u64; (n * s).div_ceil(64)];
+    points.rows().all(|row| {
+        row.iter().enumerate().all(|(k, &v)| {
             if !(0.0..1.0).contains(&v) {
                 return false;
             }
-            let c = cell_of(v, n);
-            !std::mem::replace(&mut seen[c], true)
+            let bit = k * n + cell_of(v, n);
+            let (word, mask) = (bit / 64, 1u64 << (bit % 64));
+            let fresh = (seen[word] & mask) == 0;
+            seen[word] |= mask;
+            fresh
         })
     })
 }
@@ -38,4 +43,30 @@ pub fn in_cell(c: usize, u: f64, n: usize) -> f64 {
         }
     }
     x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_column_with_two_points_in_a_cell_or_one_outside_is_not_stratified() {
+        // Columns: a permutation of the cells, then the same with one cell taken twice.
+        let n = 7;
+        let good: Vec<f64> = (0..n).map(|i| in_cell((3 * i) % n, 0.5, n)).collect();
+        let p = |cols: &[&[f64]]| {
+            let data = (0..n)
+                .flat_map(|i| cols.iter().map(move |c| c[i]))
+                .collect();
+            PointSet::new(n, cols.len(), data).unwrap()
+        };
+        assert!(is_stratified(&p(&[&good, &good])));
+        let mut twice = good.clone();
+        twice[4] = in_cell(cell_of(good[2], n), 0.1, n);
+        assert!(!is_stratified(&p(&[&good, &twice])));
+        assert!(!is_stratified(&p(&[&twice, &good])));
+        let mut outside = good.clone();
+        outside[0] = 1.0;
+        assert!(!is_stratified(&p(&[&good, &outside])));
+    }
 }

@@ -215,7 +215,9 @@ impl Target {
             return self.value(points);
         }
         let sampled = stillpoint_energies::discrepancy::sampled_squared_discrepancies(
-            points, sums.pairs, sums.seed,
+            points,
+            sums.pairs_for(points.n()),
+            sums.seed,
         );
         self.parts
             .iter()
