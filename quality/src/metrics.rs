@@ -465,18 +465,21 @@ impl Metrics {
 /// [`GRID_EXPECTED_PAIRS`] lets it run (`None` each where it cannot prove them), or why
 /// it was not run. The points lie in [0, 1]^s, which the bound assumes.
 fn grid_minimum(points: &PointSet) -> ([Option<f64>; 2], Option<GridSkipped>) {
-    let (n, s) = (points.n(), points.s());
-    if let Some(side) = crate::nearest::grid_side(n, s) {
-        let expected_pairs = uniform_pairs_within(n, s, side);
-        if expected_pairs < GRID_EXPECTED_PAIRS {
-            let skipped = GridSkipped {
-                side,
-                expected_pairs,
-            };
-            return ([None, None], Some(skipped));
-        }
+    match grid_skipped(points.n(), points.s()) {
+        Some(skipped) => ([None, None], Some(skipped)),
+        None => (crate::nearest::min_squared_distances_by_cells(points), None),
     }
-    (crate::nearest::min_squared_distances_by_cells(points), None)
+}
+
+/// Why the grid of cells is not run on an estimated set of n points in s dimensions
+/// ([`GRID_EXPECTED_PAIRS`]), or `None` where it runs; the run-time estimate asks the same.
+pub fn grid_skipped(n: usize, s: usize) -> Option<GridSkipped> {
+    let side = crate::nearest::grid_side(n, s)?;
+    let expected_pairs = uniform_pairs_within(n, s, side);
+    (expected_pairs < GRID_EXPECTED_PAIRS).then_some(GridSkipped {
+        side,
+        expected_pairs,
+    })
 }
 
 /// The squared discrepancies of `kinds` (one fused pass over the pairs for the lists
