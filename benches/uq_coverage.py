@@ -443,8 +443,16 @@ def write_md(rows, seconds):
         "`design(n, space, randomize=True, seed=…)` on two seeds of every cell.",
         "",
     ]
-    with open(os.path.join(OUT, "coverage.md"), "w") as fh:
-        fh.write("\n".join(lines))
+    md = os.path.join(OUT, "coverage.md")
+    # The sections written by hand below the table (from the first "## " heading: notes
+    # on a family, the commit mark) are kept.
+    kept = ""
+    if os.path.exists(md):
+        old = open(md).read()
+        if "\n## " in old:
+            kept = old[old.index("\n## "):]
+    with open(md, "w") as fh:
+        fh.write("\n".join(lines).rstrip("\n") + "\n" + kept)
 
 
 if __name__ == "__main__":
