@@ -348,11 +348,19 @@ def main():
                 f"({time.time() - started:.0f} s)",
                 flush=True,
             )
+            # Written after every cell, so that a run stopped part-way keeps what it
+            # measured (a later cell's run then merges with it).
+            save(rows, args.merge, commit, command, args.intervals, started)
+
+
+def save(rows, merge, commit, command, intervals, started):
+    """coverage.json and coverage.md from this run's rows (and, with ``merge``, the
+    stored rows of the cells it did not run)."""
     os.makedirs(OUT, exist_ok=True)
     path = os.path.join(OUT, "coverage.json")
     for row in rows:
-        row.update(commit=commit, command=command, intervals=args.intervals)
-    if args.merge and os.path.exists(path):
+        row.update(commit=commit, command=command, intervals=intervals)
+    if merge and os.path.exists(path):
         # A rerun of some cells replaces those and keeps the others' rows.
         with open(path) as fh:
             old = json.load(fh)
@@ -435,8 +443,16 @@ def write_md(rows, seconds):
         "`design(n, space, randomize=True, seed=…)` on two seeds of every cell.",
         "",
     ]
-    with open(os.path.join(OUT, "coverage.md"), "w") as fh:
-        fh.write("\n".join(lines))
+    md = os.path.join(OUT, "coverage.md")
+    # The sections written by hand below the table (from the first "## " heading: notes
+    # on a family, the commit mark) are kept.
+    kept = ""
+    if os.path.exists(md):
+        old = open(md).read()
+        if "\n## " in old:
+            kept = old[old.index("\n## "):]
+    with open(md, "w") as fh:
+        fh.write("\n".join(lines).rstrip("\n") + "\n" + kept)
 
 
 if __name__ == "__main__":

@@ -1,0 +1,219 @@
+#!/usr/bin/env python3
+"""Candidate draws for `stillpoint.Engine(d)` (which knows nothing of the integrand)
+measured over both benchmarks the engine's default answers to: Genz's six families on
+the randomised-QMC grid (benches/rqmc.py's cells, instances and protocol) and the models
+with input laws (results/uq-models' cells, through the peers' quantile map, as
+benches/uq_rules.py measures them).
+
+Every figure is a ratio of RMSEs to scrambled Sobol' (SciPy, `qmc.Sobol(scramble=True)`)
+on the same instances: on the Genz grid Sobol' is drawn here with the same number of
+randomisations (seeds 3000 + r, as rqmc.py draws them); on the models the stored
+denominator of results/uq-models is used (16 randomisations) unless `sobol_fresh` is
+among the candidates, which measures it again.
+
+    seq      Engine(d, seed=1000 + r).random(n): the default, the extensible lattice
+             sequence with one shift and the tent
+    ind      Engine(d, seed=1000 + r, draws='independent').random(n): the tent lattice
+             made for n, shifted and folded
+    owen     Owen-scrambled Sobol' (stillpoint.baseline('sobol', n, d, seed=1000 + r)):
+             a sequence too (its prefixes are the draws' continuation)
+    halves   the tent lattice made for each odd part of n (n/2 -+ 1, as the lattice made
+             for the laws splits an even n), each with its own shift, then the tent
+    seqrec   the sequence rebuilt here (the tabulated generator, radical-inverse order, a
+             NumPy shift): `seq` in distribution, the base of the next two
+    seqaC    the sequence with an asymmetric tent of apex c per coordinate (y -> y/c
+             below c, (1 - y)/(1 - c) above: uniform to uniform, continuous on the torus,
+             so the order of the tent's error; the point k + 2^(m-1) of a prefix of 2^m
+             is then not the reflection of point k, which through a symmetric law pairs
+             Z with -Z): C = r draws c_j uniform in [1/4, 3/4] per engine, else c = C
+    indaC    the same asymmetric tent on the lattice made for n (`ind`'s set)
+
+    GRID=genz|uq|both (both)  REPS=16  CANDS=seq,ind,owen  CELLS=2:32,5:256 (Genz cells)
+    NS=1024,4096 FAM=keister (uq cells, as uq_rules.py)
+    /work/wt/bench-venv/bin/python benches/uq_engine.py
+
+Prints per cell and the geometric means per family, per benchmark and over both (every
+family-cell of the Genz grid and every cell of the models counted once).
+"""
+import json
+import math
+import os
+import re
+import sys
+import warnings
+
+import numpy as np
+from scipy.stats import qmc
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+import stillpoint as sp  # noqa: E402
+from anchors import FAMILIES, genz_exact, genz_instances, genz_value  # noqa: E402
+
+REPS = int(os.environ.get("REPS", 16))
+CANDS = os.environ.get("CANDS", "seq,ind,owen").split(",")
+GRID = os.environ.get("GRID", "both")
+S_FULL = [2, 3, 5, 8, 10, 15, 20]
+N_FULL = [32, 100, 256, 500, 2048]
+
+
+def parts(n):
+    """The odd sizes of the lattice made for the laws (`law_lattice_parts`)."""
+    return [n] if n % 2 else ([n // 2, n // 2] if (n // 2) % 2 else [n // 2 - 1, n // 2 + 1])
+
+
+def halves(n, d, seed):
+    rng = np.random.default_rng(seed)
+    out = []
+    for m in parts(n):
+        x = np.asarray(sp._core.tent_set(m, d))
+        y = (x + rng.random(d)) % 1.0
+        out.append(1.0 - np.abs(2.0 * y - 1.0))
+    return np.vstack(out)
+
+
+_Z = {}
+
+
+def table_generator(d):
+    """The first d entries of the sequence's tabulated generating vector."""
+    if "all" not in _Z:
+        text = open(os.path.join(ROOT, "sequences", "src", "extensible_table.rs")).read()
+        body = text[text.index("= [") + 3:text.index("];")]
+        _Z["all"] = np.array([int(v) for v in re.findall(r"\d+", body)], dtype=np.int64)
+    return _Z["all"][:d]
+
+
+def radical_inverse(k, bits=20):
+    out = np.zeros_like(k)
+    for b in range(bits):
+        out |= ((k >> b) & 1) << (bits - 1 - b)
+    return out
+
+
+def apex_tent(y, c):
+    return np.where(y < c, y / c, (1.0 - y) / (1.0 - c))
+
+
+def apexes(code, d, rng):
+    return rng.uniform(0.25, 0.75, d) if code == "r" else np.full(d, float(code))
+
+
+def draw(cand, n, d, r):
+    seed = 1000 + r
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if cand == "seq":
+            draws = "sequence" if d <= sp._core.SEQUENCE_MAX_D else "independent"
+            return sp.Engine(d, seed=seed, draws=draws).random(n)
+        if cand == "ind":
+            return sp.Engine(d, seed=seed, draws="independent").random(n)
+    if cand == "owen":
+        return sp.baseline("sobol", n, d, seed=seed)
+    if cand == "halves":
+        return halves(n, d, seed)
+    if cand == "seqrec" or cand.startswith("seqa"):
+        rng = np.random.default_rng(seed)
+        k = radical_inverse(np.arange(n, dtype=np.int64))
+        y = ((k[:, None] * table_generator(d)[None, :]) % (1 << 20)) / float(1 << 20)
+        y = (y + rng.random(d)) % 1.0
+        if cand == "seqrec":
+            return 1.0 - np.abs(2.0 * y - 1.0)
+        return apex_tent(y, apexes(cand[4:], d, rng))
+    if cand.startswith("inda"):
+        rng = np.random.default_rng(seed)
+        y = (np.asarray(sp._core.tent_set(n, d)) + rng.random(d)) % 1.0
+        return apex_tent(y, apexes(cand[4:], d, rng))
+    if cand in ("sobol", "sobol_fresh"):
+        return qmc.Sobol(d, scramble=True, seed=(3000 if cand == "sobol" else 50000) + r).random(n)
+    raise SystemExit(f"unknown candidate {cand}")
+
+
+def gm(xs):
+    return math.exp(float(np.mean(np.log(xs)))) if len(xs) else float("nan")
+
+
+def genz_rows():
+    cells = [(s, n) for s in S_FULL for n in N_FULL]
+    if os.environ.get("CELLS"):
+        cells = [tuple(int(v) for v in c.split(":")) for c in os.environ["CELLS"].split(",")]
+    rows = []
+    for s, n in cells:
+        insts = genz_instances(s, 16, seed=1_000_003 * s + n)
+        exact = np.array([genz_exact(f, a, u) for f, a, u in insts])
+        fam = np.array([f for f, _, _ in insts])
+        rmse = {}
+        for cand in ["sobol"] + CANDS:
+            est = np.empty((REPS, len(insts)))
+            for r in range(REPS):
+                x = np.clip(draw(cand, n, s, r), 0.0, 1.0)
+                est[r] = [genz_value(f, a, u, x).mean() for f, a, u in insts]
+            rmse[cand] = np.sqrt(((est - exact) ** 2).mean(axis=0))
+        for f, name in enumerate(FAMILIES):
+            out = {c: gm(rmse[c][fam == f] / rmse["sobol"][fam == f]) for c in CANDS}
+            rows.append(("genz " + name, f"s = {s}", n, out))
+        print(f"genz s={s} n={n} " + " ".join(
+            f"{c}=" + "/".join(f"{r[3][c]:.2f}" for r in rows[-6:]) for c in CANDS), flush=True)
+    return rows
+
+
+def uq_rows():
+    import uq_models as U
+    from uq_families import BY_NAME, instance, map_cube
+
+    ns = [int(x) for x in os.environ.get("NS", "1024,4096").split(",")]
+    famf = os.environ.get("FAM")
+    data = json.load(open(os.path.join(ROOT, "results", "uq-models", "uq_models.json")))["cells"]
+    rows = []
+    for c in data.values():
+        if c["n"] not in ns or (famf and not any(f in c["family"] for f in famf.split(","))):
+            continue
+        fam = BY_NAME[c["family"]]
+        v = next(v for v in fam.variants if fam.label(v) == c["variant"])
+        insts = [instance(fam, v, i) for i in range(c["instances"])]
+        ref = np.array(c["reference"])
+        den = c["methods"]["sobol"]["rmse"]
+        out = {}
+        for cand in CANDS:
+            errs = []
+            for r in range(REPS):
+                X = np.clip(draw(cand, c["n"], c["d"], r), 2**-53, 1 - 2**-53)
+                q = U.means_on(fam, v, insts, lambda i: map_cube(fam.laws(v, insts[i]), X))
+                errs.append(U.relative(q, ref))
+            out[cand] = math.sqrt(float(np.mean(np.array(errs) ** 2))) / den
+        if "sobol_fresh" in out:
+            out = {k: x / out["sobol_fresh"] for k, x in out.items()}
+        rows.append((c["family"], c["variant"], c["n"], out))
+        print(c["family"], c["variant"], c["n"], " ".join(f"{k}={x:.2f}" for k, x in out.items()),
+              flush=True)
+    return rows
+
+
+def main():
+    rows = []
+    if GRID in ("genz", "both"):
+        rows += [("genz",) + r for r in genz_rows()]
+    if GRID in ("uq", "both"):
+        rows += [("uq",) + r for r in uq_rows()]
+    print(f"\nREPS={REPS}; geometric means of the RMSE ratio to scrambled Sobol'")
+    print(f"{'family':34s} cells " + " ".join(f"{c:>6s}" for c in CANDS))
+    fams = []
+    for r in rows:
+        if r[1] not in fams:
+            fams.append(r[1])
+    groups = [(f, [r for r in rows if r[1] == f]) for f in fams]
+    groups += [(f"ALL {b}", [r for r in rows if r[0] == b]) for b in ("genz", "uq")]
+    groups += [("ALL both", rows)]
+    for name, rs in groups:
+        if rs:
+            print(f"{name:34s} {len(rs):5d} " + " ".join(
+                f"{gm([r[4][c] for r in rs]):6.2f}" for c in CANDS))
+    both = [gm([r[4][c] for r in rows if r[0] == b]) for b in ("genz", "uq") for c in CANDS]
+    if GRID == "both":
+        print("mean of the two benchmarks' geometric means: " + " ".join(
+            f"{c}={math.sqrt(both[i] * both[i + len(CANDS)]):.2f}" for i, c in enumerate(CANDS)))
+
+
+if __name__ == "__main__":
+    main()
