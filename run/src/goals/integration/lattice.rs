@@ -33,7 +33,10 @@
 //! are often peaked at a corner, and which points come near it is what decides their
 //! error. Where a candidate has a point that alone carries more than a quarter of one
 //! of these integrals (`CORNER_SHARE`) and another candidate has none, it is not kept:
-//! in many dimensions the errors alone were lowest with one point near the origin.
+//! in many dimensions the errors alone were lowest with one point near the origin. The
+//! share is bounded along eight fixed weightings of the coordinates too
+//! (e^{−c Σ_j w_j x_j}, `WEIGHTINGS`): integrands weigh their coordinates unequally, and
+//! a point near the origin in a weighted sum need not be near it in the plain one.
 //!
 //! Higher orders weigh γ³ and less and hardly depend on the shift.
 //!
@@ -198,8 +201,9 @@ fn release_freed_memory() {
 /// q = 2p + 1, p = 0..n − 1 (+∞ where a candidate is not tried); among the `choices`
 /// lowest ([`CORNER_CHOICES`]), each also reflected (q + 2n), [`Corner`] chooses, among
 /// those where no point carries more than `cap` of a test function's integral
-/// ([`CORNER_SHARE`]) or, where every candidate has such a point, those whose largest
-/// share is smallest.
+/// ([`CORNER_SHARE`]; the plain ones and those of the first `weightings` of
+/// [`WEIGHTINGS`]) or, where every candidate has such a point, those whose largest share
+/// is smallest.
 ///
 /// Scores equal to about 12 digits (of the largest) rank as ties, broken by the smaller
 /// p: symmetric shifts score the same, and which comes first must not be rounding's
@@ -402,7 +406,8 @@ const WEIGHTING_SEED: u64 = 0xc0_12e2;
 
 /// A candidate shift's figures in [`Corner`]: Σ_c (relative error)² of the test
 /// functions, and the largest part of a rate's integral a single point carries
-/// (max_c max_k Π_j e^{−c x_kj} / (n · ((1 − e^{−c})/c)^j)).
+/// (max_c max_k Π_j e^{−c x_kj} / (n · ((1 − e^{−c})/c)^j)), the weighted test functions'
+/// included ([`WEIGHTINGS`]).
 #[derive(Clone, Copy, Debug)]
 struct Score {
     error: f64,
