@@ -668,10 +668,9 @@ impl Sensitivity {
         PointSet::new(2 * FACE_POINTS * d, d, data).expect("non-empty batch")
     }
 
-    /// Takes f's values at the face test's batch and decides [`Sensitivity::periodic`].
-    /// A value that is not finite (a model undefined near its box's boundary) marks its
-    /// input as not periodic rather than being refused: the run's own points keep off
-    /// the boundary.
+    /// Takes f's values at the face test's batch and decides [`Sensitivity::periodic`];
+    /// refuses what [`Sensitivity::feed`] refuses (a wrong length, NaN or ±∞ naming the
+    /// point and the output).
     fn feed_faces(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
         let d = self.d;
         let rows = 2 * FACE_POINTS * d;
@@ -683,13 +682,15 @@ impl Sensitivity {
             ));
         }
         let k = values.len() / rows;
+        refuse_non_finite(points, values, k)?;
         let mut periodic = vec![true; d];
         for j in 0..k {
             let column: Vec<f64> = values.iter().skip(j).step_by(k).copied().collect();
-            let finite = column.iter().filter(|v| v.is_finite());
-            let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
-                (lo.min(v), hi.max(v))
-            });
+            let (lo, hi) = column
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                    (lo.min(v), hi.max(v))
+                });
             let spread = hi - lo;
             // Rows come as (lower end, upper end) pairs, input after input per point.
             for (pair, ends) in column.chunks_exact(2).enumerate() {
@@ -737,15 +738,7 @@ impl Sensitivity {
                 format!("{rows}·k values (k ≥ 1 outputs per point, as at the first points)"),
             ));
         }
-        if let Some(at) = values.iter().position(|v| !v.is_finite()) {
-            let i = at / k;
-            let p = &points.as_slice()[i * d..(i + 1) * d];
-            return Err(Error::invalid(
-                "f",
-                format!("{} at x = {:?} (output {})", values[at], p, at % k),
-                "a finite value at every point",
-            ));
-        }
+        refuse_non_finite(points, values, k)?;
         if self.k == 0 {
             let (centre, scale) = first_scaling(values, k)?;
             self.k = k;
@@ -1050,6 +1043,22 @@ fn check_budget(o: &SensitivityOptions, d: usize) -> Result<(), Error> {
         ));
     }
     Ok(())
+}
+
+/// Refuses NaN or ±∞ among f's `values` (k per point), naming the first one's point and
+/// output.
+fn refuse_non_finite(points: &PointSet, values: &[f64], k: usize) -> Result<(), Error> {
+    let Some(at) = values.iter().position(|v| !v.is_finite()) else {
+        return Ok(());
+    };
+    let d = points.s();
+    let i = at / k;
+    let p = &points.as_slice()[i * d..(i + 1) * d];
+    Err(Error::invalid(
+        "f",
+        format!("{} at x = {:?} (output {})", values[at], p, at % k),
+        "a finite value at every point",
+    ))
 }
 
 /// 2^e as a float (e within the normal range).
