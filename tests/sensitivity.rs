@@ -938,6 +938,8 @@ fn designs_measured() {
             .map(|x| x.parse::<u64>().expect("SP_BASES"))
         {
             let (mut se, mut inside, mut all, mut hw) = (0.0, 0, 0, 0.0);
+            let mut missed = vec![0; 2 * d];
+            let mut each = vec![0.0; 2 * d];
             for seed in 0..seeds {
                 let o = SensitivityOptions {
                     first_order: if std::env::var("SP_FIRST").as_deref() == Ok("janon") {
@@ -955,19 +957,22 @@ fn designs_measured() {
                 let r = sobol_indices(|x: &PointSet| f(x), *d, o).unwrap();
                 let est = r.first.iter().chain(&r.total);
                 let h = r.first_half_width.iter().chain(&r.total_half_width);
-                for ((x, y), h) in est.zip(exact.0.iter().chain(&exact.1)).zip(h) {
+                for (c, ((x, y), h)) in est.zip(exact.0.iter().chain(&exact.1)).zip(h).enumerate() {
                     se += (x - y).powi(2) / (2 * d) as f64;
                     inside += usize::from((x - y).abs() <= *h);
+                    missed[c] += usize::from((x - y).abs() > *h);
+                    each[c] += (x - y).powi(2) / seeds as f64;
                     all += 1;
                     hw += h;
                 }
             }
             println!(
-                "{name} N={base} n={} rmse={:.2e} cover={:.3} mean_hw={:.2e}",
+                "{name} N={base} n={} rmse={:.2e} cover={:.3} mean_hw={:.2e} missed (S, T)={missed:?} rmse (S, T)={}",
                 base * (*d as u64 + 2),
                 (se / seeds as f64).sqrt(),
                 inside as f64 / all as f64,
-                hw / all as f64
+                hw / all as f64,
+                each.iter().map(|e| format!("{:.1e}", e.sqrt())).collect::<Vec<_>>().join(" ")
             );
         }
     }
