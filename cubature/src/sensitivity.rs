@@ -13,6 +13,9 @@
 //! replicates); N doubles, each batch extending the last (no evaluation is discarded;
 //! the earlier blocks merge in pairs), until every index's half-width is at most
 //! `abs_tol`. The lattice has 1 000 coordinates, so d ≤ 500 inputs, and 2^20 points.
+//! Before the lattice's first batch a face test (8·d evaluations, counted in n) finds the
+//! inputs f is periodic in, whose coordinates the lattice then takes without the tent
+//! ([`Sensitivity::periodic`]): the tent doubles a periodic model's frequencies.
 //!
 //! The estimators (with y the output centred by a constant fixed at the first batch, V
 //! its variance from the A and B values together):
@@ -674,7 +677,7 @@ impl Sensitivity {
     fn feed_faces(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
         let d = self.d;
         let rows = 2 * FACE_POINTS * d;
-        if points.n() != rows || values.is_empty() || values.len() % rows != 0 {
+        if points.n() != rows || values.is_empty() || !values.len().is_multiple_of(rows) {
             return Err(Error::invalid(
                 "values",
                 format!("{} values for {rows} points", values.len()),
