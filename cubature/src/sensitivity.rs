@@ -85,7 +85,7 @@ const FACE_INSET: f64 = 1.0 / EXTENSIBLE_MAX_POINTS as f64;
 /// An input is taken as periodic when every jump of f between the two ends of its range
 /// is within this share of f's spread over the face test's values: far below any
 /// tolerance on the indices, and far above the change a smooth periodic model shows over
-/// [`FACE_INSET`].
+/// its inset (2^-20 of the range).
 pub const PERIODIC_JUMP: f64 = 1e-3;
 
 /// The face test's points are the first of the lattice's replicate with this number
