@@ -631,6 +631,13 @@ fn an_input_periodic_over_its_range_takes_the_lattice_without_the_tent() {
         a.into_iter().zip(b).flat_map(|(a, b)| [a, b]).collect()
     };
     assert_eq!(tested(&two), [true, false, true]);
+    // Outputs near ±f64::MAX: the same decision (the differences do not overflow).
+    let huge = |x: &PointSet| -> Vec<f64> {
+        x.rows()
+            .map(|p| 1e308 * (p[1] / pi) + 1e300 * p[0].sin())
+            .collect()
+    };
+    assert_eq!(tested(&huge), [true, false, true]);
     let pole = |x: &PointSet| -> Vec<f64> {
         x.rows()
             .map(|p| {

@@ -694,10 +694,11 @@ impl Sensitivity {
                 .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
                     (lo.min(v), hi.max(v))
                 });
-            let spread = hi - lo;
+            // Halves, so that outputs near ±f64::MAX do not overflow the differences.
+            let spread = hi / 2.0 - lo / 2.0;
             // Rows come as (lower end, upper end) pairs, input after input per point.
             for (pair, ends) in column.chunks_exact(2).enumerate() {
-                let jump = (ends[1] - ends[0]).abs();
+                let jump = (ends[1] / 2.0 - ends[0] / 2.0).abs();
                 if !(spread > 0.0 && jump <= PERIODIC_JUMP * spread) {
                     periodic[pair % d] = false;
                 }
