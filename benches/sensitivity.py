@@ -104,7 +104,11 @@ def models():
 def ours(f, d, lo, hi, n_base=None, tol=None, seed=0):
     """(first, total, evaluations, max half-width)."""
     if tol is None:
-        r = sp.sobol_indices(f, d, a=lo, b=hi, abs_tol=0.0, max_n=n_base * (d + 2), seed=seed)
+        # N·(d + 2) evaluations, and the face test's 2·d at each of its 4 points (it decides
+        # the lattice's tent per input before the first batch).
+        faces = 2 * 4 * d
+        r = sp.sobol_indices(f, d, a=lo, b=hi, abs_tol=0.0, max_n=n_base * (d + 2) + faces,
+                             seed=seed)
     else:
         r = sp.sobol_indices(f, d, a=lo, b=hi, abs_tol=tol, seed=seed)
     h = max(np.max(r.first_half_width), np.max(r.total_half_width))
@@ -225,8 +229,19 @@ def equal_evaluations(out, reps, bases):
     return rows
 
 
-def to_tolerance(out, tol, reps, largest):
+def to_tolerance(out, tol, reps, largest, ours_only=False):
+    """With ours_only, the references' columns are read from the to_tolerance.csv in
+    `out` (same models, seeds and tolerance; their code does not depend on ours)."""
     rows = []
+    earlier = {}
+    if ours_only:
+        with open(os.path.join(out, "to_tolerance.csv")) as fh:
+            for r in csv.DictReader(fh):
+                assert float(r["tol"]) == tol, "--ours-only needs the earlier run's --tol"
+                earlier[(r["model"], int(r["seed"]))] = {
+                    k: (count(v) if k.endswith("_evals") else
+                        float(v) if k.endswith("_share_within") else v)
+                    for k, v in r.items() if not k.startswith("stillpoint")}
     for name, f, d, lo, hi, exact in models():
         for seed in range(reps):
             row = {"model": name, "d": d, "tol": tol, "seed": seed}
@@ -235,6 +250,11 @@ def to_tolerance(out, tol, reps, largest):
                        stillpoint_within=bool(np.all(np.abs(fs - exact[0]) <= tol)
                                               and np.all(np.abs(ts - exact[1]) <= tol)),
                        stillpoint_share_within=share_within(fs, ts, exact, tol))
+            if ours_only:
+                row.update({k: v for k, v in earlier[(name, seed)].items() if k not in row})
+                print(f"{name:22s} seed {seed}  ours {n}", flush=True)
+                rows.append(row)
+                continue
             for label, method in (("salib", salib), ("scipy", scipy_si)):
                 n_base, done = 64, False
                 # SciPy's bootstrap holds O(N²) memory (16384 base points need > 6 GB).
@@ -257,6 +277,12 @@ def to_tolerance(out, tol, reps, largest):
             rows.append(row)
     write_csv(os.path.join(out, "to_tolerance.csv"), rows)
     return rows
+
+
+def count(text):
+    """An evaluation count as written to the CSV: an integer, or nan (not reached)."""
+    x = float(text)
+    return int(x) if math.isfinite(x) else x
 
 
 # The largest base sample SciPy's bootstrap is asked for.
@@ -289,6 +315,9 @@ def main():
     p.add_argument("--bases", default="1024,8192")
     p.add_argument("--largest", type=int, default=2**17)
     p.add_argument("--skip-tolerance", action="store_true")
+    p.add_argument("--ours-only", action="store_true",
+                   help="to a tolerance, rerun stillpoint only; the references' columns "
+                        "from to_tolerance.csv in --out")
     p.add_argument("--skip-equal", action="store_true",
                    help="read equal_evaluations.csv from --out instead of running it")
     a = p.parse_args()
@@ -317,7 +346,7 @@ def main():
                                default=float("nan")),
     }
     if not a.skip_tolerance:
-        tt = to_tolerance(a.out, a.tol, a.tol_reps, a.largest)
+        tt = to_tolerance(a.out, a.tol, a.tol_reps, a.largest, a.ours_only)
         per = {}
         for r in tt:
             m = per.setdefault(r["model"], {"stillpoint": [], "salib": [], "scipy": [],

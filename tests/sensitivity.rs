@@ -65,6 +65,36 @@ fn g_exact(a: &[f64]) -> Indices {
 }
 
 /// Every index of `r` within `tol` of the closed form (output 0).
+/// Hands out the face test's batch and feeds f's values there, so that the state's next
+/// batch is its first round.
+fn past_the_faces(state: &mut Sensitivity, f: impl Fn(&PointSet) -> Vec<f64>) {
+    let faces = state.next_points().unwrap();
+    assert_eq!(
+        faces.n() as u64,
+        stillpoint::sensitivity::face_evaluations(state.d())
+    );
+    state.feed(&faces, &f(&faces)).unwrap();
+}
+
+/// A model whose values differ at the two ends of every input's range (the lattice
+/// keeps the tent for every input).
+fn not_periodic(x: &PointSet) -> Vec<f64> {
+    x.rows().map(|p| p.iter().sum()).collect()
+}
+
+/// The state as saved before the face test and the settings `fields` existed.
+fn saved_before(state: &Sensitivity, fields: &[&str]) -> Sensitivity {
+    let mut old = serde_json::to_value(state).unwrap();
+    let object = old.as_object_mut().unwrap();
+    for field in ["face_test", "face_pending", "face_evaluations", "periodic"]
+        .iter()
+        .chain(fields)
+    {
+        object.remove(*field).unwrap();
+    }
+    serde_json::from_value(old).unwrap()
+}
+
 fn close(r: &SobolResult, exact: &Indices, tol: f64) {
     let k = r.outputs;
     for (i, (s, t)) in exact.0.iter().zip(&exact.1).enumerate() {
@@ -86,9 +116,12 @@ fn ishigami_meets_its_closed_form() {
         .all(|h| *h <= 0.01));
     close(&r, &ishigami_exact(), 0.01);
     assert_eq!(r.names, ["x1", "x2", "x3"]);
-    // n counts every evaluation: (d + 2) per point of every replicate.
-    assert_eq!(r.n % (5 * 8), 0);
-    assert!((r.n / 40).is_power_of_two());
+    // n counts every evaluation: (d + 2) per point of every replicate, and the face
+    // test's 2·d per face point.
+    let faces = stillpoint::sensitivity::face_evaluations(3);
+    assert_eq!(faces, 2 * 3 * stillpoint::sensitivity::FACE_POINTS as u64);
+    assert_eq!((r.n - faces) % (5 * 8), 0);
+    assert!(((r.n - faces) / 40).is_power_of_two());
 }
 
 #[test]
@@ -245,7 +278,7 @@ fn several_outputs_are_each_their_own_analysis() {
         let a = ishigami(x);
         x.rows()
             .zip(a)
-            .flat_map(|(p, y)| [y, p[0] + 2.0 * p[2]])
+            .flat_map(|(p, y)| [y, p[0].sin() + 2.0 * p[2].sin()])
             .collect()
     };
     let r = sobol_indices(both, 3, box3()).unwrap();
@@ -266,7 +299,8 @@ fn several_outputs_are_each_their_own_analysis() {
         assert_eq!(alone.first[i], r.first[2 * i]);
         assert_eq!(alone.total[i], r.total[2 * i]);
     }
-    // Output 1 = x1 + 2·x3 on [−π, π]: S = T = (1/5, 0, 4/5).
+    // Output 1 = sin x1 + 2·sin x3 on [−π, π] (periodic in every input, as Ishigami is,
+    // so both runs take the same points): S = T = (1/5, 0, 4/5).
     let lin = (vec![0.2, 0.0, 0.8], vec![0.2, 0.0, 0.8]);
     for i in 0..3 {
         assert!((r.first[2 * i + 1] - lin.0[i]).abs() < 0.01, "{r:?}");
@@ -280,7 +314,7 @@ fn simultaneous_intervals_are_wider_by_the_bonferroni_quantile() {
     // yet, so every half-width is the t quantile's.
     let r = stillpoint::sensitivity::REPLICATES;
     let o = SensitivityOptions {
-        max_n: 64 * r as u64 * 5,
+        max_n: 64 * r as u64 * 5 + stillpoint::sensitivity::face_evaluations(3),
         abs_tol: 0.0,
         ..box3()
     };
@@ -308,20 +342,19 @@ fn every_half_width_covers_the_change_since_half_the_points() {
     // The round guard: after two batches each index's half-width is at least the change
     // of its estimate since the first batch (the estimate one batch gives alone).
     let a = vec![0.0, 1.0, 4.5, 9.0];
-    // One round of 64 points per replicate, 6 evaluations each.
+    // One round of 64 points per replicate, 6 evaluations each; the face test's first.
     let round = 64 * stillpoint::sensitivity::REPLICATES as u64 * 6;
+    let faces = stillpoint::sensitivity::face_evaluations(4);
     let run = |max_n, seed, saved: bool| {
         let o = SensitivityOptions {
-            max_n,
+            max_n: max_n + faces,
             seed,
             abs_tol: 0.0,
             ..SensitivityOptions::default()
         };
         let mut state = Sensitivity::new(4, o).unwrap();
         if saved {
-            let mut old = serde_json::to_value(&state).unwrap();
-            old.as_object_mut().unwrap().remove("replicas").unwrap();
-            state = serde_json::from_value(old).unwrap();
+            state = saved_before(&state, &["replicas"]);
         }
         state.run(g_function(a.clone())).unwrap();
         stillpoint::sensitivity::SobolResult::from(state)
@@ -331,7 +364,8 @@ fn every_half_width_covers_the_change_since_half_the_points() {
     let mut raised = 0;
     for (seed, saved) in (0..4).map(|s| (s, false)).chain([(0, true)]) {
         let (half, whole) = (run(round, seed, saved), run(2 * round, seed, saved));
-        assert_eq!((half.n, whole.n), (round, 2 * round));
+        let faces = if saved { 0 } else { faces };
+        assert_eq!((half.n, whole.n), (round + faces, 2 * round + faces));
         for (now, (before, h)) in [
             (&whole.first, (&half.first, &whole.first_half_width)),
             (&whole.total, (&half.total, &whole.total_half_width)),
@@ -362,9 +396,8 @@ fn each_inputs_a_and_b_are_neighbouring_coordinates_and_saved_states_keep_theirs
         ..SensitivityOptions::default()
     };
     let mut state = Sensitivity::new(d, o).unwrap();
-    let mut old: serde_json::Value = serde_json::to_value(&state).unwrap();
-    old.as_object_mut().unwrap().remove("layout").unwrap();
-    let mut old: Sensitivity = serde_json::from_value(old).unwrap();
+    let mut old = saved_before(&state, &["layout"]);
+    past_the_faces(&mut state, not_periodic);
     let (new_rows, old_rows) = (state.next_points().unwrap(), old.next_points().unwrap());
     // Point 0 of replicate 0: rows A, B, AB_1, …
     let row = |p: &PointSet, r: usize| p.as_slice()[r * d..(r + 1) * d].to_vec();
@@ -401,9 +434,8 @@ fn the_replicates_are_blocks_of_one_sequence_and_saved_states_keep_independent_o
         ..SensitivityOptions::default()
     };
     let mut state = Sensitivity::new(d, o).unwrap();
-    let mut old = serde_json::to_value(&state).unwrap();
-    old.as_object_mut().unwrap().remove("replicas").unwrap();
-    let mut old: Sensitivity = serde_json::from_value(old).unwrap();
+    let mut old = saved_before(&state, &["replicas"]);
+    past_the_faces(&mut state, not_periodic);
     // Row A of point p of replicate r in a round of m points per replicate.
     let a_of = |x: &PointSet, m: usize, r: usize, p: usize| {
         let row = (r * m + p) * (d + 2);
@@ -435,10 +467,11 @@ fn after_a_doubling_each_replicate_is_the_union_of_two_blocks_before_it() {
     // Saltelli's first-order sums depend on the constant the values are centred by (the
     // mean of the first round), which the two runs take from different rounds.
     let f = || g_function(vec![0.0, 1.0, 4.5, 9.0]);
+    let faces = stillpoint::sensitivity::face_evaluations(4);
     let run = |start_n: u64, max_n: u64| {
         let o = SensitivityOptions {
             start_n,
-            max_n,
+            max_n: max_n + faces,
             abs_tol: 0.0,
             ..SensitivityOptions::default()
         };
@@ -446,7 +479,7 @@ fn after_a_doubling_each_replicate_is_the_union_of_two_blocks_before_it() {
     };
     let round = 64 * stillpoint::sensitivity::REPLICATES as u64 * 6;
     let (two, one, half) = (run(64, 2 * round), run(128, 2 * round), run(64, round));
-    assert_eq!((two.n, one.n), (2 * round, 2 * round));
+    assert_eq!((two.n, one.n), (2 * round + faces, 2 * round + faces));
     for (x, (y, (h2, (h1, before)))) in two.first.iter().chain(&two.total).zip(
         one.first.iter().chain(&one.total).zip(
             two.first_half_width
@@ -476,7 +509,8 @@ fn the_total_is_janon_s_by_default_jansen_s_by_name_and_in_states_saved_before()
     let run = |total_order: TotalOrder, saved: bool| {
         let o = SensitivityOptions {
             total_order,
-            max_n: 64 * stillpoint::sensitivity::REPLICATES as u64 * 5,
+            max_n: 64 * stillpoint::sensitivity::REPLICATES as u64 * 5
+                + stillpoint::sensitivity::face_evaluations(d),
             ..box3()
         };
         let mut state = Sensitivity::new(d, o).unwrap();
@@ -486,6 +520,7 @@ fn the_total_is_janon_s_by_default_jansen_s_by_name_and_in_states_saved_before()
             options.remove("total_order").unwrap();
             state = serde_json::from_value(old).unwrap();
         }
+        past_the_faces(&mut state, ishigami);
         let x = state.next_points().unwrap();
         let y = ishigami(&x);
         state.feed(&x, &y).unwrap();
@@ -531,6 +566,103 @@ fn the_total_is_janon_s_by_default_jansen_s_by_name_and_in_states_saved_before()
             "the two differ after one round"
         );
     }
+}
+
+#[test]
+fn an_input_periodic_over_its_range_takes_the_lattice_without_the_tent() {
+    // The face test: f at FACE_POINTS points with each input in turn just inside both
+    // ends of its range; an input is periodic when no jump between the ends exceeds
+    // PERIODIC_JUMP of the spread, on every output.
+    use stillpoint::sensitivity::{face_evaluations, FACE_POINTS};
+    let (d, pi) = (3, PI);
+    // sin x1 and x3⁴ are periodic over [−π, π], x2 is not.
+    let mixed = |x: &PointSet| -> Vec<f64> {
+        x.rows()
+            .map(|p| p[0].sin() + p[1] + 0.1 * p[2].powi(4))
+            .collect()
+    };
+    let mut state = Sensitivity::new(d, box3()).unwrap();
+    let faces = state.next_points().unwrap();
+    assert_eq!(faces.n(), 2 * FACE_POINTS * d);
+    // Every face row is inside the box, one input at a time near an end.
+    for (r, row) in faces.rows().enumerate() {
+        let i = (r / 2) % d;
+        let end = if r % 2 == 0 { -pi } else { pi };
+        assert!(row.iter().all(|x| x.abs() < pi), "{row:?}");
+        assert!((row[i] - end).abs() < 1e-5, "{r}: {row:?}");
+    }
+    assert!(state.pending() > 0);
+    state.feed(&faces, &mixed(&faces)).unwrap();
+    assert_eq!(state.periodic(), [true, false, true]);
+    assert_eq!(state.n(), face_evaluations(d));
+    // Input i's A and B are coordinates 2i and 2i + 1 of the lattice: without the tent
+    // for x1 and x3, with it for x2.
+    let x = state.next_points().unwrap();
+    let seq = stillpoint::sequences::ExtensibleLattice::new(2 * d, 0, 0).unwrap();
+    let mut num = vec![0u64; 2 * d];
+    seq.unshifted_numerators(0, &mut num);
+    let plain: Vec<f64> = num
+        .iter()
+        .zip(seq.shift())
+        .map(|(a, c)| (*a as f64 / (1u64 << 20) as f64 + c).fract())
+        .collect();
+    let a_row = &x.as_slice()[..d];
+    let want = [plain[0], stillpoint::sequences::tent(plain[2]), plain[4]];
+    for (got, u) in a_row.iter().zip(want) {
+        assert!(
+            (got - (-pi + 2.0 * pi * u)).abs() < 1e-12,
+            "{a_row:?} {want:?}"
+        );
+    }
+    // Ishigami is periodic in every input; a sum of the inputs in none; several outputs
+    // need every output periodic; a value that is not finite near an end is refused as
+    // at any other point.
+    let tested = |f: &dyn Fn(&PointSet) -> Vec<f64>| {
+        let mut s = Sensitivity::new(d, box3()).unwrap();
+        let faces = s.next_points().unwrap();
+        s.feed(&faces, &f(&faces)).unwrap();
+        s.periodic().to_vec()
+    };
+    assert_eq!(tested(&ishigami), [true; 3]);
+    assert_eq!(tested(&not_periodic), [false; 3]);
+    let two = |x: &PointSet| -> Vec<f64> {
+        let a = ishigami(x);
+        let b = mixed(x);
+        a.into_iter().zip(b).flat_map(|(a, b)| [a, b]).collect()
+    };
+    assert_eq!(tested(&two), [true, false, true]);
+    // Outputs near ±f64::MAX: the same decision (the differences do not overflow).
+    let huge = |x: &PointSet| -> Vec<f64> {
+        x.rows()
+            .map(|p| 1e308 * (p[1] / pi) + 1e300 * p[0].sin())
+            .collect()
+    };
+    assert_eq!(tested(&huge), [true, false, true]);
+    let pole = |x: &PointSet| -> Vec<f64> {
+        x.rows()
+            .map(|p| {
+                if p[2] > pi - 1e-4 {
+                    f64::INFINITY
+                } else {
+                    p[0].sin()
+                }
+            })
+            .collect()
+    };
+    let mut s = Sensitivity::new(d, box3()).unwrap();
+    let faces = s.next_points().unwrap();
+    let e = s.feed(&faces, &pole(&faces)).unwrap_err().to_string();
+    assert!(e.starts_with("invalid f = inf at x = ["), "{e}");
+    assert!(s.pending() > 0 && s.periodic().is_empty());
+    // Under an unbounded law (Owen-scrambled points) no face test is made.
+    let o = SensitivityOptions {
+        rule: stillpoint::cubature::Rule::Sobol,
+        max_n: 64 * stillpoint::sensitivity::REPLICATES as u64 * 5,
+        ..box3()
+    };
+    let r = sobol_indices(ishigami, d, o).unwrap();
+    assert_eq!(r.n, 64 * stillpoint::sensitivity::REPLICATES as u64 * 5);
+    assert!(r.state.periodic().is_empty());
 }
 
 #[test]
@@ -597,8 +729,12 @@ fn refusals_name_the_argument_and_the_value() {
         },
     );
     assert!(e.starts_with("invalid max_n = 100"), "{e}");
-    let first = 64 * stillpoint::sensitivity::REPLICATES * 4;
-    assert!(e.contains(&format!("{first} evaluations")), "{e}");
+    let faces = stillpoint::sensitivity::face_evaluations(2);
+    let first = 64 * stillpoint::sensitivity::REPLICATES as u64 * 4 + faces;
+    assert!(
+        e.contains(&format!("the face test's {faces}, {first} evaluations")),
+        "{e}"
+    );
 }
 
 #[test]
@@ -705,7 +841,7 @@ fn setting<T: std::str::FromStr>(name: &str, default: T) -> T {
 }
 
 #[test]
-#[ignore = "a measurement: SP_RULE=lattice|sobol SP_R=4 SP_SEEDS=30 [SP_TOL=0.02] \
+#[ignore = "a measurement: SP_RULE=lattice|sobol SP_R=4 SP_SEEDS=30 [SP_TOL=0.02] [SP_FIRST=janon] \
             [SP_BASES=1024,8192] [SP_MODELS=ishigami,g6] cargo test --release --test \
             sensitivity designs_measured -- --ignored --nocapture"]
 fn designs_measured() {
@@ -809,31 +945,41 @@ fn designs_measured() {
             .map(|x| x.parse::<u64>().expect("SP_BASES"))
         {
             let (mut se, mut inside, mut all, mut hw) = (0.0, 0, 0, 0.0);
+            let mut missed = vec![0; 2 * d];
+            let mut each = vec![0.0; 2 * d];
             for seed in 0..seeds {
                 let o = SensitivityOptions {
+                    first_order: if std::env::var("SP_FIRST").as_deref() == Ok("janon") {
+                        stillpoint::cubature::sensitivity::FirstOrder::Janon
+                    } else {
+                        stillpoint::cubature::sensitivity::FirstOrder::Saltelli
+                    },
                     seed,
                     abs_tol: 0.0,
                     rule,
                     replicates: reps,
-                    max_n: base * (*d as u64 + 2),
+                    max_n: base * (*d as u64 + 2) + stillpoint::sensitivity::face_evaluations(*d),
                     ..o.clone()
                 };
                 let r = sobol_indices(|x: &PointSet| f(x), *d, o).unwrap();
                 let est = r.first.iter().chain(&r.total);
                 let h = r.first_half_width.iter().chain(&r.total_half_width);
-                for ((x, y), h) in est.zip(exact.0.iter().chain(&exact.1)).zip(h) {
+                for (c, ((x, y), h)) in est.zip(exact.0.iter().chain(&exact.1)).zip(h).enumerate() {
                     se += (x - y).powi(2) / (2 * d) as f64;
                     inside += usize::from((x - y).abs() <= *h);
+                    missed[c] += usize::from((x - y).abs() > *h);
+                    each[c] += (x - y).powi(2) / seeds as f64;
                     all += 1;
                     hw += h;
                 }
             }
             println!(
-                "{name} N={base} n={} rmse={:.2e} cover={:.3} mean_hw={:.2e}",
+                "{name} N={base} n={} rmse={:.2e} cover={:.3} mean_hw={:.2e} missed (S, T)={missed:?} rmse (S, T)={}",
                 base * (*d as u64 + 2),
                 (se / seeds as f64).sqrt(),
                 inside as f64 / all as f64,
-                hw / all as f64
+                hw / all as f64,
+                each.iter().map(|e| format!("{:.1e}", e.sqrt())).collect::<Vec<_>>().join(" ")
             );
         }
     }

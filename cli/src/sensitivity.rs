@@ -140,10 +140,18 @@ pub(crate) fn sensitivity_command(q: SensitivityArgs) -> Result<()> {
             .with_context(|| format!("--plot {}", path.display()))?;
     }
     if q.json {
+        // The inputs the lattice takes without the tent (the face test found f periodic
+        // in them).
+        let periodic: Vec<&String> = r
+            .names
+            .iter()
+            .zip(r.state.periodic())
+            .filter_map(|(name, &p)| p.then_some(name))
+            .collect();
         let mut v = json!({"expr": text, "names": r.names, "first": r.first, "total": r.total,
                        "first_half_width": r.first_half_width,
                        "total_half_width": r.total_half_width, "n": r.n,
-                       "met": r.met, "reason": reason});
+                       "met": r.met, "reason": reason, "periodic": periodic});
         record(
             &mut v,
             [

@@ -50,6 +50,18 @@ fn ishigami_is_within_the_tolerance_of_its_closed_form() {
     assert!(floats(&v["total_half_width"]).iter().all(|h| *h <= 0.01));
     assert_eq!(v["names"], serde_json::json!(["x1", "x2", "x3"]));
     assert_eq!(v["rule"], "lattice", "a box: the tent lattice");
+    // Ishigami is periodic in every input over [−π, π]: the face test (8·d evaluations,
+    // counted in n) takes every input without the tent.
+    assert_eq!(v["periodic"], serde_json::json!(["x1", "x2", "x3"]));
+    assert_eq!(v["n"].as_u64().unwrap() % 40, 24, "{v}");
+    let mixed = run_json(&[
+        "--expr",
+        "sin(x1) + x2",
+        "-s",
+        "2",
+        "--bounds=-3.141592653589793,3.141592653589793,-1,1",
+    ]);
+    assert_eq!(mixed["periodic"], serde_json::json!(["x1"]));
 }
 
 #[test]
@@ -71,6 +83,7 @@ fn laws_give_names_and_the_table_and_plot_are_written() {
         v["rule"], "sobol",
         "unbounded laws: Sobol' points, as quad's"
     );
+    assert_eq!(v["periodic"], serde_json::json!([]), "no face test");
     for (got, want) in floats(&v["first"]).iter().zip([0.2, 0.8, 0.0]) {
         assert!((got - want).abs() <= 0.01, "{v}");
     }

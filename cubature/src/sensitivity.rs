@@ -13,6 +13,9 @@
 //! replicates); N doubles, each batch extending the last (no evaluation is discarded;
 //! the earlier blocks merge in pairs), until every index's half-width is at most
 //! `abs_tol`. The lattice has 1 000 coordinates, so d ≤ 500 inputs, and 2^20 points.
+//! Before the lattice's first batch a face test (8·d evaluations, counted in n) finds the
+//! inputs f is periodic in, whose coordinates the lattice then takes without the tent
+//! ([`Sensitivity::periodic`]): the tent doubles a periodic model's frequencies.
 //!
 //! The estimators (with y the output centred by a constant fixed at the first batch, V
 //! its variance from the A and B values together):
@@ -51,7 +54,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::{student_t_quantile, Rule, StopReason, DEFAULT_START_N};
 use crate::{Error, PointSet};
-use stillpoint_sequences::{EXTENSIBLE_MAX_D, EXTENSIBLE_MAX_POINTS};
+use stillpoint_sequences::{tent, ExtensibleLattice, EXTENSIBLE_MAX_D, EXTENSIBLE_MAX_POINTS};
 
 /// Replicates (blocks of the one sequence) by default: 8, not quad's 4. The estimate
 /// is the rule of all N points whatever R is, so more blocks cost no accuracy, and the
@@ -69,6 +72,31 @@ pub const DEFAULT_RULE: Rule = Rule::TentLattice;
 
 /// Keeps the replicates' scrambles apart from other users of the same seed.
 const SOBOL_KEY: u64 = 0x7365_6e73_536f_626f;
+
+/// Points of the face test: each is evaluated with every input in turn at both ends
+/// of its range (see [`Sensitivity::periodic`]), 2·d evaluations per point.
+pub const FACE_POINTS: usize = 4;
+
+/// How far inside its range the face test puts an input (a share of its width): one step
+/// of the lattice's finest grid, so that a model defined on the open box is never
+/// evaluated on its boundary.
+const FACE_INSET: f64 = 1.0 / EXTENSIBLE_MAX_POINTS as f64;
+
+/// An input is taken as periodic when every jump of f between the two ends of its range
+/// is within this share of f's spread over the face test's values: far below any
+/// tolerance on the indices, and far above the change a smooth periodic model shows over
+/// its inset (2^-20 of the range).
+pub const PERIODIC_JUMP: f64 = 1e-3;
+
+/// The face test's points are the first of the lattice's replicate with this number
+/// (no run's replicates reach it).
+const FACE_REPLICATE: u64 = u64::MAX;
+
+/// The evaluations of the face test on d inputs (made when the rule is the lattice,
+/// before the first batch, and counted in `n`).
+pub fn face_evaluations(d: usize) -> u64 {
+    (2 * FACE_POINTS * d) as u64
+}
 
 /// The most inputs: the sequence's coordinates hold the two halves A and B.
 pub const MAX_INPUTS: usize = EXTENSIBLE_MAX_D / 2;
@@ -225,6 +253,18 @@ pub struct Sensitivity {
     /// independent randomisations).
     #[serde(default)]
     replicas: Replicas,
+    /// The face test (see [`Sensitivity::periodic`]): whether it is made (the lattice's
+    /// runs; states saved before it existed: no), whether its batch is handed out, its
+    /// evaluations once fed (0 before), and per input whether the lattice takes it
+    /// without the tent (empty before the test: the tent for every input).
+    #[serde(default)]
+    face_test: bool,
+    #[serde(default)]
+    face_pending: bool,
+    #[serde(default)]
+    face_evaluations: u64,
+    #[serde(default)]
+    periodic: Vec<bool>,
 }
 
 /// How the R replicates the interval is computed from are drawn. As blocks, the points
@@ -263,6 +303,14 @@ enum Layout {
 }
 
 impl Layout {
+    /// The input whose A or B column coordinate c (from 0) of the 2d is.
+    fn input_of(self, c: usize, d: usize) -> usize {
+        match self {
+            Layout::Split => c % d,
+            Layout::Interleaved => c / 2,
+        }
+    }
+
     /// A point of 2d coordinates as its A and B halves.
     fn split(self, point: &[f64], a: &mut [f64], b: &mut [f64]) {
         match self {
@@ -330,6 +378,9 @@ impl Sensitivity {
             .clone()
             .unwrap_or_else(|| (1..=d).map(|i| format!("x{i}")).collect());
         let width = lower.iter().zip(&upper).map(|(a, b)| b - a).collect();
+        // The face test decides the lattice's tent per input; Owen-scrambled points (the
+        // rule under unbounded laws, whose ends are infinite) have no tent to decide.
+        let face_test = options.rule != Rule::Sobol;
         Ok(Sensitivity {
             d,
             options,
@@ -345,6 +396,10 @@ impl Sensitivity {
             half_sums: Vec::new(),
             layout: Layout::Interleaved,
             replicas: Replicas::Blocks,
+            face_test,
+            face_pending: false,
+            face_evaluations: 0,
+            periodic: Vec::new(),
         })
     }
 
@@ -368,9 +423,42 @@ impl Sensitivity {
         self.k
     }
 
-    /// Evaluations of f so far: (d + 2) per point, all replicates together.
+    /// Evaluations of f so far: (d + 2) per point, all replicates together, and the face
+    /// test's.
     pub fn n(&self) -> u64 {
         self.per_replicate * self.options.replicates as u64 * (self.d as u64 + 2)
+            + self.face_evaluations
+    }
+
+    /// Per input, whether the lattice takes its coordinates without the tent transform
+    /// (empty before the face test, and when none was made: the tent for every input).
+    ///
+    /// The tent makes the lattice's rule of order n⁻² for any smooth model, but it folds
+    /// each coordinate, doubling the frequencies a model periodic in that input has, and
+    /// the pick-freeze sums double them again: on Ishigami (periodic in every input over
+    /// [−π, π]) and the G functions the lattice without the tent erred 2.5–19× less at
+    /// equal evaluations, on the linear and product models (whose values at the two ends
+    /// of a range differ) 2.4–125× more (results/sensitivity/design.md, "The tent by
+    /// input"). So before the first batch the face test evaluates f at [`FACE_POINTS`]
+    /// points with each input in turn just inside either end of its range (2·d per point,
+    /// counted in `n`), and an input is periodic when every jump between the two ends is
+    /// within [`PERIODIC_JUMP`] of the spread of those values, on every output.
+    pub fn periodic(&self) -> &[bool] {
+        &self.periodic
+    }
+
+    /// Whether the face test is still to be handed out.
+    fn face_due(&self) -> bool {
+        self.face_test && self.face_evaluations == 0 && self.per_replicate == 0
+    }
+
+    /// The evaluations of the face test, made or still to make.
+    fn face_cost(&self) -> u64 {
+        if self.face_due() {
+            face_evaluations(self.d)
+        } else {
+            self.face_evaluations
+        }
     }
 
     /// Points per replicate so far (each d + 2 evaluations).
@@ -378,9 +466,14 @@ impl Sensitivity {
         self.per_replicate
     }
 
-    /// Points per replicate of the batch handed out and not yet fed (0: none).
+    /// Points per replicate of the batch handed out and not yet fed (0: none; the face
+    /// test's [`FACE_POINTS`] while that is handed out).
     pub fn pending(&self) -> u64 {
-        self.pending
+        if self.face_pending {
+            FACE_POINTS as u64
+        } else {
+            self.pending
+        }
     }
 
     /// Sets a new tolerance (the evaluations made are kept). Refuses a negative or
@@ -451,7 +544,8 @@ impl Sensitivity {
     /// points.
     pub fn exhausted(&self) -> bool {
         let next = self.per_replicate + self.next_size();
-        self.beyond_sequence() || self.cost(next) > self.options.max_n
+        self.beyond_sequence()
+            || self.cost(next).saturating_add(self.face_cost()) > self.options.max_n
     }
 
     /// Why the run stops here: `None` while another doubling may be made and the
@@ -473,6 +567,10 @@ impl Sensitivity {
     /// (R·m·(d + 2) rows). Asking again before [`Sensitivity::feed`] gives the same
     /// batch. `None` when the budget is spent ([`Sensitivity::exhausted`]).
     pub fn next_points(&mut self) -> Option<PointSet> {
+        if self.face_pending || (self.face_due() && !self.exhausted()) {
+            self.face_pending = true;
+            return Some(self.face_points());
+        }
         if self.pending == 0 {
             if self.exhausted() {
                 return None;
@@ -519,12 +617,97 @@ impl Sensitivity {
     }
 
     /// Points `start`.. of randomisation `rep` in 2d dimensions, before the box's
-    /// scaling (as many as `out` holds).
+    /// scaling (as many as `out` holds); the lattice's coordinates of a periodic input
+    /// without the tent.
     fn fill(&self, rep: u64, start: u64, m: usize, out: &mut [f64]) {
         debug_assert_eq!(out.len(), m * 2 * self.d);
-        self.options
-            .rule
-            .fill(2 * self.d, self.options.seed, SOBOL_KEY, rep, start, out);
+        let s = 2 * self.d;
+        let (seed, rule) = (self.options.seed, self.options.rule);
+        if rule == Rule::Sobol || !self.periodic.contains(&true) {
+            rule.fill(s, seed, SOBOL_KEY, rep, start, out);
+            return;
+        }
+        let plain: Vec<bool> = (0..s)
+            .map(|c| self.periodic[self.layout.input_of(c, self.d)])
+            .collect();
+        let seq = ExtensibleLattice::new(s, seed, rep).expect("d checked by new");
+        let scale = 1.0 / EXTENSIBLE_MAX_POINTS as f64;
+        let mut num = vec![0u64; s];
+        for (i, row) in out.chunks_exact_mut(s).enumerate() {
+            seq.unshifted_numerators(start + i as u64, &mut num);
+            for (((x, &a), &c), &plain) in row.iter_mut().zip(&num).zip(seq.shift()).zip(&plain) {
+                let y = a as f64 * scale + c;
+                let y = if y >= 1.0 { y - 1.0 } else { y };
+                *x = if plain { y } else { tent(y) };
+            }
+        }
+    }
+
+    /// The face test's batch, scaled to the box: for each of [`FACE_POINTS`] points of
+    /// the lattice in d dimensions and each input i in turn, the point with input i just
+    /// inside the lower end of its range, then just inside the upper end (2·d rows per
+    /// point).
+    fn face_points(&self) -> PointSet {
+        let d = self.d;
+        let mut base = vec![0.0; FACE_POINTS * d];
+        ExtensibleLattice::new(d, self.options.seed, FACE_REPLICATE)
+            .and_then(|seq| seq.fill(0, FACE_POINTS, &mut base))
+            .expect("d and the range checked by new");
+        let mut data = Vec::with_capacity(2 * FACE_POINTS * d * d);
+        for point in base.chunks_exact(d) {
+            for i in 0..d {
+                for end in [FACE_INSET, 1.0 - FACE_INSET] {
+                    let at = data.len();
+                    data.extend_from_slice(point);
+                    data[at + i] = end;
+                }
+            }
+        }
+        for row in data.chunks_exact_mut(d) {
+            for ((x, lo), w) in row.iter_mut().zip(&self.lower).zip(&self.width) {
+                *x = lo + w * *x;
+            }
+        }
+        PointSet::new(2 * FACE_POINTS * d, d, data).expect("non-empty batch")
+    }
+
+    /// Takes f's values at the face test's batch and decides [`Sensitivity::periodic`];
+    /// refuses what [`Sensitivity::feed`] refuses (a wrong length, NaN or ±∞ naming the
+    /// point and the output).
+    fn feed_faces(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
+        let d = self.d;
+        let rows = 2 * FACE_POINTS * d;
+        if points.n() != rows || values.is_empty() || !values.len().is_multiple_of(rows) {
+            return Err(Error::invalid(
+                "values",
+                format!("{} values for {rows} points", values.len()),
+                format!("{rows}·k values (k ≥ 1 outputs per point)"),
+            ));
+        }
+        let k = values.len() / rows;
+        refuse_non_finite(points, values, k)?;
+        let mut periodic = vec![true; d];
+        for j in 0..k {
+            let column: Vec<f64> = values.iter().skip(j).step_by(k).copied().collect();
+            let (lo, hi) = column
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                    (lo.min(v), hi.max(v))
+                });
+            // Halves, so that outputs near ±f64::MAX do not overflow the differences.
+            let spread = hi / 2.0 - lo / 2.0;
+            // Rows come as (lower end, upper end) pairs, input after input per point.
+            for (pair, ends) in column.chunks_exact(2).enumerate() {
+                let jump = (ends[1] / 2.0 - ends[0] / 2.0).abs();
+                if !(spread > 0.0 && jump <= PERIODIC_JUMP * spread) {
+                    periodic[pair % d] = false;
+                }
+            }
+        }
+        self.periodic = periodic;
+        self.face_evaluations = rows as u64;
+        self.face_pending = false;
+        Ok(())
     }
 
     /// Takes f's values at the batch of [`Sensitivity::next_points`]: rows × k values,
@@ -534,6 +717,9 @@ impl Sensitivity {
     /// point (its variance, which every index divides by, is 0); the state is unchanged
     /// then.
     pub fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
+        if self.face_pending {
+            return self.feed_faces(points, values);
+        }
         let (r, d) = (self.options.replicates, self.d);
         let m = self.pending as usize;
         let rows = r * m * (d + 2);
@@ -556,15 +742,7 @@ impl Sensitivity {
                 format!("{rows}·k values (k ≥ 1 outputs per point, as at the first points)"),
             ));
         }
-        if let Some(at) = values.iter().position(|v| !v.is_finite()) {
-            let i = at / k;
-            let p = &points.as_slice()[i * d..(i + 1) * d];
-            return Err(Error::invalid(
-                "f",
-                format!("{} at x = {:?} (output {})", values[at], p, at % k),
-                "a finite value at every point",
-            ));
-        }
+        refuse_non_finite(points, values, k)?;
         if self.k == 0 {
             let (centre, scale) = first_scaling(values, k)?;
             self.k = k;
@@ -840,24 +1018,51 @@ fn quad_options(o: &SensitivityOptions) -> crate::QuadOptions {
 
 /// Refuses a budget below one first batch (naming `max_n`).
 fn check_budget(o: &SensitivityOptions, d: usize) -> Result<(), Error> {
+    let faces = if o.rule == Rule::Sobol {
+        0
+    } else {
+        face_evaluations(d)
+    };
     let first = o
         .start_n
         .saturating_mul(o.replicates as u64)
-        .saturating_mul(d as u64 + 2);
+        .saturating_mul(d as u64 + 2)
+        .saturating_add(faces);
     if o.max_n < first {
         return Err(Error::invalid(
             stillpoint_parse::names::MAX_N,
             o.max_n,
             format!(
                 "at least one first batch: {} points for each of the {} replicates, each \
-                 {} evaluations (d + 2), {first} evaluations",
+                 {} evaluations (d + 2){}, {first} evaluations",
                 o.start_n,
                 o.replicates,
-                d + 2
+                d + 2,
+                if faces > 0 {
+                    format!(", and the face test's {faces}")
+                } else {
+                    String::new()
+                }
             ),
         ));
     }
     Ok(())
+}
+
+/// Refuses NaN or ±∞ among f's `values` (k per point), naming the first one's point and
+/// output.
+fn refuse_non_finite(points: &PointSet, values: &[f64], k: usize) -> Result<(), Error> {
+    let Some(at) = values.iter().position(|v| !v.is_finite()) else {
+        return Ok(());
+    };
+    let d = points.s();
+    let i = at / k;
+    let p = &points.as_slice()[i * d..(i + 1) * d];
+    Err(Error::invalid(
+        "f",
+        format!("{} at x = {:?} (output {})", values[at], p, at % k),
+        "a finite value at every point",
+    ))
 }
 
 /// 2^e as a float (e within the normal range).

@@ -66,7 +66,10 @@ class SobolResult(_Result):
 
     @property
     def n(self) -> int:
-        """Evaluations of f made, all rounds: (d + 2) per point of every replicate."""
+        """Evaluations of f made, all rounds: (d + 2) per point of every replicate, and
+        over a box or bounded laws the face test's 8·d (f at 4 points with each input in
+        turn just inside both ends of its range; the lattice takes the inputs f is
+        periodic in without the tent)."""
         return int(self._state.n)
 
     @property
