@@ -54,7 +54,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::{student_t_quantile, Rule, StopReason, DEFAULT_START_N};
 use crate::{Error, PointSet};
-use stillpoint_sequences::{tent, ExtensibleLattice, EXTENSIBLE_MAX_D, EXTENSIBLE_MAX_POINTS};
+use stillpoint_sequences::{ExtensibleLattice, EXTENSIBLE_MAX_D, EXTENSIBLE_MAX_POINTS};
 
 /// Replicates (blocks of the one sequence) by default: 8, not quad's 4. The estimate
 /// is the rule of all N points whatever R is, so more blocks cost no accuracy, and the
@@ -627,20 +627,12 @@ impl Sensitivity {
             rule.fill(s, seed, SOBOL_KEY, rep, start, out);
             return;
         }
-        let plain: Vec<bool> = (0..s)
-            .map(|c| self.periodic[self.layout.input_of(c, self.d)])
+        let fold: Vec<bool> = (0..s)
+            .map(|c| !self.periodic[self.layout.input_of(c, self.d)])
             .collect();
-        let seq = ExtensibleLattice::new(s, seed, rep).expect("d checked by new");
-        let scale = 1.0 / EXTENSIBLE_MAX_POINTS as f64;
-        let mut num = vec![0u64; s];
-        for (i, row) in out.chunks_exact_mut(s).enumerate() {
-            seq.unshifted_numerators(start + i as u64, &mut num);
-            for (((x, &a), &c), &plain) in row.iter_mut().zip(&num).zip(seq.shift()).zip(&plain) {
-                let y = a as f64 * scale + c;
-                let y = if y >= 1.0 { y - 1.0 } else { y };
-                *x = if plain { y } else { tent(y) };
-            }
-        }
+        ExtensibleLattice::new(s, seed, rep)
+            .and_then(|seq| seq.fill_folding(start, m, &fold, out))
+            .expect("d and the range checked by new");
     }
 
     /// The face test's batch, scaled to the box: for each of [`FACE_POINTS`] points of

@@ -461,7 +461,27 @@ impl ExtensibleLattice {
     /// Points [start, start + count) written row after row into `out` (count·d values).
     /// Refuses a range reaching past 2^20 points, naming `count`.
     pub fn fill(&self, start: u64, count: usize, out: &mut [f64]) -> Result<(), Error> {
+        self.fill_folding(start, count, &vec![true; self.d()], out)
+    }
+
+    /// [`ExtensibleLattice::fill`] with the tent transform on the coordinates `fold`
+    /// marks only (one flag per coordinate); the others keep the shifted lattice's value,
+    /// for integrands periodic in them, whose frequencies the tent would double.
+    pub fn fill_folding(
+        &self,
+        start: u64,
+        count: usize,
+        fold: &[bool],
+        out: &mut [f64],
+    ) -> Result<(), Error> {
         let d = self.d();
+        if fold.len() != d {
+            return Err(Error::invalid(
+                "fold",
+                fold.len(),
+                format!("one flag per coordinate ({d})"),
+            ));
+        }
         let end = start.checked_add(count as u64);
         if end.is_none_or(|e| e > EXTENSIBLE_MAX_POINTS) {
             return Err(Error::invalid(
@@ -484,9 +504,10 @@ impl ExtensibleLattice {
         let mut num = vec![0u64; d];
         for (i, row) in out.chunks_exact_mut(d.max(1)).enumerate() {
             self.unshifted_numerators(start + i as u64, &mut num);
-            for ((x, &a), &c) in row.iter_mut().zip(&num).zip(&self.shift) {
+            for (((x, &a), &c), &f) in row.iter_mut().zip(&num).zip(&self.shift).zip(fold) {
                 let y = a as f64 * scale + c;
-                *x = super::tent(if y >= 1.0 { y - 1.0 } else { y });
+                let y = if y >= 1.0 { y - 1.0 } else { y };
+                *x = if f { super::tent(y) } else { y };
             }
         }
         Ok(())
@@ -507,6 +528,27 @@ impl ExtensibleLattice {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_coordinate_left_unfolded_is_the_one_whose_tent_fill_writes() {
+        let (d, m) = (5, 300);
+        let seq = ExtensibleLattice::new(d, 7, 2).unwrap();
+        let mut folded = vec![0.0; m * d];
+        seq.fill(100, m, &mut folded).unwrap();
+        let fold = [true, false, true, false, false];
+        let mut mixed = vec![0.0; m * d];
+        seq.fill_folding(100, m, &fold, &mut mixed).unwrap();
+        for (k, (a, b)) in folded.iter().zip(&mixed).enumerate() {
+            if fold[k % d] {
+                assert_eq!(a.to_bits(), b.to_bits());
+            } else {
+                assert!((0.0..1.0).contains(b));
+                assert_eq!(a.to_bits(), super::super::tent(*b).to_bits());
+            }
+        }
+        let err = seq.fill_folding(0, m, &fold[..4], &mut mixed).unwrap_err();
+        assert!(err.to_string().contains("fold"), "{err}");
+    }
 
     #[test]
     fn the_table_is_the_construction() {
