@@ -279,6 +279,38 @@ def to_tolerance(out, tol, reps, largest, ours_only=False):
     return rows
 
 
+# A reference counts as a competitor on a model only where it is reliable: at least this
+# share of its runs ended with every index within the tolerance (as stillpoint is held).
+RELIABLE = 0.95
+
+
+def best_references(rows, methods=("salib", "scipy", "qmcpy")):
+    """Per model, the reference with the fewest evaluations to the tolerance (median over
+    its runs that met it) and the fewest among the reliable ones (every index within the
+    tolerance in at least RELIABLE of its runs; its median over all its runs)."""
+    out = {}
+    for name in dict.fromkeys(r["model"] for r in rows):
+        rs = [r for r in rows if r["model"] == name]
+        best = {"best_reference": None, "best_reliable_reference": None}
+        cands, reliable = [], []
+        for m in methods:
+            evals = [r[f"{m}_evals"] for r in rs if math.isfinite(float(r[f"{m}_evals"]))]
+            if not evals:
+                continue
+            median = float(np.median(evals))
+            share = float(np.mean([float(r[f"{m}_share_within"]) == 1.0 for r in rs]))
+            cands.append((median, m))
+            if share >= RELIABLE and len(evals) == len(rs):
+                reliable.append((median, m))
+            best[f"{m}_runs_all_within"] = share
+        if cands:
+            best["best_reference"] = "%s (%d)" % (min(cands)[1], min(cands)[0])
+        if reliable:
+            best["best_reliable_reference"] = "%s (%d)" % (min(reliable)[1], min(reliable)[0])
+        out[name] = best
+    return out
+
+
 def count(text):
     """An evaluation count as written to the CSV: an integer, or nan (not reached)."""
     x = float(text)
@@ -359,6 +391,8 @@ def main():
                    for k, v in m.items()}
             for name, m in per.items()
         }
+        for name, best in best_references(tt).items():
+            summary["to_tolerance"][name].update(best)
         summary["tol"] = a.tol
         summary["tol_reps"] = a.tol_reps
     summary["seconds"] = round(time.time() - started, 1)

@@ -8,7 +8,14 @@ closed form (as stillpoint is held).
         --out results/sensitivity/reliable_qmcpy.csv
 
 Writes one row per model and seed: evaluations, whether the reference's own bound met the
-tolerance, the share of indices within it and whether all were.
+tolerance, the share of indices within it and whether all were. With --table, reads such
+files (label=path, comma-separated) and prints per model each reference's median
+evaluations and share of runs with every index within, the best reference and the best
+reliable one, and stillpoint's evaluations over each (--ours model=evaluations,...):
+
+    python benches/sensitivity_reliable.py --table \
+        qmcpy=results/sensitivity/reliable_qmcpy.csv,salib=results/sensitivity/reliable_salib.csv \
+        --ours ishigami=20504,...
 """
 
 from __future__ import annotations
@@ -19,7 +26,7 @@ import time
 
 import numpy as np
 
-from sensitivity import models, qmcpy_si, salib, share_within
+from sensitivity import RELIABLE, models, qmcpy_si, salib, share_within
 
 
 def salib_to_tol(f, d, lo, hi, seed, tol, largest):
@@ -31,6 +38,47 @@ def salib_to_tol(f, d, lo, hi, seed, tol, largest):
         n_base *= 2
 
 
+def table(inputs, ours):
+    runs = {}
+    for item in inputs.split(","):
+        label, path = item.split("=")
+        with open(path) as fh:
+            for r in csv.DictReader(fh):
+                runs.setdefault(r["model"], {}).setdefault(label, []).append(r)
+    mine = dict((k, int(v)) for k, v in (x.split("=") for x in ours.split(",") if x))
+    labels = [i.split("=")[0] for i in inputs.split(",")]
+    head = ["model", "stillpoint"] + [f"{x} (runs all within)" for x in labels]
+    head += ["best reference", "/ best", "best reliable reference", "/ best reliable"]
+    print("| " + " | ".join(head) + " |")
+    print("|" + "---|" * len(head))
+    for name, per in runs.items():
+        cells, best, reliable = [], [], []
+        for label in labels:
+            rs = per.get(label, [])
+            if not rs:
+                cells.append("not run")
+                continue
+            met = [int(r["evals"]) for r in rs if r["met"] == "True"]
+            share = np.mean([r["all_within"] == "True" for r in rs])
+            median = int(np.median(met)) if met else None
+            cells.append(f"{median} ({share:.0%} of {len(rs)})")
+            if median is not None:
+                best.append((median, label))
+                if share >= RELIABLE and len(met) == len(rs):
+                    reliable.append((median, label))
+        ours_n = mine.get(name)
+
+        def versus(c):
+            if not c:
+                return "none", "–"
+            n, label = min(c)
+            return f"{label} {n}", (f"{ours_n / n:.2f}" if ours_n else "–")
+
+        b, r = versus(best), versus(reliable)
+        print(f"| {name} | {ours_n or '–'} | " + " | ".join(cells) + f" | {b[0]} | {b[1]} | "
+              f"{r[0]} | {r[1]} |")
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--tol", type=float, default=0.02)
@@ -38,8 +86,13 @@ def main():
     p.add_argument("--largest", type=int, default=2**17)
     p.add_argument("--salib", action="store_true")
     p.add_argument("--models", default="")
-    p.add_argument("--out", required=True)
+    p.add_argument("--out")
+    p.add_argument("--table", help="label=path,... of earlier runs: print the table")
+    p.add_argument("--ours", default="", help="model=evaluations,... (with --table)")
     a = p.parse_args()
+    if a.table:
+        table(a.table, a.ours)
+        return
     only = [m for m in a.models.split(",") if m]
     rows = []
     for name, f, d, lo, hi, exact in models():
