@@ -2,6 +2,7 @@ import numpy as np, re, sys
 src=open('sequences/src/extensible_table.rs').read()
 Z=np.array([int(x) for x in re.findall(r'\b\d+\b', src.split('= [',1)[1].split('];')[0])],dtype=np.int64)
 gamma=float(sys.argv[1]); ncol=int(sys.argv[2]); pool=int(sys.argv[3]); levels=range(int(sys.argv[4]),int(sys.argv[5])+1)
+import os; RATE=float(os.environ.get("RATE","2")); AGG=os.environ.get("AGG","max")
 def omega(x): return (2*np.pi)**4/24*-(x**4-2*x**3+x**2-1/30)
 tabs={m:gamma*omega(np.arange(2**m)/2**m) for m in levels}
 ks={m:np.arange(2**m,dtype=np.int64) for m in levels}
@@ -11,8 +12,8 @@ def score(c, R):
     out=[]
     for m in levels:
         N=2**m; t=tabs[m][(ks[m]*Z[c])%N]
-        out.append(np.log(np.mean(R[m]*(1+t))-1)+2*m*np.log(2))
-    return max(out), out
+        out.append(np.log(np.mean(R[m]*(1+t))-1)+RATE*m*np.log(2))
+    return (max(out) if AGG=="max" else sum(out)), out
 for col in range(ncol):
     cands=[c for c in range(pool) if c not in sel]
     if col==0: best=0
