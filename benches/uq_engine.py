@@ -27,6 +27,9 @@ among the candidates, which measures it again.
              is then not the reflection of point k, which through a symmetric law pairs
              Z with -Z): C = r draws c_j uniform in [1/4, 3/4] per engine, else c = C
     indaC    the same asymmetric tent on the lattice made for n (`ind`'s set)
+    vec:NAME the sequence (radical-inverse order, one shift, the tent) with the
+             prototype generator target/engine-vectors/NAME.npy of
+             benches/engine_vector.py (values below 2^B; n <= 2^B) in place of the table
 
     GRID=genz|uq|both (both)  REPS=16  CANDS=seq,ind,owen  CELLS=2:32,5:256 (Genz cells)
     NS=1024,4096 FAM=keister (uq cells, as uq_rules.py)
@@ -113,6 +116,15 @@ def draw(cand, n, d, r):
         return sp.baseline("sobol", n, d, seed=seed)
     if cand == "halves":
         return halves(n, d, seed)
+    if cand.startswith("vec:"):
+        z = np.load(os.path.join(ROOT, "target", "engine-vectors", cand[4:] + ".npy"))
+        if d > len(z):
+            raise SystemExit(f"{cand} holds {len(z)} coordinates, {d} asked")
+        rng = np.random.default_rng(seed)
+        k = radical_inverse(np.arange(n, dtype=np.int64))
+        y = ((k[:, None] * z[None, :d]) % (1 << 20)) / float(1 << 20)
+        y = (y + rng.random(d)) % 1.0
+        return 1.0 - np.abs(2.0 * y - 1.0)
     if cand == "seqrec" or cand.startswith("seqa"):
         rng = np.random.default_rng(seed)
         k = radical_inverse(np.arange(n, dtype=np.int64))
