@@ -59,6 +59,10 @@ with STORED=default, the stored default's ratio; results/law-lattice/determinist
                 columns with product weights G/(2 ceil((j+1)/A) - 1)^2 (A = the
                 assets: a path's variance by PCA index, the columns asset-interleaved),
                 Owen-scrambled Sobol' on the rest
+    ordK_G      the same with weights by the cell's construction, i = j // A the
+                column's step: PCA G/(2i + 1)^2 (the eigenvalues), bridge
+                G 2^-floor(log2(i + 1)) (the level's variance), standard G ((k - i)/k)^2
+                (k steps: how much of the average the i-th increment moves)
     pickK       mid_w0.05's offsets, the draw among K whose errors on exp(-|Z|^2/2),
                 cos(sum Z/sqrt(s)) and exp(sum Z/sqrt(s)) (Z the normal scores
                 Phi^-1(u), closed forms) are smallest, each over its median
@@ -118,24 +122,9 @@ def owen(n, d, seed):
                         str(seed), "-o", p], check=True, capture_output=True)
     return np.load(p)
 
-_Z = {}
 def cbc_b2(m, s, g):
     """Component-by-component vector for the first-order kernel 2π²B2, weight g."""
-    if (m, s, g) not in _Z:
-        k = np.arange(m); x = k / m; om = 2 * np.pi ** 2 * (x * x - x + 1 / 6)
-        cand = np.array([c for c in range(1, m // 2 + 1) if math.gcd(c, m) == 1])
-        prod = 1 + g * om; z = [1]
-        for j in range(1, s):
-            best, bv = None, np.inf
-            for c0 in range(0, len(cand), 64):
-                cc = cand[c0:c0 + 64]
-                vals = ((1 + g * om[np.outer(cc, k) % m]) * prod).sum(1)
-                i = int(np.argmin(vals))
-                if vals[i] < bv:
-                    bv, best = vals[i], int(cc[i])
-            z.append(best); prod = prod * (1 + g * om[(k * best) % m])
-        _Z[(m, s, g)] = np.array(z)
-    return _Z[(m, s, g)]
+    return cbc_weights(m, np.full(s, g))
 
 def halves_w(n, d, g, seed, whole=False):
     rng = np.random.default_rng(seed)
@@ -325,10 +314,17 @@ def make(cand, fam, v, p, n, d, r):
         K = min(int(cand[3:]), d)
         parts_ = [cli(n, K, seed)] + ([owen(n, d - K, seed)] if d > K else [])
         return np.hstack(parts_)
-    if cand.startswith("pca"):
+    if cand.startswith("pca") or cand.startswith("ord"):
         K, G = cand[3:].split("_"); K = min(int(K), d); G = float(G)
         A = assets_of(fam)
-        gam = np.array([G / (2 * (j // A + 1) - 1) ** 2 for j in range(K)])
+        steps = d // A
+        how = v[1] if cand.startswith("ord") else "pca"
+        if how == "pca":
+            gam = np.array([G / (2 * (j // A) + 1) ** 2 for j in range(K)])
+        elif how == "bridge":
+            gam = np.array([G * 2.0 ** -math.floor(math.log2(j // A + 1)) for j in range(K)])
+        else:
+            gam = np.array([G * ((steps - j // A) / steps) ** 2 for j in range(K)])
         z = cbc_weights(n, gam)
         x = (np.outer(np.arange(n), z) % n) / n
         x = (x + np.random.default_rng(seed).random(K)) % 1.0
@@ -394,6 +390,8 @@ data = json.load(open(os.path.join(ROOT, "results", "uq-models", "uq_models.json
 rows = []
 for key, c in data.items():
     if c["n"] not in NS or (FAM and not any(f in c["family"] for f in FAM.split(","))):
+        continue
+    if os.environ.get("VAR") and not any(x in c["variant"] for x in os.environ["VAR"].split(",")):
         continue
     fam = BY_NAME[c["family"]]
     v = next(v for v in fam.variants if fam.label(v) == c["variant"])
