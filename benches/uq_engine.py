@@ -11,11 +11,11 @@ randomisations (seeds 3000 + r, as rqmc.py draws them); on the models the stored
 denominator of results/uq-models is used (16 randomisations) unless `sobol_fresh` is
 among the candidates, which measures it again.
 
-    seq      Engine(d, seed=1000 + r).random(n): the default, the extensible lattice
+    seq      Engine(d, seed=SEED0 + r).random(n): the default, the extensible lattice
              sequence with one shift and the tent
-    ind      Engine(d, seed=1000 + r, draws='independent').random(n): the tent lattice
+    ind      Engine(d, seed=SEED0 + r, draws='independent').random(n): the tent lattice
              made for n, shifted and folded
-    owen     Owen-scrambled Sobol' (stillpoint.baseline('sobol', n, d, seed=1000 + r)):
+    owen     Owen-scrambled Sobol' (stillpoint.baseline('sobol', n, d, seed=SEED0 + r)):
              a sequence too (its prefixes are the draws' continuation)
     halves   the tent lattice made for each odd part of n (n/2 -+ 1, as the lattice made
              for the laws splits an even n), each with its own shift, then the tent
@@ -27,9 +27,13 @@ among the candidates, which measures it again.
              is then not the reflection of point k, which through a symmetric law pairs
              Z with -Z): C = r draws c_j uniform in [1/4, 3/4] per engine, else c = C
     indaC    the same asymmetric tent on the lattice made for n (`ind`'s set)
+    vec:NAME the sequence (radical-inverse order, one shift, the tent) with the
+             prototype generator target/engine-vectors/NAME.npy of
+             benches/engine_vector.py (values below 2^B; n <= 2^B) in place of the table
 
     GRID=genz|uq|both (both)  REPS=16  CANDS=seq,ind,owen  CELLS=2:32,5:256 (Genz cells)
     NS=1024,4096 FAM=keister (uq cells, as uq_rules.py)
+    SEED0=1000: the candidates' randomisations are seeds SEED0 + r
     /work/wt/bench-venv/bin/python benches/uq_engine.py
 
 Prints per cell and the geometric means per family, per benchmark and over both (every
@@ -100,8 +104,11 @@ def apexes(code, d, rng):
     return rng.uniform(0.25, 0.75, d) if code == "r" else np.full(d, float(code))
 
 
+SEED0 = int(os.environ.get("SEED0", 1000))
+
+
 def draw(cand, n, d, r):
-    seed = 1000 + r
+    seed = SEED0 + r
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         if cand == "seq":
@@ -113,6 +120,15 @@ def draw(cand, n, d, r):
         return sp.baseline("sobol", n, d, seed=seed)
     if cand == "halves":
         return halves(n, d, seed)
+    if cand.startswith("vec:"):
+        z = np.load(os.path.join(ROOT, "target", "engine-vectors", cand[4:] + ".npy"))
+        if d > len(z):
+            raise SystemExit(f"{cand} holds {len(z)} coordinates, {d} asked")
+        rng = np.random.default_rng(seed)
+        k = radical_inverse(np.arange(n, dtype=np.int64))
+        y = ((k[:, None] * z[None, :d]) % (1 << 20)) / float(1 << 20)
+        y = (y + rng.random(d)) % 1.0
+        return 1.0 - np.abs(2.0 * y - 1.0)
     if cand == "seqrec" or cand.startswith("seqa"):
         rng = np.random.default_rng(seed)
         k = radical_inverse(np.arange(n, dtype=np.int64))

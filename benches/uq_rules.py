@@ -48,6 +48,21 @@ with STORED=default, the stored default's ratio; results/law-lattice/determinist
                 pair part of the cosine-space error of smoothness A = 1, 2); srchTA
                 with the cube's tent generator; srchFA adds the error of the set folded
                 by y -> 2y mod 1 (what an integrand even in every normal input sees)
+    anti        Owen-scrambled Sobol' of n/2 points and the same points reflected,
+                1 - x (through a normal law: each path beside its negative, the
+                antithetic pairs the tent lattice's reflections give, on a net)
+    antiK       the same with only the first K columns reflected
+    hybK        the cube's tent lattice of n points (`generate --randomize`) on the first
+                K columns, Owen-scrambled Sobol' of d - K columns on the rest (two
+                independent uniform randomisations: every point uniform)
+    pcaK_G      a randomly shifted lattice made for n, then the tent, on the first K
+                columns with product weights G/(2 ceil((j+1)/A) - 1)^2 (A = the
+                assets: a path's variance by PCA index, the columns asset-interleaved),
+                Owen-scrambled Sobol' on the rest
+    ordK_G      the same with weights by the cell's construction, i = j // A the
+                column's step: PCA G/(2i + 1)^2 (the eigenvalues), bridge
+                G 2^-floor(log2(i + 1)) (the level's variance), standard G ((k - i)/k)^2
+                (k steps: how much of the average the i-th increment moves)
     pickK       mid_w0.05's offsets, the draw among K whose errors on exp(-|Z|^2/2),
                 cos(sum Z/sqrt(s)) and exp(sum Z/sqrt(s)) (Z the normal scores
                 Phi^-1(u), closed forms) are smallest, each over its median
@@ -107,24 +122,9 @@ def owen(n, d, seed):
                         str(seed), "-o", p], check=True, capture_output=True)
     return np.load(p)
 
-_Z = {}
 def cbc_b2(m, s, g):
     """Component-by-component vector for the first-order kernel 2π²B2, weight g."""
-    if (m, s, g) not in _Z:
-        k = np.arange(m); x = k / m; om = 2 * np.pi ** 2 * (x * x - x + 1 / 6)
-        cand = np.array([c for c in range(1, m // 2 + 1) if math.gcd(c, m) == 1])
-        prod = 1 + g * om; z = [1]
-        for j in range(1, s):
-            best, bv = None, np.inf
-            for c0 in range(0, len(cand), 64):
-                cc = cand[c0:c0 + 64]
-                vals = ((1 + g * om[np.outer(cc, k) % m]) * prod).sum(1)
-                i = int(np.argmin(vals))
-                if vals[i] < bv:
-                    bv, best = vals[i], int(cc[i])
-            z.append(best); prod = prod * (1 + g * om[(k * best) % m])
-        _Z[(m, s, g)] = np.array(z)
-    return _Z[(m, s, g)]
+    return cbc_weights(m, np.full(s, g))
 
 def halves_w(n, d, g, seed, whole=False):
     rng = np.random.default_rng(seed)
@@ -278,8 +278,58 @@ def law_mid_pick(n, d, g, seed, tries):
         _PICK[key] = cands[int(np.argmin(score))][1]
     return _PICK[key]
 
+_ZW = {}
+def cbc_weights(m, gam):
+    """Component-by-component vector for the first-order kernel 2pi^2 B2 with product
+    weights gam[j] (the squared worst-case error of the shifted lattice)."""
+    key = (m, tuple(np.round(gam, 12)))
+    if key not in _ZW:
+        k = np.arange(m); x = k / m; om = 2 * np.pi ** 2 * (x * x - x + 1 / 6)
+        cand = np.array([c for c in range(1, m // 2 + 1) if math.gcd(c, m) == 1])
+        prod = 1 + gam[0] * om; z = [1]
+        for j in range(1, len(gam)):
+            best, bv = None, np.inf
+            for c0 in range(0, len(cand), 64):
+                cc = cand[c0:c0 + 64]
+                vals = ((1 + gam[j] * om[np.outer(cc, k) % m]) * prod).sum(1)
+                i = int(np.argmin(vals))
+                if vals[i] < bv:
+                    bv, best = vals[i], int(cc[i])
+            z.append(best); prod = prod * (1 + gam[j] * om[(k * best) % m])
+        _ZW[key] = np.array(z)
+    return _ZW[key]
+
+def assets_of(fam):
+    return getattr(fam, "assets", 1)
+
 def make(cand, fam, v, p, n, d, r):
     seed = 1000 + r
+    if cand == "anti":
+        x = owen(n // 2, d, seed)
+        return np.vstack([x, 1 - x])
+    if cand.startswith("anti"):
+        K = int(cand[4:]); x = owen(n // 2, d, seed); y = x.copy(); y[:, :K] = 1 - y[:, :K]
+        return np.vstack([x, y])
+    if cand.startswith("hyb"):
+        K = min(int(cand[3:]), d)
+        parts_ = [cli(n, K, seed)] + ([owen(n, d - K, seed)] if d > K else [])
+        return np.hstack(parts_)
+    if cand.startswith("pca") or cand.startswith("ord"):
+        K, G = cand[3:].split("_"); K = min(int(K), d); G = float(G)
+        A = assets_of(fam)
+        steps = d // A
+        how = v[1] if cand.startswith("ord") else "pca"
+        if how == "pca":
+            gam = np.array([G / (2 * (j // A) + 1) ** 2 for j in range(K)])
+        elif how == "bridge":
+            gam = np.array([G * 2.0 ** -math.floor(math.log2(j // A + 1)) for j in range(K)])
+        else:
+            gam = np.array([G * ((steps - j // A) / steps) ** 2 for j in range(K)])
+        z = cbc_weights(n, gam)
+        x = (np.outer(np.arange(n), z) % n) / n
+        x = (x + np.random.default_rng(seed).random(K)) % 1.0
+        lat = 1 - np.abs(2 * x - 1)
+        return np.hstack([lat] + ([owen(n, d - K, seed)] if d > K else []))
     if cand.startswith("pick"):
         return law_mid_pick(n, d, 0.05, seed, int(cand[4:]))
     if cand.startswith("srch"):  # srch1, srch2, srchT2 (tent generator), srchF2 (folded)
@@ -340,6 +390,8 @@ data = json.load(open(os.path.join(ROOT, "results", "uq-models", "uq_models.json
 rows = []
 for key, c in data.items():
     if c["n"] not in NS or (FAM and not any(f in c["family"] for f in FAM.split(","))):
+        continue
+    if os.environ.get("VAR") and not any(x in c["variant"] for x in os.environ["VAR"].split(",")):
         continue
     fam = BY_NAME[c["family"]]
     v = next(v for v in fam.variants if fam.label(v) == c["variant"])
