@@ -252,8 +252,8 @@ fn probe_errors(
     errors
 }
 
-/// The draw [`law_lattice_picked`] keeps among `errors` (one row of [`probe_errors`] per
-/// draw): the least sum over the three integrals of (error / its median among the
+/// The draw [`law_lattice_picked`] keeps among `errors` (per draw, the sizes of the
+/// relative errors on its three test integrals): the least sum over the three integrals of (error / its median among the
 /// draws)², the first of equals. Each error is taken relative to its median so that no
 /// integral's scale outweighs the others'.
 pub fn picked_draw(errors: &[[f64; 3]]) -> usize {
