@@ -42,7 +42,10 @@ pub use lattices::{
     tent_criterion, tent_lattice, tent_lattice_generator, tent_lattice_generator_plain,
     TENT_WEIGHT,
 };
-pub use law_lattice::{law_lattice, law_lattice_generator, law_lattice_parts, LAW_WEIGHT};
+pub use law_lattice::{
+    law_lattice, law_lattice_drawn, law_lattice_generator, law_lattice_parts, law_lattice_picked,
+    picked_draw, LAW_WEIGHT, PICKED_DRAWS,
+};
 pub use scrambled_halton::{halton_scrambled, HALTON_SCRAMBLED_MAX_S};
 pub use sobol_owen::{
     sobol_plain, sobol_scrambled, sobol_scrambled_range, SOBOL_MAX_N, SOBOL_MAX_S,

@@ -7,6 +7,8 @@
 //! scrambled net where it measures better) is one more variant and one more arm of
 //! [`cube_rule`].
 
+use super::request::{Job, Request};
+use crate::config::GenerateConfig;
 use crate::design::balance::Finish;
 use crate::design::{Design, DesignSpace};
 use crate::post::randomize::Randomize;
@@ -32,6 +34,13 @@ pub enum CubeRule {
     /// makes no reflected pairs), mapped as [`CubeRule::Randomized`]: unbiased for every
     /// seed.
     LawLattice,
+    /// The deterministic set for a space whose every law is unbounded
+    /// ([`crate::sequences::law_lattice_picked`]): the lattice made for the laws in odd
+    /// parts, each shifted by integer offsets drawn from the seed onto the midpoints after
+    /// the tent, the best of 16 draws on three test integrals of the normal scores; then
+    /// mapped as [`CubeRule::Randomized`]. The choice among draws ties the points to one
+    /// another, so (as for [`CubeRule::Dealt`]) a seed's mean is not an unbiased estimate.
+    PickedLattice,
     /// Owen-scrambled Sobol' points from the seed ([`crate::sequences::sobol_scrambled`]),
     /// their leading columns dealt to the leading coordinates (the variables that are not
     /// paths, then every path's first step, then every path's second, …), then mapped as
@@ -39,14 +48,19 @@ pub enum CubeRule {
     ScrambledSobol,
 }
 
-/// The rule for a space, with the randomisation the request asked for (`None`: the
-/// best design for one seed).
+/// The rule for a space and the run the request resolved to (its randomisation, and
+/// whether its set is the default one).
 ///
 /// The rule, by law: `--randomize` (tent) under a space that holds a Brownian path takes
 /// Owen-scrambled Sobol' points ([`CubeRule::ScrambledSobol`]); under a space whose every
 /// coordinate has an unbounded law (normal, lognormal, Student; no bounded or discrete
 /// variable) the lattice made for the laws ([`CubeRule::LawLattice`]); every other
 /// space, and the other randomisations, the request's own set ([`CubeRule::Randomized`]).
+/// Without a randomisation, the default set under two or more variables whose every law
+/// is unbounded, with no path and no correlation, is the lattice made for the laws with
+/// its offsets picked ([`CubeRule::PickedLattice`]); every other space, and a set the
+/// request chose itself (a method, goal, target or run option), is dealt
+/// ([`CubeRule::Dealt`]).
 /// Why a path takes the scrambled net: a path's leading coordinates (the bridge's end
 /// point, the first principal components) carry most of its variance, and a payoff on it
 /// (an Asian call) is nearly a function of those few, with a kink; the digital net's
@@ -64,11 +78,33 @@ pub enum CubeRule {
 /// even tent lattice wins all but Sobol' G (0.04–1.25× against 1.11–2.96×): 0.76× over those
 /// cells against 0.86× for the cube's lattice everywhere and 0.86× for the lattice made
 /// for the laws wherever one law is unbounded (results/law-lattice/rules-by-law.md).
-pub fn cube_rule(space: &DesignSpace, randomize: Option<Randomize>) -> CubeRule {
+/// Why the default picks drawn offsets where every law is unbounded: the cube's default
+/// (its shift searched on the cosine-space error) lost Keister's radial family to
+/// scrambled Sobol' (1.34×), and no searched shift measured kept it below 1.5×; drawn
+/// offsets, the best of 16 on three normal-score integrals, put every family of those
+/// laws at or below scrambled Sobol' (results/law-lattice/deterministic.md). One
+/// variable keeps the dealt set: there every lattice column is a midpoint rule, which
+/// the cube's stratified default already is at the full n.
+pub fn cube_rule(space: &DesignSpace, job: &Job) -> CubeRule {
+    let randomize = match job {
+        Job::Run(cfg) => cfg.randomize,
+        Job::Baseline { .. } | Job::Law { .. } => None,
+    };
+    rule_by_law(space, randomize, is_default_set(job))
+}
+
+/// [`cube_rule`] given the randomisation and whether the request's set is the default.
+fn rule_by_law(space: &DesignSpace, randomize: Option<Randomize>, default_set: bool) -> CubeRule {
     let unbounded = space.unbounded();
     let every_law_unbounded = !unbounded.is_empty() && unbounded.iter().all(|&u| u);
     let holds_a_path = !space.paths().is_empty();
+    let picked = every_law_unbounded
+        && !holds_a_path
+        && space.copula.is_none()
+        && space.dim() >= 2
+        && default_set;
     match randomize {
+        None if picked => CubeRule::PickedLattice,
         None => CubeRule::Dealt,
         Some(Randomize::Tent) if holds_a_path => CubeRule::ScrambledSobol,
         Some(Randomize::Tent) if every_law_unbounded => CubeRule::LawLattice,
@@ -76,14 +112,34 @@ pub fn cube_rule(space: &DesignSpace, randomize: Option<Randomize>) -> CubeRule 
     }
 }
 
+/// Whether `job` runs the set a request with no option but n, s and the seed runs (the
+/// default; `exact` changes only the report): a set the request chose is its own.
+fn is_default_set(job: &Job) -> bool {
+    let Job::Run(cfg) = job else {
+        return false;
+    };
+    let mut plain = Request::new(cfg.n, cfg.s);
+    plain.seed = Some(cfg.seed.into());
+    match plain.resolve().map(|r| r.job) {
+        Ok(Job::Run(default)) => {
+            GenerateConfig {
+                sums: cfg.sums,
+                ..*default
+            } == **cfg
+        }
+        _ => false,
+    }
+}
+
 impl CubeRule {
     /// Every rule, for tests and tables.
-    pub const ALL: [CubeRule; 6] = [
+    pub const ALL: [CubeRule; 7] = [
         CubeRule::Dealt,
         CubeRule::Randomized(Randomize::Tent),
         CubeRule::Randomized(Randomize::Cells),
         CubeRule::Randomized(Randomize::Shift),
         CubeRule::LawLattice,
+        CubeRule::PickedLattice,
         CubeRule::ScrambledSobol,
     ];
 
@@ -103,6 +159,9 @@ impl CubeRule {
             CubeRule::LawLattice => {
                 "lattice made for the laws, shifted and tent-transformed, through each law's inverse CDF (levels ⌊u·L⌋, not by rank)"
             }
+            CubeRule::PickedLattice => {
+                "lattice made for the laws, offsets drawn from the seed onto the midpoints and the best of 16 draws kept on three normal-score test integrals, through each law's inverse CDF"
+            }
             CubeRule::ScrambledSobol => {
                 "Owen-scrambled Sobol' through each law's inverse CDF (levels ⌊u·L⌋, not by rank)"
             }
@@ -112,7 +171,7 @@ impl CubeRule {
     /// Whether each seed's mean of f over the points is an unbiased estimate of E f(X)
     /// under the space's law.
     pub fn unbiased(self) -> bool {
-        !matches!(self, CubeRule::Dealt)
+        !matches!(self, CubeRule::Dealt | CubeRule::PickedLattice)
     }
 
     /// The construction that makes the unit-cube set in place of the request's own run,
@@ -184,16 +243,16 @@ mod tests {
     #[test]
     fn the_rule_follows_the_randomisation_asked_for() {
         let s = space(&["x=normal(0,1)", "k=int(1,3)"]);
-        assert_eq!(cube_rule(&s, None), CubeRule::Dealt);
+        assert_eq!(rule_by_law(&s, None, true), CubeRule::Dealt);
         for kind in [Randomize::Cells, Randomize::Shift] {
-            let rule = cube_rule(&s, Some(kind));
+            let rule = rule_by_law(&s, Some(kind), true);
             assert_eq!(rule, CubeRule::Randomized(kind));
             assert!(rule.unbiased() && rule.construction().is_none());
         }
         // The recommended randomisation: the lattice made for the laws where every law
         // is unbounded, the cube's tent lattice where one variable is bounded or discrete.
         assert_eq!(
-            cube_rule(&s, Some(Randomize::Tent)),
+            rule_by_law(&s, Some(Randomize::Tent), true),
             CubeRule::Randomized(Randomize::Tent)
         );
         for laws in [
@@ -202,12 +261,20 @@ mod tests {
         ] {
             let unbounded = space(laws);
             assert_eq!(
-                cube_rule(&unbounded, Some(Randomize::Tent)),
+                rule_by_law(&unbounded, Some(Randomize::Tent), true),
                 CubeRule::LawLattice
             );
-            assert_eq!(cube_rule(&unbounded, None), CubeRule::Dealt);
+            // Without a randomisation: the picked lattice for the default set of two or
+            // more variables, the dealt set for one variable or a set the request chose.
+            let picked = if laws.len() >= 2 {
+                CubeRule::PickedLattice
+            } else {
+                CubeRule::Dealt
+            };
+            assert_eq!(rule_by_law(&unbounded, None, true), picked);
+            assert_eq!(rule_by_law(&unbounded, None, false), CubeRule::Dealt);
             assert_eq!(
-                cube_rule(&unbounded, Some(Randomize::Shift)),
+                rule_by_law(&unbounded, Some(Randomize::Shift), true),
                 CubeRule::Randomized(Randomize::Shift)
             );
         }
@@ -220,30 +287,39 @@ mod tests {
         ] {
             let path = space(laws);
             assert_eq!(
-                cube_rule(&path, Some(Randomize::Tent)),
+                rule_by_law(&path, Some(Randomize::Tent), true),
                 CubeRule::ScrambledSobol,
                 "{laws:?}"
             );
-            assert_eq!(cube_rule(&path, None), CubeRule::Dealt);
+            assert_eq!(rule_by_law(&path, None, true), CubeRule::Dealt);
             assert_eq!(
-                cube_rule(&path, Some(Randomize::Cells)),
+                rule_by_law(&path, Some(Randomize::Cells), true),
                 CubeRule::Randomized(Randomize::Cells)
             );
         }
         let mixed = space(&["x=normal(0,1)", "u=uniform(0,1)"]);
         assert_eq!(
-            cube_rule(&mixed, Some(Randomize::Tent)),
+            rule_by_law(&mixed, Some(Randomize::Tent), true),
             CubeRule::Randomized(Randomize::Tent)
         );
         let bounded = space(&["x=uniform(0,2)", "b=beta(2,3)", "k=int(1,3)"]);
         assert_eq!(
-            cube_rule(&bounded, Some(Randomize::Tent)),
+            rule_by_law(&bounded, Some(Randomize::Tent), true),
             CubeRule::Randomized(Randomize::Tent)
         );
-        assert_eq!(cube_rule(&bounded, None), CubeRule::Dealt);
+        assert_eq!(rule_by_law(&bounded, None, true), CubeRule::Dealt);
         assert_eq!(s.unbounded(), vec![true, false]);
         assert!(CubeRule::LawLattice.unbiased() && CubeRule::LawLattice.construction().is_none());
-        assert!(!CubeRule::Dealt.unbiased());
+        assert!(!CubeRule::Dealt.unbiased() && !CubeRule::PickedLattice.unbiased());
+        let mut correlated = space(&["x=normal(0,1)", "y=normal(0,1)"]);
+        assert_eq!(
+            rule_by_law(&correlated, None, true),
+            CubeRule::PickedLattice
+        );
+        correlated
+            .correlate("--correlation", "1,0.5;0.5,1", vec![1.0, 0.5, 0.5, 1.0])
+            .unwrap();
+        assert_eq!(rule_by_law(&correlated, None, true), CubeRule::Dealt);
         assert_eq!(
             CubeRule::ScrambledSobol.construction(),
             Some(Baseline::Sobol)

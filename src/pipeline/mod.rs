@@ -93,8 +93,26 @@ impl Resolved {
                 s,
                 seed,
             } => (baseline.generate(*n, *s, *seed)?, None),
-            Job::Law { n, unbounded, seed } => {
-                (crate::sequences::law_lattice(*n, unbounded, *seed)?, None)
+            Job::Law {
+                n,
+                unbounded,
+                seed,
+                picked: false,
+            } => (crate::sequences::law_lattice(*n, unbounded, *seed)?, None),
+            Job::Law {
+                n,
+                unbounded,
+                seed,
+                picked: true,
+            } => {
+                // The draws are judged on normal scores; the laws live in `design`.
+                let normal = crate::design::Marginal::Normal {
+                    mu: 0.0,
+                    sigma: 1.0,
+                };
+                let ppf = move |u: f64| normal.ppf(u);
+                let points = crate::sequences::law_lattice_picked(*n, unbounded, *seed, &ppf)?;
+                (points, None)
             }
             Job::Run(cfg) => {
                 let report = generate_with(cfg, checkpoint, on_event)?;

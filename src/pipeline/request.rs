@@ -115,7 +115,9 @@ pub enum Job {
         /// Seed.
         seed: u64,
     },
-    /// The randomised lattice made for a space's laws ([`crate::sequences::law_lattice`]).
+    /// The lattice made for a space's laws: randomised ([`crate::sequences::law_lattice`])
+    /// or, `picked`, with its offsets drawn and the best draw kept
+    /// ([`crate::sequences::law_lattice_picked`]).
     Law {
         /// Points.
         n: usize,
@@ -124,6 +126,8 @@ pub enum Job {
         unbounded: Vec<bool>,
         /// Seed.
         seed: u64,
+        /// The deterministic set with picked offsets rather than the randomised one.
+        picked: bool,
     },
 }
 
@@ -186,12 +190,17 @@ impl Resolved {
                 s,
                 seed,
             };
-        } else if rule == CubeRule::LawLattice {
+        } else if matches!(rule, CubeRule::LawLattice | CubeRule::PickedLattice) {
             let unbounded = self
                 .design
                 .as_ref()
                 .map_or_else(|| vec![false; s], |space| space.unbounded());
-            self.job = Job::Law { n, unbounded, seed };
+            self.job = Job::Law {
+                n,
+                unbounded,
+                seed,
+                picked: rule == CubeRule::PickedLattice,
+            };
         }
         self.rule = Some(rule);
         self

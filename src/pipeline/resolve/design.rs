@@ -6,7 +6,7 @@ use super::Ctx;
 use crate::design::DesignSpace;
 use crate::pipeline::measure::cube_rule;
 use crate::pipeline::options::{Group, Opt, Value};
-use crate::pipeline::request::{Job, Resolved};
+use crate::pipeline::request::Resolved;
 use crate::Error;
 
 impl Ctx<'_> {
@@ -80,11 +80,7 @@ impl Ctx<'_> {
         inner.s = Some(space.dim().into());
         let mut resolved = Ctx::new(&inner, self.spell).resolve()?;
         space.check_n(&option, resolved.job.n())?;
-        let randomize = match &resolved.job {
-            Job::Run(cfg) => cfg.randomize,
-            Job::Baseline { .. } | Job::Law { .. } => None,
-        };
-        let rule = cube_rule(&space, randomize);
+        let rule = cube_rule(&space, &resolved.job);
         resolved.design = Some(space);
         Ok(resolved.with_rule(rule))
     }
