@@ -45,11 +45,15 @@ use rand::RngExt;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
 
-use super::{substream, TENT_WEIGHT};
+use super::{substream, LAW_WEIGHT, TENT_WEIGHT};
 use crate::{Error, PointSet};
 
 mod table {
     include!("extensible_table.rs");
+}
+
+mod engine_table {
+    include!("engine_table.rs");
 }
 
 /// log₂ of the most points one replicate of the sequence has: beyond 2^20 points the
@@ -61,6 +65,55 @@ pub const EXTENSIBLE_MAX_POINTS: u64 = 1 << EXTENSIBLE_BITS;
 
 /// The most coordinates the tabulated generating vector has.
 pub const EXTENSIBLE_MAX_D: usize = table::GENERATOR.len();
+
+/// The most coordinates `Engine(d)`'s table ([`SequenceTable::FirstOrder`]) has.
+pub const ENGINE_SEQUENCE_MAX_D: usize = engine_table::GENERATOR.len();
+
+/// Which tabulated generating vector a sequence uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SequenceTable {
+    /// [`embedded_tent_generator`]'s, extended by [`extend_embedded_generator`]: the one
+    /// `quad` and `sobol_indices` read (and `Engine(d)` before its own).
+    Tent,
+    /// [`embedded_first_order_generator`]'s: `Engine(d)`'s default draws.
+    FirstOrder,
+}
+
+impl SequenceTable {
+    /// The tabulated vector (values mod 2^20).
+    pub fn generator(self) -> &'static [u32] {
+        match self {
+            SequenceTable::Tent => &table::GENERATOR,
+            SequenceTable::FirstOrder => &engine_table::GENERATOR,
+        }
+    }
+
+    /// The most coordinates the table has.
+    pub fn max_d(self) -> usize {
+        self.generator().len()
+    }
+
+    /// The table's name: `tent` or `first-order`.
+    pub fn name(self) -> &'static str {
+        match self {
+            SequenceTable::Tent => "tent",
+            SequenceTable::FirstOrder => "first-order",
+        }
+    }
+
+    /// The table named `name` ([`SequenceTable::name`]); refuses another, naming `table`.
+    pub fn from_name(name: &str) -> Result<SequenceTable, Error> {
+        match name {
+            "tent" => Ok(SequenceTable::Tent),
+            "first-order" => Ok(SequenceTable::FirstOrder),
+            _ => Err(Error::invalid(
+                "table",
+                name,
+                "'tent' (quad's) or 'first-order' (the engine's)",
+            )),
+        }
+    }
+}
 
 /// The smallest level 2^m the construction's criterion looks at: 64 points, the first
 /// round of `stillpoint::cubature` per replicate. Below it there are at most 16 generators
@@ -107,19 +160,27 @@ fn tent_terms(n: usize) -> Vec<f64> {
 /// extended by the coordinate c (`terms` holds t at r/n). Summed in blocks of 256 so
 /// that the rounding stays near 10⁻²⁰ at n = 2^20.
 fn extended_criterion(q: &[f64], terms: &[f64], c: u64) -> f64 {
+    extended_sum(q, terms, c, 0) / q.len() as f64
+}
+
+/// The sum of q_i + t_{(i·c) mod n}·(1 + q_i) over the points i ≥ `first` (0 or 1), in
+/// blocks of 256 as [`extended_criterion`] sums.
+fn extended_sum(q: &[f64], terms: &[f64], c: u64, first: usize) -> f64 {
     let mask = q.len() as u64 - 1;
     let mut total = 0.0;
     for (b, block) in q.chunks(256).enumerate() {
         let mut sum = 0.0;
         let mut r = ((b as u64 * 256).wrapping_mul(c)) & mask;
-        for &qi in block {
-            let t = terms[r as usize];
-            sum += qi + t + qi * t;
+        for (i, &qi) in block.iter().enumerate() {
+            if b > 0 || i >= first {
+                let t = terms[r as usize];
+                sum += qi + t + qi * t;
+            }
             r = (r + c) & mask;
         }
         total += sum;
     }
-    total / q.len() as f64
+    total
 }
 
 /// The criterion at every level 2^m, m = 0..=bits, of the embedded lattice on the 2^bits
@@ -127,14 +188,7 @@ fn extended_criterion(q: &[f64], terms: &[f64], c: u64) -> f64 {
 /// extended by c. Entries past `bits` are left 0.
 fn level_criteria(q: &[f64], terms: &[f64], c: u64) -> [f64; 21] {
     let bits = q.len().trailing_zeros();
-    let mask = q.len() as u64 - 1;
-    // Sums by the 2-adic valuation of i: point i belongs to level m iff v₂(i) ≥ bits − m.
-    let mut by_valuation = [0.0f64; 21];
-    for (i, &qi) in q.iter().enumerate() {
-        let t = terms[((i as u64).wrapping_mul(c) & mask) as usize];
-        let v = if i == 0 { bits } else { i.trailing_zeros() };
-        by_valuation[v as usize] += qi + t + qi * t;
-    }
+    let by_valuation = valuation_sums(q, terms, c);
     let mut out = [0.0f64; 21];
     let mut sum = 0.0;
     for m in 0..=bits {
@@ -142,6 +196,35 @@ fn level_criteria(q: &[f64], terms: &[f64], c: u64) -> [f64; 21] {
         out[m as usize] = sum / (1u64 << m) as f64;
     }
     out
+}
+
+/// The sums of q_i + t·(1 + q_i) (as in [`level_criteria`]) by the 2-adic valuation of
+/// i: point i belongs to level m iff v₂(i) ≥ bits − m, and entry `bits` holds point 0
+/// alone.
+fn valuation_sums(q: &[f64], terms: &[f64], c: u64) -> [f64; 21] {
+    let bits = q.len().trailing_zeros();
+    let mask = q.len() as u64 - 1;
+    let mut by_valuation = [0.0f64; 21];
+    for (i, &qi) in q.iter().enumerate() {
+        let t = terms[((i as u64).wrapping_mul(c) & mask) as usize];
+        let v = if i == 0 { bits } else { i.trailing_zeros() };
+        by_valuation[v as usize] += qi + t + qi * t;
+    }
+    by_valuation
+}
+
+/// log(e / e₀) for a level's criterion e = (p0 + others)/n whose point 0 contributes p0
+/// (> 0) and whose other points sum to `others`: log e less log(p0/n), which is common to
+/// every candidate. Computed as log1p(others/p0) so that candidates stay apart when p0
+/// dwarfs the rest (with equal weights p0 = Π(1 + γω(0)) − 1 grows like e^{0.15 d}, and
+/// past about 230 coordinates log e itself no longer tells candidates apart).
+fn log_past_point_zero(p0: f64, others: f64) -> f64 {
+    let x = others / p0;
+    if x > -0.5 {
+        x.ln_1p()
+    } else {
+        ((p0 + others) / p0).max(f64::MIN_POSITIVE).ln()
+    }
 }
 
 /// How much worse a criterion e is than the reference: e / reference, both raised by
@@ -233,59 +316,209 @@ pub fn embedded_tent_generator_with_ratios(d: usize) -> Result<(Vec<u32>, Vec<[f
         return Err(Error::invalid("d", d, "at least 1 dimension"));
     }
     let reference = single_n_criteria(d)?;
-    let n = EXTENSIBLE_MAX_POINTS as usize;
-    let terms = tent_terms(n);
-    let mut q = vec![0.0f64; n];
-    let mut z = Vec::with_capacity(d);
+    let terms = tent_terms(EXTENSIBLE_MAX_POINTS as usize);
     let mut ratios = Vec::with_capacity(d);
-    for (j, want) in reference.iter().enumerate() {
-        let zj = if j == 0 {
+    let z = embedded_search(d, &[], &terms, Score::Minimax(&reference), |j, q| {
+        let mut r = [0.0f64; 21];
+        for m in MIN_LEVEL..=EXTENSIBLE_BITS {
+            r[m as usize] = ratio(block_mean(&level(q, m)), reference[j][m as usize]);
+        }
+        ratios.push(r);
+    });
+    Ok((z, ratios))
+}
+
+/// How a candidate coordinate of the embedded lattice is scored (lower is better).
+#[derive(Clone, Copy)]
+enum Score<'a> {
+    /// The largest, over the levels, of the criterion's ratio to the single-n rule's with
+    /// as many coordinates (entry [j][m]); the best [`BEAM`] low parts go on.
+    Minimax(&'a [[f64; 21]]),
+    /// The sum over the levels of log e_m less the point 0's share
+    /// ([`log_past_point_zero`]): the low 14 bits by levels 2^6..2^14 alone (one kept),
+    /// then the high bits by levels 2^15..2^20.
+    MeanLog,
+}
+
+/// The component-by-component search the tabulated generators share: z₁ = 1; for each
+/// further coordinate every odd value mod 2^14 (up to sign) is scored on levels
+/// 2^6..2^14 and the best are kept; then bit by bit up to 2^20 each kept value is
+/// extended by the next bit both ways, the children scored on the new level, and the
+/// best [`BEAM`] go on; the best at 2^20 wins (ties to the smaller value). The first
+/// coordinates are `prefix`'s where it has them. `terms` holds the kernel's γ·ω(r/2^20)
+/// (see [`tent_terms`]); `after` sees each coordinate's per-point Π(1 + t) − 1 once it
+/// is chosen.
+fn embedded_search(
+    d: usize,
+    prefix: &[u32],
+    terms: &[f64],
+    score: Score<'_>,
+    mut after: impl FnMut(usize, &[f64]),
+) -> Vec<u32> {
+    let mut q = vec![0.0f64; terms.len()];
+    let mut z = Vec::with_capacity(d);
+    for j in 0..d {
+        let zj = if let Some(&given) = prefix.get(j) {
+            u64::from(given) & (EXTENSIBLE_MAX_POINTS - 1)
+        } else if j == 0 {
             1
         } else {
             let low = 1usize << SCREEN_BITS;
             let low_q = level(&q, SCREEN_BITS);
-            let low_terms = level(&terms, SCREEN_BITS);
+            let low_terms = level(terms, SCREEN_BITS);
+            // Point 0 of every level, the same for every candidate (c·0 = 0).
+            let p0 = q[0] + terms[0] + q[0] * terms[0];
             // Every odd residue mod 2^14 up to sign (c and 2^14 − c give the same levels
             // ≤ 14, and their extensions are each other's negatives).
             let candidates: Vec<u64> = (1..low as u64 / 2).step_by(2).collect();
             let scored: Vec<(f64, u64)> = candidates
                 .par_iter()
-                .map(|&c| {
-                    let e = level_criteria(&low_q, &low_terms, c);
-                    let worst = (MIN_LEVEL as usize..=SCREEN_BITS as usize)
-                        .map(|m| ratio(e[m], want[m]))
-                        .fold(0.0, f64::max);
-                    (worst, c)
+                .map(|&c| match score {
+                    Score::Minimax(reference) => {
+                        let e = level_criteria(&low_q, &low_terms, c);
+                        let worst = (MIN_LEVEL as usize..=SCREEN_BITS as usize)
+                            .map(|m| ratio(e[m], reference[j][m]))
+                            .fold(0.0, f64::max);
+                        (worst, c)
+                    }
+                    Score::MeanLog => {
+                        let sums = valuation_sums(&low_q, &low_terms, c);
+                        let mut others = 0.0;
+                        let mut total = 0.0;
+                        for m in 1..=SCREEN_BITS {
+                            others += sums[(SCREEN_BITS - m) as usize];
+                            if m >= MIN_LEVEL {
+                                total += log_past_point_zero(p0, others);
+                            }
+                        }
+                        (total, c)
+                    }
                 })
                 .collect();
-            let mut beam = keep_best(scored, BEAM);
+            let (keep, first) = match score {
+                Score::Minimax(_) => (BEAM, 0),
+                Score::MeanLog => (1, 1),
+            };
+            let mut beam = keep_best(scored, keep);
+            if first == 1 {
+                // The high bits are scored on their own levels only.
+                beam[0].0 = 0.0;
+            }
             for b in SCREEN_BITS + 1..=EXTENSIBLE_BITS {
                 let level_q = level(&q, b);
-                let level_terms = level(&terms, b);
+                let level_terms = level(terms, b);
                 let children: Vec<(f64, u64)> = beam
                     .iter()
                     .flat_map(|&(s, c)| [(s, c), (s, c + (1u64 << (b - 1)))])
                     .collect();
                 let scored: Vec<(f64, u64)> = children
                     .par_iter()
-                    .map(|&(s, c)| {
-                        let e = extended_criterion(&level_q, &level_terms, c);
-                        (s.max(ratio(e, want[b as usize])), c)
+                    .map(|&(s, c)| match score {
+                        Score::Minimax(reference) => {
+                            let e = extended_criterion(&level_q, &level_terms, c);
+                            (s.max(ratio(e, reference[j][b as usize])), c)
+                        }
+                        Score::MeanLog => {
+                            let others = extended_sum(&level_q, &level_terms, c, first);
+                            (s + log_past_point_zero(p0, others), c)
+                        }
                     })
                     .collect();
                 beam = keep_best(scored, BEAM);
             }
             beam[0].1
         };
-        extend(&mut q, &terms, zj);
-        let mut r = [0.0f64; 21];
-        for m in MIN_LEVEL..=EXTENSIBLE_BITS {
-            r[m as usize] = ratio(block_mean(&level(&q, m)), want[m as usize]);
-        }
-        ratios.push(r);
+        extend(&mut q, terms, zj);
+        after(j, &q);
         z.push(zj as u32);
     }
-    Ok((z, ratios))
+    z
+}
+
+/// γ·ω(r/n) for r = 0..n−1 with ω(x) = 2π²(x² − x + 1/6), the first-order kernel (that
+/// of the lattice made for the laws), γ = [`LAW_WEIGHT`].
+fn first_order_terms(n: usize) -> Vec<f64> {
+    let c = 2.0 * std::f64::consts::PI * std::f64::consts::PI;
+    (0..n)
+        .map(|r| {
+            let x = r as f64 / n as f64;
+            LAW_WEIGHT * c * (x * x - x + 1.0 / 6.0)
+        })
+        .collect()
+}
+
+/// The generating vector of `Engine(d)`'s sequence (the table [`SequenceTable::FirstOrder`]
+/// holds this for [`ENGINE_SEQUENCE_MAX_D`]), built for the first-order kernel ω(x) =
+/// 2π²(x² − x + 1/6) at γ = [`LAW_WEIGHT`] rather than the tent's: the same search as
+/// [`embedded_tent_generator`], with z₁ = 1 and
+///
+/// * each further coordinate's low 14 bits the odd value mod 2^14 (up to sign) that
+///   minimises the mean over the levels 2^6..2^14 of log e_m, e_m the criterion
+///   −1 + 2^−m Σ_k Π_j (1 + γω(frac(k z_j/2^m))) of the prefix of 2^m points — up to a
+///   constant, the mean of log(e_m/e_m*) against the rules made for each 2^m alone;
+/// * its bits 15..20 by the same score on the levels 2^15..2^20, bit by bit with the
+///   beam of [`embedded_tent_generator`] (which keeps every one of the 64 extensions).
+///
+/// The weights stay equal at every coordinate: point 0's term Π(1 + γω(0)) − 1 is the
+/// same for every candidate and is factored out of the comparison
+/// ([`log_past_point_zero`]), which keeps the score exact where it would otherwise
+/// swamp every difference (past about 230 coordinates). Also returns, per coordinate
+/// count j (entry j − 1), e_m at each level m = 6..20 (entries below are 0). Refuses
+/// d = 0, naming `d`.
+pub fn embedded_first_order_generator(d: usize) -> Result<(Vec<u32>, Vec<[f64; 21]>), Error> {
+    first_order_search(&[], d)
+}
+
+/// Continues a generating vector of [`embedded_first_order_generator`] to d coordinates
+/// by the same construction, `prefix` kept as given (each entry mod 2^20): the table's
+/// coordinates from any point on, without rebuilding those before it. Refuses d = 0 or
+/// d below the prefix's length, naming `d`.
+pub fn continue_first_order_generator(prefix: &[u32], d: usize) -> Result<Vec<u32>, Error> {
+    Ok(first_order_search(prefix, d)?.0)
+}
+
+fn first_order_search(prefix: &[u32], d: usize) -> Result<(Vec<u32>, Vec<[f64; 21]>), Error> {
+    if d == 0 || d < prefix.len() {
+        return Err(Error::invalid(
+            "d",
+            d,
+            format!(
+                "at least the {} coordinates given (and at least 1)",
+                prefix.len()
+            ),
+        ));
+    }
+    let terms = first_order_terms(EXTENSIBLE_MAX_POINTS as usize);
+    let mut criteria = Vec::with_capacity(d);
+    let z = embedded_search(d, prefix, &terms, Score::MeanLog, |_, q| {
+        criteria.push(level_means(q));
+    });
+    Ok((z, criteria))
+}
+
+/// The criterion at each level 2^m, m = 6..20, of a lattice whose per-point
+/// Π(1 + t) − 1 on 2^20 points is q (entries below 6 are 0).
+fn level_means(q: &[f64]) -> [f64; 21] {
+    let mut e = [0.0f64; 21];
+    for m in MIN_LEVEL..=EXTENSIBLE_BITS {
+        e[m as usize] = block_mean(&level(q, m));
+    }
+    e
+}
+
+/// The criterion of [`embedded_first_order_generator`] (the first-order kernel, γ =
+/// [`LAW_WEIGHT`]) at each level 2^m, m = 6..20, of the embedded lattice with
+/// generator z (its first j coordinates: entry j − 1): to compare generators on it.
+pub fn first_order_level_criteria(z: &[u32]) -> Vec<[f64; 21]> {
+    let n = EXTENSIBLE_MAX_POINTS as usize;
+    let terms = first_order_terms(n);
+    let mut q = vec![0.0f64; n];
+    z.iter()
+        .map(|&zj| {
+            extend(&mut q, &terms, u64::from(zj));
+            level_means(&q)
+        })
+        .collect()
 }
 
 /// How many leading coordinates of the table [`embedded_tent_generator`] makes; the rest
@@ -418,18 +651,31 @@ pub struct ExtensibleLattice {
 }
 
 impl ExtensibleLattice {
-    /// Replicate `replicate` of the sequence in d dimensions seeded by `seed`. Refuses
-    /// d = 0 or d > [`EXTENSIBLE_MAX_D`], naming `d`.
+    /// Replicate `replicate` of the sequence in d dimensions seeded by `seed`, with the
+    /// tent table ([`SequenceTable::Tent`]). Refuses d = 0 or d > [`EXTENSIBLE_MAX_D`],
+    /// naming `d`.
     pub fn new(d: usize, seed: u64, replicate: u64) -> Result<ExtensibleLattice, Error> {
-        if d == 0 || d > EXTENSIBLE_MAX_D {
+        ExtensibleLattice::with_table(SequenceTable::Tent, d, seed, replicate)
+    }
+
+    /// [`ExtensibleLattice::new`] with the generating vector of `table` (the same shifts:
+    /// only the lattice differs). Refuses d = 0 or d above the table's size, naming `d`.
+    pub fn with_table(
+        table: SequenceTable,
+        d: usize,
+        seed: u64,
+        replicate: u64,
+    ) -> Result<ExtensibleLattice, Error> {
+        let max = table.max_d();
+        if d == 0 || d > max {
             return Err(Error::invalid(
                 "d",
                 d,
-                format!("1 to {EXTENSIBLE_MAX_D} dimensions (the tabulated generating vector)"),
+                format!("1 to {max} dimensions (the tabulated generating vector)"),
             ));
         }
         Ok(ExtensibleLattice {
-            z: table::GENERATOR[..d].to_vec(),
+            z: table.generator()[..d].to_vec(),
             shift: extensible_shift(d, seed, replicate),
         })
     }
@@ -555,6 +801,83 @@ mod tests {
         // One component rebuilt (each costs about 10^8 steps, slow in a debug build).
         let z = embedded_tent_generator(2).unwrap();
         assert_eq!(z, table::GENERATOR[..2].to_vec());
+    }
+
+    #[test]
+    fn the_engine_table_is_its_construction() {
+        // Its first three coordinates rebuilt, then one past the point where equal weights
+        // made log e_m swamp (about 230 coordinates), continued from the table's 240.
+        let (z, criteria) = embedded_first_order_generator(3).unwrap();
+        let table = SequenceTable::FirstOrder.generator();
+        assert_eq!(z, table[..3].to_vec());
+        // The criteria returned are those of first_order_level_criteria.
+        let again = first_order_level_criteria(&z);
+        for (a, b) in criteria.iter().zip(&again) {
+            for m in 6..=20 {
+                assert!((a[m] - b[m]).abs() <= 1e-12 * b[m], "{} {}", a[m], b[m]);
+            }
+        }
+        let k = 240;
+        let z = continue_first_order_generator(&table[..k], k + 1).unwrap();
+        assert_eq!(z, table[..k + 1].to_vec());
+        let e = continue_first_order_generator(&table[..3], 2)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains('d') && e.contains("at least the 3"), "{e}");
+    }
+
+    #[test]
+    fn the_engine_table_keeps_choosing_past_the_swamping_point() {
+        // Where point 0's term is 10^15, log e no longer tells two candidates apart; the
+        // comparison without it does.
+        let p0 = 1e15;
+        assert_eq!((p0 + 1.0f64).ln(), (p0 + 2.0f64).ln());
+        assert!(log_past_point_zero(p0, 1.0) < log_past_point_zero(p0, 2.0));
+        let exact = ((p0 - 3.0) / p0).ln();
+        assert!((log_past_point_zero(p0, -3.0) - exact).abs() < 1e-20);
+        assert!((log_past_point_zero(2.0, -1.5) - 0.25f64.ln()).abs() < 1e-15);
+        // The table does not fall back to small repeated values past it: no two of its
+        // coordinates are the same lattice coordinate (z or −z) mod 2^20, nor mod 2^14
+        // before the 2^14 classes' worth of coordinates.
+        let table = SequenceTable::FirstOrder.generator();
+        assert_eq!(table.len(), ENGINE_SEQUENCE_MAX_D);
+        let classes = |bits: u32| {
+            let mut seen: Vec<u32> = table
+                .iter()
+                .map(|&v| {
+                    let r = v & ((1 << bits) - 1);
+                    r.min((1 << bits) - r)
+                })
+                .collect();
+            seen.sort_unstable();
+            seen.dedup();
+            seen.len()
+        };
+        assert_eq!(classes(EXTENSIBLE_BITS), table.len());
+        assert!(
+            classes(SCREEN_BITS) > table.len() * 9 / 10,
+            "{}",
+            classes(14)
+        );
+    }
+
+    #[test]
+    fn the_tables_share_their_shifts_and_are_named() {
+        let a = ExtensibleLattice::new(4, 9, 1).unwrap();
+        let b = ExtensibleLattice::with_table(SequenceTable::FirstOrder, 4, 9, 1).unwrap();
+        assert_eq!(a.shift(), b.shift());
+        assert_eq!(b.generator(), &SequenceTable::FirstOrder.generator()[..4]);
+        assert_ne!(a.generator(), b.generator());
+        for t in [SequenceTable::Tent, SequenceTable::FirstOrder] {
+            assert_eq!(SequenceTable::from_name(t.name()).unwrap(), t);
+        }
+        let e = SequenceTable::from_name("sobol").unwrap_err().to_string();
+        assert!(e.contains("table") && e.contains("sobol"), "{e}");
+        let max = SequenceTable::FirstOrder.max_d();
+        let e = ExtensibleLattice::with_table(SequenceTable::FirstOrder, max + 1, 0, 0)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(&max.to_string()), "{e}");
     }
 
     #[test]
