@@ -116,10 +116,7 @@ def draw(cand, n, d, r):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         if cand in ("seq", "seqtent"):
-            top = getattr(sp._core, "ENGINE_SEQUENCE_MAX_D", sp._core.SEQUENCE_MAX_D)
-            if cand == "seqtent":
-                top = sp._core.SEQUENCE_MAX_D
-            draws = "sequence" if d <= top else "independent"
+            draws = "sequence" if d <= sp._core.SEQUENCE_MAX_D else "independent"
             e = sp.Engine(d, seed=seed, draws=draws)
             if cand == "seqtent" and draws == "sequence":
                 return sp._core.sequence_points(d, seed=e._sequence_seed, count=n, table="tent")

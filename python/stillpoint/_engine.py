@@ -22,14 +22,15 @@ from ._validate import _engine_seed, _fresh_seed, _int
 _ENGINE_REFUSES = ("n", "d", "region", "box", "shape", "bounds")
 
 # The extensible sequence's reach: its lattice has generators for this many dimensions
-# (the engine's own table), and each replicate this many points.
-_SEQUENCE_MAX_D = _core.ENGINE_SEQUENCE_MAX_D
+# (the tent table's, which quad reads), and each replicate this many points.
+_SEQUENCE_MAX_D = _core.SEQUENCE_MAX_D
 _SEQUENCE_MAX_POINTS = 2**20
 
 # The generating vector an engine's sequence uses: the engine's own, built for the
-# first-order kernel. Engines pickled before it existed have no record and keep the
-# table they drew from (the tent table, which quad reads).
+# first-order kernel, up to its size; above it, and for engines pickled before it
+# existed (which have no record), the tent table.
 _SEQUENCE_TABLE = "first-order"
+_OWN_TABLE_MAX_D = _core.ENGINE_SEQUENCE_MAX_D
 _EARLIER_SEQUENCE_TABLE = "tent"
 
 _DRAWS = ("sequence", "independent")
@@ -239,7 +240,9 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
         self._sequence_seed = (
             int(self.rng.integers(0, 2**64, dtype=np.uint64)) if draws == "sequence" else None
         )
-        self._sequence_table = _SEQUENCE_TABLE
+        self._sequence_table = (
+            _SEQUENCE_TABLE if d <= _OWN_TABLE_MAX_D else _EARLIER_SEQUENCE_TABLE
+        )
         # What scipy.integrate.qmc_quad passes to build independent copies:
         # type(engine)(seed=..., **engine._init_quad).
         self._init_quad = {"d": d, "optimization": optimization, "draws": draws, **generate_kwargs}

@@ -223,12 +223,12 @@ def test_the_sequence_draws_from_the_engines_own_table():
     assert not np.array_equal(x, tent)
     # The same shift, another lattice: the first coordinate (z₁ = 1 in both) agrees.
     assert np.array_equal(x[:, 0], tent[:, 0])
-    assert sp._core.ENGINE_SEQUENCE_MAX_D == sp._engine._SEQUENCE_MAX_D
+    assert sp._core.ENGINE_SEQUENCE_MAX_D == sp._engine._OWN_TABLE_MAX_D
     with pytest.raises(ValueError, match="invalid table = sobol: expected 'tent'"):
         sp._core.sequence_points(2, table="sobol")
     # A new engine pickled and loaded keeps its table.
     back = pickle.loads(pickle.dumps(e))
-    assert back == e and np.array_equal(back.random(64), e.random(64))
+    assert back == e and np.array_equal(back.random(256), e.random(256))
 
 
 def test_an_engine_pickled_before_its_own_table_continues_its_sequence():
