@@ -346,7 +346,9 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
             self.num_generated,
             getattr(self, "_draws", "independent"),
             getattr(self, "_sequence_seed", None),
-            self._table(),
+            # Independent draws use no table: an engine pickled before the tables had
+            # names equals a new one drawing alike.
+            self._table() if self._continues() else None,
         )
 
     def __eq__(self, other: object) -> bool:
