@@ -466,9 +466,9 @@ fn first_order_terms(n: usize) -> Vec<f64> {
 ///   beam of [`embedded_tent_generator`] (which keeps every one of the 64 extensions).
 ///
 /// The weights stay equal at every coordinate: point 0's term Π(1 + γω(0)) − 1 is the
-/// same for every candidate and is factored out of the comparison
-/// ([`log_past_point_zero`]), which keeps the score exact where it would otherwise
-/// swamp every difference (past about 230 coordinates). Also returns, per coordinate
+/// same for every candidate and is factored out of the comparison (log e_m =
+/// log(p₀/2^m) + log1p(O_m/p₀), O_m the other points' sum), which keeps the score exact
+/// where it would otherwise swamp every difference (past about 230 coordinates). Also returns, per coordinate
 /// count j (entry j − 1), e_m at each level m = 6..20 (entries below are 0). Refuses
 /// d = 0, naming `d`.
 pub fn embedded_first_order_generator(d: usize) -> Result<(Vec<u32>, Vec<[f64; 21]>), Error> {
