@@ -3,8 +3,11 @@
 whether another vector at 2^10..2^12 points in 5..50 coordinates would close the gap
 between the sequence's prefixes and the lattice made for n on the models with input
 laws (results/law-lattice/randomize-engine.md). Nothing here changes the library's
-table (sequences/src/extensible_table.rs); a vector written here is read by
-benches/uq_engine.py's candidate `vec:NAME`.
+tables; a vector written here is read by benches/uq_engine.py's candidate `vec:NAME`.
+The library's `embedded_first_order_generator` is the KERNEL=b2 construction carried to
+2^20 points (sequences/src/engine_table.rs, `Engine(d)`'s table; results/law-lattice/
+engine-table.md), with point 0's term left out of the comparison so that it keeps
+choosing past about 230 coordinates, where this script's score saturates.
 
 Construction (embedded, component by component, as `embedded_tent_generator` but with
 another score): z_1 = 1; for each further coordinate every odd value below 2^B (up to

@@ -12,7 +12,11 @@ denominator of results/uq-models is used (16 randomisations) unless `sobol_fresh
 among the candidates, which measures it again.
 
     seq      Engine(d, seed=SEED0 + r).random(n): the default, the extensible lattice
-             sequence with one shift and the tent
+             sequence with one shift and the tent (the engine's own table, built for the
+             first-order kernel, where the package has it)
+    seqtent  the same engine's draws with the tent table (sequences/src/extensible_table.rs,
+             quad's, and the engine's before it had its own): the same shift, so these
+             are the draws `seq` gave for the same seeds before
     ind      Engine(d, seed=SEED0 + r, draws='independent').random(n): the tent lattice
              made for n, shifted and folded
     owen     Owen-scrambled Sobol' (stillpoint.baseline('sobol', n, d, seed=SEED0 + r)):
@@ -111,9 +115,12 @@ def draw(cand, n, d, r):
     seed = SEED0 + r
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        if cand == "seq":
+        if cand in ("seq", "seqtent"):
             draws = "sequence" if d <= sp._core.SEQUENCE_MAX_D else "independent"
-            return sp.Engine(d, seed=seed, draws=draws).random(n)
+            e = sp.Engine(d, seed=seed, draws=draws)
+            if cand == "seqtent" and draws == "sequence":
+                return sp._core.sequence_points(d, seed=e._sequence_seed, count=n, table="tent")
+            return e.random(n)
         if cand == "ind":
             return sp.Engine(d, seed=seed, draws="independent").random(n)
     if cand == "owen":

@@ -14,7 +14,7 @@ use stillpoint::cubature::{Cubature, QuadOptions, StopReason};
 use stillpoint::pipeline::calls::{feed, space_parts, with_request};
 use stillpoint::pipeline::integration::FromRequest;
 use stillpoint::sensitivity::{Sensitivity, SensitivityOptions};
-use stillpoint::sequences::ExtensibleLattice;
+use stillpoint::sequences::{ExtensibleLattice, SequenceTable};
 use stillpoint::PointSet;
 
 use super::{keywords, to_array, value_error};
@@ -170,9 +170,10 @@ driver!(PySensitivity, "Sensitivity", Sensitivity, SensitivityOptions, {
 });
 
 /// Points [start, start + count) of replicate `replicate` of the extensible randomised
-/// lattice sequence in d dimensions seeded by `seed`, as a (count, d) array.
+/// lattice sequence in d dimensions seeded by `seed`, as a (count, d) array; `table`
+/// names its generating vector ('tent', quad's, or 'first-order', the engine's).
 #[pyfunction]
-#[pyo3(signature = (d, seed=0, replicate=0, start=0, count=1))]
+#[pyo3(signature = (d, seed=0, replicate=0, start=0, count=1, table="tent"))]
 fn sequence_points<'py>(
     py: Python<'py>,
     d: usize,
@@ -180,8 +181,10 @@ fn sequence_points<'py>(
     replicate: u64,
     start: u64,
     count: usize,
+    table: &str,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let seq = ExtensibleLattice::new(d, seed, replicate).map_err(value_error)?;
+    let table = SequenceTable::from_name(table).map_err(value_error)?;
+    let seq = ExtensibleLattice::with_table(table, d, seed, replicate).map_err(value_error)?;
     let mut data = vec![0.0; count * d];
     seq.fill(start, count, &mut data).map_err(value_error)?;
     Ok(Array2::from_shape_vec((count, d), data)

@@ -387,6 +387,10 @@ macro_rules! add {
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("SEQUENCE_MAX_D", stillpoint::sequences::EXTENSIBLE_MAX_D)?;
+    m.add(
+        "ENGINE_SEQUENCE_MAX_D",
+        stillpoint::sequences::ENGINE_SEQUENCE_MAX_D,
+    )?;
     add!(m: generate, check_generate, design, design_figures, space_values, space_names,
         estimate, notes, long_run_note, discrepancy, baselines, integrate, randomize,
         tent_set, law_set, options, metrics);

@@ -97,10 +97,16 @@ def space_values(
     as its index)."""
 
 def sequence_points(
-    d: int, seed: int = 0, replicate: int = 0, start: int = 0, count: int = 1
+    d: int,
+    seed: int = 0,
+    replicate: int = 0,
+    start: int = 0,
+    count: int = 1,
+    table: str = "tent",
 ) -> npt.NDArray[np.float64]:
     """Points [start, start + count) of one replicate of the extensible randomised
-    lattice sequence."""
+    lattice sequence; ``table`` names its generating vector ('tent', quad's, or
+    'first-order', the engine's)."""
 
 class Cubature:
     """The state of an integration to a tolerance (see ``stillpoint.quad``), resolved by

@@ -22,9 +22,16 @@ from ._validate import _engine_seed, _fresh_seed, _int
 _ENGINE_REFUSES = ("n", "d", "region", "box", "shape", "bounds")
 
 # The extensible sequence's reach: its lattice has generators for this many dimensions
-# (the library's table, which quad reads too), and each replicate this many points.
+# (the tent table's, which quad reads), and each replicate this many points.
 _SEQUENCE_MAX_D = _core.SEQUENCE_MAX_D
 _SEQUENCE_MAX_POINTS = 2**20
+
+# The generating vector an engine's sequence uses: the engine's own, built for the
+# first-order kernel, up to its size; above it, and for engines pickled before it
+# existed (which have no record), the tent table.
+_SEQUENCE_TABLE = "first-order"
+_OWN_TABLE_MAX_D = _core.ENGINE_SEQUENCE_MAX_D
+_EARLIER_SEQUENCE_TABLE = "tent"
 
 _DRAWS = ("sequence", "independent")
 
@@ -90,7 +97,11 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
     ``random(128)`` of a fresh engine. The sequence is an extensible rank-1 lattice in
     radical-inverse order (each prefix of 2^m points is a lattice of 2^m points) with one
     uniform random shift per engine, drawn from ``seed``, and the tent transform
-    x ↦ 1 − |2x − 1|; up to 1 000 dimensions and 2^20 points. As for SciPy's Sobol',
+    x ↦ 1 − |2x − 1|; up to 1 000 dimensions and 2^20 points. Its generating vector is
+    built for the first-order kernel (each prefix of 2^6 to 2^20 points close, on
+    average over the levels, to the lattice made for its n), which suits integrands
+    through input laws better than the vector ``quad`` uses; engines pickled by earlier
+    versions keep the vector they drew from. As for SciPy's Sobol',
     the balance holds at powers of two: a draw that ends elsewhere warns. :meth:`reset`
     goes back to the first point, :meth:`fast_forward` skips points. ``d = 0`` gives
     (n, 0) arrays.
@@ -229,6 +240,9 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
         self._sequence_seed = (
             int(self.rng.integers(0, 2**64, dtype=np.uint64)) if draws == "sequence" else None
         )
+        self._sequence_table = (
+            _SEQUENCE_TABLE if d <= _OWN_TABLE_MAX_D else _EARLIER_SEQUENCE_TABLE
+        )
         # What scipy.integrate.qmc_quad passes to build independent copies:
         # type(engine)(seed=..., **engine._init_quad).
         self._init_quad = {"d": d, "optimization": optimization, "draws": draws, **generate_kwargs}
@@ -272,8 +286,18 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
                 stacklevel=4,
             )
         return _core.sequence_points(
-            self.d, seed=self._sequence_seed, replicate=0, start=start, count=n
+            self.d,
+            seed=self._sequence_seed,
+            replicate=0,
+            start=start,
+            count=n,
+            table=self._table(),
         )
+
+    def _table(self) -> str:
+        """The generating vector this engine's sequence uses: an engine pickled before
+        the engine had its own has no record, and continues the one it drew from."""
+        return getattr(self, "_sequence_table", _EARLIER_SEQUENCE_TABLE)
 
     if _qmc is None:  # pragma: no cover - the methods QMCEngine provides otherwise
 
@@ -322,6 +346,9 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
             self.num_generated,
             getattr(self, "_draws", "independent"),
             getattr(self, "_sequence_seed", None),
+            # Independent draws use no table: an engine pickled before the tables had
+            # names equals a new one drawing alike.
+            self._table() if self._continues() else None,
         )
 
     def __eq__(self, other: object) -> bool:

@@ -1,5 +1,6 @@
 """stillpoint.Engine as a SciPy QMC engine."""
 
+import pickle
 import warnings
 
 import numpy as np
@@ -207,3 +208,42 @@ def test_each_sequence_randomisation_is_unbiased():
             )
         se = est.std(ddof=1) / np.sqrt(len(est))
         assert abs(est.mean() - 1.0) < 4 * se
+
+
+DATA = __import__("pathlib").Path(__file__).parent / "data"
+
+
+def test_the_sequence_draws_from_the_engines_own_table():
+    e = sp.Engine(4, seed=31)
+    x = e.random(256)
+    seed = e._sequence_seed
+    own = sp._core.sequence_points(4, seed=seed, start=0, count=256, table="first-order")
+    tent = sp._core.sequence_points(4, seed=seed, start=0, count=256, table="tent")
+    assert np.array_equal(x, own)
+    assert not np.array_equal(x, tent)
+    # The same shift, another lattice: the first coordinate (z₁ = 1 in both) agrees.
+    assert np.array_equal(x[:, 0], tent[:, 0])
+    assert sp._core.ENGINE_SEQUENCE_MAX_D == sp._engine._OWN_TABLE_MAX_D
+    with pytest.raises(ValueError, match="invalid table = sobol: expected 'tent'"):
+        sp._core.sequence_points(2, table="sobol")
+    # A new engine pickled and loaded keeps its table.
+    back = pickle.loads(pickle.dumps(e))
+    assert back == e and np.array_equal(back.random(256), e.random(256))
+
+
+def test_an_engine_pickled_before_its_own_table_continues_its_sequence():
+    # Written by the package before the engine had its own table (a sequence engine of
+    # d = 5, seed 2024, after one draw of 64 points, and the points it drew next): it has
+    # no record of a table and continues the tent table's sequence.
+    expected = np.load(DATA / "engine_sequence_expected.npz")
+    old = pickle.loads((DATA / "engine_sequence.p4.pkl").read_bytes())
+    assert "_sequence_table" not in vars(old) and old.num_generated == 64
+    assert np.array_equal(old.random(64), expected["next"])
+    assert np.array_equal(old.reset().random(64), expected["first"])
+    tent = sp._core.sequence_points(5, seed=old._sequence_seed, count=128, table="tent")
+    assert np.array_equal(tent[64:], expected["next"])
+    # Equal to a new engine of the same seed only in what they will not draw alike.
+    new = sp.Engine(5, seed=2024)
+    assert new._sequence_seed == old._sequence_seed
+    assert new != old.reset()
+    assert not np.array_equal(new.random(64), expected["first"])
