@@ -7,7 +7,7 @@
 //! scrambled net where it measures better) is one more variant and one more arm of
 //! [`cube_rule`].
 
-use super::request::{Job, Request};
+use super::request::Job;
 use crate::config::GenerateConfig;
 use crate::design::balance::Finish;
 use crate::design::{Design, DesignSpace};
@@ -118,16 +118,14 @@ fn is_default_set(job: &Job) -> bool {
     let Job::Run(cfg) = job else {
         return false;
     };
-    let mut plain = Request::new(cfg.n, cfg.s);
-    plain.seed = Some(cfg.seed.into());
-    match plain.resolve().map(|r| r.job) {
-        Ok(Job::Run(default)) => {
+    match Job::default_config(cfg.n, cfg.s, cfg.seed) {
+        Some(default) => {
             GenerateConfig {
                 sums: cfg.sums,
                 ..*default
             } == **cfg
         }
-        _ => false,
+        None => false,
     }
 }
 

@@ -156,11 +156,9 @@ impl Resolved {
 /// The set the cube's default makes for n, s and the seed (a request with nothing else),
 /// the picked lattice's seventeenth candidate.
 fn cube_default(n: usize, s: usize, seed: u64) -> Result<Option<PointSet>, Error> {
-    let mut plain = Request::new(n, s);
-    plain.seed = Some(seed.into());
-    match plain.resolve()?.job {
-        Job::Run(cfg) => Ok(Some(generate_with(&cfg, None, |_| {})?.output.points)),
-        _ => Ok(None),
+    match Job::default_config(n, s, seed) {
+        Some(cfg) => Ok(Some(generate_with(&cfg, None, |_| {})?.output.points)),
+        None => Ok(None),
     }
 }
 
