@@ -526,6 +526,32 @@ mod tests {
         }
     }
 
+    /// The probes of any set agree with the draws' own (a draw as a set gives the same
+    /// bits), and a seventeenth candidate of another shape is refused by name.
+    #[test]
+    fn a_set_is_judged_as_the_draws_are() {
+        let ppf = |u: f64| (u / (1.0 - u)).ln();
+        let (n, unbounded) = (101usize, [true; 3]);
+        let parts = drawn_parts(n, &unbounded).unwrap();
+        let scores: Vec<Vec<f64>> = parts
+            .iter()
+            .map(|(m, _)| (0..*m).map(|i| ppf((i as f64 + 0.5) / *m as f64)).collect())
+            .collect();
+        for draw in 0..3 {
+            let x = law_lattice_drawn(n, &unbounded, 5, draw).unwrap();
+            let (a, b) = (
+                set_probe_errors(&x, &ppf),
+                probe_errors(&parts, &scores, n, 5, draw),
+            );
+            assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
+        }
+        let other = law_lattice_drawn(100, &unbounded, 5, 0).unwrap();
+        let e = law_lattice_picked_or(n, &unbounded, 5, &ppf, Some(&other))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("other") && e.contains("100 points"), "{e}");
+    }
+
     #[test]
     fn every_point_lies_in_the_cube() {
         let x = law_lattice(1000, &[true, false, true, true], 9).unwrap();
