@@ -340,7 +340,9 @@ pub fn law_lattice_picked_or(
     }
 }
 
-/// [`probe_errors`] of any set of points in the unit cube, through `ppf`.
+/// The sizes of the relative errors of any set of points in the unit cube on the three
+/// test integrals [`law_lattice_picked`] judges its draws by (E exp(−‖Z‖²/2) = 2^(−s/2),
+/// E cos(ΣZ_j/√s) = e^(−½), E exp(ΣZ_j/√s) = e^(½)), with Z_j = `ppf`(u_j).
 pub fn set_probe_errors(points: &PointSet, ppf: &(dyn Fn(f64) -> f64 + Sync)) -> [f64; 3] {
     let s = points.s() as f64;
     let root = s.sqrt();
