@@ -46,7 +46,7 @@ pub use lattices::{
 };
 pub use law_lattice::{
     law_lattice, law_lattice_drawn, law_lattice_generator, law_lattice_parts, law_lattice_picked,
-    picked_draw, LAW_WEIGHT, PICKED_DRAWS,
+    law_lattice_picked_or, picked_draw, set_probe_errors, LAW_WEIGHT, PICKED_DRAWS,
 };
 pub use scrambled_halton::{halton_scrambled, HALTON_SCRAMBLED_MAX_S};
 pub use sobol_owen::{

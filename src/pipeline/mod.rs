@@ -111,7 +111,14 @@ impl Resolved {
                     sigma: 1.0,
                 };
                 let ppf = move |u: f64| normal.ppf(u);
-                let points = crate::sequences::law_lattice_picked(*n, unbounded, *seed, &ppf)?;
+                let cube = cube_default(*n, unbounded.len(), *seed)?;
+                let points = crate::sequences::law_lattice_picked_or(
+                    *n,
+                    unbounded,
+                    *seed,
+                    &ppf,
+                    cube.as_ref(),
+                )?;
                 (points, None)
             }
             Job::Run(cfg) => {
@@ -143,6 +150,15 @@ impl Resolved {
             report,
             design: Some(design),
         })
+    }
+}
+
+/// The set the cube's default makes for n, s and the seed (a request with nothing else),
+/// the picked lattice's seventeenth candidate.
+fn cube_default(n: usize, s: usize, seed: u64) -> Result<Option<PointSet>, Error> {
+    match Job::default_config(n, s, seed) {
+        Some(cfg) => Ok(Some(generate_with(&cfg, None, |_| {})?.output.points)),
+        None => Ok(None),
     }
 }
 

@@ -116,8 +116,8 @@ pub enum Job {
         seed: u64,
     },
     /// The lattice made for a space's laws: randomised ([`crate::sequences::law_lattice`])
-    /// or, `picked`, with its offsets drawn and the best draw kept
-    /// ([`crate::sequences::law_lattice_picked`]).
+    /// or, `picked`, with its offsets drawn and the best of the draws and the cube's
+    /// default set kept ([`crate::sequences::law_lattice_picked_or`]).
     Law {
         /// Points.
         n: usize,
@@ -132,6 +132,17 @@ pub enum Job {
 }
 
 impl Job {
+    /// The cube's default configuration for n, s and the seed: what a request with no
+    /// other option runs (none if that request is refused).
+    pub fn default_config(n: usize, s: usize, seed: u64) -> Option<Box<GenerateConfig>> {
+        let mut plain = Request::new(n, s);
+        plain.seed = Some(seed.into());
+        match plain.resolve().map(|r| r.job) {
+            Ok(Job::Run(cfg)) => Some(cfg),
+            _ => None,
+        }
+    }
+
     /// The number of points the job makes.
     pub fn n(&self) -> usize {
         match self {
