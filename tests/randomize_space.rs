@@ -450,23 +450,29 @@ fn the_default_under_unbounded_laws_is_the_candidate_with_the_least_score() {
 #[test]
 fn the_default_under_unbounded_laws_does_not_depend_on_the_threads() {
     for (n, seed) in [(64usize, 17u64), (1023, 0)] {
-        let on = |threads: usize| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap()
-                .install(|| {
-                    let resolved = request(n, &UNBOUNDED, None, None, seed).resolve().unwrap();
-                    design_of(&resolved).numbers().unwrap()
-                })
-        };
-        let (one, two) = (on(1), on(2));
-        assert!(one
-            .as_slice()
-            .iter()
-            .zip(two.as_slice())
-            .all(|(a, b)| a.to_bits() == b.to_bits()));
+        assert_same_bits_on_one_and_two_threads(|| {
+            let resolved = request(n, &UNBOUNDED, None, None, seed).resolve().unwrap();
+            design_of(&resolved).numbers().unwrap()
+        });
     }
+}
+
+/// Runs `make` on a pool of one thread and of two, and asserts the sets are the same
+/// to the bit.
+fn assert_same_bits_on_one_and_two_threads(make: impl Fn() -> stillpoint::PointSet + Sync) {
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(&make)
+    };
+    let (one, two) = (on(1), on(2));
+    assert!(one
+        .as_slice()
+        .iter()
+        .zip(two.as_slice())
+        .all(|(a, b)| a.to_bits() == b.to_bits()));
 }
 
 /// The closed forms the draws are judged by: one normal's E exp(−Z²/2) = 1/√2 (so
@@ -511,19 +517,9 @@ fn the_picked_lattice_does_not_depend_on_the_threads() {
         sigma: 1.0,
     };
     let ppf = move |u: f64| normal.ppf(u);
-    let on = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| law_lattice_picked(2050, &[true; 6], 8, &ppf).unwrap())
-    };
-    let (one, two) = (on(1), on(2));
-    assert!(one
-        .as_slice()
-        .iter()
-        .zip(two.as_slice())
-        .all(|(a, b)| a.to_bits() == b.to_bits()));
+    assert_same_bits_on_one_and_two_threads(|| {
+        law_lattice_picked(2050, &[true; 6], 8, &ppf).unwrap()
+    });
 }
 
 /// The picked lattice is the default's alone: a set the request chose (a method, a
