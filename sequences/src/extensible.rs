@@ -444,13 +444,7 @@ fn embedded_search(
 /// γ·ω(r/n) for r = 0..n−1 with ω(x) = 2π²(x² − x + 1/6), the first-order kernel (that
 /// of the lattice made for the laws), γ = [`LAW_WEIGHT`].
 fn first_order_terms(n: usize) -> Vec<f64> {
-    let c = 2.0 * std::f64::consts::PI * std::f64::consts::PI;
-    (0..n)
-        .map(|r| {
-            let x = r as f64 / n as f64;
-            LAW_WEIGHT * c * (x * x - x + 1.0 / 6.0)
-        })
-        .collect()
+    super::lattices::rough_terms(n, LAW_WEIGHT)
 }
 
 /// The generating vector of `Engine(d)`'s sequence (the table [`SequenceTable::FirstOrder`]
