@@ -111,7 +111,8 @@ pub struct DesignFigures {
 /// What the estimated figures of a design rest on ([`DesignFigures::estimate`]).
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct DesignEstimate {
-    /// Random pairs of distinct points each estimated discrepancy was formed from.
+    /// Random pairs of distinct points the whole set's estimated discrepancy was formed
+    /// from ([`Sums::pairs_for`] its n; a slice of m points draws `pairs_for(m)`).
     pub pairs: usize,
     /// The seed they were drawn from.
     pub seed: u64,
@@ -248,7 +249,7 @@ impl DesignFigures {
             centered_l2: whole.map(|(v, _)| v),
             min_distance,
             estimate: estimated.then(|| DesignEstimate {
-                pairs: sums.pairs,
+                pairs: sums.pairs_for(n),
                 seed: sums.seed,
                 centered_l2_error: whole.and_then(|(_, e)| e),
                 min_distance_exact,
@@ -426,7 +427,10 @@ mod tests {
         let exact = DesignFigures::of_with(&d, Sums::EXACT);
         let est = DesignFigures::of_with(&d, estimated_above(500));
         let e = est.estimate.as_ref().expect("estimated above the size");
-        assert_eq!((e.pairs, e.seed), (Sums::AUTO.pairs, Sums::AUTO.seed));
+        assert_eq!(
+            (e.pairs, e.seed),
+            (Sums::AUTO.pairs_for(2000), Sums::AUTO.seed)
+        );
         // The overall centred L2: within 5 standard errors of the exact value.
         let (v, x) = (est.centered_l2.unwrap(), exact.centered_l2.unwrap());
         let se = e.centered_l2_error.expect("the estimate's standard error");

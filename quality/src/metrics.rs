@@ -298,13 +298,14 @@ impl Sums {
 
 /// The centred L2 discrepancy (root) of `points` under `sums`' rule, the one every report
 /// follows: exact up to [`Sums::estimate_above`] points (the same bits as [`centered_l2`]),
-/// estimated from [`Sums::pairs`] random pairs above, with the standard error of the
+/// estimated from [`Sums::pairs_for`] random pairs above, with the standard error of the
 /// root ([`Estimate::root_error`]) as the second value (`None` when exact).
 pub fn centered_l2_with(points: &PointSet, sums: Sums) -> (f64, Option<f64>) {
     if !sums.estimates(points.n()) {
         return (centered_l2(points), None);
     }
-    let [_, _, centered, _, _] = sampled_squared_discrepancies(points, sums.pairs, sums.seed);
+    let pairs = sums.pairs_for(points.n());
+    let [_, _, centered, _, _] = sampled_squared_discrepancies(points, pairs, sums.seed);
     (
         centered.value.max(0.0).sqrt(),
         Some(Estimate::root_error(
