@@ -36,7 +36,8 @@ among the candidates, which measures it again.
              benches/engine_vector.py (values below 2^B; n <= 2^B) in place of the table
 
     GRID=genz|uq|both (both)  REPS=16  CANDS=seq,ind,owen  CELLS=2:32,5:256 (Genz cells)
-    NS=1024,4096 FAM=keister (uq cells, as uq_rules.py)
+    NS=1024,4096 FAM=keister MAXD=20 (uq cells, as uq_rules.py; MAXD skips those of more
+    coordinates)
     SEED0=1000: the candidates' randomisations are seeds SEED0 + r
     /work/wt/bench-venv/bin/python benches/uq_engine.py
 
@@ -109,6 +110,7 @@ def apexes(code, d, rng):
 
 
 SEED0 = int(os.environ.get("SEED0", 1000))
+MAXD = int(os.environ.get("MAXD", 10**9))
 
 
 def draw(cand, n, d, r):
@@ -191,6 +193,8 @@ def uq_rows():
     rows = []
     for c in data.values():
         if c["n"] not in ns or (famf and not any(f in c["family"] for f in famf.split(","))):
+            continue
+        if c["d"] > MAXD:
             continue
         fam = BY_NAME[c["family"]]
         v = next(v for v in fam.variants if fam.label(v) == c["variant"])
