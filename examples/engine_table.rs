@@ -1,10 +1,9 @@
 //! Prints the table of `Engine(d)`'s sequence (sequences/src/engine_table.rs), the
-//! generating vector built for the first-order kernel at two weights: `cargo run --release
-//! -p stillpoint --example engine_table [-- D] > sequences/src/engine_table.rs`, D = 1000
-//! by default. Prints to standard error, per coordinate count, the mean over the levels
-//! 2^6..2^14 of log e_m at γ = 0.05 (the first of the construction's two weights) and the
-//! ratio of its criterion e_m to that of the tent table's prefix at 2^10, 2^12, 2^14 and
-//! 2^20.
+//! generating vector built for the first-order kernel: `cargo run --release -p stillpoint
+//! --example engine_table [-- D] > sequences/src/engine_table.rs`, D = 1000 by default.
+//! Prints to standard error, per coordinate count, the construction's score (the mean
+//! over the levels 2^6..2^14 of log e_m) and the ratio of its criterion e_m to that of
+//! the tent table's prefix at 2^10, 2^12, 2^14 and 2^20.
 
 fn main() -> Result<(), stillpoint::Error> {
     use stillpoint::sequences::{

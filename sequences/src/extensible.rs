@@ -43,8 +43,7 @@
 //!
 //! `Engine(d)`'s sequence has a second table ([`SequenceTable::FirstOrder`],
 //! `engine_table.rs`, 1 000 coordinates), made by the same search with the first-order
-//! kernel at two product weights, scored by the mean over the levels of log e_m under
-//! each weight, and the worse of the two against its best
+//! kernel and the mean over the levels of log e_m for score
 //! ([`embedded_first_order_generator`]; `cargo run --release -p stillpoint --example
 //! engine_table`); `quad` and the sensitivity indices read the tent table above.
 
@@ -75,17 +74,6 @@ pub const EXTENSIBLE_MAX_D: usize = table::GENERATOR.len();
 
 /// The most coordinates `Engine(d)`'s table ([`SequenceTable::FirstOrder`]) has.
 pub const ENGINE_SEQUENCE_MAX_D: usize = engine_table::GENERATOR.len();
-
-/// The second product weight of `Engine(d)`'s construction, beside [`LAW_WEIGHT`]: the
-/// search weighs a candidate by its worse loss under the two. Under γ = 0.05 alone an interaction of k coordinates
-/// weighs 0.05^k, so short dual vectors of order 3 to 5 (the Fourier terms of a smooth
-/// function of sums of several inputs, as the angles added along a robot arm) cost a
-/// candidate almost nothing: (0, −1, −2, −2, −2, 0, 0, 1) weighs 0.05⁵/64 ≈ 5·10⁻⁹, and
-/// a vector chosen under 0.05 alone had it in its first 8 coordinates at 2^14 points
-/// (the robot arm at 3.3 times scrambled Sobol's error); under 0.3 it weighs 4·10⁻⁵. At
-/// 1 000 coordinates point 0's term (1 + 0.3·π²/3)^1000 ≈ 10^298 still fits a double
-/// with room for the sum over 2^20 points.
-pub const ENGINE_LOW_ORDER_WEIGHT: f64 = 0.3;
 
 /// Which tabulated generating vector a sequence uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -178,34 +166,25 @@ fn tent_terms(n: usize) -> Vec<f64> {
 /// extended by the coordinate c (`terms` holds t at r/n). Summed in blocks of 256 so
 /// that the rounding stays near 10⁻²⁰ at n = 2^20.
 fn extended_criterion(q: &[f64], terms: &[f64], c: u64) -> f64 {
-    extended_sums(&[q], terms, &[1.0], c, 0)[0] / q.len() as f64
+    extended_sum(q, terms, c, 0) / q.len() as f64
 }
 
-/// For each kernel k, the sum of q_k,i + f_k·t_{(i·c) mod n}·(1 + q_k,i) over the points
-/// i ≥ `first` (0 or 1), with q_k the kernel's per-point Π(1 + f_k·t) − 1 so far and f_k
-/// = `factors`[k], in blocks of 256 as [`extended_criterion`] sums. One pass serves every
-/// kernel: the scattered reads of `terms` dominate at 2^20 points.
-fn extended_sums(q: &[&[f64]], terms: &[f64], factors: &[f64], c: u64, first: usize) -> Vec<f64> {
-    let n = q[0].len();
-    let mask = n as u64 - 1;
-    let mut total = vec![0.0; q.len()];
-    let mut sum = vec![0.0; q.len()];
-    for b in 0..n.div_ceil(256) {
-        sum.fill(0.0);
+/// The sum of q_i + t_{(i·c) mod n}·(1 + q_i) over the points i ≥ `first` (0 or 1), in
+/// blocks of 256 as [`extended_criterion`] sums.
+fn extended_sum(q: &[f64], terms: &[f64], c: u64, first: usize) -> f64 {
+    let mask = q.len() as u64 - 1;
+    let mut total = 0.0;
+    for (b, block) in q.chunks(256).enumerate() {
+        let mut sum = 0.0;
         let mut r = ((b as u64 * 256).wrapping_mul(c)) & mask;
-        for i in b * 256..n.min(b * 256 + 256) {
-            if i >= first {
+        for (i, &qi) in block.iter().enumerate() {
+            if b > 0 || i >= first {
                 let t = terms[r as usize];
-                for ((s, qk), &f) in sum.iter_mut().zip(q).zip(factors) {
-                    let (qi, t) = (qk[i], f * t);
-                    *s += qi + t + qi * t;
-                }
+                sum += qi + t + qi * t;
             }
             r = (r + c) & mask;
         }
-        for (t, s) in total.iter_mut().zip(&sum) {
-            *t += s;
-        }
+        total += sum;
     }
     total
 }
@@ -215,7 +194,7 @@ fn extended_sums(q: &[&[f64]], terms: &[f64], factors: &[f64], c: u64, first: us
 /// extended by c. Entries past `bits` are left 0.
 fn level_criteria(q: &[f64], terms: &[f64], c: u64) -> [f64; 21] {
     let bits = q.len().trailing_zeros();
-    let by_valuation = valuation_sums(&[q], terms, &[1.0], c)[0];
+    let by_valuation = valuation_sums(q, terms, c);
     let mut out = [0.0f64; 21];
     let mut sum = 0.0;
     for m in 0..=bits {
@@ -225,21 +204,17 @@ fn level_criteria(q: &[f64], terms: &[f64], c: u64) -> [f64; 21] {
     out
 }
 
-/// For each kernel k (as in [`extended_sums`]), the sums of q_k,i + f_k·t·(1 + q_k,i) (as
-/// in [`level_criteria`]) by the 2-adic valuation of i: point i belongs to level m iff
-/// v₂(i) ≥ bits − m, and entry `bits` holds point 0 alone.
-fn valuation_sums(q: &[&[f64]], terms: &[f64], factors: &[f64], c: u64) -> Vec<[f64; 21]> {
-    let n = q[0].len();
-    let bits = n.trailing_zeros();
-    let mask = n as u64 - 1;
-    let mut by_valuation = vec![[0.0f64; 21]; q.len()];
-    for i in 0..n {
+/// The sums of q_i + t·(1 + q_i) (as in [`level_criteria`]) by the 2-adic valuation of
+/// i: point i belongs to level m iff v₂(i) ≥ bits − m, and entry `bits` holds point 0
+/// alone.
+fn valuation_sums(q: &[f64], terms: &[f64], c: u64) -> [f64; 21] {
+    let bits = q.len().trailing_zeros();
+    let mask = q.len() as u64 - 1;
+    let mut by_valuation = [0.0f64; 21];
+    for (i, &qi) in q.iter().enumerate() {
         let t = terms[((i as u64).wrapping_mul(c) & mask) as usize];
         let v = if i == 0 { bits } else { i.trailing_zeros() };
-        for ((sums, qk), &f) in by_valuation.iter_mut().zip(q).zip(factors) {
-            let (qi, t) = (qk[i], f * t);
-            sums[v as usize] += qi + t + qi * t;
-        }
+        by_valuation[v as usize] += qi + t + qi * t;
     }
     by_valuation
 }
@@ -265,18 +240,18 @@ fn ratio(e: f64, reference: f64) -> f64 {
 }
 
 /// The best `BEAM` of (score, candidate) pairs (ties to the smaller candidate).
-fn keep_best<T>(mut scored: Vec<(f64, u64, T)>, keep: usize) -> Vec<(f64, u64, T)> {
+fn keep_best(mut scored: Vec<(f64, u64)>, keep: usize) -> Vec<(f64, u64)> {
     scored.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     scored.truncate(keep);
     scored
 }
 
 /// Extends the per-point Π(1 + t) − 1 of a rank-1 lattice with q.len() points by the
-/// coordinate z (`terms` holds t at r/q.len(); the kernel is factor·t).
-fn extend(q: &mut [f64], terms: &[f64], factor: f64, z: u64) {
+/// coordinate z (`terms` holds t at r/q.len()).
+fn extend(q: &mut [f64], terms: &[f64], z: u64) {
     let mask = q.len() as u64 - 1;
     for (i, qi) in q.iter_mut().enumerate() {
-        let t = factor * terms[((i as u64).wrapping_mul(z) & mask) as usize];
+        let t = terms[((i as u64).wrapping_mul(z) & mask) as usize];
         *qi += t + *qi * t;
     }
 }
@@ -298,7 +273,7 @@ fn level(v: &[f64], m: u32) -> Vec<f64> {
 fn carry(n: usize, z: &[u64], terms: &[f64], mut after: impl FnMut(usize, f64)) {
     let mut q = vec![0.0f64; n];
     for (j, &zj) in z.iter().enumerate() {
-        extend(&mut q, terms, 1.0, zj);
+        extend(&mut q, terms, zj);
         after(j, block_mean(&q));
     }
 }
@@ -349,20 +324,13 @@ pub fn embedded_tent_generator_with_ratios(d: usize) -> Result<(Vec<u32>, Vec<[f
     let reference = single_n_criteria(d)?;
     let terms = tent_terms(EXTENSIBLE_MAX_POINTS as usize);
     let mut ratios = Vec::with_capacity(d);
-    let z = embedded_search(
-        d,
-        &[],
-        &terms,
-        &[1.0],
-        Score::Minimax(&reference),
-        |j, q| {
-            let mut r = [0.0f64; 21];
-            for m in MIN_LEVEL..=EXTENSIBLE_BITS {
-                r[m as usize] = ratio(block_mean(&level(q, m)), reference[j][m as usize]);
-            }
-            ratios.push(r);
-        },
-    );
+    let z = embedded_search(d, &[], &terms, Score::Minimax(&reference), |j, q| {
+        let mut r = [0.0f64; 21];
+        for m in MIN_LEVEL..=EXTENSIBLE_BITS {
+            r[m as usize] = ratio(block_mean(&level(q, m)), reference[j][m as usize]);
+        }
+        ratios.push(r);
+    });
     Ok((z, ratios))
 }
 
@@ -372,13 +340,10 @@ enum Score<'a> {
     /// The largest, over the levels, of the criterion's ratio to the single-n rule's with
     /// as many coordinates (entry [j][m]); the best [`BEAM`] low parts go on.
     Minimax(&'a [[f64; 21]]),
-    /// Under each kernel, the sum over the levels of log e_m less point 0's share
-    /// ([`log_past_point_zero`]) — up to a constant, of log(e_m/e_m*) — less the smallest
-    /// sum any candidate reaches: a candidate's log-ratio to the best under that kernel.
-    /// The score is the largest of these over the kernels, so that no kernel's criterion
-    /// is given up for another's (with one kernel, the sum itself). The low 14 bits by
-    /// levels 2^6..2^14 alone (one kept), then the high bits by levels 2^15..2^20.
-    WorstLogRatio,
+    /// The sum over the levels of log e_m less the point 0's share
+    /// ([`log_past_point_zero`]): the low 14 bits by levels 2^6..2^14 alone (one kept),
+    /// then the high bits by levels 2^15..2^20.
+    MeanLog,
 }
 
 /// The component-by-component search the tabulated generators share: z₁ = 1; for each
@@ -386,20 +351,17 @@ enum Score<'a> {
 /// 2^6..2^14 and the best are kept; then bit by bit up to 2^20 each kept value is
 /// extended by the next bit both ways, the children scored on the new level, and the
 /// best [`BEAM`] go on; the best at 2^20 wins (ties to the smaller value). The first
-/// coordinates are `prefix`'s where it has them. `terms` holds a kernel's γ·ω(r/2^20)
-/// (see [`tent_terms`]), and each of `factors` makes a kernel of it, f·γ·ω: several
-/// weights of one kernel. [`Score::Minimax`] reads the first only,
-/// [`Score::WorstLogRatio`] all. `after` sees each coordinate's per-point Π(1 + t) − 1
-/// under the first once it is chosen.
+/// coordinates are `prefix`'s where it has them. `terms` holds the kernel's γ·ω(r/2^20)
+/// (see [`tent_terms`]); `after` sees each coordinate's per-point Π(1 + t) − 1 once it
+/// is chosen.
 fn embedded_search(
     d: usize,
     prefix: &[u32],
     terms: &[f64],
-    factors: &[f64],
     score: Score<'_>,
     mut after: impl FnMut(usize, &[f64]),
 ) -> Vec<u32> {
-    let mut q = vec![vec![0.0f64; terms.len()]; factors.len()];
+    let mut q = vec![0.0f64; terms.len()];
     let mut z = Vec::with_capacity(d);
     for j in 0..d {
         let zj = if let Some(&given) = prefix.get(j) {
@@ -408,123 +370,75 @@ fn embedded_search(
             1
         } else {
             let low = 1usize << SCREEN_BITS;
-            let low_q: Vec<Vec<f64>> = q.iter().map(|q| level(q, SCREEN_BITS)).collect();
-            let low_q: Vec<&[f64]> = low_q.iter().map(Vec::as_slice).collect();
+            let low_q = level(&q, SCREEN_BITS);
             let low_terms = level(terms, SCREEN_BITS);
             // Point 0 of every level, the same for every candidate (c·0 = 0).
-            let p0: Vec<f64> = q
-                .iter()
-                .zip(factors)
-                .map(|(q, &f)| q[0] + f * terms[0] + q[0] * (f * terms[0]))
-                .collect();
+            let p0 = q[0] + terms[0] + q[0] * terms[0];
             // Every odd residue mod 2^14 up to sign (c and 2^14 − c give the same levels
             // ≤ 14, and their extensions are each other's negatives).
             let candidates: Vec<u64> = (1..low as u64 / 2).step_by(2).collect();
-            let mut scored: Vec<Scored> = candidates
+            let scored: Vec<(f64, u64)> = candidates
                 .par_iter()
                 .map(|&c| match score {
                     Score::Minimax(reference) => {
-                        let e = level_criteria(low_q[0], &low_terms, c);
+                        let e = level_criteria(&low_q, &low_terms, c);
                         let worst = (MIN_LEVEL as usize..=SCREEN_BITS as usize)
                             .map(|m| ratio(e[m], reference[j][m]))
                             .fold(0.0, f64::max);
-                        (worst, c, Vec::new())
+                        (worst, c)
                     }
-                    Score::WorstLogRatio => {
-                        let sums = valuation_sums(&low_q, &low_terms, factors, c);
-                        let totals = sums
-                            .iter()
-                            .zip(&p0)
-                            .map(|(sums, &p0)| {
-                                let mut others = 0.0;
-                                let mut total = 0.0;
-                                for m in 1..=SCREEN_BITS {
-                                    others += sums[(SCREEN_BITS - m) as usize];
-                                    if m >= MIN_LEVEL {
-                                        total += log_past_point_zero(p0, others);
-                                    }
-                                }
-                                total
-                            })
-                            .collect();
-                        (0.0, c, totals)
+                    Score::MeanLog => {
+                        let sums = valuation_sums(&low_q, &low_terms, c);
+                        let mut others = 0.0;
+                        let mut total = 0.0;
+                        for m in 1..=SCREEN_BITS {
+                            others += sums[(SCREEN_BITS - m) as usize];
+                            if m >= MIN_LEVEL {
+                                total += log_past_point_zero(p0, others);
+                            }
+                        }
+                        (total, c)
                     }
                 })
                 .collect();
-            let keep = match score {
-                Score::Minimax(_) => BEAM,
-                Score::WorstLogRatio => {
-                    worst_log_ratios(&mut scored);
-                    1
-                }
+            let (keep, first) = match score {
+                Score::Minimax(_) => (BEAM, 0),
+                Score::MeanLog => (1, 1),
             };
             let mut beam = keep_best(scored, keep);
-            if let Score::WorstLogRatio = score {
+            if first == 1 {
                 // The high bits are scored on their own levels only.
-                beam[0].2.fill(0.0);
+                beam[0].0 = 0.0;
             }
             for b in SCREEN_BITS + 1..=EXTENSIBLE_BITS {
-                let level_q: Vec<Vec<f64>> = q.iter().map(|q| level(q, b)).collect();
-                let level_q: Vec<&[f64]> = level_q.iter().map(Vec::as_slice).collect();
+                let level_q = level(&q, b);
                 let level_terms = level(terms, b);
-                let children: Vec<Scored> = beam
+                let children: Vec<(f64, u64)> = beam
                     .iter()
-                    .flat_map(|(s, c, t)| {
-                        [(*s, *c, t.clone()), (*s, c + (1u64 << (b - 1)), t.clone())]
-                    })
+                    .flat_map(|&(s, c)| [(s, c), (s, c + (1u64 << (b - 1)))])
                     .collect();
-                let mut scored: Vec<Scored> = children
+                let scored: Vec<(f64, u64)> = children
                     .par_iter()
-                    .map(|(s, c, totals)| match score {
+                    .map(|&(s, c)| match score {
                         Score::Minimax(reference) => {
-                            let e = extended_criterion(level_q[0], &level_terms, *c);
-                            (s.max(ratio(e, reference[j][b as usize])), *c, Vec::new())
+                            let e = extended_criterion(&level_q, &level_terms, c);
+                            (s.max(ratio(e, reference[j][b as usize])), c)
                         }
-                        Score::WorstLogRatio => {
-                            let others = extended_sums(&level_q, &level_terms, factors, *c, 1);
-                            let totals = totals
-                                .iter()
-                                .zip(others.iter().zip(&p0))
-                                .map(|(t, (&o, &p0))| t + log_past_point_zero(p0, o))
-                                .collect();
-                            (0.0, *c, totals)
+                        Score::MeanLog => {
+                            let others = extended_sum(&level_q, &level_terms, c, first);
+                            (s + log_past_point_zero(p0, others), c)
                         }
                     })
                     .collect();
-                if let Score::WorstLogRatio = score {
-                    worst_log_ratios(&mut scored);
-                }
                 beam = keep_best(scored, BEAM);
             }
             beam[0].1
         };
-        for (q, &f) in q.iter_mut().zip(factors) {
-            extend(q, terms, f, zj);
-        }
-        after(j, &q[0]);
+        extend(&mut q, terms, zj);
+        after(j, &q);
         z.push(zj as u32);
     }
     z
-}
-
-/// A scored candidate: its score, its value and, under [`Score::WorstLogRatio`], its
-/// sum over the levels so far of log e_m (less point 0's share) under each kernel.
-type Scored = (f64, u64, Vec<f64>);
-
-/// Scores each candidate of [`Score::WorstLogRatio`] by the largest, over the kernels, of
-/// its sum of log e_m less the smallest any candidate reaches under that kernel.
-fn worst_log_ratios(scored: &mut [Scored]) {
-    let kernels = scored.first().map_or(0, |s| s.2.len());
-    let best: Vec<f64> = (0..kernels)
-        .map(|k| scored.iter().map(|s| s.2[k]).fold(f64::INFINITY, f64::min))
-        .collect();
-    for s in scored.iter_mut() {
-        s.0 =
-            s.2.iter()
-                .zip(&best)
-                .map(|(t, b)| t - b)
-                .fold(0.0, f64::max);
-    }
 }
 
 /// γ·ω(r/n) for r = 0..n−1 with ω(x) = 2π²(x² − x + 1/6), the first-order kernel (that
@@ -535,28 +449,22 @@ fn first_order_terms(n: usize) -> Vec<f64> {
 
 /// The generating vector of `Engine(d)`'s sequence (the table [`SequenceTable::FirstOrder`]
 /// holds this for [`ENGINE_SEQUENCE_MAX_D`]), built for the first-order kernel ω(x) =
-/// 2π²(x² − x + 1/6) rather than the tent's, at two product weights, γ = [`LAW_WEIGHT`]
-/// and γ = [`ENGINE_LOW_ORDER_WEIGHT`]: the same search as [`embedded_tent_generator`],
-/// with z₁ = 1 and
+/// 2π²(x² − x + 1/6) at γ = [`LAW_WEIGHT`] rather than the tent's: the same search as
+/// [`embedded_tent_generator`], with z₁ = 1 and
 ///
-/// * each further coordinate's low 14 bits the odd value mod 2^14 (up to sign) whose
-///   larger loss, over the two weights, of S_γ = Σ_m log e_m (levels 2^6..2^14) against
-///   the smallest S_γ of any candidate is smallest, e_m the criterion
-///   −1 + 2^−m Σ_k Π_j (1 + γω(frac(k z_j/2^m))) of the prefix of 2^m points. Up to a
-///   constant S_γ is the sum of log(e_m/e_m*) against the rules made for each 2^m
-///   alone, so the loss is in the same units under both weights, and neither weight's
-///   criterion is given up for the other's: the larger keeps short dual vectors of
-///   order 3 to 5 out of the leading coordinates' prefixes, the smaller the rest;
-/// * its bits 15..20 by the same score on the levels 2^15..2^20 (losses against the
-///   best of the 64 extensions), bit by bit with the beam of [`embedded_tent_generator`]
-///   (which keeps all 64).
+/// * each further coordinate's low 14 bits the odd value mod 2^14 (up to sign) that
+///   minimises the mean over the levels 2^6..2^14 of log e_m, e_m the criterion
+///   −1 + 2^−m Σ_k Π_j (1 + γω(frac(k z_j/2^m))) of the prefix of 2^m points — up to a
+///   constant, the mean of log(e_m/e_m*) against the rules made for each 2^m alone;
+/// * its bits 15..20 by the same score on the levels 2^15..2^20, bit by bit with the
+///   beam of [`embedded_tent_generator`] (which keeps every one of the 64 extensions).
 ///
 /// The weights stay equal at every coordinate: point 0's term Π(1 + γω(0)) − 1 is the
 /// same for every candidate and is factored out of the comparison (log e_m =
 /// log(p₀/2^m) + log1p(O_m/p₀), O_m the other points' sum), which keeps the score exact
-/// where it would otherwise swamp every difference (past about 230 coordinates). Also
-/// returns, per coordinate count j (entry j − 1), e_m at γ = [`LAW_WEIGHT`] at each level
-/// m = 6..20 (entries below are 0). Refuses d = 0, naming `d`.
+/// where it would otherwise swamp every difference (past about 230 coordinates). Also returns, per coordinate
+/// count j (entry j − 1), e_m at each level m = 6..20 (entries below are 0). Refuses
+/// d = 0, naming `d`.
 pub fn embedded_first_order_generator(d: usize) -> Result<(Vec<u32>, Vec<[f64; 21]>), Error> {
     first_order_search(&[], d)
 }
@@ -581,9 +489,8 @@ fn first_order_search(prefix: &[u32], d: usize) -> Result<(Vec<u32>, Vec<[f64; 2
         ));
     }
     let terms = first_order_terms(EXTENSIBLE_MAX_POINTS as usize);
-    let factors = [1.0, ENGINE_LOW_ORDER_WEIGHT / LAW_WEIGHT];
     let mut criteria = Vec::with_capacity(d);
-    let z = embedded_search(d, prefix, &terms, &factors, Score::WorstLogRatio, |_, q| {
+    let z = embedded_search(d, prefix, &terms, Score::MeanLog, |_, q| {
         criteria.push(level_means(q));
     });
     Ok((z, criteria))
@@ -608,7 +515,7 @@ pub fn first_order_level_criteria(z: &[u32]) -> Vec<[f64; 21]> {
     let mut q = vec![0.0f64; n];
     z.iter()
         .map(|&zj| {
-            extend(&mut q, &terms, 1.0, u64::from(zj));
+            extend(&mut q, &terms, u64::from(zj));
             level_means(&q)
         })
         .collect()
@@ -706,7 +613,7 @@ pub fn extend_embedded_generator(prefix: &[u32], d: usize) -> Result<Vec<u32>, E
             .map(|e| e.iter().copied().fold(f64::INFINITY, f64::min))
             .collect();
         let candidates: Vec<u64> = (1..EXTENSIBLE_MAX_POINTS / 2).step_by(2).collect();
-        let scored: Vec<(f64, u64, ())> = candidates
+        let scored: Vec<(f64, u64)> = candidates
             .par_iter()
             .map(|&c| {
                 let worst = levels
@@ -717,7 +624,7 @@ pub fn extend_embedded_generator(prefix: &[u32], d: usize) -> Result<Vec<u32>, E
                         ratio(e[(r >> 1) as usize], b)
                     })
                     .fold(0.0, f64::max);
-                (worst, c, ())
+                (worst, c)
             })
             .collect();
         let zj = keep_best(scored, 1)[0].1;
@@ -917,40 +824,6 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains('d') && e.contains("at least the 3"), "{e}");
-    }
-
-    #[test]
-    fn the_worst_log_ratio_is_the_largest_loss_against_each_kernels_best() {
-        // Under the two kernels the bests are 0 (value 1) and 2 (value 3). Value 1 loses 3
-        // under the second, value 3 loses 2 under the first, value 5 loses 2.5: the
-        // sums (3, 4, 4.5) would pick 1, the largest loss picks 3.
-        let mut scored: Vec<Scored> = vec![
-            (9.0, 1, vec![0.0, 5.0]),
-            (9.0, 3, vec![2.0, 2.0]),
-            (9.0, 5, vec![2.5, 2.0]),
-        ];
-        worst_log_ratios(&mut scored);
-        let worst: Vec<f64> = scored.iter().map(|s| s.0).collect();
-        assert_eq!(worst, vec![3.0, 2.0, 2.5]);
-        assert_eq!(keep_best(scored, 1)[0].1, 3);
-        // With one kernel the loss is the sum less the best: the sum's order.
-        let mut one: Vec<Scored> = vec![(0.0, 7, vec![4.0]), (0.0, 9, vec![1.5])];
-        worst_log_ratios(&mut one);
-        assert_eq!((one[0].0, one[1].0), (2.5, 0.0));
-    }
-
-    #[test]
-    fn the_engine_tables_second_weight_leaves_room_at_point_zero() {
-        // Point 0's term under the larger weight at every coordinate of the table, summed
-        // over the 2^20 points of the top level, is still a finite double: past it the
-        // score would be NaN and the search would choose nothing.
-        let t0 = ENGINE_LOW_ORDER_WEIGHT * std::f64::consts::PI.powi(2) / 3.0;
-        assert!(
-            (first_order_terms(1)[0] * ENGINE_LOW_ORDER_WEIGHT / LAW_WEIGHT - t0).abs() < 1e-12
-        );
-        let log = ENGINE_SEQUENCE_MAX_D as f64 * t0.ln_1p()
-            + f64::from(EXTENSIBLE_BITS) * std::f64::consts::LN_2;
-        assert!(log < f64::MAX.ln(), "{log}");
     }
 
     #[test]

@@ -35,8 +35,8 @@ pub use extensible::{
     continue_first_order_generator, embedded_first_order_generator, embedded_tent_generator,
     embedded_tent_generator_with_ratios, extend_embedded_generator, extensible_shift,
     extension_weight, first_order_level_criteria, ExtensibleLattice, SequenceTable,
-    ENGINE_LOW_ORDER_WEIGHT, ENGINE_SEQUENCE_MAX_D, EXTENSIBLE_BITS, EXTENSIBLE_CONSTRUCTED_D,
-    EXTENSIBLE_MAX_D, EXTENSIBLE_MAX_POINTS,
+    ENGINE_SEQUENCE_MAX_D, EXTENSIBLE_BITS, EXTENSIBLE_CONSTRUCTED_D, EXTENSIBLE_MAX_D,
+    EXTENSIBLE_MAX_POINTS,
 };
 pub use latin::{lhs, lhs_maximin, maximin_search, LHS_MAXIMIN_MAX_N};
 pub use lattices::{
