@@ -36,7 +36,15 @@ among the candidates, which measures it again.
              benches/engine_vector.py (values below 2^B; n <= 2^B) in place of the table
 
     GRID=genz|uq|both (both)  REPS=16  CANDS=seq,ind,owen  CELLS=2:32,5:256 (Genz cells)
-    NS=1024,4096 FAM=keister (uq cells, as uq_rules.py)
+    NS=1024,4096 FAM=keister MAXD=20 (uq cells, as uq_rules.py; MAXD skips those of more
+    coordinates)
+    ORDER=rev|interleave|late|rand<i>  the models' inputs take the draws' coordinates in
+             another order (input order[j] takes coordinate j: reversed, the two halves
+             interleaved, the second half first, or a permutation drawn with seed 100 + i),
+             to tell a rule from the luck of one order; ORDER=all prints the cells for the
+             identity and all of these (rand0..rand3), and per candidate the geometric
+             mean and the largest over the orders. Scrambled Sobol's stored RMSE (in the
+             inputs' own order) stays the denominator.
     SEED0=1000: the candidates' randomisations are seeds SEED0 + r
     /work/wt/bench-venv/bin/python benches/uq_engine.py
 
@@ -109,6 +117,24 @@ def apexes(code, d, rng):
 
 
 SEED0 = int(os.environ.get("SEED0", 1000))
+MAXD = int(os.environ.get("MAXD", 10**9))
+ORDER = os.environ.get("ORDER", "id")
+
+
+def input_order(name, d):
+    """The permutation ORDER names: input order[j] takes the draws' coordinate j."""
+    if name == "id":
+        return np.arange(d)
+    if name == "rev":
+        return np.arange(d)[::-1]
+    if name == "late":
+        return np.roll(np.arange(d), d // 2)
+    if name == "interleave":
+        h = (d + 1) // 2
+        return np.array([i // 2 if i % 2 == 0 else h + i // 2 for i in range(d)])
+    if name.startswith("rand"):
+        return np.random.default_rng(100 + int(name[4:])).permutation(d)
+    raise SystemExit(f"unknown ORDER {name}")
 
 
 def draw(cand, n, d, r):
@@ -192,24 +218,40 @@ def uq_rows():
     for c in data.values():
         if c["n"] not in ns or (famf and not any(f in c["family"] for f in famf.split(","))):
             continue
+        if c["d"] > MAXD:
+            continue
         fam = BY_NAME[c["family"]]
         v = next(v for v in fam.variants if fam.label(v) == c["variant"])
         insts = [instance(fam, v, i) for i in range(c["instances"])]
         ref = np.array(c["reference"])
         den = c["methods"]["sobol"]["rmse"]
-        out = {}
-        for cand in CANDS:
-            errs = []
-            for r in range(REPS):
-                X = np.clip(draw(cand, c["n"], c["d"], r), 2**-53, 1 - 2**-53)
-                q = U.means_on(fam, v, insts, lambda i: map_cube(fam.laws(v, insts[i]), X))
-                errs.append(U.relative(q, ref))
-            out[cand] = math.sqrt(float(np.mean(np.array(errs) ** 2))) / den
-        if "sobol_fresh" in out:
-            out = {k: x / out["sobol_fresh"] for k, x in out.items()}
+        orders = ORDER.split(",")
+        if ORDER == "all":
+            orders = ["id", "rev", "interleave", "late"] + [f"rand{i}" for i in range(4)]
+        by_order = []
+        for name in orders:
+            perm = input_order(name, c["d"])
+            out = {}
+            for cand in CANDS:
+                errs = []
+                for r in range(REPS):
+                    X = np.empty((c["n"], c["d"]))
+                    X[:, perm] = np.clip(draw(cand, c["n"], c["d"], r), 2**-53, 1 - 2**-53)
+                    q = U.means_on(fam, v, insts, lambda i: map_cube(fam.laws(v, insts[i]), X))
+                    errs.append(U.relative(q, ref))
+                out[cand] = math.sqrt(float(np.mean(np.array(errs) ** 2))) / den
+            if "sobol_fresh" in out:
+                out = {k: x / out["sobol_fresh"] for k, x in out.items()}
+            by_order.append(out)
+            label = "" if name == "id" and len(orders) == 1 else f" [{name}]"
+            print(c["family"], c["variant"], c["n"], " ".join(f"{k}={x:.2f}" for k, x in
+                                                              out.items()) + label, flush=True)
+        if len(orders) > 1:
+            print(c["family"], c["variant"], c["n"], f"over {len(orders)} orders: " + " ".join(
+                f"{k}={gm([o[k] for o in by_order]):.2f} (max {max(o[k] for o in by_order):.2f})"
+                for k in by_order[0]), flush=True)
+        out = {k: gm([o[k] for o in by_order]) for k in by_order[0]}
         rows.append((c["family"], c["variant"], c["n"], out))
-        print(c["family"], c["variant"], c["n"], " ".join(f"{k}={x:.2f}" for k, x in out.items()),
-              flush=True)
     return rows
 
 
