@@ -1,6 +1,5 @@
 import numpy as np, sys
 exec(open('results/sensitivity/product/prod.py').read().split("d=4")[0])
-SEL=[int(c) for c in sys.argv[1].split(',')]
 def run(f, d, S, T, coords, tent, Ns, lo=0.0, hi=1.0, nsh=24):
     rng=np.random.default_rng(1); shifts=rng.random((nsh,2*d))
     out=[]
@@ -36,10 +35,13 @@ M['product4']=(lambda x: np.prod(x,axis=1),4,np.full(4,4.0**(1-d)/12/vv),np.full
 cc=np.array([2,1.5,1,0.5,0.25,0.1]); m1=(np.exp(cc)-1)/cc; m2=(np.exp(2*cc)-1)/(2*cc)
 Vt=np.prod(m2)-np.prod(m1)**2; Vi=(m2-m1**2)*np.prod(m1**2)/m1**2; Ti=(np.prod(m2)-m1**2*np.prod(m2)/m2)/Vt
 M['exp6']=(lambda x: np.exp(x@cc),6,Vi/Vt,Ti,True,0.0,1.0)
-Ns=[1024,2048,4096,8192,16384,32768]
-for name in sys.argv[2].split(','):
-    f,d,S,T,tent,lo,hi=M[name]
-    cur=run(f,d,S,T,list(range(16)),tent,Ns,lo,hi)
-    new=run(f,d,S,T,SEL,tent,Ns,lo,hi)
-    print(f"{name:9s} now ", ' '.join(f"{x:.2e}" for x in cur))
-    print(f"{name:9s} sel ", ' '.join(f"{x:.2e}" for x in new), ' ratio', ' '.join(f"{y/x:.2f}" for x,y in zip(cur,new)),flush=True)
+M['gsparse']=g([0,1,2]+[99]*21)
+if __name__=='__main__':
+    SEL=[int(c) for c in sys.argv[1].split(',')]
+    Ns=[1024,2048,4096,8192,16384,32768]
+    for name in sys.argv[2].split(','):
+        f,d,S,T,tent,lo,hi=M[name]
+        cur=run(f,d,S,T,list(range(2*d)),tent,Ns,lo,hi)
+        new=run(f,d,S,T,SEL,tent,Ns,lo,hi)
+        print(f"{name:9s} now ", ' '.join(f"{x:.2e}" for x in cur))
+        print(f"{name:9s} sel ", ' '.join(f"{x:.2e}" for x in new), ' ratio', ' '.join(f"{y/x:.2f}" for x,y in zip(cur,new)),flush=True)
