@@ -20,7 +20,7 @@ family's instances of the ratio ours / QMCPy's; then geometric means per (s, fam
 per s and overall, over the powers of two 2^6 ... 2^16 (the headline) and separately
 over the other n.
 
-    target/py-venv/bin/python benches/prefix_qmcpy.py [--shifts 32] [--instances 8]
+    target/py-venv/bin/python benches/prefix_qmcpy.py [--shifts 64] [--instances 12]
         [--s 2,3,5,7,10,12,15,20] [--out results/extensible-prefix]
     target/py-venv/bin/python benches/prefix_qmcpy.py --table   # versus-qmcpy.md again
 
@@ -215,8 +215,8 @@ def write_table(record, out):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--shifts", type=int, default=32)
-    ap.add_argument("--instances", type=int, default=8)
+    ap.add_argument("--shifts", type=int, default=64)
+    ap.add_argument("--instances", type=int, default=12)
     ap.add_argument("--s", default="2,3,5,7,10,12,15,20")
     ap.add_argument("--out", default=os.path.join(ROOT, "results", "extensible-prefix"))
     ap.add_argument("--table", action="store_true",
