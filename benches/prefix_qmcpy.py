@@ -23,6 +23,7 @@ over the other n.
     target/py-venv/bin/python benches/prefix_qmcpy.py [--shifts 64] [--instances 12]
         [--s 2,3,5,7,10,12,15,20] [--out results/extensible-prefix]
     target/py-venv/bin/python benches/prefix_qmcpy.py --table   # versus-qmcpy.md again
+    ... --draw 1 --name versus-qmcpy-draw1   # other instances and shifts, as a check
 
 Needs the package (stillpoint) in the venv, numpy, scipy and qmcpy. Writes
 results/extensible-prefix/versus-qmcpy.md and versus-qmcpy.json.
@@ -82,14 +83,15 @@ def gm(xs):
     return float(np.exp(np.mean(np.log(xs)))) if xs.size else float("nan")
 
 
-def measure(s, shifts, instances, ns):
-    """RMSE of the relative error per side, instance and n: {side: [inst][n]}."""
-    insts = genz_instances(s, instances, seed=4_700_000 + s)
+def measure(s, shifts, instances, ns, draw=0):
+    """RMSE of the relative error per side, instance and n: {side: [inst][n]} (six
+    significant digits). `draw` > 0 takes other instances and other shifts."""
+    insts = genz_instances(s, instances, seed=4_700_000 + 1000 * draw + s)
     exact = np.array([genz_exact(f, a, u) for f, a, u in insts])
     sq = {side: np.zeros((len(insts), len(ns))) for side in SIDES}
     digest = None
     for r in range(shifts):
-        x_ours, x_theirs = ours(s, r), theirs(s, r)
+        x_ours, x_theirs = ours(s, 100_000 * draw + r), theirs(s, 100_000 * draw + r)
         if r == 0:
             digest = hashlib.sha256(np.ascontiguousarray(x_ours, "<f8").tobytes()).hexdigest()
         for side, x in (("ours", x_ours), ("qmcpy_tent", tent(x_theirs)), ("qmcpy", x_theirs)):
@@ -97,7 +99,8 @@ def measure(s, shifts, instances, ns):
             for i, (f, a, u) in enumerate(insts):
                 est = prefix_means(genz_value(f, a, u, x), ns)
                 sq[side][i] += ((est - exact[i]) / abs(exact[i])) ** 2
-    rmse = {side: np.sqrt(v / shifts).tolist() for side, v in sq.items()}
+    rmse = {side: [[float(f"{e:.6g}") for e in row] for row in np.sqrt(v / shifts)]
+            for side, v in sq.items()}
     return {"s": s, "families": [int(f) for f, _, _ in insts], "rmse": rmse,
             "ours_first_shift_sha256": digest}
 
@@ -113,8 +116,8 @@ def cell_ratios(rec, ns, against):
     return out
 
 
-def write_table(record, out):
-    """versus-qmcpy.md from the record."""
+def write_table(record, out, name="versus-qmcpy"):
+    """NAME.md from the record."""
     ns = record["ns"]
     per_s = {rec["s"]: {k: cell_ratios(rec, ns, k) for k in ("qmcpy_tent", "qmcpy")}
              for rec in record["runs"]}
@@ -135,7 +138,9 @@ def write_table(record, out):
         "default use). At n that is not a power of two QMCPy's prefix is the first n rows "
         "of its 2^16 points in that order, as ours is. "
         f"{record['shifts']} shifts per side and instance (seeds {SEED_OURS}+r for ours, "
-        f"{SEED_QMCPY}+r for QMCPy), {record['instances']} random instances of each of "
+        f"{SEED_QMCPY}+r for QMCPy, r = {100_000 * record.get('draw', 0)} + 0 … "
+        f"{record['shifts'] - 1}), "
+        f"{record['instances']} random instances of each of "
         "Genz's six families per s (benches/anchors.py, the same code on every side); a "
         "cell's ratio is the geometric mean over its family's instances of the "
         "per-instance RMSE ratios, and every mean below is geometric.",
@@ -208,7 +213,7 @@ def write_table(record, out):
               f"    describes commit: {record['commit']} (the extensible lattice sequence's "
               "shifted prefixes through the package against QMCPy's lattice; not `generate` "
               "sets)", ""]
-    with open(os.path.join(out, "versus-qmcpy.md"), "w") as fh:
+    with open(os.path.join(out, name + ".md"), "w") as fh:
         fh.write("\n".join(lines))
     print("\n".join(lines))
 
@@ -218,17 +223,21 @@ def main():
     ap.add_argument("--shifts", type=int, default=64)
     ap.add_argument("--instances", type=int, default=12)
     ap.add_argument("--s", default="2,3,5,7,10,12,15,20")
+    ap.add_argument("--draw", type=int, default=0,
+                    help="0: the recorded instances and shifts; k > 0: other ones (a check)")
     ap.add_argument("--out", default=os.path.join(ROOT, "results", "extensible-prefix"))
+    ap.add_argument("--name", default="versus-qmcpy", help="the files NAME.md, NAME.json")
     ap.add_argument("--table", action="store_true",
-                    help="only rewrite versus-qmcpy.md from versus-qmcpy.json in --out")
+                    help="only rewrite NAME.md from NAME.json in --out")
     args = ap.parse_args()
-    path = os.path.join(args.out, "versus-qmcpy.json")
+    path = os.path.join(args.out, args.name + ".json")
     if args.table:
         with open(path) as fh:
-            write_table(json.load(fh), args.out)
+            write_table(json.load(fh), args.out, args.name)
         return
-    if args.shifts < 2 or args.instances < 1:
-        raise SystemExit("invalid --shifts/--instances: at least 2 shifts and 1 instance")
+    if args.shifts < 2 or args.instances < 1 or args.draw < 0:
+        raise SystemExit("invalid --shifts/--instances/--draw: at least 2 shifts, 1 instance, "
+                         "draw 0 or more")
     import qmcpy
     head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=ROOT, check=True,
                           capture_output=True, text=True).stdout.strip()
@@ -239,11 +248,12 @@ def main():
         "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
         "commit": head, "qmcpy": qmcpy.__version__, "numpy": np.__version__,
         "machine": f"2 cores, shared ({platform.machine()}, Python {platform.python_version()})",
-        "shifts": args.shifts, "instances": args.instances, "ns": ns, "runs": [],
+        "shifts": args.shifts, "instances": args.instances, "draw": args.draw, "ns": ns,
+        "runs": [],
     }
     for s in map(int, args.s.split(",")):
         t = time.time()
-        record["runs"].append(measure(s, args.shifts, args.instances, ns))
+        record["runs"].append(measure(s, args.shifts, args.instances, ns, args.draw))
         rec = record["runs"][-1]
         r = cell_ratios(rec, ns, "qmcpy_tent")
         print(f"s = {s}: {time.time() - t:.0f} s; ours / QMCPy+tent over 2^k: "
@@ -251,8 +261,8 @@ def main():
     record["seconds"] = time.time() - t0
     os.makedirs(args.out, exist_ok=True)
     with open(path, "w") as fh:
-        json.dump(record, fh, indent=1)
-    write_table(record, args.out)
+        json.dump(record, fh, separators=(",", ":"))
+    write_table(record, args.out, args.name)
 
 
 if __name__ == "__main__":
