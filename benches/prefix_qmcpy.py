@@ -244,7 +244,7 @@ def main():
     ns = POWERS + OTHERS
     t0 = time.time()
     record = {
-        "command": "target/py-venv/bin/python benches/prefix_qmcpy.py " + " ".join(sys.argv[1:]),
+        "command": " ".join(["target/py-venv/bin/python benches/prefix_qmcpy.py"] + sys.argv[1:]),
         "date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
         "commit": head, "qmcpy": qmcpy.__version__, "numpy": np.__version__,
         "machine": f"2 cores, shared ({platform.machine()}, Python {platform.python_version()})",
