@@ -31,6 +31,9 @@ among the candidates, which measures it again.
              is then not the reflection of point k, which through a symmetric law pairs
              Z with -Z): C = r draws c_j uniform in [1/4, 3/4] per engine, else c = C
     indaC    the same asymmetric tent on the lattice made for n (`ind`'s set)
+    seqperm  seq with its coordinates dealt to the inputs in an order drawn per engine
+             (seeded by the engine's seed): unbiased, and an input order's alias is
+             spread over the seeds
     vec:NAME the sequence (radical-inverse order, one shift, the tent) with the
              prototype generator target/engine-vectors/NAME.npy of
              benches/engine_vector.py (values below 2^B; n <= 2^B) in place of the table
@@ -149,6 +152,11 @@ def draw(cand, n, d, r):
             return e.random(n)
         if cand == "ind":
             return sp.Engine(d, seed=seed, draws="independent").random(n)
+    if cand == "seqperm":
+        # The default's draws with the coordinates dealt to the inputs in an order drawn
+        # per engine: an input order's alias becomes a spread over the seeds.
+        x = draw("seq", n, d, r)
+        return x[:, np.random.default_rng([seed, 77]).permutation(d)]
     if cand == "owen":
         return sp.baseline("sobol", n, d, seed=seed)
     if cand == "halves":
