@@ -309,11 +309,11 @@ pub fn law_lattice_picked_or(
     unbounded: &[bool],
     seed: u64,
     ppf: &(dyn Fn(f64) -> f64 + Sync),
-    other: Option<&PointSet>,
+    other: Option<PointSet>,
 ) -> Result<PointSet, Error> {
     use rayon::prelude::*;
     let parts = drawn_parts(n, unbounded)?;
-    if let Some(p) = other {
+    if let Some(p) = &other {
         if p.n() != n || p.s() != unbounded.len() {
             return Err(Error::invalid(
                 "other",
@@ -330,12 +330,12 @@ pub fn law_lattice_picked_or(
         .into_par_iter()
         .map(|draw| probe_errors(&parts, &scores, n, seed, draw))
         .collect();
-    if let Some(p) = other {
+    if let Some(p) = &other {
         errors.push(set_probe_errors(p, ppf));
     }
     let draw = picked_draw(&errors) as u64;
     match other {
-        Some(p) if draw == PICKED_DRAWS => Ok(p.clone()),
+        Some(p) if draw == PICKED_DRAWS => Ok(p),
         _ => Ok(drawn_points(&parts, n, unbounded.len(), seed, draw)),
     }
 }
@@ -548,7 +548,7 @@ mod tests {
             assert_eq!(a.map(f64::to_bits), b.map(f64::to_bits));
         }
         let other = law_lattice_drawn(100, &unbounded, 5, 0).unwrap();
-        let e = law_lattice_picked_or(n, &unbounded, 5, &ppf, Some(&other))
+        let e = law_lattice_picked_or(n, &unbounded, 5, &ppf, Some(other))
             .unwrap_err()
             .to_string();
         assert!(e.contains("other") && e.contains("100 points"), "{e}");

@@ -297,10 +297,11 @@ impl Resolved {
                 seed,
             } => {
                 // The picked set also judges the cube's default set, which it makes.
-                let cube = match picked {
-                    true => Job::default_config(*n, unbounded.len(), *seed)
-                        .map_or(0.0, |cfg| core_seconds(&cfg)),
-                    false => 0.0,
+                let cube = if *picked {
+                    Job::default_config(*n, unbounded.len(), *seed)
+                        .map_or(0.0, |cfg| core_seconds(&cfg))
+                } else {
+                    0.0
                 };
                 law_seconds(*n as f64, unbounded.len() as f64, *picked) + cube
             }

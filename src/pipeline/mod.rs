@@ -112,13 +112,8 @@ impl Resolved {
                 };
                 let ppf = move |u: f64| normal.ppf(u);
                 let cube = cube_default(*n, unbounded.len(), *seed)?;
-                let points = crate::sequences::law_lattice_picked_or(
-                    *n,
-                    unbounded,
-                    *seed,
-                    &ppf,
-                    cube.as_ref(),
-                )?;
+                let points =
+                    crate::sequences::law_lattice_picked_or(*n, unbounded, *seed, &ppf, cube)?;
                 (points, None)
             }
             Job::Run(cfg) => {
