@@ -318,16 +318,31 @@ impl<'de> serde::Deserialize<'de> for SpaceFile {
     }
 }
 
-/// `generate --method BASELINE`: the construction's points, written as `baseline` does.
+/// `generate --method BASELINE`: the construction's points, written as `baseline` does;
+/// and a design whose unit-cube set is made directly rather than by a run (a baseline's
+/// or the lattice made for its laws), written with its figures as every design is.
 fn write_baseline(a: &GenerateArgs, resolved: &Resolved) -> Result<()> {
+    let design = resolved.design.is_some();
     for (flag, given) in [
         ("--plot", a.plot.is_some()),
-        ("--json", a.json),
+        // A design reports its figures, in JSON too; a bare baseline has none.
+        ("--json", a.json && !design),
         (other_flag(Opt::checkpoint), a.resume.is_some()),
     ] {
-        if given {
-            bail!("invalid {flag} with --method {}: a baseline writes its points only (see `stillpoint baseline`)", a.method.as_deref().unwrap_or_default());
+        if !given {
+            continue;
         }
+        if design {
+            bail!(
+                "invalid {flag} under this space: its unit-cube set is made directly, not by \
+                 a run (no start to draw, nothing to resume); draw the written file with \
+                 `stillpoint plot FILE`"
+            );
+        }
+        bail!(
+            "invalid {flag} with --method {}: a baseline writes its points only (see `stillpoint baseline`)",
+            a.method.as_deref().unwrap_or_default()
+        );
     }
     notes_before(resolved, a.quiet, None);
     let outcome = resolved.run(None, |_| {})?;
@@ -358,7 +373,7 @@ fn write_baseline(a: &GenerateArgs, resolved: &Resolved) -> Result<()> {
             &meta,
             &run_line,
             a.output.as_ref(),
-            false,
+            a.json,
             staging,
         );
     }

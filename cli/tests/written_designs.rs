@@ -456,6 +456,49 @@ fn a_design_csv_from_a_spreadsheet_or_pandas_reads() {
     refused(&cmd.arg(d.path("half.csv")).output().unwrap(), "k");
 }
 
+/// A space whose every law is unbounded takes a set made directly (the lattice made for
+/// the laws, picked or randomised), not by a run: its report is JSON on request like any
+/// design's, with the figures `eval` gives the written file; a picture or a resume, which
+/// need a run, are refused in one line naming the flag.
+#[test]
+fn a_set_made_for_the_laws_reports_json_and_refuses_what_needs_a_run() {
+    let d = TempDir::new("laws-json");
+    let vars: Vec<String> = ["v0=normal(0,0.01)", "v1=lognormal(0,0.5)"]
+        .map(String::from)
+        .to_vec();
+    for (name, extra) in [
+        ("picked.npy", None),
+        ("randomised.npy", Some("--randomize")),
+    ] {
+        let out = d.path(name);
+        let mut cmd = bin();
+        cmd.args(["generate", "--json", "-n", "40", "--seed", "3", "-o"])
+            .arg(&out);
+        cmd.args(extra);
+        for v in &vars {
+            cmd.args(["--var", v]);
+        }
+        let o = cmd.output().unwrap();
+        assert!(o.status.success(), "{name}: {}", text(&o.stderr));
+        let report: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert!(report["run"]
+            .as_str()
+            .unwrap()
+            .contains("lattice made for the laws"));
+        assert_eq!(eval_figures(&out, &vars, &[]), report["figures"], "{name}");
+    }
+    let mut cmd = bin();
+    cmd.args(["generate", "-n", "40", "-o"])
+        .arg(d.path("x.npy"))
+        .arg("--plot")
+        .arg(d.path("x.png"));
+    for v in &vars {
+        cmd.args(["--var", v]);
+    }
+    refused(&cmd.output().unwrap(), "--plot");
+    assert!(!d.path("x.npy").exists() && !d.path("x.png").exists());
+}
+
 /// A random space of one to four variables, each continuous, integer or categorical.
 fn space() -> impl Strategy<Value = Vec<String>> {
     let var = prop_oneof![
