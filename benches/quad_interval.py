@@ -17,7 +17,11 @@ of n evaluations:
 - ``t4+skew``, ``t8+skew``, ``t16+skew``: the t interval widened on both sides by
   Johnson's (1978) skewness term |μ̂3|/(6 s² R) of the replicate means;
 - ``quantile8``: the order statistics [x_(2), x_(7)] of the eight replicate means (a
-  distribution-free interval for their median; 93 % for a symmetric law).
+  distribution-free interval for their median; 93 % for a symmetric law);
+- ``t4+round+skew``: ``t4+round`` raised to the skew guard of quad's interval: with γ̂
+  and σ̂ the skewness and standard deviation of all n values of f, w = clamp((|γ̂| − 1)/4,
+  0, 1) and z the normal quantile, the half-width is at least
+  w · 1.2 · min(h, z·σ̂/√n) · (1 + |γ̂|(2z² + 1)/(6z√n)) (h: ``t4+round``'s).
 
 Coverage is the share of seeds whose interval holds the exact integral; "width" is the
 geometric mean over seeds of the half-width divided by t8's (the price in accuracy), and
@@ -53,7 +57,8 @@ CASES = [  # (label, family, s)
     ("lognormal s=5", "lognormal", 5),
 ]
 METHODS = ["t8", "t2", "t4", "t16", "t4+round", "t8+round", "t16+round", "t4+skew",
-           "t8+skew", "t16+skew", "quantile8", "pool4+round", "pool4+round/3", "t4+round/3", "t4+round/2", "t4+round/rate"]
+           "t8+skew", "t16+skew", "quantile8", "pool4+round", "pool4+round/3", "t4+round/3", "t4+round/2", "t4+round/rate",
+           "t4+round+skew"]
 LEVEL = 0.95
 
 
@@ -110,10 +115,30 @@ def intervals(y, n):
     quarter = np.mean([v[: n // 16].mean() for v in y[:4]])
     rho = abs(h4.mean() - quarter) / change if change > 0 else 4.0
     out["t4+round/rate"] = (m4.mean(), max(out["t4"][1], change / min(max(rho - 1, 1), 3)))
+    out["t4+round+skew"] = (m4.mean(), skew_guard(np.concatenate([v[: n // 4] for v in y[:4]]),
+                                                  out["t4+round"][1]))
     m = np.sort([v[: n // 8].mean() for v in y[:8]])
     lo, hi = m[1], m[6]
     out["quantile8"] = ((lo + hi) / 2, (hi - lo) / 2)
     return out
+
+
+def skew_guard(values, h):
+    """quad's skew guard (cubature/src/lib.rs) on the half-width h from all the values:
+    where f's values are skewed (|γ̂| > 1), at least w·1.2·min(h, z·σ̂/√n) times Hall's
+    (1992) relative skewness term 1 + |γ̂|(2z² + 1)/(6z√n) of a mean of n values."""
+    n = len(values)
+    dev = values - values.mean()
+    m2, m3 = np.mean(dev ** 2), np.mean(dev ** 3)
+    if m2 <= 0:
+        return h
+    gamma = abs(m3) / m2 ** 1.5
+    w = min(max((gamma - 1) / 4, 0.0), 1.0)
+    if w == 0:
+        return h
+    z = stats.norm.ppf((1 + LEVEL) / 2)
+    mc = z * math.sqrt(m2 * n / (n - 1)) / math.sqrt(n)
+    return max(h, w * 1.2 * min(h, mc) * (1 + gamma * (2 * z * z + 1) / (6 * z * math.sqrt(n))))
 
 
 def run_case(family, s, n, seeds):

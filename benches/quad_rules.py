@@ -19,7 +19,7 @@ _Z = None
 def generator(d):
     global _Z
     if _Z is None:
-        with open(os.path.join(ROOT, "src", "sequences", "extensible_table.rs")) as fh:
+        with open(os.path.join(ROOT, "sequences", "src", "extensible_table.rs")) as fh:
             text = fh.read()
         body = text[text.index("= [") + 3:text.index("];")]
         _Z = np.array([int(v) for v in re.findall(r"\d+", body)], dtype=np.uint64)
