@@ -27,7 +27,7 @@ Coverage is the share of seeds whose interval holds the exact integral; "width" 
 geometric mean over seeds of the half-width divided by t8's (the price in accuracy), and
 "rmse" the root mean square error of the estimate divided by t8's.
 
-    target/py-venv/bin/python benches/quad_interval.py [--seeds 300] [--n 4096]
+    target/py-venv/bin/python benches/quad_interval.py [--seeds 300] [--n 4096] [--first-seed 300]
 
 Writes results/quad/interval-<n>.json and prints a Markdown table.
 """
@@ -142,8 +142,9 @@ def skew_guard(values, h):
 
 
 def run_case(family, s, n, seeds):
+    """seeds: a count (0 … seeds − 1) or, with --first-seed, a range."""
     rows = []
-    for seed in range(seeds):
+    for seed in range(seeds) if isinstance(seeds, int) else seeds:
         f, truth = integrand(family, s, seed)
         rng = np.random.default_rng([seed, 47])
         y = [f(points(s, rng.random(s), 0, n // (2 if rep < 2 else 4))) for rep in range(16)]
@@ -174,7 +175,12 @@ def study(name, cases, run_case, summary):
     ap.add_argument("--seeds", type=int, default=300)
     ap.add_argument("--n", type=int, default=4096)
     ap.add_argument("--cases", default="", help="comma-separated labels (default: all)")
+    ap.add_argument("--first-seed", type=int, default=0,
+                    help="seeds first-seed … (other seeds than the table's, to check a "
+                    "choice made on it; written to <name>-from<first>-<n>.json)")
     args = ap.parse_args()
+    if args.first_seed:
+        name = f"{name}-from{args.first_seed}"
     path = os.path.join(ROOT, "results", "quad", f"{name}-{args.n}.json")
     data = {}
     if os.path.exists(path):
@@ -182,7 +188,9 @@ def study(name, cases, run_case, summary):
             data = json.load(fh)
     wanted = [c for c in cases if not args.cases or c[0] in args.cases.split(",")]
     for label, family, s in wanted:
-        rows = run_case(family, s, args.n, args.seeds)
+        seeds = (range(args.first_seed, args.first_seed + args.seeds) if args.first_seed
+                 else args.seeds)
+        rows = run_case(family, s, args.n, seeds)
         data[label] = {"seeds": args.seeds, "n": args.n, "summary": summary(rows)}
         with open(path, "w") as fh:
             json.dump(data, fh, indent=1)
