@@ -605,7 +605,9 @@ impl Cubature {
     /// meet it on every output: the Student half-width scaled by t_{R'−1}/√R' over
     /// t_{R−1}/√R (the replicates' spread as measured), and the round guard by its
     /// expected size with the new replicates' changes since half their points, each as
-    /// large as the mean square of the measured ones. When the last doubling brought the
+    /// large as the mean square of the measured ones; both raised by the skew guard's factor
+    /// where it is on (an upper bound: the guard is at most that factor times the
+    /// half-width). When the last doubling brought the
     /// interval to within a small factor of the tolerance, another doubling would
     /// overshoot it; a replicate costs 1/R of one (results/quad/grow.md).
     pub fn growth(&self) -> usize {
@@ -630,10 +632,14 @@ impl Cubature {
                 let changes = self.scaled_half_means(j).map_or(Vec::new(), |half| {
                     means.iter().zip(&half).map(|(m, h)| m - h).collect()
                 });
+                // The target as the half-width before the skew guard must reach it.
+                let skew = self
+                    .skew_floor(j)
+                    .map_or(1.0, |(factor, _)| factor.max(1.0));
                 (
                     self.scaled_half_width(&means),
                     changes,
-                    libm::scalbn(targets[j], -e),
+                    libm::scalbn(targets[j], -e) / skew,
                 )
             })
             .collect();
@@ -1031,12 +1037,19 @@ impl Cubature {
     /// The skew guard (module documentation) on output j's half-width h, in the units of
     /// [`Cubature::scaled`]: h itself unless the values are skewed.
     fn skew_guarded(&self, j: usize, h: f64) -> f64 {
-        let Some((gamma, sd)) = self.moments.get(j).and_then(Moments::skew_and_sd) else {
-            return h;
-        };
+        match self.skew_floor(j) {
+            Some((factor, mc)) => h.max(factor * h.min(mc)),
+            None => h,
+        }
+    }
+
+    /// Output j's skew guard as w·1.2·(Hall's term) and plain Monte Carlo's half-width in
+    /// the units of [`Cubature::scaled`] (`None` where it is off).
+    fn skew_floor(&self, j: usize) -> Option<(f64, f64)> {
+        let (gamma, sd) = self.moments.get(j).and_then(Moments::skew_and_sd)?;
         let w = ((gamma - SKEW_GATE.0) / (SKEW_GATE.1 - SKEW_GATE.0)).clamp(0.0, 1.0);
         if w == 0.0 {
-            return h;
+            return None;
         }
         let n = self.moments[j].count;
         let z = Marginal::Normal {
@@ -1052,7 +1065,7 @@ impl Cubature {
             self.moments[j].exp - shift,
         );
         let hall = 1.0 + gamma * (2.0 * z * z + 1.0) / (6.0 * z * n.sqrt());
-        h.max(w * SKEW_FACTOR * h.min(mc) * hall)
+        Some((w * SKEW_FACTOR * hall, mc))
     }
 
     /// The Student t half-width of scaled replicate means: t·sd/√R, the deviations divided
