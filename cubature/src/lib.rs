@@ -2675,6 +2675,35 @@ mod tests {
     }
 
     #[test]
+    fn added_replicates_are_predicted_with_the_skew_guard() {
+        let mut state = Cubature::new(20, QuadOptions::default()).unwrap();
+        drive(&mut state, corner, 2);
+        let (factor, _) = state.skew_floor(0).unwrap();
+        assert!(factor > 1.2, "{factor}");
+        let mut without = state.clone();
+        without.moments.clear();
+        // The tolerance one added replicate is predicted to meet without the guard: the
+        // larger of the Student half-width at five replicates and the round guard's
+        // expected size with it, over the margin.
+        let (means, e) = state.scaled(0);
+        let half = state.scaled_half_means(0).unwrap();
+        let changes: Vec<f64> = means.iter().zip(&half).map(|(m, h)| m - h).collect();
+        let sum: f64 = changes.iter().sum();
+        let square = changes.iter().map(|c| c * c).sum::<f64>() / 4.0;
+        let spread = |r: usize| student_t_quantile(0.975, (r - 1) as f64) / (r as f64).sqrt();
+        let student = state.scaled_half_width(&means) * spread(5) / spread(4);
+        let guard = (sum * sum + square).sqrt() / 5.0;
+        let target = libm::scalbn(student.max(guard) / GROW_MARGIN, e) * (1.0 + 1e-12);
+        for s in [&mut state, &mut without] {
+            s.set_tolerance(target, 0.0).unwrap();
+        }
+        assert!(!without.met() && without.growth() == 1);
+        // With it the same replicate would be widened past the target: not that one.
+        assert!(!state.met());
+        assert_ne!(state.growth(), 1);
+    }
+
+    #[test]
     fn the_skew_guard_is_the_same_for_minus_f_and_scaled_f() {
         let run = |f: fn(&PointSet) -> Vec<f64>| {
             let mut state = Cubature::new(20, QuadOptions::default()).unwrap();
