@@ -1,0 +1,302 @@
+"""Single-sequence error bounds on a scrambled Sobol' sequence, alone and guarded by
+independent randomisations, against quad's interval (4 replicates and the round change)
+at a fixed number of evaluations. A prototype on SciPy's scrambled Sobol' (LMS + digital
+shift, points put back in the net's natural order), not the package's rule.
+
+Per case (the model families of benches/quad_blocks_study.py and the Genz cube cells of
+benches/quad_interval.py, all on Sobol') and seed (a new instance, new scrambles), with
+N evaluations unless a name says otherwise:
+
+- ``t4+round`` (quad's layout): 4 independent sequences of N/4, Student t_3 on their
+  means, raised to the round change |Q_N − Q_{N/2}|;
+- ``net``: one sequence of N, the data-driven bound of QMCPy's ``CubQMCNetG``
+  (Hickernell & Jiménez Rugama 2016): the Walsh coefficients of the values in the net's
+  order (fast Walsh–Hadamard transform), the wavenumber map κ̃ kept as CubQMCNetG keeps it
+  from n_init = 2^10 through each doubling, and the half-width 5·2^−m·Σ|f̃_κ| over the band
+  κ̃ ∈ [2^(m−5), 2^(m−4)) (its default inflation factor 5·2^−m and lag r = 4);
+- ``bayes``: one sequence of N, ``CubBayesNetG``'s posterior half-width (Jagadeeswaran &
+  Hickernell: the order-1 Walsh kernel Π(1 + θ/10·ω(x ⊕ x_0)), its eigenvalues by the
+  fast transform, θ by maximum likelihood on ln θ ∈ [−5, 0], the "MLE" bound) at z_0.975
+  (``bayes 1×N z99``: at QMCPy's default level, 99 %); the kernel is evaluated at
+  x_i ⊕ x_0 (the unshifted net, whose Gram matrix the transform diagonalises);
+- ``… +round``: raised to the round change |Q_N − Q_{N/2}| of the sequence (nested, free);
+- ``… 2×N/2 d×c``: two independent sequences of N/2, the mean of both; the bound on the
+  mean ((B_a + B_b)/2 for ``net``, √(h_a² + h_b²)/2 for ``bayes``) raised to the round
+  change and to c·|Q_a − Q_b|/2 (the independent check);
+- ``… N+N/4 check`` (costs 1.25 N): the sequence of N and an independent check sequence of
+  N/4 with its own bound B_c; when |Q_N − Q_c| ≤ B_N + B_c the interval is the round-guarded
+  bound of the N sequence, otherwise the stop is refused and the interval given is
+  |Q_N − Q_c| + B_c (what the check's own bound allows); "refused" counts those runs.
+
+Per case and interval: coverage at level 0.95 (±1.3 % at 300 seeds), the geometric mean of
+the half-width over ``t4+round``'s, the RMSE of the relative error over ``t4+round``'s; per
+case the wall time of each bound (outside f) per run.
+
+    /work/wt/bench-venv/bin/python benches/quad_single_study.py [--seeds 300] [--n 4096]
+    /work/wt/bench-venv/bin/python benches/quad_single_study.py --markdown
+    /work/wt/bench-venv/bin/python benches/quad_single_study.py --check-qmcpy
+
+Writes results/quad/single-<N>.json and prints a Markdown table. ``--check-qmcpy`` compares
+the two bounds with QMCPy's own on QMCPy's points (needs qmcpy).
+"""
+
+import math
+import os
+import sys
+import time
+
+import numpy as np
+from scipy import optimize, stats
+
+sys.path.insert(0, os.path.dirname(__file__))
+import quad as bench  # noqa: E402
+from quad_blocks_study import CASES as MODEL_CASES  # noqa: E402
+from quad_interval import CASES as GENZ_CASES  # noqa: E402
+from quad_interval import integrand as genz_integrand  # noqa: E402
+from quad_interval import study_main  # noqa: E402
+
+CASES = MODEL_CASES + [(f"genz {label}", family, s) for label, family, s in GENZ_CASES]
+BOUNDS = ("net", "bayes")
+METHODS = ["t4+round"] + [f"{b}{v}" for b in BOUNDS for v in
+                          (" 1×N", " 1×N+round", " 2×N/2 d×1", " 2×N/2 d×2",
+                           " N+N/4 check")] + ["bayes 1×N z99"]
+Z = float(stats.norm.ppf(0.975))
+T3 = float(stats.t.ppf(0.975, 3))
+BITS = 30  # SciPy's Sobol' points are multiples of 2^-30
+M_INIT = 10  # CubQMCNetG's default n_init = 2^10
+LAG = 4  # CubQMCNetG's r_lag
+
+
+def fwht(y):
+    """The unnormalised Walsh–Hadamard transform Σ_i (−1)^{popcount(i & k)} y_i, k in
+    natural order (QMCPy's ``fwht`` times √n)."""
+    a = np.array(y, dtype=float)
+    n = a.size
+    h = 1
+    while h < n:
+        a = a.reshape(-1, 2, h)
+        a = np.concatenate([a[:, 0] + a[:, 1], a[:, 0] - a[:, 1]], axis=1).reshape(n)
+        h *= 2
+    return a
+
+
+def sobol(d, n, key):
+    """n points of a scrambled Sobol' sequence (SciPy: LMS + digital shift) in the net's
+    natural (radical-inverse) order, as floats and as 30-bit integers. SciPy draws in Gray
+    code order: its p-th point is the natural one of index p ^ (p >> 1)."""
+    from scipy.stats import qmc
+
+    x = qmc.Sobol(d, scramble=True, seed=np.random.default_rng(key)).random(n)
+    p = np.arange(n)
+    out = np.empty_like(x)
+    out[p ^ (p >> 1)] = x
+    return out, np.rint(out * 2.0 ** BITS).astype(np.uint64)
+
+
+def update_map(kmap, yt, mfrom, mto, m):
+    """CubQMCNetG's ``_update_kappanumap``: at each level l, the later half of each pair of
+    wavenumbers takes the earlier one's place when its coefficient is larger."""
+    for lev in range(mfrom, mto, -1):
+        nl = 2 ** lev
+        old = np.abs(yt[kmap[1:nl]])
+        new = np.abs(yt[kmap[nl + 1: 2 * nl]])
+        flip = np.nonzero(new > old)[0] + 1
+        if flip.size:
+            add = np.arange(0, 2 ** m - 1, 2 ** (lev + 1))
+            f = (flip[None, :] + add[:, None]).ravel()
+            kmap[f], kmap[nl + f] = kmap[nl + f], kmap[f]
+    return kmap
+
+
+def net_bound(y):
+    """CubQMCNetG's half-width on the values y of one net of 2^m points in natural order,
+    with the wavenumber map built as its doublings from 2^10 build it."""
+    big = int(math.log2(y.size))
+    m0 = min(M_INIT, big)
+    yt = fwht(y[: 2 ** m0]) / 2 ** m0
+    kmap = update_map(np.arange(2 ** m0), yt, m0 - 1, 0, m0)
+    for m in range(m0 + 1, big + 1):
+        yt = fwht(y[: 2 ** m]) / 2 ** m
+        kmap = np.concatenate([kmap, 2 ** (m - 1) + kmap])
+        kmap = update_map(kmap, yt, m - 1, m - LAG - 1, m)
+    lo = 2 ** (big - LAG - 1)
+    return 5.0 * 2.0 ** -big * float(np.abs(yt[kmap[lo: 2 * lo]]).sum())
+
+
+def walsh_factor(xi):
+    """The order-1 Walsh kernel's one-dimensional factor ω(x) = 6(1/6 − 2^(⌊log2 x⌋ − 1))
+    (QMCPy's ``BuildKernelFunc(1)``) on the integers x·2^30."""
+    x = xi.astype(float) * 2.0 ** -BITS
+    return 6 * (1 / 6 - 2 ** (np.floor(np.log2(x + np.finfo(float).eps)) - 1))
+
+
+def bayes_bound(y, xi, z=Z):
+    """CubBayesNetG's "MLE" half-width (arb_mean, avoid_cancel_error as QMCPy sets them) on
+    the values y at the net points xi (integers, natural order)."""
+    n = y.size
+    w = walsh_factor(xi ^ xi[0])
+    ft = fwht(y)
+    tiny = 100 * np.finfo(float).eps
+
+    def kernel(theta):
+        km1 = theta / 10 * w[:, 0]
+        k = 1 + km1
+        for j in range(1, w.shape[1]):
+            km1 = theta / 10 * w[:, j] * k + km1
+            k = 1 + km1
+        factor = float(np.max(np.abs(km1)))
+        ring = fwht(km1 / factor)
+        lam = ring.copy()
+        lam[0] += n / factor
+        return np.abs(lam), ring, factor
+
+    def objective(lna):
+        lam, _, factor = kernel(math.exp(lna))
+        keep = lam > tiny
+        temp = np.abs(ft[keep]) ** 2 / lam[keep]
+        t1 = float(temp[1:].sum()) / factor
+        loss1 = float(np.log(np.abs(factor * lam[keep])).sum())
+        return loss1 + n * math.log(t1 if t1 != 0 else np.finfo(float).eps)
+
+    lna = optimize.minimize_scalar(objective, bounds=(-5, 0), method="bounded",
+                                   options={"xatol": 1e-2}).x
+    lam, ring, factor = kernel(math.exp(lna))
+    keep = lam > tiny
+    rkhs = float((np.abs(ft[keep]) ** 2 / lam[keep])[1:].sum()) / factor / n
+    dsc = abs(factor * ring[0] / (n + factor * ring[0]))
+    return z * math.sqrt(dsc * rkhs / n)
+
+
+def run_case(family, s, n, seeds):
+    rows = []
+    for seed in range(seeds):
+        if family in bench.MODEL_FAMILIES:
+            f, _, _, truth = bench.model(family, s, seed)
+        else:
+            f, truth = genz_integrand(family, s, seed)
+        d = s[0] if isinstance(s, tuple) else s
+        spent = {}
+
+        def seq(m, r):
+            x, xi = sobol(d, m, [seed, 49, r])
+            return np.asarray(f(x), dtype=float), xi
+
+        def bound(kind, y, xi):
+            t0 = time.perf_counter()
+            b = net_bound(y) if kind == "net" else bayes_bound(y, xi)
+            spent[kind] = spent.get(kind, 0.0) + time.perf_counter() - t0
+            return b
+
+        out = {}
+        y4 = [seq(n // 4, 10 + r)[0] for r in range(4)]
+        m4 = np.array([y.mean() for y in y4])
+        q = m4.mean()
+        out["t4+round"] = (q, max(T3 * np.std(m4, ddof=1) / 2,
+                                  abs(q - np.mean([y[: y.size // 2].mean() for y in y4]))))
+        y1, x1 = seq(n, 30)
+        yc, xc = seq(n // 4, 31)
+        y2 = [seq(n // 2, 20 + r) for r in range(2)]
+        q1, qc = y1.mean(), yc.mean()
+        round1 = abs(q1 - y1[: n // 2].mean())
+        qa, qb = (y.mean() for y, _ in y2)
+        q2 = (qa + qb) / 2
+        round2 = abs(q2 - np.mean([y[: y.size // 2].mean() for y, _ in y2]))
+        refused = {}
+        for kind in BOUNDS:
+            b1 = bound(kind, y1, x1)
+            out[f"{kind} 1×N"] = (q1, b1)
+            out[f"{kind} 1×N+round"] = (q1, max(b1, round1))
+            if kind == "bayes":  # QMCPy's default level, 99 %
+                out["bayes 1×N z99"] = (q1, b1 * float(stats.norm.ppf(0.995)) / Z)
+            ba, bb = (bound(kind, y, xi) for y, xi in y2)
+            mean_b = (ba + bb) / 2 if kind == "net" else math.hypot(ba, bb) / 2
+            for c in (1, 2):
+                out[f"{kind} 2×N/2 d×{c}"] = (q2, max(mean_b, round2, c * abs(qa - qb) / 2))
+            bc = bound(kind, yc, xc)
+            gap = abs(q1 - qc)
+            refused[kind] = gap > b1 + bc
+            out[f"{kind} N+N/4 check"] = (q1, gap + bc if refused[kind] else max(b1, round1))
+        row = {k: [(e - truth) / abs(truth), h / abs(truth)] for k, (e, h) in out.items()}
+        row["refused"] = refused
+        row["seconds"] = {k: v / 4 for k, v in spent.items()}  # per sequence bound
+        rows.append(row)
+    return rows
+
+
+def summary(rows):
+    base_hw = np.array([r["t4+round"][1] for r in rows])
+    base_err = np.array([r["t4+round"][0] for r in rows])
+    out = {}
+    for m in METHODS:
+        err = np.array([r[m][0] for r in rows])
+        hw = np.array([r[m][1] for r in rows])
+        out[m] = {"coverage": float(np.mean(np.abs(err) <= hw)),
+                  "width": float(np.exp(np.mean(np.log(np.maximum(hw, 1e-300)
+                                                       / np.maximum(base_hw, 1e-300))))),
+                  "rmse": float(math.sqrt(np.mean(err ** 2) / np.mean(base_err ** 2)))}
+    for kind in BOUNDS:
+        out[f"{kind} N+N/4 check"]["refused"] = float(np.mean([r["refused"][kind]
+                                                                for r in rows]))
+        out[f"{kind} seconds"] = float(np.mean([r["seconds"][kind] for r in rows]))
+    return out
+
+
+def table(data, n):
+    """Per case: quad's coverage, the RMSE of the two estimates over quad's, each interval's
+    coverage (half-width over quad's), the checks' refusals, and the bounds' times."""
+    rest = METHODS[1:]
+    lines = [f"| case (N = {n}, seeds) | t4+round | rmse 1×N | rmse 2×N/2 | "
+             + " | ".join(rest) + " | refused (net, bayes) | time per bound (net, bayes) |",
+             "|---" * (len(rest) + 6) + "|"]
+    for label, _, _ in CASES:
+        if label not in data:
+            continue
+        sm = data[label]["summary"]
+        cells = [f"{sm['t4+round']['coverage'] * 100:.1f} %",
+                 f"{sm['net 1×N']['rmse']:.2f}×", f"{sm['net 2×N/2 d×1']['rmse']:.2f}×"]
+        cells += [f"{sm[m]['coverage'] * 100:.1f} % ({sm[m]['width']:.2f}×)" for m in rest]
+        cells.append(", ".join(f"{sm[f'{k} N+N/4 check']['refused'] * 100:.0f} %"
+                               for k in BOUNDS))
+        cells.append(f"{sm['net seconds'] * 1e3:.1f} ms, {sm['bayes seconds'] * 1e3:.0f} ms")
+        lines.append(f"| {label} ({data[label]['seeds']}) | " + " | ".join(cells) + " |")
+    return lines
+
+
+def check_qmcpy():
+    """The two bounds here against QMCPy's on QMCPy's own net (LMS scrambling only, so
+    that x ⊕ x_0 is the point itself as QMCPy's kernel assumes) and integrand values."""
+    import warnings
+
+    import qmcpy as qp
+
+    for d, n in ((3, 2 ** 12), (8, 2 ** 13)):
+        def g(x):
+            return np.exp(-np.sum((x - 0.3) ** 2, axis=-1)) + x[..., 0] ** 3
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            net = qp.DigitalNetB2(d, seed=7, randomize="LMS")
+            c = qp.CubQMCNetG(qp.CustomFun(qp.Uniform(net), g=g), abs_tol=1e-15, n_limit=n)
+            _, data = c.integrate()
+            ours = net_bound(np.asarray(data.yfull, dtype=float))
+            print(f"net   d={d} n={data.n_total}: qmcpy {float(data.bounds_half_width):.6e} "
+                  f"here {ours:.6e}")
+            net = qp.DigitalNetB2(d, seed=7, randomize="LMS")
+            c = qp.CubBayesNetG(qp.CustomFun(qp.Uniform(net), g=g), abs_tol=1e-15,
+                                n_init=n, n_limit=n, alpha=0.05)
+            _, data = c.integrate()
+            xi = np.rint(np.asarray(data.xfull) * 2.0 ** BITS).astype(np.uint64)
+            ours = bayes_bound(np.asarray(data.yfull, dtype=float), xi)
+            print(f"bayes d={d} n={data.n_total}: qmcpy {float(data.bounds_half_width):.6e} "
+                  f"here {ours:.6e}")
+
+
+def main():
+    if "--check-qmcpy" in sys.argv:
+        check_qmcpy()
+        return
+    study_main("single", CASES, run_case, summary, table)
+
+
+if __name__ == "__main__":
+    main()
