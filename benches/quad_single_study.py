@@ -40,6 +40,7 @@ Writes results/quad/single-<N>.json and prints a Markdown table. ``--check-qmcpy
 the two bounds with QMCPy's own on QMCPy's points (needs qmcpy).
 """
 
+import json
 import math
 import os
 import sys
@@ -65,6 +66,7 @@ T3 = float(stats.t.ppf(0.975, 3))
 BITS = 30  # SciPy's Sobol' points are multiples of 2^-30
 M_INIT = 10  # CubQMCNetG's default n_init = 2^10
 LAG = 4  # CubQMCNetG's r_lag
+RAW_DIR = None  # --raw DIR: each case's per-seed pieces are also written there
 
 
 def fwht(y):
@@ -168,6 +170,8 @@ def bayes_bound(y, xi, z=Z):
 
 
 def run_case(family, s, n, seeds):
+    """Per seed, the raw pieces every interval is formed from (relative to the exact
+    value): the means of each sequence and of its first half, and each sequence's bounds."""
     rows = []
     for seed in range(seeds):
         if family in bench.MODEL_FAMILIES:
@@ -175,68 +179,78 @@ def run_case(family, s, n, seeds):
         else:
             f, truth = genz_integrand(family, s, seed)
         d = s[0] if isinstance(s, tuple) else s
-        spent = {}
+        raw = {"seconds": {k: 0.0 for k in BOUNDS}}
 
-        def seq(m, r):
+        def rel(q):
+            return (q - truth) / abs(truth)
+
+        def sequence(name, m, r, bounds=True):
             x, xi = sobol(d, m, [seed, 49, r])
-            return np.asarray(f(x), dtype=float), xi
+            y = np.asarray(f(x), dtype=float)
+            raw[name] = rel(y.mean())
+            raw[name + " half"] = rel(y[: m // 2].mean())
+            for kind in BOUNDS if bounds else ():
+                t0 = time.perf_counter()
+                b = net_bound(y) if kind == "net" else bayes_bound(y, xi)
+                raw["seconds"][kind] += time.perf_counter() - t0
+                raw[f"{kind} {name}"] = b / abs(truth)
 
-        def bound(kind, y, xi):
-            t0 = time.perf_counter()
-            b = net_bound(y) if kind == "net" else bayes_bound(y, xi)
-            spent[kind] = spent.get(kind, 0.0) + time.perf_counter() - t0
-            return b
-
-        out = {}
-        y4 = [seq(n // 4, 10 + r)[0] for r in range(4)]
-        m4 = np.array([y.mean() for y in y4])
-        q = m4.mean()
-        out["t4+round"] = (q, max(T3 * np.std(m4, ddof=1) / 2,
-                                  abs(q - np.mean([y[: y.size // 2].mean() for y in y4]))))
-        y1, x1 = seq(n, 30)
-        yc, xc = seq(n // 4, 31)
-        y2 = [seq(n // 2, 20 + r) for r in range(2)]
-        q1, qc = y1.mean(), yc.mean()
-        round1 = abs(q1 - y1[: n // 2].mean())
-        qa, qb = (y.mean() for y, _ in y2)
-        q2 = (qa + qb) / 2
-        round2 = abs(q2 - np.mean([y[: y.size // 2].mean() for y, _ in y2]))
-        refused = {}
-        for kind in BOUNDS:
-            b1 = bound(kind, y1, x1)
-            out[f"{kind} 1×N"] = (q1, b1)
-            out[f"{kind} 1×N+round"] = (q1, max(b1, round1))
-            if kind == "bayes":  # QMCPy's default level, 99 %
-                out["bayes 1×N z99"] = (q1, b1 * float(stats.norm.ppf(0.995)) / Z)
-            ba, bb = (bound(kind, y, xi) for y, xi in y2)
-            mean_b = (ba + bb) / 2 if kind == "net" else math.hypot(ba, bb) / 2
-            for c in (1, 2):
-                out[f"{kind} 2×N/2 d×{c}"] = (q2, max(mean_b, round2, c * abs(qa - qb) / 2))
-            bc = bound(kind, yc, xc)
-            gap = abs(q1 - qc)
-            refused[kind] = gap > b1 + bc
-            out[f"{kind} N+N/4 check"] = (q1, gap + bc if refused[kind] else max(b1, round1))
-        row = {k: [(e - truth) / abs(truth), h / abs(truth)] for k, (e, h) in out.items()}
-        row["refused"] = refused
-        row["seconds"] = {k: v / 4 for k, v in spent.items()}  # per sequence bound
-        rows.append(row)
+        for r in range(4):
+            sequence(f"r{r}", n // 4, 10 + r, bounds=False)
+        sequence("one", n, 30)
+        sequence("check", n // 4, 31)
+        sequence("a", n // 2, 20)
+        sequence("b", n // 2, 21)
+        raw["seconds"] = {k: v / 4 for k, v in raw["seconds"].items()}  # per bound
+        rows.append(raw)
+    if RAW_DIR:
+        name = "".join(c if c.isalnum() else "_" for c in f"{family} {s} {n}")
+        with open(os.path.join(RAW_DIR, name + ".json"), "w") as fh:
+            json.dump(rows, fh)
     return rows
 
 
+def intervals(raw):
+    """(relative error, relative half-width) of every method, and the checks' refusals."""
+    out = {}
+    m4 = np.array([raw[f"r{r}"] for r in range(4)])
+    q = m4.mean()
+    out["t4+round"] = (q, max(T3 * np.std(m4, ddof=1) / 2,
+                              abs(q - np.mean([raw[f"r{r} half"] for r in range(4)]))))
+    q1, qc, qa, qb = raw["one"], raw["check"], raw["a"], raw["b"]
+    round1 = abs(q1 - raw["one half"])
+    q2 = (qa + qb) / 2
+    round2 = abs(q2 - (raw["a half"] + raw["b half"]) / 2)
+    refused = {}
+    for kind in BOUNDS:
+        b1, bc, ba, bb = (raw[f"{kind} {k}"] for k in ("one", "check", "a", "b"))
+        out[f"{kind} 1×N"] = (q1, b1)
+        out[f"{kind} 1×N+round"] = (q1, max(b1, round1))
+        if kind == "bayes":  # QMCPy's default level, 99 %
+            out["bayes 1×N z99"] = (q1, b1 * float(stats.norm.ppf(0.995)) / Z)
+        mean_b = (ba + bb) / 2 if kind == "net" else math.hypot(ba, bb) / 2
+        for c in (1, 2):
+            out[f"{kind} 2×N/2 d×{c}"] = (q2, max(mean_b, round2, c * abs(qa - qb) / 2))
+        gap = abs(q1 - qc)
+        refused[kind] = gap > b1 + bc
+        out[f"{kind} N+N/4 check"] = (q1, gap + bc if refused[kind] else max(b1, round1))
+    return out, refused
+
+
 def summary(rows):
-    base_hw = np.array([r["t4+round"][1] for r in rows])
-    base_err = np.array([r["t4+round"][0] for r in rows])
+    formed = [intervals(r) for r in rows]
+    base_hw = np.array([o["t4+round"][1] for o, _ in formed])
+    base_err = np.array([o["t4+round"][0] for o, _ in formed])
     out = {}
     for m in METHODS:
-        err = np.array([r[m][0] for r in rows])
-        hw = np.array([r[m][1] for r in rows])
+        err = np.array([o[m][0] for o, _ in formed])
+        hw = np.array([o[m][1] for o, _ in formed])
         out[m] = {"coverage": float(np.mean(np.abs(err) <= hw)),
                   "width": float(np.exp(np.mean(np.log(np.maximum(hw, 1e-300)
                                                        / np.maximum(base_hw, 1e-300))))),
                   "rmse": float(math.sqrt(np.mean(err ** 2) / np.mean(base_err ** 2)))}
     for kind in BOUNDS:
-        out[f"{kind} N+N/4 check"]["refused"] = float(np.mean([r["refused"][kind]
-                                                                for r in rows]))
+        out[f"{kind} N+N/4 check"]["refused"] = float(np.mean([r[kind] for _, r in formed]))
         out[f"{kind} seconds"] = float(np.mean([r["seconds"][kind] for r in rows]))
     return out
 
@@ -295,6 +309,11 @@ def main():
     if "--check-qmcpy" in sys.argv:
         check_qmcpy()
         return
+    global RAW_DIR
+    if "--raw" in sys.argv:
+        i = sys.argv.index("--raw")
+        RAW_DIR = sys.argv[i + 1]
+        del sys.argv[i: i + 2]
     study_main("single", CASES, run_case, summary, table)
 
 
