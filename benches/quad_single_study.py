@@ -58,10 +58,12 @@ from quad_interval import study_main  # noqa: E402
 
 CASES = MODEL_CASES + [(f"genz {label}", family, s) for label, family, s in GENZ_CASES]
 BOUNDS = ("net", "bayes")
-METHODS = ["t4+round"] + [f"{b}{v}" for b in BOUNDS for v in
-                          (" 1×N", " 1×N+round", " 2×N/2 d×1", " 2×N/2 d×2",
-                           " N+N/4 check")] + ["bayes 1×N z99"]
 Z = float(stats.norm.ppf(0.975))
+# the bounds an interval is made of: (name, bound, factor on it)
+KINDS = (("net", "net", 1.0), ("bayes", "bayes", 1.0),
+         ("bayes99", "bayes", float(stats.norm.ppf(0.995)) / Z))
+VARIANTS = (" 1×N", " 1×N+round", " 2×N/2 d×2", " 2×N/2 d×3", " N+N/4 check")
+METHODS = ["t4+round"] + [k + v for k, _, _ in KINDS for v in VARIANTS]
 T3 = float(stats.t.ppf(0.975, 3))
 BITS = 30  # SciPy's Sobol' points are multiples of 2^-30
 M_INIT = 10  # CubQMCNetG's default n_init = 2^10
@@ -222,18 +224,17 @@ def intervals(raw):
     q2 = (qa + qb) / 2
     round2 = abs(q2 - (raw["a half"] + raw["b half"]) / 2)
     refused = {}
-    for kind in BOUNDS:
-        b1, bc, ba, bb = (raw[f"{kind} {k}"] for k in ("one", "check", "a", "b"))
-        out[f"{kind} 1×N"] = (q1, b1)
-        out[f"{kind} 1×N+round"] = (q1, max(b1, round1))
-        if kind == "bayes":  # QMCPy's default level, 99 %
-            out["bayes 1×N z99"] = (q1, b1 * float(stats.norm.ppf(0.995)) / Z)
+    for name, kind, factor in KINDS:
+        b1, bc, ba, bb = (factor * raw[f"{kind} {k}"] for k in ("one", "check", "a", "b"))
+        out[f"{name} 1×N"] = (q1, b1)
+        out[f"{name} 1×N+round"] = (q1, max(b1, round1))
+        # the mean's bound: errors within their bounds (net); independent posteriors (bayes)
         mean_b = (ba + bb) / 2 if kind == "net" else math.hypot(ba, bb) / 2
-        for c in (1, 2):
-            out[f"{kind} 2×N/2 d×{c}"] = (q2, max(mean_b, round2, c * abs(qa - qb) / 2))
+        for c in (2, 3):
+            out[f"{name} 2×N/2 d×{c}"] = (q2, max(mean_b, round2, c * abs(qa - qb) / 2))
         gap = abs(q1 - qc)
-        refused[kind] = gap > b1 + bc
-        out[f"{kind} N+N/4 check"] = (q1, gap + bc if refused[kind] else max(b1, round1))
+        refused[name] = gap > b1 + bc
+        out[f"{name} N+N/4 check"] = (q1, gap + bc if refused[name] else max(b1, round1))
     return out, refused
 
 
@@ -249,8 +250,13 @@ def summary(rows):
                   "width": float(np.exp(np.mean(np.log(np.maximum(hw, 1e-300)
                                                        / np.maximum(base_hw, 1e-300))))),
                   "rmse": float(math.sqrt(np.mean(err ** 2) / np.mean(base_err ** 2)))}
+    for name, _, _ in KINDS:
+        m = f"{name} N+N/4 check"
+        out[m]["refused"] = float(np.mean([r[name] for _, r in formed]))
+        # a wrong stop: the check agreed and the interval misses
+        out[m]["wrong stops"] = float(np.mean([not r[name] and abs(o[m][0]) > o[m][1]
+                                               for o, r in formed]))
     for kind in BOUNDS:
-        out[f"{kind} N+N/4 check"]["refused"] = float(np.mean([r[kind] for _, r in formed]))
         out[f"{kind} seconds"] = float(np.mean([r["seconds"][kind] for r in rows]))
     return out
 
@@ -260,19 +266,27 @@ def table(data, n):
     coverage (half-width over quad's), the checks' refusals, and the bounds' times."""
     rest = METHODS[1:]
     lines = [f"| case (N = {n}, seeds) | t4+round | rmse 1×N | rmse 2×N/2 | "
-             + " | ".join(rest) + " | refused (net, bayes) | time per bound (net, bayes) |",
-             "|---" * (len(rest) + 6) + "|"]
+             + " | ".join(rest) + " | refused (net, bayes, bayes99) | time per bound "
+             "(net, bayes) |", "|---" * (len(rest) + 6) + "|"]
     for label, _, _ in CASES:
         if label not in data:
             continue
         sm = data[label]["summary"]
         cells = [f"{sm['t4+round']['coverage'] * 100:.1f} %",
-                 f"{sm['net 1×N']['rmse']:.2f}×", f"{sm['net 2×N/2 d×1']['rmse']:.2f}×"]
+                 f"{sm['net 1×N']['rmse']:.2f}×", f"{sm['net 2×N/2 d×2']['rmse']:.2f}×"]
         cells += [f"{sm[m]['coverage'] * 100:.1f} % ({sm[m]['width']:.2f}×)" for m in rest]
         cells.append(", ".join(f"{sm[f'{k} N+N/4 check']['refused'] * 100:.0f} %"
-                               for k in BOUNDS))
+                               for k, _, _ in KINDS))
         cells.append(f"{sm['net seconds'] * 1e3:.1f} ms, {sm['bayes seconds'] * 1e3:.0f} ms")
         lines.append(f"| {label} ({data[label]['seeds']}) | " + " | ".join(cells) + " |")
+    shown = [data[label]["summary"] for label, _, _ in CASES if label in data]
+    if shown:
+        # the worst cell's coverage, and the geometric mean of the widths over the cells
+        worst = [f"**{min(sm[m]['coverage'] for sm in shown) * 100:.1f} %** "
+                 f"({math.exp(np.mean([math.log(sm[m]['width']) for sm in shown])):.2f}×)"
+                 for m in METHODS]
+        lines.append("| worst cell (geometric mean of widths) | " + worst[0] + " | | | "
+                     + " | ".join(worst[1:]) + " | | |")
     return lines
 
 
