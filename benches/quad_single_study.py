@@ -19,6 +19,9 @@ N evaluations unless a name says otherwise:
   fast transform, θ by maximum likelihood on ln θ ∈ [−5, 0], the "MLE" bound) at z_0.975
   (``bayes 1×N z99``: at QMCPy's default level, 99 %); the kernel is evaluated at
   x_i ⊕ x_0 (the unshifted net, whose Gram matrix the transform diagonalises);
+- ``bayes-qmcpy``: the same with the kernel at the points themselves, as QMCPy 2.4 does
+  under its default LMS + digital shift (``--check-qmcpy`` shows the two agree without the
+  shift);
 - ``… +round``: raised to the round change |Q_N − Q_{N/2}| of the sequence (nested, free);
 - ``… 2×N/2 d×c``: two independent sequences of N/2, the mean of both; the bound on the
   mean ((B_a + B_b)/2 for ``net``, √(h_a² + h_b²)/2 for ``bayes``) raised to the round
@@ -32,12 +35,17 @@ Per case and interval: coverage at level 0.95 (±1.3 % at 300 seeds), the geomet
 the half-width over ``t4+round``'s, the RMSE of the relative error over ``t4+round``'s; per
 case the wall time of each bound (outside f) per run.
 
-    /work/wt/bench-venv/bin/python benches/quad_single_study.py [--seeds 300] [--n 4096]
-    /work/wt/bench-venv/bin/python benches/quad_single_study.py --markdown
-    /work/wt/bench-venv/bin/python benches/quad_single_study.py --check-qmcpy
+    python benches/quad_single_study.py [--seeds 300] [--n 4096] [--raw DIR]
+    python benches/quad_single_study.py --from-raw DIR
+    python benches/quad_single_study.py --markdown
+    python benches/quad_single_study.py --check-qmcpy
 
-Writes results/quad/single-<N>.json and prints a Markdown table. ``--check-qmcpy`` compares
-the two bounds with QMCPy's own on QMCPy's points (needs qmcpy).
+(python: one with NumPy and SciPy; ``--check-qmcpy`` also needs QMCPy.) Writes
+results/quad/single-<N>.json and prints a Markdown table; ``--raw DIR`` also writes each
+case's per-seed means and bounds to DIR, from which ``--from-raw DIR`` forms the JSONs
+again. ``--markdown`` prints the tables of every N and the evaluations the Bayesian
+interval at 99 % would save (``savings``). ``--check-qmcpy`` compares the two bounds with
+QMCPy's own on QMCPy's points (they agree to every printed digit).
 """
 
 import json
@@ -54,7 +62,7 @@ import quad as bench  # noqa: E402
 from quad_blocks_study import CASES as MODEL_CASES  # noqa: E402
 from quad_interval import CASES as GENZ_CASES  # noqa: E402
 from quad_interval import integrand as genz_integrand  # noqa: E402
-from quad_interval import study_main  # noqa: E402
+from quad_interval import ROOT, study_main  # noqa: E402
 
 CASES = MODEL_CASES + [(f"genz {label}", family, s) for label, family, s in GENZ_CASES]
 BOUNDS = ("net", "bayes")
@@ -63,7 +71,8 @@ Z = float(stats.norm.ppf(0.975))
 KINDS = (("net", "net", 1.0), ("bayes", "bayes", 1.0),
          ("bayes99", "bayes", float(stats.norm.ppf(0.995)) / Z))
 VARIANTS = (" 1×N", " 1×N+round", " 2×N/2 d×2", " 2×N/2 d×3", " N+N/4 check")
-METHODS = ["t4+round"] + [k + v for k, _, _ in KINDS for v in VARIANTS]
+METHODS = (["t4+round"] + [k + v for k, _, _ in KINDS for v in VARIANTS]
+           + ["bayes-qmcpy 1×N+round", "bayes99-qmcpy 1×N+round"])
 T3 = float(stats.t.ppf(0.975, 3))
 BITS = 30  # SciPy's Sobol' points are multiples of 2^-30
 M_INIT = 10  # CubQMCNetG's default n_init = 2^10
@@ -134,11 +143,13 @@ def walsh_factor(xi):
     return 6 * (1 / 6 - 2 ** (np.floor(np.log2(x + np.finfo(float).eps)) - 1))
 
 
-def bayes_bound(y, xi, z=Z):
+def bayes_bound(y, xi, z=Z, at_points=False):
     """CubBayesNetG's "MLE" half-width (arb_mean, avoid_cancel_error as QMCPy sets them) on
-    the values y at the net points xi (integers, natural order)."""
+    the values y at the net points xi (integers, natural order). The kernel's first column
+    is taken at x_i ⊕ x_0, or with ``at_points`` at x_i itself as QMCPy 2.4 takes it (the
+    same for an unshifted net; under a digital shift not a column of the Gram matrix)."""
     n = y.size
-    w = walsh_factor(xi ^ xi[0])
+    w = walsh_factor(xi if at_points else xi ^ xi[0])
     ft = fwht(y)
     tiny = 100 * np.finfo(float).eps
 
@@ -196,6 +207,8 @@ def run_case(family, s, n, seeds):
                 b = net_bound(y) if kind == "net" else bayes_bound(y, xi)
                 raw["seconds"][kind] += time.perf_counter() - t0
                 raw[f"{kind} {name}"] = b / abs(truth)
+            if bounds and name == "one":
+                raw["bayes-qmcpy one"] = bayes_bound(y, xi, at_points=True) / abs(truth)
 
         for r in range(4):
             sequence(f"r{r}", n // 4, 10 + r, bounds=False)
@@ -235,6 +248,8 @@ def intervals(raw):
         gap = abs(q1 - qc)
         refused[name] = gap > b1 + bc
         out[f"{name} N+N/4 check"] = (q1, gap + bc if refused[name] else max(b1, round1))
+        if kind == "bayes":
+            out[f"{name}-qmcpy 1×N+round"] = (q1, max(factor * raw["bayes-qmcpy one"], round1))
     return out, refused
 
 
@@ -249,7 +264,8 @@ def summary(rows):
         out[m] = {"coverage": float(np.mean(np.abs(err) <= hw)),
                   "width": float(np.exp(np.mean(np.log(np.maximum(hw, 1e-300)
                                                        / np.maximum(base_hw, 1e-300))))),
-                  "rmse": float(math.sqrt(np.mean(err ** 2) / np.mean(base_err ** 2)))}
+                  "rmse": float(math.sqrt(np.mean(err ** 2) / np.mean(base_err ** 2))),
+                  "relative rmse": float(math.sqrt(np.mean(err ** 2)))}
     for name, _, _ in KINDS:
         m = f"{name} N+N/4 check"
         out[m]["refused"] = float(np.mean([r[name] for _, r in formed]))
@@ -290,6 +306,53 @@ def table(data, n):
     return lines
 
 
+def savings(method="bayes99 1×N+round"):
+    """Per case, the evaluations ``method`` would need relative to quad's interval for the
+    same half-width, width^(1/α), with α the rate of the one sequence's RMSE between the
+    smallest and the largest N measured (held in [0.5, 2])."""
+    folder = os.path.join(ROOT, "results", "quad")
+    data = {}
+    for f in os.listdir(folder):
+        if f.startswith("single-") and f.endswith(".json"):
+            with open(os.path.join(folder, f)) as fh:
+                data[int(f[7:-5])] = json.load(fh)
+    sizes = sorted(data)
+    lines = [f"| case | α | " + " | ".join(f"N = {n}" for n in sizes) + " |",
+             "|---" * (len(sizes) + 2) + "|"]
+    logs = {n: [] for n in sizes}
+    for label, _, _ in CASES:
+        if not all(label in data[n] for n in sizes):
+            continue
+        lo, hi = (data[n][label]["summary"][method]["relative rmse"] for n in (sizes[0],
+                                                                                 sizes[-1]))
+        alpha = min(2.0, max(0.5, math.log(lo / hi) / math.log(sizes[-1] / sizes[0])))
+        cells = []
+        for n in sizes:
+            r = data[n][label]["summary"][method]["width"] ** (1 / alpha)
+            logs[n].append(math.log(r))
+            cells.append(f"{r:.2f}×")
+        lines.append(f"| {label} | {alpha:.2f} | " + " | ".join(cells) + " |")
+    lines.append("| geometric mean | | " + " | ".join(
+        f"{math.exp(np.mean(logs[n])):.2f}×" for n in sizes) + " |")
+    return lines
+
+
+def from_raw(folder):
+    """Forms results/quad/single-<N>.json again from the pieces a ``--raw`` run wrote."""
+    for n in (1024, 4096, 16384):
+        data = {}
+        for label, family, s in CASES:
+            name = "".join(c if c.isalnum() else "_" for c in f"{family} {s} {n}")
+            path = os.path.join(folder, name + ".json")
+            if os.path.exists(path):
+                with open(path) as fh:
+                    rows = json.load(fh)
+                data[label] = {"seeds": len(rows), "n": n, "summary": summary(rows)}
+        if data:
+            with open(os.path.join(ROOT, "results", "quad", f"single-{n}.json"), "w") as fh:
+                json.dump(data, fh, indent=1)
+
+
 def check_qmcpy():
     """The two bounds here against QMCPy's on QMCPy's own net (LMS scrambling only, so
     that x ⊕ x_0 is the point itself as QMCPy's kernel assumes) and integrand values."""
@@ -328,7 +391,12 @@ def main():
         i = sys.argv.index("--raw")
         RAW_DIR = sys.argv[i + 1]
         del sys.argv[i: i + 2]
+    if "--from-raw" in sys.argv:
+        from_raw(sys.argv[sys.argv.index("--from-raw") + 1])
+        return
     study_main("single", CASES, run_case, summary, table)
+    if "--markdown" in sys.argv:
+        print("\n".join(savings()))
 
 
 if __name__ == "__main__":
