@@ -307,17 +307,42 @@ def table(data, n):
     return lines
 
 
-def savings(method="bayes99 1×N+round"):
-    """Per case, the evaluations ``method`` would need relative to quad's interval for the
-    same half-width, width^(1/α), with α the rate of the one sequence's RMSE between the
-    smallest and the largest N measured (held in [0.5, 2])."""
+def load_all():
+    """{N: the study's JSON} for every results/quad/single-<N>.json."""
     folder = os.path.join(ROOT, "results", "quad")
     data = {}
     for f in os.listdir(folder):
         if f.startswith("single-") and f.endswith(".json"):
             with open(os.path.join(folder, f)) as fh:
                 data[int(f[7:-5])] = json.load(fh)
-    sizes = sorted(data)
+    return {n: data[n] for n in sorted(data)}
+
+
+def overview():
+    """Per interval and N: the worst case's coverage, the number of cases below 93 %, and
+    the geometric mean over the cases of the half-width over quad's."""
+    data = load_all()
+    lines = ["| interval | " + " | ".join(f"N = {n}: worst, cases < 93 %, width"
+                                          for n in data) + " |",
+             "|---" * (len(data) + 1) + "|"]
+    for m in METHODS:
+        cells = []
+        for d in data.values():
+            sms = [d[label]["summary"][m] for label, _, _ in CASES if label in d]
+            cov = [sm["coverage"] for sm in sms]
+            width = math.exp(np.mean([math.log(sm["width"]) for sm in sms]))
+            cells.append(f"{min(cov) * 100:.1f} %, {sum(c < 0.93 for c in cov)}, "
+                         f"{width:.2f}×")
+        lines.append(f"| {m} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def savings(method="bayes99 1×N+round"):
+    """Per case, the evaluations ``method`` would need relative to quad's interval for the
+    same half-width, width^(1/α), with α the rate of the one sequence's RMSE between the
+    smallest and the largest N measured (held in [0.5, 2])."""
+    data = load_all()
+    sizes = list(data)
     lines = [f"| case | α | " + " | ".join(f"N = {n}" for n in sizes) + " |",
              "|---" * (len(sizes) + 2) + "|"]
     logs = {n: [] for n in sizes}
@@ -409,6 +434,7 @@ def main():
         return
     study_main("single", CASES, run_case, summary, table)
     if "--markdown" in sys.argv:
+        print("\n".join(overview()) + "\n")
         print("\n".join(savings()))
 
 
