@@ -35,12 +35,16 @@ Per case and interval: coverage at level 0.95 (±1.3 % at 300 seeds), the geomet
 the half-width over ``t4+round``'s, the RMSE of the relative error over ``t4+round``'s; per
 case the wall time of each bound (outside f) per run.
 
-    python benches/quad_single_study.py [--seeds 300] [--n 4096] [--raw DIR]
+    python benches/quad_single_study.py [--seeds 300] [--n 4096] [--raw DIR] [--owen]
     python benches/quad_single_study.py --from-raw DIR
     python benches/quad_single_study.py --markdown
     python benches/quad_single_study.py --check-qmcpy
 
-(python: one with NumPy and SciPy; ``--check-qmcpy`` also needs QMCPy.) Writes
+(python: one with NumPy and SciPy; ``--owen`` also needs the stillpoint package,
+``--check-qmcpy`` QMCPy.) ``--owen`` adds one sequence of N of the package's
+Owen-scrambled Sobol' (``baseline("sobol")``, natural order) and the three bounds on it
+(``… owen 1×N+round``): nested scrambling is not a shifted linear net, so neither fast
+transform has its footing there; the study measures what they give anyway. Writes
 results/quad/single-<N>.json and prints a Markdown table; ``--raw DIR`` also writes each
 case's per-seed means and bounds to DIR, from which ``--from-raw DIR`` forms the JSONs
 again. ``--markdown`` prints the tables of every N and the evaluations the Bayesian
@@ -74,11 +78,13 @@ KINDS = (("net", "net", 1.0), ("bayes", "bayes", 1.0),
 VARIANTS = (" 1×N", " 1×N+round", " 2×N/2 d×2", " 2×N/2 d×3", " N+N/4 check")
 METHODS = (["t4+round"] + [k + v for k, _, _ in KINDS for v in VARIANTS]
            + ["bayes-qmcpy 1×N+round", "bayes99-qmcpy 1×N+round"])
+OWEN_METHODS = [f"{k} owen 1×N+round" for k, _, _ in KINDS]
 T3 = float(stats.t.ppf(0.975, 3))
 BITS = 30  # SciPy's Sobol' points are multiples of 2^-30
 M_INIT = 10  # CubQMCNetG's default n_init = 2^10
 LAG = 4  # CubQMCNetG's r_lag
 RAW_DIR = None  # --raw DIR: each case's per-seed pieces are also written there
+OWEN = False  # --owen: also one sequence of the package's Owen-scrambled Sobol'
 
 
 def fwht(y):
@@ -211,6 +217,15 @@ def run_case(family, s, n, seeds):
             if bounds and name == "one":
                 raw["bayes-qmcpy one"] = bayes_bound(y, xi, at_points=True) / abs(truth)
 
+        if OWEN:
+            import stillpoint as sp
+
+            x = np.asarray(sp.baseline("sobol", n, d, seed=1000 * seed + 49), dtype=float)
+            y = np.asarray(f(x), dtype=float)
+            xi = np.floor(x * 2.0 ** BITS).astype(np.uint64)
+            raw["owen"], raw["owen half"] = rel(y.mean()), rel(y[: n // 2].mean())
+            raw["net owen"] = net_bound(y) / abs(truth)
+            raw["bayes owen"] = bayes_bound(y, xi) / abs(truth)
         for r in range(4):
             sequence(f"r{r}", n // 4, 10 + r, bounds=False)
         sequence("one", n, 30)
@@ -251,6 +266,10 @@ def intervals(raw):
         out[f"{name} N+N/4 check"] = (q1, gap + bc if refused[name] else max(b1, round1))
         if kind == "bayes":
             out[f"{name}-qmcpy 1×N+round"] = (q1, max(factor * raw["bayes-qmcpy one"], round1))
+    if "owen" in raw:
+        q, change = raw["owen"], abs(raw["owen"] - raw["owen half"])
+        for name, kind, factor in KINDS:
+            out[f"{name} owen 1×N+round"] = (q, max(factor * raw[f"{kind} owen"], change))
     return out, refused
 
 
@@ -259,7 +278,7 @@ def summary(rows):
     base_hw = np.array([o["t4+round"][1] for o, _ in formed])
     base_err = np.array([o["t4+round"][0] for o, _ in formed])
     out = {}
-    for m in METHODS:
+    for m in METHODS + (OWEN_METHODS if "owen" in rows[0] else []):
         err = np.array([o[m][0] for o, _ in formed])
         hw = np.array([o[m][1] for o, _ in formed])
         out[m] = {"coverage": float(np.mean(np.abs(err) <= hw)),
@@ -325,15 +344,40 @@ def overview():
     lines = ["| interval | " + " | ".join(f"N = {n}: worst, cases < 93 %, width"
                                           for n in data) + " |",
              "|---" * (len(data) + 1) + "|"]
-    for m in METHODS:
+    for m in METHODS + OWEN_METHODS:
         cells = []
         for d in data.values():
-            sms = [d[label]["summary"][m] for label, _, _ in CASES if label in d]
+            sms = [d[label]["summary"][m] for label, _, _ in CASES
+                   if label in d and m in d[label]["summary"]]
+            if not sms:
+                cells.append("—")
+                continue
             cov = [sm["coverage"] for sm in sms]
             width = math.exp(np.mean([math.log(sm["width"]) for sm in sms]))
             cells.append(f"{min(cov) * 100:.1f} %, {sum(c < 0.93 for c in cov)}, "
                          f"{width:.2f}×")
         lines.append(f"| {m} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def owen_table():
+    """Per case and N, with ``--owen``: the posterior at 99 % on one sequence of the
+    package's Owen-scrambled Sobol' (coverage, half-width over quad's) and its RMSE over
+    the LMS sequence's."""
+    data = {n: d for n, d in load_all().items()
+            if all("bayes99 owen 1×N+round" in v["summary"] for v in d.values())}
+    if not data:
+        return []
+    lines = ["| case | " + " | ".join(f"N = {n}: coverage (width), rmse over LMS"
+                                      for n in data) + " |", "|---" * (len(data) + 1) + "|"]
+    for label, _, _ in CASES:
+        cells = []
+        for d in data.values():
+            sm = d[label]["summary"]
+            o, one = sm["bayes99 owen 1×N+round"], sm["bayes99 1×N+round"]
+            cells.append(f"{o['coverage'] * 100:.1f} % ({o['width']:.2f}×), "
+                         f"{o['relative rmse'] / one['relative rmse']:.2f}×")
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
     return lines
 
 
@@ -424,7 +468,10 @@ def main():
     if "--check-qmcpy" in sys.argv:
         check_qmcpy()
         return
-    global RAW_DIR
+    global RAW_DIR, OWEN
+    if "--owen" in sys.argv:
+        OWEN = True
+        sys.argv.remove("--owen")
     if "--raw" in sys.argv:
         i = sys.argv.index("--raw")
         RAW_DIR = sys.argv[i + 1]
@@ -435,6 +482,7 @@ def main():
     study_main("single", CASES, run_case, summary, table)
     if "--markdown" in sys.argv:
         print("\n".join(overview()) + "\n")
+        print("\n".join(owen_table()) + "\n")
         print("\n".join(savings()))
 
 
