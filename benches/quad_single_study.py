@@ -17,7 +17,7 @@ N evaluations unless a name says otherwise:
 - ``bayes``: one sequence of N, ``CubBayesNetG``'s posterior half-width (Jagadeeswaran &
   Hickernell: the order-1 Walsh kernel Π(1 + θ/10·ω(x ⊕ x_0)), its eigenvalues by the
   fast transform, θ by maximum likelihood on ln θ ∈ [−5, 0], the "MLE" bound) at z_0.975
-  (``bayes 1×N z99``: at QMCPy's default level, 99 %); the kernel is evaluated at
+  (``bayes99``: the same at z_0.995, QMCPy's default level); the kernel is evaluated at
   x_i ⊕ x_0 (the unshifted net, whose Gram matrix the transform diagonalises);
 - ``bayes-qmcpy``: the same with the kernel at the points themselves, as QMCPy 2.4 does
   under its default LMS + digital shift (``--check-qmcpy`` shows the two agree without the
@@ -33,7 +33,7 @@ N evaluations unless a name says otherwise:
 
 Per case and interval: coverage at level 0.95 (±1.3 % at 300 seeds), the geometric mean of
 the half-width over ``t4+round``'s, the RMSE of the relative error over ``t4+round``'s; per
-case the wall time of each bound (outside f) per run.
+case the wall time of each bound (outside f) per sequence.
 
     python benches/quad_single_study.py [--seeds 300] [--n 4096] [--raw DIR] [--owen]
     python benches/quad_single_study.py --from-raw DIR
