@@ -21,11 +21,16 @@ of n evaluations:
 - ``t4+round+skew``: ``t4+round`` raised to the skew guard of quad's interval: with γ̂
   and σ̂ the skewness and standard deviation of all n values of f, w = clamp((|γ̂| − 1)/4,
   0, 1) and z the normal quantile, the half-width is at least
-  w · 1.2 · min(h, z·σ̂/√n) · (1 + |γ̂|(2z² + 1)/(6z√n)) (h: ``t4+round``'s).
+  w · 1.2 · min(h, z·σ̂/√n) · (1 + |γ̂|(2z² + 1)/(6z√n)) (h: ``t4+round``'s);
+- ``t4+round+skew+ulp``: quad's interval, ``t4+round+skew`` raised to the rounding
+  bound of its sums, (n/4)·ε·max|f| (n/4 values summed per replicate; ε = 2^−52): an
+  integrand the rule integrates exactly (Ishigami on the tent lattice) leaves only
+  rounding in the replicate means, which the t part cannot measure.
 
 Coverage is the share of seeds whose interval holds the exact integral; "width" is the
 geometric mean over seeds of the half-width divided by t8's (the price in accuracy), and
-"rmse" the root mean square error of the estimate divided by t8's.
+"rmse" the root mean square error of the estimate divided by t8's; "ulps" (per case)
+the largest |error| of quad's estimate over the seeds in units of ε·|integral|.
 
     target/py-venv/bin/python benches/quad_interval.py [--seeds 300] [--n 4096] [--first-seed 300]
 
@@ -62,7 +67,7 @@ CHECK_CASES = [(f"{f if f != 'corner1' else f'(1+Σx)^-{s + 1}'} s={s}", f, s) f
     ("corner1", 8), ("ishigami", 3), ("keister", 20), ("lognormal", 20))]
 METHODS = ["t8", "t2", "t4", "t16", "t4+round", "t8+round", "t16+round", "t4+skew",
            "t8+skew", "t16+skew", "quantile8", "pool4+round", "pool4+round/3", "t4+round/3", "t4+round/2", "t4+round/rate",
-           "t4+round+skew"]
+           "t4+round+skew", "t4+round+skew+ulp"]
 LEVEL = 0.95
 
 
@@ -121,6 +126,10 @@ def intervals(y, n):
     out["t4+round/rate"] = (m4.mean(), max(out["t4"][1], change / min(max(rho - 1, 1), 3)))
     out["t4+round+skew"] = (m4.mean(), skew_guard(np.concatenate([v[: n // 4] for v in y[:4]]),
                                                   out["t4+round"][1]))
+    # The sums' rounding bound, as quad's (per replicate: values summed · ε · max|f|).
+    largest = max(np.abs(v[: n // 4]).max() for v in y[:4])
+    out["t4+round+skew+ulp"] = (m4.mean(), max(out["t4+round+skew"][1],
+                                                (n // 4) * np.finfo(float).eps * largest))
     m = np.sort([v[: n // 8].mean() for v in y[:8]])
     lo, hi = m[1], m[6]
     out["quantile8"] = ((lo + hi) / 2, (hi - lo) / 2)
@@ -169,10 +178,13 @@ def summary(rows):
         ratio = np.exp(np.mean(np.log(np.maximum(hw, 1e-300) / np.maximum(base_hw, 1e-300))))
         rmse = math.sqrt(np.mean(err ** 2)) / math.sqrt(np.mean(base_err ** 2))
         out[m] = {"coverage": float(ok.mean()), "width": float(ratio), "rmse": float(rmse)}
-        if m == "t4+round+skew":
-            # The share of seeds whose half-width the skew guard changed.
-            plain = np.array([r["t4+round"][1] for r in rows])
+        if m in ("t4+round+skew", "t4+round+skew+ulp"):
+            # The share of seeds whose half-width the skew guard (the rounding bound) changed.
+            plain = np.array([r[m.rsplit("+", 1)[0]][1] for r in rows])
             out[m]["raised"] = float(np.mean(hw != plain))
+    truth = np.array([abs(r["truth"]) for r in rows])
+    err = np.array([abs(r["t4+round+skew+ulp"][0]) for r in rows])
+    out["ulps"] = float(np.max(err / (np.finfo(float).eps * np.maximum(truth, 1e-300))))
     return out
 
 
