@@ -35,6 +35,9 @@ the largest |error| of quad's estimate over the seeds in units of ε·|integral|
     target/py-venv/bin/python benches/quad_interval.py [--seeds 300] [--n 4096] [--first-seed 300]
 
 Writes results/quad/interval-<n>.json and prints a Markdown table.
+``--package`` instead runs the installed package's ``quad`` at exactly n evaluations on
+Ishigami's family (its own shifts and sums) and prints the coverage and the largest
+error in units of ε·|integral|.
 """
 
 import argparse
@@ -233,7 +236,31 @@ def study_main(name, cases, run_case, summary, table):
     print("\n" + "\n".join(table(data, args.n)))
 
 
+def package_check():
+    """quad itself at a fixed n on Ishigami's family: coverage over the seeds, and the
+    largest error in units of ε·|integral| (the rule integrates it exactly)."""
+    import stillpoint as sp
+
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--package", action="store_true")
+    ap.add_argument("--seeds", type=int, default=300)
+    ap.add_argument("--n", type=int, default=4096)
+    args = ap.parse_args()
+    hit, worst = 0, 0.0
+    for seed in range(args.seeds):
+        f, truth = integrand("ishigami", 3, seed)
+        r = sp.quad(f, 3, abs_tol=0, rel_tol=0, max_n=args.n, seed=seed)
+        assert r.n == args.n
+        hit += abs(r.estimate - truth) <= r.half_width
+        worst = max(worst, abs(r.estimate - truth) / (np.finfo(float).eps * abs(truth)))
+    print(f"ishigami s=3, n = {args.n}: quad covers {hit} of {args.seeds}; "
+          f"largest error {worst:.1f} ε·|integral|")
+
+
 def main():
+    if "--package" in sys.argv:
+        package_check()
+        return
     args, data = study("interval", CASES + CHECK_CASES, run_case, summary)
     print(f"\n| family (n = {args.n}, {args.seeds} seeds) | "
           + " | ".join(METHODS) + " |")
