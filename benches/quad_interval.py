@@ -40,7 +40,8 @@ the largest |error| of quad's estimate over the seeds in units of ε·|integral|
 Writes results/quad/interval-<n>.json and prints a Markdown table.
 ``--misses LABEL`` prints, for one case, where quad's interval misses: the signs of the
 misses, the skewness γ̂ of f's values on the misses against its median, and the errors
-over plain Monte Carlo's half-width z·σ̂/√n. ``--package`` instead runs the installed package's ``quad`` at exactly n evaluations on
+over plain Monte Carlo's half-width z·σ̂/√n, and the coverage and width (over quad's) with
+the skew guard's factor 1.2 raised to 1.5 … 3. ``--package`` instead runs the installed package's ``quad`` at exactly n evaluations on
 Ishigami's family (its own shifts and sums) and prints the coverage and the largest
 error in units of ε·|integral|.
 """
@@ -146,7 +147,7 @@ def intervals(y, n):
     return out
 
 
-def skew_guard(values, h, base="min"):
+def skew_guard(values, h, base="min", factor=1.2):
     """quad's skew guard (cubature/src/lib.rs) on the half-width h from all the values:
     where f's values are skewed (|γ̂| > 1), at least w·1.2·min(h, z·σ̂/√n) times Hall's
     (1992) relative skewness term 1 + |γ̂|(2z² + 1)/(6z√n) of a mean of n values
@@ -163,7 +164,7 @@ def skew_guard(values, h, base="min"):
     z = stats.norm.ppf((1 + LEVEL) / 2)
     mc = z * math.sqrt(m2 * n / (n - 1)) / math.sqrt(n)
     on = {"min": min(h, mc), "mc": mc, "geo": math.sqrt(h * mc)}[base]
-    return max(h, w * 1.2 * on * (1 + gamma * (2 * z * z + 1) / (6 * z * math.sqrt(n))))
+    return max(h, w * factor * on * (1 + gamma * (2 * z * z + 1) / (6 * z * math.sqrt(n))))
 
 
 def run_case(family, s, n, seeds):
@@ -267,6 +268,9 @@ def package_check():
           f"largest error {worst:.1f} ε·|integral|")
 
 
+FACTORS = (1.2, 1.5, 2.0, 2.5, 3.0)
+
+
 def misses():
     """Where quad's interval (``t4+round+skew+ulp``) misses on one case (``--misses``)."""
     ap = argparse.ArgumentParser()
@@ -283,11 +287,17 @@ def misses():
         y = [f(points(s, rng.random(s), 0, args.n // 4)) for _ in range(4)]
         values = np.concatenate(y)
         est = values.mean()
-        hw = intervals(y + [y[0]] * 12, args.n)["t4+round+skew+ulp"][1]
+        out = intervals(y + [y[0]] * 12, args.n)
+        hw = out["t4+round+skew+ulp"][1]
         dev = values - est
         gamma = np.mean(dev ** 3) / np.mean(dev ** 2) ** 1.5
-        rows.append((est - truth, hw, gamma, z * values.std(ddof=1) / math.sqrt(args.n)))
+        rows.append((est - truth, hw, gamma, z * values.std(ddof=1) / math.sqrt(args.n))
+                    + tuple(skew_guard(values, out["t4+round"][1], factor=c) for c in FACTORS))
     r = np.array(rows)
+    sweep = [f"{c}: {np.mean(np.abs(r[:, 0]) <= r[:, 4 + i]) * 100:.1f} % "
+             f"({np.exp(np.mean(np.log(r[:, 4 + i] / r[:, 1]))):.2f}×)"
+             for i, c in enumerate(FACTORS)]
+    print(f"{args.misses}, n = {args.n}, the skew guard's factor: " + ", ".join(sweep))
     miss = np.abs(r[:, 0]) > r[:, 1]
     print(f"{args.misses}, n = {args.n}: {miss.sum()} misses of {args.seeds}, "
           f"{np.sum(r[miss, 0] < 0)} below the integral; γ̂ on the misses "
