@@ -21,15 +21,29 @@ of n evaluations:
 - ``t4+round+skew``: ``t4+round`` raised to the skew guard of quad's interval: with γ̂
   and σ̂ the skewness and standard deviation of all n values of f, w = clamp((|γ̂| − 1)/4,
   0, 1) and z the normal quantile, the half-width is at least
-  w · 1.2 · min(h, z·σ̂/√n) · (1 + |γ̂|(2z² + 1)/(6z√n)) (h: ``t4+round``'s).
+  w · 1.2 · min(h, z·σ̂/√n) · (1 + |γ̂|(2z² + 1)/(6z√n)) (h: ``t4+round``'s);
+- ``t4+round+skew+ulp``: quad's interval, ``t4+round+skew`` raised to the rounding
+  bound of its sums, (n/4)·ε·max|f| (n/4 values summed per replicate; ε = 2^−52): an
+  integrand the rule integrates exactly (Ishigami on the tent lattice) leaves only
+  rounding in the replicate means, which the t part cannot measure;
+- ``t4+round+skew:mc``, ``t4+round+skew:geo``: the skew guard on plain Monte Carlo's
+  half-width z·σ̂/√n instead of min(h, z·σ̂/√n), or on their geometric mean √(h·z·σ̂/√n)
+  (measured for the heavier corners the guard misses, not built).
 
 Coverage is the share of seeds whose interval holds the exact integral; "width" is the
 geometric mean over seeds of the half-width divided by t8's (the price in accuracy), and
-"rmse" the root mean square error of the estimate divided by t8's.
+"rmse" the root mean square error of the estimate divided by t8's; "ulps" (per case)
+the largest |error| of quad's estimate over the seeds in units of ε·|integral|.
 
     target/py-venv/bin/python benches/quad_interval.py [--seeds 300] [--n 4096] [--first-seed 300]
 
 Writes results/quad/interval-<n>.json and prints a Markdown table.
+``--misses LABEL`` prints, for one case, where quad's interval misses: the signs of the
+misses, the skewness γ̂ of f's values on the misses against its median, and the errors
+over plain Monte Carlo's half-width z·σ̂/√n, and the coverage and width (over quad's) with
+the skew guard's factor 1.2 raised to 1.5 … 3. ``--package`` instead runs the installed package's ``quad`` at exactly n evaluations on
+Ishigami's family (its own shifts and sums) and prints the coverage and the largest
+error in units of ε·|integral|.
 """
 
 import argparse
@@ -62,7 +76,7 @@ CHECK_CASES = [(f"{f if f != 'corner1' else f'(1+Σx)^-{s + 1}'} s={s}", f, s) f
     ("corner1", 8), ("ishigami", 3), ("keister", 20), ("lognormal", 20))]
 METHODS = ["t8", "t2", "t4", "t16", "t4+round", "t8+round", "t16+round", "t4+skew",
            "t8+skew", "t16+skew", "quantile8", "pool4+round", "pool4+round/3", "t4+round/3", "t4+round/2", "t4+round/rate",
-           "t4+round+skew"]
+           "t4+round+skew", "t4+round+skew+ulp", "t4+round+skew:mc", "t4+round+skew:geo"]
 LEVEL = 0.95
 
 
@@ -119,18 +133,25 @@ def intervals(y, n):
     quarter = np.mean([v[: n // 16].mean() for v in y[:4]])
     rho = abs(h4.mean() - quarter) / change if change > 0 else 4.0
     out["t4+round/rate"] = (m4.mean(), max(out["t4"][1], change / min(max(rho - 1, 1), 3)))
-    out["t4+round+skew"] = (m4.mean(), skew_guard(np.concatenate([v[: n // 4] for v in y[:4]]),
-                                                  out["t4+round"][1]))
+    values = np.concatenate([v[: n // 4] for v in y[:4]])
+    out["t4+round+skew"] = (m4.mean(), skew_guard(values, out["t4+round"][1]))
+    out["t4+round+skew:mc"] = (m4.mean(), skew_guard(values, out["t4+round"][1], "mc"))
+    out["t4+round+skew:geo"] = (m4.mean(), skew_guard(values, out["t4+round"][1], "geo"))
+    # The sums' rounding bound, as quad's (per replicate: values summed · ε · max|f|).
+    largest = max(np.abs(v[: n // 4]).max() for v in y[:4])
+    out["t4+round+skew+ulp"] = (m4.mean(), max(out["t4+round+skew"][1],
+                                                (n // 4) * np.finfo(float).eps * largest))
     m = np.sort([v[: n // 8].mean() for v in y[:8]])
     lo, hi = m[1], m[6]
     out["quantile8"] = ((lo + hi) / 2, (hi - lo) / 2)
     return out
 
 
-def skew_guard(values, h):
+def skew_guard(values, h, base="min", factor=1.2):
     """quad's skew guard (cubature/src/lib.rs) on the half-width h from all the values:
     where f's values are skewed (|γ̂| > 1), at least w·1.2·min(h, z·σ̂/√n) times Hall's
-    (1992) relative skewness term 1 + |γ̂|(2z² + 1)/(6z√n) of a mean of n values."""
+    (1992) relative skewness term 1 + |γ̂|(2z² + 1)/(6z√n) of a mean of n values
+    (``base``: "mc" puts z·σ̂/√n, "geo" √(h·z·σ̂/√n) in place of the min)."""
     n = len(values)
     dev = values - values.mean()
     m2, m3 = np.mean(dev ** 2), np.mean(dev ** 3)
@@ -142,7 +163,8 @@ def skew_guard(values, h):
         return h
     z = stats.norm.ppf((1 + LEVEL) / 2)
     mc = z * math.sqrt(m2 * n / (n - 1)) / math.sqrt(n)
-    return max(h, w * 1.2 * min(h, mc) * (1 + gamma * (2 * z * z + 1) / (6 * z * math.sqrt(n))))
+    on = {"min": min(h, mc), "mc": mc, "geo": math.sqrt(h * mc)}[base]
+    return max(h, w * factor * on * (1 + gamma * (2 * z * z + 1) / (6 * z * math.sqrt(n))))
 
 
 def run_case(family, s, n, seeds):
@@ -169,10 +191,14 @@ def summary(rows):
         ratio = np.exp(np.mean(np.log(np.maximum(hw, 1e-300) / np.maximum(base_hw, 1e-300))))
         rmse = math.sqrt(np.mean(err ** 2)) / math.sqrt(np.mean(base_err ** 2))
         out[m] = {"coverage": float(ok.mean()), "width": float(ratio), "rmse": float(rmse)}
-        if m == "t4+round+skew":
-            # The share of seeds whose half-width the skew guard changed.
-            plain = np.array([r["t4+round"][1] for r in rows])
+        if m in ("t4+round+skew", "t4+round+skew+ulp", "t4+round+skew:mc",
+                 "t4+round+skew:geo"):
+            # The share of seeds whose half-width the skew guard (the rounding bound) changed.
+            plain = np.array([r[m.split(":")[0].rsplit("+", 1)[0]][1] for r in rows])
             out[m]["raised"] = float(np.mean(hw != plain))
+    truth = np.array([abs(r["truth"]) for r in rows])
+    err = np.array([abs(r["t4+round+skew+ulp"][0]) for r in rows])
+    out["ulps"] = float(np.max(err / (np.finfo(float).eps * np.maximum(truth, 1e-300))))
     return out
 
 
@@ -221,7 +247,73 @@ def study_main(name, cases, run_case, summary, table):
     print("\n" + "\n".join(table(data, args.n)))
 
 
+def package_check():
+    """quad itself at a fixed n on Ishigami's family: coverage over the seeds, and the
+    largest error in units of ε·|integral| (the rule integrates it exactly)."""
+    import stillpoint as sp
+
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--package", action="store_true")
+    ap.add_argument("--seeds", type=int, default=300)
+    ap.add_argument("--n", type=int, default=4096)
+    args = ap.parse_args()
+    hit, worst = 0, 0.0
+    for seed in range(args.seeds):
+        f, truth = integrand("ishigami", 3, seed)
+        r = sp.quad(f, 3, abs_tol=0, rel_tol=0, max_n=args.n, seed=seed)
+        assert r.n == args.n
+        hit += abs(r.estimate - truth) <= r.half_width
+        worst = max(worst, abs(r.estimate - truth) / (np.finfo(float).eps * abs(truth)))
+    print(f"ishigami s=3, n = {args.n}: quad covers {hit} of {args.seeds}; "
+          f"largest error {worst:.1f} ε·|integral|")
+
+
+FACTORS = (1.2, 1.5, 2.0, 2.5, 3.0)
+
+
+def misses():
+    """Where quad's interval (``t4+round+skew+ulp``) misses on one case (``--misses``)."""
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--misses", required=True)
+    ap.add_argument("--seeds", type=int, default=300)
+    ap.add_argument("--n", type=int, default=1024)
+    args = ap.parse_args()
+    _, family, s = next(c for c in CASES + CHECK_CASES if c[0] == args.misses)
+    z = stats.norm.ppf((1 + LEVEL) / 2)
+    rows = []
+    for seed in range(args.seeds):
+        f, truth = integrand(family, s, seed)
+        rng = np.random.default_rng([seed, 47])
+        y = [f(points(s, rng.random(s), 0, args.n // 4)) for _ in range(4)]
+        values = np.concatenate(y)
+        est = values.mean()
+        out = intervals(y + [y[0]] * 12, args.n)
+        hw = out["t4+round+skew+ulp"][1]
+        dev = values - est
+        gamma = np.mean(dev ** 3) / np.mean(dev ** 2) ** 1.5
+        rows.append((est - truth, hw, gamma, z * values.std(ddof=1) / math.sqrt(args.n))
+                    + tuple(skew_guard(values, out["t4+round"][1], factor=c) for c in FACTORS))
+    r = np.array(rows)
+    sweep = [f"{c}: {np.mean(np.abs(r[:, 0]) <= r[:, 4 + i]) * 100:.1f} % "
+             f"({np.exp(np.mean(np.log(r[:, 4 + i] / r[:, 1]))):.2f}×)"
+             for i, c in enumerate(FACTORS)]
+    print(f"{args.misses}, n = {args.n}, the skew guard's factor: " + ", ".join(sweep))
+    miss = np.abs(r[:, 0]) > r[:, 1]
+    print(f"{args.misses}, n = {args.n}: {miss.sum()} misses of {args.seeds}, "
+          f"{np.sum(r[miss, 0] < 0)} below the integral; γ̂ on the misses "
+          f"{np.min(r[miss, 2]):.1f}–{np.max(r[miss, 2]):.1f} (median over all seeds "
+          f"{np.median(r[:, 2]):.1f}); |error| / Monte Carlo's half-width on the misses "
+          f"{np.min(np.abs(r[miss, 0]) / r[miss, 3]):.2f}–{np.max(np.abs(r[miss, 0]) / r[miss, 3]):.2f} "
+          f"(median over all seeds {np.median(np.abs(r[:, 0]) / r[:, 3]):.2f})")
+
+
 def main():
+    if "--package" in sys.argv:
+        package_check()
+        return
+    if "--misses" in sys.argv:
+        misses()
+        return
     args, data = study("interval", CASES + CHECK_CASES, run_case, summary)
     print(f"\n| family (n = {args.n}, {args.seeds} seeds) | "
           + " | ".join(METHODS) + " |")

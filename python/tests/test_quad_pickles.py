@@ -40,11 +40,24 @@ def _as_continued(r, got, record):
     return got
 
 
+def _as_floored(r, got, record):
+    """`got` with a QuadResult's half-widths checked against the record and replaced by
+    it: this version raises every half-width to the sums' rounding bound, (points per
+    replicate)·ε·max|f|, which the record's 2e-16 on `two`'s first output (Σx, max|f|
+    just below 2, integrated exactly by the lattice) was below; the rest is as it was."""
+    if isinstance(r, sp.QuadResult):
+        bound = got["n"] // got["replicates"] * np.finfo(float).eps * 2.0
+        for w, old in zip(got["half_width"], record["half_width"]):
+            assert w == old or (old < w <= bound and w > 0.99 * bound), (w, old, bound)
+        got = dict(got, half_width=record["half_width"])
+    return got
+
+
 @pytest.mark.parametrize("name", sorted(RECORD))
 def test_an_old_result_loads_and_continues_as_it_did(name):
     rec = RECORD[name]
     r = pickle.loads((DATA / f"{name}.pkl").read_bytes())
-    assert MAKER.summary(r) == rec["then"]
+    assert _as_floored(r, MAKER.summary(r), rec["then"]) == rec["then"]
     f = MAKER.FUNCTIONS.get(name, lambda x: x[:, 0] * x[:, 1])
     if isinstance(r, sp.QuadResult):
         later = sp.quad(f, r.d, start=r, **rec["more"])
