@@ -105,6 +105,19 @@ def integrand(family, s, run):
     return (lambda x: value(family, p, x)), exact(family, p)
 
 
+def save(paths, data, cells):
+    """Writes the cells this process measures into the files as they are on disk now, so
+    that processes on disjoint families can run side by side."""
+    for m, path in paths.items():
+        on_disk = bench.load(path) or {"method": m, "cells": {}}
+        on_disk["version"] = data[m]["version"]
+        for (mm, _), cell in cells.items():
+            if mm == m:
+                s = tuple(cell["s"]) if isinstance(cell["s"], list) else cell["s"]
+                on_disk["cells"][bench.key(cell["family"], s, cell["tol"])] = cell
+        bench.save(path, on_disk)
+
+
 def measure(groups, runs, cell_seconds):
     paths = {m: os.path.join(OUT, f"single-tol-{m}.json.gz") for m in FORMS}
     data = {m: bench.load(p) or {"method": m, "cells": {}} for m, p in paths.items()}
@@ -141,12 +154,10 @@ def measure(groups, runs, cell_seconds):
                     # the phase's runs serve all its cells: each holds the phase's time
                     cell["seconds"] = round(cell["seconds"] + took, 3)
                     cell["cell_seconds"] = cell_seconds
-                if time.perf_counter() - t_start > 60 or len(first["runs"]) >= runs:
-                    for m in FORMS:
-                        bench.save(paths[m], data[m])
+                if time.perf_counter() - t_start > 60:
+                    save(paths, data, cells)
                     t_start = time.perf_counter()
-            for m in FORMS:
-                bench.save(paths[m], data[m])
+            save(paths, data, cells)
             for (m, t), cell in cells.items():
                 rs = cell["runs"]
                 print(f"{m:16s} {family} s={s} tol={t:g}: reliability "
