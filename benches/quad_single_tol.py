@@ -121,7 +121,7 @@ def save(paths, data, cells):
         bench.save(path, on_disk)
 
 
-def measure(groups, runs, cell_seconds):
+def measure(groups, runs, cell_seconds, phases=PHASES):
     paths = {m: os.path.join(OUT, f"single-tol-{m}.json.gz") for m in FORMS}
     data = {m: bench.load(p) or {"method": m, "cells": {}} for m, p in paths.items()}
     import stillpoint as sp
@@ -132,7 +132,7 @@ def measure(groups, runs, cell_seconds):
                               "quad_single_study.py)")
     for family, s in groups:
         d = s[0] if isinstance(s, tuple) else s
-        for tols in PHASES:
+        for tols in phases:
             cells = {(m, t): data[m]["cells"].setdefault(
                 bench.key(family, s, t), {"family": family, "s": s, "tol": t,
                                           "seconds": 0.0, "runs": []})
@@ -266,6 +266,8 @@ def main():
     ap.add_argument("--s", default=None, help="dimensions to keep")
     ap.add_argument("--runs", type=int, default=200)
     ap.add_argument("--cell-seconds", type=float, default=0.0)
+    ap.add_argument("--phase", type=int, choices=(1, 2), default=None,
+                    help="only the first phase (1e-2, 1e-3) or the second (1e-4)")
     ap.add_argument("--table", action="store_true")
     ap.add_argument("--out", default=OUT, help="where the JSONs go (a quick check: /tmp)")
     args = ap.parse_args()
@@ -277,7 +279,8 @@ def main():
     keep = None if args.s is None else set(args.s.split(","))
     groups = [(f, s) for f in fams for s in bench.FAMILIES[f]
               if keep is None or str(s) in keep]
-    measure(groups, args.runs, args.cell_seconds)
+    phases = PHASES if args.phase is None else PHASES[args.phase - 1:args.phase]
+    measure(groups, args.runs, args.cell_seconds, phases)
 
 
 if __name__ == "__main__":
