@@ -196,6 +196,7 @@ def table(runs=200):
              "| best reference | ratio: posterior, posterior-qmcpy, quad |",
              "|---|---|---|---|---|---|---|---|---|"]
     ratios = {m: {} for m in shown}  # m: {family: [ratio, ...]}
+    over_quad = {}  # family: [the posterior's median n over quad's, ...], every cell
     # over all cells with a reliable reference, the form in place of quad's runs in the
     # cells of unbounded laws ("unbounded") or in every cell it was run in ("run")
     every = {m: {scope: [] for scope in SCOPES} for m in shown}
@@ -218,6 +219,8 @@ def table(runs=200):
                         missing[m][scope].append(k)
         if not (st["posterior"] or st["posterior-qmcpy"]):
             continue
+        if st["posterior"] and st["quad"]:
+            over_quad.setdefault(family, []).append(st["posterior"]["n"] / st["quad"]["n"])
         rr = []
         for m in shown:
             if best and st[m]:
@@ -231,7 +234,8 @@ def table(runs=200):
                      f"{cell(rst.get('qmcpy-bayes-net'))} | "
                      f"{best + ' · ' + format(rst[best]['n'], '.0f') if best else 'none reliable'}"
                      f" | {', '.join(rr)} |")
-    lines += ["", "| family | cells | posterior | posterior-qmcpy | quad |", "|---|---|---|---|---|"]
+    lines += ["", "| family | cells | posterior | posterior-qmcpy | quad | posterior over quad "
+              "(cells) |", "|---|---|---|---|---|---|"]
 
     def gm(v):
         return math.exp(np.mean(np.log(v))) if v else float("nan")
@@ -239,13 +243,14 @@ def table(runs=200):
     fams = [f for f in bench.FAMILIES if f in ratios["posterior"]]
     for f in fams:
         lines.append(f"| {f} | {len(ratios['posterior'][f])} | "
-                     + " | ".join(f"{gm(ratios[m].get(f, [])):.2f}" for m in shown) + " |")
+                     + " | ".join(f"{gm(ratios[m].get(f, [])):.2f}" for m in shown)
+                     + f" | {gm(over_quad.get(f, [])):.2f} ({len(over_quad.get(f, []))}) |")
     for what, keep in (("the model families", bench.MODEL_FAMILIES),
                        ("the families of unbounded laws", UNBOUNDED)):
         lines.append(f"| {what} | {sum(len(ratios['posterior'].get(f, [])) for f in keep)} "
                      "| " + " | ".join(
                          f"{gm([r for f in keep for r in ratios[m].get(f, [])]):.2f}"
-                         for m in shown) + " |")
+                         for m in shown) + f" | {gm([r for f in keep for r in over_quad.get(f, [])]):.2f} |")
     for scope, what in SCOPES.items():
         lines += ["", f"Over all {len(every['quad'][scope])} cells of benches/quad.py with a "
                   f"reliable reference, the form {what}, quad's runs elsewhere: geometric "
