@@ -68,7 +68,7 @@ SCOPES = {"unbounded": "in the cells of unbounded laws",
           "run": "in every cell measured here"}
 
 
-def walk(f, d, seed, tols):
+def walk(f, d, seed, tols, forms=tuple(FORMS)):
     """One run: the doubling on one sequence; per (form, tol) the (estimate, n, met) at
     which it stopped (or at 2^20, not met)."""
     import stillpoint as sp
@@ -81,7 +81,8 @@ def walk(f, d, seed, tols):
         xi = np.asfortranarray(np.floor(x * 2.0 ** BITS).astype(np.uint64))
         q = float(y.mean())
         change = abs(q - float(y[: n // 2].mean()))
-        for form, at_points in FORMS.items():
+        for form in forms:
+            at_points = FORMS[form]
             open_tols = [t for t in tols if (form, t) not in stops]
             if not open_tols:
                 continue
@@ -89,10 +90,10 @@ def walk(f, d, seed, tols):
             for t in open_tols:
                 if hw <= t * abs(q):
                     stops[(form, t)] = (q, n, True)
-        if len(stops) == len(FORMS) * len(tols) or n >= bench.MAX_N:
+        if len(stops) == len(forms) * len(tols) or n >= bench.MAX_N:
             break
         n *= 2
-    for form in FORMS:
+    for form in forms:
         for t in tols:
             stops.setdefault((form, t), (q, n, False))
     return stops
@@ -110,23 +111,31 @@ def integrand(family, s, run):
 
 def save(paths, data, cells):
     """Writes the cells this process measures into the files as they are on disk now, so
-    that processes on disjoint families can run side by side."""
+    that processes on disjoint families can run side by side (under a lock: two writers
+    of one file at once leave neither's bytes)."""
+    import fcntl
+
     for m, path in paths.items():
-        on_disk = bench.load(path) or {"method": m, "cells": {}}
-        on_disk["version"] = data[m]["version"]
-        for (mm, _), cell in cells.items():
-            if mm == m:
-                s = tuple(cell["s"]) if isinstance(cell["s"], list) else cell["s"]
-                on_disk["cells"][bench.key(cell["family"], s, cell["tol"])] = cell
-        bench.save(path, on_disk)
+        with open(path + ".lock", "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            on_disk = bench.load(path) or {"method": m, "cells": {}}
+            on_disk["version"] = data[m]["version"]
+            for (mm, _), cell in cells.items():
+                if mm == m:
+                    s = tuple(cell["s"]) if isinstance(cell["s"], list) else cell["s"]
+                    on_disk["cells"][bench.key(cell["family"], s, cell["tol"])] = cell
+            bench.save(path, on_disk)
 
 
-def measure(groups, runs, cell_seconds, phases=PHASES):
-    paths = {m: os.path.join(OUT, f"single-tol-{m}.json.gz") for m in FORMS}
+def measure(groups, runs, cell_seconds, phases=PHASES, forms=tuple(FORMS), match=None):
+    """Runs the groups' phases for ``forms``; with ``match`` (a form's name) each phase
+    gets as many runs as that form's file holds for it, whatever the time."""
+    paths = {m: os.path.join(OUT, f"single-tol-{m}.json.gz") for m in forms}
+    other = bench.load(os.path.join(OUT, f"single-tol-{match}.json.gz")) if match else None
     data = {m: bench.load(p) or {"method": m, "cells": {}} for m, p in paths.items()}
     import stillpoint as sp
 
-    for m in FORMS:
+    for m in forms:
         data[m]["version"] = (f"stillpoint {sp.__version__} baseline('sobol') + NumPy "
                               "port of QMCPy 2.4's CubBayesNetG bound (benches/"
                               "quad_single_study.py)")
@@ -136,17 +145,20 @@ def measure(groups, runs, cell_seconds, phases=PHASES):
             cells = {(m, t): data[m]["cells"].setdefault(
                 bench.key(family, s, t), {"family": family, "s": s, "tol": t,
                                           "seconds": 0.0, "runs": []})
-                for m in FORMS for t in tols}
-            first = cells[("posterior", tols[0])]
+                for m in forms for t in tols}
+            first = cells[(forms[0], tols[0])]
+            want, cap = runs, cell_seconds
+            if other:
+                held = other["cells"].get(bench.key(family, s, tols[0]))
+                want, cap = (len(held["runs"]) if held else 0), 0
             t_start = time.perf_counter()
-            while len(first["runs"]) < runs and not (cell_seconds
-                                                     and first["seconds"] >= cell_seconds):
+            while len(first["runs"]) < want and not (cap and first["seconds"] >= cap):
                 run = len(first["runs"])
                 t0 = time.perf_counter()
                 f, truth = integrand(family, s, run)
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore")
-                    stops = walk(f, d, run, tols)
+                    stops = walk(f, d, run, tols, forms)
                 took = time.perf_counter() - t0
                 for (m, t), cell in cells.items():
                     q, n, met = stops[(m, t)]
@@ -273,6 +285,9 @@ def main():
     ap.add_argument("--cell-seconds", type=float, default=0.0)
     ap.add_argument("--phase", type=int, choices=(1, 2), default=None,
                     help="only the first phase (1e-2, 1e-3) or the second (1e-4)")
+    ap.add_argument("--forms", default=",".join(FORMS), help="of: " + ", ".join(FORMS))
+    ap.add_argument("--match", default=None,
+                    help="a form: as many runs per cell as its file holds, no time cap")
     ap.add_argument("--table", action="store_true")
     ap.add_argument("--out", default=OUT, help="where the JSONs go (a quick check: /tmp)")
     args = ap.parse_args()
@@ -285,7 +300,7 @@ def main():
     groups = [(f, s) for f in fams for s in bench.FAMILIES[f]
               if keep is None or str(s) in keep]
     phases = PHASES if args.phase is None else PHASES[args.phase - 1:args.phase]
-    measure(groups, args.runs, args.cell_seconds, phases)
+    measure(groups, args.runs, args.cell_seconds, phases, args.forms.split(","), args.match)
 
 
 if __name__ == "__main__":
