@@ -142,6 +142,13 @@ def measure(groups, runs, cell_seconds, phases=PHASES, forms=tuple(FORMS), match
     for family, s in groups:
         d = s[0] if isinstance(s, tuple) else s
         for tols in phases:
+            # what another process has finished since this one started counts too
+            for m in forms:
+                on_disk = bench.load(paths[m]) or {"cells": {}}
+                for t in tols:
+                    k = bench.key(family, s, t)
+                    if k in on_disk["cells"]:
+                        data[m]["cells"][k] = on_disk["cells"][k]
             cells = {(m, t): data[m]["cells"].setdefault(
                 bench.key(family, s, t), {"family": family, "s": s, "tol": t,
                                           "seconds": 0.0, "runs": []})
@@ -288,6 +295,8 @@ def main():
     ap.add_argument("--forms", default=",".join(FORMS), help="of: " + ", ".join(FORMS))
     ap.add_argument("--match", default=None,
                     help="a form: as many runs per cell as its file holds, no time cap")
+    ap.add_argument("--reverse", action="store_true",
+                    help="the groups in reverse order (a second process from the other end)")
     ap.add_argument("--table", action="store_true")
     ap.add_argument("--out", default=OUT, help="where the JSONs go (a quick check: /tmp)")
     args = ap.parse_args()
@@ -300,6 +309,8 @@ def main():
     groups = [(f, s) for f in fams for s in bench.FAMILIES[f]
               if keep is None or str(s) in keep]
     phases = PHASES if args.phase is None else PHASES[args.phase - 1:args.phase]
+    if args.reverse:
+        groups.reverse()
     measure(groups, args.runs, args.cell_seconds, phases, args.forms.split(","), args.match)
 
 
