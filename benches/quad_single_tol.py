@@ -43,6 +43,7 @@ import argparse
 import math
 import os
 import sys
+import tempfile
 import time
 import warnings
 
@@ -116,7 +117,9 @@ def save(paths, data, cells):
     import fcntl
 
     for m, path in paths.items():
-        with open(path + ".lock", "w") as lock:
+        # the lock file lives outside results/ (it is no result)
+        lockname = os.path.join(tempfile.gettempdir(), os.path.basename(path) + ".lock")
+        with open(lockname, "w") as lock:
             fcntl.flock(lock, fcntl.LOCK_EX)
             on_disk = bench.load(path) or {"method": m, "cells": {}}
             on_disk["version"] = data[m]["version"]
