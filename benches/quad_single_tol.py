@@ -28,8 +28,14 @@ past T, and the runs done are recorded. Phases: the tolerances 1e-2 and 1e-3 fir
 1e-4 on its own, so that a cap at 1e-4 does not cut the others.
 
     nice -n 5 target/py-venv/bin/python benches/quad_single_tol.py --runs 200 \\
-        --cell-seconds 240 [--families ...] [--genz]
+        --cell-seconds 200 [--families ...]       (the models; 30 s with --genz)
     target/py-venv/bin/python benches/quad_single_tol.py --table
+
+(results/quad/single-tol.md gives the exact commands.) ``--reverse`` walks the groups
+from the other end, for a second process beside the first (the files are written under
+a lock, and each phase takes up what the other finished); ``--phase 1|2`` runs one phase;
+``--forms F --match G`` runs form F only, to as many runs per cell as G's file holds (to
+make lost runs again: they are deterministic).
 
 Writes results/quad/single-tol-posterior.json.gz, results/quad/single-tol-posterior-
 qmcpy.json.gz (benches/quad.py's format) and, with ``--table``, prints the Markdown tables
@@ -269,10 +275,11 @@ def table(runs=200):
                      + f" | {gm(over_quad.get(f, [])):.2f} ({len(over_quad.get(f, []))}) |")
     for what, keep in (("the model families", bench.MODEL_FAMILIES),
                        ("the families of unbounded laws", UNBOUNDED)):
+        over = gm([r for f in keep for r in over_quad.get(f, [])])
         lines.append(f"| {what} | {sum(len(ratios['posterior'].get(f, [])) for f in keep)} "
                      "| " + " | ".join(
                          f"{gm([r for f in keep for r in ratios[m].get(f, [])]):.2f}"
-                         for m in shown) + f" | {gm([r for f in keep for r in over_quad.get(f, [])]):.2f} |")
+                         for m in shown) + f" | {over:.2f} |")
     for scope, what in SCOPES.items():
         lines += ["", f"Over all {len(every['quad'][scope])} cells of benches/quad.py with a "
                   f"reliable reference, the form {what}, quad's runs elsewhere: geometric "
