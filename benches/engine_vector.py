@@ -39,9 +39,16 @@ Sobol's error, but not in other orders of its inputs).
     NAME=b2g05 KERNEL=b2 G=0.05 D=50 B=14 LO=6 python benches/engine_vector.py
     NAME=b2worst03 KERNEL=b2 GS=0.05,0.3 SCORE=worst D=20 python benches/engine_vector.py
     NAME=... CRIT=1 ...   also print each level's criterion for the vector and the table
+    NAME=b2guard KERNEL=b2 G=0.05 GUARD=1 D=20 ...  the table's score among the candidates
+                 that leave no dual vector with entries in {-1, 0, 1} of order <= log3(2^m)
+                 at a level 2^m (`guard_mask`)
+    NAME=b2proj512 KERNEL=b2 G=0.05 PROJ=512 D=20 ...  among the PROJ best candidates by
+                 the table's score, the one whose worst three-dimensional projection
+                 through it is least bad, summed over the levels (`worst_triple`)
 
 Writes target/engine-vectors/NAME.npy (the first D entries, values below 2^B).
 """
+import itertools
 import math
 import os
 import re
@@ -95,6 +102,58 @@ def level_criteria(z, kernel=KERNEL):
     return out
 
 
+GUARD = int(os.environ.get("GUARD", 0))
+
+
+def guard_mask(z, cand):
+    """GUARD=1: the candidates for the next coordinate that leave no dual vector with
+    entries in {-1, 0, 1} of order <= log3(2^m) at any level 2^m, m = LO..B (such a
+    vector with few entries is an alias no choice of weight sees at gamma = 0.05). The
+    levels are applied from the top down, and a level whose guard no remaining candidate
+    passes is skipped, so the guard fades once it cannot be met (past about ten
+    coordinates at 2^14). Entries of a lattice's dual vector on odd z sum to an even
+    count, so the new coordinate's partner vectors have odd order."""
+    alive = np.ones(len(cand), dtype=bool)
+    zz = np.array(z, dtype=np.int64)
+    kmax = {m: int(math.floor(m * math.log(2) / math.log(3) + 1e-9)) for m in range(LO, B + 1)}
+    residues = {}
+    for o in range(1, min(len(zz), max(kmax.values()) - 1) + 1, 2):
+        combos = np.array(list(itertools.combinations(range(len(zz)), o)), dtype=np.int64)
+        signs = np.array(list(itertools.product((-1, 1), repeat=o)), dtype=np.int64)
+        residues[o] = ((zz[combos] @ signs.T) % (1 << B)).ravel()
+    for m in range(B, LO - 1, -1):
+        mask = (1 << m) - 1
+        forbidden = np.zeros(1 << m, dtype=bool)
+        for o, r in residues.items():
+            if o + 1 <= kmax[m]:
+                forbidden[r & mask] = True
+                forbidden[(-r) & mask] = True
+        keep = alive & ~forbidden[cand & mask]
+        if keep.any():
+            alive = keep
+    return alive
+
+
+PROJ = int(os.environ.get("PROJ", 0))
+
+
+def worst_triple(z, cand, w, k):
+    """PROJ=S: for each candidate, the sum over the levels 2^m, m = LO..B, of the log of
+    its worst three-dimensional projection through the new coordinate (the first-order
+    criterion of the projection, unit weights): the table's score sums the projections,
+    so a few bad ones hide behind many good ones, and which inputs land on them is the
+    luck of the input order."""
+    N = len(k)
+    rows = np.array([(1 + w[(k * z[a]) & (N - 1)]) * (1 + w[(k * z[b]) & (N - 1)])
+                     for a, b in itertools.combinations(range(len(z)), 2)])
+    out = np.zeros(len(cand))
+    for ci, c in enumerate(cand):
+        v = rows * (1 + w[(k * int(c)) & (N - 1)])
+        for m in range(LO, B + 1):
+            out[ci] += np.log(v[:, ::1 << (B - m)].mean(1).max() - 1)
+    return out
+
+
 def build(d):
     """Every odd candidate below 2^(B-1) scored on the 2^B points of the top level: a
     point k belongs to level m iff 2^(B-m) divides k, and point 0 (the same for every
@@ -122,6 +181,13 @@ def build(d):
             score = (per - per.min(axis=1, keepdims=True)).max(0)
         else:
             score = per.sum(0)
+        if GUARD:
+            score = np.where(guard_mask(z, cand), score, np.inf)
+        if PROJ and j >= 2:
+            short = np.argsort(score)[:PROJ]
+            proj = np.full(len(cand), np.inf)
+            proj[short] = worst_triple(z, cand[short], w, k)
+            score = proj
         best = int(cand[int(np.argmin(score))])
         z.append(best)
         for q, g in zip(Q, GS):

@@ -33,7 +33,8 @@ among the candidates, which measures it again.
     indaC    the same asymmetric tent on the lattice made for n (`ind`'s set)
     seqperm  seq with its coordinates dealt to the inputs in an order drawn per engine
              (seeded by the engine's seed): unbiased, and an input order's alias is
-             spread over the seeds
+             spread over the seeds; seqpermK keeps inputs 1..K on the table's first K
+             coordinates and deals only the others
     vec:NAME the sequence (radical-inverse order, one shift, the tent) with the
              prototype generator target/engine-vectors/NAME.npy of
              benches/engine_vector.py (values below 2^B; n <= 2^B) in place of the table
@@ -44,7 +45,8 @@ among the candidates, which measures it again.
     ORDER=rev|interleave|late|rand<i>  the models' inputs take the draws' coordinates in
              another order (input order[j] takes coordinate j: reversed, the two halves
              interleaved, the second half first, or a permutation drawn with seed 100 + i),
-             to tell a rule from the luck of one order; ORDER=all prints the cells for the
+             to tell a rule from the luck of one order; ORDER=p4.1.2.3.0.5.6.7 gives the
+             permutation itself (dot-separated; several orders comma-separated); ORDER=all prints the cells for the
              identity and all of these (rand0..rand3), and per candidate the geometric
              mean and the largest over the orders. Scrambled Sobol's stored RMSE (in the
              inputs' own order) stays the denominator.
@@ -137,6 +139,11 @@ def input_order(name, d):
         return np.array([i // 2 if i % 2 == 0 else h + i // 2 for i in range(d)])
     if name.startswith("rand"):
         return np.random.default_rng(100 + int(name[4:])).permutation(d)
+    if name.startswith("p") and name[1:2].isdigit():
+        perm = np.array([int(v) for v in name[1:].split(".")])
+        if sorted(perm) != list(range(d)):
+            raise SystemExit(f"ORDER {name} is not a permutation of {d} inputs")
+        return perm
     raise SystemExit(f"unknown ORDER {name}")
 
 
@@ -152,11 +159,15 @@ def draw(cand, n, d, r):
             return e.random(n)
         if cand == "ind":
             return sp.Engine(d, seed=seed, draws="independent").random(n)
-    if cand == "seqperm":
+    if cand.startswith("seqperm"):
         # The default's draws with the coordinates dealt to the inputs in an order drawn
-        # per engine: an input order's alias becomes a spread over the seeds.
+        # per engine: an input order's alias becomes a spread over the seeds. seqpermK
+        # keeps the first K inputs on the table's first K coordinates (its best
+        # projections, where most integrands put their leading inputs) and deals the rest.
         x = draw("seq", n, d, r)
-        return x[:, np.random.default_rng([seed, 77]).permutation(d)]
+        head = min(int(cand[7:] or 0), d)
+        tail = head + np.random.default_rng([seed, 77]).permutation(d - head)
+        return x[:, np.concatenate([np.arange(head), tail])]
     if cand == "owen":
         return sp.baseline("sobol", n, d, seed=seed)
     if cand == "halves":
