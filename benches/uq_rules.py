@@ -84,6 +84,7 @@ Run (the bench venv of benches/uq_models.py, the CLI built in target/release):
     (FAM=keister,lognormal: only those families; VAR="m = 32,pca": only variants whose
     label holds one of these; SEED0=K: seeds K + r, 1000 + r unless given)
     REPS=3 STORED=default CANDS=cube,mid_w0.05,srch2 ... (the default's candidates)
+    benches/uq_rules.py OUT1 OUT2 ...  (pools saved outputs over seed blocks, `pool`)
 """
 import json, math, os, subprocess, sys, hashlib
 import numpy as np
@@ -444,6 +445,37 @@ def make(cand, fam, v, p, n, d, r):
     if cand.startswith("law_w"):  # the lattice for the laws at another product weight
         return halves_w(n, d, float(cand[5:]), seed)
     raise SystemExit(cand)
+
+def pool(paths):
+    """Pools this script's printed outputs of the same candidates over seed blocks of
+    equal REPS (ratio² averaged: the same stored denominator), then geometric means by
+    construction, family and n, and each candidate over owen cell by cell."""
+    cells = {}
+    for path in paths:
+        for line in open(path):
+            if " owen=" not in line:
+                continue
+            head = line.split(" stored=")[0].split(" owen=")[0]
+            for t in line.split():
+                if "=" in t and t != "=" and not t.startswith("stored"):
+                    k, x = t.split("=")
+                    cells.setdefault(head, {}).setdefault(k, []).append(float(x))
+    P = {h: {k: math.sqrt(np.mean(np.square(x))) for k, x in d.items()} for h, d in cells.items()}
+    cands = [k for k in next(iter(P.values())) if all(k in d for d in P.values())]
+    def group(h, g):
+        return {"construction": next(c for c in ("standard", "bridge", "pca") if c in h),
+                "family": h.split(" m =")[0], "n": h.split()[-1], "all": "all"}[g]
+    def gm(xs): return math.exp(np.mean(np.log(xs)))
+    print("group cells", *cands, "| over owen:", *[c for c in cands if c != "owen"])
+    for g in ("construction", "family", "n", "all"):
+        for val in sorted({group(h, g) for h in P}):
+            hs = [h for h in P if group(h, g) == val]
+            print(val, len(hs), *[f"{gm([P[h][c] for h in hs]):.2f}" for c in cands], "|",
+                  *[f"{gm([P[h][c] / P[h]['owen'] for h in hs]):.2f}" for c in cands if c != "owen"])
+
+if len(sys.argv) > 1:  # uq_rules.py OUT1 OUT2 ...: pool earlier runs' outputs
+    pool(sys.argv[1:])
+    sys.exit(0)
 
 data = json.load(open(os.path.join(ROOT, "results", "uq-models", "uq_models.json")))["cells"]
 rows = []
