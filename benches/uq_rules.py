@@ -63,6 +63,17 @@ with STORED=default, the stored default's ratio; results/law-lattice/determinist
                 column's step: PCA G/(2i + 1)^2 (the eigenvalues), bridge
                 G 2^-floor(log2(i + 1)) (the level's variance), standard G ((k - i)/k)^2
                 (k steps: how much of the average the i-th increment moves)
+    wl{t|f|p}G[s|n|e|a|q]
+                a randomly shifted rank-1 lattice of the whole set, made for n by the
+                weighted component-by-component search (`weighted_lattice_generator`,
+                through the example `weighted_lattice` of stillpoint-sequences: build it
+                with `cargo build --release -p stillpoint-sequences --example
+                weighted_lattice`), product weights by the cell's construction
+                (`path_weights`, first weight G), the columns asset-interleaved; t: the
+                tent kernel then the tent, f: the first-order kernel then the tent, p:
+                the first-order kernel and the shift alone. Suffix s: the weights'
+                square roots; n: bridge weights by the path's squared norm; e: equal
+                weights on standard paths; a: 0.05 + G w; q: equal weights everywhere
     pickK       mid_w0.05's offsets, the draw among K whose errors on exp(-|Z|^2/2),
                 cos(sum Z/sqrt(s)) and exp(sum Z/sqrt(s)) (Z the normal scores
                 Phi^-1(u), closed forms) are smallest, each over its median
@@ -70,8 +81,10 @@ with STORED=default, the stored default's ratio; results/law-lattice/determinist
 Run (the bench venv of benches/uq_models.py, the CLI built in target/release):
 
     REPS=12 NS=1024,4096 CANDS=cur,law_halves target/bench-venv/bin/python benches/uq_rules.py
-    (FAM=keister,lognormal: only those families)
+    (FAM=keister,lognormal: only those families; VAR="m = 32,pca": only variants whose
+    label holds one of these; SEED0=K: seeds K + r, 1000 + r unless given)
     REPS=3 STORED=default CANDS=cube,mid_w0.05,srch2 ... (the default's candidates)
+    benches/uq_rules.py OUT1 OUT2 ...  (pools saved outputs over seed blocks, `pool`)
 """
 import json, math, os, subprocess, sys, hashlib
 import numpy as np
@@ -299,11 +312,56 @@ def cbc_weights(m, gam):
         _ZW[key] = np.array(z)
     return _ZW[key]
 
+WBIN = os.path.join(ROOT, "target", "release", "examples", "weighted_lattice")
+
+def path_weights(how, k, A, G, var="cond"):
+    """Product weights of the d = k·A columns (asset-interleaved, step i = j // A) by the
+    construction's variance of the i-th normal, the first G: PCA the eigenvalues
+    (2i + 1)^-2; bridge the i-th point's variance given the earlier ones (1, then halving
+    per level: 1/4, 1/8, 1/8, 1/16 ...; var="norm": the squared norm of the path the
+    normal moves, quartering per level); standard ((k - i)/k)^2 (how much of the average
+    the i-th increment moves), or equal (var="eq"); var="sqrt" their square roots (the
+    standard deviations), var="add" 0.05 + G w (the cube's weight on every column)."""
+    i = np.arange(k * A) // A
+    if how == "pca":
+        w = 1.0 / (2 * i + 1.0) ** 2
+    elif how == "bridge":
+        lev = np.where(i == 0, 0, np.floor(np.log2(np.maximum(i, 1))) + 1)
+        w = (0.5 if var != "norm" else 0.25) ** (lev + (i > 0))
+    elif var == "eq":
+        w = np.ones(len(i))
+    else:
+        w = ((k - i) / k) ** 2
+    if var == "sqrt":  # the standard deviations: gamma_i ~ c_i balances the bound
+        return G * np.sqrt(w)
+    if var == "add":  # the cube's weight on every column and the construction's on top
+        return 0.05 + G * w
+    return G * w
+
+_WZ = {}
+def weighted_lattice(cand, v, n, d, A, seed):
+    kern = "tent" if cand[2] == "t" else "first"  # wlp: first order, shift alone
+    var = {"n": "norm", "e": "eq", "s": "sqrt", "a": "add", "q": "eq"}.get(cand[-1], "cond")
+    G = float(cand[3:].rstrip("nesaq"))
+    how = "standard" if cand[-1] == "q" else v[1]  # q: equal weights on every construction
+    key = (kern, G, how, var, n, d, A)
+    if key not in _WZ:
+        w = path_weights(how, d // A, A, G, var)
+        path = f"{CACHE}/w_{hashlib.md5(repr(key).encode()).hexdigest()}.txt"
+        open(path, "w").write(" ".join(repr(float(x)) for x in w))
+        out = subprocess.run([WBIN, str(n), kern, path], check=True, capture_output=True,
+                             text=True).stdout
+        _WZ[key] = np.array([int(x) for x in out.split()], dtype=np.int64)
+    z = _WZ[key]
+    x = (np.outer(np.arange(n), z) % n) / n
+    x = (x + np.random.default_rng(seed).random(d)) % 1.0
+    return x if cand[2] == "p" else 1 - np.abs(2 * x - 1)
+
 def assets_of(fam):
     return getattr(fam, "assets", 1)
 
 def make(cand, fam, v, p, n, d, r):
-    seed = 1000 + r
+    seed = int(os.environ.get("SEED0", 1000)) + r
     if cand == "anti":
         x = owen(n // 2, d, seed)
         return np.vstack([x, 1 - x])
@@ -330,6 +388,8 @@ def make(cand, fam, v, p, n, d, r):
         x = (x + np.random.default_rng(seed).random(K)) % 1.0
         lat = 1 - np.abs(2 * x - 1)
         return np.hstack([lat] + ([owen(n, d - K, seed)] if d > K else []))
+    if cand.startswith("wl"):  # wl{t|f}{G}[n|h]: the weighted lattice of the whole set
+        return weighted_lattice(cand, v, n, d, assets_of(fam), seed)
     if cand.startswith("pick"):
         return law_mid_pick(n, d, 0.05, seed, int(cand[4:]))
     if cand.startswith("srch"):  # srch1, srch2, srchT2 (tent generator), srchF2 (folded)
@@ -385,6 +445,37 @@ def make(cand, fam, v, p, n, d, r):
     if cand.startswith("law_w"):  # the lattice for the laws at another product weight
         return halves_w(n, d, float(cand[5:]), seed)
     raise SystemExit(cand)
+
+def pool(paths):
+    """Pools this script's printed outputs of the same candidates over seed blocks of
+    equal REPS (ratio² averaged: the same stored denominator), then geometric means by
+    construction, family and n, and each candidate over owen cell by cell."""
+    cells = {}
+    for path in paths:
+        for line in open(path):
+            if " owen=" not in line:
+                continue
+            head = line.split(" stored=")[0].split(" owen=")[0]
+            for t in line.split():
+                if "=" in t and t != "=" and not t.startswith("stored"):
+                    k, x = t.split("=")
+                    cells.setdefault(head, {}).setdefault(k, []).append(float(x))
+    P = {h: {k: math.sqrt(np.mean(np.square(x))) for k, x in d.items()} for h, d in cells.items()}
+    cands = [k for k in next(iter(P.values())) if all(k in d for d in P.values())]
+    def group(h, g):
+        return {"construction": next(c for c in ("standard", "bridge", "pca") if c in h),
+                "family": h.split(" m =")[0], "n": h.split()[-1], "all": "all"}[g]
+    def gm(xs): return math.exp(np.mean(np.log(xs)))
+    print("group cells", *cands, "| over owen:", *[c for c in cands if c != "owen"])
+    for g in ("construction", "family", "n", "all"):
+        for val in sorted({group(h, g) for h in P}):
+            hs = [h for h in P if group(h, g) == val]
+            print(val, len(hs), *[f"{gm([P[h][c] for h in hs]):.2f}" for c in cands], "|",
+                  *[f"{gm([P[h][c] / P[h]['owen'] for h in hs]):.2f}" for c in cands if c != "owen"])
+
+if len(sys.argv) > 1:  # uq_rules.py OUT1 OUT2 ...: pool earlier runs' outputs
+    pool(sys.argv[1:])
+    sys.exit(0)
 
 data = json.load(open(os.path.join(ROOT, "results", "uq-models", "uq_models.json")))["cells"]
 rows = []

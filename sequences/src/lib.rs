@@ -29,6 +29,7 @@ mod lattices;
 mod law_lattice;
 mod scrambled_halton;
 mod sobol_owen;
+mod weighted_lattice;
 
 pub use baseline::Baseline;
 pub use extensible::{
@@ -52,6 +53,8 @@ pub use scrambled_halton::{halton_scrambled, HALTON_SCRAMBLED_MAX_S};
 pub use sobol_owen::{
     sobol_plain, sobol_scrambled, sobol_scrambled_range, SOBOL_MAX_N, SOBOL_MAX_S,
 };
+
+pub use weighted_lattice::{weighted_criterion, weighted_lattice_generator, LatticeKernel};
 
 pub use stillpoint_domains::halton::first_primes;
 
