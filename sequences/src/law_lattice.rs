@@ -25,11 +25,8 @@
 
 use rand::RngExt;
 
-use super::fast_cbc::FastCbc;
-use super::lattices::{
-    extend_terms, generators, pick, rank1_lattice, rough_terms, tent_terms, RoughTieBreak,
-    TENT_WEIGHT,
-};
+use super::lattices::{rank1_lattice, TENT_WEIGHT};
+use super::weighted_lattice::{cbc_generator, LatticeKernel};
 use crate::{Error, PointSet};
 
 /// The product weight of an unbounded coordinate's first-order kernel. Chosen among 1,
@@ -50,41 +47,17 @@ const SHIFT_STREAM: u64 = 0x6c61_7773_6869_6674;
 /// Refuses n = 0 or no coordinates, naming the argument.
 pub fn law_lattice_generator(n: usize, unbounded: &[bool]) -> Result<Vec<u64>, Error> {
     super::check_shape(n, unbounded.len())?;
-    let s = unbounded.len();
-    let n64 = n as u64;
-    let candidates = generators(n64);
-    if s == 1 || candidates.len() <= 1 {
-        return Ok(vec![1 % n64; s]);
-    }
-    let rough = rough_terms(n, LAW_WEIGHT);
-    let smooth = tent_terms(n, TENT_WEIGHT);
-    // A planner per kernel the coordinates need (each is O(n) memory and one set of
-    // transforms).
-    let plan = |needed: bool, terms: &[f64]| needed.then(|| FastCbc::new(terms, &candidates));
-    let rough_plan = plan(unbounded[1..].iter().any(|&u| u), &rough);
-    let smooth_plan = plan(unbounded[1..].iter().any(|&u| !u), &smooth);
-    let mut q = vec![0.0f64; n];
-    let mut z: Vec<u64> = Vec::with_capacity(s);
-    // The smoothness-2 scores cannot tell the best candidates apart above a few 10⁴
-    // points; the first-order ones decide between them (see [`RoughTieBreak`]).
-    let mut ties: Option<RoughTieBreak> = None;
-    for (j, &u) in unbounded.iter().enumerate() {
-        let terms = if u { &rough } else { &smooth };
-        let zj = if j == 0 {
-            1
-        } else {
-            let fast = if u { &rough_plan } else { &smooth_plan };
-            let (scores, rounding) = fast.as_ref().expect("planned for this kernel").scores(&q);
-            let ties = ties.get_or_insert_with(|| RoughTieBreak::new(n, &candidates, &z));
-            pick(&candidates, &scores, rounding, || ties.scores())
-        };
-        extend_terms(&mut q, terms, zj);
-        if let Some(t) = ties.as_mut() {
-            t.extend(zj);
-        }
-        z.push(zj);
-    }
-    Ok(z)
+    let coords: Vec<(LatticeKernel, f64)> = unbounded
+        .iter()
+        .map(|&u| {
+            if u {
+                (LatticeKernel::FirstOrder, LAW_WEIGHT)
+            } else {
+                (LatticeKernel::Tent, TENT_WEIGHT)
+            }
+        })
+        .collect();
+    Ok(cbc_generator(n, &coords))
 }
 
 /// The sizes of the odd lattices an n-point set is made of: n itself when odd, else two
@@ -381,6 +354,7 @@ fn relative_errors(sums: &[f64; 3], s: f64, n: usize) -> [f64; 3] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lattices::{generators, rough_terms, tent_terms};
 
     /// The criterion Σ_k Π_j (1 + t_j(k z_j mod m)) summed directly, per candidate.
     fn direct_best(m: usize, unbounded: &[bool], z: &[u64]) -> u64 {

@@ -7,7 +7,7 @@
 //! projections of the leading coordinates.
 
 use super::fast_cbc::FastCbc;
-use super::lattices::{extend_terms, generators, rough_terms, tent_terms};
+use super::lattices::{extend_terms, generators, pick, rough_terms, tent_terms, RoughTieBreak};
 use crate::Error;
 
 /// The one-dimensional kernel a weighted lattice is scored with.
@@ -53,10 +53,7 @@ pub fn weighted_criterion(
 
 /// The generating vector of an n-point rank-1 lattice for product weights γ_j: z_1 = 1,
 /// then each z_j the unit 1 ≤ z_j ≤ n/2 that makes [`weighted_criterion`] of
-/// (z_1, …, z_j) smallest, every candidate scored at once by the fast
-/// component-by-component construction (Nuyens and Cools 2006); candidates within the
-/// transforms' rounding of the best count as tied and the smallest wins. The weight only
-/// scales a coordinate's own scores, so the transforms of the kernel are made once.
+/// (z_1, …, z_j) smallest, by [`cbc_generator`].
 ///
 /// Refuses n = 0, no weights, or a weight that is not finite and positive, naming the
 /// argument.
@@ -66,30 +63,67 @@ pub fn weighted_lattice_generator(
     kernel: LatticeKernel,
 ) -> Result<Vec<u64>, Error> {
     check(n, weights.len(), weights)?;
+    let coords: Vec<(LatticeKernel, f64)> = weights.iter().map(|&g| (kernel, g)).collect();
+    Ok(cbc_generator(n, &coords))
+}
+
+/// The component-by-component search every lattice made for one n shares: coordinate j
+/// enters the criterion as 1 + γ_j ω_j(x) with its own kernel and weight
+/// (`coords[j]`); z_1 = 1, then each z_j the unit 1 ≤ z_j ≤ n/2 whose criterion is
+/// smallest, every candidate scored at once by the fast construction (Nuyens and Cools
+/// 2006). Candidates within the transforms' rounding of the best are told apart by the
+/// first-order criterion ([`RoughTieBreak`]; the smoothness-2 scores stop resolving them
+/// above a few 10⁴ points), then the smallest wins. A weight only scales its
+/// coordinate's scores, so one set of transforms per kernel serves every weight: each
+/// kernel's is made at the weight of the first coordinate that needs it.
+///
+/// The caller has checked n ≥ 1, at least one coordinate and positive weights.
+pub(super) fn cbc_generator(n: usize, coords: &[(LatticeKernel, f64)]) -> Vec<u64> {
     let n64 = n as u64;
     let candidates = generators(n64);
-    if weights.len() == 1 || candidates.len() <= 1 {
-        return Ok(vec![1 % n64; weights.len()]);
+    if coords.len() == 1 || candidates.len() <= 1 {
+        return vec![1 % n64; coords.len()];
     }
-    let fast = FastCbc::new(&kernel.terms(n, 1.0), &candidates);
+    // One planner per kernel the coordinates after the first need (each is O(n) memory
+    // and one set of transforms).
+    let plan = |kernel: LatticeKernel| {
+        coords[1..]
+            .iter()
+            .find(|c| c.0 == kernel)
+            .map(|&(k, g)| FastCbc::new(&k.terms(n, g), &candidates))
+    };
+    let (tent_plan, first_plan) = (plan(LatticeKernel::Tent), plan(LatticeKernel::FirstOrder));
+    let mut terms: Vec<((LatticeKernel, u64), Vec<f64>)> = Vec::new();
     let mut q = vec![0.0f64; n];
-    let mut z = Vec::with_capacity(weights.len());
-    for (j, &g) in weights.iter().enumerate() {
+    let mut z: Vec<u64> = Vec::with_capacity(coords.len());
+    let mut ties: Option<RoughTieBreak> = None;
+    for (j, &(kernel, g)) in coords.iter().enumerate() {
         let zj = if j == 0 {
             1
         } else {
-            let (scores, rounding) = fast.scores(&q);
-            let best = scores.iter().copied().fold(f64::INFINITY, f64::min);
-            let i = scores
-                .iter()
-                .position(|&v| v <= best + rounding)
-                .unwrap_or(0);
-            candidates[i]
+            let fast = match kernel {
+                LatticeKernel::Tent => &tent_plan,
+                LatticeKernel::FirstOrder => &first_plan,
+            };
+            let (scores, rounding) = fast.as_ref().expect("planned for this kernel").scores(&q);
+            let ties = ties.get_or_insert_with(|| RoughTieBreak::new(n, &candidates, &z));
+            pick(&candidates, &scores, rounding, || ties.scores())
         };
-        extend_terms(&mut q, &kernel.terms(n, g), zj);
+        let key = (kernel, g.to_bits());
+        let at = match terms.iter().position(|(k, _)| *k == key) {
+            Some(at) => at,
+            None => {
+                terms.push((key, kernel.terms(n, g)));
+                terms.len() - 1
+            }
+        };
+        extend_terms(&mut q, &terms[at].1, zj);
+        if let Some(t) = ties.as_mut() {
+            t.extend(zj);
+        }
         z.push(zj);
     }
-    Ok(z)
+    z
 }
 
 fn check(n: usize, s: usize, weights: &[f64]) -> Result<(), Error> {
