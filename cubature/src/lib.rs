@@ -633,32 +633,23 @@ impl Cubature {
         let spread = |r: usize| student_t_quantile(level, (r - 1) as f64) / (r as f64).sqrt();
         // Per output, the Student half-width and the replicates' changes since half their
         // points, in the output's scaled units, and its target there.
-        let measured: Vec<(f64, Vec<f64>, f64)> = (0..self.k)
-            .filter(|&j| !self.constant(j))
-            .map(|j| {
-                let (means, e) = self.scaled(j);
-                let changes = self.scaled_half_means(j).map_or(Vec::new(), |half| {
-                    means.iter().zip(&half).map(|(m, h)| m - h).collect()
-                });
-                // The target as the half-width before the skew guard must reach it.
-                let skew = self
-                    .skew_floor(j)
-                    .map_or(1.0, |(factor, _)| factor.max(1.0));
-                (
-                    self.scaled_half_width(&means),
-                    changes,
-                    libm::scalbn(targets[j], -e) / skew,
-                )
-            })
-            .collect();
-        // No added replicate narrows the sums' rounding bound: a target below it is met
-        // by no number of them.
-        if (0..self.k).any(|j| {
-            !self.constant(j)
-                && self.rounding_floor(j)
-                    > GROW_MARGIN * libm::scalbn(targets[j], -self.scaled(j).1)
-        }) {
-            return 0;
+        let mut measured: Vec<(f64, Vec<f64>, f64)> = Vec::with_capacity(self.k);
+        for j in (0..self.k).filter(|&j| !self.constant(j)) {
+            let (means, e) = self.scaled(j);
+            let target = libm::scalbn(targets[j], -e);
+            // No added replicate narrows the sums' rounding bound: a target below it is
+            // met by no number of them.
+            if self.rounding_floor(j) > GROW_MARGIN * target {
+                return 0;
+            }
+            let changes = self.scaled_half_means(j).map_or(Vec::new(), |half| {
+                means.iter().zip(&half).map(|(m, h)| m - h).collect()
+            });
+            // The target as the half-width before the skew guard must reach it.
+            let skew = self
+                .skew_floor(j)
+                .map_or(1.0, |(factor, _)| factor.max(1.0));
+            measured.push((self.scaled_half_width(&means), changes, target / skew));
         }
         let budget = self.options.max_n.saturating_sub(self.n());
         (1..r)
