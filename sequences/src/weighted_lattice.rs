@@ -53,7 +53,8 @@ pub fn weighted_criterion(
 
 /// The generating vector of an n-point rank-1 lattice for product weights γ_j: z_1 = 1,
 /// then each z_j the unit 1 ≤ z_j ≤ n/2 that makes [`weighted_criterion`] of
-/// (z_1, …, z_j) smallest, by [`cbc_generator`].
+/// (z_1, …, z_j) smallest, by the component-by-component search of the lattice made for
+/// the laws (the first-order criterion breaks the smoothness-2 scores' ties).
 ///
 /// Refuses n = 0, no weights, or a weight that is not finite and positive, naming the
 /// argument.
