@@ -206,6 +206,11 @@ pub enum Rule {
 /// and 0.67–0.73×).
 pub const PILOT_SHARE: f64 = 0.7;
 
+/// Values (points × dimensions) in a batch below which its replicates are filled on the
+/// calling thread: waking the thread pool costs more than scrambling a few thousand
+/// coordinates.
+const PARALLEL_WORK: usize = 1 << 14;
+
 /// Added replicates must be predicted to bring every half-width within this share of
 /// its target. The prediction rests on the spread of a few replicate means, and runs
 /// whose spread came out small by chance are the ones that add replicates and stop: at
@@ -695,13 +700,24 @@ impl Cubature {
         let (reps, start) = self.pending_replicates();
         let (r, m) = (reps.len(), self.pending as usize);
         let mut data = vec![0.0; r * m * self.d];
-        for (rep, chunk) in reps.zip(data.chunks_exact_mut(m * self.d)) {
-            self.fill_replicate(rep as u64, start, m, chunk);
-            for row in chunk.chunks_exact_mut(self.d) {
-                for ((x, a), w) in row.iter_mut().zip(&self.lower).zip(&self.width) {
+        let this = &*self;
+        let fill = |(rep, chunk): (usize, &mut [f64])| {
+            this.fill_replicate(rep as u64, start, m, chunk);
+            for row in chunk.chunks_exact_mut(this.d) {
+                for ((x, a), w) in row.iter_mut().zip(&this.lower).zip(&this.width) {
                     *x = a + w * *x;
                 }
             }
+        };
+        // Replicates are independent randomisations: filled on the thread pool when the
+        // batch is large enough to pay for waking it, with the same values either way.
+        if data.len() < PARALLEL_WORK {
+            reps.zip(data.chunks_exact_mut(m * self.d)).for_each(fill);
+        } else {
+            use rayon::prelude::*;
+            reps.into_par_iter()
+                .zip(data.par_chunks_exact_mut(m * self.d))
+                .for_each(fill);
         }
         Some(PointSet::new(r * m, self.d, data).expect("non-empty batch"))
     }

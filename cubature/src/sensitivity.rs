@@ -582,8 +582,18 @@ impl Sensitivity {
         let mut raw = vec![0.0; r * m * 2 * d];
         match self.replicas {
             Replicas::Independent => {
-                for (rep, u) in raw.chunks_exact_mut(m * 2 * d).enumerate() {
-                    self.fill(rep as u64, self.per_replicate, m, u);
+                let this = &*self;
+                let fill =
+                    |(rep, u): (usize, &mut [f64])| this.fill(rep as u64, this.per_replicate, m, u);
+                // Independent randomisations: on the thread pool when the batch pays for
+                // waking it, with the same values either way.
+                if raw.len() < crate::PARALLEL_WORK {
+                    raw.chunks_exact_mut(m * 2 * d).enumerate().for_each(fill);
+                } else {
+                    use rayon::prelude::*;
+                    raw.par_chunks_exact_mut(m * 2 * d)
+                        .enumerate()
+                        .for_each(fill);
                 }
             }
             // The next R·m points of the one sequence: R new blocks of m, which merge

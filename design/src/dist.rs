@@ -192,6 +192,24 @@ impl Marginal {
         }
     }
 
+    /// The quantile at u from the standard normal quantile z = Φ⁻¹(u) (u kept inside
+    /// [2⁻⁵³, 1 − 2⁻⁵³] as [`Marginal::ppf`] keeps it), bit for bit `ppf(u)`, for the laws
+    /// that are a map of a normal score; None for the others. Lets a caller that needs
+    /// many laws at the same u compute Φ⁻¹ once.
+    pub fn from_normal_score(&self, z: f64) -> Option<f64> {
+        match *self {
+            Marginal::Normal { mu, sigma } => Some(mu + sigma * z),
+            Marginal::LogNormal { mu, sigma } => Some((mu + sigma * z).exp()),
+            _ => None,
+        }
+    }
+
+    /// Φ⁻¹ at u as [`Marginal::ppf`] takes it for the normal and lognormal laws (u kept
+    /// inside [2⁻⁵³, 1 − 2⁻⁵³]), for [`Marginal::from_normal_score`].
+    pub fn normal_score(u: f64) -> f64 {
+        norm_ppf(u.clamp(U_MIN, 1.0 - U_MIN))
+    }
+
     /// Checks the parameters; `name` is the variable's name for the refusal.
     pub fn check(&self, name: &str) -> Result<(), Error> {
         let refuse = |expected: String| Err(Error::invalid(name, self.text(), expected));
@@ -641,6 +659,45 @@ pub fn num(x: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_normal_score_gives_the_quantile_bit_for_bit() {
+        let laws = [
+            Marginal::Normal {
+                mu: 3.0,
+                sigma: 0.25,
+            },
+            Marginal::Normal {
+                mu: 1e15,
+                sigma: 1e-3,
+            },
+            Marginal::LogNormal {
+                mu: -0.4,
+                sigma: 1.7,
+            },
+        ];
+        // Faces, the clamped ends and interior points, as the centres of the checks.
+        let us = [
+            0.0,
+            1e-300,
+            2f64.powi(-53),
+            1e-9,
+            0.3,
+            0.5,
+            0.999,
+            1.0 - 1e-17,
+            1.0,
+        ];
+        for m in laws {
+            for u in us {
+                let z = Marginal::normal_score(u);
+                let x = m.from_normal_score(z).unwrap();
+                assert_eq!(x.to_bits(), m.ppf(u).to_bits(), "{m:?} at {u}");
+            }
+        }
+        let uniform = Marginal::Uniform { lo: 0.0, hi: 1.0 };
+        assert_eq!(uniform.from_normal_score(0.0), None);
+    }
 
     #[test]
     fn incomplete_beta_halves_sum_to_one() {

@@ -1,0 +1,39 @@
+//! Times Owen-scrambled Sobol' ranges of the sizes `quad` and the Sobol' indices ask
+//! for (a replicate's next 32–1 024 points) and of a whole set, in nanoseconds per
+//! coordinate. Run it twice to compare the vector build with the portable one (the same
+//! bits):
+//!
+//! ```text
+//! cargo run --release -p stillpoint-sequences --example owen_scramble_time
+//! STILLPOINT_PORTABLE=1 cargo run --release -p stillpoint-sequences --example owen_scramble_time
+//! ```
+
+use std::time::Instant;
+
+fn main() {
+    let cases = [
+        (0usize, 32usize, 8usize),
+        (0, 128, 5),
+        (128, 128, 5),
+        (1024, 1024, 5),
+        (0, 512, 32),
+        (0, 65_536, 8),
+    ];
+    for (start, n, s) in cases {
+        // Enough repetitions for about 10⁸ coordinates' worth of work per case.
+        let reps = (100_000_000 / (n * s)).clamp(5, 20_000);
+        let t = Instant::now();
+        for seed in 0..reps as u64 {
+            let p = stillpoint_sequences::sobol_scrambled_range(start, start + n, s, seed)
+                .expect("a valid range");
+            std::hint::black_box(p);
+        }
+        let per = t.elapsed().as_secs_f64() / reps as f64;
+        println!(
+            "points {start}..{} in {s} dimensions: {:.3} ms, {:.1} ns a coordinate",
+            start + n,
+            per * 1e3,
+            per * 1e9 / (n * s) as f64
+        );
+    }
+}
