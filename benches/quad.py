@@ -313,7 +313,7 @@ def measure(method, cells, runs, cell_seconds, out):
         save(path, d)
         ok = np.mean([r["ok"] for r in rows])
         med = np.median([r["calls_n"] for r in rows])
-    print(f"{method:17s} {family:12s} s={str(s):>2s} tol={tol:g}: reliability {ok:.2f}, "
+        print(f"{method:17s} {family:12s} s={str(s):>2s} tol={tol:g}: reliability {ok:.2f}, "
               f"median n {med:.0f}, runs {len(rows)}, {cell['seconds']:.1f} s", flush=True)
 
 

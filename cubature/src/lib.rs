@@ -1395,8 +1395,32 @@ pub fn check_space(space: &DesignSpace, option: &str) -> Result<(), Error> {
 pub fn space_values(space: &DesignSpace, unit: &PointSet) -> Result<PointSet, Error> {
     let below_one = 1.0 - f64::EPSILON / 2.0;
     let data = unit.as_slice().iter().map(|x| x.min(below_one)).collect();
-    let inside = PointSet::new(unit.n(), unit.s(), data)?;
-    stillpoint_design::mapped(space, &inside)?.numbers()
+    space_numbers(space, &PointSet::new(unit.n(), unit.s(), data)?)
+}
+
+/// The values of `space` at points of the unit cube as they are (a coordinate of 1
+/// reaches an unbounded law's infinite end): [`stillpoint_design::mapped`]'s numbers,
+/// with a large batch mapped in blocks of rows on the thread pool. Each point's values
+/// depend on that point alone (the copula, a path and the quantiles are maps of one
+/// point), so the blocks give the same values, and the quantiles are most of the time
+/// an integration under laws spends outside f.
+pub fn space_numbers(space: &DesignSpace, unit: &PointSet) -> Result<PointSet, Error> {
+    let s = unit.s();
+    let map = |rows: &[f64]| -> Result<Vec<f64>, Error> {
+        let block = PointSet::new(rows.len() / s, s, rows.to_vec())?;
+        Ok(stillpoint_design::mapped(space, &block)?.numbers()?.into_vec())
+    };
+    if unit.n() * s < PARALLEL_WORK {
+        return stillpoint_design::mapped(space, unit)?.numbers();
+    }
+    use rayon::prelude::*;
+    let rows = (PARALLEL_WORK / s).max(1);
+    let blocks: Vec<Vec<f64>> = unit
+        .as_slice()
+        .par_chunks(rows * s)
+        .map(map)
+        .collect::<Result<_, _>>()?;
+    PointSet::new(unit.n(), s, blocks.concat())
 }
 
 /// The mean of independent unbiased estimates (randomised point sets, replicates), its
@@ -2496,6 +2520,32 @@ mod tests {
         assert!(v.as_slice()[0].is_finite() && v.as_slice()[0] > 8.0);
         assert_eq!(v.as_slice()[1], 3.0);
         assert_eq!(&v.as_slice()[2..], &[0.0, 1.0]);
+    }
+
+    #[test]
+    fn a_large_batch_maps_point_by_point() {
+        // Blocks on the thread pool give each point the values it has alone: correlated
+        // laws, a path, an integer and levels, with n·s well above the parallel threshold.
+        let texts = [
+            "x=lognormal(0,1)",
+            "W=brownian(1,4,pca)",
+            "y=normal(2,3)",
+            "k=int(1,3)",
+            "c={a,b}",
+        ];
+        let mut space = DesignSpace::parse("space", &texts).unwrap();
+        let matrix = vec![1.0, 0.6, 0.6, 1.0];
+        space.correlate("correlation", "x-y 0.6", matrix).unwrap();
+        let (n, s) = (5_003, space.dim());
+        assert!(n * s > PARALLEL_WORK);
+        let unit = stillpoint_sequences::sobol_scrambled(n, s, 3).unwrap();
+        let all = space_values(&space, &unit).unwrap();
+        for i in [0, 1, 2_047, 2_048, 4_999, n - 1] {
+            let one = PointSet::new(1, s, unit.point(i).to_vec()).unwrap();
+            let alone = space_values(&space, &one).unwrap();
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(all.point(i)), bits(alone.as_slice()), "point {i}");
+        }
     }
 
     /// Drives `state` with f, keeping each replicate's values in the order of its points

@@ -480,7 +480,7 @@ pub fn space_values(space: &DesignSpace, unit: &PointSet) -> Result<PointSet, Er
             space.dim()
         )));
     }
-    super::measure::mapped(space, unit)?.numbers()
+    crate::cubature::space_numbers(space, unit)
 }
 
 /// The points of `generate`'s run, its stages shown on standard error when `progress`
