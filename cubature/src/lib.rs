@@ -230,20 +230,51 @@ impl Rule {
     /// Owen-scrambled net in natural order from its own range. `key` separates the
     /// scrambles of different users of one seed (quad's, the Sobol' indices').
     pub(crate) fn fill(self, s: usize, seed: u64, key: u64, rep: u64, start: u64, out: &mut [f64]) {
-        let m = out.len() / s;
+        self.fill_replicates(s, seed, key, rep as usize..rep as usize + 1, start, out);
+    }
+
+    /// Points `start..start + m` of each replicate of `reps` into `out`, one replicate's
+    /// m·s values after another, as [`Rule::fill`] gives each: the scrambles of the net
+    /// made together (they share the net and half of each hash), the lattices' shifts on
+    /// the thread pool when the batch is large enough to pay for waking it.
+    pub(crate) fn fill_replicates(
+        self,
+        s: usize,
+        seed: u64,
+        key: u64,
+        reps: std::ops::Range<usize>,
+        start: u64,
+        out: &mut [f64],
+    ) {
+        let m = out.len() / (s * reps.len());
         match self {
             Rule::TentLattice | Rule::Pilot => {
-                let seq = ExtensibleLattice::new(s, seed, rep).expect("s checked by the caller");
-                seq.fill(start, m, out)
-                    .expect("range checked by the caller");
+                let fill = |(rep, chunk): (usize, &mut [f64])| {
+                    let seq = ExtensibleLattice::new(s, seed, rep as u64)
+                        .expect("s checked by the caller");
+                    seq.fill(start, m, chunk)
+                        .expect("range checked by the caller");
+                };
+                if out.len() < PARALLEL_WORK {
+                    reps.zip(out.chunks_exact_mut(m * s)).for_each(fill);
+                } else {
+                    use rayon::prelude::*;
+                    reps.into_par_iter()
+                        .zip(out.par_chunks_exact_mut(m * s))
+                        .for_each(fill);
+                }
             }
             Rule::Sobol => {
-                use stillpoint_sequences::{hash2, mix64, sobol_scrambled_range};
-                let scramble = hash2(hash2(mix64(seed), key), rep);
+                use stillpoint_sequences::{hash2, mix64, sobol_scrambled_ranges};
+                let scrambles: Vec<u64> = reps
+                    .map(|rep| hash2(hash2(mix64(seed), key), rep as u64))
+                    .collect();
                 let start = start as usize;
-                let new = sobol_scrambled_range(start, start + m, s, scramble)
+                let sets = sobol_scrambled_ranges(start, start + m, s, &scrambles)
                     .expect("s and the range checked by the caller");
-                out.copy_from_slice(new.as_slice());
+                for (set, chunk) in sets.iter().zip(out.chunks_exact_mut(m * s)) {
+                    chunk.copy_from_slice(set.as_slice());
+                }
             }
         }
     }
@@ -700,24 +731,12 @@ impl Cubature {
         let (reps, start) = self.pending_replicates();
         let (r, m) = (reps.len(), self.pending as usize);
         let mut data = vec![0.0; r * m * self.d];
-        let this = &*self;
-        let fill = |(rep, chunk): (usize, &mut [f64])| {
-            this.fill_replicate(rep as u64, start, m, chunk);
-            for row in chunk.chunks_exact_mut(this.d) {
-                for ((x, a), w) in row.iter_mut().zip(&this.lower).zip(&this.width) {
-                    *x = a + w * *x;
-                }
+        let (seed, rule) = (self.options.seed, self.options.rule);
+        rule.fill_replicates(self.d, seed, SOBOL_KEY, reps, start, &mut data);
+        for row in data.chunks_exact_mut(self.d) {
+            for ((x, a), w) in row.iter_mut().zip(&self.lower).zip(&self.width) {
+                *x = a + w * *x;
             }
-        };
-        // Replicates are independent randomisations: filled on the thread pool when the
-        // batch is large enough to pay for waking it, with the same values either way.
-        if data.len() < PARALLEL_WORK {
-            reps.zip(data.chunks_exact_mut(m * self.d)).for_each(fill);
-        } else {
-            use rayon::prelude::*;
-            reps.into_par_iter()
-                .zip(data.par_chunks_exact_mut(m * self.d))
-                .for_each(fill);
         }
         Some(PointSet::new(r * m, self.d, data).expect("non-empty batch"))
     }
@@ -731,14 +750,6 @@ impl Cubature {
         } else {
             (0..r, self.per_replicate)
         }
-    }
-
-    /// Replicate `rep`'s points `start..start + m`, before the box's scaling, into `out`.
-    fn fill_replicate(&self, rep: u64, start: u64, m: usize, out: &mut [f64]) {
-        debug_assert_eq!(out.len(), m * self.d);
-        self.options
-            .rule
-            .fill(self.d, self.options.seed, SOBOL_KEY, rep, start, out);
     }
 
     /// Takes f's values at the batch of [`Cubature::next_points`]: rows × k values,
@@ -1408,7 +1419,9 @@ pub fn space_numbers(space: &DesignSpace, unit: &PointSet) -> Result<PointSet, E
     let s = unit.s();
     let map = |rows: &[f64]| -> Result<Vec<f64>, Error> {
         let block = PointSet::new(rows.len() / s, s, rows.to_vec())?;
-        Ok(stillpoint_design::mapped(space, &block)?.numbers()?.into_vec())
+        Ok(stillpoint_design::mapped(space, &block)?
+            .numbers()?
+            .into_vec())
     };
     if unit.n() * s < PARALLEL_WORK {
         return stillpoint_design::mapped(space, unit)?.numbers();

@@ -51,7 +51,8 @@ pub use law_lattice::{
 };
 pub use scrambled_halton::{halton_scrambled, HALTON_SCRAMBLED_MAX_S};
 pub use sobol_owen::{
-    sobol_plain, sobol_scrambled, sobol_scrambled_range, SOBOL_MAX_N, SOBOL_MAX_S,
+    sobol_plain, sobol_scrambled, sobol_scrambled_range, sobol_scrambled_ranges, SOBOL_MAX_N,
+    SOBOL_MAX_S,
 };
 
 pub use weighted_lattice::{weighted_criterion, weighted_lattice_generator, LatticeKernel};
@@ -157,7 +158,13 @@ pub fn mix64(mut z: u64) -> u64 {
 /// A keyed hash of one word: distinct `(key, x)` pairs give unrelated outputs. The golden
 /// ratio offset keeps x = 0 away from mix64's fixed point at 0.
 pub fn hash2(key: u64, x: u64) -> u64 {
-    mix64(key ^ mix64(x.wrapping_add(0x9e37_79b9_7f4a_7c15)))
+    mix64(key ^ hash2_inner(x))
+}
+
+/// The half of [`hash2`] that does not depend on the key: hash2(key, x) =
+/// mix64(key ^ hash2_inner(x)), so many keys hashing one x share it.
+pub(crate) fn hash2_inner(x: u64) -> u64 {
+    mix64(x.wrapping_add(0x9e37_79b9_7f4a_7c15))
 }
 
 /// A seeded generator for one labelled sub-stream (a dimension, a digit position, a

@@ -23,7 +23,7 @@ use rayon::prelude::*;
 use sobol::params::JoeKuoD6;
 use sobol::Sobol;
 
-use super::{check_shape, hash2, mix64};
+use super::{check_shape, hash2, hash2_inner, mix64};
 use crate::{Error, PointSet};
 
 /// Largest dimension the bundled Joe–Kuo D6 table covers.
@@ -198,29 +198,32 @@ impl TopFlips {
 /// register, so each level's hash runs on eight points at once.
 const LANES: usize = 8;
 
-/// Work (points × dimensions) below which a range is scrambled on the calling thread:
-/// waking the thread pool costs more than the hashes of a few thousand coordinates
-/// (`quad` asks for ranges of 32–1 024 points per replicate).
+/// Work (points × dimensions × scrambles) below which a range is scrambled on the
+/// calling thread: waking the thread pool costs more than the hashes of a few thousand
+/// coordinates (`quad` asks for ranges of 32–1 024 points per replicate).
 const PARALLEL_WORK: usize = 1 << 14;
 
-/// The scrambled values of one column of net values, as f64 in [0, 1): the values of
-/// [`owen_scramble`], bit for bit, eight points at a time where the processor has
-/// AVX-512 F and DQ (64-bit lane multiplies) or AVX2 (multiplies built from 32-bit ones,
-/// still 1.3–1.4× the scalar loop), one at a time elsewhere or when the environment
-/// variable `STILLPOINT_PORTABLE=1` (read once) asks for the portable build.
-fn scramble_column(ys: &[u32], dim_key: u64, top: &TopFlips) -> Vec<f64> {
-    let mut out = vec![0.0; ys.len()];
+/// The scrambles of one column of net values under several keys (one per scramble), as
+/// f64 in [0, 1): the values of [`owen_scramble`], bit for bit. A node's hash is
+/// hash2(key, node) = mix64(key ^ hash2_inner(node)), and the inner half is the same for
+/// every key, so it is computed once per point and level for all the keys. Eight
+/// points at a time where the processor has AVX-512 F and DQ (64-bit lane multiplies)
+/// or AVX2 (multiplies built from 32-bit ones, still 1.3–1.4× the scalar loop), one at a
+/// time elsewhere or when the environment variable `STILLPOINT_PORTABLE=1` (read once)
+/// asks for the portable build. `tops[r]` holds key r's first levels.
+fn scramble_column(ys: &[u32], keys: &[u64], tops: &[TopFlips]) -> Vec<Vec<f64>> {
+    let mut outs = vec![vec![0.0; ys.len()]; keys.len()];
     #[cfg(target_arch = "x86_64")]
     match vector_build() {
         // SAFETY: the processor has AVX-512 F and DQ (checked by `vector_build`).
-        VectorBuild::Avx512 => unsafe { scramble_lanes_avx512(ys, dim_key, top, &mut out) },
+        VectorBuild::Avx512 => unsafe { scramble_lanes_avx512(ys, keys, tops, &mut outs) },
         // SAFETY: the processor has AVX2 (checked by `vector_build`).
-        VectorBuild::Avx2 => unsafe { scramble_lanes_avx2(ys, dim_key, top, &mut out) },
-        VectorBuild::Portable => scramble_points(ys, dim_key, top, &mut out),
+        VectorBuild::Avx2 => unsafe { scramble_lanes_avx2(ys, keys, tops, &mut outs) },
+        VectorBuild::Portable => scramble_points(ys, keys, tops, &mut outs),
     }
     #[cfg(not(target_arch = "x86_64"))]
-    scramble_points(ys, dim_key, top, &mut out);
-    out
+    scramble_points(ys, keys, tops, &mut outs);
+    outs
 }
 
 /// The builds of [`scramble_column`].
@@ -253,59 +256,83 @@ fn vector_build() -> VectorBuild {
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq")]
-unsafe fn scramble_lanes_avx512(ys: &[u32], dim_key: u64, top: &TopFlips, out: &mut [f64]) {
-    scramble_lanes(ys, dim_key, top, out)
+unsafe fn scramble_lanes_avx512(
+    ys: &[u32],
+    keys: &[u64],
+    tops: &[TopFlips],
+    outs: &mut [Vec<f64>],
+) {
+    scramble_lanes(ys, keys, tops, outs)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn scramble_lanes_avx2(ys: &[u32], dim_key: u64, top: &TopFlips, out: &mut [f64]) {
-    scramble_lanes(ys, dim_key, top, out)
+unsafe fn scramble_lanes_avx2(ys: &[u32], keys: &[u64], tops: &[TopFlips], outs: &mut [Vec<f64>]) {
+    scramble_lanes(ys, keys, tops, outs)
 }
 
 /// [`owen_scramble`] point by point: without vector multiplies the compiler's lanes are
 /// no faster than this loop.
-fn scramble_points(ys: &[u32], dim_key: u64, top: &TopFlips, out: &mut [f64]) {
+fn scramble_points(ys: &[u32], keys: &[u64], tops: &[TopFlips], outs: &mut [Vec<f64>]) {
     let scale = (-53f64).exp2();
-    for (o, &y) in out.iter_mut().zip(ys) {
-        *o = owen_scramble(y, dim_key, top) as f64 * scale;
+    for ((&key, top), out) in keys.iter().zip(tops).zip(outs.iter_mut()) {
+        for (o, &y) in out.iter_mut().zip(ys) {
+            *o = owen_scramble(y, key, top) as f64 * scale;
+        }
     }
 }
 
 /// [`owen_scramble`] over whole blocks of [`LANES`] points, written lane by lane so that
-/// the compiler keeps each level's hashes in one vector; the points after the last whole
-/// block one by one.
+/// the compiler keeps each level's hashes in one vector, each point's inner hashes
+/// shared by the keys; the points after the last whole block one by one.
 #[inline(always)]
-fn scramble_lanes(ys: &[u32], dim_key: u64, top: &TopFlips, out: &mut [f64]) {
+fn scramble_lanes(ys: &[u32], keys: &[u64], tops: &[TopFlips], outs: &mut [Vec<f64>]) {
     let scale = (-53f64).exp2();
-    let below_top = !(u64::from(u32::MAX) >> top.levels) & 0xffff_ffff;
     let whole = ys.len() / LANES * LANES;
-    for (yc, oc) in ys[..whole]
-        .chunks_exact(LANES)
-        .zip(out[..whole].chunks_exact_mut(LANES))
-    {
+    let mut bits = vec![[0u64; LANES]; keys.len()];
+    for (block, yc) in ys[..whole].chunks_exact(LANES).enumerate() {
         let mut y = [0u64; LANES];
-        let mut bits = [0u64; LANES];
         for k in 0..LANES {
             y[k] = u64::from(yc[k]);
-            bits[k] = (y[k] ^ top.mask(y[k])) & below_top;
         }
-        for level in top.levels + 1..=BITS {
-            let lead = 1u64 << (level - 1);
-            let shift = BITS - level;
+        for (b, top) in bits.iter_mut().zip(tops) {
+            let below_top = !(u64::from(u32::MAX) >> top.levels) & 0xffff_ffff;
             for k in 0..LANES {
-                let node = lead | (y[k] >> (shift + 1));
-                let flip = hash2(dim_key, node) >> 63;
-                bits[k] |= (((y[k] >> shift) & 1) ^ flip) << shift;
+                b[k] = (y[k] ^ top.mask(y[k])) & below_top;
             }
         }
+        // Every key's table has the same depth: it depends on the count alone.
+        for level in tops[0].levels + 1..=BITS {
+            let lead = 1u64 << (level - 1);
+            let shift = BITS - level;
+            let mut inner = [0u64; LANES];
+            let mut digit = [0u64; LANES];
+            for k in 0..LANES {
+                inner[k] = hash2_inner(lead | (y[k] >> (shift + 1)));
+                digit[k] = (y[k] >> shift) & 1;
+            }
+            for (b, &key) in bits.iter_mut().zip(keys) {
+                for k in 0..LANES {
+                    b[k] |= (digit[k] ^ (mix64(key ^ inner[k]) >> 63)) << shift;
+                }
+            }
+        }
+        let mut inner = [0u64; LANES];
         for k in 0..LANES {
-            let tail = hash2(dim_key, (1u64 << BITS) | y[k]) >> (64 - 21);
-            oc[k] = ((bits[k] << 21) | tail) as f64 * scale;
+            inner[k] = hash2_inner((1u64 << BITS) | y[k]);
+        }
+        for ((b, &key), out) in bits.iter().zip(keys).zip(outs.iter_mut()) {
+            let oc = &mut out[block * LANES..(block + 1) * LANES];
+            for k in 0..LANES {
+                let tail = mix64(key ^ inner[k]) >> (64 - 21);
+                oc[k] = ((b[k] << 21) | tail) as f64 * scale;
+            }
         }
     }
-    for (o, &y) in out[whole..].iter_mut().zip(&ys[whole..]) {
-        *o = owen_scramble(y, dim_key, top) as f64 * scale;
+    for ((&key, top), out) in keys.iter().zip(tops).zip(outs.iter_mut()) {
+        for (o, &y) in out[whole..].iter_mut().zip(&ys[whole..]) {
+            *o = owen_scramble(y, key, top) as f64 * scale;
+        }
     }
 }
 
@@ -335,6 +362,24 @@ pub fn sobol_scrambled_range(
     s: usize,
     seed: u64,
 ) -> Result<PointSet, Error> {
+    let mut sets = sobol_scrambled_ranges(start, end, s, &[seed])?;
+    Ok(sets.pop().expect("one set per seed"))
+}
+
+/// The points with indices start..end of several scrambles of the sequence of
+/// [`sobol_scrambled`], one per seed: set r is bit for bit
+/// `sobol_scrambled_range(start, end, s, seeds[r])`. The scrambles share the net's values
+/// and the key-free half of each node's hash, so R of them cost about (R + 1)/2R of R
+/// separate calls (the replicates of an integration are R scrambles of one range).
+///
+/// Refuses end ≤ start (naming `start`), end > 2^32 (naming `n`), s = 0 or s > 21 201
+/// (naming `s`) and no seeds (naming `seeds`).
+pub fn sobol_scrambled_ranges(
+    start: usize,
+    end: usize,
+    s: usize,
+    seeds: &[u64],
+) -> Result<Vec<PointSet>, Error> {
     check_sobol_shape(end, s)?;
     if start >= end {
         return Err(Error::invalid(
@@ -343,20 +388,41 @@ pub fn sobol_scrambled_range(
             format!("an index below the end of the range, {end}"),
         ));
     }
+    if seeds.is_empty() {
+        return Err(Error::invalid("seeds", "none", "one seed or more"));
+    }
     let dirs = direction_numbers(s);
     // A label of its own keeps these bits unrelated to other generators fed the same seed.
-    let seed_key = hash2(mix64(seed), SOBOL_LABEL);
+    let seed_keys: Vec<u64> = seeds
+        .iter()
+        .map(|&seed| hash2(mix64(seed), SOBOL_LABEL))
+        .collect();
     let column = |(j, v): (usize, &Vec<u32>)| {
-        let dim_key = hash2(seed_key, j as u64);
-        let top = TopFlips::new(dim_key, end - start);
-        scramble_column(&net_column(start, end, v), dim_key, &top)
+        let keys: Vec<u64> = seed_keys.iter().map(|&k| hash2(k, j as u64)).collect();
+        let tops: Vec<TopFlips> = keys
+            .iter()
+            .map(|&k| TopFlips::new(k, end - start))
+            .collect();
+        scramble_column(&net_column(start, end, v), &keys, &tops)
     };
-    let columns: Vec<Vec<f64>> = if (end - start) * s < PARALLEL_WORK {
+    // columns[j][r]: dimension j of scramble r.
+    let columns: Vec<Vec<Vec<f64>>> = if (end - start) * s * seeds.len() < PARALLEL_WORK {
         dirs.iter().enumerate().map(column).collect()
     } else {
         dirs.par_iter().enumerate().map(column).collect()
     };
-    PointSet::new(end - start, s, rows_from_columns(end - start, &columns))
+    let n = end - start;
+    (0..seeds.len())
+        .map(|r| {
+            let mut data = vec![0.0; n * s];
+            for (j, per_seed) in columns.iter().enumerate() {
+                for (i, &x) in per_seed[r].iter().enumerate() {
+                    data[i * s + j] = x;
+                }
+            }
+            PointSet::new(n, s, data)
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -439,29 +505,59 @@ mod tests {
     #[test]
     fn the_column_builds_give_the_scramble_of_each_point() {
         // Lengths around a whole number of lanes, so both the blocks and the points after
-        // the last block are checked; the machine's own build and the lanes body
-        // compiled without a target feature.
+        // the last block are checked; one key and several sharing their inner hashes; the
+        // machine's own build and each body compiled without a target feature.
         let dirs = direction_numbers(3);
         let scale = (-53f64).exp2();
-        for len in [1, 7, 8, 9, 1003] {
-            let ys = net_column(5, 5 + len, &dirs[2]);
-            let top = TopFlips::new(7, len);
-            let want: Vec<u64> = ys
-                .iter()
-                .map(|&y| (owen_by_levels(y, 7) as f64 * scale).to_bits())
-                .collect();
-            let built: Vec<u64> = scramble_column(&ys, 7, &top)
-                .iter()
-                .map(|x| x.to_bits())
-                .collect();
-            assert_eq!(built, want, "length {len}");
-            for body in [scramble_lanes, scramble_points] {
-                let mut got = vec![0.0; len];
-                body(&ys, 7, &top, &mut got);
-                let got: Vec<u64> = got.iter().map(|x| x.to_bits()).collect();
-                assert_eq!(got, want, "length {len}, a build's body");
+        for keys in [vec![7u64], vec![7, 8, 123_456_789, u64::MAX]] {
+            for len in [1, 7, 8, 9, 1003] {
+                let ys = net_column(5, 5 + len, &dirs[2]);
+                let tops: Vec<TopFlips> = keys.iter().map(|&k| TopFlips::new(k, len)).collect();
+                let want: Vec<Vec<u64>> = keys
+                    .iter()
+                    .map(|&k| {
+                        ys.iter()
+                            .map(|&y| (owen_by_levels(y, k) as f64 * scale).to_bits())
+                            .collect()
+                    })
+                    .collect();
+                let bits = |outs: &[Vec<f64>]| -> Vec<Vec<u64>> {
+                    outs.iter()
+                        .map(|o| o.iter().map(|x| x.to_bits()).collect())
+                        .collect()
+                };
+                let built = scramble_column(&ys, &keys, &tops);
+                assert_eq!(bits(&built), want, "length {len}, {} keys", keys.len());
+                for body in [scramble_lanes, scramble_points] {
+                    let mut got = vec![vec![0.0; len]; keys.len()];
+                    body(&ys, &keys, &tops, &mut got);
+                    assert_eq!(bits(&got), want, "length {len}, a build's body");
+                }
             }
         }
+    }
+
+    #[test]
+    fn several_scrambles_of_a_range_are_each_seed_s_own() {
+        let seeds = [3u64, 4, 99];
+        // Small (one thread) and large (the thread pool) ranges.
+        for (start, end, s) in [(0, 40, 3), (64, 128, 2), (1_000, 4_000, 5)] {
+            let sets = sobol_scrambled_ranges(start, end, s, &seeds).unwrap();
+            assert_eq!(sets.len(), seeds.len());
+            for (set, &seed) in sets.iter().zip(&seeds) {
+                let alone = sobol_scrambled(end, s, seed).unwrap();
+                let want: Vec<u64> = alone.as_slice()[start * s..end * s]
+                    .iter()
+                    .map(|x| x.to_bits())
+                    .collect();
+                let got: Vec<u64> = set.as_slice().iter().map(|x| x.to_bits()).collect();
+                assert_eq!(got, want, "rows {start}..{end}, seed {seed}");
+            }
+        }
+        let e = sobol_scrambled_ranges(0, 4, 2, &[])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("seeds"), "{e}");
     }
 
     #[test]
