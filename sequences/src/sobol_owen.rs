@@ -97,13 +97,20 @@ fn net_column(start: usize, end: usize, v: &[u32]) -> Vec<u32> {
     y
 }
 
-/// Lays columns (one Vec per dimension) out row by row.
-fn rows_from_columns(n: usize, columns: &[Vec<f64>]) -> Vec<f64> {
+/// Lays columns (one slice per dimension) out row by row.
+fn rows_from_columns<C: AsRef<[f64]>>(n: usize, columns: &[C]) -> Vec<f64> {
     let s = columns.len();
     let mut data = vec![0.0; n * s];
-    for (j, col) in columns.iter().enumerate() {
-        for (i, &x) in col.iter().enumerate() {
-            data[i * s + j] = x;
+    // A block of rows at a time, so that the rows written stay in cache while every
+    // column fills its place in them (one column at a time over all n rows writes a
+    // different cache line for each value once n·s values outgrow the cache).
+    const ROWS: usize = 64;
+    for (b, block) in data.chunks_mut(ROWS * s).enumerate() {
+        for (j, col) in columns.iter().enumerate() {
+            let col = &col.as_ref()[b * ROWS..];
+            for (row, &x) in block.chunks_exact_mut(s).zip(col) {
+                row[j] = x;
+            }
         }
     }
     data
@@ -414,13 +421,8 @@ pub fn sobol_scrambled_ranges(
     let n = end - start;
     (0..seeds.len())
         .map(|r| {
-            let mut data = vec![0.0; n * s];
-            for (j, per_seed) in columns.iter().enumerate() {
-                for (i, &x) in per_seed[r].iter().enumerate() {
-                    data[i * s + j] = x;
-                }
-            }
-            PointSet::new(n, s, data)
+            let columns: Vec<&[f64]> = columns.iter().map(|c| &c[r][..]).collect();
+            PointSet::new(n, s, rows_from_columns(n, &columns))
         })
         .collect()
 }
