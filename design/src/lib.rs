@@ -545,14 +545,11 @@ impl Design {
             .iter()
             .enumerate()
             .map(|(j, v)| match &v.kind {
-                Kind::Continuous(m) => Column::Real(
-                    scores
-                        .next()
-                        .unwrap_or_default()
-                        .into_iter()
-                        .map(|u| m.ppf(u))
-                        .collect(),
-                ),
+                Kind::Continuous(m) => {
+                    let mut column = scores.next().unwrap_or_default();
+                    m.ppf_in_place(&mut column);
+                    Column::Real(column)
+                }
                 Kind::Path { path, step, .. } => {
                     let w = &paths[path_at];
                     if step + 1 == path.m {
