@@ -474,33 +474,24 @@ def time_outside_lines(data, order, stats):
     lines = []
     for what, keep in [("all cells", lambda f: True),
                        ("the model families", lambda f: f in MODEL_FAMILIES)]:
-        out = []
-        for m in [m for m in data if m.startswith("qmcpy")]:
-            ratios = []
-            for k in order:
-                a, b = stats("stillpoint", k), stats(m, k)
-                if keep(k.split("|")[0]) and a and b and b["out"] > 0:
-                    ratios.append(a["out"] / b["out"])
-            if ratios:
-                out.append(f"{m} {np.median(ratios):.2g} ({len(ratios)} cells)")
-        if out:
-            lines += [f"Time outside f over {what}, the median over the cells of "
-                      "stillpoint's median over the reference's (the claim: ≤ 1): "
-                      + "; ".join(out) + ".", ""]
-        out = []
-        for m in [m for m in data if m.startswith("qmcpy")]:
-            ratios = []
-            for k in order:
-                a, b = stats("stillpoint", k), stats(m, k)
-                if (keep(k.split("|")[0]) and a and b and a["out_model"] is not None
-                        and b["out_model"] is not None and b["out_model"] > 0):
-                    ratios.append(a["out_model"] / b["out_model"])
-            if ratios:
-                out.append(f"{m} {np.median(ratios):.2g} ({len(ratios)} cells)")
-        if out:
-            lines += [f"Time outside the model itself over {what} (the map through the "
-                      "laws counted as every method's work), the same median: "
-                      + "; ".join(out) + ".", ""]
+        for field, said in [
+                ("out", f"Time outside f over {what}, the median over the cells of "
+                        "stillpoint's median over the reference's (the claim: ≤ 1): "),
+                ("out_model", f"Time outside the model itself over {what} (the map "
+                              "through the laws counted as every method's work), the "
+                              "same median: ")]:
+            out = []
+            for m in [m for m in data if m.startswith("qmcpy")]:
+                ratios = []
+                for k in order:
+                    a, b = stats("stillpoint", k), stats(m, k)
+                    if (keep(k.split("|")[0]) and a and b and a[field] is not None
+                            and b[field] is not None and b[field] > 0):
+                        ratios.append(a[field] / b[field])
+                if ratios:
+                    out.append(f"{m} {np.median(ratios):.2g} ({len(ratios)} cells)")
+            if out:
+                lines += [said + "; ".join(out) + ".", ""]
     return lines
 
 
