@@ -2561,6 +2561,49 @@ mod tests {
         }
     }
 
+    #[test]
+    fn a_run_under_laws_does_not_depend_on_the_threads() {
+        // Batches past the parallel threshold (four replicates of up to 4 096 points in
+        // 11 dimensions): the replicates' scrambles and the map through the laws run on
+        // the pool, and every value and the result keep their bits on one thread.
+        let texts = [
+            "x=lognormal(0,1)",
+            "W=brownian(1,8,pca)",
+            "y=normal(2,3)",
+            "k=int(1,3)",
+        ];
+        let space = DesignSpace::parse("space", &texts).unwrap();
+        let run = || {
+            let mut seen: Vec<u64> = Vec::new();
+            let f = |p: &PointSet| -> Vec<f64> {
+                let x = space_values(&space, p).unwrap();
+                seen.extend(x.as_slice().iter().map(|v| v.to_bits()));
+                x.rows().map(|r| r.iter().sum::<f64>().cos()).collect()
+            };
+            let options = QuadOptions {
+                rule: Rule::Sobol,
+                rel_tol: 0.0,
+                abs_tol: 0.0,
+                max_n: 1 << 15,
+                seed: 5,
+                ..QuadOptions::default()
+            };
+            let r = quad(f, space.dim(), options).unwrap();
+            let result = [r.estimate[0].to_bits(), r.half_width[0].to_bits(), r.n];
+            (seen, result)
+        };
+        let on = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(run)
+        };
+        let (one, two) = (on(1), on(2));
+        assert!(one.0.len() >= (1 << 15) * space.dim());
+        assert_eq!(one, two);
+    }
+
     /// Drives `state` with f, keeping each replicate's values in the order of its points
     /// (doubling batches extend every replicate, added ones start new replicates).
     fn drive(state: &mut Cubature, f: fn(&PointSet) -> Vec<f64>, rounds: usize) -> Vec<Vec<f64>> {
