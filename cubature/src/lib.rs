@@ -225,18 +225,13 @@ pub const GROW_MARGIN: f64 = 0.9;
 pub const PILOT_DISTANCE: f64 = 16.0;
 
 impl Rule {
-    /// Points `start..start + m` of replicate `rep` of the rule in `s` dimensions into
-    /// `out` (row-major, m·s values), computing only those: the lattice by its index, the
-    /// Owen-scrambled net in natural order from its own range. `key` separates the
+    /// Points `start..start + m` of each replicate of `reps` of the rule in `s`
+    /// dimensions into `out`, one replicate's m·s values (row-major) after another,
+    /// computing only those: the lattice by its index (each replicate's shift on the
+    /// thread pool when the batch is large enough to pay for waking it), the
+    /// Owen-scrambled net in natural order from its own range (the replicates' scrambles
+    /// made together: they share the net and half of each hash). `key` separates the
     /// scrambles of different users of one seed (quad's, the Sobol' indices').
-    pub(crate) fn fill(self, s: usize, seed: u64, key: u64, rep: u64, start: u64, out: &mut [f64]) {
-        self.fill_replicates(s, seed, key, rep as usize..rep as usize + 1, start, out);
-    }
-
-    /// Points `start..start + m` of each replicate of `reps` into `out`, one replicate's
-    /// m·s values after another, as [`Rule::fill`] gives each: the scrambles of the net
-    /// made together (they share the net and half of each hash), the lattices' shifts on
-    /// the thread pool when the batch is large enough to pay for waking it.
     pub(crate) fn fill_replicates(
         self,
         s: usize,

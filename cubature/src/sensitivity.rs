@@ -581,21 +581,7 @@ impl Sensitivity {
         let rows = d + 2;
         let mut raw = vec![0.0; r * m * 2 * d];
         match self.replicas {
-            Replicas::Independent => {
-                let this = &*self;
-                let fill =
-                    |(rep, u): (usize, &mut [f64])| this.fill(rep as u64, this.per_replicate, m, u);
-                // Independent randomisations: on the thread pool when the batch pays for
-                // waking it, with the same values either way.
-                if raw.len() < crate::PARALLEL_WORK {
-                    raw.chunks_exact_mut(m * 2 * d).enumerate().for_each(fill);
-                } else {
-                    use rayon::prelude::*;
-                    raw.par_chunks_exact_mut(m * 2 * d)
-                        .enumerate()
-                        .for_each(fill);
-                }
-            }
+            Replicas::Independent => self.fill_replicates(0..r, self.per_replicate, &mut raw),
             // The next R·m points of the one sequence: R new blocks of m, which merge
             // with the earlier R in pairs (see `accumulate`).
             Replicas::Blocks => self.fill(0, r as u64 * self.per_replicate, r * m, &mut raw),
@@ -631,18 +617,39 @@ impl Sensitivity {
     /// without the tent.
     fn fill(&self, rep: u64, start: u64, m: usize, out: &mut [f64]) {
         debug_assert_eq!(out.len(), m * 2 * self.d);
+        let rep = rep as usize;
+        self.fill_replicates(rep..rep + 1, start, out);
+    }
+
+    /// [`Sensitivity::fill`] for each randomisation of `reps`, one after another in
+    /// `out`: the rule's own replicates ([`Rule::fill_replicates`]: Sobol's scrambles
+    /// made together) unless a periodic input keeps the lattice without its tent, then
+    /// each randomisation by itself, on the thread pool when the batch pays for waking
+    /// it (the same values either way).
+    fn fill_replicates(&self, reps: std::ops::Range<usize>, start: u64, out: &mut [f64]) {
         let s = 2 * self.d;
+        let m = out.len() / (s * reps.len());
         let (seed, rule) = (self.options.seed, self.options.rule);
         if rule == Rule::Sobol || !self.periodic.contains(&true) {
-            rule.fill(s, seed, SOBOL_KEY, rep, start, out);
+            rule.fill_replicates(s, seed, SOBOL_KEY, reps, start, out);
             return;
         }
         let fold: Vec<bool> = (0..s)
             .map(|c| !self.periodic[self.layout.input_of(c, self.d)])
             .collect();
-        ExtensibleLattice::new(s, seed, rep)
-            .and_then(|seq| seq.fill_folding(start, m, &fold, out))
-            .expect("d and the range checked by new");
+        let fill = |(rep, chunk): (usize, &mut [f64])| {
+            ExtensibleLattice::new(s, seed, rep as u64)
+                .and_then(|seq| seq.fill_folding(start, m, &fold, chunk))
+                .expect("d and the range checked by new");
+        };
+        if out.len() < crate::PARALLEL_WORK {
+            reps.zip(out.chunks_exact_mut(m * s)).for_each(fill);
+        } else {
+            use rayon::prelude::*;
+            reps.into_par_iter()
+                .zip(out.par_chunks_exact_mut(m * s))
+                .for_each(fill);
+        }
     }
 
     /// The face test's batch, scaled to the box: for each of [`FACE_POINTS`] points of
