@@ -211,6 +211,27 @@ pub const PILOT_SHARE: f64 = 0.7;
 /// coordinates.
 const PARALLEL_WORK: usize = 1 << 14;
 
+/// `fill(rep, chunk)` for each replicate of `reps` and its chunk of `out` (`chunk`
+/// values each, in order), on the thread pool when `out` holds [`PARALLEL_WORK`] values
+/// or more: each chunk is filled by itself, so the values are the same either way.
+pub(crate) fn fill_chunks(
+    reps: std::ops::Range<usize>,
+    out: &mut [f64],
+    chunk: usize,
+    fill: impl Fn(usize, &mut [f64]) + Sync,
+) {
+    if out.len() < PARALLEL_WORK {
+        for (rep, c) in reps.zip(out.chunks_exact_mut(chunk)) {
+            fill(rep, c);
+        }
+    } else {
+        use rayon::prelude::*;
+        reps.into_par_iter()
+            .zip(out.par_chunks_exact_mut(chunk))
+            .for_each(|(rep, c)| fill(rep, c));
+    }
+}
+
 /// Added replicates must be predicted to bring every half-width within this share of
 /// its target. The prediction rests on the spread of a few replicate means, and runs
 /// whose spread came out small by chance are the ones that add replicates and stop: at
@@ -244,20 +265,12 @@ impl Rule {
         let m = out.len() / (s * reps.len());
         match self {
             Rule::TentLattice | Rule::Pilot => {
-                let fill = |(rep, chunk): (usize, &mut [f64])| {
+                fill_chunks(reps, out, m * s, |rep, chunk| {
                     let seq = ExtensibleLattice::new(s, seed, rep as u64)
                         .expect("s checked by the caller");
                     seq.fill(start, m, chunk)
                         .expect("range checked by the caller");
-                };
-                if out.len() < PARALLEL_WORK {
-                    reps.zip(out.chunks_exact_mut(m * s)).for_each(fill);
-                } else {
-                    use rayon::prelude::*;
-                    reps.into_par_iter()
-                        .zip(out.par_chunks_exact_mut(m * s))
-                        .for_each(fill);
-                }
+                });
             }
             Rule::Sobol => {
                 use stillpoint_sequences::{hash2, mix64, sobol_scrambled_ranges};

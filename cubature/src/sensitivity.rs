@@ -624,8 +624,7 @@ impl Sensitivity {
     /// [`Sensitivity::fill`] for each randomisation of `reps`, one after another in
     /// `out`: the rule's own replicates ([`Rule::fill_replicates`]: Sobol's scrambles
     /// made together) unless a periodic input keeps the lattice without its tent, then
-    /// each randomisation by itself, on the thread pool when the batch pays for waking
-    /// it (the same values either way).
+    /// each randomisation by itself ([`crate::fill_chunks`]).
     fn fill_replicates(&self, reps: std::ops::Range<usize>, start: u64, out: &mut [f64]) {
         let s = 2 * self.d;
         let m = out.len() / (s * reps.len());
@@ -637,19 +636,11 @@ impl Sensitivity {
         let fold: Vec<bool> = (0..s)
             .map(|c| !self.periodic[self.layout.input_of(c, self.d)])
             .collect();
-        let fill = |(rep, chunk): (usize, &mut [f64])| {
+        crate::fill_chunks(reps, out, m * s, |rep, chunk| {
             ExtensibleLattice::new(s, seed, rep as u64)
                 .and_then(|seq| seq.fill_folding(start, m, &fold, chunk))
                 .expect("d and the range checked by new");
-        };
-        if out.len() < crate::PARALLEL_WORK {
-            reps.zip(out.chunks_exact_mut(m * s)).for_each(fill);
-        } else {
-            use rayon::prelude::*;
-            reps.into_par_iter()
-                .zip(out.par_chunks_exact_mut(m * s))
-                .for_each(fill);
-        }
+        });
     }
 
     /// The face test's batch, scaled to the box: for each of [`FACE_POINTS`] points of

@@ -3,6 +3,7 @@
 //! coordinate through these quantile functions.
 
 use crate::Error;
+use stillpoint_domains::{vector_build, VectorBuild};
 
 /// The smallest probability an unbounded distribution is evaluated at, 2⁻⁵³: a design
 /// point on the cube's face (u = 0) must map to a finite value, and 2⁻⁵³ is the gap
@@ -378,35 +379,18 @@ mod as241 {
 
 /// Φ⁻¹ of each value in place, as [`Marginal::normal_score`] gives it (NaN stays NaN):
 /// eight at a time on processors with AVX-512 F or AVX2 (the central region's
-/// polynomials in vectors, the tails one by one), one by one elsewhere or when the
-/// environment variable `STILLPOINT_PORTABLE=1` (read once) asks for the portable build.
+/// polynomials in vectors, the tails one by one), one by one elsewhere or when
+/// `STILLPOINT_PORTABLE=1` asks for the portable build ([`vector_build`]).
 fn normal_scores(us: &mut [f64]) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::sync::OnceLock;
-        static WIDE: OnceLock<u8> = OnceLock::new();
-        let wide = *WIDE.get_or_init(|| {
-            let portable =
-                std::env::var("STILLPOINT_PORTABLE").is_ok_and(|v| !v.is_empty() && v != "0");
-            if portable {
-                0
-            } else if is_x86_feature_detected!("avx512f") {
-                2
-            } else if is_x86_feature_detected!("avx2") {
-                1
-            } else {
-                0
-            }
-        });
-        match wide {
-            // SAFETY: the processor has AVX-512 F (checked above).
-            2 => return unsafe { normal_scores_avx512(us) },
-            // SAFETY: the processor has AVX2 (checked above).
-            1 => return unsafe { normal_scores_avx2(us) },
-            _ => {}
-        }
+    match vector_build() {
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: the processor has AVX-512 F (checked by `vector_build`).
+        VectorBuild::Avx512 => unsafe { normal_scores_avx512(us) },
+        #[cfg(target_arch = "x86_64")]
+        // SAFETY: the processor has AVX2 (checked by `vector_build`).
+        VectorBuild::Avx2 => unsafe { normal_scores_avx2(us) },
+        _ => us.iter_mut().for_each(|u| *u = Marginal::normal_score(*u)),
     }
-    us.iter_mut().for_each(|u| *u = Marginal::normal_score(*u));
 }
 
 #[cfg(target_arch = "x86_64")]

@@ -6,7 +6,8 @@
 //! ([`region`]), and closed-form shapes — ball, ellipsoid, box, simplex, polytope
 //! ([`shapes`]). [`Error`] and [`Result`] are the error type of the whole model; this is its
 //! lowest layer. [`halton::radical_inverse`] is the one Halton coordinate of the workspace
-//! and [`wrap_unit`] the one periodic wrap.
+//! and [`wrap_unit`] the one periodic wrap; [`vector_build`] decides, once, which vector
+//! build the kernels that have one run.
 //!
 //! The potential energies over these sets live in `stillpoint-energies`, which re-exports
 //! everything here.
@@ -20,7 +21,9 @@ mod pointset;
 mod projection;
 pub mod region;
 pub mod shapes;
+mod vector;
 
 pub use domain::{wrap_unit, Domain, PeriodicCube};
 pub use error::{Error, Result};
 pub use pointset::PointSet;
+pub use vector::{vector_build, VectorBuild};

@@ -25,6 +25,7 @@ use sobol::Sobol;
 
 use super::{check_shape, hash2, hash2_inner, mix64};
 use crate::{Error, PointSet};
+use stillpoint_domains::{vector_build, VectorBuild};
 
 /// Largest dimension the bundled Joe–Kuo D6 table covers.
 pub const SOBOL_MAX_S: usize = 21_201;
@@ -216,49 +217,20 @@ const PARALLEL_WORK: usize = 1 << 14;
 /// every key, so it is computed once per point and level for all the keys. Eight
 /// points at a time where the processor has AVX-512 F and DQ (64-bit lane multiplies)
 /// or AVX2 (multiplies built from 32-bit ones, still 1.3–1.4× the scalar loop), one at a
-/// time elsewhere or when the environment variable `STILLPOINT_PORTABLE=1` (read once)
-/// asks for the portable build. `tops[r]` holds key r's first levels.
+/// time elsewhere or when `STILLPOINT_PORTABLE=1` asks for the portable build
+/// ([`vector_build`]). `tops[r]` holds key r's first levels.
 fn scramble_column(ys: &[u32], keys: &[u64], tops: &[TopFlips]) -> Vec<Vec<f64>> {
     let mut outs = vec![vec![0.0; ys.len()]; keys.len()];
-    #[cfg(target_arch = "x86_64")]
     match vector_build() {
+        #[cfg(target_arch = "x86_64")]
         // SAFETY: the processor has AVX-512 F and DQ (checked by `vector_build`).
         VectorBuild::Avx512 => unsafe { scramble_lanes_avx512(ys, keys, tops, &mut outs) },
+        #[cfg(target_arch = "x86_64")]
         // SAFETY: the processor has AVX2 (checked by `vector_build`).
         VectorBuild::Avx2 => unsafe { scramble_lanes_avx2(ys, keys, tops, &mut outs) },
-        VectorBuild::Portable => scramble_points(ys, keys, tops, &mut outs),
+        _ => scramble_points(ys, keys, tops, &mut outs),
     }
-    #[cfg(not(target_arch = "x86_64"))]
-    scramble_points(ys, keys, tops, &mut outs);
     outs
-}
-
-/// The builds of [`scramble_column`].
-#[cfg(target_arch = "x86_64")]
-#[derive(Clone, Copy)]
-enum VectorBuild {
-    Avx512,
-    Avx2,
-    Portable,
-}
-
-/// The widest build of [`scramble_column`] the processor runs, decided once.
-#[cfg(target_arch = "x86_64")]
-fn vector_build() -> VectorBuild {
-    static BUILD: OnceLock<VectorBuild> = OnceLock::new();
-    *BUILD.get_or_init(|| {
-        let portable =
-            std::env::var("STILLPOINT_PORTABLE").is_ok_and(|v| !v.is_empty() && v != "0");
-        if portable {
-            VectorBuild::Portable
-        } else if is_x86_feature_detected!("avx512f") && is_x86_feature_detected!("avx512dq") {
-            VectorBuild::Avx512
-        } else if is_x86_feature_detected!("avx2") {
-            VectorBuild::Avx2
-        } else {
-            VectorBuild::Portable
-        }
-    })
 }
 
 #[cfg(target_arch = "x86_64")]
