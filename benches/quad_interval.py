@@ -212,9 +212,14 @@ def study(name, cases, run_case, summary):
     ap.add_argument("--first-seed", type=int, default=0,
                     help="seeds first-seed … (other seeds than the table's, to check a "
                     "choice made on it; written to <name>-from<first>-<n>.json)")
+    ap.add_argument("--tag", default="",
+                    help="a build measured beside the table's (written to "
+                    "<name>-<tag>-<n>.json; --markdown --tag TAG prints them)")
     args = ap.parse_args()
     if args.first_seed:
         name = f"{name}-from{args.first_seed}"
+    if args.tag:
+        name = f"{name}-{args.tag}"
     path = os.path.join(ROOT, "results", "quad", f"{name}-{args.n}.json")
     data = {}
     if os.path.exists(path):
@@ -236,9 +241,13 @@ def study_main(name, cases, run_case, summary, table):
     """The main of a fixed-n study: ``--markdown`` prints ``table(data, n)`` for every N
     in results/quad/<name>-<N>.json; otherwise [`study`] runs and its table is printed."""
     if "--markdown" in sys.argv:
+        if "--tag" in sys.argv:
+            name = f"{name}-{sys.argv[sys.argv.index('--tag') + 1]}"
         folder = os.path.join(ROOT, "results", "quad")
+        # <name>-<N>.json only: other builds' and seeds' files carry a tag before N.
         sizes = sorted(int(f[len(name) + 1:-5]) for f in os.listdir(folder)
-                       if f.startswith(f"{name}-") and f.endswith(".json"))
+                       if f.startswith(f"{name}-") and f.endswith(".json")
+                       and f[len(name) + 1:-5].isdigit())
         for n in sizes:
             with open(os.path.join(folder, f"{name}-{n}.json")) as fh:
                 print("\n".join(table(json.load(fh), n)) + "\n")

@@ -28,6 +28,7 @@ mod latin;
 mod lattices;
 mod law_lattice;
 mod scrambled_halton;
+mod sobol_linear;
 mod sobol_owen;
 mod weighted_lattice;
 
@@ -50,6 +51,7 @@ pub use law_lattice::{
     law_lattice_picked_or, picked_draw, set_probe_errors, LAW_WEIGHT, PICKED_DRAWS,
 };
 pub use scrambled_halton::{halton_scrambled, HALTON_SCRAMBLED_MAX_S};
+pub use sobol_linear::{sobol_lms, LinearScrambledSobol};
 pub use sobol_owen::{
     sobol_plain, sobol_scrambled, sobol_scrambled_range, sobol_scrambled_ranges, SOBOL_MAX_N,
     SOBOL_MAX_S,
@@ -122,8 +124,14 @@ pub(crate) fn check_shape(n: usize, s: usize) -> Result<(), Error> {
 const COPIES: usize = 8;
 
 /// The machine's memory in bytes (`MemTotal` of /proc/meminfo), or 16 GiB where it cannot
-/// be read.
+/// be read; read once per process, since every set's check asks for it and reading the
+/// file costs microseconds (a round of `quad` checks several sets).
 fn memory_bytes() -> u64 {
+    static TOTAL: std::sync::OnceLock<u64> = std::sync::OnceLock::new();
+    *TOTAL.get_or_init(read_memory_bytes)
+}
+
+fn read_memory_bytes() -> u64 {
     let total = std::fs::read_to_string("/proc/meminfo")
         .ok()
         .and_then(|text| {
