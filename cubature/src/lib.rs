@@ -11,8 +11,7 @@
 //! points, feed back f's values, read the estimate); [`quad`] runs it on a Rust closure.
 //!
 //! The rule ([`Rule`]): the extensible rank-1 lattice, shifted and tent-transformed
-//! ([`stillpoint_sequences::ExtensibleLattice`]), or Sobol' points under a random linear
-//! scramble and digital shift ([`stillpoint_sequences::LinearScrambledSobol`]), chosen from
+//! ([`stillpoint_sequences::ExtensibleLattice`]), or Owen-scrambled Sobol' points, chosen from
 //! the laws integrated against by [`Rule::for_space`] (Sobol' when a law is unbounded),
 //! or, asked for by name, by a pilot round ([`Rule::Pilot`]): when the lattice's first
 //! round is far from the tolerance, Sobol's first round is evaluated too and the rule
@@ -187,9 +186,8 @@ pub enum Rule {
     /// ([`ExtensibleLattice`]), one shift per replicate.
     #[default]
     TentLattice,
-    /// Sobol' points in natural order (each 2^m prefix a net) under a random linear
-    /// scramble and digital shift ([`stillpoint_sequences::LinearScrambledSobol`]: the
-    /// variance of Owen's nested scramble at one XOR per coordinate), one per replicate.
+    /// Sobol' points in natural order (each 2^m prefix a net) with Owen's nested
+    /// scrambling ([`stillpoint_sequences::sobol_scrambled`]), one scramble per replicate.
     Sobol,
     /// Chosen by a pilot round (by name only): the tent lattice's first round, then, when
     /// its interval is far from the tolerance, Sobol's first round too; Sobol' is kept when
@@ -252,8 +250,9 @@ impl Rule {
     /// dimensions into `out`, one replicate's m·s values (row-major) after another,
     /// computing only those: the lattice by its index (each replicate's shift on the
     /// thread pool when the batch is large enough to pay for waking it), the
-    /// scrambled net in natural order from its own range. `key` separates the scrambles
-    /// of different users of one seed (quad's, the Sobol' indices').
+    /// Owen-scrambled net in natural order from its own range (the replicates' scrambles
+    /// made together: they share the net and half of each hash). `key` separates the
+    /// scrambles of different users of one seed (quad's, the Sobol' indices').
     pub(crate) fn fill_replicates(
         self,
         s: usize,
@@ -274,13 +273,16 @@ impl Rule {
                 });
             }
             Rule::Sobol => {
-                use stillpoint_sequences::{hash2, mix64, LinearScrambledSobol};
-                let family = hash2(mix64(seed), key);
-                fill_chunks(reps, out, m * s, |rep, chunk| {
-                    LinearScrambledSobol::new(s, hash2(family, rep as u64))
-                        .and_then(|seq| seq.fill(start as usize, m, chunk))
-                        .expect("s and the range checked by the caller");
-                });
+                use stillpoint_sequences::{hash2, mix64, sobol_scrambled_ranges};
+                let scrambles: Vec<u64> = reps
+                    .map(|rep| hash2(hash2(mix64(seed), key), rep as u64))
+                    .collect();
+                let start = start as usize;
+                let sets = sobol_scrambled_ranges(start, start + m, s, &scrambles)
+                    .expect("s and the range checked by the caller");
+                for (set, chunk) in sets.iter().zip(out.chunks_exact_mut(m * s)) {
+                    chunk.copy_from_slice(set.as_slice());
+                }
             }
         }
     }
@@ -305,7 +307,7 @@ impl Rule {
             _ => Err(Error::invalid(
                 option,
                 format!("{name:?}"),
-                "lattice (the tent-transformed extensible lattice), sobol (scrambled \
+                "lattice (the tent-transformed extensible lattice), sobol (Owen-scrambled \
                  Sobol') or pilot (the one a first round of both shows narrower)",
             )),
         }
@@ -2466,7 +2468,7 @@ mod tests {
             stillpoint_sequences::hash2(stillpoint_sequences::mix64(0), SOBOL_KEY),
             1,
         );
-        let all = stillpoint_sequences::sobol_lms(128, 3, key).unwrap();
+        let all = stillpoint_sequences::sobol_scrambled(128, 3, key).unwrap();
         let rows = |p: &PointSet, from: usize| p.as_slice()[from * 3..(from + 64) * 3].to_vec();
         assert_eq!(rows(&first, 64), all.as_slice()[..64 * 3].to_vec());
         assert_eq!(rows(&second, 64), all.as_slice()[64 * 3..].to_vec());

@@ -5,7 +5,7 @@
 //!
 //! The design is pick-freeze on a randomised extensible rule in 2d dimensions (by
 //! default the tent-transformed lattice [`stillpoint_sequences::ExtensibleLattice`], or
-//! scrambled Sobol' points, [`Rule`]): point k of replicate r is u ∈ [0, 1)^{2d},
+//! Owen-scrambled Sobol' points, [`Rule`]): point k of replicate r is u ∈ [0, 1)^{2d},
 //! input i's A coordinate is u_{2i−1} and its B coordinate u_{2i} (neighbours among the
 //! rule's leading coordinates, whose projections are its best), and f is evaluated at A, at B and, for each input i, at AB_i (A with
 //! coordinate i taken from B): d + 2 evaluations per point. The points are the first N
@@ -65,7 +65,7 @@ use stillpoint_sequences::{ExtensibleLattice, EXTENSIBLE_MAX_D, EXTENSIBLE_MAX_P
 pub const REPLICATES: usize = 8;
 
 /// The rule by default: the tent lattice, whose error at equal evaluations was lower
-/// than scrambled Sobol' points' on five of seven models and which reaches a
+/// than Owen-scrambled Sobol' points' on five of seven models and which reaches a
 /// tolerance in up to 8× fewer evaluations on a G function with six equal inputs
 /// (results/sensitivity/design.md).
 pub const DEFAULT_RULE: Rule = Rule::TentLattice;
@@ -270,7 +270,7 @@ pub struct Sensitivity {
 /// How the R replicates the interval is computed from are drawn. As blocks, the points
 /// are the first N of one randomised sequence and replicate r is its r-th aligned block
 /// of N/R (for the lattice a randomly shifted copy of the N/R-point lattice, for
-/// scrambled Sobol' a scrambled net): each block is an unbiased rule, and the
+/// Owen-scrambled Sobol' a scrambled net): each block is an unbiased rule, and the
 /// estimate pools them into the one rule of N points, whose error on smooth models is
 /// far below that of R independent rules of N/R points pooled (at N = 1 024 base points:
 /// 17× lower on the linear model, 2× on the product, 1.3–1.6× on three G functions;
@@ -378,7 +378,7 @@ impl Sensitivity {
             .clone()
             .unwrap_or_else(|| (1..=d).map(|i| format!("x{i}")).collect());
         let width = lower.iter().zip(&upper).map(|(a, b)| b - a).collect();
-        // The face test decides the lattice's tent per input; scrambled Sobol' points (the
+        // The face test decides the lattice's tent per input; Owen-scrambled points (the
         // rule under unbounded laws, whose ends are infinite) have no tent to decide.
         let face_test = options.rule != Rule::Sobol;
         Ok(Sensitivity {

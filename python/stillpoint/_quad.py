@@ -80,8 +80,7 @@ class QuadResult(_Result):
     @property
     def rule(self) -> str:
         """The rule evaluated: ``"lattice"`` (the extensible lattice, shifted and
-        tent-transformed) or ``"sobol"`` (Sobol' under a random linear scramble and digital
-        shift), also when a pilot round
+        tent-transformed) or ``"sobol"`` (Owen-scrambled Sobol'), also when a pilot round
         chose it (``rule="pilot"``)."""
         return str(self._state.rule[0])
 

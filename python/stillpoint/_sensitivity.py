@@ -1,6 +1,6 @@
 """Sobol' sensitivity indices to a tolerance: :func:`sobol_indices` evaluates f on a
 pick-freeze design drawn from the extensible randomised lattice in 2d dimensions
-(scrambled Sobol' points under an unbounded law), doubling the points (never
+(Owen-scrambled Sobol' points under an unbounded law), doubling the points (never
 discarding an evaluation), the estimate from all of them and the interval from R blocks
 of them, until every index's interval is narrow enough; :class:`SobolResult` holds the indices, their
 half-widths and the state to continue from."""
@@ -145,7 +145,7 @@ def sobol_indices(
 
     The inputs are independent: uniform on the box [a, b] (the unit cube by default), or
     distributed as the variables of ``space``. For each point (A, B) of the extensible
-    randomised lattice in 2d dimensions (scrambled Sobol' points when a law of
+    randomised lattice in 2d dimensions (Owen-scrambled Sobol' points when a law of
     ``space`` is unbounded, as for :func:`quad`; each input's A and B coordinates
     neighbours), f is evaluated at A, at B and at each AB_i (A with input i taken from
     B): d + 2 evaluations per point. The points are the first N of one randomised

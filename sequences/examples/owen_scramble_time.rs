@@ -1,10 +1,7 @@
 //! Times Owen-scrambled Sobol' ranges of the sizes `quad` and the Sobol' indices ask
 //! for (a replicate's next 32–1 024 points) and of a whole set, in nanoseconds per
-//! coordinate, and four scrambles of one range made together (as the Sobol' indices'
-//! replicates are) against one at a time; beside each case the linear scramble plus
-//! digital shift of the same range (`LinearScrambledSobol`, what `quad`'s Sobol' rule
-//! uses), its scramble drawn and its points filled, and its time over the nested one's.
-//! Run it twice to compare the vector build with the portable one (the same
+//! coordinate, and four scrambles of one range made together (as `quad`'s four
+//! replicates are) against one at a time. Run it twice to compare the vector build with the portable one (the same
 //! bits):
 //!
 //! ```text
@@ -33,22 +30,11 @@ fn main() {
             std::hint::black_box(p);
         }
         let per = t.elapsed().as_secs_f64() / reps as f64;
-        let t = Instant::now();
-        let mut out = vec![0.0; n * s];
-        for seed in 0..reps as u64 {
-            let seq = stillpoint_sequences::LinearScrambledSobol::new(s, seed).expect("s valid");
-            seq.fill(start, n, &mut out).expect("a valid range");
-            std::hint::black_box(&out);
-        }
-        let linear = t.elapsed().as_secs_f64() / reps as f64;
         println!(
-            "points {start}..{} in {s} dimensions: nested {:.3} ms, {:.1} ns a coordinate; \
-             linear {:.1} ns a coordinate ({:.3}×)",
+            "points {start}..{} in {s} dimensions: {:.3} ms, {:.1} ns a coordinate",
             start + n,
             per * 1e3,
-            per * 1e9 / (n * s) as f64,
-            linear * 1e9 / (n * s) as f64,
-            linear / per
+            per * 1e9 / (n * s) as f64
         );
     }
     let (start, n, s) = (1024usize, 1024usize, 8usize);

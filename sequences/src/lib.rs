@@ -28,7 +28,6 @@ mod latin;
 mod lattices;
 mod law_lattice;
 mod scrambled_halton;
-mod sobol_linear;
 mod sobol_owen;
 mod weighted_lattice;
 
@@ -51,7 +50,6 @@ pub use law_lattice::{
     law_lattice_picked_or, picked_draw, set_probe_errors, LAW_WEIGHT, PICKED_DRAWS,
 };
 pub use scrambled_halton::{halton_scrambled, HALTON_SCRAMBLED_MAX_S};
-pub use sobol_linear::{sobol_lms, LinearScrambledSobol};
 pub use sobol_owen::{
     sobol_plain, sobol_scrambled, sobol_scrambled_range, sobol_scrambled_ranges, SOBOL_MAX_N,
     SOBOL_MAX_S,

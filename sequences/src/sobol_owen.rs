@@ -42,7 +42,7 @@ const BITS: u32 = 32;
 
 /// Direction numbers v_{j,1..32} for dimensions 1..=s, each left-aligned in a u32 so
 /// that bit 31 is the 1/2 digit.
-pub(super) fn direction_numbers(s: usize) -> Vec<Vec<u32>> {
+fn direction_numbers(s: usize) -> Vec<Vec<u32>> {
     // The crate ships three sizes of the same table; parsing the 21 201-dimension one
     // costs tens of milliseconds, so load the smallest that covers s, once per process.
     static MINIMAL: OnceLock<JoeKuoD6> = OnceLock::new();
@@ -58,7 +58,7 @@ pub(super) fn direction_numbers(s: usize) -> Vec<Vec<u32>> {
     Sobol::<u32>::init_direction_vals::<u32>(s, BITS as usize, params)
 }
 
-pub(super) fn check_sobol_shape(n: usize, s: usize) -> Result<(), Error> {
+fn check_sobol_shape(n: usize, s: usize) -> Result<(), Error> {
     // The generator's own limits first: they hold on any machine.
     if n > SOBOL_MAX_N {
         return Err(Error::invalid(
