@@ -187,7 +187,8 @@ pub enum Rule {
     #[default]
     TentLattice,
     /// Sobol' points in natural order (each 2^m prefix a net) with Owen's nested
-    /// scrambling ([`stillpoint_sequences::sobol_scrambled`]), one scramble per replicate.
+    /// scrambling ([`stillpoint_sequences::sobol_scrambled_short_ranges`] of a sequence of
+    /// at most 2^20 points), one scramble per replicate.
     Sobol,
     /// Chosen by a pilot round (by name only): the tent lattice's first round, then, when
     /// its interval is far from the tolerance, Sobol's first round too; Sobol' is kept when
@@ -273,12 +274,15 @@ impl Rule {
                 });
             }
             Rule::Sobol => {
-                use stillpoint_sequences::{hash2, mix64, sobol_scrambled_ranges};
+                use stillpoint_sequences::{hash2, mix64, sobol_scrambled_short_ranges};
                 let scrambles: Vec<u64> = reps
                     .map(|rep| hash2(hash2(mix64(seed), key), rep as u64))
                     .collect();
                 let start = start as usize;
-                let sets = sobol_scrambled_ranges(start, start + m, s, &scrambles)
+                // A replicate never passes 2^20 points, so the scramble's levels below 20
+                // come from one hash per point (the same law, fewer hashes).
+                let most = EXTENSIBLE_MAX_POINTS as usize;
+                let sets = sobol_scrambled_short_ranges(start, start + m, s, &scrambles, most)
                     .expect("s and the range checked by the caller");
                 for (set, chunk) in sets.iter().zip(out.chunks_exact_mut(m * s)) {
                     chunk.copy_from_slice(set.as_slice());
@@ -1594,8 +1598,33 @@ pub fn student_t_cdf(t: f64, nu: f64) -> f64 {
 /// (0, 1): [`student_t_cdf`] inverted by bisection to the last bits (a bracket found by
 /// doubling), which needs no approximation of its own.
 pub fn student_t_quantile(p: f64, nu: f64) -> f64 {
+    // Each round of a run asks for the same few quantiles (its level at R − 1 and at the
+    // replicate counts growth weighs) several times per output, and each costs tens of
+    // microseconds of continued fractions: the last ones asked on this thread are kept.
+    const KEPT: usize = 32;
+    thread_local! {
+        static KNOWN: std::cell::RefCell<Vec<((u64, u64), f64)>> =
+            const { std::cell::RefCell::new(Vec::new()) };
+    }
+    let key = (p.to_bits(), nu.to_bits());
+    if let Some(t) = KNOWN.with(|k| k.borrow().iter().find(|(q, _)| *q == key).map(|e| e.1)) {
+        return t;
+    }
+    let t = bisected_t_quantile(p, nu);
+    KNOWN.with(|k| {
+        let mut k = k.borrow_mut();
+        if k.len() == KEPT {
+            k.remove(0);
+        }
+        k.push((key, t));
+    });
+    t
+}
+
+/// [`student_t_quantile`] computed.
+fn bisected_t_quantile(p: f64, nu: f64) -> f64 {
     if p < 0.5 {
-        return -student_t_quantile(1.0 - p, nu);
+        return -bisected_t_quantile(1.0 - p, nu);
     }
     if p == 0.5 {
         return 0.0;
@@ -2468,7 +2497,15 @@ mod tests {
             stillpoint_sequences::hash2(stillpoint_sequences::mix64(0), SOBOL_KEY),
             1,
         );
-        let all = stillpoint_sequences::sobol_scrambled(128, 3, key).unwrap();
+        let all = stillpoint_sequences::sobol_scrambled_short_ranges(
+            0,
+            128,
+            3,
+            &[key],
+            EXTENSIBLE_MAX_POINTS as usize,
+        )
+        .unwrap()
+        .remove(0);
         let rows = |p: &PointSet, from: usize| p.as_slice()[from * 3..(from + 64) * 3].to_vec();
         assert_eq!(rows(&first, 64), all.as_slice()[..64 * 3].to_vec());
         assert_eq!(rows(&second, 64), all.as_slice()[64 * 3..].to_vec());

@@ -1,7 +1,10 @@
 //! Times Owen-scrambled Sobol' ranges of the sizes `quad` and the Sobol' indices ask
 //! for (a replicate's next 32–1 024 points) and of a whole set, in nanoseconds per
 //! coordinate, and four scrambles of one range made together (as `quad`'s four
-//! replicates are) against one at a time. Run it twice to compare the vector build with the portable one (the same
+//! replicates are) against one at a time. Beside each case the same range of a sequence
+//! never taken past 2^20 points (`sobol_scrambled_short_ranges`, what `quad` and the
+//! Sobol' indices scramble: the levels below 20 from one hash per point) and its time
+//! over the whole sequence's scramble. Run it twice to compare the vector build with the portable one (the same
 //! bits):
 //!
 //! ```text
@@ -30,11 +33,27 @@ fn main() {
             std::hint::black_box(p);
         }
         let per = t.elapsed().as_secs_f64() / reps as f64;
+        let t = Instant::now();
+        for seed in 0..reps as u64 {
+            let p = stillpoint_sequences::sobol_scrambled_short_ranges(
+                start,
+                start + n,
+                s,
+                &[seed],
+                1 << 20,
+            )
+            .expect("a valid range");
+            std::hint::black_box(p);
+        }
+        let short = t.elapsed().as_secs_f64() / reps as f64;
         println!(
-            "points {start}..{} in {s} dimensions: {:.3} ms, {:.1} ns a coordinate",
+            "points {start}..{} in {s} dimensions: {:.3} ms, {:.1} ns a coordinate; \
+             of a sequence of at most 2^20 points {:.1} ns ({:.2}×)",
             start + n,
             per * 1e3,
-            per * 1e9 / (n * s) as f64
+            per * 1e9 / (n * s) as f64,
+            short * 1e9 / (n * s) as f64,
+            short / per
         );
     }
     let (start, n, s) = (1024usize, 1024usize, 8usize);

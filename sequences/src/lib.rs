@@ -51,8 +51,8 @@ pub use law_lattice::{
 };
 pub use scrambled_halton::{halton_scrambled, HALTON_SCRAMBLED_MAX_S};
 pub use sobol_owen::{
-    sobol_plain, sobol_scrambled, sobol_scrambled_range, sobol_scrambled_ranges, SOBOL_MAX_N,
-    SOBOL_MAX_S,
+    sobol_plain, sobol_scrambled, sobol_scrambled_range, sobol_scrambled_ranges,
+    sobol_scrambled_short_ranges, SOBOL_MAX_N, SOBOL_MAX_S,
 };
 
 pub use weighted_lattice::{weighted_criterion, weighted_lattice_generator, LatticeKernel};

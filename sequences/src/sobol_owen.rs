@@ -147,15 +147,17 @@ pub fn sobol_plain(n: usize, s: usize) -> Result<PointSet, Error> {
 /// original first ℓ−1 bits), and the 21 bits below the net's resolution, which are all
 /// zero in the net, become hash bits of the whole 32-bit value, as nested scrambling of
 /// those zero digits implies. The flips of the first `top.levels` levels are read from
-/// `top`, the same hashes computed once per node instead of once per point.
+/// `top`, the same hashes computed once per node instead of once per point; the flips
+/// below `top.depth` are bits of the whole value's hash too ([`TopFlips::new`]).
 fn owen_scramble(y: u32, dim_key: u64, top: &TopFlips) -> u64 {
     let y = u64::from(y);
     let mut out = (y ^ top.mask(y)) & !(u64::from(u32::MAX) >> top.levels) & 0xffff_ffff;
-    for level in top.levels + 1..=BITS {
+    for level in top.levels + 1..=top.depth {
         out |= (((y >> (BITS - level)) & 1) ^ flip(dim_key, level, y)) << (BITS - level);
     }
-    let tail = hash2(dim_key, (1u64 << BITS) | y) >> (64 - 21);
-    (out << 21) | tail
+    let whole = hash2(dim_key, (1u64 << BITS) | y);
+    out |= (y ^ whole) & top.deep_mask();
+    (out << 21) | (whole >> (64 - 21))
 }
 
 /// The flip of bit `level` of net value y: a hash of the node (level, y's first
@@ -168,16 +170,24 @@ fn flip(dim_key: u64, level: u32, y: u64) -> u64 {
 
 /// The flips of the first `levels` levels of one dimension's scramble for every prefix,
 /// as masks over the top bits, indexed by the first levels − 1 bits: 2^levels − 1 hashes,
-/// worth it when more than 2^levels points are scrambled at once.
+/// worth it when more than 2^levels points are scrambled at once. `depth` is the last
+/// level flipped by a hash of its own node.
 struct TopFlips {
     levels: u32,
+    depth: u32,
     masks: Vec<u64>,
 }
 
 impl TopFlips {
-    /// The deepest table worth building for `count` points (at most 2^16 nodes).
-    fn new(dim_key: u64, count: usize) -> TopFlips {
-        let levels = count.max(1).ilog2().min(16);
+    /// The deepest table worth building for `count` points (at most 2^16 nodes), for a
+    /// scramble of a sequence's first 2^depth points at most. Below level `depth` every
+    /// node of the scramble's tree holds at most one of those points (the first 2^depth
+    /// points of each coordinate have distinct first `depth` digits), so its flips are
+    /// independent bits per point: they are taken from the hash of the whole value that
+    /// also gives the 21 bits below the net, the same law at fewer hashes. Depth 32 (the
+    /// whole sequence) hashes every level's node.
+    fn new(dim_key: u64, count: usize, depth: u32) -> TopFlips {
+        let levels = count.max(1).ilog2().min(16).min(depth);
         let mut masks = vec![0u64];
         for level in 1..=levels {
             // Level ℓ's nodes are the prefixes p of ℓ − 1 bits; a prefix's mask is its
@@ -189,7 +199,16 @@ impl TopFlips {
                 })
                 .collect();
         }
-        TopFlips { levels, masks }
+        TopFlips {
+            levels,
+            depth,
+            masks,
+        }
+    }
+
+    /// The net's bits below level `depth` (the flips taken from the whole value's hash).
+    fn deep_mask(&self) -> u64 {
+        (1u64 << (BITS - self.depth)) - 1
     }
 
     /// The flips of the first `levels` bits of y, in place.
@@ -280,8 +299,9 @@ fn scramble_lanes(ys: &[u32], keys: &[u64], tops: &[TopFlips], outs: &mut [Vec<f
                 b[k] = (y[k] ^ top.mask(y[k])) & below_top;
             }
         }
-        // Every key's table has the same depth: it depends on the count alone.
-        for level in tops[0].levels + 1..=BITS {
+        // Every key's table has the same levels and depth: they depend on the count and the
+        // sequence's length alone.
+        for level in tops[0].levels + 1..=tops[0].depth {
             let lead = 1u64 << (level - 1);
             let shift = BITS - level;
             let mut inner = [0u64; LANES];
@@ -300,11 +320,13 @@ fn scramble_lanes(ys: &[u32], keys: &[u64], tops: &[TopFlips], outs: &mut [Vec<f
         for k in 0..LANES {
             inner[k] = hash2_inner((1u64 << BITS) | y[k]);
         }
+        let deep = tops[0].deep_mask();
         for ((b, &key), out) in bits.iter().zip(keys).zip(outs.iter_mut()) {
             let oc = &mut out[block * LANES..(block + 1) * LANES];
             for k in 0..LANES {
-                let tail = mix64(key ^ inner[k]) >> (64 - 21);
-                oc[k] = ((b[k] << 21) | tail) as f64 * scale;
+                let whole = mix64(key ^ inner[k]);
+                let top = b[k] | ((y[k] ^ whole) & deep);
+                oc[k] = ((top << 21) | (whole >> (64 - 21))) as f64 * scale;
             }
         }
     }
@@ -359,7 +381,45 @@ pub fn sobol_scrambled_ranges(
     s: usize,
     seeds: &[u64],
 ) -> Result<Vec<PointSet>, Error> {
+    sobol_scrambled_short_ranges(start, end, s, seeds, SOBOL_MAX_N)
+}
+
+/// [`sobol_scrambled_ranges`] for sequences that are never taken past their first
+/// `max_points` points (a power of two up to 2^32): Owen's nested scramble with the same
+/// law for those points at fewer hashes. Among the first 2^k points of a Sobol'
+/// coordinate the first k digits are distinct, so every node of the scramble's tree
+/// below level k holds at most one of them and its flips are independent bits per point;
+/// they are drawn from the hash of the point's whole value, which already gives the 21
+/// bits below the net, instead of one hash per level (about 10 hashes a coordinate
+/// instead of 22 for `quad`'s batches, whose sequences stop at 2^20 points). With
+/// `max_points` = 2^32 the values are [`sobol_scrambled_ranges`]' bit for bit; with less,
+/// they differ from them below level k.
+///
+/// Refuses `max_points` not a power of two or above 2^32 (naming `max_points`), end above
+/// it (naming `end`), and what [`sobol_scrambled_ranges`] refuses.
+pub fn sobol_scrambled_short_ranges(
+    start: usize,
+    end: usize,
+    s: usize,
+    seeds: &[u64],
+    max_points: usize,
+) -> Result<Vec<PointSet>, Error> {
     check_sobol_shape(end, s)?;
+    if !max_points.is_power_of_two() || max_points > SOBOL_MAX_N {
+        return Err(Error::invalid(
+            "max_points",
+            max_points,
+            format!("a power of two up to {SOBOL_MAX_N} (2^32)"),
+        ));
+    }
+    if end > max_points {
+        return Err(Error::invalid(
+            "end",
+            end,
+            format!("at most max_points = {max_points}"),
+        ));
+    }
+    let depth = max_points.ilog2();
     if start >= end {
         return Err(Error::invalid(
             "start",
@@ -380,7 +440,7 @@ pub fn sobol_scrambled_ranges(
         let keys: Vec<u64> = seed_keys.iter().map(|&k| hash2(k, j as u64)).collect();
         let tops: Vec<TopFlips> = keys
             .iter()
-            .map(|&k| TopFlips::new(k, end - start))
+            .map(|&k| TopFlips::new(k, end - start, depth))
             .collect();
         scramble_column(&net_column(start, end, v), &keys, &tops)
     };
@@ -447,31 +507,41 @@ mod tests {
         }
     }
 
-    /// The scramble as defined, one hash per level and point.
-    fn owen_by_levels(y: u32, dim_key: u64) -> u64 {
+    /// The scramble as defined, one hash per level and point down to level `depth`, the
+    /// whole value's hash below it (its top 21 bits below the net, its low bits the flips
+    /// of the net's digits below `depth`).
+    fn owen_by_levels(y: u32, dim_key: u64, depth: u32) -> u64 {
         let y = u64::from(y);
+        let whole = hash2(dim_key, (1u64 << BITS) | y);
         let mut out = 0u64;
         for level in 1..=BITS {
             let node = (1u64 << (level - 1)) | (y >> (BITS - level + 1));
             let bit = (y >> (BITS - level)) & 1;
-            out |= (bit ^ (hash2(dim_key, node) >> 63)) << (BITS - level);
+            let flip = if level <= depth {
+                hash2(dim_key, node) >> 63
+            } else {
+                (whole >> (BITS - level)) & 1
+            };
+            out |= (bit ^ flip) << (BITS - level);
         }
-        (out << 21) | (hash2(dim_key, (1u64 << BITS) | y) >> (64 - 21))
+        (out << 21) | (whole >> (64 - 21))
     }
 
     #[test]
     fn the_table_of_top_flips_gives_the_per_level_hashes() {
         let dirs = direction_numbers(2);
         let ys = net_column(0, 5000, &dirs[1]);
-        for count in [1, 2, 3, 4096, 1 << 17] {
-            let top = TopFlips::new(99, count);
-            assert_eq!(top.levels, (count as u32).ilog2().min(16));
-            for &y in ys.iter().chain(&[0, u32::MAX, 1 << 31]) {
-                assert_eq!(
-                    owen_scramble(y, 99, &top),
-                    owen_by_levels(y, 99),
-                    "{y} {count}"
-                );
+        for depth in [BITS, 20, 5, 0] {
+            for count in [1, 2, 3, 4096, 1 << 17] {
+                let top = TopFlips::new(99, count, depth);
+                assert_eq!(top.levels, (count as u32).ilog2().min(16).min(depth));
+                for &y in ys.iter().chain(&[0, u32::MAX, 1 << 31]) {
+                    assert_eq!(
+                        owen_scramble(y, 99, &top),
+                        owen_by_levels(y, 99, depth),
+                        "{y} {count} {depth}"
+                    );
+                }
             }
         }
     }
@@ -483,15 +553,20 @@ mod tests {
         // machine's own build and each body compiled without a target feature.
         let dirs = direction_numbers(3);
         let scale = (-53f64).exp2();
-        for keys in [vec![7u64], vec![7, 8, 123_456_789, u64::MAX]] {
+        for (keys, depth) in [
+            (vec![7u64], BITS),
+            (vec![7, 8, 123_456_789, u64::MAX], BITS),
+            (vec![7, 8, 123_456_789, u64::MAX], 20),
+        ] {
             for len in [1, 7, 8, 9, 1003] {
                 let ys = net_column(5, 5 + len, &dirs[2]);
-                let tops: Vec<TopFlips> = keys.iter().map(|&k| TopFlips::new(k, len)).collect();
+                let tops: Vec<TopFlips> =
+                    keys.iter().map(|&k| TopFlips::new(k, len, depth)).collect();
                 let want: Vec<Vec<u64>> = keys
                     .iter()
                     .map(|&k| {
                         ys.iter()
-                            .map(|&y| (owen_by_levels(y, k) as f64 * scale).to_bits())
+                            .map(|&y| (owen_by_levels(y, k, depth) as f64 * scale).to_bits())
                             .collect()
                     })
                     .collect();
@@ -532,6 +607,43 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("seeds"), "{e}");
+    }
+
+    #[test]
+    fn a_short_sequence_s_scramble_keeps_the_net_and_its_prefixes() {
+        let (s, seeds) = (3, [5u64, 6]);
+        let max = 1 << 10;
+        let all = sobol_scrambled_short_ranges(0, max, s, &seeds, max).unwrap();
+        // The whole sequence's scramble down to level 32 where the sequence may be long.
+        let long = sobol_scrambled_short_ranges(0, 64, s, &seeds, SOBOL_MAX_N).unwrap();
+        let plain = sobol_scrambled_ranges(0, 64, s, &seeds).unwrap();
+        assert_eq!(long, plain);
+        // Below the first 10 digits the short scramble differs; above, the same flips.
+        let (a, b) = (all[0].as_slice(), long[0].as_slice());
+        assert_ne!(a[..64 * s], *b);
+        for (x, y) in a.iter().zip(b) {
+            assert_eq!((x * 1024.0).floor(), (y * 1024.0).floor());
+        }
+        for (set, &seed) in all.iter().zip(&seeds) {
+            // A range is the rows of the prefix, bit for bit.
+            let part = sobol_scrambled_short_ranges(100, 900, s, &[seed], max).unwrap();
+            assert_eq!(part[0].as_slice(), &set.as_slice()[100 * s..900 * s]);
+            // Every 2^m prefix: one point per interval of width 2^−m in each dimension.
+            for m in 0..=10u32 {
+                let n = 1usize << m;
+                for j in 0..s {
+                    let mut cells: Vec<usize> = (0..n)
+                        .map(|i| (set.as_slice()[i * s + j] * n as f64) as usize)
+                        .collect();
+                    cells.sort_unstable();
+                    assert_eq!(cells, (0..n).collect::<Vec<_>>(), "m = {m}, dimension {j}");
+                }
+            }
+        }
+        let e = sobol_scrambled_short_ranges(0, 2048, s, &seeds, max).unwrap_err();
+        assert!(e.to_string().contains("end"), "{e}");
+        let e = sobol_scrambled_short_ranges(0, 8, s, &seeds, 1000).unwrap_err();
+        assert!(e.to_string().contains("max_points"), "{e}");
     }
 
     #[test]
