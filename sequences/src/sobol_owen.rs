@@ -15,7 +15,9 @@
 //! those 2^ℓ bits per level is impossible, so each is a hash of (seed, dimension, level,
 //! prefix), as in Burley's and Laine–Karras's hash-based Owen scrambling; each level is
 //! hashed separately here rather than with their one-multiply approximation, so the
-//! flips are as independent as the hash is good.
+//! flips are as independent as the hash is good. A sequence never taken past 2^k points
+//! ([`sobol_scrambled_short_ranges`]) draws the flips below level k, where each node holds
+//! one of its points at most, from one hash per point.
 
 use std::sync::OnceLock;
 
@@ -390,8 +392,8 @@ pub fn sobol_scrambled_ranges(
 /// coordinate the first k digits are distinct, so every node of the scramble's tree
 /// below level k holds at most one of them and its flips are independent bits per point;
 /// they are drawn from the hash of the point's whole value, which already gives the 21
-/// bits below the net, instead of one hash per level (about 10 hashes a coordinate
-/// instead of 22 for `quad`'s batches, whose sequences stop at 2^20 points). With
+/// bits below the net, instead of one hash per level (11 hashes a coordinate instead of
+/// 23 for 1 024 points of a sequence that stops at 2^20 points, as `quad`'s do). With
 /// `max_points` = 2^32 the values are [`sobol_scrambled_ranges`]' bit for bit; with less,
 /// they differ from them below level k.
 ///
