@@ -1431,12 +1431,10 @@ pub fn space_numbers(space: &DesignSpace, unit: &PointSet) -> Result<PointSet, E
     let s = unit.s();
     let map = |rows: &[f64]| -> Result<Vec<f64>, Error> {
         let block = PointSet::new(rows.len() / s, s, rows.to_vec())?;
-        Ok(stillpoint_design::mapped(space, &block)?
-            .numbers()?
-            .into_vec())
+        Ok(stillpoint_design::mapped_numbers(space, &block)?.into_vec())
     };
     if unit.n() * s < PARALLEL_WORK {
-        return stillpoint_design::mapped(space, unit)?.numbers();
+        return stillpoint_design::mapped_numbers(space, unit);
     }
     use rayon::prelude::*;
     let rows = (PARALLEL_WORK / s).max(1);
