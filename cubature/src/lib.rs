@@ -19,6 +19,20 @@
 //! the default over the cube: its 256 evaluations cost more of the benchmark's cells than
 //! its choice wins (results/quad/pilot.md).
 //!
+//! The tent lattice's points come in reflected pairs: points 2i and 2i + 1 of the
+//! sequence differ by half a period in every coordinate before the tent, so after it
+//! they are x and 1 − x. The pairs integrate the part of f that is odd under that
+//! reflection exactly, and an even f sees each value twice: Keister's function through
+//! Φ⁻¹, a radial function, any function of (x − ½)². So after the first round, when f
+//! took one value at both points of every pair ([`EVEN_TOLERANCE`]), later batches
+//! evaluate one point of each pair, the one whose first coordinate before the tent is
+//! below ½ ([`Cubature::halved`]): the same estimate as the whole lattice's
+//! for an even f, at half the evaluations after the first round. The choice reads f's
+//! values, but every point evaluated is still uniform in the box and the replicates
+//! independent, so each replicate mean stays unbiased whatever f does between the pairs
+//! seen, and the interval its level (results/quad/quad.md: Keister's family on the cube
+//! at 0.50–2.25× the best reliable reference's evaluations, 1.0–4.0× before).
+//!
 //! The interval. After each doubling, with μ_r the mean of f over replicate r's n_r
 //! points (each μ_r an unbiased estimate, independent across replicates), the estimate is
 //! the mean Q_n of the μ_r and the half-width the larger of
@@ -233,6 +247,43 @@ pub(crate) fn fill_chunks(
     }
 }
 
+/// f counts as even under x ↦ 1 − x when the root of the summed squared differences
+/// over the first round's reflected pairs is within this share of the root of the values'
+/// summed squared deviations: far above rounding (Keister's function through Φ⁻¹, even
+/// exactly, shows 10⁻¹⁵–10⁻¹³ there), far below any odd part that an integral to a
+/// tolerance would notice.
+pub const EVEN_TOLERANCE: f64 = 1e-6;
+
+/// The fewest reflected pairs in the first round (all replicates) that may show f even;
+/// the default first round has 128.
+pub const MIN_EVEN_PAIRS: usize = 32;
+
+/// Points `start..start + m` (m even, start even) of the tent lattice's replicates
+/// `reps`, one of each reflected pair (points 2i and 2i + 1): the one whose first
+/// coordinate before the tent is below ½, so m/2 rows per replicate into `out`.
+fn fill_one_of_each_pair(
+    d: usize,
+    seed: u64,
+    reps: std::ops::Range<usize>,
+    start: u64,
+    m: usize,
+    out: &mut [f64],
+) {
+    let mut fold = vec![true; d];
+    fold[0] = false;
+    fill_chunks(reps, out, m / 2 * d, |rep, chunk| {
+        let seq = ExtensibleLattice::new(d, seed, rep as u64).expect("d checked by the caller");
+        let mut both = vec![0.0; m * d];
+        seq.fill_folding(start, m, &fold, &mut both)
+            .expect("range checked by the caller");
+        for (pair, row) in both.chunks_exact(2 * d).zip(chunk.chunks_exact_mut(d)) {
+            let (a, b) = pair.split_at(d);
+            row.copy_from_slice(if a[0] < 0.5 { a } else { b });
+            row[0] = stillpoint_sequences::tent(row[0]);
+        }
+    });
+}
+
 /// Added replicates must be predicted to bring every half-width within this share of
 /// its target. The prediction rests on the spread of a few replicate means, and runs
 /// whose spread came out small by chance are the ones that add replicates and stop: at
@@ -323,7 +374,9 @@ impl Rule {
     /// lattice's points come in reflected pairs (u, 1 − u) ↦ (Z, −Z), which an integrand
     /// even in Z sees as half as many, and f ∘ Φ⁻¹ is too rough at the faces for the
     /// lattice's smoothness to pay (benches/quad_rule_study.py: Sobol' beat the tent
-    /// lattice on every model family with normal inputs, by 1.1–2.2× in RMSE). Bounded
+    /// lattice on every model family with normal inputs, by 1.1–2.2× in RMSE; a run that
+    /// finds f even evaluates one point of each pair, but the rule is chosen before any
+    /// value is seen, and most models are not even). Bounded
     /// laws keep the tent lattice, which beat Sobol' there by 1.3–8×.
     pub fn for_space(space: Option<&DesignSpace>) -> (Rule, String) {
         let Some(space) = space else {
@@ -428,6 +481,15 @@ pub struct Cubature {
     /// replicate).
     #[serde(default)]
     pending_added: usize,
+    /// Whether f took one value at both points of every reflected pair of the tent
+    /// lattice's first round, so that later batches evaluate one point of each pair
+    /// ([`Cubature::consider_halving`]; false in states saved before it existed).
+    #[serde(default)]
+    halved: bool,
+    /// Points counted in `per_replicate` whose evaluation the halving spared (each pair's
+    /// second point), all replicates together: `n` leaves them out.
+    #[serde(default)]
+    spared: u64,
 }
 
 /// One output's sums for the skew guard: Σ dᵖ for p = 1, 2, 3 over every value fed, with
@@ -542,6 +604,8 @@ impl Cubature {
             tried: None,
             added: 0,
             pending_added: 0,
+            halved: false,
+            spared: 0,
         })
     }
 
@@ -567,7 +631,24 @@ impl Cubature {
 
     /// Evaluations of the rule this state holds.
     fn own_n(&self) -> u64 {
-        self.per_replicate * self.replicates() as u64
+        self.per_replicate * self.replicates() as u64 - self.spared
+    }
+
+    /// Evaluations a batch of `points` points in each of `reps` replicates costs: half of
+    /// them once the run evaluates one point of each reflected pair.
+    fn batch_cost(&self, points: u64, reps: usize) -> u64 {
+        let all = points.saturating_mul(reps as u64);
+        if self.halved {
+            all / 2
+        } else {
+            all
+        }
+    }
+
+    /// Whether later batches evaluate one point of each of the tent lattice's reflected
+    /// pairs (f took one value at both points of every pair of the first round).
+    pub fn halved(&self) -> bool {
+        self.halved
     }
 
     /// Replicates evaluated: the `replicates` asked for and those added when another
@@ -647,11 +728,10 @@ impl Cubature {
             return false;
         }
         let next = self.per_replicate + self.next_size();
-        let others = self.n() - self.own_n();
         next > EXTENSIBLE_MAX_POINTS
-            || next
-                .saturating_mul(self.replicates() as u64)
-                .saturating_add(others)
+            || self
+                .n()
+                .saturating_add(self.batch_cost(self.next_size(), self.replicates()))
                 > self.options.max_n
     }
 
@@ -702,7 +782,7 @@ impl Cubature {
         let budget = self.options.max_n.saturating_sub(self.n());
         (1..r)
             .take_while(|add| {
-                r + add <= MAX_REPLICATES && (*add as u64) * self.per_replicate <= budget
+                r + add <= MAX_REPLICATES && self.batch_cost(self.per_replicate, *add) <= budget
             })
             .find(|&add| {
                 let wider = spread(r + add) / spread(r);
@@ -742,15 +822,30 @@ impl Cubature {
         }
         let (reps, start) = self.pending_replicates();
         let (r, m) = (reps.len(), self.pending as usize);
-        let mut data = vec![0.0; r * m * self.d];
+        let rows = self.batch_rows(m);
+        let mut data = vec![0.0; r * rows * self.d];
         let (seed, rule) = (self.options.seed, self.options.rule);
-        rule.fill_replicates(self.d, seed, SOBOL_KEY, reps, start, &mut data);
+        if self.halved {
+            fill_one_of_each_pair(self.d, seed, reps, start, m, &mut data);
+        } else {
+            rule.fill_replicates(self.d, seed, SOBOL_KEY, reps, start, &mut data);
+        }
         for row in data.chunks_exact_mut(self.d) {
             for ((x, a), w) in row.iter_mut().zip(&self.lower).zip(&self.width) {
                 *x = a + w * *x;
             }
         }
-        Some(PointSet::new(r * m, self.d, data).expect("non-empty batch"))
+        Some(PointSet::new(r * rows, self.d, data).expect("non-empty batch"))
+    }
+
+    /// Rows handed out per replicate for a batch of m points of its sequence: one of each
+    /// reflected pair once the run is halved.
+    fn batch_rows(&self, m: usize) -> usize {
+        if self.halved {
+            m / 2
+        } else {
+            m
+        }
     }
 
     /// The replicates of the pending batch and the index of their first point: every
@@ -776,7 +871,7 @@ impl Cubature {
         }
         let r = self.pending_replicates().0.len();
         let m = self.pending as usize;
-        let rows = r * m;
+        let rows = r * self.batch_rows(m);
         if m == 0 || points.n() != rows {
             return Err(Error::invalid(
                 "values",
@@ -809,9 +904,76 @@ impl Cubature {
                 "a finite value at every point",
             ));
         }
+        let first = self.per_replicate == 0;
         self.accumulate(k, m, values);
+        if first {
+            self.consider_halving(values);
+        }
         self.pilot();
         Ok(())
+    }
+
+    /// After the first round of the tent lattice, whether f is even under the
+    /// reflection x ↦ 1 − x of the box: the lattice's points 2i and 2i + 1 differ by
+    /// half a period in every coordinate before the tent (every generator is odd), so
+    /// after it they are x and 1 − x. Where f took one value at both points of every pair
+    /// (to [`EVEN_TOLERANCE`] of its spread, on every output), the second evaluation of a
+    /// pair tells nothing: the rule's estimate is the mean over one point of each pair,
+    /// and later batches evaluate only that one, the point whose first coordinate before
+    /// the tent is below ½ (each such point is uniform in the box, so every replicate
+    /// mean stays unbiased and the interval keeps its independent replicates, whatever f
+    /// does between the pairs seen). For f that even, the run is the tent lattice's at
+    /// half the evaluations.
+    fn consider_halving(&mut self, values: &[f64]) {
+        let k = self.k;
+        let pairs = values.len() / (2 * k);
+        // The pilot's first round is the lattice's; its note is made when the lattice is
+        // kept.
+        if !matches!(self.options.rule, Rule::TentLattice | Rule::Pilot)
+            || self.tried.is_some()
+            || pairs < MIN_EVEN_PAIRS
+            || !self.per_replicate.is_multiple_of(2)
+        {
+            return;
+        }
+        let even = (0..k).all(|j| {
+            let (lo, hi) = self.range[j];
+            if lo == hi {
+                return true;
+            }
+            // Values divided by the power of two of the largest, so no square overflows.
+            let e = libm::frexp(lo.abs().max(hi.abs())).1;
+            let v = |i: usize| libm::scalbn(values[i * k + j], -e);
+            let count = 2 * pairs;
+            let mean = (0..count).map(v).sum::<f64>() / count as f64;
+            let spread: f64 = (0..count).map(|i| (v(i) - mean).powi(2)).sum();
+            let odd: f64 = (0..pairs).map(|p| (v(2 * p) - v(2 * p + 1)).powi(2)).sum();
+            odd <= EVEN_TOLERANCE * EVEN_TOLERANCE * spread
+        });
+        if even {
+            self.halved = true;
+            if self.options.rule == Rule::TentLattice {
+                let note = self.halving_note();
+                self.options.rule_reason.push_str(&note);
+            }
+        }
+    }
+
+    /// What the reason says of a halved run ("" for one that is not).
+    fn halving_note(&self) -> String {
+        if !self.halved {
+            return String::new();
+        }
+        let pairs = self.options.replicates as u64 * self.options.start_n / 2;
+        let sep = if self.options.rule_reason.is_empty() {
+            ""
+        } else {
+            "; "
+        };
+        format!(
+            "{sep}f even under x ↦ 1 − x at the first round's {pairs} pairs: one point of each \
+             pair evaluated after it"
+        )
     }
 
     /// After a round, the pilot's steps ([`Rule::Pilot`]): after the lattice's first
@@ -842,6 +1004,8 @@ impl Cubature {
                     "tent lattice: scrambled Sobol's first round's half-width was {ratio:.2}× \
                      its, not below {PILOT_SHARE} ({pilot})"
                 );
+                let note = self.halving_note();
+                self.options.rule_reason.push_str(&note);
             }
             return;
         }
@@ -874,11 +1038,14 @@ impl Cubature {
             sobol.moments.clear();
             sobol.shift.clear();
             sobol.range.clear();
+            sobol.halved = false;
             self.tried = Some(Box::new(sobol));
             return;
         };
         self.options.rule_reason =
             format!("tent lattice, without a pilot round of scrambled Sobol': {kept}");
+        let note = self.halving_note();
+        self.options.rule_reason.push_str(&note);
     }
 
     /// Adds a batch's values (m points per replicate, k outputs) to the sums, first
@@ -930,14 +1097,20 @@ impl Cubature {
         }
         self.sums.resize(reps.end * k, 0.0);
         let mut half = Vec::new();
-        for (rep, block) in reps.clone().zip(values.chunks_exact(m * k)) {
+        // Once halved, each value stands for both points of its pair.
+        let (rows, weight) = if self.halved { (m / 2, 1) } else { (m, 0) };
+        for (rep, block) in reps.clone().zip(values.chunks_exact(rows * k)) {
             let sums = &mut self.sums[rep * k..(rep + 1) * k];
             for (i, row) in block.chunks_exact(k).enumerate() {
-                if fresh && m > 1 && i == m / 2 {
+                if fresh && rows > 1 && i == rows / 2 {
                     half.extend_from_slice(sums);
                 }
                 for ((s, v), e) in sums.iter_mut().zip(row).zip(&self.shift) {
-                    *s += if *e == 0 { *v } else { libm::scalbn(*v, -e) };
+                    *s += if *e == 0 && weight == 0 {
+                        *v
+                    } else {
+                        libm::scalbn(*v, weight - e)
+                    };
                 }
             }
         }
@@ -948,6 +1121,8 @@ impl Cubature {
                 self.half_sums.clear();
             }
         }
+        let points = self.pending * reps.len() as u64;
+        self.spared += points - self.batch_cost(self.pending, reps.len());
         if self.pending_added > 0 {
             self.added += self.pending_added;
         } else {
@@ -1652,9 +1827,15 @@ mod tests {
 
     /// Π_i (x_i (1 − x_i))^(−1/4), singular at every face (as f ∘ Φ⁻¹ of a model of
     /// normal inputs is), where either rule may be narrower after one round.
+    /// Unbounded at both faces, and not even under x ↦ 1 − x (so the lattice evaluates
+    /// both points of each reflected pair).
     fn at_the_faces(x: &PointSet) -> Vec<f64> {
         x.rows()
-            .map(|p| p.iter().map(|u| (u * (1.0 - u)).powf(-0.25)).product())
+            .map(|p| {
+                p.iter()
+                    .map(|u| u.powf(-0.3) * (1.0 - u).powf(-0.2))
+                    .product()
+            })
             .collect()
     }
 
@@ -1963,6 +2144,141 @@ mod tests {
         assert_eq!(direct.estimate, second.estimate);
     }
 
+    /// Even under x ↦ 1 − x (a product of two odd factors and an even one), though
+    /// odd under the reflection of a single coordinate.
+    fn even(x: &PointSet) -> Vec<f64> {
+        x.rows()
+            .map(|p| {
+                let c: Vec<f64> = p.iter().map(|u| u - 0.5).collect();
+                1.0 + 4.0 * c[0] * c[1] + (3.0 * c[2]).cos()
+            })
+            .collect()
+    }
+
+    /// The full tent lattice's replicate means at `per` points of each replicate.
+    fn full_lattice_means(
+        f: fn(&PointSet) -> Vec<f64>,
+        d: usize,
+        seed: u64,
+        per: usize,
+    ) -> Vec<f64> {
+        (0..DEFAULT_REPLICATES)
+            .map(|rep| {
+                let seq = ExtensibleLattice::new(d, seed, rep as u64).unwrap();
+                let values = f(&seq.points(0, per).unwrap());
+                values.iter().sum::<f64>() / per as f64
+            })
+            .collect()
+    }
+
+    #[test]
+    fn an_even_integrand_evaluates_one_point_of_each_reflected_pair() {
+        let exact = 1.0 + (2.0 / 3.0) * 1.5f64.sin();
+        let mut covered = 0;
+        for seed in 0..40 {
+            let calls = std::cell::Cell::new(0u64);
+            let f = |x: &PointSet| {
+                calls.set(calls.get() + x.n() as u64);
+                even(x)
+            };
+            let opts = QuadOptions {
+                rel_tol: 1e-5,
+                seed,
+                ..QuadOptions::default()
+            };
+            let r = quad(f, 3, opts).unwrap();
+            let (state, r4) = (&r.state, DEFAULT_REPLICATES as u64);
+            assert!(
+                state.halved() && r.rule_reason.contains("one point of each pair"),
+                "{r:?}"
+            );
+            // Both points of the first round's pairs, one of each later pair.
+            let per = state.per_replicate();
+            assert!(per > DEFAULT_START_N, "{seed}");
+            let first = r4 * DEFAULT_START_N;
+            assert_eq!(r.n, first + r4 * (per - DEFAULT_START_N) / 2);
+            assert_eq!(calls.get(), r.n);
+            // The estimate is the full tent lattice's at as many points per replicate.
+            let full = full_lattice_means(even, 3, seed, per as usize);
+            for (a, b) in state.replicate_means()[0].iter().zip(&full) {
+                assert!((a - b).abs() <= 1e-13, "{seed}: {a} {b}");
+            }
+            covered += usize::from((r.estimate[0] - exact).abs() <= r.half_width[0]);
+        }
+        // Each replicate mean is unbiased and the replicates independent: the interval
+        // keeps its level (at 0.95, 36 or more of 40 in all but 2 % of samples).
+        assert!(covered >= 36, "{covered} of 40");
+    }
+
+    #[test]
+    fn an_odd_part_above_the_tolerance_keeps_both_points_of_each_pair() {
+        let run = |odd: f64| {
+            let f = move |x: &PointSet| -> Vec<f64> {
+                even(x)
+                    .into_iter()
+                    .zip(x.rows())
+                    .map(|(v, p)| v + odd * (p[0] - 0.5))
+                    .collect()
+            };
+            quad(f, 3, QuadOptions::default()).unwrap()
+        };
+        // The odd part's spread against f's: 1e-8 is rounding to the rule, 1e-4 is not.
+        let small = run(1e-8);
+        assert!(small.state.halved());
+        let large = run(1e-4);
+        assert!(!large.state.halved(), "{large:?}");
+        assert!(
+            !large.rule_reason.contains("pair"),
+            "{}",
+            large.rule_reason
+        );
+        assert_eq!(
+            large.n,
+            DEFAULT_REPLICATES as u64 * large.state.per_replicate()
+        );
+        // Sobol' has no reflected pairs, and a first round of fewer than
+        // MIN_EVEN_PAIRS pairs does not decide.
+        for opts in [
+            QuadOptions {
+                rule: Rule::Sobol,
+                ..QuadOptions::default()
+            },
+            QuadOptions {
+                start_n: 8,
+                ..QuadOptions::default()
+            },
+        ] {
+            let r = quad(even, 3, opts).unwrap();
+            assert!(!r.state.halved());
+            assert_eq!(r.n, DEFAULT_REPLICATES as u64 * r.state.per_replicate());
+        }
+    }
+
+    #[test]
+    fn a_halved_state_saved_between_rounds_continues_alike() {
+        let opts = |rel_tol| QuadOptions {
+            rel_tol,
+            seed: 5,
+            ..QuadOptions::default()
+        };
+        let loose = quad(even, 3, opts(1e-3)).unwrap();
+        assert!(loose.state.halved());
+        let text = serde_json::to_string(&loose.state).unwrap();
+        let mut back: Cubature = serde_json::from_str(&text).unwrap();
+        assert_eq!(back, loose.state);
+        back.set_tolerance(0.0, 1e-6).unwrap();
+        back.run(even).unwrap();
+        let direct = quad(even, 3, opts(1e-6)).unwrap();
+        assert_eq!((back.n(), back.estimate()), (direct.n, direct.estimate));
+        // A state saved before the halving existed reads as not halved.
+        let mut old: serde_json::Value = serde_json::from_str(&text).unwrap();
+        let map = old.as_object_mut().unwrap();
+        map.remove("halved");
+        map.remove("spared");
+        let old: Cubature = serde_json::from_value(old).unwrap();
+        assert!(!old.halved());
+    }
+
     #[test]
     fn the_state_round_trips_through_serde() {
         let r = quad(product_exp, 2, QuadOptions::default()).unwrap();
@@ -2146,8 +2462,10 @@ mod tests {
         // f = ±1 integrates to ±1e360: refused where the run stops, naming f and the
         // magnitude.
         for (v, about) in [
-            (1.0, "about 1.0e360 after 1048576"),
-            (-1.0, "about -1.0e360 after 1048576"),
+            // A constant is even under x ↦ 1 − x: 2^18 points per replicate (the last
+            // doubling within max_n) cost 256 + 4·(2^18 − 64)/2 evaluations.
+            (1.0, "about 1.0e360 after 524416"),
+            (-1.0, "about -1.0e360 after 524416"),
         ] {
             let e = quad(
                 |x: &PointSet| vec![v; x.n()],
@@ -2240,7 +2558,10 @@ mod tests {
                     .collect()
             };
             let r = quad(f, 2, opts).unwrap();
-            assert_eq!(r.n, 1024);
+            // f is even under x ↦ 1 − x: after the first round (4 × 64 points) one point
+            // of each reflected pair is evaluated, so 256 points per replicate cost 640.
+            assert!(r.state.halved(), "{seed}: {r:?}");
+            assert_eq!((r.state.per_replicate(), r.n), (256, 256 + 4 * 192 / 2));
             // max|f| is just below 3 (the points miss cos = 1 by a little).
             let floor = 256.0 * f64::EPSILON * 2.99;
             assert!(r.half_width[0] >= floor, "{seed}: {r:?}");
