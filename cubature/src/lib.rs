@@ -2227,11 +2227,7 @@ mod tests {
         assert!(small.state.halved());
         let large = run(1e-4);
         assert!(!large.state.halved(), "{large:?}");
-        assert!(
-            !large.rule_reason.contains("pair"),
-            "{}",
-            large.rule_reason
-        );
+        assert!(!large.rule_reason.contains("pair"), "{}", large.rule_reason);
         assert_eq!(
             large.n,
             DEFAULT_REPLICATES as u64 * large.state.per_replicate()
