@@ -136,8 +136,11 @@ def quad(
     keeping every evaluation, until each output's half-width is at most
     ``max(abs_tol, rel_tol * |estimate|)`` or ``max_n`` would be passed; when a few more
     replicates at the points each has are predicted to meet the tolerance for less than a
-    doubling, they are evaluated instead (and later doublings keep them). The rule, the
-    interval and its measured coverage: [Integration, to a
+    doubling, they are evaluated instead (and later doublings keep them). On the tent
+    lattice, whose points come in reflected pairs (x, 1 − x), an f that took one value at
+    both points of every pair of the first round has only one point of each later pair
+    evaluated (the same estimate, half the evaluations; ``rule_reason`` says so). The
+    rule, the interval and its measured coverage: [Integration, to a
     tolerance](integration.md#to-a-tolerance); examples: [Python and
     SciPy](python.md#integrating-to-a-tolerance).
 
