@@ -33,6 +33,12 @@
 //! seen, and the interval its level (results/quad/quad.md: Keister's family on the cube
 //! at 0.50–2.25× the best reliable reference's evaluations, 1.0–4.0× before).
 //!
+//! An f of few values (a step, the indicator of an event: [`FEW_VALUES`] or fewer in the
+//! first round) leaves the lattice for scrambled Sobol' after the first round, its
+//! evaluations counted, unless the lattice was asked for by name: the lattice's points
+//! lie on few lines of each projection, so its replicate means of such an f move in
+//! lumps and four of them undercover (results/quad/steps.md).
+//!
 //! The interval. After each doubling, with μ_r the mean of f over replicate r's n_r
 //! points (each μ_r an unbiased estimate, independent across replicates), the estimate is
 //! the mean Q_n of the μ_r and the half-width the larger of
@@ -58,6 +64,13 @@
 //! peaks at the smallest n covered 88–93 % without it; a heavier corner, (1 + Σx)^−9 in
 //! eight dimensions, still covers only 89–94 %, against 81–88 % without it). Values with
 //! |γ̂| ≤ 1 never reach it, and it changes no half-width where the other two are wider.
+//!
+//! The tie floor: where every replicate mean is the same number while f took few
+//! values ([`FEW_VALUES`]), the means agree to their resolution (a step moves a replicate mean by one
+//! point's share of f's range, δ = (max f − min f)·volume/n_r), not to their accuracy;
+//! the Student half-width is then computed with a spread of δ, t·δ/√R. Four replicates
+//! of a step in one coordinate tied in about a third of the runs and claimed any
+//! tolerance, 10⁻³ away from the integral (results/quad/steps.md).
 //!
 //! The last floor is the sums' rounding bound n_r·ε·max|f|·volume (n_r points per
 //! replicate, ε = 2^−52), for an output that took more than one value. Where the rule
@@ -190,6 +203,10 @@ pub struct QuadOptions {
     /// Why the rule was chosen, as the result and the progress say it (empty: not said).
     #[serde(default)]
     pub rule_reason: String,
+    /// Whether the rule was asked for by name: then it is kept whatever f's first values
+    /// show ([`FEW_VALUES`]).
+    #[serde(default)]
+    pub rule_asked: bool,
 }
 
 /// The randomised rule a run evaluates: each of its replicates is an independent
@@ -253,6 +270,22 @@ pub(crate) fn fill_chunks(
 /// exactly, shows 10⁻¹⁵–10⁻¹³ there), far below any odd part that an integral to a
 /// tolerance would notice.
 pub const EVEN_TOLERANCE: f64 = 1e-6;
+
+/// An output whose first round (at least [`FEW_VALUES_ROUND`] points) took at most this
+/// many distinct values, and more than one, is a step or the indicator of an event, and
+/// the tent lattice is left for scrambled Sobol' unless it was asked for by name. The
+/// lattice's points lie on few lines of each projection, so the count of them on each
+/// side of a jump moves in lumps from shift to shift: the replicate means of the
+/// indicator of x1 + x2 < 0.8 in four dimensions fall a point or three short of the
+/// truth for 80 % of the shifts and four to six over for the rest (1 024 points), and
+/// four of them covered the truth in 71–86 % of runs at level 0.95; scrambled Sobol'
+/// points are random within their strata, and covered 92–95 % at no more evaluations
+/// (results/quad/steps.md).
+pub const FEW_VALUES: usize = 16;
+
+/// The fewest points of a first round (all replicates) that may show an output of
+/// [`FEW_VALUES`] values.
+pub const FEW_VALUES_ROUND: usize = 128;
 
 /// The fewest reflected pairs in the first round (all replicates) that may show f even;
 /// the default first round has 128.
@@ -429,6 +462,7 @@ impl Default for QuadOptions {
             seed: 0,
             rule: Rule::TentLattice,
             rule_reason: String::new(),
+            rule_asked: false,
         }
     }
 }
@@ -490,6 +524,10 @@ pub struct Cubature {
     /// second point), all replicates together: `n` leaves them out.
     #[serde(default)]
     spared: u64,
+    /// Per output, whether its first round took few values ([`FEW_VALUES`]; empty in
+    /// states saved before it was kept, and before the first round: no tie floor).
+    #[serde(default)]
+    few_values: Vec<bool>,
 }
 
 /// One output's sums for the skew guard: Σ dᵖ for p = 1, 2, 3 over every value fed, with
@@ -606,6 +644,7 @@ impl Cubature {
             pending_added: 0,
             halved: false,
             spared: 0,
+            few_values: Vec::new(),
         })
     }
 
@@ -745,7 +784,9 @@ impl Cubature {
     /// where it is on (an upper bound: the guard is at most that factor times the
     /// half-width). When the last doubling brought the
     /// interval to within a small factor of the tolerance, another doubling would
-    /// overshoot it; a replicate costs 1/R of one (results/quad/grow.md).
+    /// overshoot it; a replicate costs 1/R of one (results/quad/grow.md). When none is
+    /// predicted to meet it and the next doubling would pass `max_n`, as many as the
+    /// budget still holds: the run would stop without them.
     pub fn growth(&self) -> usize {
         let r = self.replicates();
         if self.k == 0 || self.tried.is_some() || self.options.rule == Rule::Pilot || self.met() {
@@ -777,27 +818,40 @@ impl Cubature {
             let skew = self
                 .skew_floor(j)
                 .map_or(1.0, |(factor, _)| factor.max(1.0));
-            measured.push((self.scaled_half_width(&means), changes, target / skew));
+            let student = self
+                .scaled_half_width(&means)
+                .max(self.tie_floor(j, &means));
+            measured.push((student, changes, target / skew));
         }
         let budget = self.options.max_n.saturating_sub(self.n());
-        (1..r)
-            .take_while(|add| {
-                r + add <= MAX_REPLICATES && self.batch_cost(self.per_replicate, *add) <= budget
+        let fits = |add: &usize| {
+            r + add <= MAX_REPLICATES && self.batch_cost(self.per_replicate, *add) <= budget
+        };
+        let predicted = (1..r).take_while(fits).find(|&add| {
+            let wider = spread(r + add) / spread(r);
+            measured.iter().all(|(student, changes, target)| {
+                let guard = if changes.is_empty() {
+                    0.0
+                } else {
+                    let sum: f64 = changes.iter().sum();
+                    let square = changes.iter().map(|c| c * c).sum::<f64>() / r as f64;
+                    (sum * sum + add as f64 * square).sqrt() / (r + add) as f64
+                };
+                student * wider <= GROW_MARGIN * target && guard <= GROW_MARGIN * target
             })
-            .find(|&add| {
-                let wider = spread(r + add) / spread(r);
-                measured.iter().all(|(student, changes, target)| {
-                    let guard = if changes.is_empty() {
-                        0.0
-                    } else {
-                        let sum: f64 = changes.iter().sum();
-                        let square = changes.iter().map(|c| c * c).sum::<f64>() / r as f64;
-                        (sum * sum + add as f64 * square).sqrt() / (r + add) as f64
-                    };
-                    student * wider <= GROW_MARGIN * target && guard <= GROW_MARGIN * target
-                })
-            })
-            .unwrap_or(0)
+        });
+        if let Some(add) = predicted {
+            return add;
+        }
+        // Where the next doubling would pass max_n, the run stops unless replicates are
+        // added: as many as the budget still holds are the most it can learn.
+        let doubling = self.batch_cost(self.per_replicate, r);
+        let sequence = self.per_replicate + self.next_size() <= EXTENSIBLE_MAX_POINTS;
+        if sequence && doubling > budget {
+            (1..r).take_while(fits).last().unwrap_or(0)
+        } else {
+            0
+        }
     }
 
     /// The next batch of points, scaled to the box, as (rows, d) row-major values:
@@ -907,10 +961,76 @@ impl Cubature {
         let first = self.per_replicate == 0;
         self.accumulate(k, m, values);
         if first {
-            self.consider_halving(values);
+            self.count_values(values);
+            if !self.leave_for_few_values() {
+                self.consider_halving(values);
+            }
         }
         self.pilot();
         Ok(())
+    }
+
+    /// After the first round, which outputs took few values: at most [`FEW_VALUES`]
+    /// distinct ones and more than one, in a round of at least [`FEW_VALUES_ROUND`]
+    /// points.
+    fn count_values(&mut self, values: &[f64]) {
+        let k = self.k;
+        self.few_values = (0..k)
+            .map(|j| {
+                let mut v: Vec<u64> = values[j..].iter().step_by(k).map(|x| x.to_bits()).collect();
+                v.sort_unstable();
+                v.dedup();
+                values.len() / k >= FEW_VALUES_ROUND && (2..=FEW_VALUES).contains(&v.len())
+            })
+            .collect();
+    }
+
+    /// After the first round of the tent lattice, when an output took few values
+    /// ([`FEW_VALUES`]) and the rule was not asked for by name: the run goes on with
+    /// scrambled Sobol' from its own first round, the lattice's evaluations counted in
+    /// `n` (as the pilot's are), and says so. Whether it left.
+    fn leave_for_few_values(&mut self) -> bool {
+        let k = self.k;
+        if self.options.rule != Rule::TentLattice
+            || self.options.rule_asked
+            || self.tried.is_some()
+            || self.options.max_n < 2 * self.own_n()
+        {
+            return false;
+        }
+        let Some(j) = self.few_values.iter().position(|&few| few) else {
+            return false;
+        };
+        let output = if k > 1 {
+            format!(" (output {j})")
+        } else {
+            String::new()
+        };
+        let mut sobol = self.clone();
+        sobol.options.rule = Rule::Sobol;
+        sobol.k = 0;
+        sobol.per_replicate = 0;
+        sobol.spent = self.spent + self.own_n();
+        sobol.sums.clear();
+        sobol.half_sums.clear();
+        sobol.moments.clear();
+        sobol.shift.clear();
+        sobol.range.clear();
+        let sep = if self.options.rule_reason.is_empty() {
+            ""
+        } else {
+            "; "
+        };
+        sobol.few_values.clear();
+        sobol.options.rule_reason = format!(
+            "{}{sep}f took few values in the first round{output}, a step or an event, \
+             whose lattice interval undercovers: scrambled Sobol', the lattice's {} \
+             evaluations counted",
+            self.options.rule_reason,
+            self.own_n()
+        );
+        *self = sobol;
+        true
     }
 
     /// After the first round of the tent lattice, whether f is even under the
@@ -1250,11 +1370,42 @@ impl Cubature {
         if self.constant(j) {
             return h;
         }
+        let h = h.max(self.tie_floor(j, means));
         let h = match self.scaled_half_estimate(j) {
             Some(half) => h.max((means.iter().sum::<f64>() / means.len() as f64 - half).abs()),
             None => h,
         };
         self.skew_guarded(j, h).max(self.rounding_floor(j))
+    }
+
+    /// Output j's tie floor in the units of [`Cubature::scaled`]: where every replicate
+    /// mean is the same number while f took several values, the means agree to their
+    /// resolution, not to their accuracy. A replicate mean moves in steps of one point's
+    /// share of f's range, δ = (max f − min f)·volume/n_r (twice that once halved, each
+    /// value standing for two points), and an f of few values (a step, the indicator of
+    /// an event) gives every shift the same count of points on each side of its jumps
+    /// once the error is below δ: an indicator of an interval in one coordinate, on the
+    /// lattice's grid, is within δ of its integral, and four replicates tie in about a
+    /// third of the runs, whose Student half-width is then 0. So ties count as a spread of
+    /// δ: the Student half-width t·δ/√R. Only for an output whose first round took few
+    /// values ([`FEW_VALUES`]): the replicate means of an f of many values tie where the
+    /// rule integrates it exactly (a linear f on the lattice, whose reflected pairs sum
+    /// to the same number), and agree then to rounding indeed.
+    fn tie_floor(&self, j: usize, means: &[f64]) -> f64 {
+        let Some(&(lo, hi)) = self.range.get(j) else {
+            return 0.0;
+        };
+        let few = self.few_values.get(j).copied().unwrap_or(false);
+        if !few || lo == hi || means.iter().any(|m| *m != means[0]) {
+            return 0.0;
+        }
+        let shift = self.shift.get(j).copied().unwrap_or(0);
+        let weight = if self.halved { 2.0 } else { 1.0 };
+        let step = (libm::scalbn(hi, -shift) - libm::scalbn(lo, -shift)) * weight * self.volume().0
+            / self.per_replicate.max(1) as f64;
+        let r = means.len();
+        student_t_quantile((1.0 + self.options.level) / 2.0, (r - 1) as f64) * step
+            / (r as f64).sqrt()
     }
 
     /// Output j's rounding bound in the units of [`Cubature::scaled`]: a replicate mean of
@@ -2248,6 +2399,154 @@ mod tests {
             assert!(!r.state.halved());
             assert_eq!(r.n, DEFAULT_REPLICATES as u64 * r.state.per_replicate());
         }
+    }
+
+    #[test]
+    fn the_budget_a_doubling_cannot_use_buys_replicates() {
+        // 4 × 256 points = 1 024 evaluations; the next doubling (2 048) would pass 1 500,
+        // one more replicate of 256 does not, a second would (1 536).
+        let opts = QuadOptions {
+            rel_tol: 1e-9,
+            max_n: 1500,
+            ..QuadOptions::default()
+        };
+        let r = quad(product_exp, 3, opts.clone()).unwrap();
+        assert_eq!(
+            (r.n, r.replicates, r.reason),
+            (1280, 5, Some(StopReason::MaxN))
+        );
+        assert_eq!(r.state.per_replicate(), 256);
+        // A budget the doublings fill exactly is left as it was.
+        let r = quad(
+            product_exp,
+            3,
+            QuadOptions {
+                max_n: 1024,
+                ..opts
+            },
+        )
+        .unwrap();
+        assert_eq!((r.n, r.replicates), (1024, 4));
+        // A halved run reaches 2^18 points per replicate at 524 416 evaluations; the
+        // doubling (524 288 more) passes 2^20, three replicates of 131 072 do not. (An
+        // even step, whose error falls like 1/n, so that no tolerance above rounding is
+        // met before.)
+        let even_step = |x: &PointSet| -> Vec<f64> {
+            x.rows()
+                .map(|p| 1.0 + f64::from(u8::from((p[0] - 0.5).abs() < 0.3)))
+                .collect()
+        };
+        let r = quad(
+            even_step,
+            3,
+            QuadOptions {
+                rel_tol: 1e-9,
+                rule_asked: true,
+                ..QuadOptions::default()
+            },
+        )
+        .unwrap();
+        assert!(r.state.halved(), "{r:?}");
+        assert_eq!((r.n, r.replicates), (524_416 + 3 * 131_072, 7), "{r:?}");
+        assert!(r.n <= DEFAULT_MAX_N && r.reason == Some(StopReason::MaxN));
+    }
+
+    /// The indicator of an interval in x1 (1 + that, so the relative tolerance is
+    /// about the integral 1.6): each shift of the lattice's grid holds the same count of
+    /// points inside it once the error is below one point's share.
+    fn step(x: &PointSet) -> Vec<f64> {
+        x.rows()
+            .map(|p| 1.0 + f64::from(u8::from((p[0] - 0.45).abs() < 0.3)))
+            .collect()
+    }
+
+    #[test]
+    fn tied_replicate_means_of_a_step_are_not_an_exact_answer() {
+        let mut covered = 0;
+        for seed in 0..40 {
+            let opts = QuadOptions {
+                rel_tol: 1e-6,
+                max_n: 1 << 16,
+                seed,
+                rule_asked: true,
+                ..QuadOptions::default()
+            };
+            let r = quad(step, 3, opts).unwrap();
+            assert_eq!(r.rule, Rule::TentLattice);
+            // Before the tie floor, 4 of 5 seeds claimed 1e-6 at 256 to 4 096 points,
+            // 1e-3 to 4e-4 away, with half-widths of 1e-13.
+            let error = (r.estimate[0] - 1.6).abs();
+            assert!(!r.met || error <= 1.6e-6, "{seed}: {r:?}");
+            assert!(r.half_width[0] > 1e-9, "{seed}: {r:?}");
+            covered += usize::from(error <= r.half_width[0]);
+        }
+        assert!(covered >= 36, "{covered} of 40");
+        // A linear f, integrated exactly by the lattice's reflected pairs (its replicate
+        // means tie too), keeps the rounding bound: its values are many.
+        let linear = |x: &PointSet| -> Vec<f64> { x.rows().map(|p| p[0] + 2.0 * p[1]).collect() };
+        let opts = QuadOptions {
+            rel_tol: 1e-9,
+            ..QuadOptions::default()
+        };
+        let r = quad(linear, 2, opts).unwrap();
+        assert!(r.met && r.n == 256 && r.half_width[0] < 1e-12, "{r:?}");
+    }
+
+    /// The indicator of x1 + x2 < 0.8 in four dimensions (integral 0.32).
+    fn event(x: &PointSet) -> Vec<f64> {
+        x.rows()
+            .map(|p| f64::from(u8::from(p[0] + p[1] < 0.8)))
+            .collect()
+    }
+
+    #[test]
+    fn an_event_leaves_the_lattice_for_scrambled_sobol() {
+        let mut within = 0;
+        for seed in 0..40 {
+            let opts = QuadOptions {
+                rel_tol: 1e-2,
+                seed,
+                ..QuadOptions::default()
+            };
+            let r = quad(event, 4, opts.clone()).unwrap();
+            assert_eq!(r.rule, Rule::Sobol);
+            assert!(
+                r.rule_reason.contains("took few values"),
+                "{}",
+                r.rule_reason
+            );
+            // The lattice's first round is counted; Sobol's own run is the rest.
+            let alone = quad(
+                event,
+                4,
+                QuadOptions {
+                    rule: Rule::Sobol,
+                    max_n: opts.max_n - 256,
+                    ..opts.clone()
+                },
+            )
+            .unwrap();
+            assert_eq!((r.n, r.estimate.clone()), (alone.n + 256, alone.estimate));
+            within += usize::from(r.met && (r.estimate[0] - 0.32).abs() <= 0.0032);
+            // Asked for by name, the lattice is kept.
+            if seed < 4 {
+                let asked = QuadOptions {
+                    rule_asked: true,
+                    ..opts
+                };
+                assert_eq!(quad(event, 4, asked).unwrap().rule, Rule::TentLattice);
+            }
+        }
+        // The lattice's own interval held 71 % of runs here (results/quad/steps.md).
+        assert!(within >= 35, "{within} of 40");
+        // A continuous f, and one whose first round is too short to judge, stay.
+        let r = quad(product_exp, 3, QuadOptions::default()).unwrap();
+        assert_eq!(r.rule, Rule::TentLattice);
+        let short = QuadOptions {
+            start_n: 16,
+            ..QuadOptions::default()
+        };
+        assert_eq!(quad(event, 4, short).unwrap().rule, Rule::TentLattice);
     }
 
     #[test]

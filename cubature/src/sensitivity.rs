@@ -1013,6 +1013,7 @@ fn quad_options(o: &SensitivityOptions) -> crate::QuadOptions {
         // rule is not what this run evaluates, only its checks are shared.
         rule: crate::Rule::TentLattice,
         rule_reason: String::new(),
+        rule_asked: true,
     }
 }
 

@@ -442,3 +442,29 @@ def test_added_replicates_are_counted_and_continued():
     # A pickled result continues to the same answer.
     back = sp.quad(product_peak, 3, rel_tol=tol / 10, start=pickle.loads(pickle.dumps(r)))
     assert (back.n, back.estimate, back.replicates) == (more.n, more.estimate, more.replicates)
+
+
+def test_an_event_is_integrated_on_scrambled_sobol_and_says_why():
+    # The indicator of x1 + x2 < 0.8 takes two values: after the lattice's first round
+    # (counted) scrambled Sobol' goes on from its own first round.
+    def f(x):
+        return (x[:, 0] + x[:, 1] < 0.8).astype(float)
+
+    r = sp.quad(f, 4, rel_tol=1e-2, seed=3)
+    assert r.rule == "sobol" and "took few values" in r.rule_reason, r.rule_reason
+    alone = sp.quad(f, 4, rel_tol=1e-2, seed=3, rule="sobol", max_n=2**20 - 256)
+    assert (r.n, r.estimate) == (alone.n + 256, alone.estimate)
+    # Asked for by name, the lattice is kept.
+    assert sp.quad(f, 4, rel_tol=1e-2, seed=3, rule="lattice").rule == "lattice"
+
+
+def test_tied_replicate_means_of_a_step_claim_no_tolerance():
+    # A step in one coordinate on the lattice: every shift of its grid may hold the same
+    # count of points inside, and four equal replicate means are their resolution, not
+    # an exact answer.
+    def f(x):
+        return 1.0 + (np.abs(x[:, 0] - 0.45) < 0.3)
+
+    for seed in range(10):
+        r = sp.quad(f, 3, rel_tol=1e-6, max_n=2**14, seed=seed, rule="lattice")
+        assert r.half_width > 1e-9 and not r.met, (seed, r.estimate, r.half_width)

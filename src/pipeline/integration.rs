@@ -476,6 +476,7 @@ impl Integration for Cubature {
             ),
             _ => Rule::for_space(space),
         };
+        let rule_asked = r.arg(Opt::rule).is_some();
         let rel_tol = real(r, Opt::rel_tol)?;
         let g = Shared::read(r)?;
         let o = QuadOptions::default();
@@ -490,6 +491,7 @@ impl Integration for Cubature {
             seed: g.seed.unwrap_or(o.seed),
             rule,
             rule_reason,
+            rule_asked,
             ..o
         };
         Cubature::new(region.d, options)
