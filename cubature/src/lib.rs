@@ -970,6 +970,18 @@ impl Cubature {
         Ok(())
     }
 
+    /// A state of `rule` with this one's settings and nothing evaluated, `spent`
+    /// evaluations of other rules counted.
+    fn fresh(&self, rule: Rule, spent: u64) -> Cubature {
+        let options = QuadOptions {
+            rule,
+            ..self.options.clone()
+        };
+        let mut state = Cubature::new(self.d, options).expect("this state's settings");
+        state.spent = spent;
+        state
+    }
+
     /// After the first round, which outputs took few values: at most [`FEW_VALUES`]
     /// distinct ones and more than one, in a round of at least [`FEW_VALUES_ROUND`]
     /// points.
@@ -1006,22 +1018,12 @@ impl Cubature {
         } else {
             String::new()
         };
-        let mut sobol = self.clone();
-        sobol.options.rule = Rule::Sobol;
-        sobol.k = 0;
-        sobol.per_replicate = 0;
-        sobol.spent = self.spent + self.own_n();
-        sobol.sums.clear();
-        sobol.half_sums.clear();
-        sobol.moments.clear();
-        sobol.shift.clear();
-        sobol.range.clear();
+        let mut sobol = self.fresh(Rule::Sobol, self.spent + self.own_n());
         let sep = if self.options.rule_reason.is_empty() {
             ""
         } else {
             "; "
         };
-        sobol.few_values.clear();
         sobol.options.rule_reason = format!(
             "{}{sep}f took few values in the first round{output}, a step or an event, \
              whose lattice interval undercovers: scrambled Sobol', the lattice's {} \
@@ -1148,18 +1150,7 @@ impl Cubature {
         } else if self.options.max_n < 3 * self.own_n() {
             "max_n leaves no room for it".to_string()
         } else {
-            let mut sobol = self.clone();
-            sobol.options.rule = Rule::Sobol;
-            sobol.k = 0;
-            sobol.per_replicate = 0;
-            sobol.spent = 0;
-            sobol.sums.clear();
-            sobol.half_sums.clear();
-            sobol.moments.clear();
-            sobol.shift.clear();
-            sobol.range.clear();
-            sobol.halved = false;
-            self.tried = Some(Box::new(sobol));
+            self.tried = Some(Box::new(self.fresh(Rule::Sobol, 0)));
             return;
         };
         self.options.rule_reason =
