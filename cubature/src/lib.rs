@@ -803,14 +803,14 @@ impl Cubature {
         // Per output, the Student half-width and the replicates' changes since half their
         // points, in the output's scaled units, and its target there.
         let mut measured: Vec<(f64, Vec<f64>, f64)> = Vec::with_capacity(self.k);
+        // No added replicate narrows the sums' rounding bound: a target below it is met by
+        // no number of them, so none is predicted to meet it (the budget's rest below
+        // still buys them: they narrow the rest of the interval).
+        let mut reachable = true;
         for j in (0..self.k).filter(|&j| !self.constant(j)) {
             let (means, e) = self.scaled(j);
             let target = libm::scalbn(targets[j], -e);
-            // No added replicate narrows the sums' rounding bound: a target below it is
-            // met by no number of them.
-            if self.rounding_floor(j) > GROW_MARGIN * target {
-                return 0;
-            }
+            reachable &= self.rounding_floor(j) <= GROW_MARGIN * target;
             let changes = self.scaled_half_means(j).map_or(Vec::new(), |half| {
                 means.iter().zip(&half).map(|(m, h)| m - h).collect()
             });
@@ -827,7 +827,7 @@ impl Cubature {
         let fits = |add: &usize| {
             r + add <= MAX_REPLICATES && self.batch_cost(self.per_replicate, *add) <= budget
         };
-        let predicted = (1..r).take_while(fits).find(|&add| {
+        let predicted = (1..r).take_while(fits).filter(|_| reachable).find(|&add| {
             let wider = spread(r + add) / spread(r);
             measured.iter().all(|(student, changes, target)| {
                 let guard = if changes.is_empty() {
@@ -2845,9 +2845,12 @@ mod tests {
             };
             let r = quad(f, 2, opts).unwrap();
             // f is even under x ↦ 1 − x: after the first round (4 × 64 points) one point
-            // of each reflected pair is evaluated, so 256 points per replicate cost 640.
+            // of each reflected pair is evaluated, so 256 points per replicate cost 640;
+            // the next doubling would pass max_n, so the rest buys three replicates of
+            // 128 evaluations.
             assert!(r.state.halved(), "{seed}: {r:?}");
-            assert_eq!((r.state.per_replicate(), r.n), (256, 256 + 4 * 192 / 2));
+            let n = 256 + 4 * 192 / 2 + 3 * 128;
+            assert_eq!((r.state.per_replicate(), r.n, r.replicates), (256, n, 7));
             // max|f| is just below 3 (the points miss cos = 1 by a little).
             let floor = 256.0 * f64::EPSILON * 2.99;
             assert!(r.half_width[0] >= floor, "{seed}: {r:?}");
