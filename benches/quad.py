@@ -81,7 +81,9 @@ minutes of wall time (6980 s summed over the cells, 14 to 19 minutes per method;
 ``--check-keister`` (bench-venv) compares the Keister values with QMCPy's recurrence;
 ``--check-space`` (py-venv) integrates the lognormal instances through stillpoint's own
 ``space=`` (SciPy's lognormal laws) as well as on the cube and prints both estimates.
-``--families``, ``--s`` and ``--tols`` restrict the cells (e.g. ``--families keister
+``--rerun-unmet --methods stillpoint`` runs again, in place, the stored runs that did
+not meet their tolerance (after a change that acts only once a run can no longer
+double, the others cannot change). ``--families``, ``--s`` and ``--tols`` restrict the cells (e.g. ``--families keister
 --s 20 --tols 1e-5``); ``--runs 5 --out /tmp/quad`` is a quick check. Writes
 results/quad/<method>.json.gz and results/quad/quad.md.
 """
@@ -507,6 +509,10 @@ def main():
     ap.add_argument("--cell-seconds", type=float, default=0.0,
                     help="wall-time cap per (method, cell); 0: none")
     ap.add_argument("--table", action="store_true")
+    ap.add_argument("--rerun-unmet", action="store_true",
+                    help="run again, in place, the stored runs of --methods that did not "
+                         "meet their tolerance (after a change that acts only once a run "
+                         "can no longer double)")
     ap.add_argument("--check-space", action="store_true",
                     help="lognormal through stillpoint's space= against the cube version")
     ap.add_argument("--check-keister", action="store_true",
@@ -553,7 +559,36 @@ def main():
     for method in args.methods.split(","):
         if method not in METHODS:
             sys.exit(f"unknown method {method}")
-        measure(method, cells, args.runs, args.cell_seconds, args.out)
+        if args.rerun_unmet:
+            rerun_unmet(method, cells, args.out)
+        else:
+            measure(method, cells, args.runs, args.cell_seconds, args.out)
+
+
+def rerun_unmet(method, cells, out):
+    """The stored runs of `method` in `cells` that did not meet their tolerance, run
+    again with the same instance and seed and put in their place."""
+    path = os.path.join(out, f"{method}.json.gz")
+    d = load(path)
+    if d is None:
+        sys.exit(f"no runs stored in {path}")
+    wanted = {key(*c) for c in cells}
+    changed = total = 0
+    for k, cell in d["cells"].items():
+        if k not in wanted:
+            continue
+        s = tuple(cell["s"]) if isinstance(cell["s"], list) else cell["s"]
+        for i, row in enumerate(cell["runs"]):
+            if row["met"]:
+                continue
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                new = one_run(method, cell["family"], s, cell["tol"], row["run"])
+            total += 1
+            changed += (new["calls_n"], new["met"]) != (row["calls_n"], row["met"])
+            cell["runs"][i] = new
+    save(path, d)
+    print(f"{method}: {total} unmet runs run again, {changed} changed", flush=True)
 
 
 if __name__ == "__main__":
