@@ -676,12 +676,7 @@ impl Cubature {
     /// Evaluations a batch of `points` points in each of `reps` replicates costs: half of
     /// them once the run evaluates one point of each reflected pair.
     fn batch_cost(&self, points: u64, reps: usize) -> u64 {
-        let all = points.saturating_mul(reps as u64);
-        if self.halved {
-            all / 2
-        } else {
-            all
-        }
+        (self.batch_rows(points as usize) as u64).saturating_mul(reps as u64)
     }
 
     /// Whether later batches evaluate one point of each of the tent lattice's reflected
@@ -1209,7 +1204,8 @@ impl Cubature {
         self.sums.resize(reps.end * k, 0.0);
         let mut half = Vec::new();
         // Once halved, each value stands for both points of its pair.
-        let (rows, weight) = if self.halved { (m / 2, 1) } else { (m, 0) };
+        let rows = self.batch_rows(m);
+        let weight = i32::from(self.halved);
         for (rep, block) in reps.clone().zip(values.chunks_exact(rows * k)) {
             let sums = &mut self.sums[rep * k..(rep + 1) * k];
             for (i, row) in block.chunks_exact(k).enumerate() {
