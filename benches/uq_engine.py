@@ -35,6 +35,11 @@ among the candidates, which measures it again.
              (seeded by the engine's seed): unbiased, and an input order's alias is
              spread over the seeds; seqpermK keeps inputs 1..K on the table's first K
              coordinates and deals only the others
+    law1     the lattice made for the laws with every coordinate scored as unbounded
+             (`_core.law_set` of d normal laws: the first-order kernel everywhere, an even
+             n as two odd lattices, the tent): what `--randomize` under bounded laws would
+             be with the kernel of unbounded ones (measured on the bounded families, not
+             taken: results/law-lattice/law1-bounded.log)
     vec:NAME the sequence (radical-inverse order, one shift, the tent) with the
              prototype generator target/engine-vectors/NAME.npy of
              benches/engine_vector.py (values below 2^B; n <= 2^B) in place of the table
@@ -172,6 +177,8 @@ def draw(cand, n, d, r):
         return sp.baseline("sobol", n, d, seed=seed)
     if cand == "halves":
         return halves(n, d, seed)
+    if cand == "law1":
+        return np.asarray(sp._core.law_set([f"x{j}=normal(0,1)" for j in range(d)], n, seed))
     if cand.startswith("vec:"):
         z = np.load(os.path.join(ROOT, "target", "engine-vectors", cand[4:] + ".npy"))
         if d > len(z):

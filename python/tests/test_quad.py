@@ -398,11 +398,16 @@ def test_the_rule_follows_the_laws_and_says_why():
     from scipy import stats
 
     f = lambda x: x[:, 0] ** 2  # noqa: E731
-    r = sp.quad(f, 1, space={"z": "normal(0,1)"}, rel_tol=1e-2)
-    assert r.rule == "sobol" and "(z)" in r.rule_reason
-    assert r.estimate == pytest.approx(1.0, rel=0.03)
-    r = sp.quad(f, 1, space={"z": stats.norm(0, 1)}, rel_tol=1e-2)
+    g = lambda x: np.exp(x[:, 0])  # noqa: E731
+    r = sp.quad(g, 1, space={"z": "normal(0,1)"}, rel_tol=1e-2)
+    assert r.rule == "sobol" and "(z)" in r.rule_reason and "not even" in r.rule_reason
+    assert r.estimate == pytest.approx(math.exp(0.5), rel=0.03)
+    r = sp.quad(g, 1, space={"z": stats.norm(0, 1)}, rel_tol=1e-2)
     assert r.rule == "sobol", "a SciPy law with unbounded support counts as unbounded"
+    # f even in Z keeps the probe's lattice and evaluates one point of each pair.
+    r = sp.quad(f, 1, space={"z": "normal(0,1)"}, rel_tol=1e-2)
+    assert r.rule == "first-order lattice" and "one point of each pair" in r.rule_reason
+    assert r.estimate == pytest.approx(1.0, rel=0.03)
     r = sp.quad(f, 1, space={"u": "uniform(0,1)"}, rel_tol=1e-2)
     assert r.rule == "lattice" and "bounded" in r.rule_reason
     assert r.estimate == pytest.approx(1 / 3, rel=0.03)

@@ -474,7 +474,7 @@ impl Integration for Cubature {
                     (sp.shown)(Opt::rule.name(), typed)
                 ),
             ),
-            _ => Rule::for_space(space),
+            _ => Rule::for_quad(space),
         };
         let rule_asked = r.arg(Opt::rule).is_some();
         let rel_tol = real(r, Opt::rel_tol)?;
