@@ -39,6 +39,12 @@
 //! lie on few lines of each projection, so its replicate means of such an f move in
 //! lumps and four of them undercover (results/quad/steps.md).
 //!
+//! Under unbounded laws the reflected pairs are (Z, −Z), and `quad` ([`Rule::for_quad`])
+//! first probes with a round of [`PROBE_POINTS`] points of the lattice of the
+//! first-order table ([`Rule::Probe`]): an f even under that reflection keeps it, halved
+//! ([`Rule::FirstOrderLattice`]), and any other goes on with scrambled Sobol', which
+//! integrates such models better, the probe counted (results/quad/probe/probe.md).
+//!
 //! The interval. After each doubling, with μ_r the mean of f over replicate r's n_r
 //! points (each μ_r an unbiased estimate, independent across replicates), the estimate is
 //! the mean Q_n of the μ_r and the half-width the larger of

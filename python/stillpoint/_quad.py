@@ -1,6 +1,7 @@
 """Integration to a tolerance: :func:`quad` doubles the number of points on R
-independently randomised replicates of one extensible rule (the tent-transformed lattice,
-or scrambled Sobol' under unbounded laws), never discarding an evaluation, until the
+independently randomised replicates of one extensible rule (the tent-transformed lattice;
+under unbounded laws a lattice made for them when f is even in them, scrambled Sobol'
+otherwise), never discarding an evaluation, until the
 interval from the replicate means is narrow enough; :class:`QuadResult` holds the answer
 and the state to continue from with a tighter tolerance."""
 
@@ -80,14 +81,17 @@ class QuadResult(_Result):
     @property
     def rule(self) -> str:
         """The rule evaluated: ``"lattice"`` (the extensible lattice, shifted and
-        tent-transformed) or ``"sobol"`` (Owen-scrambled Sobol'), also when a pilot round
-        chose it (``rule="pilot"``)."""
+        tent-transformed), ``"sobol"`` (Owen-scrambled Sobol'), also when a pilot round
+        chose it (``rule="pilot"``), or ``"first-order lattice"`` (the extensible lattice
+        of ``Engine(d)``'s table, which a probe round under unbounded laws keeps for an f
+        even in them)."""
         return str(self._state.rule[0])
 
     @property
     def rule_reason(self) -> str:
-        """Why that rule: from the laws of ``space`` (an unbounded law takes Sobol'), the
-        box, as asked through ``rule=``, or the pilot round's ratio of half-widths."""
+        """Why that rule: from the laws of ``space`` (an unbounded law takes Sobol' unless
+        the probe round finds f even), the box, as asked through ``rule=``, or the pilot
+        round's ratio of half-widths."""
         return str(self._state.rule[1])
 
     @property
@@ -139,8 +143,10 @@ def quad(
     doubling, they are evaluated instead (and later doublings keep them). On the tent
     lattice, whose points come in reflected pairs (x, 1 − x), an f that took one value at
     both points of every pair of the first round has only one point of each later pair
-    evaluated (the same estimate, half the evaluations; ``rule_reason`` says so). The
-    rule, the interval and its measured coverage: [Integration, to a
+    evaluated (the same estimate, half the evaluations; ``rule_reason`` says so). Under
+    unbounded laws (no path) the first round is a probe of 64 points of a lattice made
+    for such laws: an f even in them keeps it, halved; any other goes on with scrambled
+    Sobol', the 64 evaluations counted. The rule, the interval and its measured coverage: [Integration, to a
     tolerance](integration.md#to-a-tolerance); examples: [Python and
     SciPy](python.md#integrating-to-a-tolerance).
 
