@@ -820,7 +820,7 @@ impl Cubature {
     /// each replicate holds whole pairs, at most `start_n`).
     fn first_round(&self) -> u64 {
         match self.options.rule {
-            Rule::Probe | Rule::FirstOrderLattice => (PROBE_POINTS
+            Rule::Probe => (PROBE_POINTS
                 .div_ceil(self.options.replicates as u64))
             .next_power_of_two()
             .clamp(2, self.options.start_n.max(2)),
@@ -1056,7 +1056,6 @@ impl Cubature {
         if self.options.rule != Rule::Probe {
             return;
         }
-        self.options.rule = Rule::FirstOrderLattice;
         let k = self.k;
         let many = (0..k).all(|j| {
             let mut v: Vec<u64> = values[j..].iter().step_by(k).map(|x| x.to_bits()).collect();
@@ -1088,10 +1087,12 @@ impl Cubature {
             return;
         };
         self.halved &= many;
+        // The note counts the probe's pairs, so it is made while the state is the probe's.
+        let note = self.halving_note();
+        self.options.rule = Rule::FirstOrderLattice;
         let why = kept.map_or(String::new(), |why| format!(" ({why})"));
         self.options.rule_reason =
             format!("first-order lattice{why}: {}", self.options.rule_reason);
-        let note = self.halving_note();
         self.options.rule_reason.push_str(&note);
     }
 
