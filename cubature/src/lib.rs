@@ -820,10 +820,9 @@ impl Cubature {
     /// each replicate holds whole pairs, at most `start_n`).
     fn first_round(&self) -> u64 {
         match self.options.rule {
-            Rule::Probe => (PROBE_POINTS
-                .div_ceil(self.options.replicates as u64))
-            .next_power_of_two()
-            .clamp(2, self.options.start_n.max(2)),
+            Rule::Probe => (PROBE_POINTS.div_ceil(self.options.replicates as u64))
+                .next_power_of_two()
+                .clamp(2, self.options.start_n.max(2)),
             _ => self.options.start_n,
         }
     }
