@@ -841,7 +841,7 @@ fn setting<T: std::str::FromStr>(name: &str, default: T) -> T {
 }
 
 #[test]
-#[ignore = "a measurement: SP_RULE=lattice|sobol SP_R=4 SP_SEEDS=30 [SP_TOL=0.02] [SP_FIRST=janon] \
+#[ignore = "a measurement: SP_RULE=lattice|sobol|first-order SP_R=4 SP_SEEDS=30 [SP_TOL=0.02] [SP_FIRST=janon] \
             [SP_BASES=1024,8192] [SP_MODELS=ishigami,g6] cargo test --release --test \
             sensitivity designs_measured -- --ignored --nocapture"]
 fn designs_measured() {
@@ -851,6 +851,7 @@ fn designs_measured() {
     // tolerance and inside their own interval.
     let rule = match std::env::var("SP_RULE").as_deref() {
         Ok("sobol") => stillpoint::cubature::Rule::Sobol,
+        Ok("first-order") => stillpoint::cubature::Rule::FirstOrderLattice,
         _ => stillpoint::cubature::Rule::TentLattice,
     };
     let reps: usize = setting("SP_R", 4);

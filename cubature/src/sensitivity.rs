@@ -637,7 +637,7 @@ impl Sensitivity {
             .map(|c| !self.periodic[self.layout.input_of(c, self.d)])
             .collect();
         crate::fill_chunks(reps, out, m * s, |rep, chunk| {
-            ExtensibleLattice::new(s, seed, rep as u64)
+            ExtensibleLattice::with_table(rule.table(), s, seed, rep as u64)
                 .and_then(|seq| seq.fill_folding(start, m, &fold, chunk))
                 .expect("d and the range checked by new");
         });
