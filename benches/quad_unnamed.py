@@ -25,6 +25,21 @@ randomisation), where a lattice's replicate means move in lumps:
 - ``ball event``: 1{‖x − ½‖ < 0.4}, s = 3 (4π·0.4³/3 = 0.268);
 - ``count``: the number of j with x_j < 0.2, s = 6 (1.2; seven values).
 
+``--group laws``: models of inputs with unbounded laws, through ``space=`` (parameters
+drawn per seed; closed forms), three even under Z ↦ −Z, where the probe round keeps its
+lattice, and three that are not, where it leaves for scrambled Sobol':
+
+- ``radial norm``: E‖Z‖, Z ~ N(0, I), s = 6 (even; a cone at the origin);
+- ``bump``: E exp(−Σ b_j Z_j²) = Π (1 + 2b_j)^−½, b_j ~ U[0.1, 1], s = 8 (even);
+- ``quadratic form``: E (1 + ZᵀCZ) = 1 + tr C, C a random symmetric matrix with
+  positive diagonal, s = 5 (even);
+- ``lognormal sum`` (not even): E Σ w_j X_j with X_j ~ lognormal(0, σ_j), w_j ~ U[0, 1],
+  σ_j ~ U[0.2, 0.6], s = 6;
+- ``call on a sum`` (not even): E max(Σ Z_j/√s − k, 0) = φ(k) − k(1 − Φ(k)),
+  k ~ U[0, 0.5], s = 8;
+- ``quadratic with a slope`` (not even): E Π (1 + a_j Z_j + c_j Z_j²) = Π (1 + c_j),
+  a_j, c_j ~ U[0, 0.3], s = 4.
+
 A run is reliable when it says it met the tolerance and its relative error is within
 it; "wrong" counts runs that say so and are not within it; "covered" runs whose interval
 holds the integral. With BEFORE a virtual environment holding an earlier package:
@@ -33,7 +48,7 @@ holds the integral. With BEFORE a virtual environment holding an earlier package
     $BEFORE/bin/python benches/quad_unnamed.py --group even --out results/quad/even/before.json
     target/py-venv/bin/python benches/quad_unnamed.py --compare results/quad/even/before.json results/quad/even/new.json
 
-(``--group steps`` and results/quad/steps/ alike.)
+(``--group steps`` and results/quad/steps/, ``--group laws`` and results/quad/probe/ alike.)
 """
 
 import argparse
@@ -102,12 +117,51 @@ def case(name, seed):
     raise ValueError(name)
 
 
+def law_case(name, seed):
+    """(f on the space's values, s, space texts, exact integral) of instance `seed`."""
+    rng = np.random.default_rng([20261130, seed, sum(map(ord, name))])
+    normals = lambda s: [f"z{j}=normal(0,1)" for j in range(s)]  # noqa: E731
+    if name == "radial norm":
+        s = 6
+        exact = math.sqrt(2) * math.exp(math.lgamma((s + 1) / 2) - math.lgamma(s / 2))
+        return (lambda z: np.sqrt(np.sum(z ** 2, axis=1))), s, normals(s), exact
+    if name == "bump":
+        s = 8
+        b = rng.uniform(0.1, 1, s)
+        return (lambda z: np.exp(-(z ** 2) @ b)), s, normals(s), float(np.prod((1 + 2 * b) ** -0.5))
+    if name == "quadratic form":
+        s = 5
+        c = rng.uniform(-0.3, 0.3, (s, s))
+        c = (c + c.T) / 2
+        np.fill_diagonal(c, rng.uniform(0.1, 0.5, s))
+        return (lambda z: 1 + np.einsum("ij,jk,ik->i", z, c, z)), s, normals(s), 1 + float(np.trace(c))
+    if name == "lognormal sum":
+        s = 6
+        w = rng.uniform(0, 1, s)
+        sig = rng.uniform(0.2, 0.6, s)
+        space = [f"x{j}=lognormal(0,{float(sg)!r})" for j, sg in enumerate(sig)]
+        return (lambda x: x @ w), s, space, float(np.sum(w * np.exp(sig ** 2 / 2)))
+    if name == "call on a sum":
+        s = 8
+        k = rng.uniform(0, 0.5)
+        exact = math.exp(-k * k / 2) / math.sqrt(2 * math.pi) - k * 0.5 * math.erfc(k / math.sqrt(2))
+        return (lambda z: np.maximum(z.sum(axis=1) / math.sqrt(s) - k, 0)), s, normals(s), exact
+    if name == "quadratic with a slope":
+        s = 4
+        a = rng.uniform(0, 0.3, s)
+        c = rng.uniform(0, 0.3, s)
+        return (lambda z: np.prod(1 + a * z + c * z ** 2, axis=1)), s, normals(s), float(np.prod(1 + c))
+    raise ValueError(name)
+
+
 GROUPS = {
     "even": ["center gaussian", "radial normal", "abs product", "bilinear",
              "shifted gaussian", "exp sum"],
     "steps": ["even step", "step", "two steps", "half-plane event", "ball event", "count"],
+    "laws": ["radial norm", "bump", "quadratic form", "lognormal sum", "call on a sum",
+             "quadratic with a slope"],
 }
-SEEDS_OF = {"even": 50, "steps": 100}
+SEEDS_OF = {"even": 50, "steps": 100, "laws": 50}
 
 
 def step_case(name):
@@ -136,8 +190,12 @@ def measure(group, seeds):
         for tol in TOLS:
             rows = []
             for seed in range(seeds):
-                f, s, exact = case(name, seed) if group == "even" else step_case(name)
-                r = sp.quad(f, s, rel_tol=tol, seed=seed)
+                space = None
+                if group == "laws":
+                    f, s, space, exact = law_case(name, seed)
+                else:
+                    f, s, exact = case(name, seed) if group == "even" else step_case(name)
+                r = sp.quad(f, s, rel_tol=tol, seed=seed, space=space)
                 err = abs(float(r.estimate) - exact) / abs(exact)
                 rows.append({"n": int(r.n), "ok": bool(r.met and err <= tol),
                              "wrong": bool(r.met and err > tol),
