@@ -425,10 +425,12 @@ impl Rule {
     /// [`Rule::for_space`] for `quad`: where that gives scrambled Sobol' for unbounded laws
     /// and the space holds no path, a probe round of the first-order lattice first
     /// ([`Rule::Probe`]). Measured at equal evaluations with four replicates on Keister's
-    /// function of 5 and 10 normal inputs (96 instances, N = 1 024 … 16 384), the halved
-    /// first-order lattice's Student half-width is 0.57–0.68× scrambled Sobol's
-    /// (results/quad/probe.md); on the models that are not even, Sobol' is the better rule
-    /// (the first-order lattice 1.0–1.2× its half-width), so the probe costs them
+    /// function of 5 and 10 normal inputs (48 instances), the halved first-order
+    /// lattice's Student half-width is 0.48–0.74× scrambled Sobol's from N = 1 024 to
+    /// 65 536, but 0.90× and 1.59× at 262 144, where Sobol's faster rate tells
+    /// (results/quad/probe/probe.md); on the models that are not even Sobol' is mostly the
+    /// better rule (the first-order lattice 1.22× its half-width on an oscillatory model,
+    /// 1.04× on a lognormal product, 0.77× on a Gaussian peak), so the probe costs them
     /// [`PROBE_POINTS`] evaluations. A path stays with Sobol': its payoff is not even, and
     /// its first coordinates carry most of its variance.
     pub fn for_quad(space: Option<&DesignSpace>) -> (Rule, String) {
