@@ -444,18 +444,21 @@ impl Rule {
         }
     }
 
-    /// The rule named `name` (`lattice`, `sobol`, `pilot`), refused naming `option`
-    /// otherwise.
+    /// The rule named `name` (`lattice`, `sobol`, `pilot`, `first-order lattice`), refused
+    /// naming `option` otherwise.
     pub fn parse(option: &str, name: &str) -> Result<Rule, Error> {
         match name {
             "lattice" => Ok(Rule::TentLattice),
             "sobol" => Ok(Rule::Sobol),
             "pilot" => Ok(Rule::Pilot),
+            "first-order lattice" => Ok(Rule::FirstOrderLattice),
             _ => Err(Error::invalid(
                 option,
                 format!("{name:?}"),
                 "lattice (the tent-transformed extensible lattice), sobol (Owen-scrambled \
-                 Sobol') or pilot (the one a first round of both shows narrower)",
+                 Sobol'), pilot (the one a first round of both shows narrower) or \
+                 first-order lattice (the same lattice with Engine(d)'s table, made for \
+                 unbounded laws)",
             )),
         }
     }
@@ -1180,7 +1183,7 @@ impl Cubature {
         // kept.
         if !matches!(
             self.options.rule,
-            Rule::TentLattice | Rule::Pilot | Rule::Probe
+            Rule::TentLattice | Rule::Pilot | Rule::Probe | Rule::FirstOrderLattice
         ) || self.tried.is_some()
             || pairs < MIN_EVEN_PAIRS
             || !self.per_replicate.is_multiple_of(2)
@@ -1203,7 +1206,10 @@ impl Cubature {
         });
         if even {
             self.halved = true;
-            if self.options.rule == Rule::TentLattice {
+            if matches!(
+                self.options.rule,
+                Rule::TentLattice | Rule::FirstOrderLattice
+            ) {
                 let note = self.halving_note();
                 self.options.rule_reason.push_str(&note);
             }
@@ -3286,6 +3292,14 @@ mod tests {
         assert_eq!(rule, Rule::Sobol);
         assert!(why.contains("8 coordinates"), "{why}");
         assert_eq!(Rule::parse("rule", "sobol").unwrap(), Rule::Sobol);
+        for rule in [
+            Rule::TentLattice,
+            Rule::Sobol,
+            Rule::Pilot,
+            Rule::FirstOrderLattice,
+        ] {
+            assert_eq!(Rule::parse("rule", rule.as_str()).unwrap(), rule);
+        }
         let e = Rule::parse("rule", "halton").unwrap_err().to_string();
         assert!(e.starts_with("invalid rule = \"halton\""), "{e}");
         // quad probes where a law is unbounded and no path is held.

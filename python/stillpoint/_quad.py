@@ -204,7 +204,9 @@ def quad(
     rule : str, optional
         ``"lattice"`` or ``"sobol"`` chooses the rule instead of the laws (None by default);
         ``"pilot"`` keeps the one whose first round is clearly narrower, the other's first
-        round counted in ``n`` (docs/integration.md).
+        round counted in ``n``; ``"first-order lattice"`` the lattice with the table of
+        ``Engine(d)`` (made for unbounded laws), which the probe round keeps for an f even
+        in them (docs/integration.md).
 
     Returns
     -------

@@ -408,6 +408,12 @@ def test_the_rule_follows_the_laws_and_says_why():
     r = sp.quad(f, 1, space={"z": "normal(0,1)"}, rel_tol=1e-2)
     assert r.rule == "first-order lattice" and "one point of each pair" in r.rule_reason
     assert r.estimate == pytest.approx(1.0, rel=0.03)
+    more = sp.quad(f, 1, start=r, rel_tol=1e-3, rule=r.rule)
+    assert more.rule == r.rule and more.n > r.n
+    # Asked for by name: from its own first round of 64 points per replicate.
+    r = sp.quad(g, 1, space={"z": "normal(0,1)"}, rel_tol=1e-2, rule="first-order lattice")
+    assert r.rule == "first-order lattice" and r.rule_reason.startswith("as asked")
+    assert r.estimate == pytest.approx(math.exp(0.5), rel=0.03) and r.n % 64 == 0
     r = sp.quad(f, 1, space={"u": "uniform(0,1)"}, rel_tol=1e-2)
     assert r.rule == "lattice" and "bounded" in r.rule_reason
     assert r.estimate == pytest.approx(1 / 3, rel=0.03)

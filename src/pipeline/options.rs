@@ -533,9 +533,9 @@ options! {
         in Sensitivity "The most evaluations, all rounds.";
     rule: "rule", cli "", python Some("rule"), for [Quad],
         String: Kind::Word(words::rules),
-        "lattice (the tent-transformed extensible lattice), sobol (Owen-scrambled Sobol') or pilot (the one a first round of both shows narrower)",
+        "lattice (the tent-transformed extensible lattice), sobol (Owen-scrambled Sobol'), pilot (the one a first round of both shows narrower) or first-order lattice (the same lattice with Engine(d)'s table, made for unbounded laws)",
         default none,
-        "The randomised rule: lattice, sobol or pilot (by default chosen from the laws).";
+        "The randomised rule: lattice, sobol, pilot or first-order lattice (by default chosen from the laws).";
     simultaneous: "simultaneous", cli "--simultaneous", python Some("simultaneous"),
         for [Sensitivity],
         bool: Kind::Flag, "true or false", default |_| Some("false".into()),

@@ -113,10 +113,15 @@ pub fn randomizations() -> Vec<&'static str> {
 
 /// `rule`: the rules of the integration to a tolerance.
 pub fn rules() -> Vec<&'static str> {
-    [Rule::TentLattice, Rule::Sobol, Rule::Pilot]
-        .iter()
-        .map(|r| r.as_str())
-        .collect()
+    [
+        Rule::TentLattice,
+        Rule::Sobol,
+        Rule::Pilot,
+        Rule::FirstOrderLattice,
+    ]
+    .iter()
+    .map(|r| r.as_str())
+    .collect()
 }
 
 /// `first_estimator`: the first-order estimators of the Sobol' indices.
