@@ -496,6 +496,14 @@ impl Rule {
     }
 }
 
+/// The distinct values (bit for bit) output `j` took among `values`, k outputs per point.
+fn distinct_values(values: &[f64], k: usize, j: usize) -> usize {
+    let mut v: Vec<u64> = values[j..].iter().step_by(k).map(|x| x.to_bits()).collect();
+    v.sort_unstable();
+    v.dedup();
+    v.len()
+}
+
 /// The variables of `space` with an unbounded law, as a reason shows them (the first
 /// three and the count beyond that); `None` when every law is bounded.
 fn unbounded_names(space: &DesignSpace) -> Option<String> {
@@ -1061,12 +1069,7 @@ impl Cubature {
             return;
         }
         let k = self.k;
-        let many = (0..k).all(|j| {
-            let mut v: Vec<u64> = values[j..].iter().step_by(k).map(|x| x.to_bits()).collect();
-            v.sort_unstable();
-            v.dedup();
-            v.len() > FEW_VALUES
-        });
+        let many = (0..k).all(|j| distinct_values(values, k, j) > FEW_VALUES);
         let probe = self.own_n();
         let sobol_round = self.options.replicates as u64 * self.options.start_n;
         let shown = if self.halved {
@@ -1119,10 +1122,8 @@ impl Cubature {
         let k = self.k;
         self.few_values = (0..k)
             .map(|j| {
-                let mut v: Vec<u64> = values[j..].iter().step_by(k).map(|x| x.to_bits()).collect();
-                v.sort_unstable();
-                v.dedup();
-                values.len() / k >= FEW_VALUES_ROUND && (2..=FEW_VALUES).contains(&v.len())
+                values.len() / k >= FEW_VALUES_ROUND
+                    && (2..=FEW_VALUES).contains(&distinct_values(values, k, j))
             })
             .collect();
     }
