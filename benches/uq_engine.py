@@ -31,6 +31,9 @@ among the candidates, which measures it again.
              is then not the reflection of point k, which through a symmetric law pairs
              Z with -Z): C = r draws c_j uniform in [1/4, 3/4] per engine, else c = C
     indaC    the same asymmetric tent on the lattice made for n (`ind`'s set)
+    seqdyad  seq with inputs 1..4 on the first four coordinates and each later input
+             dealt within its dyadic block (5..8, 9..16, 17..32, ...) by an order drawn per
+             engine
     seqperm  seq with its coordinates dealt to the inputs in an order drawn per engine
              (seeded by the engine's seed): unbiased, and an input order's alias is
              spread over the seeds; seqpermK keeps inputs 1..K on the table's first K
@@ -173,6 +176,19 @@ def draw(cand, n, d, r):
         head = min(int(cand[7:] or 0), d)
         tail = head + np.random.default_rng([seed, 77]).permutation(d - head)
         return x[:, np.concatenate([np.arange(head), tail])]
+    if cand == "seqdyad":
+        # The default's draws with inputs 1..4 on the table's first four coordinates and
+        # every later input dealt within its dyadic block (5..8, 9..16, 17..32, ...), by an
+        # order drawn per engine: leading inputs keep leading coordinates, and an order's
+        # alias becomes a spread over the seeds.
+        x = draw("seq", n, d, r)
+        rng = np.random.default_rng([seed, 78])
+        cols, lo = list(range(min(4, d))), 4
+        while lo < d:
+            hi = min(2 * lo, d)
+            cols += list(lo + rng.permutation(hi - lo))
+            lo = hi
+        return x[:, np.array(cols, dtype=int)]
     if cand == "owen":
         return sp.baseline("sobol", n, d, seed=seed)
     if cand == "halves":
