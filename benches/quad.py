@@ -147,6 +147,7 @@ def model(family, v, run, wrap=lambda g: g):
     return on_cube, [uq.law_text(n, law) for n, law in laws], on_values, float(truth)
 TOLS = [1e-2, 1e-3, 1e-4, 1e-5]
 MAX_N = 2**20
+RULE = None  # --rule
 T_7 = 2.3646242510102993  # t_{7, 0.975}
 RELIABLE = 0.925  # 185 of 200 runs: the one-sided binomial bound for 95 %
 
@@ -154,7 +155,8 @@ RELIABLE = 0.925  # 185 of 200 runs: the one-sided binomial bound for 95 %
 def run_stillpoint(g, s, tol, seed, space=None):
     import stillpoint as sp
 
-    r = sp.quad(g, s, rel_tol=tol, seed=seed, max_n=MAX_N, space=space)
+    r = sp.quad(g, s, rel_tol=tol, seed=seed, max_n=MAX_N, space=space,
+                **({"rule": RULE} if RULE else {}))
     return r.estimate, r.n, r.met
 
 
@@ -518,7 +520,12 @@ def main():
     ap.add_argument("--check-keister", action="store_true",
                     help="compare the Keister values with QMCPy's and stop")
     ap.add_argument("--out", default=os.path.join(ROOT, "results", "quad"))
+    ap.add_argument("--rule", default=None,
+                    help="stillpoint's rule by name (quad's rule=...; default: its own choice); "
+                    "for studies, written to a separate --out")
     args = ap.parse_args()
+    global RULE
+    RULE = args.rule
     os.makedirs(args.out, exist_ok=True)
     if args.table:
         table(args.out, args.runs)

@@ -40,6 +40,21 @@ lattice, and three that are not, where it leaves for scrambled Sobol':
 - ``quadratic with a slope`` (not even): E Π (1 + a_j Z_j + c_j Z_j²) = Π (1 + c_j),
   a_j, c_j ~ U[0, 0.3], s = 4.
 
+``--group faces``: integrands on the cube whose derivative is unbounded at a face, where
+the face test gives the lattice of the first-order table, and two smooth ones, where it
+keeps the tent lattice (parameters drawn per seed; closed forms):
+
+- ``root product``: Π (1 + α_j) x_j^α_j, α_j ~ U[0.1, 0.6], s = 5 (exactly 1);
+- ``log sum``: 1 − Σ w_j log x_j, w_j ~ U[0, 1]/s, s = 6 (1 + Σ w_j);
+- ``normal scores``: Π (1 + c_j Φ⁻¹(x_j)²)/(1 + c_j), c_j ~ U[0, 0.5], s = 6 (exactly 1;
+  even under x ↦ 1 − x);
+- ``exp of scores`` (a lognormal model written on the cube): exp(Σ σ_j Φ⁻¹(x_j) − Σ σ_j²/2),
+  σ_j ~ U[0.1, 0.4], s = 8 (exactly 1);
+- ``shifted gaussian`` and ``exp sum`` as in ``--group even`` (smooth).
+
+With ``--rule NAME`` every run asks for that rule (``--rule lattice``: the tent lattice
+alone, the rule over the cube before the face test; measured with the same package).
+
 A run is reliable when it says it met the tolerance and its relative error is within
 it; "wrong" counts runs that say so and are not within it; "covered" runs whose interval
 holds the integral. With BEFORE a virtual environment holding an earlier package:
@@ -48,7 +63,8 @@ holds the integral. With BEFORE a virtual environment holding an earlier package
     $BEFORE/bin/python benches/quad_unnamed.py --group even --out results/quad/even/before.json
     target/py-venv/bin/python benches/quad_unnamed.py --compare results/quad/even/before.json results/quad/even/new.json
 
-(``--group steps`` and results/quad/steps/, ``--group laws`` and results/quad/probe/ alike.)
+(``--group steps`` and results/quad/steps/, ``--group laws`` and results/quad/probe/ alike;
+``--group faces`` and results/quad/face/ with ``--rule lattice`` for the earlier rule.)
 """
 
 import argparse
@@ -114,6 +130,22 @@ def case(name, seed):
         s = 8
         w = rng.uniform(0, 1, s)
         return (lambda x: np.exp(x @ w)), s, float(np.prod(np.expm1(w) / w))
+    if name == "root product":
+        s = 5
+        a = rng.uniform(0.1, 0.6, s)
+        return (lambda x: np.prod((1 + a) * x ** a, axis=1)), s, 1.0
+    if name == "log sum":
+        s = 6
+        w = rng.uniform(0, 1, s) / s
+        return (lambda x: 1 - np.log(x) @ w), s, 1 + float(np.sum(w))
+    if name == "normal scores":
+        s = 6
+        c = rng.uniform(0, 0.5, s)
+        return (lambda x: np.prod((1 + c * normal(x) ** 2) / (1 + c), axis=1)), s, 1.0
+    if name == "exp of scores":
+        s = 8
+        sig = rng.uniform(0.1, 0.4, s)
+        return (lambda x: np.exp(normal(x) @ sig - np.sum(sig ** 2) / 2)), s, 1.0
     raise ValueError(name)
 
 
@@ -160,8 +192,10 @@ GROUPS = {
     "steps": ["even step", "step", "two steps", "half-plane event", "ball event", "count"],
     "laws": ["radial norm", "bump", "quadratic form", "lognormal sum", "call on a sum",
              "quadratic with a slope"],
+    "faces": ["root product", "log sum", "normal scores", "exp of scores",
+              "shifted gaussian", "exp sum"],
 }
-SEEDS_OF = {"even": 50, "steps": 100, "laws": 50}
+SEEDS_OF = {"even": 50, "steps": 100, "laws": 50, "faces": 50}
 
 
 def step_case(name):
@@ -182,7 +216,7 @@ def step_case(name):
     raise ValueError(name)
 
 
-def measure(group, seeds):
+def measure(group, seeds, rule=None):
     import stillpoint as sp
 
     out = {"version": getattr(sp, "__version__", "?"), "group": group, "cells": {}}
@@ -194,8 +228,9 @@ def measure(group, seeds):
                 if group == "laws":
                     f, s, space, exact = law_case(name, seed)
                 else:
-                    f, s, exact = case(name, seed) if group == "even" else step_case(name)
-                r = sp.quad(f, s, rel_tol=tol, seed=seed, space=space)
+                    f, s, exact = (step_case(name) if group == "steps" else case(name, seed))
+                r = sp.quad(f, s, rel_tol=tol, seed=seed, space=space,
+                            **({"rule": rule} if rule else {}))
                 err = abs(float(r.estimate) - exact) / abs(exact)
                 rows.append({"n": int(r.n), "ok": bool(r.met and err <= tol),
                              "wrong": bool(r.met and err > tol),
@@ -208,12 +243,14 @@ def measure(group, seeds):
             cell["halved"] = float(np.mean(["one point of each pair" in r["reason"]
                                             for r in rows]))
             cell["sobol"] = float(np.mean([r["rule"] == "sobol" for r in rows]))
+            cell["first_order"] = float(np.mean([r["rule"] == "first-order lattice"
+                                                 for r in rows]))
             cell["reliability"] = cell["ok"]
             out["cells"][f"{name}|{tol:g}"] = cell
             print(f"{name:17s} tol={tol:g}: reliability {cell['ok']:.2f}, wrong "
                   f"{cell['wrong']:.2f}, covered {cell['covered']:.2f}, median n "
                   f"{cell['median_n']:.0f}, halved {cell['halved']:.0%}, sobol "
-                  f"{cell['sobol']:.0%}", flush=True)
+                  f"{cell['sobol']:.0%}, first-order {cell['first_order']:.0%}", flush=True)
     return out
 
 
@@ -244,13 +281,16 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out")
     ap.add_argument("--group", choices=sorted(GROUPS), default="even")
-    ap.add_argument("--seeds", type=int, help="default: 50 (even), 100 (steps)")
+    ap.add_argument("--seeds", type=int, help="default: 50 (even, laws, faces), 100 (steps)")
+    ap.add_argument("--rule", help="ask every run for this rule (quad's rule=)")
     ap.add_argument("--compare", nargs=2, metavar=("BEFORE", "NEW"))
     args = ap.parse_args()
     if args.compare:
         compare(*args.compare)
         return
-    data = measure(args.group, args.seeds or SEEDS_OF[args.group])
+    data = measure(args.group, args.seeds or SEEDS_OF[args.group], args.rule)
+    if args.rule:
+        data["rule"] = args.rule
     if args.out:
         with open(args.out, "w") as fh:
             json.dump(data, fh, indent=1)

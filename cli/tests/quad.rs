@@ -51,7 +51,11 @@ fn the_budget_stops_the_run_and_says_so() {
         "4096",
     ]);
     assert_eq!(v["met"], false);
-    assert_eq!(v["n"], 4096);
+    // The face test's 7 evaluations, 2 048 of the lattice, then as many added replicates
+    // of 512 points as the rest of the budget holds (3 of 4, 1 536): at most max_n.
+    assert_eq!(v["n"], 7 + 2048 + 3 * 512);
+    assert_eq!(v["replicates"], 7);
+    assert_eq!(v["rule"], "lattice");
 }
 
 #[test]
@@ -291,10 +295,14 @@ fn progress_plain_writes_a_line_per_doubling_and_leaves_the_result_alone() {
     assert_eq!(out, quiet_out, "standard output is unchanged");
     let lines: Vec<&str> = err.lines().collect();
     assert!(lines.len() >= 2, "{err}");
-    // The rule's line, then the evaluations doubling from 4 replicates × 64 points up to
-    // the reported total.
-    assert!(lines[0].starts_with("stillpoint: tent lattice"), "{err}");
-    let lines = &lines[1..];
+    // The rule's line, the face test's (7 evaluations), then the evaluations doubling from
+    // 4 replicates × 64 points up to the reported total.
+    assert!(
+        lines[0].starts_with("stillpoint: a face test first"),
+        "{err}"
+    );
+    assert_eq!(lines[1], "stillpoint: n=7  rule: lattice", "{err}");
+    let lines = &lines[2..];
     let ns: Vec<u64> = lines
         .iter()
         .map(|l| {
@@ -313,7 +321,7 @@ fn progress_plain_writes_a_line_per_doubling_and_leaves_the_result_alone() {
             n.parse().unwrap()
         })
         .collect();
-    let want: Vec<u64> = (0..ns.len()).map(|i| 256 << i).collect();
+    let want: Vec<u64> = (0..ns.len()).map(|i| 7 + (256 << i)).collect();
     assert_eq!(ns, want);
     let total = out
         .lines()
@@ -337,7 +345,7 @@ fn progress_plain_writes_a_line_per_doubling_and_leaves_the_result_alone() {
     assert_eq!(run_with(&["--progress", "none"]).1, "");
     let (json_plain, err) = run_with(&["--json", "--progress", "plain"]);
     assert_eq!(json_plain, run_with(&["--json"]).0);
-    assert_eq!(err.lines().count(), lines.len() + 1);
+    assert_eq!(err.lines().count(), lines.len() + 2);
 }
 
 #[test]

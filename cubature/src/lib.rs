@@ -45,6 +45,20 @@
 //! ([`Rule::FirstOrderLattice`]), and any other goes on with scrambled Sobol', which
 //! integrates such models better, the probe counted (results/quad/probe/probe.md).
 //!
+//! Over the cube and bounded laws `quad` first makes a face test ([`Rule::FaceTest`],
+//! [`FACE_TEST_POINTS`] evaluations, counted): f at three points approaching each of two
+//! opposite corners of the box, 2^−30, 2^−29 and 2^−28 of the way from the corner to an
+//! interior point. A smooth f barely changes over those steps; one whose derivative is
+//! unbounded at a face (a quantile function Φ⁻¹ written into f, a power x^α with α < 1)
+//! changes by a visible share of its size, and it is outside the smoothness the tent
+//! lattice's rate needs: it goes on with the lattice of the first-order table, made for
+//! such integrands ([`Rule::FirstOrderLattice`]), and any other with the tent lattice.
+//! The test's points are fixed by the seed before any replicate is drawn, so the rule
+//! chosen is independent of the replicates' shifts and the interval keeps its level
+//! (results/quad/face/face.md: Keister's and the lognormal family on the cube 0.99 →
+//! 0.86 and 1.34 → 1.09 in the ratio to the best reliable reference's evaluations,
+//! Morokoff–Caflisch under uniform laws 1.45 → 0.92).
+//!
 //! The interval. After each doubling, with μ_r the mean of f over replicate r's n_r
 //! points (each μ_r an unbiased estimate, independent across replicates), the estimate is
 //! the mean Q_n of the μ_r and the half-width the larger of
@@ -243,9 +257,53 @@ pub enum Rule {
     Probe,
     /// The extensible rank-1 lattice of the first-order table (`Engine(d)`'s, built for the
     /// kernel of unbounded laws: [`SequenceTable::FirstOrder`]), shifted and
-    /// tent-transformed, one shift per replicate: the rule a probe keeps for an even f.
+    /// tent-transformed, one shift per replicate: the rule a probe keeps for an even f,
+    /// and the one a face test gives an f whose derivative is unbounded at a face.
     FirstOrderLattice,
+    /// Over the cube or bounded laws ([`Rule::for_quad`]): a face test of
+    /// [`FACE_TEST_POINTS`] evaluations first ([`Cubature::face_test_points`]), counted in
+    /// `n`. An f that changes by more than [`FACE_SINGULAR`] of its size over the test's
+    /// steps toward a corner goes on with [`Rule::FirstOrderLattice`], any other with
+    /// [`Rule::TentLattice`]. After the test a state holds the rule chosen, never this.
+    FaceTest,
 }
+
+/// Evaluations of the face test ([`Rule::FaceTest`]): three points approaching each of two
+/// opposite corners of the box, and the interior point they approach.
+pub const FACE_TEST_POINTS: u64 = 7;
+
+/// The face test's first step toward a corner, as a share of the way from the corner to
+/// the interior point (the others are twice and four times it): small enough that a
+/// smooth f changes there by about 2^−30·|∇f| of its size (at most 2·10⁻⁶ on the Genz
+/// families and Ishigami's function of results/quad), large enough that no coordinate
+/// rounds onto the face.
+pub const FACE_TEST_STEP: f64 = 1.0 / (1u64 << 30) as f64;
+
+/// The share of f's size above which a change over the face test's steps shows a
+/// derivative unbounded at a face: a smooth f changes by about 2^−30·|∇f| of its size, an
+/// f like x^α by about 2^−30α (every α below 0.55 passes), an f through a quantile
+/// function Φ⁻¹ by 10⁻³ to 10⁻¹ (Keister's and the lognormal family on the cube: 6·10⁻⁴ at
+/// the least over 100 instances each; results/quad/face/face.md).
+pub const FACE_SINGULAR: f64 = 1e-5;
+
+/// Below this power of the step a change over the face test's doubling steps grows more
+/// slowly than a smooth f's (like t^α with α < 1, which a sum of such powers over several
+/// coordinates shows even where each is small): the test reads f as steep at the face.
+/// A smooth f's changes grow like t or faster.
+pub const FACE_EXPONENT: f64 = 0.8;
+
+/// The face test reads the growth of changes only above this share of f's size, far above
+/// the rounding of its values, where a smooth f's first derivative along the path is
+/// large enough for its changes to grow like t.
+const FACE_RESOLVED: f64 = 1e-13;
+
+/// How the reason of a run starts while its face test is due; the reason the laws give
+/// follows it, and the test's result replaces it.
+const FACE_TEST_FIRST: &str = "a face test first (the first-order lattice for an f steep at a \
+                               face), else ";
+
+/// Keys the face test's interior point and corner apart from every other use of a seed.
+const FACE_TEST_KEY: u64 = 0x6661_6365_5f74_6573;
 
 /// Evaluations of a probe's first round ([`Rule::Probe`]), all replicates together: the
 /// fewest that hold [`MIN_EVEN_PAIRS`] reflected pairs, so that an f that is not even
@@ -373,7 +431,11 @@ impl Rule {
     ) {
         let m = out.len() / (s * reps.len());
         match self {
-            Rule::TentLattice | Rule::Pilot | Rule::Probe | Rule::FirstOrderLattice => {
+            Rule::TentLattice
+            | Rule::Pilot
+            | Rule::Probe
+            | Rule::FirstOrderLattice
+            | Rule::FaceTest => {
                 let table = self.table();
                 fill_chunks(reps, out, m * s, |rep, chunk| {
                     let seq = ExtensibleLattice::with_table(table, s, seed, rep as u64)
@@ -401,8 +463,8 @@ impl Rule {
     }
 
     /// The rule as front ends name it: `lattice`, `sobol` or `pilot`, and the rules a
-    /// space chooses, `probe` and `first-order lattice` (a state holds `pilot` or `probe`
-    /// only before its first round).
+    /// space chooses, `probe`, `face test` and `first-order lattice` (a state holds
+    /// `pilot`, `probe` or `face test` only before its first round).
     pub fn as_str(self) -> &'static str {
         match self {
             Rule::TentLattice => "lattice",
@@ -410,6 +472,7 @@ impl Rule {
             Rule::Sobol => "sobol",
             Rule::Probe => "probe",
             Rule::FirstOrderLattice => "first-order lattice",
+            Rule::FaceTest => "face test",
         }
     }
 
@@ -432,7 +495,10 @@ impl Rule {
     /// better rule (the first-order lattice 1.22× its half-width on an oscillatory model,
     /// 1.04× on a lognormal product, 0.77× on a Gaussian peak), so the probe costs them
     /// [`PROBE_POINTS`] evaluations. A path stays with Sobol': its payoff is not even, and
-    /// its first coordinates carry most of its variance.
+    /// its first coordinates carry most of its variance. Where [`Rule::for_space`] gives
+    /// the tent lattice (the cube, a box, bounded laws), a face test first
+    /// ([`Rule::FaceTest`]; [`Cubature::new`] skips it beyond the first-order table's
+    /// dimensions, without a tolerance, or where `max_n` leaves no room for it).
     pub fn for_quad(space: Option<&DesignSpace>) -> (Rule, String) {
         match space.map(|s| (s, unbounded_names(s))) {
             Some((space, Some(shown)))
@@ -440,7 +506,10 @@ impl Rule {
             {
                 (Rule::Probe, format!("unbounded laws ({shown})"))
             }
-            _ => Rule::for_space(space),
+            _ => match Rule::for_space(space) {
+                (Rule::TentLattice, why) => (Rule::FaceTest, format!("{FACE_TEST_FIRST}{why}")),
+                other => other,
+            },
         }
     }
 
@@ -701,6 +770,28 @@ impl Cubature {
         }
         check_budget(o.max_n, o)?;
         let width = lower.iter().zip(&upper).map(|(a, b)| b - a).collect();
+        let mut options = options;
+        if options.rule == Rule::FaceTest {
+            let first = options.start_n.saturating_mul(options.replicates as u64);
+            // A run to max_n alone spends its budget in whole doublings of the tent
+            // lattice; the test's evaluations would cost it the last one.
+            let skipped = if d > SequenceTable::FirstOrder.max_d() {
+                Some("beyond the first-order table's dimensions")
+            } else if options.abs_tol == 0.0 && options.rel_tol == 0.0 {
+                Some("no tolerance, and a run to max_n keeps its doublings whole")
+            } else if options.max_n < first.saturating_add(FACE_TEST_POINTS) {
+                Some("max_n leaves no room for it")
+            } else {
+                None
+            };
+            if let Some(why) = skipped {
+                options.rule = Rule::TentLattice;
+                let laws = options.rule_reason.strip_prefix(FACE_TEST_FIRST);
+                let laws = laws.unwrap_or(&options.rule_reason);
+                let sep = if laws.is_empty() { "" } else { "; " };
+                options.rule_reason = format!("{laws}{sep}no face test: {why}");
+            }
+        }
         Ok(Cubature {
             d,
             options,
@@ -769,6 +860,9 @@ impl Cubature {
 
     /// Points per replicate of the batch handed out and not yet fed (0: none).
     pub fn pending(&self) -> u64 {
+        if self.options.rule == Rule::FaceTest {
+            return FACE_TEST_POINTS;
+        }
         self.tried.as_ref().map_or(self.pending, |t| t.pending)
     }
 
@@ -874,7 +968,10 @@ impl Cubature {
         let r = self.replicates();
         if self.k == 0
             || self.tried.is_some()
-            || matches!(self.options.rule, Rule::Pilot | Rule::Probe)
+            || matches!(
+                self.options.rule,
+                Rule::Pilot | Rule::Probe | Rule::FaceTest
+            )
             || self.met()
         {
             return 0;
@@ -950,6 +1047,9 @@ impl Cubature {
         if let Some(sobol) = self.tried.as_mut() {
             return sobol.next_points();
         }
+        if self.options.rule == Rule::FaceTest {
+            return Some(self.face_test_points());
+        }
         if self.pending == 0 {
             if self.exhausted() {
                 return None;
@@ -1010,6 +1110,9 @@ impl Cubature {
             self.pilot();
             return Ok(());
         }
+        if self.options.rule == Rule::FaceTest {
+            return self.settle_face_test(points, values);
+        }
         let r = self.pending_replicates().0.len();
         let m = self.pending as usize;
         let rows = r * self.batch_rows(m);
@@ -1055,6 +1158,115 @@ impl Cubature {
             self.settle_probe(values);
         }
         self.pilot();
+        Ok(())
+    }
+
+    /// The face test's batch ([`Rule::FaceTest`]), scaled to the box: with b an interior
+    /// point (each coordinate in [¼, ¾]) and c a corner (each coordinate 0 or 1), both
+    /// drawn from the seed, the points c + t·(b − c) for t = δ, 2δ, 4δ
+    /// ([`FACE_TEST_STEP`]), the same toward the opposite corner 1 − c, then b: seven
+    /// rows. Opposite corners put every coordinate near each of its faces once.
+    pub fn face_test_points(&self) -> PointSet {
+        use stillpoint_sequences::{hash2, mix64};
+        let d = self.d;
+        let key = hash2(mix64(self.options.seed), FACE_TEST_KEY);
+        let (mut interior, mut corner) = (Vec::with_capacity(d), Vec::with_capacity(d));
+        for i in 0..d {
+            let h = hash2(key, i as u64);
+            // The top 53 bits as a uniform in [0, 1), the lowest as the corner's side.
+            interior.push(0.25 + 0.5 * (h >> 11) as f64 / (1u64 << 53) as f64);
+            corner.push((h & 1) as f64);
+        }
+        let mut data = Vec::with_capacity(FACE_TEST_POINTS as usize * d);
+        for flip in [false, true] {
+            for step in [1.0, 2.0, 4.0] {
+                let t = step * FACE_TEST_STEP;
+                data.extend(interior.iter().zip(&corner).map(|(b, c)| {
+                    let c = if flip { 1.0 - c } else { *c };
+                    c + t * (b - c)
+                }));
+            }
+        }
+        data.extend_from_slice(&interior);
+        for row in data.chunks_exact_mut(d) {
+            for ((x, a), w) in row.iter_mut().zip(&self.lower).zip(&self.width) {
+                *x = a + w * *x;
+            }
+        }
+        PointSet::new(FACE_TEST_POINTS as usize, d, data).expect("seven rows")
+    }
+
+    /// Takes f's values at the face test's batch (7 × k, row-major) and chooses the rule:
+    /// the first-order lattice when, toward either corner and on any output, f changed by
+    /// more than [`FACE_SINGULAR`] of its size there (the largest |f| at the corner's three
+    /// points and the interior point), or its two changes grew by less than
+    /// 2^[`FACE_EXPONENT`] from the first step to the second, or it was not finite; the
+    /// tent lattice otherwise. The
+    /// test's evaluations are counted in `n`. Refuses a batch of another length, naming
+    /// the values; the state is unchanged then.
+    fn settle_face_test(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
+        let rows = FACE_TEST_POINTS as usize;
+        if points.n() != rows || values.is_empty() || !values.len().is_multiple_of(rows) {
+            return Err(Error::invalid(
+                "values",
+                format!("{} values for {rows} points", values.len()),
+                format!("{rows}·k values (k ≥ 1 outputs per point) at the face test's points"),
+            ));
+        }
+        let k = values.len() / rows;
+        let mut largest = 0.0f64;
+        let mut unbounded = false;
+        let mut slow = false;
+        for j in 0..k {
+            let v = |row: usize| values[row * k + j];
+            for corner in [0, 3] {
+                let near = [v(corner), v(corner + 1), v(corner + 2)];
+                let all = [near[0], near[1], near[2], v(6)];
+                if all.iter().any(|x| !x.is_finite()) {
+                    unbounded = true;
+                    continue;
+                }
+                let size = all.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                if size == 0.0 {
+                    continue;
+                }
+                // Divided by the size first, so that no difference overflows.
+                let (first, second) = (
+                    near[1] / size - near[0] / size,
+                    near[2] / size - near[1] / size,
+                );
+                largest = largest.max(first.abs()).max(second.abs());
+                slow |= first.abs() > FACE_RESOLVED
+                    && second.abs() > FACE_RESOLVED
+                    && first.signum() == second.signum()
+                    && second / first < FACE_EXPONENT.exp2();
+            }
+        }
+        let singular = unbounded || slow || largest > FACE_SINGULAR;
+        let seen = if unbounded {
+            "f not finite".to_string()
+        } else if slow && largest <= FACE_SINGULAR {
+            format!("f's changes growing like t^α, α < {FACE_EXPONENT}")
+        } else {
+            format!(
+                "f changed by {} of its size",
+                crate::progress::sci(largest, 1)
+            )
+        };
+        let reason = &self.options.rule_reason;
+        let laws = reason.strip_prefix(FACE_TEST_FIRST).unwrap_or(reason);
+        let test = format!("a face test ({FACE_TEST_POINTS} evaluations, counted)");
+        self.options.rule_reason = if singular {
+            self.options.rule = Rule::FirstOrderLattice;
+            format!(
+                "first-order lattice: f steep at a face by {test}: {seen} within 2^−28 \
+                 of a corner"
+            )
+        } else {
+            self.options.rule = Rule::TentLattice;
+            format!("{laws}; f smooth at the faces by {test}")
+        };
+        self.spent += FACE_TEST_POINTS;
         Ok(())
     }
 
@@ -1128,14 +1340,17 @@ impl Cubature {
             .collect();
     }
 
-    /// After the first round of the tent lattice, when an output took few values
-    /// ([`FEW_VALUES`]) and the rule was not asked for by name: the run goes on with
+    /// After the first round of the tent lattice (or of the first-order lattice a face test
+    /// chose), when an output took few values ([`FEW_VALUES`]) and the rule was not asked
+    /// for by name: the run goes on with
     /// scrambled Sobol' from its own first round, the lattice's evaluations counted in
     /// `n` (as the pilot's are), and says so. Whether it left.
     fn leave_for_few_values(&mut self) -> bool {
         let k = self.k;
-        if self.options.rule != Rule::TentLattice
-            || self.options.rule_asked
+        if !matches!(
+            self.options.rule,
+            Rule::TentLattice | Rule::FirstOrderLattice
+        ) || self.options.rule_asked
             || self.tried.is_some()
             || self.options.max_n < 2 * self.own_n()
         {
@@ -2702,6 +2917,215 @@ mod tests {
         assert!(!old.halved());
     }
 
+    /// ∏ (1 + x_j/2): smooth up to every face.
+    fn smooth_product(x: &PointSet) -> Vec<f64> {
+        x.rows()
+            .map(|p| p.iter().map(|u| 1.0 + 0.5 * u).product())
+            .collect()
+    }
+
+    /// ∏ x_j^0.2: finite, but its derivative is unbounded at the faces x_j = 0.
+    fn root_product(x: &PointSet) -> Vec<f64> {
+        x.rows()
+            .map(|p| p.iter().map(|u| u.powf(0.2)).product())
+            .collect()
+    }
+
+    /// exp(½ Σ Φ⁻¹(x_j)): a lognormal model written on the cube.
+    fn lognormal_on_the_cube(x: &PointSet) -> Vec<f64> {
+        x.rows()
+            .map(|p| (0.5 * p.iter().map(|&u| normal_score(u)).sum::<f64>()).exp())
+            .collect()
+    }
+
+    fn face_run(f: fn(&PointSet) -> Vec<f64>, d: usize, seed: u64, rule: Rule) -> QuadResult {
+        let opts = QuadOptions {
+            rel_tol: 1e-3,
+            seed,
+            rule,
+            ..QuadOptions::default()
+        };
+        quad(f, d, opts).unwrap()
+    }
+
+    #[test]
+    fn a_face_test_keeps_the_tent_lattice_for_a_smooth_f_and_counts_its_points() {
+        for seed in 0..4 {
+            let tested = face_run(smooth_product, 4, seed, Rule::FaceTest);
+            let tent = face_run(smooth_product, 4, seed, Rule::TentLattice);
+            assert_eq!(tested.rule, Rule::TentLattice, "{}", tested.rule_reason);
+            assert_eq!(
+                (&tested.estimate, &tested.half_width),
+                (&tent.estimate, &tent.half_width)
+            );
+            assert_eq!(tested.n, tent.n + FACE_TEST_POINTS);
+            assert!(
+                tested
+                    .rule_reason
+                    .ends_with("f smooth at the faces by a face test (7 evaluations, counted)"),
+                "{}",
+                tested.rule_reason
+            );
+        }
+    }
+
+    #[test]
+    fn a_face_test_gives_the_first_order_lattice_to_an_f_steep_at_a_face() {
+        for f in [root_product, lognormal_on_the_cube] {
+            for seed in 0..3 {
+                let tested = face_run(f, 3, seed, Rule::FaceTest);
+                let lattice = face_run(f, 3, seed, Rule::FirstOrderLattice);
+                assert_eq!(
+                    tested.rule,
+                    Rule::FirstOrderLattice,
+                    "{}",
+                    tested.rule_reason
+                );
+                assert_eq!(
+                    (&tested.estimate, &tested.half_width),
+                    (&lattice.estimate, &lattice.half_width)
+                );
+                assert_eq!(tested.n, lattice.n + FACE_TEST_POINTS);
+                assert!(
+                    tested
+                        .rule_reason
+                        .starts_with("first-order lattice: f steep at a face by a face test"),
+                    "{}",
+                    tested.rule_reason
+                );
+            }
+        }
+        // The answer is the integral: (1/1.2)^3 for the roots, e^{3/8} for the lognormal.
+        let r = face_run(root_product, 3, 7, Rule::FaceTest);
+        assert!((r.estimate[0] - 1.2f64.powi(-3)).abs() <= 3.0 * r.half_width[0]);
+        let r = face_run(lognormal_on_the_cube, 3, 7, Rule::FaceTest);
+        assert!((r.estimate[0] - (3.0f64 / 8.0).exp()).abs() <= 3.0 * r.half_width[0]);
+    }
+
+    #[test]
+    fn the_face_test_approaches_opposite_corners_inside_the_box() {
+        let (a, b) = (vec![-1.0, 2.0, 0.0], vec![1.0, 3.0, 10.0]);
+        let opts = QuadOptions {
+            a: Some(a.clone()),
+            b: Some(b.clone()),
+            rule: Rule::FaceTest,
+            seed: 5,
+            ..QuadOptions::default()
+        };
+        let mut state = Cubature::new(3, opts).unwrap();
+        let p = state.next_points().unwrap();
+        assert_eq!((p.n(), state.pending()), (7, FACE_TEST_POINTS));
+        // Asked again before the values: the same batch.
+        assert_eq!(state.next_points().unwrap().as_slice(), p.as_slice());
+        let rows: Vec<&[f64]> = p.rows().collect();
+        let interior = rows[6];
+        for i in 0..3 {
+            let w = b[i] - a[i];
+            assert!(interior[i] >= a[i] + 0.25 * w && interior[i] <= a[i] + 0.75 * w);
+            // Toward one face of coordinate i at the first corner, the other at the second,
+            // at 2^-30, 2^-29 and 2^-28 of the way to the interior point.
+            let mut faces = Vec::new();
+            for corner in [0, 3] {
+                let near = |x: f64| {
+                    if (x - a[i]).abs() < (x - b[i]).abs() {
+                        a[i]
+                    } else {
+                        b[i]
+                    }
+                };
+                let face = near(rows[corner][i]);
+                faces.push(face);
+                for (step, row) in rows[corner..corner + 3].iter().enumerate() {
+                    let t = (1u64 << step) as f64 * FACE_TEST_STEP;
+                    let want = face + t * (interior[i] - face);
+                    assert!((row[i] - want).abs() <= 1e-12 * w, "{i} {corner} {step}");
+                    assert!(row[i] > a[i] && row[i] < b[i]);
+                }
+            }
+            assert_ne!(faces[0], faces[1]);
+        }
+        // f is fed at those points only; the rule is chosen, the lattice's round is next.
+        let values = smooth_product(&p);
+        state.feed(&p, &values).unwrap();
+        assert_eq!((state.options.rule, state.n()), (Rule::TentLattice, 7));
+        assert_eq!(state.progress_line("quad", 0.0), "quad: n=7  rule: lattice");
+        assert_eq!(
+            state.next_points().unwrap().n(),
+            4 * DEFAULT_START_N as usize
+        );
+    }
+
+    #[test]
+    fn a_face_test_reads_a_value_that_is_not_finite_as_a_steep_face_and_refuses_bad_lengths() {
+        let mut state = Cubature::new(
+            2,
+            QuadOptions {
+                rule: Rule::FaceTest,
+                ..QuadOptions::default()
+            },
+        )
+        .unwrap();
+        let p = state.next_points().unwrap();
+        let e = state.feed(&p, &[1.0; 5]).unwrap_err().to_string();
+        assert!(e.contains("5 values for 7 points"), "{e}");
+        assert_eq!(state.options.rule, Rule::FaceTest);
+        let mut values = vec![1.0; 7];
+        values[1] = f64::INFINITY;
+        state.feed(&p, &values).unwrap();
+        assert_eq!(state.options.rule, Rule::FirstOrderLattice);
+        assert!(state.options.rule_reason.contains("not finite"));
+    }
+
+    #[test]
+    fn no_face_test_without_a_tolerance_or_room_in_max_n() {
+        let opts = QuadOptions {
+            max_n: 4 * DEFAULT_START_N,
+            rule: Rule::FaceTest,
+            ..QuadOptions::default()
+        };
+        let state = Cubature::new(3, opts).unwrap();
+        assert_eq!(state.options.rule, Rule::TentLattice);
+        assert!(state.options.rule_reason.contains("no face test: max_n"));
+        // A run to a budget alone: the tent lattice's doublings fill it, as without a test.
+        let opts = QuadOptions {
+            abs_tol: 0.0,
+            rel_tol: 0.0,
+            max_n: 4096,
+            rule: Rule::FaceTest,
+            ..QuadOptions::default()
+        };
+        let budget = quad(smooth_product, 3, opts.clone()).unwrap();
+        let tent = quad(
+            smooth_product,
+            3,
+            QuadOptions {
+                rule: Rule::TentLattice,
+                ..opts
+            },
+        )
+        .unwrap();
+        assert_eq!((budget.rule, budget.n), (Rule::TentLattice, 4096));
+        assert_eq!(budget.estimate, tent.estimate);
+        assert!(budget.rule_reason.contains("no face test: no tolerance"));
+        // A state saved during the face test continues to the same answer.
+        let mut state = Cubature::new(
+            2,
+            QuadOptions {
+                rule: Rule::FaceTest,
+                rel_tol: 1e-2,
+                ..QuadOptions::default()
+            },
+        )
+        .unwrap();
+        let _ = state.next_points().unwrap();
+        let mut back: Cubature =
+            serde_json::from_str(&serde_json::to_string(&state).unwrap()).unwrap();
+        state.run(root_product).unwrap();
+        back.run(root_product).unwrap();
+        assert_eq!(back, state);
+        assert_eq!(state.options.rule, Rule::FirstOrderLattice);
+    }
+
     #[test]
     fn the_state_round_trips_through_serde() {
         let r = quad(product_exp, 2, QuadOptions::default()).unwrap();
@@ -3309,9 +3733,11 @@ mod tests {
         assert!(why.contains("(z)"), "{why}");
         let path = space(&["W=brownian(1,8)", "z=normal(0,1)"]);
         assert_eq!(Rule::for_quad(Some(&path)).0, Rule::Sobol);
-        assert_eq!(Rule::for_quad(None).0, Rule::TentLattice);
+        // Over the cube and bounded laws, a face test first.
+        assert_eq!(Rule::for_quad(None).0, Rule::FaceTest);
         let bounded = space(&["x=uniform(0,1)"]);
-        assert_eq!(Rule::for_quad(Some(&bounded)).0, Rule::TentLattice);
+        assert_eq!(Rule::for_quad(Some(&bounded)).0, Rule::FaceTest);
+        assert_eq!(Rule::for_space(Some(&bounded)).0, Rule::TentLattice);
     }
 
     /// Even under Z ↦ −Z through normal laws (u ↦ 1 − u on the cube): a radial function.

@@ -19,7 +19,12 @@ impl Cubature {
         // The first of the furthest behind.
         let Some(j) = (0..estimate.len()).reduce(|a, b| if behind(b) > behind(a) { b } else { a })
         else {
-            return format!("{prefix}: n={}", self.n());
+            // Before the rule's first round (after a face test): the rule it chose.
+            return format!(
+                "{prefix}: n={}  rule: {}",
+                self.n(),
+                self.options.rule.as_str()
+            );
         };
         let which = if estimate.len() > 1 {
             format!("  (output {j})")

@@ -150,6 +150,10 @@ def _reporter(progress: Any, result: Any) -> Optional[_Report]:
     if callable(progress):
 
         def call(state: Any, setup: Dict[str, Any], *_: float) -> None:
+            # Only results with an estimate: a face test's round chooses the rule and
+            # estimates nothing.
+            if not state.outputs:
+                return
             # A copy: the callable may keep it while the run goes on.
             progress(result(copy.deepcopy(state), dict(setup)))
 

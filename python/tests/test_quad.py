@@ -36,7 +36,9 @@ def test_a_known_integral_within_the_tolerance(d, rel_tol):
     # At 95 % the interval misses now and then; the tolerance itself is wider than
     # the half-width only by chance, so allow the error up to the tolerance doubled.
     assert abs(r.estimate - exact) <= 2 * rel_tol * exact
-    assert r.n % r.replicates == 0 and r.n >= 64 * r.replicates
+    # The face test's seven evaluations first; f is smooth, so the tent lattice's rounds.
+    assert r.rule == "lattice" and "by a face test (7 evaluations" in r.rule_reason
+    assert (r.n - 7) % r.replicates == 0 and r.n - 7 >= 64 * r.replicates
 
 
 def test_a_box_scales_the_points_and_the_volume():
@@ -223,8 +225,11 @@ def test_progress_true_writes_one_line_per_round(capsys):
     captured = capsys.readouterr()
     assert captured.out == ""
     rule_line, *lines = captured.err.splitlines()
-    # The first line says the rule and why; then one line per round.
-    assert rule_line == f"quad: {r.rule_reason}" and "tent lattice" in rule_line
+    # The first line says the rule and why (a face test first, over the cube); then one
+    # line per round, the face test's saying the rule it chose.
+    assert rule_line.startswith("quad: a face test first") and "tent lattice" in rule_line
+    assert r.rule_reason.startswith("tent lattice") and "smooth at the faces" in r.rule_reason
+    assert lines[0] == "quad: n=7  rule: lattice" and rounds[0] == 7
     assert len(lines) == len(rounds) >= 2
     ns = [int(re.search(r"\bn=(\d+)", line).group(1)) for line in lines]
     assert ns == list(np.cumsum(rounds))
@@ -245,7 +250,7 @@ def test_progress_true_writes_one_line_per_round(capsys):
 
 def test_progress_lines_name_the_output_furthest_from_its_target(capsys):
     r = sp.quad(square_sum, 2, rel_tol=1e-3, seed=21, progress=True)
-    lines = capsys.readouterr().err.splitlines()[1:]  # after the rule's line
+    lines = capsys.readouterr().err.splitlines()[2:]  # after the rule's and the face test's
     assert lines and all("(output " in line for line in lines)
     assert int(re.search(r"\bn=(\d+)", lines[-1]).group(1)) == r.n
 
@@ -286,7 +291,8 @@ def test_a_raising_progress_callable_stops_the_run_like_ctrl_c():
 
     with pytest.raises(RuntimeError, match="enough"):
         sp.quad(f, 3, rel_tol=1e-9, seed=23, progress=stop)
-    assert len(calls) == 2
+    # The face test's batch (no estimate, so no call), then two rounds.
+    assert calls[0] == 7 and len(calls) == 3
     # The earlier result given as start= is unchanged, and a result the callable got
     # continues as an uninterrupted run would.
     first = sp.quad(product_peak, 3, rel_tol=1e-2, seed=23)
@@ -384,7 +390,7 @@ def test_a_pilot_round_chooses_the_rule_when_asked_and_is_counted():
     # Near the tolerance there is no pilot round: the lattice's run as it is.
     r = sp.quad(f, 4, rel_tol=0.5, seed=1, rule="pilot")
     assert r.rule == "lattice" and "without a pilot round" in r.rule_reason
-    assert r.n == sp.quad(f, 4, rel_tol=0.5, seed=1).n
+    assert r.n == sp.quad(f, 4, rel_tol=0.5, seed=1, rule="lattice").n
     # A progress display sees the lattice's first round, then the rule kept.
     seen = []
     sp.quad(f, 4, rel_tol=1e-7, max_n=4096 + 256, seed=0, rule="pilot",
@@ -445,7 +451,7 @@ def test_added_replicates_are_counted_and_continued():
     assert r.met and r.half_width <= tol * abs(r.estimate)
     # Every replicate has as many points; the means are the replicates counted.
     assert len(r.replicate_means) == r.replicates
-    assert r.n % r.replicates == 0
+    assert (r.n - 7) % r.replicates == 0  # after the face test's 7
     assert abs(r.estimate - float(np.mean(r.replicate_means))) <= 1e-12 * abs(r.estimate)
     # The replicates asked for (4, the default) continue it; doublings keep the added.
     more = sp.quad(product_peak, 3, rel_tol=tol / 10, start=r, replicates=4)
@@ -463,8 +469,10 @@ def test_an_event_is_integrated_on_scrambled_sobol_and_says_why():
 
     r = sp.quad(f, 4, rel_tol=1e-2, seed=3)
     assert r.rule == "sobol" and "took few values" in r.rule_reason, r.rule_reason
-    alone = sp.quad(f, 4, rel_tol=1e-2, seed=3, rule="sobol", max_n=2**20 - 256)
-    assert (r.n, r.estimate) == (alone.n + 256, alone.estimate)
+    alone = sp.quad(f, 4, rel_tol=1e-2, seed=3, rule="sobol", max_n=2**20 - 256 - 7)
+    # The face test's 7 evaluations (a step is flat near the corners: the tent lattice)
+    # and the lattice's first round are counted.
+    assert (r.n, r.estimate) == (alone.n + 256 + 7, alone.estimate)
     # Asked for by name, the lattice is kept.
     assert sp.quad(f, 4, rel_tol=1e-2, seed=3, rule="lattice").rule == "lattice"
 
