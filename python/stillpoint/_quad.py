@@ -84,14 +84,15 @@ class QuadResult(_Result):
         tent-transformed), ``"sobol"`` (Owen-scrambled Sobol'), also when a pilot round
         chose it (``rule="pilot"``), or ``"first-order lattice"`` (the extensible lattice
         of ``Engine(d)``'s table, which a probe round under unbounded laws keeps for an f
-        even in them)."""
+        even in them, and a face test over the cube gives an f steep at a face)."""
         return str(self._state.rule[0])
 
     @property
     def rule_reason(self) -> str:
         """Why that rule: from the laws of ``space`` (an unbounded law takes Sobol' unless
-        the probe round finds f even), the box, as asked through ``rule=``, or the pilot
-        round's ratio of half-widths."""
+        the probe round finds f even), the box and the face test (the first-order lattice
+        for an f steep at a face), as asked through ``rule=``, or the pilot round's ratio
+        of half-widths."""
         return str(self._state.rule[1])
 
     @property
@@ -146,7 +147,11 @@ def quad(
     evaluated (the same estimate, half the evaluations; ``rule_reason`` says so). Under
     unbounded laws (no path) the first round is a probe of 64 points of a lattice made
     for such laws: an f even in them keeps it, halved; any other goes on with scrambled
-    Sobol', the 64 evaluations counted. The rule, the interval and its measured coverage: [Integration, to a
+    Sobol', the 64 evaluations counted. Over the cube, a box or bounded laws, with a
+    tolerance, a face test of 7 evaluations (counted) comes first: f near two opposite
+    corners; an f whose derivative is unbounded at a face (a quantile function or a power
+    x^α, α < 1, inside it) goes on with that lattice made for unbounded laws, any other
+    with the tent lattice. The rule, the interval and its measured coverage: [Integration, to a
     tolerance](integration.md#to-a-tolerance); examples: [Python and
     SciPy](python.md#integrating-to-a-tolerance).
 
@@ -198,11 +203,13 @@ def quad(
     progress : bool or callable
         After each doubling: False (the default) says nothing; True writes the rule and
         why, then a line per doubling to standard error (``quad: n=4096
-        estimate=1.23457e+00  half-width=3.1e-04 (target 1.2e-04)  2.3 s``); a callable
-        is given the :class:`QuadResult` so far (a copy, which ``start=`` can continue),
-        and an exception it raises stops the run as Ctrl-C does.
+        estimate=1.23457e+00  half-width=3.1e-04 (target 1.2e-04)  2.3 s``; after a face
+        test, ``quad: n=7  rule: lattice``); a callable is given the :class:`QuadResult`
+        so far from the first round on (a copy, which ``start=`` can continue), and an
+        exception it raises stops the run as Ctrl-C does.
     rule : str, optional
-        ``"lattice"`` or ``"sobol"`` chooses the rule instead of the laws (None by default);
+        ``"lattice"`` or ``"sobol"`` chooses the rule instead of the laws and the face
+        test (None by default);
         ``"pilot"`` keeps the one whose first round is clearly narrower, the other's first
         round counted in ``n``; ``"first-order lattice"`` the lattice with the table of
         ``Engine(d)`` (made for unbounded laws), which the probe round keeps for an f even
