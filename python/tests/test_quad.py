@@ -487,3 +487,22 @@ def test_tied_replicate_means_of_a_step_claim_no_tolerance():
     for seed in range(10):
         r = sp.quad(f, 3, rel_tol=1e-6, max_n=2**14, seed=seed, rule="lattice")
         assert r.half_width > 1e-9 and not r.met, (seed, r.estimate, r.half_width)
+
+
+def test_a_face_test_reads_f_steep_at_a_face_and_an_infinite_value_there():
+    # Over the cube: a quantile function inside f takes the first-order lattice, a smooth
+    # f the tent lattice, each after the test's 7 evaluations (counted).
+    from scipy.special import ndtri
+
+    steep = sp.quad(lambda x: np.exp(0.5 * ndtri(x).sum(axis=1)), 3, rel_tol=1e-3, seed=2)
+    assert steep.rule == "first-order lattice" and "steep at a face" in steep.rule_reason
+    assert steep.estimate == pytest.approx(math.exp(3 / 8), rel=3e-3)
+    smooth = sp.quad(product_peak, 3, rel_tol=1e-3, seed=2)
+    alone = sp.quad(product_peak, 3, rel_tol=1e-3, seed=2, rule="lattice")
+    assert (smooth.rule, smooth.n, smooth.estimate) == ("lattice", alone.n + 7, alone.estimate)
+    # Infinite only within 1e-7 of the face x1 = 0, which the test's points reach and the
+    # lattice's do not: read as steep, not refused.
+    r = sp.quad(lambda x: np.where(x[:, 0] < 1e-7, np.inf, 1 + x[:, 0]), 2, rel_tol=1e-2,
+                seed=0)
+    assert r.rule == "first-order lattice" and "not finite" in r.rule_reason
+    assert r.estimate == pytest.approx(1.5, rel=1e-2)
