@@ -264,7 +264,8 @@ pub enum Rule {
     /// Over the cube or bounded laws ([`Rule::for_quad`]): a face test of
     /// [`FACE_TEST_POINTS`] evaluations first ([`Cubature::face_test_points`]), counted in
     /// `n`. An f that changes by more than [`FACE_SINGULAR`] of its size over the test's
-    /// steps toward a corner goes on with [`Rule::FirstOrderLattice`], any other with
+    /// steps toward a corner (or whose changes grow more slowly than the steps, or that is
+    /// not finite there) goes on with [`Rule::FirstOrderLattice`], any other with
     /// [`Rule::TentLattice`]. After the test a state holds the rule chosen, never this.
     FaceTest,
 }
@@ -283,8 +284,8 @@ pub const FACE_TEST_STEP: f64 = 1.0 / (1u64 << 30) as f64;
 /// The share of f's size above which a change over the face test's steps shows a
 /// derivative unbounded at a face: a smooth f changes by about 2^−30·|∇f| of its size, an
 /// f like x^α by about 2^−30α (every α below 0.55 passes), an f through a quantile
-/// function Φ⁻¹ by 10⁻³ to 10⁻¹ (Keister's and the lognormal family on the cube: 6·10⁻⁴ at
-/// the least over 100 instances each; results/quad/face/face.md).
+/// function Φ⁻¹ by 10⁻⁴ to 10⁻¹ (Keister's and the lognormal family on the cube:
+/// 5.8·10⁻⁵ at the least over 100 instances each; results/quad/face/face.md).
 pub const FACE_SINGULAR: f64 = 1e-5;
 
 /// Below this power of the step a change over the face test's doubling steps grows more
@@ -1202,9 +1203,8 @@ impl Cubature {
     /// more than [`FACE_SINGULAR`] of its size there (the largest |f| at the corner's three
     /// points and the interior point), or its two changes grew by less than
     /// 2^[`FACE_EXPONENT`] from the first step to the second, or it was not finite; the
-    /// tent lattice otherwise. The
-    /// test's evaluations are counted in `n`. Refuses a batch of another length, naming
-    /// the values; the state is unchanged then.
+    /// tent lattice otherwise. The test's evaluations are counted in `n`. Refuses a batch
+    /// of another length, naming the values; the state is unchanged then.
     fn settle_face_test(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
         let rows = FACE_TEST_POINTS as usize;
         if points.n() != rows || values.is_empty() || !values.len().is_multiple_of(rows) {
