@@ -1073,11 +1073,7 @@ impl Cubature {
         } else {
             rule.fill_replicates(self.d, seed, SOBOL_KEY, reps, start, &mut data);
         }
-        for row in data.chunks_exact_mut(self.d) {
-            for ((x, a), w) in row.iter_mut().zip(&self.lower).zip(&self.width) {
-                *x = a + w * *x;
-            }
-        }
+        self.to_box(&mut data);
         Some(PointSet::new(r * rows, self.d, data).expect("non-empty batch"))
     }
 
@@ -1190,12 +1186,17 @@ impl Cubature {
             }
         }
         data.extend_from_slice(&interior);
-        for row in data.chunks_exact_mut(d) {
+        self.to_box(&mut data);
+        PointSet::new(FACE_TEST_POINTS as usize, d, data).expect("seven rows")
+    }
+
+    /// Rows of unit-cube points (d values each) scaled into the box [a, b], in place.
+    fn to_box(&self, data: &mut [f64]) {
+        for row in data.chunks_exact_mut(self.d) {
             for ((x, a), w) in row.iter_mut().zip(&self.lower).zip(&self.width) {
                 *x = a + w * *x;
             }
         }
-        PointSet::new(FACE_TEST_POINTS as usize, d, data).expect("seven rows")
     }
 
     /// Takes f's values at the face test's batch (7 × k, row-major) and chooses the rule:
