@@ -83,7 +83,10 @@ minutes of wall time (6980 s summed over the cells, 14 to 19 minutes per method;
 ``space=`` (SciPy's lognormal laws) as well as on the cube and prints both estimates.
 ``--rerun-unmet --methods stillpoint`` runs again, in place, the stored runs that did
 not meet their tolerance (after a change that acts only once a run can no longer
-double, the others cannot change). ``--families``, ``--s`` and ``--tols`` restrict the cells (e.g. ``--families keister
+double, the others cannot change). ``--rerun-above N --methods stillpoint`` runs again,
+in place, the stored runs that made more than N evaluations, met or not (after a change
+that acts only on a run's last rounds, such as how a doubling that passes the budget is
+made). ``--families``, ``--s`` and ``--tols`` restrict the cells (e.g. ``--families keister
 --s 20 --tols 1e-5``); ``--runs 5 --out /tmp/quad`` is a quick check. Writes
 results/quad/<method>.json.gz and results/quad/quad.md.
 """
@@ -515,6 +518,10 @@ def main():
                     help="run again, in place, the stored runs of --methods that did not "
                          "meet their tolerance (after a change that acts only once a run "
                          "can no longer double)")
+    ap.add_argument("--rerun-above", type=int, default=None,
+                    help="run again, in place, the stored runs of --methods that made more "
+                         "than this many evaluations, met or not (after a change that acts "
+                         "only on a run's last rounds)")
     ap.add_argument("--check-space", action="store_true",
                     help="lognormal through stillpoint's space= against the cube version")
     ap.add_argument("--check-keister", action="store_true",
@@ -566,15 +573,16 @@ def main():
     for method in args.methods.split(","):
         if method not in METHODS:
             sys.exit(f"unknown method {method}")
-        if args.rerun_unmet:
-            rerun_unmet(method, cells, args.out)
+        if args.rerun_unmet or args.rerun_above is not None:
+            rerun_unmet(method, cells, args.out, args.rerun_above)
         else:
             measure(method, cells, args.runs, args.cell_seconds, args.out)
 
 
-def rerun_unmet(method, cells, out):
-    """The stored runs of `method` in `cells` that did not meet their tolerance, run
-    again with the same instance and seed and put in their place."""
+def rerun_unmet(method, cells, out, above=None):
+    """The stored runs of `method` in `cells` that did not meet their tolerance (or,
+    with `above`, that made more than `above` evaluations), run again with the same
+    instance and seed and put in their place."""
     path = os.path.join(out, f"{method}.json.gz")
     d = load(path)
     if d is None:
@@ -586,7 +594,7 @@ def rerun_unmet(method, cells, out):
             continue
         s = tuple(cell["s"]) if isinstance(cell["s"], list) else cell["s"]
         for i, row in enumerate(cell["runs"]):
-            if row["met"]:
+            if (row["met"] if above is None else row["n"] <= above):
                 continue
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
@@ -594,8 +602,11 @@ def rerun_unmet(method, cells, out):
             total += 1
             changed += (new["calls_n"], new["met"]) != (row["calls_n"], row["met"])
             cell["runs"][i] = new
-    save(path, d)
-    print(f"{method}: {total} unmet runs run again, {changed} changed", flush=True)
+        # Saved cell by cell, so that an interrupted call keeps the cells it finished.
+        save(path, d)
+        print(f"{k}: {total} run again so far, {changed} changed", flush=True)
+    which = "unmet" if above is None else f"more than {above} evaluations:"
+    print(f"{method}: {total} runs ({which}) run again, {changed} changed", flush=True)
 
 
 if __name__ == "__main__":

@@ -773,6 +773,49 @@ fn a_constant_output_and_non_finite_values_are_refused() {
 }
 
 #[test]
+fn values_whose_squares_overflow_the_sums_are_refused_and_leave_the_state() {
+    // The first batch spreads over about 1; a later value of 1e200 has a square beyond
+    // the largest float even scaled by that spread: refused naming f and its point,
+    // where the indices would have been NaN, and the state is as before the batch.
+    let mut state = Sensitivity::new(2, SensitivityOptions::default()).unwrap();
+    let line = |x: &PointSet| x.rows().map(|p| p[0] + 0.5 * p[1]).collect::<Vec<f64>>();
+    while state.per_replicate() == 0 {
+        let points = state.next_points().unwrap();
+        let values = line(&points);
+        state.feed(&points, &values).unwrap();
+    }
+    let points = state.next_points().unwrap();
+    let mut values = line(&points);
+    values[5] = 1e200;
+    let kept = state.clone();
+    let e = state.feed(&points, &values).unwrap_err().to_string();
+    assert!(e.starts_with("invalid f = 1e200 at x = ["), "{e}");
+    assert!(e.contains("(output 0)") && e.contains("squares"), "{e}");
+    assert_eq!(state, kept);
+    // The batch fed again with finite values is taken.
+    let values = line(&points);
+    state.feed(&points, &values).unwrap();
+    assert!(state.current().iter().flatten().all(|v| v.is_finite()));
+}
+
+#[test]
+fn a_continuation_refuses_a_budget_below_the_evaluations_made() {
+    let r = sobol_indices(ishigami, 3, box3()).unwrap();
+    let mut state = r.state.clone();
+    let e = state.set_max_n(r.n - 1).unwrap_err().to_string();
+    assert!(
+        e.starts_with(&format!("invalid max_n = {}", r.n - 1)),
+        "{e}"
+    );
+    assert!(
+        e.contains(&format!("at least the {} evaluations", r.n)),
+        "{e}"
+    );
+    assert_eq!(state, r.state);
+    state.set_max_n(r.n).unwrap();
+}
+
+#[test]
 fn huge_and_offset_outputs_give_the_indices_of_the_plain_ones() {
     // Indices do not change under y → c·y + m; the sums are centred and scaled by powers
     // of two, so outputs near 1e300 or sitting on 1e12 are analysed as the plain ones.

@@ -57,7 +57,12 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
     let (mut state, space) = Cubature::from_request(&given, &spelling)?;
     let refused = |e| expr_refusal(e, text, |_| None, |n| integration_flag(n, space_flag));
     let s = state.d();
-    let expr = RegionExpr::parse(text, s).map_err(|e| anyhow::anyhow!("invalid --expr: {e}"))?;
+    // The variables' own names (--var, --space) stand for their columns in --expr.
+    let names: Vec<String> = space.as_ref().map_or(Vec::new(), |sp| {
+        sp.vars.iter().map(|v| v.name.clone()).collect()
+    });
+    let expr = RegionExpr::parse_named(text, s, &names)
+        .map_err(|e| anyhow::anyhow!("invalid --expr: {e}"))?;
     let options = state.options().clone();
     let rounds = Rounds::new(q.quiet, q.progress);
     rounds.say(&format!("stillpoint: {}", options.rule_reason));

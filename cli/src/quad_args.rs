@@ -14,8 +14,9 @@ use stillpoint::Request;
 /// than ignored.
 #[derive(clap::Args, Debug, Clone)]
 pub(crate) struct QuadArgs {
-    /// Integrate this expression in x1..xs (the grammar of --region) to a tolerance
-    /// instead of reading a point file.
+    /// Integrate this expression in x1..xs (the grammar of --region; under --var or
+    /// --space also in the variables' own names) to a tolerance instead of reading a
+    /// point file.
     #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
     pub(crate) expr: Option<String>,
     /// Dimension s of --expr (with --var or --space, their count of columns, which it

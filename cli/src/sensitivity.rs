@@ -13,7 +13,8 @@ use stillpoint::sensitivity::Sensitivity;
 #[derive(clap::Args, Debug, Clone)]
 pub(crate) struct SensitivityArgs {
     /// The model: an expression in x1..xd (the grammar of --region), the inputs in the
-    /// order of --var.
+    /// order of --var; the variables' own names may be written instead, and come before
+    /// x, y, z (an input named x is that input, wherever it stands).
     #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
     pub(crate) expr: String,
     /// Number of inputs, each uniform on [0, 1] (or on --bounds).
@@ -82,7 +83,12 @@ pub(crate) fn sensitivity_command(q: SensitivityArgs) -> Result<()> {
     let refused = |e| expr_refusal(e, text, |_| None, |n| integration_flag(n, var));
     let options = state.options().clone();
     let d = state.d();
-    let expr = RegionExpr::parse(text, d).map_err(|e| anyhow::anyhow!("invalid --expr: {e}"))?;
+    // The variables' own names (--var, --space) stand for their columns in --expr.
+    let names: Vec<String> = space.as_ref().map_or(Vec::new(), |sp| {
+        sp.vars.iter().map(|v| v.name.clone()).collect()
+    });
+    let expr = RegionExpr::parse_named(text, d, &names)
+        .map_err(|e| anyhow::anyhow!("invalid --expr: {e}"))?;
     let mode = ProgressMode::chosen(q.quiet, q.progress, ProgressMode::None);
     let started = std::time::Instant::now();
     let mut failed = None;

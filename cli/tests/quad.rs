@@ -40,22 +40,32 @@ fn a_closed_form_integral_is_reached_within_the_tolerance() {
 
 #[test]
 fn the_budget_stops_the_run_and_says_so() {
-    let v = run_json(&[
-        "--expr",
-        "exp(x1)",
-        "-s",
-        "1",
-        "--rel-tol",
-        "1e-15",
-        "--max-n",
-        "4096",
-    ]);
+    let budget = |max_n: &str| {
+        run_json(&[
+            "--expr",
+            "exp(x1)",
+            "-s",
+            "1",
+            "--rel-tol",
+            "1e-15",
+            "--max-n",
+            max_n,
+        ])
+    };
+    let v = budget("4096");
     assert_eq!(v["met"], false);
-    // The face test's 7 evaluations, 2 048 of the lattice, then as many added replicates
-    // of 512 points as the rest of the budget holds (3 of 4, 1 536): at most max_n.
-    assert_eq!(v["n"], 7 + 2048 + 3 * 512);
-    assert_eq!(v["replicates"], 7);
+    // The face test's 7 evaluations, 2 048 of the lattice, then the last doubling made
+    // short: 510 of its 512 points per replicate, all the budget but one evaluation.
+    assert_eq!(v["n"], 7 + 2048 + 4 * 510);
+    assert_eq!(v["replicates"], 4);
     assert_eq!(v["rule"], "lattice");
+    // A budget holding less than three quarters of that doubling (361 of 512 points per
+    // replicate) buys whole replicates of 512 instead, as many as it holds.
+    let v = budget("3500");
+    assert_eq!(
+        (v["n"].as_u64(), v["replicates"].as_u64()),
+        (Some(7 + 2048 + 2 * 512), Some(6))
+    );
 }
 
 #[test]

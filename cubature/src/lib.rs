@@ -42,8 +42,11 @@
 //! Under unbounded laws the reflected pairs are (Z, −Z), and `quad` ([`Rule::for_quad`])
 //! first probes with a round of [`PROBE_POINTS`] points of the lattice of the
 //! first-order table ([`Rule::Probe`]): an f even under that reflection keeps it, halved
-//! ([`Rule::FirstOrderLattice`]), and any other goes on with scrambled Sobol', which
-//! integrates such models better, the probe counted (results/quad/probe/probe.md).
+//! ([`Rule::FirstOrderLattice`]). Any other is given the face test below: one flat at
+//! the faces (it decays where the laws' tails are, as a Gaussian bump of normal inputs
+//! does, so that it is smooth on the cube) keeps the probe's lattice whole, and one steep
+//! there goes on with scrambled Sobol', which integrates such models better, the probe
+//! and the test counted (results/quad/probe/probe.md, results/quad/face/face.md).
 //!
 //! Over the cube and bounded laws `quad` first makes a face test ([`Rule::FaceTest`],
 //! [`FACE_TEST_POINTS`] evaluations, counted): f at three points approaching each of two
@@ -109,7 +112,13 @@
 //! on the corner peaks). It stops when, for every output,
 //! half-width ≤ max(abs_tol, rel_tol·|estimate|), or when the next doubling would pass
 //! `max_n` evaluations in total (all replicates together), and then says the tolerance
-//! was not met. Over a box [a, b] the points are scaled and the estimate and half-width
+//! was not met. A doubling that `max_n` can hold only [`SHORT_ROUND_SHARE`] or more of is
+//! made short: each replicate takes the first points of its next doubling that the
+//! budget holds, so that a test's few evaluations (the face test's, the probe's) or a
+//! budget that is not a power of two does not cost the last doubling. Every point of a
+//! randomised rule is uniform in the box, so a replicate mean over any prefix of its
+//! sequence stays unbiased and the replicates independent; the interval keeps its level,
+//! and the prefix misses the doubling's accuracy by about the share of points left out. Over a box [a, b] the points are scaled and the estimate and half-width
 //! include the volume, as in SciPy's `qmc_quad`.
 //!
 //! Any representable integral of a representable integrand is computed: each output's
@@ -143,6 +152,12 @@ use stillpoint_sequences::{ExtensibleLattice, SequenceTable, EXTENSIBLE_MAX_POIN
 /// 2^1024.
 const SUM_EXP: i32 = 1000;
 
+/// An output whose first values are all below 2^−TINY_EXP (subnormal or nearly: 1e-310)
+/// has its sums kept multiplied by a power of two that brings the largest near
+/// 2^−TINY_EXP, so that their rounding bound and spread stay normal floats; larger
+/// values keep the plain sums.
+const TINY_EXP: i32 = 900;
+
 /// Replicates (independent randomisations) by default: few long sequences make a
 /// narrower interval than many short ones when the error falls faster than 1/n, and the
 /// round guard keeps its level (results/quad/interval.md).
@@ -160,6 +175,14 @@ const SOBOL_KEY: u64 = 0x7175_6164_536f_626f;
 
 /// The most evaluations of f in total by default (2^20).
 pub const DEFAULT_MAX_N: u64 = 1 << 20;
+
+/// The least share of a doubling's points that `max_n` must hold for the doubling to be
+/// made short rather than left out (the module documentation). With the error falling
+/// like 1/n, R replicates of 1.75·n_r points err 0.57 times as much as at n_r, where the
+/// R − 1 replicates of n_r points the same budget buys instead err 0.76 times as much
+/// (R = 4); below three quarters of a doubling the added replicates' narrower Student
+/// quantile takes over.
+pub const SHORT_ROUND_SHARE: f64 = 0.75;
 
 /// Points per replicate in the first batch by default (the smallest prefix whose quality
 /// is checked against a lattice made for its size).
@@ -567,6 +590,54 @@ impl Rule {
     }
 }
 
+/// What the face test's values (7 × k, row-major; [`Cubature::face_test_points`]) show:
+/// whether f is steep at a face (toward either corner and on any output, it changed by
+/// more than [`FACE_SINGULAR`] of its size there, the largest |f| at the corner's three
+/// points and the interior point; or its two changes grew by less than
+/// 2^[`FACE_EXPONENT`] from the first step to the second; or it was not finite), and
+/// what was seen, in words.
+fn face_reading(values: &[f64], k: usize) -> (bool, String) {
+    let mut largest = 0.0f64;
+    let mut unbounded = false;
+    let mut slow = false;
+    for j in 0..k {
+        let v = |row: usize| values[row * k + j];
+        for corner in [0, 3] {
+            let near = [v(corner), v(corner + 1), v(corner + 2)];
+            let all = [near[0], near[1], near[2], v(6)];
+            if all.iter().any(|x| !x.is_finite()) {
+                unbounded = true;
+                continue;
+            }
+            let size = all.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            if size == 0.0 {
+                continue;
+            }
+            // Divided by the size first, so that no difference overflows.
+            let (first, second) = (
+                near[1] / size - near[0] / size,
+                near[2] / size - near[1] / size,
+            );
+            largest = largest.max(first.abs()).max(second.abs());
+            slow |= first.abs() > FACE_RESOLVED
+                && second.abs() > FACE_RESOLVED
+                && first.signum() == second.signum()
+                && second / first < FACE_EXPONENT.exp2();
+        }
+    }
+    let seen = if unbounded {
+        "f not finite".to_string()
+    } else if slow && largest <= FACE_SINGULAR {
+        format!("f's changes growing like t^α, α < {FACE_EXPONENT}")
+    } else {
+        format!(
+            "f changed by {} of its size",
+            crate::progress::sci(largest, 1)
+        )
+    };
+    (unbounded || slow || largest > FACE_SINGULAR, seen)
+}
+
 /// The distinct values (bit for bit) output `j` took among `values`, k outputs per point.
 fn distinct_values(values: &[f64], k: usize, j: usize) -> usize {
     let mut v: Vec<u64> = values[j..].iter().step_by(k).map(|x| x.to_bits()).collect();
@@ -643,6 +714,10 @@ pub struct Cubature {
     /// existed, and after a first batch of one point: no guard).
     #[serde(default)]
     half_sums: Vec<f64>,
+    /// The points per replicate `half_sums` are over (0: half of `per_replicate`, as
+    /// every state had before a short round could be made).
+    #[serde(default)]
+    half_points: u64,
     /// Per output, the sums the skew guard reads (empty in states saved before they were
     /// kept: no skew guard).
     #[serde(default)]
@@ -675,6 +750,10 @@ pub struct Cubature {
     /// states saved before it was kept, and before the first round: no tie floor).
     #[serde(default)]
     few_values: Vec<bool>,
+    /// Whether a face test is the next batch: after a probe's round that found f not even
+    /// ([`Cubature::settle_probe`]; false in states saved before it existed).
+    #[serde(default)]
+    face_due: bool,
 }
 
 /// One output's sums for the skew guard: Σ dᵖ for p = 1, 2, 3 over every value fed, with
@@ -806,6 +885,7 @@ impl Cubature {
             shift: Vec::new(),
             range: Vec::new(),
             half_sums: Vec::new(),
+            half_points: 0,
             moments: Vec::new(),
             spent: 0,
             tried: None,
@@ -814,6 +894,7 @@ impl Cubature {
             halved: false,
             spared: 0,
             few_values: Vec::new(),
+            face_due: false,
         })
     }
 
@@ -860,9 +941,16 @@ impl Cubature {
         self.options.replicates + self.added
     }
 
+    /// Whether the next batch is a face test's ([`Rule::FaceTest`], or the one after a
+    /// probe that found f not even): its values choose the rule, enter no estimate, and
+    /// may be infinite.
+    pub fn face_test_due(&self) -> bool {
+        self.options.rule == Rule::FaceTest || self.face_due
+    }
+
     /// Points per replicate of the batch handed out and not yet fed (0: none).
     pub fn pending(&self) -> u64 {
-        if self.options.rule == Rule::FaceTest {
+        if self.options.rule == Rule::FaceTest || self.face_due {
             return FACE_TEST_POINTS;
         }
         self.tried.as_ref().map_or(self.pending, |t| t.pending)
@@ -883,9 +971,11 @@ impl Cubature {
     }
 
     /// Sets a new budget (a larger one continues a run stopped by `max_n`); the
-    /// evaluations made are kept. Refuses less than one first batch, naming `max_n`.
+    /// evaluations made are kept. Refuses less than one first batch, or than the
+    /// evaluations already made, naming `max_n`.
     pub fn set_max_n(&mut self, max_n: u64) -> Result<(), Error> {
         check_budget(max_n, &self.options)?;
+        check_not_spent(max_n, self.n())?;
         self.options.max_n = max_n;
         Ok(())
     }
@@ -915,12 +1005,42 @@ impl Cubature {
     }
 
     /// Points per replicate of the next batch (the first batch, then as many as already
-    /// evaluated, doubling the total).
+    /// evaluated, doubling the total; after a short round, those it left out).
     fn next_size(&self) -> u64 {
-        if self.per_replicate == 0 {
+        let p = self.per_replicate;
+        if p == 0 {
             self.first_round()
+        } else if p.is_power_of_two() {
+            p
         } else {
-            self.per_replicate
+            p.next_power_of_two() - p
+        }
+    }
+
+    /// Points per replicate of the next doubling that `max_n` holds: all of it, or the
+    /// most of it a short round may take (at least [`SHORT_ROUND_SHARE`] of it, whole
+    /// reflected pairs once halved), or `None`. Only a doubling from a whole one is made
+    /// short.
+    fn round_size(&self) -> Option<u64> {
+        let (full, r) = (self.next_size(), self.replicates());
+        let budget = self.options.max_n.saturating_sub(self.n());
+        if self.batch_cost(full, r) <= budget {
+            return Some(full);
+        }
+        if self.per_replicate == 0 || !self.per_replicate.is_power_of_two() {
+            return None;
+        }
+        let rows = budget / r as u64;
+        let short = if self.halved { 2 * rows } else { rows };
+        (short as f64 >= SHORT_ROUND_SHARE * full as f64).then_some(short)
+    }
+
+    /// The points per replicate the round guard's half sums are over.
+    fn half_points(&self) -> u64 {
+        if self.half_points > 0 {
+            self.half_points
+        } else {
+            self.per_replicate / 2
         }
     }
 
@@ -936,8 +1056,8 @@ impl Cubature {
         }
     }
 
-    /// Whether the next doubling would pass `max_n` evaluations or the sequence's 2^20
-    /// points per replicate.
+    /// Whether the next doubling would pass `max_n` evaluations (even made short) or the
+    /// sequence's 2^20 points per replicate.
     pub fn exhausted(&self) -> bool {
         if let Some(sobol) = &self.tried {
             return sobol.exhausted();
@@ -946,11 +1066,7 @@ impl Cubature {
             return false;
         }
         let next = self.per_replicate + self.next_size();
-        next > EXTENSIBLE_MAX_POINTS
-            || self
-                .n()
-                .saturating_add(self.batch_cost(self.next_size(), self.replicates()))
-                > self.options.max_n
+        next > EXTENSIBLE_MAX_POINTS || self.round_size().is_none()
     }
 
     /// How many replicates to add at the points each has before doubling (0: double
@@ -969,6 +1085,7 @@ impl Cubature {
     pub fn growth(&self) -> usize {
         let r = self.replicates();
         if self.k == 0
+            || !self.per_replicate.is_power_of_two()
             || self.tried.is_some()
             || matches!(
                 self.options.rule,
@@ -995,7 +1112,7 @@ impl Cubature {
         let mut reachable = true;
         for j in (0..self.k).filter(|&j| !self.constant(j)) {
             let (means, e) = self.scaled(j);
-            let target = libm::scalbn(targets[j], -e);
+            let target = self.scaled_target(&means, e);
             reachable &= self.rounding_floor(j) <= GROW_MARGIN * target;
             let changes = self.scaled_half_means(j).map_or(Vec::new(), |half| {
                 means.iter().zip(&half).map(|(m, h)| m - h).collect()
@@ -1029,11 +1146,12 @@ impl Cubature {
         if let Some(add) = predicted {
             return add;
         }
-        // Where the next doubling would pass max_n, the run stops unless replicates are
-        // added: as many as the budget still holds are the most it can learn.
+        // Where the next doubling would pass max_n, even made short, the run stops unless
+        // replicates are added: as many as the budget still holds are the most it can
+        // learn.
         let doubling = self.batch_cost(self.per_replicate, r);
         let sequence = self.per_replicate + self.next_size() <= EXTENSIBLE_MAX_POINTS;
-        if sequence && doubling > budget {
+        if sequence && doubling > budget && self.round_size().is_none() {
             (1..r).take_while(fits).last().unwrap_or(0)
         } else {
             0
@@ -1049,7 +1167,7 @@ impl Cubature {
         if let Some(sobol) = self.tried.as_mut() {
             return sobol.next_points();
         }
-        if self.options.rule == Rule::FaceTest {
+        if self.options.rule == Rule::FaceTest || self.face_due {
             return Some(self.face_test_points());
         }
         if self.pending == 0 {
@@ -1060,7 +1178,7 @@ impl Cubature {
             self.pending = if self.pending_added > 0 {
                 self.per_replicate
             } else {
-                self.next_size()
+                self.round_size().unwrap_or_else(|| self.next_size())
             };
         }
         let (reps, start) = self.pending_replicates();
@@ -1108,7 +1226,7 @@ impl Cubature {
             self.pilot();
             return Ok(());
         }
-        if self.options.rule == Rule::FaceTest {
+        if self.options.rule == Rule::FaceTest || self.face_due {
             return self.settle_face_test(points, values);
         }
         let r = self.pending_replicates().0.len();
@@ -1200,12 +1318,11 @@ impl Cubature {
     }
 
     /// Takes f's values at the face test's batch (7 × k, row-major) and chooses the rule:
-    /// the first-order lattice when, toward either corner and on any output, f changed by
-    /// more than [`FACE_SINGULAR`] of its size there (the largest |f| at the corner's three
-    /// points and the interior point), or its two changes grew by less than
-    /// 2^[`FACE_EXPONENT`] from the first step to the second, or it was not finite; the
-    /// tent lattice otherwise. The test's evaluations are counted in `n`. Refuses a batch
-    /// of another length, naming the values; the state is unchanged then.
+    /// after a probe's round that found f not even ([`Cubature::face_due`]), the probe's
+    /// lattice whole for an f flat at the faces, scrambled Sobol' for one steep there;
+    /// otherwise the first-order lattice for an f steep at a face, the tent lattice for
+    /// any other ([`face_reading`]). The test's evaluations are counted in `n`. Refuses a
+    /// batch of another length, naming the values; the state is unchanged then.
     fn settle_face_test(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
         let rows = FACE_TEST_POINTS as usize;
         if points.n() != rows || values.is_empty() || !values.len().is_multiple_of(rows) {
@@ -1215,69 +1332,60 @@ impl Cubature {
                 format!("{rows}·k values (k ≥ 1 outputs per point) at the face test's points"),
             ));
         }
-        let k = values.len() / rows;
-        let mut largest = 0.0f64;
-        let mut unbounded = false;
-        let mut slow = false;
-        for j in 0..k {
-            let v = |row: usize| values[row * k + j];
-            for corner in [0, 3] {
-                let near = [v(corner), v(corner + 1), v(corner + 2)];
-                let all = [near[0], near[1], near[2], v(6)];
-                if all.iter().any(|x| !x.is_finite()) {
-                    unbounded = true;
-                    continue;
-                }
-                let size = all.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-                if size == 0.0 {
-                    continue;
-                }
-                // Divided by the size first, so that no difference overflows.
-                let (first, second) = (
-                    near[1] / size - near[0] / size,
-                    near[2] / size - near[1] / size,
-                );
-                largest = largest.max(first.abs()).max(second.abs());
-                slow |= first.abs() > FACE_RESOLVED
-                    && second.abs() > FACE_RESOLVED
-                    && first.signum() == second.signum()
-                    && second / first < FACE_EXPONENT.exp2();
-            }
+        let (steep, seen) = face_reading(values, values.len() / rows);
+        let test = format!("a face test ({FACE_TEST_POINTS} evaluations, counted)");
+        self.spent += FACE_TEST_POINTS;
+        if self.face_due {
+            self.face_due = false;
+            self.settle_probe_faces(steep, &seen, &test);
+            return Ok(());
         }
-        let singular = unbounded || slow || largest > FACE_SINGULAR;
-        let seen = if unbounded {
-            "f not finite".to_string()
-        } else if slow && largest <= FACE_SINGULAR {
-            format!("f's changes growing like t^α, α < {FACE_EXPONENT}")
-        } else {
-            format!(
-                "f changed by {} of its size",
-                crate::progress::sci(largest, 1)
-            )
-        };
         let reason = &self.options.rule_reason;
         let laws = reason.strip_prefix(FACE_TEST_FIRST).unwrap_or(reason);
-        let test = format!("a face test ({FACE_TEST_POINTS} evaluations, counted)");
-        self.options.rule_reason = if singular {
+        self.options.rule_reason = if steep {
             self.options.rule = Rule::FirstOrderLattice;
             format!(
-                "first-order lattice: f steep at a face by {test}: {seen} within 2^−28 \
-                 of a corner"
+                "first-order lattice: f steep at a face by {test}: {seen} within 2^−28 of a corner"
             )
         } else {
             self.options.rule = Rule::TentLattice;
             format!("{laws}; f smooth at the faces by {test}")
         };
-        self.spent += FACE_TEST_POINTS;
         Ok(())
+    }
+
+    /// After a probe's round found f not even and the face test read it: the probe's
+    /// first-order lattice goes on whole for an f flat at the faces (one that decays where
+    /// the laws' tails are, as a Gaussian bump of normal inputs does: smooth on the cube,
+    /// where a lattice's rate holds), scrambled Sobol' for one steep there, the probe's
+    /// and the test's evaluations counted.
+    fn settle_probe_faces(&mut self, steep: bool, seen: &str, test: &str) {
+        let probe = self.own_n();
+        let laws = self.options.rule_reason.clone();
+        if steep {
+            let mut sobol = self.fresh(Rule::Sobol, self.spent + probe);
+            sobol.options.rule_reason = format!(
+                "scrambled Sobol': {laws}, and f not even under Z ↦ −Z at a probe of the \
+                 first-order lattice ({probe} evaluations, counted) and steep at a face by \
+                 {test}: {seen}"
+            );
+            *self = sobol;
+        } else {
+            self.options.rule = Rule::FirstOrderLattice;
+            self.options.rule_reason = format!(
+                "first-order lattice: {laws}, and f not even under Z ↦ −Z at its first round \
+                 but smooth at the faces by {test}"
+            );
+        }
     }
 
     /// After a probe's first round ([`Rule::Probe`]): the first-order lattice is kept,
     /// halved, for an f even under the reflection (Z ↦ −Z through symmetric laws) that
     /// took more than [`FEW_VALUES`] values on every output; kept whole when its first
-    /// round met the tolerance or `max_n` leaves no room for Sobol's; otherwise the run
-    /// goes on with scrambled Sobol' from its own first round, the probe's evaluations
-    /// counted in `n`.
+    /// round met the tolerance or `max_n` leaves no room for Sobol's; for an f that is not
+    /// even a face test comes next ([`Cubature::settle_probe_faces`]); an even f of few
+    /// values goes on with scrambled Sobol' from its own first round, the probe's
+    /// evaluations counted in `n`.
     fn settle_probe(&mut self, values: &[f64]) {
         if self.options.rule != Rule::Probe {
             return;
@@ -1286,17 +1394,18 @@ impl Cubature {
         let many = (0..k).all(|j| distinct_values(values, k, j) > FEW_VALUES);
         let probe = self.own_n();
         let sobol_round = self.options.replicates as u64 * self.options.start_n;
-        let shown = if self.halved {
-            "even under Z ↦ −Z but took few values (a step or an event)"
-        } else {
-            "not even under Z ↦ −Z"
-        };
+        let shown = "even under Z ↦ −Z but took few values (a step or an event)";
         let kept = if self.halved && many {
             None
         } else if self.met() {
             Some("its first round met the tolerance")
-        } else if self.options.max_n < probe + 2 * sobol_round {
+        } else if self.options.max_n < probe + 2 * sobol_round + FACE_TEST_POINTS {
             Some("max_n leaves no room for Sobol'")
+        } else if !self.halved {
+            // Not even: a face test tells a model flat at the faces (kept) from one steep
+            // there (Sobol').
+            self.face_due = true;
+            return;
         } else {
             let mut sobol = self.fresh(Rule::Sobol, self.spent + probe);
             sobol.options.rule_reason = format!(
@@ -1520,14 +1629,27 @@ impl Cubature {
             self.k = k;
             self.sums = vec![0.0; r * k];
         }
-        if self.shift.len() != k {
-            self.shift = vec![0; k];
-        }
         let mut range = vec![(f64::INFINITY, f64::NEG_INFINITY); k];
         for row in values.chunks_exact(k) {
             for (g, v) in range.iter_mut().zip(row) {
                 *g = (g.0.min(*v), g.1.max(*v));
             }
+        }
+        if self.shift.len() != k {
+            // Tiny first values are scaled up (exact: by a power of two); a state saved
+            // before the shift was kept has none, and keeps its plain sums.
+            let first = self.per_replicate == 0;
+            self.shift = range
+                .iter()
+                .map(|g| {
+                    let largest = g.0.abs().max(g.1.abs());
+                    if first && largest > 0.0 {
+                        (libm::frexp(largest).1 + TINY_EXP).min(0)
+                    } else {
+                        0
+                    }
+                })
+                .collect();
         }
         // Merged with the earlier range; a state saved before the range was kept has
         // none and keeps none (its zero spreads are believed as they were).
@@ -1556,8 +1678,13 @@ impl Cubature {
         // of its first half (a state saved without them keeps none).
         let (reps, start) = self.pending_replicates();
         let fresh = start == 0;
-        if !fresh && self.half_sums.len() == self.sums.len() {
+        // After a short round the guard keeps the sums of the whole doubling before it,
+        // so that the round completing it compares the estimate with the one at half its
+        // points.
+        let whole = self.per_replicate.is_power_of_two();
+        if !fresh && whole && self.half_sums.len() == self.sums.len() {
             self.half_sums.clone_from(&self.sums);
+            self.half_points = self.per_replicate;
         }
         self.sums.resize(reps.end * k, 0.0);
         let mut half = Vec::new();
@@ -1697,7 +1824,7 @@ impl Cubature {
         if self.half_sums.len() != r * k || self.per_replicate < 2 {
             return None;
         }
-        let scale = self.volume().0 / (self.per_replicate / 2) as f64;
+        let scale = self.volume().0 / self.half_points() as f64;
         Some(
             (0..r)
                 .map(|rep| self.half_sums[rep * k + j] * scale)
@@ -1875,12 +2002,20 @@ impl Cubature {
     }
 
     /// The half-width each output must reach: max(abs_tol, rel_tol·|estimate|) (empty
-    /// before the first values).
+    /// before the first values). A product beyond the largest float is that float: every
+    /// finite half-width is within it.
     pub fn targets(&self) -> Vec<f64> {
         let (abs_tol, rel_tol) = (self.options.abs_tol, self.options.rel_tol);
         self.estimate()
             .iter()
-            .map(|e| abs_tol.max(rel_tol * e.abs()))
+            .map(|e| {
+                let t = abs_tol.max(rel_tol * e.abs());
+                if t == f64::INFINITY {
+                    f64::MAX
+                } else {
+                    t
+                }
+            })
             .collect()
     }
 
@@ -1889,16 +2024,30 @@ impl Cubature {
     /// A half-width is trusted only when it and the estimate are finite, and a
     /// half-width of 0 only of an output that took one value at every point (one that
     /// underflowed is not).
+    /// Compared in the units of [`Cubature::scaled`], so that an integral near the
+    /// smallest floats is met when its interval is (the half-width reported may then
+    /// round to 0).
     pub fn met(&self) -> bool {
         self.k > 0
-            && self
-                .half_width()
-                .iter()
-                .zip(self.targets())
-                .enumerate()
-                .all(|(j, (h, t))| {
-                    t.is_finite() && h.is_finite() && *h <= t && (*h > 0.0 || self.constant(j))
-                })
+            && (0..self.k).all(|j| {
+                let (means, e) = self.scaled(j);
+                let h = self.guarded_half_width(j, &means);
+                let t = self.scaled_target(&means, e);
+                libm::scalbn(h, e).is_finite() && h <= t && (h > 0.0 || self.constant(j))
+            })
+    }
+
+    /// Output j's [`Cubature::targets`] from its scaled replicate means, in their units
+    /// (2^e), where neither tolerance nor estimate underflows.
+    fn scaled_target(&self, means: &[f64], e: i32) -> f64 {
+        let estimate = means.iter().sum::<f64>() / means.len() as f64;
+        let (abs_tol, rel_tol) = (self.options.abs_tol, self.options.rel_tol);
+        let t = libm::scalbn(abs_tol, -e).max(rel_tol * estimate.abs());
+        if t == f64::INFINITY {
+            f64::MAX
+        } else {
+            t
+        }
     }
 
     /// Warnings about the settings: too few replicates for a trustworthy interval.
@@ -2174,6 +2323,19 @@ fn check_tolerances(abs_tol: f64, rel_tol: f64) -> Result<(), Error> {
 }
 
 /// Refuses a confidence level outside (0, 1).
+/// Refuses a budget below the evaluations a continued run has already made: its result
+/// would hold more than `max_n` says.
+pub(crate) fn check_not_spent(max_n: u64, n: u64) -> Result<(), Error> {
+    if max_n < n {
+        return Err(Error::invalid(
+            names::MAX_N,
+            max_n,
+            format!("at least the {n} evaluations the run continued has made"),
+        ));
+    }
+    Ok(())
+}
+
 fn check_level(level: f64) -> Result<(), Error> {
     if !(level > 0.0 && level < 1.0) {
         return Err(Error::invalid(names::LEVEL, level, "a value in (0, 1)"));
@@ -2746,6 +2908,171 @@ mod tests {
         }
     }
 
+    /// The mean of f over the first m points of each of R replicates of `rule`, and
+    /// their mean: what a run's estimate must be, computed afresh.
+    fn prefix_estimate(
+        rule: Rule,
+        f: fn(&PointSet) -> Vec<f64>,
+        d: usize,
+        r: usize,
+        m: usize,
+    ) -> f64 {
+        let mut data = vec![0.0; r * m * d];
+        rule.fill_replicates(d, 0, SOBOL_KEY, 0..r, 0, &mut data);
+        let values = f(&PointSet::new(r * m, d, data).unwrap());
+        let means = values
+            .chunks_exact(m)
+            .map(|c| c.iter().sum::<f64>() / m as f64);
+        means.sum::<f64>() / r as f64
+    }
+
+    /// Default options with a tolerance no run meets, so that it goes to `max_n`.
+    fn to_budget(max_n: u64) -> QuadOptions {
+        QuadOptions {
+            rel_tol: 1e-12,
+            max_n,
+            ..QuadOptions::default()
+        }
+    }
+
+    #[test]
+    fn a_doubling_the_budget_mostly_holds_is_made_short() {
+        // 4 × 512 points cost 2 048; the next doubling, 2 048 more, passes each budget
+        // below. Three quarters of it (384 points per replicate) or more are taken as a
+        // prefix of each replicate's doubling; less buys whole replicates as before.
+        let opts = to_budget;
+        for (max_n, per_replicate, n, replicates) in [
+            (3948, 512 + 475, 3948, 4),
+            (3584, 512 + 384, 3584, 4),
+            (3583, 512, 3072, 6),
+        ] {
+            let r = quad(product_exp, 3, opts(max_n)).unwrap();
+            assert_eq!(
+                (r.state.per_replicate(), r.n, r.replicates, r.reason),
+                (per_replicate, n, replicates, Some(StopReason::MaxN)),
+                "{max_n}"
+            );
+            if replicates > 4 {
+                continue;
+            }
+            // The estimate is the replicates' prefix means, and the round guard reads
+            // the change since the whole doubling before (512 points each).
+            let m = per_replicate as usize;
+            let whole = prefix_estimate(Rule::TentLattice, product_exp, 3, 4, m);
+            let half = prefix_estimate(Rule::TentLattice, product_exp, 3, 4, 512);
+            assert!(
+                (r.estimate[0] / whole - 1.0).abs() < 1e-14,
+                "{max_n}: {r:?}"
+            );
+            let change = r.state.round_change()[0].unwrap();
+            assert!(
+                ((change / (whole - half).abs()) - 1.0).abs() < 1e-9,
+                "{max_n}"
+            );
+        }
+        // Scrambled Sobol' takes the same prefixes.
+        let sobol = QuadOptions {
+            rule: Rule::Sobol,
+            rule_asked: true,
+            ..opts(3948)
+        };
+        let r = quad(product_exp, 3, sobol).unwrap();
+        assert_eq!((r.state.per_replicate(), r.n), (987, 3948));
+        let whole = prefix_estimate(Rule::Sobol, product_exp, 3, 4, 987);
+        assert!((r.estimate[0] / whole - 1.0).abs() < 1e-14, "{r:?}");
+    }
+
+    #[test]
+    fn a_run_continued_after_a_short_round_is_the_run_with_the_larger_budget() {
+        // The continuation first evaluates the points the short round left out, then
+        // doubles: the same sums, in the same order, as a run that had the budget.
+        let opts = to_budget;
+        let short = quad(product_exp, 3, opts(3948)).unwrap();
+        for larger in [4096, 8192, 10_000] {
+            let mut state = short.state.clone();
+            state.set_max_n(larger).unwrap();
+            state.run(product_exp).unwrap();
+            let direct = quad(product_exp, 3, opts(larger)).unwrap();
+            assert_eq!(state.n(), direct.n, "{larger}");
+            assert_eq!(state.per_replicate(), direct.state.per_replicate());
+            assert_eq!(state.estimate(), direct.estimate, "{larger}");
+            assert_eq!(state.half_width(), direct.half_width, "{larger}");
+        }
+        // At 4 096 the run is whole again: its guard compares 1 024 points with 512.
+        let mut state = short.state.clone();
+        state.set_max_n(4096).unwrap();
+        state.run(product_exp).unwrap();
+        assert_eq!(state.per_replicate(), 1024);
+        let whole = prefix_estimate(Rule::TentLattice, product_exp, 3, 4, 1024);
+        let half = prefix_estimate(Rule::TentLattice, product_exp, 3, 4, 512);
+        let change = state.round_change()[0].unwrap();
+        assert!(((change / (whole - half).abs()) - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_continuation_refuses_a_budget_below_the_evaluations_made() {
+        let opts = QuadOptions {
+            max_n: 4096,
+            rel_tol: 1e-9,
+            ..QuadOptions::default()
+        };
+        let r = quad(product_exp, 3, opts).unwrap();
+        let mut state = r.state.clone();
+        let e = state.set_max_n(4095).unwrap_err().to_string();
+        assert!(e.starts_with("invalid max_n = 4095"), "{e}");
+        assert!(e.contains("at least the 4096 evaluations"), "{e}");
+        assert_eq!(state, r.state);
+        state.set_max_n(4096).unwrap();
+    }
+
+    #[test]
+    fn subnormal_integrands_are_met_as_their_normal_multiples() {
+        // 1e-310·(1 + x1) is 2^-1030 times a line: its sums are kept scaled up, so the
+        // rounding bound and the target do not underflow, and the run is met where the
+        // line's is (it added one replicate a round to max_n before: its half-width and
+        // target rounded to 0).
+        let opts = QuadOptions {
+            rel_tol: 1e-3,
+            ..QuadOptions::default()
+        };
+        let line = quad(
+            |x: &PointSet| x.rows().map(|p| 1.0 + p[0]).collect(),
+            2,
+            opts.clone(),
+        )
+        .unwrap();
+        for scale in [1e-310, 1e-320] {
+            let r = quad(
+                |x: &PointSet| x.rows().map(|p| scale * (1.0 + p[0])).collect(),
+                2,
+                opts.clone(),
+            )
+            .unwrap();
+            assert!(r.met, "{scale}: {r:?}");
+            assert_eq!((r.n, r.replicates), (line.n, line.replicates), "{scale}");
+            // Subnormals hold fewer bits: 1e-310 about 42, 1e-320 about 11.
+            let within = if scale == 1e-310 { 1e-10 } else { 1e-3 };
+            assert!(
+                (r.estimate[0] / (1.5 * scale) - 1.0).abs() < within,
+                "{scale}: {r:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_relative_target_beyond_the_largest_float_is_met() {
+        // 1e308·|estimate| overflows; the target is every finite half-width, so the first
+        // round meets it (it was never met, and the run went to max_n).
+        let opts = QuadOptions {
+            rel_tol: 1e308,
+            ..QuadOptions::default()
+        };
+        let r = quad(product_exp, 3, opts).unwrap();
+        assert!(r.met && r.reason == Some(StopReason::Met), "{r:?}");
+        assert_eq!(r.n, 256);
+        assert_eq!(r.state.targets(), vec![f64::MAX]);
+    }
+
     #[test]
     fn the_budget_a_doubling_cannot_use_buys_replicates() {
         // 4 × 256 points = 1 024 evaluations; the next doubling (2 048) would pass 1 500,
@@ -2773,9 +3100,9 @@ mod tests {
         .unwrap();
         assert_eq!((r.n, r.replicates), (1024, 4));
         // A halved run reaches 2^18 points per replicate at 524 416 evaluations; the
-        // doubling (524 288 more) passes 2^20, three replicates of 131 072 do not. (An
-        // even step, whose error falls like 1/n, so that no tolerance above rounding is
-        // met before.)
+        // doubling (524 288 more) passes 2^20 by 128, so it is made short: 131 040 pairs
+        // of each replicate's 131 072, the budget to the last evaluation. (An even step,
+        // whose error falls like 1/n, so that no tolerance above rounding is met before.)
         let even_step = |x: &PointSet| -> Vec<f64> {
             x.rows()
                 .map(|p| 1.0 + f64::from(u8::from((p[0] - 0.5).abs() < 0.3)))
@@ -2792,8 +3119,9 @@ mod tests {
         )
         .unwrap();
         assert!(r.state.halved(), "{r:?}");
-        assert_eq!((r.n, r.replicates), (524_416 + 3 * 131_072, 7), "{r:?}");
-        assert!(r.n <= DEFAULT_MAX_N && r.reason == Some(StopReason::MaxN));
+        assert_eq!((r.n, r.replicates), (DEFAULT_MAX_N, 4), "{r:?}");
+        assert_eq!(r.state.per_replicate(), (1 << 18) + 2 * 131_040);
+        assert_eq!(r.reason, Some(StopReason::MaxN));
     }
 
     /// The indicator of an interval in x1 (1 + that, so the relative tolerance is
@@ -3311,10 +3639,10 @@ mod tests {
         // f = ±1 integrates to ±1e360: refused where the run stops, naming f and the
         // magnitude.
         for (v, about) in [
-            // A constant is even under x ↦ 1 − x: 2^18 points per replicate (the last
-            // doubling within max_n) cost 256 + 4·(2^18 − 64)/2 evaluations.
-            (1.0, "about 1.0e360 after 524416"),
-            (-1.0, "about -1.0e360 after 524416"),
+            // A constant's interval (of width 0) is met at the first round, compared in
+            // the sums' units, and the integral refused there.
+            (1.0, "about 1.0e360 after 256 evaluations"),
+            (-1.0, "about -1.0e360 after 256 evaluations"),
         ] {
             let e = quad(
                 |x: &PointSet| vec![v; x.n()],
@@ -3409,13 +3737,12 @@ mod tests {
             let r = quad(f, 2, opts).unwrap();
             // f is even under x ↦ 1 − x: after the first round (4 × 64 points) one point
             // of each reflected pair is evaluated, so 256 points per replicate cost 640;
-            // the next doubling would pass max_n, so the rest buys three replicates of
-            // 128 evaluations.
+            // the rest of max_n holds three quarters of the next doubling, made short:
+            // 192 of its 256 points per replicate.
             assert!(r.state.halved(), "{seed}: {r:?}");
-            let n = 256 + 4 * 192 / 2 + 3 * 128;
-            assert_eq!((r.state.per_replicate(), r.n, r.replicates), (256, n, 7));
+            assert_eq!((r.state.per_replicate(), r.n, r.replicates), (448, 1024, 4));
             // max|f| is just below 3 (the points miss cos = 1 by a little).
-            let floor = 256.0 * f64::EPSILON * 2.99;
+            let floor = 448.0 * f64::EPSILON * 2.99;
             assert!(r.half_width[0] >= floor, "{seed}: {r:?}");
             assert!(
                 (r.estimate[0] - 2.0).abs() <= r.half_width[0],
@@ -3792,20 +4119,41 @@ mod tests {
                 let full = values.iter().sum::<f64>() / per as f64;
                 assert!((mean - full).abs() <= 1e-13, "{seed}: {mean} {full}");
             }
-            // Not even: Sobol's own run, the probe's evaluations counted.
-            let r = quad(product_exp, 3, opts(seed)).unwrap();
+            // Not even and steep at a face: Sobol's own run, the probe's and the face
+            // test's evaluations counted.
+            let r = quad(lognormal_on_the_cube, 3, opts(seed)).unwrap();
             assert_eq!(r.rule, Rule::Sobol, "{}", r.rule_reason);
-            assert!(r.rule_reason.contains("not even"), "{}", r.rule_reason);
+            assert!(
+                r.rule_reason.contains("not even") && r.rule_reason.contains("steep"),
+                "{}",
+                r.rule_reason
+            );
+            let spent = PROBE_POINTS + FACE_TEST_POINTS;
             let alone = QuadOptions {
                 rule: Rule::Sobol,
-                max_n: opts(seed).max_n - PROBE_POINTS,
+                max_n: opts(seed).max_n - spent,
                 ..opts(seed)
             };
-            let alone = quad(product_exp, 3, alone).unwrap();
-            assert_eq!(
-                (r.n, &r.estimate),
-                (alone.n + PROBE_POINTS, &alone.estimate)
-            );
+            let alone = quad(lognormal_on_the_cube, 3, alone).unwrap();
+            assert_eq!((r.n, &r.estimate), (alone.n + spent, &alone.estimate));
+            // Not even but smooth at the faces: the probe's lattice goes on whole, its
+            // round the run's first, the face test counted.
+            let r = quad(product_exp, 3, opts(seed)).unwrap();
+            assert_eq!(r.rule, Rule::FirstOrderLattice, "{}", r.rule_reason);
+            assert!(!r.state.halved() && r.rule_reason.contains("smooth at the faces"));
+            let (per, added) = (r.state.per_replicate(), r.state.replicates() as u64 - r4);
+            assert_eq!(r.n, FACE_TEST_POINTS + r4 * per + added * per);
+            for (rep, mean) in r.state.replicate_means()[0].iter().enumerate() {
+                let seq =
+                    ExtensibleLattice::with_table(SequenceTable::FirstOrder, 3, seed, rep as u64)
+                        .unwrap();
+                let values = product_exp(&seq.points(0, per as usize).unwrap());
+                let full = values.iter().sum::<f64>() / per as f64;
+                assert!(
+                    (mean - full).abs() <= 1e-13 * full.abs(),
+                    "{seed}: {mean} {full}"
+                );
+            }
         }
         // Even but an event: few values leave for Sobol' too.
         let ball =
@@ -3832,6 +4180,32 @@ mod tests {
             "{}",
             r.rule_reason
         );
+    }
+
+    #[test]
+    fn a_state_saved_before_the_probe_s_face_test_continues_alike() {
+        let opts = QuadOptions {
+            rel_tol: 1e-3,
+            seed: 4,
+            rule: Rule::Probe,
+            ..QuadOptions::default()
+        };
+        let mut state = Cubature::new(3, opts).unwrap();
+        let probe = state.next_points().unwrap();
+        state.feed(&probe, &lognormal_on_the_cube(&probe)).unwrap();
+        // Not even: the face test is the next batch, seven points, the rule not chosen yet.
+        assert_eq!(
+            (state.options.rule, state.pending()),
+            (Rule::Probe, FACE_TEST_POINTS)
+        );
+        assert_eq!(state.next_points().unwrap().n(), FACE_TEST_POINTS as usize);
+        let mut back: Cubature =
+            serde_json::from_str(&serde_json::to_string(&state).unwrap()).unwrap();
+        assert_eq!(back, state);
+        state.run(lognormal_on_the_cube).unwrap();
+        back.run(lognormal_on_the_cube).unwrap();
+        assert_eq!(back, state);
+        assert_eq!(state.options.rule, Rule::Sobol);
     }
 
     #[test]

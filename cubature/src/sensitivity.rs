@@ -487,13 +487,14 @@ impl Sensitivity {
     }
 
     /// Sets a new budget (a larger one continues a run stopped by `max_n`). Refuses less
-    /// than one first batch, naming `max_n`.
+    /// than one first batch, or than the evaluations already made, naming `max_n`.
     pub fn set_max_n(&mut self, max_n: u64) -> Result<(), Error> {
         let o = SensitivityOptions {
             max_n,
             ..self.options.clone()
         };
         check_budget(&o, self.d)?;
+        crate::check_not_spent(max_n, self.n())?;
         self.options.max_n = max_n;
         Ok(())
     }
@@ -750,15 +751,51 @@ impl Sensitivity {
             self.scale = scale;
             self.sums = vec![0.0; r * k * (HEAD + d * PER_INPUT)];
         }
+        let before = (self.sums.clone(), self.half_sums.clone());
         self.half_sums = if self.per_replicate == 0 {
             Vec::new()
         } else {
             self.sums.clone()
         };
         self.accumulate(m, values);
+        if let Some(e) = self.refuse_overflow(points, values) {
+            (self.sums, self.half_sums) = before;
+            if self.per_replicate == 0 {
+                self.k = 0;
+            }
+            return Err(e);
+        }
         self.per_replicate += self.pending;
         self.pending = 0;
         Ok(())
+    }
+
+    /// After a batch is added: where a sum is no longer finite (values far beyond the
+    /// first batch's spread, whose squares overflow even scaled by its power of two),
+    /// the error naming the output and the point of its largest deviation.
+    fn refuse_overflow(&self, points: &PointSet, values: &[f64]) -> Option<Error> {
+        if self.sums.iter().all(|v| v.is_finite()) {
+            return None;
+        }
+        let (k, d) = (self.k, points.s());
+        let deviation =
+            |at: usize| ((values[at] - self.centre[at % k]) * pow2(-self.scale[at % k])).abs();
+        let at = (0..values.len()).max_by(|&a, &b| deviation(a).total_cmp(&deviation(b)))?;
+        let i = at / k;
+        Some(Error::invalid(
+            "f",
+            format!(
+                "{:e} at x = {:?} (output {})",
+                values[at],
+                &points.as_slice()[i * d..(i + 1) * d],
+                at % k
+            ),
+            format!(
+                "values whose squares the sums hold: within about 2^500 of the first \
+                 points' spread (about 2^{}), around their mean",
+                self.scale[at % k]
+            ),
+        ))
     }
 
     /// Adds the batch's sums to the replicates'. Blocks of one sequence: the batch is R

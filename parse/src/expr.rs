@@ -145,6 +145,13 @@ impl RegionExpr {
     /// Compiles `text` as a function of s variables (see the module documentation for the
     /// grammar). Refuses s = 0, empty text, unknown names and syntax errors.
     pub fn parse(text: &str, s: usize) -> Result<RegionExpr, ExprError> {
+        RegionExpr::parse_named(text, s, &[])
+    }
+
+    /// [`RegionExpr::parse`] where variable k may also be written by `names[k]` (a
+    /// design space's column names), which come before the `xk` and `x, y, z` spellings:
+    /// a variable named `x` in the second column is that column, not the first.
+    pub fn parse_named(text: &str, s: usize, names: &[String]) -> Result<RegionExpr, ExprError> {
         if s == 0 {
             return Err(ExprError::NoDimension);
         }
@@ -157,6 +164,7 @@ impl RegionExpr {
             tokens,
             next: 0,
             s,
+            names: &names[..names.len().min(s)],
             program: Vec::new(),
             nesting: 0,
         };
@@ -547,6 +555,8 @@ struct Parser<'a> {
     tokens: Vec<Token>,
     next: usize,
     s: usize,
+    /// The variables' own names, if any (before the `xk` spellings).
+    names: &'a [String],
     program: Vec<Op>,
     nesting: usize,
 }
@@ -804,8 +814,13 @@ impl Parser<'_> {
         Err(self.after_operand_error(token, &format!("an operator or '{symbol}'")))
     }
 
+    /// The coordinate `name` stands for: a variable's own name, then `xk` or x, y, z.
+    fn variable(&self, name: &str) -> Option<usize> {
+        (self.names.iter().position(|n| n == name)).or_else(|| variable_index(name, self.s))
+    }
+
     fn name(&mut self, token: &Token, name: &str) -> Result<(), ExprError> {
-        if let Some(k) = variable_index(name, self.s) {
+        if let Some(k) = self.variable(name) {
             self.program.push(Op::Var(k));
             return Ok(());
         }
@@ -818,7 +833,7 @@ impl Parser<'_> {
         }
         Err(ExprError::UnknownVariable {
             name: name.to_string(),
-            accepted: accepted_variables(self.s),
+            accepted: accepted_variables(self.s, self.names),
             at: location(self.text, token.column, token.width),
         })
     }
@@ -829,7 +844,7 @@ impl Parser<'_> {
             "max" => (Op::Max, true),
             _ => match FUNCTIONS.iter().find(|(n, _)| *n == name) {
                 Some(&(_, f)) => (Op::Func(f), false),
-                None if variable_index(name, self.s).is_some() || name == "pi" => {
+                None if self.variable(name).is_some() || name == "pi" => {
                     return Err(self.error_at(
                         token,
                         format!(
@@ -903,7 +918,7 @@ fn variable_index(name: &str, s: usize) -> Option<usize> {
     (1..=s).contains(&k).then(|| k - 1)
 }
 
-fn accepted_variables(s: usize) -> String {
+fn accepted_variables(s: usize, names: &[String]) -> String {
     let indexed = match s {
         1..=4 => (1..=s)
             .map(|k| format!("x{k}"))
@@ -911,6 +926,14 @@ fn accepted_variables(s: usize) -> String {
             .join(", "),
         _ => format!("x1, x2, …, x{s}"),
     };
+    if !names.is_empty() {
+        let shown = if names.len() <= 6 {
+            names.join(", ")
+        } else {
+            format!("{}, …, {}", names[..3].join(", "), names[names.len() - 1])
+        };
+        return format!("the variables are {shown} (or {indexed} in that order)");
+    }
     let aliases = match s {
         1 => " (or x)",
         2 => " (or x, y)",
@@ -923,6 +946,28 @@ fn accepted_variables(s: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_variable_s_own_name_comes_before_the_x_spellings() {
+        let names: Vec<String> = ["y", "x", "W_1"].iter().map(|n| n.to_string()).collect();
+        let e = RegionExpr::parse_named("x + 10*y + 100*W_1 + 1000*x3", 3, &names).unwrap();
+        // x is the second column (named x), y the first, W_1 and x3 the third.
+        assert_eq!(e.eval(&[1.0, 2.0, 3.0]), 2.0 + 10.0 + 300.0 + 3000.0);
+        // Without names, x and y are x1 and x2.
+        let plain = RegionExpr::parse("x + 10*y", 3).unwrap();
+        assert_eq!(plain.eval(&[1.0, 2.0, 3.0]), 21.0);
+        let e = RegionExpr::parse_named("q", 3, &names)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("the variables are y, x, W_1 (or x1, x2, x3 in that order)"),
+            "{e}"
+        );
+        let e = RegionExpr::parse_named("x(2)", 3, &names)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("x is not a function"), "{e}");
+    }
 
     #[test]
     fn constants_fold_and_squares_multiply() {

@@ -10,7 +10,7 @@ use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
 
-use stillpoint::cubature::{Cubature, QuadOptions, StopReason};
+use stillpoint::cubature::{Cubature, QuadOptions, Rule, StopReason};
 use stillpoint::pipeline::calls::{feed, space_parts, with_request};
 use stillpoint::pipeline::integration::FromRequest;
 use stillpoint::sensitivity::{Sensitivity, SensitivityOptions};
@@ -132,8 +132,17 @@ driver!(PyCubature, "Cubature", Cubature, QuadOptions, {
         let o = s.options();
         (o.abs_tol, o.rel_tol, o.level, o.replicates, o.max_n, o.seed)
     };
-    rule -> (&'static str, String) =
-        |s: &Cubature| (s.options().rule.as_str(), s.options().rule_reason.clone());
+    // While a face test is the next batch (over the cube, or after a probe that found f
+    // not even) the rule reads "face test": its values choose the rule and may be
+    // infinite.
+    rule -> (&'static str, String) = |s: &Cubature| {
+        let rule = if s.face_test_due() {
+            Rule::FaceTest.as_str()
+        } else {
+            s.options().rule.as_str()
+        };
+        (rule, s.options().rule_reason.clone())
+    };
     round_change -> Vec<Option<f64>> = Cubature::round_change;
     estimate -> Vec<f64> = Cubature::estimate;
     half_width -> Vec<f64> = Cubature::half_width;

@@ -84,15 +84,16 @@ class QuadResult(_Result):
         tent-transformed), ``"sobol"`` (Owen-scrambled Sobol'), also when a pilot round
         chose it (``rule="pilot"``), or ``"first-order lattice"`` (the extensible lattice
         of ``Engine(d)``'s table, which a probe round under unbounded laws keeps for an f
-        even in them, and a face test over the cube gives an f steep at a face)."""
+        even in them or flat at the faces, and a face test over the cube gives an f steep
+        at a face)."""
         return str(self._state.rule[0])
 
     @property
     def rule_reason(self) -> str:
         """Why that rule: from the laws of ``space`` (an unbounded law takes Sobol' unless
-        the probe round finds f even), the box and the face test (the first-order lattice
-        for an f steep at a face), as asked through ``rule=``, or the pilot round's ratio
-        of half-widths."""
+        the probe round finds f even, or the face test after it flat at the faces), the
+        box and the face test (the first-order lattice for an f steep at a face), as asked
+        through ``rule=``, or the pilot round's ratio of half-widths."""
         return str(self._state.rule[1])
 
     @property
@@ -146,8 +147,11 @@ def quad(
     both points of every pair of the first round has only one point of each later pair
     evaluated (the same estimate, half the evaluations; ``rule_reason`` says so). Under
     unbounded laws (no path) the first round is a probe of 64 points of a lattice made
-    for such laws: an f even in them keeps it, halved; any other goes on with scrambled
-    Sobol', the 64 evaluations counted. Over the cube, a box or bounded laws, with a
+    for such laws: an f even in them keeps it, halved; any other is given the face test
+    below, and keeps it whole if flat at the faces (it decays in the laws' tails) or goes
+    on with scrambled Sobol' if steep there, the 64 and 7 evaluations counted. A doubling
+    that ``max_n`` holds three quarters or more of is made short (each replicate takes
+    the first points of it the budget holds). Over the cube, a box or bounded laws, with a
     tolerance, a face test of 7 evaluations (counted) comes first: f near two opposite
     corners; an f whose derivative is unbounded at a face (a quantile function or a power
     x^α, α < 1, inside it) goes on with that lattice made for unbounded laws, any other

@@ -257,15 +257,33 @@ def _evaluate(
         return _values(f, x, k)
     workers = max(1, getattr(executor, "_max_workers", 0) or 1)
     rows = max(1, min(_CHUNK_ROWS, -(-x.shape[0] // (4 * workers))))
-    futures = [executor.submit(f, x[i : i + rows]) for i in range(0, x.shape[0], rows)]
-    parts = []
+    futures = []
+    parts: list = []
     try:
+        for i in range(0, x.shape[0], rows):
+            future = executor.submit(f, x[i : i + rows])
+            if not callable(getattr(future, "result", None)):
+                raise TypeError(
+                    f"invalid executor: its submit() returned {_returned(future)}; expected "
+                    "a concurrent.futures.Future (an object with result())"
+                )
+            futures.append(future)
         for i, future in enumerate(futures):
             chunk = x[i * rows : (i + 1) * rows]
-            parts.append(_values(lambda _: future.result(), chunk, k))
+            # Every chunk is held to the first one's outputs and shape, as one call is.
+            y, flat = _values(lambda _: future.result(), chunk, parts[0][0].shape[1] if parts else k)
+            if parts and flat != parts[0][1]:
+                raise ValueError(
+                    f"invalid f: it returned shape {y.shape if not flat else (y.shape[0],)} for "
+                    f"one chunk of points and {'a 1-D' if parts[0][1] else 'a 2-D'} array for "
+                    "the first; expected the same shape for every chunk"
+                )
+            parts.append((y, flat))
     except BaseException:
         for later in futures:
-            later.cancel()
+            cancel = getattr(later, "cancel", None)
+            if callable(cancel):
+                cancel()
         raise
     return np.concatenate([p for p, _ in parts], axis=0), parts[0][1]
 

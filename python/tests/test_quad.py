@@ -135,6 +135,32 @@ def test_an_executor_gives_the_result_of_one_process():
     assert np.array_equal(threads.half_width, alone.half_width)
 
 
+def test_an_executor_s_chunks_are_held_to_one_shape_and_its_futures_checked():
+    # Chunks of one round must give what one call would: the same outputs per point and
+    # the same shape (k = 1 in one chunk and 2 in another was numpy's concatenate error).
+    def mixed(x):
+        return x[:, 0] if x[0, 0] < 0.5 else np.column_stack([x[:, 0], x[:, 1]])
+
+    with concurrent.futures.ThreadPoolExecutor(max_workers=2) as pool:
+        with pytest.raises(ValueError, match=r"^invalid f: it returned"):
+            sp.quad(mixed, 2, rel_tol=1e-3, executor=pool)
+
+        def column_sometimes(x):
+            return x[:, :1] if x[0, 0] < 0.5 else x[:, 0]
+
+        with pytest.raises(ValueError, match="the same shape for every chunk"):
+            sp.quad(column_sometimes, 2, rel_tol=1e-3, executor=pool)
+
+    class NoFutures(concurrent.futures.Executor):
+        _max_workers = 2
+
+        def submit(self, fn, /, *args, **kwargs):
+            return None
+
+    with pytest.raises(TypeError, match=r"^invalid executor: its submit\(\) returned NoneType"):
+        sp.quad(product_peak, 2, rel_tol=1e-3, executor=NoFutures())
+
+
 def test_a_process_pool_gives_the_result_of_one_process():
     alone = sp.quad(square_sum, 2, rel_tol=1e-3, seed=8)
     with concurrent.futures.ProcessPoolExecutor(max_workers=2) as pool:
@@ -506,3 +532,24 @@ def test_a_face_test_reads_f_steep_at_a_face_and_an_infinite_value_there():
                 seed=0)
     assert r.rule == "first-order lattice" and "not finite" in r.rule_reason
     assert r.estimate == pytest.approx(1.5, rel=1e-2)
+
+
+def test_under_unbounded_laws_a_face_test_after_the_probe_chooses_lattice_or_sobol():
+    # Not even under Z ↦ −Z: after the probe's 64 points, 7 at the faces. A Gaussian bump
+    # of normal inputs is flat there and keeps the probe's first-order lattice; exp(ΣZ)
+    # is steep there and goes on with Sobol'; both counted.
+    laws = [f"z{i}=normal(0,1)" for i in range(3)]
+    bump = sp.quad(lambda z: np.exp(-((z - 0.5) ** 2).sum(axis=1)), 3, space=laws,
+                   rel_tol=1e-3, seed=3)
+    assert bump.rule == "first-order lattice", bump.rule_reason
+    assert "smooth at the faces" in bump.rule_reason
+    exact = (math.exp(-0.25 / 3) / math.sqrt(3)) ** 3
+    assert bump.estimate == pytest.approx(exact, rel=3e-3)
+    grow = sp.quad(lambda z: np.exp(z.sum(axis=1) / 3), 3, space=laws, rel_tol=1e-3, seed=3)
+    assert grow.rule == "sobol" and "steep at a face" in grow.rule_reason
+    assert grow.estimate == pytest.approx(math.exp(1 / 6), rel=3e-3)
+    # An infinite value at the faces' points is read as steep there, not refused.
+    inf_tail = sp.quad(lambda z: np.where(np.abs(z[:, 0]) > 5.5, np.inf,
+                                          np.exp(-((z - 0.5) ** 2).sum(axis=1))),
+                       3, space=laws, rel_tol=1e-2, seed=3)
+    assert inf_tail.rule == "sobol" and "not finite" in inf_tail.rule_reason
