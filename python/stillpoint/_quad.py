@@ -151,7 +151,8 @@ def quad(
     below, and keeps it whole if flat at the faces (it decays in the laws' tails) or goes
     on with scrambled Sobol' if steep there, the 64 and 7 evaluations counted. A doubling
     that ``max_n`` holds three quarters or more of is made short (each replicate takes
-    the first points of it the budget holds). Over the cube, a box or bounded laws, with a
+    the first points of it the budget holds). No run stops before 64 points per
+    replicate. Over the cube, a box or bounded laws, with a
     tolerance, a face test of 7 evaluations (counted) comes first: f near two opposite
     corners; an f whose derivative is unbounded at a face (a quantile function or a power
     x^α, α < 1, inside it) goes on with that lattice made for unbounded laws, any other
