@@ -584,7 +584,7 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
             } else if v.is_infinite() {
                 // A single point has no pair: no distance, no pair energy.
                 "none".to_string()
-            } else if sci {
+            } else if sci || v.abs() >= 1e12 {
                 format!("{v:.6e}")
             } else {
                 format!("{v:.6}")
@@ -629,6 +629,9 @@ fn figures_table(r: &GenerateReport, cfg: &GenerateConfig, m0: &Metrics, m1: &Me
     // as unresolved: printing its value would claim a set more even than anyone measured.
     let est = |m: &Metrics, k: usize, v: f64| -> (String, bool) {
         match &m.estimate {
+            // Past the dimension where the closed form fits a float (the notes say so).
+            None if !v.is_finite() => ("beyond f64".to_string(), true),
+            None if v.abs() >= 1e12 => (format!("{v:.6e}"), true),
             None => (format!("{v:.6}"), true),
             Some(e) if v > 2.0 * e.standard_errors[k] => (format!("≈ {v:.6}"), true),
             Some(_) => ("unresolved".to_string(), false),

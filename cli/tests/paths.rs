@@ -341,3 +341,22 @@ fn counts_and_ranges_are_checked_before_anything_is_allocated_or_written() {
         "a refused comparison made its folder"
     );
 }
+
+#[test]
+fn an_output_through_a_dangling_link_is_checked_where_it_leads_before_the_run() {
+    // The link's target directory does not exist: refused at once, naming the option,
+    // as a missing directory given plainly is (it was refused only when the result was
+    // written, after the run).
+    let d = TempDir::new("dangling");
+    std::os::unix::fs::symlink("missing-dir/t.csv", d.path("d.csv")).unwrap();
+    for option in ["-o", "--trajectory"] {
+        let args = [
+            "generate", "-n", "300", "-s", "8", "--method", "paper", "--steps", "3000", "-q",
+            option, "d.csv",
+        ];
+        refused(&d.0, &args, "does not exist");
+        let o = bin().current_dir(&d.0).args(args).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(option) && err.contains("missing-dir"), "{err}");
+    }
+}

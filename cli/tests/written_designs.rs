@@ -537,3 +537,18 @@ proptest! {
         prop_assert_eq!(eval_figures(&out, &vars, &[]), report["figures"].clone());
     }
 }
+
+#[test]
+fn a_report_past_the_dimension_where_the_closed_forms_fit_says_so() {
+    // At s = 6 000 the modified and wrap-around discrepancies pass the largest float and
+    // the centred one is about 1e284: no NaN, no inf, no number printed in 285 digits,
+    // and the start's candidates say the target is not representable (they were ranked
+    // by NaN).
+    let o = run(&["generate", "-n", "10", "-s", "6000", "-o", "/dev/null"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let table = text(&o.stdout) + &text(&o.stderr);
+    assert!(!table.contains("NaN") && !table.contains(" inf"), "{table}");
+    assert!(table.contains("beyond f64") && table.contains("not representable in f64"));
+    let longest = table.split_whitespace().map(str::len).max().unwrap_or(0);
+    assert!(longest < 40, "a field of {longest} characters: {table}");
+}

@@ -2025,9 +2025,9 @@ impl Cubature {
     /// A half-width is trusted only when it and the estimate are finite, and a
     /// half-width of 0 only of an output that took one value at every point (one that
     /// underflowed is not).
-    /// Compared in the units of [`Cubature::scaled`], so that an integral near the
-    /// smallest floats is met when its interval is (the half-width reported may then
-    /// round to 0).
+    /// Compared in the units the sums are kept in (a power of two times f's), so that an
+    /// integral near the smallest floats is met when its interval is (the half-width
+    /// reported may then round to 0).
     ///
     /// Not before `start_n` points per replicate: a probe's round of 16 (under
     /// unbounded laws in one dimension, 16 points of a grid reach no further into the

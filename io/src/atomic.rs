@@ -92,6 +92,10 @@ pub const MAX_OUTPUT_NAME: usize = 255 - 32;
 /// exists, its name is not too long, and what is there (links followed) is a regular
 /// file, a FIFO or a character device, or nothing yet. `what` names the option.
 pub fn check_output(path: &Path) -> Result<(), IoError> {
+    // A link is checked where the write will go (a dangling link's directory too).
+    if let Some(target) = link_target(path)? {
+        return check_output(&target);
+    }
     let refuse = |why: &str| io_error(path, "cannot write", std::io::Error::other(why.to_string()));
     let name = path
         .file_name()
@@ -141,6 +145,32 @@ pub fn check_output(path: &Path) -> Result<(), IoError> {
         }
     }
     Ok(())
+}
+
+/// Where a write to `path` goes when `path` is a symbolic link (`None` when it is not):
+/// the file the link leads to, replaced next to it so that the link stays; a dangling
+/// link is followed by hand to where the file will be. Refuses a chain of links that does
+/// not end in a file.
+fn link_target(path: &Path) -> Result<Option<std::path::PathBuf>, IoError> {
+    if !fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
+        return Ok(None);
+    }
+    let target = match fs::canonicalize(path) {
+        Ok(t) => t,
+        Err(_) => {
+            let link =
+                fs::read_link(path).map_err(|e| io_error(path, "cannot read the link", e))?;
+            path.parent().unwrap_or(Path::new(".")).join(link)
+        }
+    };
+    if fs::symlink_metadata(&target).is_ok_and(|m| m.file_type().is_symlink()) {
+        return Err(io_error(
+            path,
+            "cannot write",
+            std::io::Error::other("a chain of links that does not end in a file"),
+        ));
+    }
+    Ok(Some(target))
 }
 
 /// Removes `.{name}.tmp-{pid}-{k}` files in `dir` whose process no longer runs: what a
@@ -219,24 +249,7 @@ pub(crate) fn write_atomic_with(
                 ));
             }
         }
-        if fs::symlink_metadata(path).is_ok_and(|m| m.file_type().is_symlink()) {
-            // Replace the file the link leads to, next to it, and keep the link; a
-            // dangling link is followed by hand to where the file will be.
-            let target = match fs::canonicalize(path) {
-                Ok(t) => t,
-                Err(_) => {
-                    let link = fs::read_link(path)
-                        .map_err(|e| io_error(path, "cannot read the link", e))?;
-                    path.parent().unwrap_or(Path::new(".")).join(link)
-                }
-            };
-            if fs::symlink_metadata(&target).is_ok_and(|m| m.file_type().is_symlink()) {
-                return Err(io_error(
-                    path,
-                    "cannot write",
-                    std::io::Error::other("a chain of links that does not end in a file"),
-                ));
-            }
+        if let Some(target) = link_target(path)? {
             return write_atomic_with(&target, write);
         }
     }

@@ -336,7 +336,11 @@ fn candidates_text(c: &[Candidate], kept: usize, sci: bool) -> String {
         .enumerate()
         .map(|(i, c)| {
             let mark = if i == kept { " (kept)" } else { "" };
-            if sci {
+            // Past the dimension where the target's closed form fits a float, no
+            // candidate is ranked by it: each says so, and the first is kept.
+            if !c.value.is_finite() {
+                format!("{} not representable in f64{mark}", c.label)
+            } else if sci || c.value.abs() >= 1e12 {
                 format!("{} {:.6e}{mark}", c.label, c.value)
             } else {
                 format!("{} {:.6}{mark}", c.label, c.value)
