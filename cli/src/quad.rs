@@ -71,14 +71,15 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
             break;
         };
         rounds.evaluating(points.n());
-        let values: Vec<f64> = match &space {
-            None => points.rows().map(|p| expr.eval(p)).collect(),
-            Some(space) => stillpoint::cubature::space_values(space, &points)?
-                .rows()
-                .map(|p| expr.eval(p))
-                .collect(),
+        // Under laws the expression sees the variables' values, and a refusal names the
+        // point by them (not by the unit point the rule drew).
+        let mapped = match &space {
+            None => None,
+            Some(space) => Some(stillpoint::cubature::space_values(space, &points)?),
         };
-        state.feed(&points, &values).map_err(refused)?;
+        let seen = mapped.as_ref().unwrap_or(&points);
+        let values: Vec<f64> = seen.rows().map(|p| expr.eval(p)).collect();
+        state.feed(seen, &values).map_err(refused)?;
         rounds.done(&state);
     }
     state.check_representable().map_err(refused)?;

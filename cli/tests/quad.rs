@@ -87,6 +87,27 @@ fn a_bad_expression_names_expr() {
         !out.status.success() && err.contains("--expr") && err.contains("NaN at x = ["),
         "{err}"
     );
+    // Under laws the point is named by the variables' values (in [10, 20] here), not by
+    // the unit point the rule drew.
+    let out = bin()
+        .args([
+            "integrate",
+            "--expr",
+            "sqrt(a - 15)",
+            "--var",
+            "a=uniform(10,20)",
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    let at = err
+        .split("NaN at x = [")
+        .nth(1)
+        .and_then(|r| r.split(']').next());
+    let a: f64 = at
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("{err}"));
+    assert!((10.0..15.0).contains(&a), "{err}");
 }
 
 #[test]
