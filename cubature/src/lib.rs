@@ -118,7 +118,9 @@
 //! budget that is not a power of two does not cost the last doubling. Every point of a
 //! randomised rule is uniform in the box, so a replicate mean over any prefix of its
 //! sequence stays unbiased and the replicates independent; the interval keeps its level,
-//! and the prefix misses the doubling's accuracy by about the share of points left out. Over a box [a, b] the points are scaled and the estimate and half-width
+//! and the prefix misses the doubling's accuracy by about the share of points left out.
+//! No run stops before `start_n` points per replicate (the probe's round of 16 is no
+//! stop). Over a box [a, b] the points are scaled and the estimate and half-width
 //! include the volume, as in SciPy's `qmc_quad`.
 //!
 //! Any representable integral of a representable integrand is computed: each output's
