@@ -2099,6 +2099,11 @@ pub trait Rounds {
     fn next_points(&mut self) -> Option<PointSet>;
     /// f's values at the batch, rows × outputs, row-major.
     fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error>;
+    /// Whether a round is part fed (it comes as several batches, more still due): no
+    /// figure has moved since the last complete round.
+    fn in_round(&self) -> bool {
+        false
+    }
 }
 
 impl Rounds for Cubature {
@@ -2132,7 +2137,9 @@ where
         };
         let values = f(&points);
         state.feed(&points, &values)?;
-        after(state);
+        if !state.in_round() {
+            after(state);
+        }
     }
     Ok(())
 }

@@ -12,7 +12,9 @@
 //! of one randomised sequence, cut into R aligned blocks of N/R (8 by default, the
 //! replicates); N doubles, each batch extending the last (no evaluation is discarded;
 //! the earlier blocks merge in pairs), until every index's half-width is at most
-//! `abs_tol`. The lattice has 1 000 coordinates, so d ≤ 500 inputs, and 2^20 points.
+//! `abs_tol`. The lattice has 1 000 coordinates, so d ≤ 500 inputs, and 2^20 points. A
+//! doubling comes as batches of at most [`BATCH_COORDINATES`], so a run's memory is
+//! bounded whatever d and N are.
 //! Before the lattice's first batch a face test (8·d evaluations, counted in n) finds the
 //! inputs f is periodic in, whose coordinates the lattice then takes without the tent
 //! ([`Sensitivity::periodic`]): the tent doubles a periodic model's frequencies.
@@ -97,6 +99,13 @@ const FACE_REPLICATE: u64 = u64::MAX;
 pub fn face_evaluations(d: usize) -> u64 {
     (2 * FACE_POINTS * d) as u64
 }
+
+/// The most coordinates of one batch handed out (2^22 floats, 32 MiB): a doubling larger
+/// than that comes as several batches, replicate after replicate, so that the memory a run
+/// holds stays bounded whatever d and N are (one doubling at d = 500 and N = 2^13 is 2^30
+/// coordinates, 8 GiB), and a stop asked for between two batches comes within the time f
+/// takes on one of them.
+pub const BATCH_COORDINATES: usize = 1 << 22;
 
 /// The most inputs: the sequence's coordinates hold the two halves A and B.
 pub const MAX_INPUTS: usize = EXTENSIBLE_MAX_D / 2;
@@ -237,7 +246,9 @@ pub struct Sensitivity {
     /// Points per replicate in the batch handed out and not yet fed (0: none).
     pending: u64,
     /// Per output, the centre subtracted and the power of two divided by before summing
-    /// (fixed by the first batch; the indices do not depend on either).
+    /// (fixed by the first batch; no index depends on the power, and Saltelli's
+    /// first-order estimate moves with the centre only by its shift times the mean of
+    /// y_ABi − y_A, an error of the rule).
     centre: Vec<f64>,
     scale: Vec<i32>,
     /// The sums, replicate-major, then output, then [`HEAD`] + d·[`PER_INPUT`].
@@ -265,6 +276,28 @@ pub struct Sensitivity {
     face_evaluations: u64,
     #[serde(default)]
     periodic: Vec<bool>,
+    /// Points of the pending doubling already fed, all replicates together (its batches
+    /// come replicate after replicate, [`BATCH_COORDINATES`] at most each), and the
+    /// doubling's sums so far: the new blocks' alone when they merge with earlier ones
+    /// (blocks after the first doubling), else the earlier sums with the batches added.
+    #[serde(default)]
+    fed: u64,
+    #[serde(default)]
+    round_sums: Vec<f64>,
+    /// Per output during the first doubling: its first value, and whether a later one
+    /// differed (an output that never varies is refused when the doubling is complete).
+    #[serde(default)]
+    first_value: Vec<f64>,
+    #[serde(default)]
+    varies: Vec<bool>,
+    /// The most coordinates of one batch: [`BATCH_COORDINATES`] (less in tests, to cut
+    /// small doublings).
+    #[serde(skip, default = "batch_coordinates")]
+    most_coordinates: usize,
+}
+
+fn batch_coordinates() -> usize {
+    BATCH_COORDINATES
 }
 
 /// How the R replicates the interval is computed from are drawn. As blocks, the points
@@ -400,6 +433,11 @@ impl Sensitivity {
             face_pending: false,
             face_evaluations: 0,
             periodic: Vec::new(),
+            fed: 0,
+            round_sums: Vec::new(),
+            first_value: Vec::new(),
+            varies: Vec::new(),
+            most_coordinates: BATCH_COORDINATES,
         })
     }
 
@@ -563,10 +601,13 @@ impl Sensitivity {
         }
     }
 
-    /// The next batch, scaled to the box, as rows of d values: for replicate 0's new
-    /// points, each point's A, B, AB_1, …, AB_d in turn; then replicate 1's, and so on
-    /// (R·m·(d + 2) rows). Asking again before [`Sensitivity::feed`] gives the same
-    /// batch. `None` when the budget is spent ([`Sensitivity::exhausted`]).
+    /// The next batch, scaled to the box, as rows of d values: for each of its points,
+    /// the point's A, B, AB_1, …, AB_d in turn. A doubling is m new points for each of
+    /// the R replicates, replicate 0's first: it comes as one batch of R·m·(d + 2) rows
+    /// when that holds at most [`BATCH_COORDINATES`] coordinates, else as consecutive
+    /// stretches of its points that do. Asking again before
+    /// [`Sensitivity::feed`] gives the same batch. `None` when the budget is spent
+    /// ([`Sensitivity::exhausted`]).
     pub fn next_points(&mut self) -> Option<PointSet> {
         if self.face_pending || (self.face_due() && !self.exhausted()) {
             self.face_pending = true;
@@ -577,40 +618,65 @@ impl Sensitivity {
                 return None;
             }
             self.pending = self.next_size();
+            self.fed = 0;
         }
-        let (r, m, d) = (self.options.replicates, self.pending as usize, self.d);
+        let (start, len) = self.batch();
+        let (d, m, r) = (self.d, self.pending, self.options.replicates as u64);
         let rows = d + 2;
-        let mut raw = vec![0.0; r * m * 2 * d];
+        let mut raw = vec![0.0; len * 2 * d];
         match self.replicas {
-            Replicas::Independent => self.fill_replicates(0..r, self.per_replicate, &mut raw),
-            // The next R·m points of the one sequence: R new blocks of m, which merge
-            // with the earlier R in pairs (see `accumulate`).
-            Replicas::Blocks => self.fill(0, r as u64 * self.per_replicate, r * m, &mut raw),
+            // Each replicate's new points m at a time, in the batch's stretch of them.
+            Replicas::Independent => {
+                let mut at = 0;
+                for rep in start / m..(start + len as u64).div_ceil(m) {
+                    let from = start.max(rep * m);
+                    let to = (start + len as u64).min((rep + 1) * m);
+                    let out = &mut raw[at..at + (to - from) as usize * 2 * d];
+                    let rep = rep as usize;
+                    self.fill_replicates(
+                        rep..rep + 1,
+                        self.per_replicate + from - rep as u64 * m,
+                        out,
+                    );
+                    at += out.len();
+                }
+            }
+            // The doubling is the next R·m points of the one sequence: R new blocks of
+            // m, which merge with the earlier R in pairs (see `merged`).
+            Replicas::Blocks => self.fill(0, r * self.per_replicate + start, len, &mut raw),
         }
         let (mut a, mut b) = (vec![0.0; d], vec![0.0; d]);
-        let mut data = vec![0.0; r * m * rows * d];
-        for (u, chunk) in raw
-            .chunks_exact(m * 2 * d)
-            .zip(data.chunks_exact_mut(m * rows * d))
-        {
-            for (point, block) in u.chunks_exact(2 * d).zip(chunk.chunks_exact_mut(rows * d)) {
-                self.layout.split(point, &mut a, &mut b);
-                let (a, b) = (&a[..], &b[..]);
-                let mut rows_of = block.chunks_exact_mut(d);
-                rows_of.next().expect("A").copy_from_slice(a);
-                rows_of.next().expect("B").copy_from_slice(b);
-                for (i, row) in rows_of.enumerate() {
-                    row.copy_from_slice(a);
-                    row[i] = b[i];
-                }
-            }
-            for row in chunk.chunks_exact_mut(d) {
-                for ((x, lo), w) in row.iter_mut().zip(&self.lower).zip(&self.width) {
-                    *x = lo + w * *x;
-                }
+        let mut data = vec![0.0; len * rows * d];
+        for (point, block) in raw.chunks_exact(2 * d).zip(data.chunks_exact_mut(rows * d)) {
+            self.layout.split(point, &mut a, &mut b);
+            let (a, b) = (&a[..], &b[..]);
+            let mut rows_of = block.chunks_exact_mut(d);
+            rows_of.next().expect("A").copy_from_slice(a);
+            rows_of.next().expect("B").copy_from_slice(b);
+            for (i, row) in rows_of.enumerate() {
+                row.copy_from_slice(a);
+                row[i] = b[i];
             }
         }
-        Some(PointSet::new(r * m * rows, d, data).expect("non-empty batch"))
+        for row in data.chunks_exact_mut(d) {
+            for ((x, lo), w) in row.iter_mut().zip(&self.lower).zip(&self.width) {
+                *x = lo + w * *x;
+            }
+        }
+        Some(PointSet::new(len * rows, d, data).expect("non-empty batch"))
+    }
+
+    /// The batch due in the pending doubling: its first point among the doubling's R·m
+    /// (replicate after replicate) and its points.
+    fn batch(&self) -> (u64, usize) {
+        let left = self.options.replicates as u64 * self.pending - self.fed;
+        let most = (self.most_coordinates / ((self.d + 2) * self.d)).max(1) as u64;
+        (self.fed, most.min(left) as usize)
+    }
+
+    /// Whether a doubling is part fed: some of its batches are in, others still due.
+    pub fn in_round(&self) -> bool {
+        self.fed > 0
     }
 
     /// Points `start`.. of randomisation `rep` in 2d dimensions, before the box's
@@ -714,17 +780,22 @@ impl Sensitivity {
     /// Takes f's values at the batch of [`Sensitivity::next_points`]: rows × k values,
     /// row-major. Refuses values without a batch handed out, a length that is not a
     /// multiple of the rows (or another k than before), NaN or ±∞ (naming the point and
-    /// the output), and, at the first batch, an output that took one value at every
-    /// point (its variance, which every index divides by, is 0); the state is unchanged
-    /// then.
+    /// the output) and values whose squares the sums cannot hold: the state is unchanged
+    /// then. When the first doubling is complete, refuses an output that took one value
+    /// at every one of its points (its variance, which every index divides by, is 0);
+    /// the first doubling is then to be made again.
     pub fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
         if self.face_pending {
             return self.feed_faces(points, values);
         }
         let (r, d) = (self.options.replicates, self.d);
-        let m = self.pending as usize;
-        let rows = r * m * (d + 2);
-        if m == 0 || points.n() != rows {
+        let (start, len) = if self.pending == 0 {
+            (0, 0)
+        } else {
+            self.batch()
+        };
+        let rows = len * (d + 2);
+        if len == 0 || points.n() != rows {
             return Err(Error::invalid(
                 "values",
                 format!("{} values", values.len()),
@@ -744,37 +815,125 @@ impl Sensitivity {
             ));
         }
         refuse_non_finite(points, values, k)?;
-        if self.k == 0 {
-            let (centre, scale) = first_scaling(values, k)?;
+        let fresh = self.k == 0;
+        if fresh {
+            let (centre, scale) = first_scaling(values, k);
             self.k = k;
             self.centre = centre;
             self.scale = scale;
             self.sums = vec![0.0; r * k * (HEAD + d * PER_INPUT)];
+            self.first_value = values[..k].to_vec();
+            self.varies = vec![false; k];
         }
-        let before = (self.sums.clone(), self.half_sums.clone());
-        self.half_sums = if self.per_replicate == 0 {
+        if self.fed == 0 {
+            self.round_sums = if self.merges() {
+                vec![0.0; self.sums.len()]
+            } else {
+                self.sums.clone()
+            };
+        }
+        let before = if self.fed == 0 {
             Vec::new()
         } else {
-            self.sums.clone()
+            self.round_sums.clone()
         };
-        self.accumulate(m, values);
-        if let Some(e) = self.refuse_overflow(points, values) {
-            (self.sums, self.half_sums) = before;
-            if self.per_replicate == 0 {
-                self.k = 0;
+        self.accumulate(start, len, values);
+        let complete = self.fed + len as u64 == r as u64 * self.pending;
+        let merged = complete.then(|| self.merged());
+        let checked = merged.as_ref().unwrap_or(&self.round_sums);
+        if let Some(e) = self.refuse_overflow(checked, points, values) {
+            self.round_sums = before;
+            if fresh {
+                self.forget_outputs();
             }
             return Err(e);
         }
+        if self.per_replicate == 0 {
+            for (j, row) in (0..k).cycle().zip(values) {
+                self.varies[j] |= *row != self.first_value[j];
+            }
+        }
+        self.fed += len as u64;
+        match merged {
+            Some(sums) => self.finish_round(sums),
+            None => Ok(()),
+        }
+    }
+
+    /// Back to before the first values: no outputs, no centre, scale or sums.
+    fn forget_outputs(&mut self) {
+        self.k = 0;
+        for v in [&mut self.centre, &mut self.sums, &mut self.first_value] {
+            *v = Vec::new();
+        }
+        self.scale = Vec::new();
+        self.varies = Vec::new();
+    }
+
+    /// Whether the doubling's blocks merge in pairs with the earlier ones (blocks of one
+    /// sequence after its first doubling) rather than adding to their sums.
+    fn merges(&self) -> bool {
+        self.replicas == Replicas::Blocks && self.per_replicate > 0
+    }
+
+    /// The sums once the complete doubling is added. Blocks of one sequence: the
+    /// doubling is R new blocks as long as the earlier ones, and block r after it is the
+    /// union of blocks 2r and 2r + 1 of the 2R (earlier, then new) before it.
+    fn merged(&self) -> Vec<f64> {
+        if !self.merges() {
+            return self.round_sums.clone();
+        }
+        let block = self.k * (HEAD + self.d * PER_INPUT);
+        let all: Vec<&[f64]> = self
+            .sums
+            .chunks_exact(block)
+            .chain(self.round_sums.chunks_exact(block))
+            .collect();
+        all.chunks_exact(2)
+            .flat_map(|pair| pair[0].iter().zip(pair[1]).map(|(x, y)| x + y))
+            .collect()
+    }
+
+    /// Ends a complete doubling with the sums after it; at the first, refuses an output
+    /// that never varied (and starts that doubling again).
+    fn finish_round(&mut self, sums: Vec<f64>) -> Result<(), Error> {
+        let rows = self.cost(self.pending);
+        self.fed = 0;
+        self.round_sums = Vec::new();
+        if let Some(j) = self.varies.iter().position(|v| !v) {
+            let (first, k) = (self.first_value[j], self.k);
+            self.forget_outputs();
+            return Err(Error::invalid(
+                "f",
+                format!(
+                    "{first} at every one of the first {rows} points{}",
+                    if k > 1 {
+                        format!(" (output {j})")
+                    } else {
+                        String::new()
+                    }
+                ),
+                "an output that varies: Sobol' indices are shares of its variance",
+            ));
+        }
+        self.varies = Vec::new();
+        self.first_value = Vec::new();
+        let earlier = std::mem::replace(&mut self.sums, sums);
+        self.half_sums = if self.per_replicate == 0 {
+            Vec::new()
+        } else {
+            earlier
+        };
         self.per_replicate += self.pending;
         self.pending = 0;
         Ok(())
     }
 
-    /// After a batch is added: where a sum is no longer finite (values far beyond the
-    /// first batch's spread, whose squares overflow even scaled by its power of two),
-    /// the error naming the output and the point of its largest deviation.
-    fn refuse_overflow(&self, points: &PointSet, values: &[f64]) -> Option<Error> {
-        if self.sums.iter().all(|v| v.is_finite()) {
+    /// Where `sums` are no longer all finite (values far beyond the first batch's
+    /// spread, whose squares overflow even scaled by its power of two), the error naming
+    /// the output and the point of the batch's largest deviation.
+    fn refuse_overflow(&self, sums: &[f64], points: &PointSet, values: &[f64]) -> Option<Error> {
+        if sums.iter().all(|v| v.is_finite()) {
             return None;
         }
         let (k, d) = (self.k, points.s());
@@ -798,56 +957,35 @@ impl Sensitivity {
         ))
     }
 
-    /// Adds the batch's sums to the replicates'. Blocks of one sequence: the batch is R
-    /// new blocks as long as the earlier ones, and block r after it is the union of
-    /// blocks 2r and 2r + 1 of the 2R (earlier, then new) before it.
-    fn accumulate(&mut self, m: usize, values: &[f64]) {
-        let (r, d, k) = (self.options.replicates, self.d, self.k);
+    /// Adds a batch of `len` points from point `start` of the doubling to its sums (in
+    /// the order of the points, so that the sums do not depend on how it was cut).
+    fn accumulate(&mut self, start: u64, len: usize, values: &[f64]) {
+        let (d, k, m) = (self.d, self.k, self.pending);
         let width = HEAD + d * PER_INPUT;
-        // Blocks after the first batch: the batch's sums are R new blocks, merged below.
-        let merge = self.replicas == Replicas::Blocks && self.per_replicate > 0;
         let scale: Vec<f64> = self.scale.iter().map(|&e| pow2(-e)).collect();
-        let y = |row: usize, j: usize| (values[row * k + j] - self.centre[j]) * scale[j];
-        let mut sums = if merge {
-            vec![0.0; self.sums.len()]
-        } else {
-            std::mem::take(&mut self.sums)
-        };
-        for rep in 0..r {
+        let centre = &self.centre;
+        let y = |row: usize, j: usize| (values[row * k + j] - centre[j]) * scale[j];
+        for p in 0..len {
+            let rep = ((start + p as u64) / m) as usize;
+            let base = p * (d + 2);
             for j in 0..k {
-                let s = &mut sums[(rep * k + j) * width..(rep * k + j + 1) * width];
-                for p in 0..m {
-                    let base = (rep * m + p) * (d + 2);
-                    let (ya, yb) = (y(base, j), y(base + 1, j));
-                    s[0] += ya;
-                    s[1] += yb;
-                    s[2] += ya * ya;
-                    s[3] += yb * yb;
-                    for i in 0..d {
-                        let yi = y(base + 2 + i, j);
-                        let t = &mut s[HEAD + i * PER_INPUT..HEAD + (i + 1) * PER_INPUT];
-                        t[0] += yb * (yi - ya);
-                        t[1] += (ya - yi) * (ya - yi);
-                        t[2] += yb * yi;
-                        t[3] += yi;
-                        t[4] += yi * yi;
-                    }
+                let s = &mut self.round_sums[(rep * k + j) * width..(rep * k + j + 1) * width];
+                let (ya, yb) = (y(base, j), y(base + 1, j));
+                s[0] += ya;
+                s[1] += yb;
+                s[2] += ya * ya;
+                s[3] += yb * yb;
+                for i in 0..d {
+                    let yi = y(base + 2 + i, j);
+                    let t = &mut s[HEAD + i * PER_INPUT..HEAD + (i + 1) * PER_INPUT];
+                    t[0] += yb * (yi - ya);
+                    t[1] += (ya - yi) * (ya - yi);
+                    t[2] += yb * yi;
+                    t[3] += yi;
+                    t[4] += yi * yi;
                 }
             }
         }
-        if merge {
-            let block = k * width;
-            let earlier = std::mem::take(&mut self.sums);
-            let all: Vec<&[f64]> = earlier
-                .chunks_exact(block)
-                .chain(sums.chunks_exact(block))
-                .collect();
-            sums = all
-                .chunks_exact(2)
-                .flat_map(|pair| pair[0].iter().zip(pair[1]).map(|(x, y)| x + y))
-                .collect();
-        }
-        self.sums = sums;
     }
 
     /// The sums of output j in `sums` over the replicates whose flag is set, and their
@@ -1031,6 +1169,9 @@ impl crate::Rounds for Sensitivity {
     fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
         Sensitivity::feed(self, points, values)
     }
+    fn in_round(&self) -> bool {
+        Sensitivity::in_round(self)
+    }
 }
 
 /// The settings as an integration over the inputs' box takes them: its checks of the
@@ -1110,29 +1251,14 @@ fn pow2(e: i32) -> f64 {
 
 /// Per output, the centre (the mean of the first batch) and the power of two that brings
 /// the largest deviation from it near 1, so that squares and products of later values
-/// neither overflow nor underflow; refuses an output that took one value at every point.
-fn first_scaling(values: &[f64], k: usize) -> Result<(Vec<f64>, Vec<i32>), Error> {
+/// neither overflow nor underflow (1 for an output constant over the batch).
+fn first_scaling(values: &[f64], k: usize) -> (Vec<f64>, Vec<i32>) {
     let rows = values.len() / k;
     let mut centre = Vec::with_capacity(k);
     let mut scale = Vec::with_capacity(k);
     for j in 0..k {
         let column = || values.iter().skip(j).step_by(k).copied();
-        let first = values[j];
-        if column().all(|v| v == first) {
-            return Err(Error::invalid(
-                "f",
-                format!(
-                    "{first} at every one of the first {rows} points{}",
-                    if k > 1 {
-                        format!(" (output {j})")
-                    } else {
-                        String::new()
-                    }
-                ),
-                "an output that varies: Sobol' indices are shares of its variance",
-            ));
-        }
-        // The mean without overflow: each value halved before summing.
+        // The mean without overflow: each value divided before summing.
         let c = column().map(|v| v / rows as f64).sum::<f64>();
         let spread = column().map(|v| (v - c).abs()).fold(0.0f64, f64::max);
         let e = if spread.is_finite() && spread > 0.0 {
@@ -1143,7 +1269,7 @@ fn first_scaling(values: &[f64], k: usize) -> Result<(Vec<f64>, Vec<i32>), Error
         centre.push(c);
         scale.push(e.clamp(-1000, 1000));
     }
-    Ok((centre, scale))
+    (centre, scale)
 }
 
 /// What [`sobol_indices`] returns; every index vector is d × k, input-major
@@ -1289,5 +1415,149 @@ impl Sensitivity {
             self.names()[i / k],
             crate::progress::sci(self.options().abs_tol, 1)
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// f = x1 + 2·x2·x3 + x3², evaluated batch by batch, recording each batch's
+    /// points.
+    fn run(mut state: Sensitivity, batches: &mut Vec<Vec<f64>>) -> Sensitivity {
+        state
+            .run(|x| {
+                batches.push(x.as_slice().to_vec());
+                x.rows()
+                    .map(|p| p[0] + 2.0 * p[1] * p[2] + p[2] * p[2])
+                    .collect()
+            })
+            .unwrap();
+        state
+    }
+
+    fn options() -> SensitivityOptions {
+        SensitivityOptions {
+            abs_tol: 0.0,
+            max_n: 100_000,
+            ..SensitivityOptions::default()
+        }
+    }
+
+    #[test]
+    fn a_doubling_cut_into_batches_gives_the_indices_of_one_batch() {
+        // Blocks of one sequence, and independent replicates (states saved before
+        // blocks), whose batches then cross from one replicate's points to the next's.
+        for replicas in [Replicas::Blocks, Replicas::Independent] {
+            let fresh = || {
+                let mut state = Sensitivity::new(3, options()).unwrap();
+                state.replicas = replicas;
+                state
+            };
+            let mut all = Vec::new();
+            let whole = run(fresh(), &mut all);
+            let mut cut = fresh();
+            // 15 coordinates per point (d + 2 rows of d): 7 points per batch, so that
+            // the first doubling's 8·64 points come as 74 batches.
+            cut.most_coordinates = 7 * 15;
+            let mut batches = Vec::new();
+            let cut = run(cut, &mut batches);
+            assert_eq!(cut.n(), whole.n());
+            assert!(batches.len() > 74 + all.len(), "{}", batches.len());
+            // The face test's batch (4 points, 2·d rows each) is one batch; the others
+            // are the same points as the whole doublings', cut.
+            assert!(batches[1..].iter().all(|b| b.len() <= 7 * 15));
+            assert_eq!(batches.concat(), all.concat());
+            // The first batch's mean is the centre the sums are taken around, and
+            // Saltelli's first-order estimate moves with it (by the centre's shift times
+            // the mean of y_ABi − y_A, the rule's error): the indices agree far within
+            // the intervals. Independent replicates' spread moves with it too, by a
+            // small share of itself.
+            let [first, total, first_width, total_width] = cut.current();
+            let [whole_first, whole_total, whole_first_width, whole_total_width] = whole.current();
+            let widest = whole_first_width
+                .iter()
+                .chain(&whole_total_width)
+                .fold(0.0, |a: f64, b| a.max(*b));
+            let indices = first.iter().chain(&total);
+            for (a, b) in indices.zip(whole_first.iter().chain(&whole_total)) {
+                assert!((a - b).abs() <= 1e-3 * widest, "{replicas:?}: {a} {b}");
+            }
+            let widths = first_width.iter().chain(&total_width);
+            for (a, b) in widths.zip(whole_first_width.iter().chain(&whole_total_width)) {
+                assert!((a - b).abs() <= 0.05 * b, "{replicas:?}: {a} {b}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_state_saved_within_a_doubling_continues_to_the_same_figures() {
+        let mut state = Sensitivity::new(3, options()).unwrap();
+        state.most_coordinates = 7 * 15;
+        let f = |x: &PointSet| -> Vec<f64> {
+            x.rows()
+                .map(|p| p[0] + 2.0 * p[1] * p[2] + p[2] * p[2])
+                .collect()
+        };
+        // Past the face test and the first doubling, then three batches into the next.
+        while state.per_replicate() == 0 || state.fed < 3 * 7 {
+            let points = state.next_points().unwrap();
+            state.feed(&points, &f(&points)).unwrap();
+        }
+        assert!(state.in_round());
+        let saved: Sensitivity =
+            serde_json::from_str(&serde_json::to_string(&state).unwrap()).unwrap();
+        // A saved state takes whole-replicate batches again: the sums do not depend on
+        // the cut.
+        assert_eq!(saved.most_coordinates, BATCH_COORDINATES);
+        let (mut a, mut b) = (state, saved);
+        a.run(f).unwrap();
+        b.run(f).unwrap();
+        assert_eq!(a.n(), b.n());
+        assert_eq!(a.current(), b.current());
+    }
+
+    #[test]
+    fn an_output_constant_over_a_first_batch_but_not_its_doubling_is_taken() {
+        let mut state = Sensitivity::new(3, options()).unwrap();
+        state.most_coordinates = 7 * 15;
+        let faces = state.next_points().unwrap();
+        let values: Vec<f64> = faces.rows().map(|p| p[0]).collect();
+        state.feed(&faces, &values).unwrap();
+        // f = max(0, x1 − c), with c the largest x1 of the first batch: 0 there, not
+        // over the doubling; its indices are 1 for x1, 0 for the others.
+        let batch = state.next_points().unwrap();
+        let c = batch.rows().map(|p| p[0]).fold(0.0, f64::max);
+        assert!(c < 0.99, "{c}");
+        state
+            .run(|x| x.rows().map(|p| (p[0] - c).max(0.0)).collect())
+            .unwrap();
+        let [first, total, ..] = state.current();
+        assert!((first[0] - 1.0).abs() < 0.01 && (total[0] - 1.0).abs() < 0.01);
+        assert!(first[1].abs() < 0.01 && total[2].abs() < 0.01);
+    }
+
+    #[test]
+    fn an_output_constant_over_its_first_doubling_is_refused_and_it_starts_again() {
+        let mut state = Sensitivity::new(2, options()).unwrap();
+        state.most_coordinates = 5 * 8;
+        let faces = state.next_points().unwrap();
+        let values: Vec<f64> = faces.rows().map(|p| p[0]).collect();
+        state.feed(&faces, &values).unwrap();
+        let first = state.next_points().unwrap();
+        let start = state.clone();
+        let e = loop {
+            let points = state.next_points().unwrap();
+            if let Err(e) = state.feed(&points, &vec![4.5; points.n()]) {
+                break e.to_string();
+            }
+        };
+        // 8 replicates of 64 points, 4 evaluations each.
+        assert!(
+            e.starts_with("invalid f = 4.5 at every one of the first 2048 points"),
+            "{e}"
+        );
+        assert_eq!(state, start);
+        assert_eq!(state.next_points().unwrap(), first);
     }
 }

@@ -176,6 +176,9 @@ driver!(PySensitivity, "Sensitivity", Sensitivity, SensitivityOptions, {
     outputs -> usize = Sensitivity::outputs;
     met -> bool = Sensitivity::met;
     warnings -> Vec<String> = Sensitivity::warnings;
+    // A doubling larger than the library's batch comes as several batches: true while
+    // some are fed and others due (no figure has moved since the last doubling).
+    in_round -> bool = Sensitivity::in_round;
 });
 
 /// Points [start, start + count) of replicate `replicate` of the extensible randomised

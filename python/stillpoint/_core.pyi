@@ -161,3 +161,4 @@ class Sensitivity:
     outputs: int
     met: bool
     warnings: List[str]
+    in_round: bool

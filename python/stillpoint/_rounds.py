@@ -120,7 +120,7 @@ def _rounds(
 ) -> None:
     """Asks the state machine for batches until it is met or its budget is spent: each
     batch mapped to f's inputs, evaluated, checked finite and fed back; `report` after
-    each."""
+    each round."""
     k = state.outputs or None
     while not state.met:
         u = state.next_points()
@@ -136,7 +136,9 @@ def _rounds(
             k = y.shape[1]
             setup["scalar"] = k == 1 and flat
         state.feed(y)
-        if report is not None:
+        # A doubling may come as several batches (bounded in memory): report once it is
+        # whole.
+        if report is not None and not getattr(state, "in_round", False):
             report(state, setup, time.perf_counter() - started)
 
 

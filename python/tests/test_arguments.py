@@ -328,6 +328,9 @@ _CALLS = [
     "sp.design(20000, ['x=uniform(0,1)', 'y=normal(0,1)', 'c={a,b}'])",
     "sp.generate(8000, 5, target='blend')",
     "sp.generate(3000, 3, mixture=True)",
+    # A doubling of 2^31 coordinates, made and fed in bounded batches.
+    "sp.sobol_indices(lambda u: u.sum(1) + u[:, 0] * u[:, 1], 300, abs_tol=1e-9, "
+    "max_n=10**9)",
 ]
 
 

@@ -103,6 +103,26 @@ def test_progress_gets_a_copy_each_round(capsys):
     assert "sobol_indices: n=" in capsys.readouterr().err
 
 
+def test_a_large_doubling_comes_in_bounded_batches_and_reports_once():
+    # At d = 300 one doubling of 8·64 points is 8·64·302·300 coordinates, 11× the
+    # library's batch of 2^22: f sees each batch, the progress each whole doubling.
+    d, faces = 300, 8 * 300
+    sizes, seen = [], []
+
+    def f(x):
+        sizes.append(x.size)
+        return x[:, 0] + x[:, 1] * x[:, 2]
+
+    first = 8 * 64 * (d + 2)
+    r = sp.sobol_indices(f, d, abs_tol=0.0, max_n=faces + 3 * first, progress=seen.append)
+    assert max(sizes) <= 2**22 and sum(sizes) == (r.n - faces) * d + faces * d
+    # The face test's batch, then per doubling 12 batches (46 points at most in each).
+    assert len(sizes) == 1 + 2 * 12
+    assert [s.n for s in seen] == [faces + first, faces + 2 * first]
+    assert r.n == faces + 2 * first
+    assert abs(r.first[0] - 0.6) < 0.05 and abs(r.total[3]) < 0.01
+
+
 def test_simultaneous_intervals_are_wider():
     # Wider by the quantile; the round guard (the change since half the points) is a
     # floor under both that does not depend on the level.
