@@ -756,6 +756,31 @@ pub struct Cubature {
     /// ([`Cubature::settle_probe`]; false in states saved before it existed).
     #[serde(default)]
     face_due: bool,
+    /// Rows of the pending round already handed back, and f's values at them (a round
+    /// larger than [`BATCH_COORDINATES`] comes as several batches; its values are added
+    /// once it is whole).
+    #[serde(default)]
+    fed_rows: usize,
+    #[serde(default)]
+    fed_values: Vec<f64>,
+    /// The most coordinates of one batch: [`BATCH_COORDINATES`] (less in tests, to cut
+    /// small rounds).
+    #[serde(skip, default = "batch_coordinates")]
+    most_coordinates: usize,
+}
+
+/// The most coordinates of one batch handed out (2^22 floats, 32 MiB): a round of
+/// [`Cubature`] or a doubling of [`sensitivity::Sensitivity`] larger than that comes as
+/// several batches, replicate after replicate, so that the points a run holds stay
+/// bounded whatever the dimension and n are (a round of `quad` at s = 1 000 and
+/// n = 2^22 is 2^31 coordinates, 16 GiB; a doubling of the indices at d = 500 and
+/// N = 2^13, 2^30), and a stop asked for between two batches comes within the time f
+/// takes on one of them. `quad` keeps f's values of a round until it is whole (k per
+/// point, not s); the indices add each batch to their sums at once.
+pub const BATCH_COORDINATES: usize = 1 << 22;
+
+fn batch_coordinates() -> usize {
+    BATCH_COORDINATES
 }
 
 /// One output's sums for the skew guard: Σ dᵖ for p = 1, 2, 3 over every value fed, with
@@ -897,6 +922,9 @@ impl Cubature {
             spared: 0,
             few_values: Vec::new(),
             face_due: false,
+            fed_rows: 0,
+            fed_values: Vec::new(),
+            most_coordinates: BATCH_COORDINATES,
         })
     }
 
@@ -1163,8 +1191,10 @@ impl Cubature {
 
     /// The next batch of points, scaled to the box, as (rows, d) row-major values:
     /// replicate 0's new points, then replicate 1's, and so on (each replicate's points
-    /// n_r..2n_r of its sequence, or its first `start_n`). Asking again before
-    /// [`Cubature::feed`] gives the same batch. `None` when the budget is spent
+    /// n_r..2n_r of its sequence, or its first `start_n`). A round of more than
+    /// [`BATCH_COORDINATES`] coordinates comes as consecutive stretches of those rows
+    /// that hold at most that many ([`Cubature::in_round`] between them). Asking again
+    /// before [`Cubature::feed`] gives the same batch. `None` when the budget is spent
     /// ([`Cubature::exhausted`]).
     pub fn next_points(&mut self) -> Option<PointSet> {
         if let Some(sobol) = self.tried.as_mut() {
@@ -1187,15 +1217,53 @@ impl Cubature {
         let (reps, start) = self.pending_replicates();
         let (r, m) = (reps.len(), self.pending as usize);
         let rows = self.batch_rows(m);
-        let mut data = vec![0.0; r * rows * self.d];
-        let (seed, rule) = (self.options.seed, self.options.rule);
-        if self.halved {
-            fill_one_of_each_pair(rule.table(), self.d, seed, reps, start, m, &mut data);
+        let (first, len) = self.batch();
+        let (seed, rule, d) = (self.options.seed, self.options.rule, self.d);
+        let mut data = vec![0.0; len * d];
+        if len == r * rows {
+            if self.halved {
+                fill_one_of_each_pair(rule.table(), d, seed, reps, start, m, &mut data);
+            } else {
+                rule.fill_replicates(d, seed, SOBOL_KEY, reps, start, &mut data);
+            }
         } else {
-            rule.fill_replicates(self.d, seed, SOBOL_KEY, reps, start, &mut data);
+            // Each replicate's stretch of the batch's rows in turn.
+            let mut at = 0;
+            for i in first / rows..(first + len).div_ceil(rows) {
+                let (from, to) = (first.max(i * rows), (first + len).min((i + 1) * rows));
+                let out = &mut data[at..at + (to - from) * d];
+                let rep = reps.start + i;
+                let q = (from - i * rows) as u64;
+                if self.halved {
+                    let (start, m) = (start + 2 * q, 2 * (to - from));
+                    fill_one_of_each_pair(rule.table(), d, seed, rep..rep + 1, start, m, out);
+                } else {
+                    rule.fill_replicates(d, seed, SOBOL_KEY, rep..rep + 1, start + q, out);
+                }
+                at += out.len();
+            }
         }
         self.to_box(&mut data);
-        Some(PointSet::new(r * rows, self.d, data).expect("non-empty batch"))
+        Some(PointSet::new(len, d, data).expect("non-empty batch"))
+    }
+
+    /// The batch due in the pending round: its first row among the round's (replicate
+    /// after replicate) and its rows; the whole round when it holds at most
+    /// [`BATCH_COORDINATES`] coordinates.
+    fn batch(&self) -> (usize, usize) {
+        let r = self.pending_replicates().0.len();
+        let left = r * self.batch_rows(self.pending as usize) - self.fed_rows;
+        let most = (self.most_coordinates / self.d).max(1);
+        (self.fed_rows, most.min(left))
+    }
+
+    /// Whether a round is part fed: some of its batches are in, others still due (no
+    /// figure has moved since the last whole round).
+    pub fn in_round(&self) -> bool {
+        match &self.tried {
+            Some(sobol) => sobol.in_round(),
+            None => self.fed_rows > 0,
+        }
     }
 
     /// Rows handed out per replicate for a batch of m points of its sequence: one of each
@@ -1226,7 +1294,9 @@ impl Cubature {
     pub fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
         if let Some(sobol) = self.tried.as_mut() {
             sobol.feed(points, values)?;
-            self.pilot();
+            if !sobol.in_round() {
+                self.pilot();
+            }
             return Ok(());
         }
         if self.options.rule == Rule::FaceTest || self.face_due {
@@ -1234,7 +1304,8 @@ impl Cubature {
         }
         let r = self.pending_replicates().0.len();
         let m = self.pending as usize;
-        let rows = r * self.batch_rows(m);
+        let round = r * self.batch_rows(m);
+        let rows = if m == 0 { 0 } else { self.batch().1 };
         if m == 0 || points.n() != rows {
             return Err(Error::invalid(
                 "values",
@@ -1242,10 +1313,11 @@ impl Cubature {
                 "f's values at the points of next_points() (none are pending)",
             ));
         }
-        let k = if self.k == 0 {
-            values.len() / rows
-        } else {
+        // Outputs: fixed by the first round, or, within it, by its first batch.
+        let k = if self.k != 0 {
             self.k
+        } else {
+            (self.fed_values.len().checked_div(self.fed_rows)).unwrap_or(values.len() / rows)
         };
         if k == 0 || values.len() != rows * k {
             return Err(Error::invalid(
@@ -1267,6 +1339,20 @@ impl Cubature {
                 "a finite value at every point",
             ));
         }
+        // A round in several batches: their values kept until it is whole.
+        let whole;
+        let values = if rows == round {
+            values
+        } else {
+            self.fed_values.extend_from_slice(values);
+            self.fed_rows += rows;
+            if self.fed_rows < round {
+                return Ok(());
+            }
+            self.fed_rows = 0;
+            whole = std::mem::take(&mut self.fed_values);
+            &whole[..]
+        };
         let first = self.per_replicate == 0;
         self.accumulate(k, m, values);
         if first {
@@ -1438,6 +1524,7 @@ impl Cubature {
         };
         let mut state = Cubature::new(self.d, options).expect("this state's settings");
         state.spent = spent;
+        state.most_coordinates = self.most_coordinates;
         state
     }
 
@@ -2118,6 +2205,9 @@ impl Rounds for Cubature {
     }
     fn feed(&mut self, points: &PointSet, values: &[f64]) -> Result<(), Error> {
         Cubature::feed(self, points, values)
+    }
+    fn in_round(&self) -> bool {
+        Cubature::in_round(self)
     }
 }
 
@@ -4628,5 +4718,87 @@ mod tests {
         assert_eq!(run(neg_corner).to_bits(), h.to_bits());
         // 2^900·f: the sums and the moments are divided by powers of two, exactly.
         assert_eq!(run(big_corner).to_bits(), libm::scalbn(h, 900).to_bits());
+    }
+
+    /// f's run over the state `opts` makes, with batches of at most `rows` rows (every
+    /// round in one batch when None): the result and every batch's points.
+    fn run_in_batches(
+        f: fn(&PointSet) -> Vec<f64>,
+        d: usize,
+        opts: &QuadOptions,
+        rows: Option<usize>,
+    ) -> (QuadResult, Vec<Vec<f64>>) {
+        let mut state = Cubature::new(d, opts.clone()).unwrap();
+        if let Some(rows) = rows {
+            state.most_coordinates = rows * d;
+        }
+        let mut batches = Vec::new();
+        let mut reported = Vec::new();
+        run_rounds(
+            &mut state,
+            |x| {
+                batches.push(x.as_slice().to_vec());
+                f(x)
+            },
+            |s: &Cubature| reported.push(s.n()),
+        )
+        .unwrap();
+        // Progress comes after whole rounds only: each report a new count.
+        assert!(reported.windows(2).all(|w| w[0] < w[1]), "{reported:?}");
+        (QuadResult::from(state), batches)
+    }
+
+    #[test]
+    fn a_round_cut_into_batches_gives_the_bits_of_one_batch() {
+        let exp_sum =
+            |x: &PointSet| -> Vec<f64> { x.rows().map(|p| p.iter().sum::<f64>().exp()).collect() };
+        let o = |rel_tol, max_n, rule, rule_asked| QuadOptions {
+            rel_tol,
+            max_n,
+            rule,
+            rule_asked,
+            seed: 5,
+            ..QuadOptions::default()
+        };
+        type Case = (
+            fn(&PointSet) -> Vec<f64>,
+            usize,
+            QuadOptions,
+            fn(&QuadResult) -> bool,
+        );
+        let cases: [Case; 5] = [
+            // The tent lattice after the face test.
+            (exp_sum, 3, o(1e-9, 1 << 16, Rule::FaceTest, false), |r| {
+                r.rule == Rule::TentLattice
+            }),
+            // Halved: one of each reflected pair per row.
+            (even, 3, o(1e-7, 1 << 16, Rule::TentLattice, false), |r| {
+                r.state.halved()
+            }),
+            // A pilot round of Sobol' points beside the lattice's.
+            (at_the_faces, 5, o(1e-4, 1 << 15, Rule::Pilot, true), |r| {
+                r.state.spent > 0
+            }),
+            // Scrambled Sobol' by name, the last doubling short.
+            (exp_sum, 3, o(1e-15, 7500, Rule::Sobol, true), |r| {
+                !r.state.per_replicate().is_power_of_two()
+            }),
+            // Replicates added where the budget holds no doubling.
+            (exp_sum, 3, o(1e-15, 3500, Rule::TentLattice, true), |r| {
+                r.replicates > 4
+            }),
+        ];
+        for (f, d, opts, made) in cases {
+            let (whole, all) = run_in_batches(f, d, &opts, None);
+            assert!(made(&whole), "{opts:?}: {whole:?}");
+            let (mut cut, batches) = run_in_batches(f, d, &opts, Some(7));
+            cut.state.most_coordinates = BATCH_COORDINATES;
+            assert!(batches.len() > 4 * all.len(), "{opts:?}");
+            assert!(batches
+                .iter()
+                .all(|b| b.len() <= 7 * d.max(FACE_TEST_POINTS as usize)));
+            assert_eq!(batches.concat(), all.concat(), "{opts:?}");
+            assert_eq!(cut, whole, "{opts:?}");
+        }
     }
 }

@@ -54,7 +54,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::{student_t_quantile, Rule, StopReason, DEFAULT_START_N};
+use crate::{student_t_quantile, Rule, StopReason, BATCH_COORDINATES, DEFAULT_START_N};
 use crate::{Error, PointSet};
 use stillpoint_sequences::{ExtensibleLattice, EXTENSIBLE_MAX_D, EXTENSIBLE_MAX_POINTS};
 
@@ -99,13 +99,6 @@ const FACE_REPLICATE: u64 = u64::MAX;
 pub fn face_evaluations(d: usize) -> u64 {
     (2 * FACE_POINTS * d) as u64
 }
-
-/// The most coordinates of one batch handed out (2^22 floats, 32 MiB): a doubling larger
-/// than that comes as several batches, replicate after replicate, so that the memory a run
-/// holds stays bounded whatever d and N are (one doubling at d = 500 and N = 2^13 is 2^30
-/// coordinates, 8 GiB), and a stop asked for between two batches comes within the time f
-/// takes on one of them.
-pub const BATCH_COORDINATES: usize = 1 << 22;
 
 /// The most inputs: the sequence's coordinates hold the two halves A and B.
 pub const MAX_INPUTS: usize = EXTENSIBLE_MAX_D / 2;

@@ -153,6 +153,9 @@ driver!(PyCubature, "Cubature", Cubature, QuadOptions, {
     met -> bool = Cubature::met;
     warnings -> Vec<String> = Cubature::warnings;
     replicate_means -> Vec<Vec<f64>> = Cubature::replicate_means;
+    // A round larger than the library's batch comes as several batches: true while
+    // some are fed and others due (no figure has moved since the last round).
+    in_round -> bool = Cubature::in_round;
 }
     /// Refuses an estimate or half-width beyond the largest float (where the run stops).
     fn check_representable(&self) -> PyResult<()> {
@@ -176,8 +179,7 @@ driver!(PySensitivity, "Sensitivity", Sensitivity, SensitivityOptions, {
     outputs -> usize = Sensitivity::outputs;
     met -> bool = Sensitivity::met;
     warnings -> Vec<String> = Sensitivity::warnings;
-    // A doubling larger than the library's batch comes as several batches: true while
-    // some are fed and others due (no figure has moved since the last doubling).
+    // As the Cubature's, for a doubling.
     in_round -> bool = Sensitivity::in_round;
 });
 

@@ -136,6 +136,7 @@ class Cubature:
     outputs: int
     met: bool
     warnings: List[str]
+    in_round: bool
     replicate_means: List[List[float]]
 
 class Sensitivity:

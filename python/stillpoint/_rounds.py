@@ -138,7 +138,7 @@ def _rounds(
         state.feed(y)
         # A doubling may come as several batches (bounded in memory): report once it is
         # whole.
-        if report is not None and not getattr(state, "in_round", False):
+        if report is not None and not state.in_round:
             report(state, setup, time.perf_counter() - started)
 
 

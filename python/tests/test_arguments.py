@@ -328,9 +328,11 @@ _CALLS = [
     "sp.design(20000, ['x=uniform(0,1)', 'y=normal(0,1)', 'c={a,b}'])",
     "sp.generate(8000, 5, target='blend')",
     "sp.generate(3000, 3, mixture=True)",
-    # A doubling of 2^31 coordinates, made and fed in bounded batches.
+    # Doublings of 2^31 coordinates (the indices at d = 300) and rounds of 2^31 (quad
+    # at s = 1 000), made and fed in bounded batches.
     "sp.sobol_indices(lambda u: u.sum(1) + u[:, 0] * u[:, 1], 300, abs_tol=1e-9, "
     "max_n=10**9)",
+    "sp.quad(lambda u: u.sum(1) + u[:, 0] * u[:, 1], 1000, rel_tol=1e-15)",
 ]
 
 
