@@ -11,9 +11,10 @@ use super::*;
              set, integrate to a tolerance, with the numbers that prove their quality."
 )]
 pub(crate) struct Cli {
-    /// Worker threads (default: all cores). Results are the same bytes for any count.
-    #[arg(long, global = true, value_name = "T")]
-    pub(crate) threads: Option<usize>,
+    /// Worker threads, 1 to 1024 (default: all cores). Results are the same bytes for
+    /// any count.
+    #[arg(long, global = true, value_name = "T", allow_hyphen_values = true)]
+    pub(crate) threads: Option<String>,
     #[command(subcommand)]
     pub(crate) command: Command,
 }
@@ -480,8 +481,13 @@ pub(crate) enum Command {
         #[arg(short = 'o', long = "output", value_name = "FILE")]
         output: Option<PathBuf>,
         /// Seed of the randomized generators (scrambles, random, LHS).
-        #[arg(long, default_value_t = 0)]
-        seed: u64,
+        #[arg(
+            long,
+            default_value = "0",
+            value_name = "SEED",
+            allow_hyphen_values = true
+        )]
+        seed: String,
         /// Describe every generator and exit.
         #[arg(long)]
         list: bool,
@@ -529,8 +535,13 @@ pub(crate) enum Command {
         #[arg(long, value_name = "DIR")]
         out: Option<PathBuf>,
         /// Seed of every random choice.
-        #[arg(long, default_value_t = 0)]
-        seed: u64,
+        #[arg(
+            long,
+            default_value = "0",
+            value_name = "SEED",
+            allow_hyphen_values = true
+        )]
+        seed: String,
         /// No progress lines.
         #[arg(long, short = 'q')]
         quiet: bool,
@@ -633,8 +644,8 @@ mod tests {
         };
         let cases = [
             (
-                &["stillpoint", "--threads", "99999999999999999999999", "eval", "x.csv"][..],
-                "invalid --threads = 99999999999999999999999: expected a whole number ≤ 18446744073709551615",
+                &["stillpoint", "generate", "--checkpoint-every", "99999999999999999999999"][..],
+                "invalid --checkpoint-every = 99999999999999999999999: expected a whole number ≤ 18446744073709551615",
             ),
             (
                 &["stillpoint", "generate", "--checkpoint-every", "ten"][..],
@@ -645,13 +656,31 @@ mod tests {
                 "invalid --dims = 2.5: expected a whole number ≥ 0",
             ),
             (
-                &["stillpoint", "eval", "x.csv", "--threads", "-4"][..],
-                "invalid --threads = -4: expected a whole number ≥ 0",
+                &["stillpoint", "plot", "x.csv", "-o", "x.png", "--dims", "-4"][..],
+                "invalid --dims = -4: expected a whole number ≥ 0",
             ),
         ];
         for (argv, want) in cases {
             let text = parse(argv);
             assert!(text.contains(want), "{argv:?}: {text}");
         }
+    }
+
+    /// The range that `--threads` refuses values outside of is the one its help gives.
+    #[test]
+    fn the_help_of_threads_gives_the_range_accepted() {
+        let cli = Cli::command_with_declared_help();
+        let threads = cli
+            .get_arguments()
+            .find(|a| a.get_long() == Some("threads"))
+            .expect("--threads");
+        let help = threads
+            .get_help()
+            .map(|h| h.to_string())
+            .unwrap_or_default();
+        assert!(
+            help.contains(&format!("1 to {}", crate::dispatch::MAX_THREADS)),
+            "{help}"
+        );
     }
 }

@@ -3,13 +3,8 @@
 use super::*;
 
 pub(crate) fn real_main(cli: Cli) -> Result<()> {
-    if let Some(t) = cli.threads {
-        if t == 0 {
-            bail!("invalid --threads = 0: expected a number of threads ≥ 1");
-        }
-        if t > MAX_THREADS {
-            bail!("invalid --threads = {t}: expected at most {MAX_THREADS} threads");
-        }
+    if let Some(typed) = &cli.threads {
+        let t = threads(typed)?;
         rayon::ThreadPoolBuilder::new()
             .num_threads(t)
             .build_global()
@@ -46,7 +41,28 @@ const MAX_REPS: usize = 100_000;
 
 /// The most worker threads `--threads` starts (each is a real thread with its own stack;
 /// far beyond the cores they only cost).
-const MAX_THREADS: usize = 1024;
+pub(crate) const MAX_THREADS: usize = 1024;
+
+/// `--threads` as typed, read here rather than by clap's type so that every refusal (a
+/// negative count, zero, too many, not a number) states the one range accepted, with the
+/// status of every other refused value.
+fn threads(typed: &str) -> Result<usize> {
+    match typed.trim().parse::<usize>() {
+        Ok(t) if (1..=MAX_THREADS).contains(&t) => Ok(t),
+        _ => bail!("invalid --threads = {typed}: expected 1 to {MAX_THREADS} threads"),
+    }
+}
+
+/// `--seed` of the commands that pass it to no library request (`baseline`, `study`),
+/// read by the library's declaration of the seed: the same range, refusal and status as
+/// the seed of `generate`, `integrate` and `sensitivity`.
+fn seed_of(typed: &str) -> Result<u64> {
+    let d = Opt::seed.declared();
+    match d.parse(&Arg::from(typed), &flag_name)? {
+        Some(stillpoint::pipeline::options::Value::Seed(seed)) => Ok(seed),
+        _ => bail!("invalid --seed = {typed}: expected {}", (d.expected)()),
+    }
+}
 
 /// `stillpoint eval`: the flags become one library [`Request`], whose resolution
 /// ([`Request::resolve_eval_as`]) says how the points are measured or refuses the
@@ -200,6 +216,7 @@ fn baseline_command(c: Command) -> Result<()> {
     else {
         bail!("baseline: not this subcommand");
     };
+    let seed = seed_of(&seed)?;
     if list {
         for b in Baseline::all() {
             outln!("{} ({}):\n  {}\n", b.name(), b.label(), b.describe());
@@ -363,6 +380,7 @@ fn study_command(c: Command) -> Result<()> {
     else {
         bail!("study: not this subcommand");
     };
+    let seed = seed_of(&seed)?;
     let studies: Vec<Study> = if name.trim().eq_ignore_ascii_case("all") {
         Study::all().to_vec()
     } else {

@@ -13,18 +13,31 @@ pub(crate) fn plot_points(
     split: Option<usize>,
 ) -> Result<()> {
     let points = io::read_points(file)?;
-    if let Some(k) = split {
-        if k > points.n() {
-            bail!(
-                "invalid --split = {k}: the file has {} points (expected 0 ≤ K ≤ n)",
-                points.n()
-            );
-        }
-    }
     let s = points.s();
     let k = dims.unwrap_or(s.min(4));
     if k == 0 || k > s {
         bail!("invalid --dims = {k}: expected 1 ≤ K ≤ s = {s} (the file's dimension)");
+    }
+    if let Some(old) = split {
+        // Only the scatter plot of s = 2 colours old and new points; the matrix of
+        // projections (s ≠ 2, or --dims 1) draws every point alike, so a split there
+        // would be dropped without a word.
+        if !(s == 2 && k == 2) {
+            let drawn = match s {
+                2 => "--dims 1 draws histograms".to_string(),
+                s => format!("the file has s = {s}, drawn as a matrix of projections"),
+            };
+            bail!(
+                "invalid --split = {old}: expected points of s = 2 drawn as one scatter plot \
+                 ({drawn}, which --split does not colour)"
+            );
+        }
+        if old > points.n() {
+            bail!(
+                "invalid --split = {old}: the file has {} points (expected 0 ≤ K ≤ n)",
+                points.n()
+            );
+        }
     }
     let title = title.unwrap_or_else(|| {
         file.file_name()

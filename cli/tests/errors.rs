@@ -59,6 +59,12 @@ impl Fixtures {
             npy.extend_from_slice(&v.to_le_bytes());
         }
         w("truncated.npy", &npy);
+        // The same header with all 8 values and one more after them.
+        npy.truncate(10 + 0x76);
+        for v in [0.1f64, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9] {
+            npy.extend_from_slice(&v.to_le_bytes());
+        }
+        w("trailing.npy", &npy);
         w("bad-trajectory.json", b"{\"records\": 3}");
         w("not-a-checkpoint.json", b"{\"points\": [[0.5, 0.5]]}");
         Fixtures { dir }
@@ -270,7 +276,7 @@ fn cli_refuses_bad_input_clearly_and_touches_no_file() {
                 v.extend(gen(&["-n", "10", "-s", "2"]));
                 v
             },
-            "invalid --threads = 0: expected a number of threads ≥ 1",
+            "invalid --threads = 0: expected 1 to 1024 threads",
         ),
         (
             "region with no interior",
@@ -457,6 +463,12 @@ fn cli_refuses_bad_input_clearly_and_touches_no_file() {
             "truncated: shape [4, 2] needs 64 bytes of data, the file has 24",
         ),
         (
+            "eval: .npy with bytes after the array",
+            cmd(&["eval", &f.p("trailing.npy")]),
+            "trailing.npy: 8 bytes after the array: the array's data must end the file \
+             (expected 64 bytes of data for shape [4, 2] of float64, found 72)",
+        ),
+        (
             "eval: missing file",
             cmd(&["eval", &f.p("missing.csv")]),
             "missing.csv: cannot read",
@@ -573,6 +585,95 @@ fn cli_refuses_bad_input_clearly_and_touches_no_file() {
     assert!(cases.len() >= 20);
     // `cargo test --test errors -- --nocapture` prints the table.
     println!("{table}");
+}
+
+/// `--seed` of every command that takes one is read by one declaration: a seed out of
+/// range, negative, fractional or not a number gets the same refusal, naming the value
+/// as typed and the range accepted, and the same status as every refused value.
+#[test]
+fn every_command_refuses_a_bad_seed_alike() {
+    let dir = tmpdir("seed");
+    let out = dir.join("out.csv");
+    let out = out.to_str().unwrap();
+    let study = dir.join("study");
+    let commands: [&[&str]; 5] = [
+        &["generate", "-n", "5", "-s", "2", "-q", "-o", out],
+        &["baseline", "sobol", "-n", "4", "-s", "2", "-o", out],
+        &["integrate", "--expr", "x1", "-s", "1"],
+        &["sensitivity", "--expr", "x1 + x2", "-s", "2"],
+        &[
+            "study",
+            "table5",
+            "--quick",
+            "-q",
+            "--out",
+            study.to_str().unwrap(),
+        ],
+    ];
+    for seed in ["18446744073709551616", "-1", "1.5", "abc", ""] {
+        for command in commands {
+            let mut args = command.to_vec();
+            args.extend(["--seed", seed]);
+            let o = Command::new(env!("CARGO_BIN_EXE_stillpoint"))
+                .args(&args)
+                .output()
+                .unwrap();
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
+            assert_eq!(
+                err.lines().next().unwrap_or_default(),
+                format!("error: invalid --seed = {seed}: expected a whole number in [0, 2^64)"),
+                "{args:?}"
+            );
+        }
+    }
+    let written: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+    assert!(written.is_empty(), "a refusal wrote {written:?}");
+}
+
+/// Every refused `--threads` states the one range accepted (the range its help gives),
+/// with the status of every refused value.
+#[test]
+fn every_bad_thread_count_is_refused_with_the_one_range() {
+    for typed in ["-1", "0", "1025", "abc", "2.5", "99999999999999999999999"] {
+        let args = [
+            "--threads",
+            typed,
+            "baseline",
+            "sobol",
+            "-n",
+            "4",
+            "-s",
+            "2",
+        ];
+        let o = Command::new(env!("CARGO_BIN_EXE_stillpoint"))
+            .args(args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
+        assert_eq!(
+            err.lines().next().unwrap_or_default(),
+            format!("error: invalid --threads = {typed}: expected 1 to 1024 threads"),
+            "{args:?}"
+        );
+    }
+    for typed in ["1", "1024"] {
+        let o = Command::new(env!("CARGO_BIN_EXE_stillpoint"))
+            .args([
+                "--threads",
+                typed,
+                "baseline",
+                "sobol",
+                "-n",
+                "4",
+                "-s",
+                "2",
+            ])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
 }
 
 #[test]

@@ -577,3 +577,71 @@ fn plot_command_draws_scatter_matrix_region_and_trajectory() {
     let o = cli(&["plot", r.to_str().unwrap(), "-o", without.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
+
+/// `--split` colours the old and new points of the scatter plot of s = 2 only: where the
+/// file is drawn as a matrix of projections (s = 1 or 3, or --dims 1) it is refused,
+/// naming --split and what it takes, and nothing is drawn; at s = 2 it draws.
+#[test]
+fn plot_split_is_refused_where_no_scatter_plot_draws_it() {
+    let dir = TempDir::new("split");
+    let rows = |s: usize| -> String {
+        (0..4)
+            .map(|i| {
+                (0..s)
+                    .map(|k| format!("{}", (i * s + k) as f64 / 16.0))
+                    .collect::<Vec<_>>()
+                    .join(",")
+                    + "\n"
+            })
+            .collect()
+    };
+    for (s, extra, drawn) in [
+        (
+            3,
+            &[][..],
+            "the file has s = 3, drawn as a matrix of projections",
+        ),
+        (
+            1,
+            &[][..],
+            "the file has s = 1, drawn as a matrix of projections",
+        ),
+        (2, &["--dims", "1"][..], "--dims 1 draws histograms"),
+    ] {
+        let file = dir.path(&format!("s{s}.csv"));
+        fs::write(&file, rows(s)).unwrap();
+        let out = dir.path(&format!("s{s}.png"));
+        let mut args = vec![
+            "plot",
+            file.to_str().unwrap(),
+            "--split",
+            "2",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = cli(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {err}");
+        assert!(
+            err.starts_with(
+                "error: invalid --split = 2: expected points of s = 2 drawn as one scatter plot"
+            ),
+            "{args:?}: {err}"
+        );
+        assert!(err.contains(drawn), "{args:?}: {err}");
+        assert!(!out.exists(), "{args:?} drew {}", out.display());
+    }
+    let file = dir.path("s2.csv");
+    let out = dir.path("split.png");
+    let o = cli(&[
+        "plot",
+        file.to_str().unwrap(),
+        "--split",
+        "2",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(png_size(&out), (PANEL_WIDTH, PANEL_HEIGHT));
+}

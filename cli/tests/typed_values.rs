@@ -190,7 +190,7 @@ fn a_negative_number_for_any_numeric_flag_is_refused_by_name() {
         ),
         (
             g("--threads", "-2"),
-            "invalid --threads = -2: expected a whole number ≥ 0",
+            "invalid --threads = -2: expected 1 to 1024 threads",
         ),
         (
             q("--max-n", "-4"),
@@ -214,7 +214,7 @@ fn a_negative_number_for_any_numeric_flag_is_refused_by_name() {
         ),
         (
             vec!["eval", p, "--threads", "-1"],
-            "invalid --threads = -1: expected a whole number ≥ 0",
+            "invalid --threads = -1: expected 1 to 1024 threads",
         ),
     ];
     for (args, want) in cases {

@@ -124,6 +124,21 @@ pub(super) fn parse_npy(bytes: &[u8], file: &str) -> Result<PointSet, IoError> {
             ),
         ));
     }
+    // Bytes past the array are no part of the format (np.save writes none; its padding
+    // is inside the header): they mean a header whose shape is not the data's, or two
+    // files joined, and reading on would keep a set that is not the one written.
+    if let Some(needed) = needed.filter(|&b| b < rest.len() as u64) {
+        let found = rest.len() as u64;
+        let ty = if width == 8 { "float64" } else { "float32" };
+        return Err(format_error(
+            file,
+            format!(
+                "{} bytes after the array: the array's data must end the file (expected \
+                 {needed} bytes of data for shape {shape:?} of {ty}, found {found})",
+                found - needed
+            ),
+        ));
+    }
     let (n, s) = (n as usize, s as usize);
     let fortran = header.order() == npyz::Order::Fortran;
     let npy = npyz::NpyFile::with_header(header, rest);
@@ -188,4 +203,109 @@ pub(super) fn write_npy(w: &mut dyn std::io::Write, points: &PointSet) -> std::i
         w.write_all(&block)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `data` as `np.save` writes an array of `descr` and `shape` (a Python tuple): format
+    /// 1.0, the dictionary padded with spaces and a newline so that the data starts at a
+    /// multiple of 64 bytes.
+    fn np_saved(descr: &str, fortran: bool, shape: &str, data: &[u8]) -> Vec<u8> {
+        let order = if fortran { "True" } else { "False" };
+        let mut header =
+            format!("{{'descr': '{descr}', 'fortran_order': {order}, 'shape': {shape}, }}");
+        let unpadded = NPY_MAGIC.len() + 4 + header.len() + 1;
+        header.extend(std::iter::repeat_n(
+            ' ',
+            unpadded.next_multiple_of(64) - unpadded,
+        ));
+        header.push('\n');
+        let mut out = NPY_MAGIC.to_vec();
+        out.extend_from_slice(&[1, 0]);
+        out.extend_from_slice(&(header.len() as u16).to_le_bytes());
+        out.extend_from_slice(header.as_bytes());
+        out.extend_from_slice(data);
+        out
+    }
+
+    fn f64_bytes(values: &[f64]) -> Vec<u8> {
+        values.iter().flat_map(|v| v.to_le_bytes()).collect()
+    }
+
+    fn f32_bytes(values: &[f32]) -> Vec<u8> {
+        values.iter().flat_map(|v| v.to_le_bytes()).collect()
+    }
+
+    fn refusal(bytes: &[u8]) -> String {
+        parse_npy(bytes, "p.npy").unwrap_err().to_string()
+    }
+
+    /// Every layout np.save gives a point set reads, its header's padding not taken for
+    /// data past the array.
+    #[test]
+    fn files_as_np_save_writes_them_read() {
+        let c = np_saved(
+            "<f8",
+            false,
+            "(2, 2)",
+            &f64_bytes(&[0.25, 0.5, 0.75, 0.125]),
+        );
+        // The first bytes and length np.save (NumPy 2.4) gives this array.
+        assert_eq!(&c[..10], b"\x93NUMPY\x01\x00v\x00");
+        assert_eq!(c.len(), 160);
+        let p = parse_npy(&c, "c.npy").unwrap();
+        assert_eq!(p.as_slice(), &[0.25, 0.5, 0.75, 0.125]);
+        let f32 = np_saved(
+            "<f4",
+            false,
+            "(2, 2)",
+            &f32_bytes(&[0.25, 0.5, 0.75, 0.125]),
+        );
+        assert_eq!(parse_npy(&f32, "f.npy").unwrap().as_slice(), p.as_slice());
+        // Column-major: (0.25, 0.75) is the first column.
+        let fortran = np_saved("<f8", true, "(2, 2)", &f64_bytes(&[0.25, 0.75, 0.5, 0.125]));
+        assert_eq!(
+            parse_npy(&fortran, "F.npy").unwrap().as_slice(),
+            p.as_slice()
+        );
+        let column = np_saved("<f8", false, "(2,)", &f64_bytes(&[0.5, 0.25]));
+        let p = parse_npy(&column, "1.npy").unwrap();
+        assert_eq!((p.n(), p.s()), (2, 1));
+        let written = to_npy(&PointSet::from_rows(&[[0.25, 0.5], [0.75, 0.125]]).unwrap());
+        assert_eq!(written, c);
+    }
+
+    /// Bytes after the array's data, from one to a whole second array, are refused with
+    /// the file's name, the data's length expected and the length found.
+    #[test]
+    fn bytes_after_the_array_are_refused() {
+        let data = f64_bytes(&[0.25, 0.5, 0.75, 0.125]);
+        let good = np_saved("<f8", false, "(2, 2)", &data);
+        for extra in [vec![0u8], b"\n".to_vec(), vec![0u8; 8], good.clone()] {
+            let mut bytes = good.clone();
+            bytes.extend_from_slice(&extra);
+            let e = refusal(&bytes);
+            assert!(e.starts_with("p.npy: "), "{e}");
+            assert!(e.contains("the array's data must end the file"), "{e}");
+            assert!(
+                e.contains(&format!(
+                    "expected 32 bytes of data for shape [2, 2] of float64, found {}",
+                    32 + extra.len()
+                )),
+                "{e}"
+            );
+        }
+        let mut f32 = np_saved("<f4", true, "(2, 2)", &data[..16]);
+        f32.extend_from_slice(&[0u8; 4]);
+        assert!(refusal(&f32)
+            .contains("expected 16 bytes of data for shape [2, 2] of float32, found 20"));
+        // A file cut short is still refused as truncated.
+        let e = refusal(&good[..good.len() - 1]);
+        assert!(
+            e.contains("truncated: shape [2, 2] needs 32 bytes of data, the file has 31"),
+            "{e}"
+        );
+    }
 }
