@@ -430,12 +430,21 @@ def test_the_rule_follows_the_laws_and_says_why():
     from scipy import stats
 
     f = lambda x: x[:, 0] ** 2  # noqa: E731
-    g = lambda x: np.exp(x[:, 0])  # noqa: E731
-    r = sp.quad(g, 1, space={"z": "normal(0,1)"}, rel_tol=1e-2)
-    assert r.rule == "sobol" and "(z)" in r.rule_reason and "not even" in r.rule_reason
-    assert r.estimate == pytest.approx(math.exp(0.5), rel=0.03)
-    r = sp.quad(g, 1, space={"z": stats.norm(0, 1)}, rel_tol=1e-2)
+    g = lambda x: np.exp(x.sum(axis=1))  # noqa: E731
+    three = {"z": "normal(0,1)", "y": "normal(0,1)", "w": "normal(0,1)"}
+    r = sp.quad(g, 3, space=three, rel_tol=1e-2)
+    assert r.rule == "sobol" and "(z, y, w)" in r.rule_reason and "not even" in r.rule_reason
+    assert "tail map" not in r.rule_reason
+    assert r.estimate == pytest.approx(math.exp(1.5), rel=0.03)
+    r = sp.quad(g, 3, space={"z": stats.norm(0, 1), "y": stats.norm(0, 1),
+                             "w": stats.norm(0, 1)}, rel_tol=1e-2)
     assert r.rule == "sobol", "a SciPy law with unbounded support counts as unbounded"
+    # With one unbounded input its tails are reached through the tail map, where
+    # exp(z)·T′ decays: the probe's lattice goes on.
+    for law in ["normal(0,1)", stats.norm(0, 1)]:
+        r = sp.quad(g, 1, space={"z": law}, rel_tol=1e-2)
+        assert r.rule == "first-order lattice" and "tail map" in r.rule_reason
+        assert r.estimate == pytest.approx(math.exp(0.5), rel=0.03)
     # f even in Z keeps the probe's lattice and evaluates one point of each pair.
     r = sp.quad(f, 1, space={"z": "normal(0,1)"}, rel_tol=1e-2)
     assert r.rule == "first-order lattice" and "one point of each pair" in r.rule_reason

@@ -494,7 +494,15 @@ impl Integration for Cubature {
             rule_asked,
             ..o
         };
-        Cubature::new(region.d, options)
+        let mut state = Cubature::new(region.d, options)?;
+        // The rule chosen from unbounded laws reaches their tails through the tail map.
+        if let (Some(space), Rule::Probe) = (space, state.options().rule) {
+            let unbounded = space.unbounded();
+            if unbounded.len() == region.d {
+                state.widen_tails(&unbounded)?;
+            }
+        }
+        Ok(state)
     }
 
     fn d(&self) -> usize {
