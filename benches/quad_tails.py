@@ -9,6 +9,8 @@ Two groups (``GROUP``):
   indicator of Z1 + Z2 > 1. "wrong met" is the share of runs that claimed the tolerance
   with a true relative error above it, "covers" the share whose half-width holds the
   true error.
+- ``laws``: one input of other unbounded laws (SciPy's t(4) and exponential laws, a
+  normal law truncated to one side, a lognormal law), SEEDS seeds (default 100).
 - ``models``: the model families of benches/quad.py (Keister, the Gaussian and
   oscillatory Genz functions of normal inputs, the lognormal product) at s = DIMS
   (default 1–5), their instances drawn as benches/quad.py draws them, RUNS runs per cell
@@ -19,6 +21,7 @@ The map's spread and reach are the library's `TAIL_SPREAD` and `TAIL_MOST`; the
 comparisons in results/quad/tails.md were made with builds where they were changed.
 
     GROUP=one SEEDS=100 target/py-venv/bin/python benches/quad_tails.py
+    GROUP=laws SEEDS=100 target/py-venv/bin/python benches/quad_tails.py
     GROUP=models RUNS=60 CAP=25 target/py-venv/bin/python benches/quad_tails.py
 """
 
@@ -41,6 +44,25 @@ def one():
          0.5 * math.erfc(1 / 2)),
     ]
     table(CASES + two, int(os.environ.get("SEEDS", "100")))
+
+
+def laws():
+    from scipy import stats
+
+    cases = [
+        ("x² under t(4)", {"x": stats.t(4)}, lambda x: x[:, 0] ** 2, 2.0),
+        ("x under expon", {"x": stats.expon()}, lambda x: x[:, 0], 1.0),
+        ("x² under expon", {"x": stats.expon()}, lambda x: x[:, 0] ** 2, 2.0),
+        ("exp(x/3) under expon", {"x": stats.expon()}, lambda x: np.exp(x[:, 0] / 3), 1.5),
+        ("x under truncnormal(0,1,0,inf)", {"x": "truncnormal(0,1,0,inf)"},
+         lambda x: x[:, 0], math.sqrt(2 / math.pi)),
+        ("x² under lognormal(0,0.5)", {"x": "lognormal(0,0.5)"}, lambda x: x[:, 0] ** 2,
+         math.exp(0.5)),
+    ]
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    from quad_one_normal import table
+
+    table(cases, int(os.environ.get("SEEDS", "100")))
 
 
 def models():
@@ -70,4 +92,4 @@ def models():
 
 
 if __name__ == "__main__":
-    {"one": one, "models": models}[os.environ.get("GROUP", "one")]()
+    {"one": one, "laws": laws, "models": models}[os.environ.get("GROUP", "one")]()
