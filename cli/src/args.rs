@@ -23,7 +23,7 @@ impl Cli {
     /// clap's command, with the help of every declared flag of every subcommand written
     /// from its declaration ([`crate::help`]: the doc line, every accepted word, the
     /// default), so that the command line and Python describe an option in the same
-    /// words, and with every number read as [`numbers_are_values`] says.
+    /// words, and with a negative number taken as a value ([`numbers_are_values`]).
     pub(crate) fn command_with_declared_help() -> clap::Command {
         use clap::CommandFactory;
         numbers_are_values(crate::help::declared_help(Cli::command()))
@@ -32,31 +32,18 @@ impl Cli {
 
 /// Every value-taking option of `cmd` and of its subcommands, at any depth: a value that
 /// looks like a negative number is the option's value (`-n -1`, `--max-n -4`), never a
-/// flag of its own or clap's tip to write `-- -1` (which would make it a file name), and
-/// a typed number is read by [`Number`], whose refusal names the option and the value as
-/// typed. One walk over the built command, so that every subcommand's numeric options
-/// (those declared elsewhere too) follow the rule without a setting of their own.
+/// flag of its own or clap's tip to write `-- -1` (which would make it a file name). One
+/// walk over the built command, so that every subcommand's options (those declared
+/// elsewhere too) follow the rule without a setting of their own. The value itself is
+/// text, read by the command ([`crate::values::whole`], [`crate::values::declared`], or the
+/// library's declarations): a refused number then exits as every refused value does.
 fn numbers_are_values(cmd: clap::Command) -> clap::Command {
-    use clap::builder::ValueParser;
-    use std::any::TypeId;
     let cmd = cmd.mut_args(|a| {
-        if !a.get_action().takes_values() {
-            return a;
-        }
-        let a = a.allow_negative_numbers(true);
-        let id = a.get_value_parser().type_id();
-        let parser = if id == TypeId::of::<usize>() {
-            ValueParser::new(Number::<usize>::whole())
-        } else if id == TypeId::of::<u64>() {
-            ValueParser::new(Number::<u64>::whole())
-        } else if id == TypeId::of::<u32>() {
-            ValueParser::new(Number::<u32>::whole())
-        } else if id == TypeId::of::<f64>() {
-            ValueParser::new(Number::<f64>::real())
+        if a.get_action().takes_values() {
+            a.allow_negative_numbers(true)
         } else {
-            return a;
-        };
-        a.value_parser(parser)
+            a
+        }
     });
     let names: Vec<String> = cmd
         .get_subcommands()
@@ -65,73 +52,6 @@ fn numbers_are_values(cmd: clap::Command) -> clap::Command {
     names.iter().fold(cmd, |cmd, name| {
         cmd.mut_subcommand(name, numbers_are_values)
     })
-}
-
-/// A number option's value read as its Rust type, refused as every refusal of the
-/// project is worded: `invalid --max-n = -4: expected a whole number ≥ 0`.
-#[derive(Clone)]
-pub(crate) struct Number<T> {
-    whole: bool,
-    _type: std::marker::PhantomData<fn() -> T>,
-}
-
-impl<T> Number<T> {
-    fn whole() -> Self {
-        Number {
-            whole: true,
-            _type: std::marker::PhantomData,
-        }
-    }
-
-    fn real() -> Self {
-        Number {
-            whole: false,
-            _type: std::marker::PhantomData,
-        }
-    }
-}
-
-impl<T> clap::builder::TypedValueParser for Number<T>
-where
-    T: std::str::FromStr + Clone + Send + Sync + 'static,
-{
-    type Value = T;
-
-    fn parse_ref(
-        &self,
-        cmd: &clap::Command,
-        arg: Option<&clap::Arg>,
-        value: &std::ffi::OsStr,
-    ) -> Result<T, clap::Error> {
-        let typed = value.to_string_lossy();
-        if let Some(v) = value.to_str().and_then(|t| t.parse::<T>().ok()) {
-            return Ok(v);
-        }
-        let flag = arg.map_or_else(String::new, |a| {
-            crate::help::flag_of(a).unwrap_or_else(|| a.get_id().to_string())
-        });
-        let expected = match typed.trim().parse::<i128>() {
-            _ if !self.whole => "a number".to_string(),
-            Ok(v) if v < 0 => "a whole number ≥ 0".to_string(),
-            Ok(_) => format!("a whole number ≤ {}", largest::<T>()),
-            Err(_) => "a whole number ≥ 0".to_string(),
-        };
-        Err(clap::Error::raw(
-            clap::error::ErrorKind::ValueValidation,
-            format!("invalid {flag} = {typed}: expected {expected}\n"),
-        )
-        .with_cmd(cmd))
-    }
-}
-
-/// The largest value of the unsigned type `T` (for a refusal of a number too large for
-/// it).
-fn largest<T: 'static>() -> u64 {
-    if std::any::TypeId::of::<T>() == std::any::TypeId::of::<u32>() {
-        u32::MAX.into()
-    } else {
-        u64::MAX
-    }
 }
 
 /// The heading of the options of the paper's pipeline in `generate --help`, after the
@@ -324,10 +244,15 @@ pub(crate) struct GenerateArgs {
     #[arg(long, value_name = "FILE")]
     #[arg(help_heading = EXPERT)]
     pub(crate) checkpoint: Option<PathBuf>,
-    /// Steps between two checkpoints.
-    #[arg(long, default_value_t = 100, value_name = "K")]
+    /// Steps between two checkpoints, K ≥ 1.
+    #[arg(
+        long,
+        default_value = "100",
+        value_name = "K",
+        allow_hyphen_values = true
+    )]
     #[arg(help_heading = EXPERT)]
-    pub(crate) checkpoint_every: usize,
+    pub(crate) checkpoint_every: String,
     /// Continue from a checkpoint (FILE, or the --checkpoint file when no FILE is
     /// given). Every other option must be as in the run that wrote it; the result is
     /// the same bytes as an uninterrupted run.
@@ -371,10 +296,10 @@ pub(crate) enum Command {
         /// The picture: .png or .svg.
         #[arg(short = 'o', long = "output", value_name = "OUT")]
         output: PathBuf,
-        /// Coordinates drawn for s > 2: the first K, as a K × K matrix of projections
-        /// (histograms on the diagonal). Default min(s, 4).
-        #[arg(long, value_name = "K")]
-        dims: Option<usize>,
+        /// Coordinates drawn for s > 2: the first K (1 ≤ K ≤ s), as a K × K matrix of
+        /// projections (histograms on the diagonal). Default min(s, 4).
+        #[arg(long, value_name = "K", allow_hyphen_values = true)]
+        dims: Option<String>,
         /// Draw the boundary of the region {x : g(x) ≤ 0} (with --box), as in generate.
         #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
         region: Option<String>,
@@ -391,10 +316,10 @@ pub(crate) enum Command {
         /// Title above the picture (default: the file name).
         #[arg(long)]
         title: Option<String>,
-        /// Draw the first K points in one colour and the rest in another (the old and
-        /// new points of a `generate --extend` result). s = 2 only.
-        #[arg(long, value_name = "K")]
-        split: Option<usize>,
+        /// Draw the first K points (0 ≤ K ≤ n) in one colour and the rest in another (the
+        /// old and new points of a `generate --extend` result). s = 2 only.
+        #[arg(long, value_name = "K", allow_hyphen_values = true)]
+        split: Option<String>,
     },
     /// Print the quality of any point file (CSV, TSV, whitespace, JSON, .npy).
     /// With several files, one table with a column per file and the best value of each
@@ -450,9 +375,14 @@ pub(crate) enum Command {
         /// Cases as SxN, comma-separated (default: 2x1500,3x1500,5x1500,6x1500,5x200,10x400).
         #[arg(long, value_name = "SxN,...")]
         cases: Option<String>,
-        /// Step or iteration budget per run.
-        #[arg(long, default_value_t = 1000)]
-        steps: usize,
+        /// Step or iteration budget per run, K ≥ 0 (0: the starts are compared).
+        #[arg(
+            long,
+            default_value = "1000",
+            value_name = "K",
+            allow_hyphen_values = true
+        )]
+        steps: String,
         /// The discrepancy energy.
         #[arg(long, default_value = "md",
               value_parser = crate::help::listed(stillpoint::pipeline::options::words::discrepancies()))]
@@ -472,11 +402,21 @@ pub(crate) enum Command {
               value_parser = crate::help::listed(Baseline::names()))]
         name: Option<String>,
         /// Number of points n ≥ 1.
-        #[arg(short = 'n', value_name = "N", required_unless_present = "list")]
-        n: Option<usize>,
+        #[arg(
+            short = 'n',
+            value_name = "N",
+            required_unless_present = "list",
+            allow_hyphen_values = true
+        )]
+        n: Option<String>,
         /// Dimension s ≥ 1.
-        #[arg(short = 's', value_name = "S", required_unless_present = "list")]
-        s: Option<usize>,
+        #[arg(
+            short = 's',
+            value_name = "S",
+            required_unless_present = "list",
+            allow_hyphen_values = true
+        )]
+        s: Option<String>,
         /// Output file (.csv, .tsv, .json, .npy); standard output as CSV without it.
         #[arg(short = 'o', long = "output", value_name = "FILE")]
         output: Option<PathBuf>,
@@ -555,9 +495,14 @@ pub(crate) enum Command {
         /// one JSON object (used by benches/scipy_discrepancy.py).
         #[arg(long, value_name = "FILE")]
         points: Option<PathBuf>,
-        /// Repetitions for --points (the median is reported).
-        #[arg(long, default_value_t = 5, value_name = "K")]
-        reps: usize,
+        /// Repetitions for --points, 1 to 100000 (the median is reported).
+        #[arg(
+            long,
+            default_value = "5",
+            value_name = "K",
+            allow_hyphen_values = true
+        )]
+        reps: String,
     },
 }
 
@@ -567,25 +512,31 @@ mod tests {
     use crate::help::flag_of;
 
     /// Every value-taking flag of every subcommand, at any depth, as `(path, flag,
-    /// whole)`: the subcommands leading to it, the flag as typed, and whether clap reads
-    /// it as an unsigned whole number.
+    /// number)`: the subcommands leading to it, the flag as typed, and whether clap reads
+    /// its value as a number type.
     fn value_flags() -> Vec<(Vec<String>, String, bool)> {
         fn walk(c: &clap::Command, path: &[String], out: &mut Vec<(Vec<String>, String, bool)>) {
             use std::any::TypeId;
+            let numbers = [
+                TypeId::of::<usize>(),
+                TypeId::of::<u64>(),
+                TypeId::of::<u32>(),
+                TypeId::of::<u16>(),
+                TypeId::of::<u8>(),
+                TypeId::of::<isize>(),
+                TypeId::of::<i64>(),
+                TypeId::of::<i32>(),
+                TypeId::of::<f64>(),
+                TypeId::of::<f32>(),
+            ];
             for a in c.get_arguments() {
                 if !a.get_action().takes_values() {
                     continue;
                 }
                 let Some(flag) = flag_of(a) else { continue };
                 let id = a.get_value_parser().type_id();
-                let whole = [
-                    TypeId::of::<usize>(),
-                    TypeId::of::<u64>(),
-                    TypeId::of::<u32>(),
-                ]
-                .iter()
-                .any(|t| id == *t);
-                out.push((path.to_vec(), flag, whole));
+                let number = numbers.iter().any(|t| id == *t);
+                out.push((path.to_vec(), flag, number));
             }
             for sub in c.get_subcommands() {
                 let mut p = path.to_vec();
@@ -601,16 +552,10 @@ mod tests {
     }
 
     /// A negative number after any flag that takes a value is that flag's value: never
-    /// clap's unknown argument with its tip to write `-- -1`; a flag clap reads as a
-    /// whole number refuses it naming the flag and the value typed.
+    /// clap's unknown argument with its tip to write `-- -1`.
     #[test]
     fn a_negative_number_is_the_value_of_every_flag_that_takes_one() {
-        let flags = value_flags();
-        let wholes = flags.iter().filter(|f| f.2).count();
-        // The walk reaches the numeric flags of every subcommand (generate, plot,
-        // integrate --expr, ...): this many at the time of writing, more is fine.
-        assert!(wholes >= 6, "{flags:?}");
-        for (path, flag, whole) in &flags {
+        for (path, flag, _) in &value_flags() {
             for typed in ["-1", "-3", "-0.5", "-1e3"] {
                 let mut argv = vec!["stillpoint".to_string()];
                 argv.extend(path.iter().cloned());
@@ -625,62 +570,44 @@ mod tests {
                     "{argv:?}: {text}"
                 );
                 assert!(!text.contains("-- "), "{argv:?}: {text}");
-                if *whole {
-                    let want = format!("invalid {flag} = {typed}: expected a whole number");
-                    assert!(text.contains(&want), "{argv:?}: {text}");
-                }
             }
         }
     }
 
+    /// No flag's value is a number by clap's types: clap would refuse a bad one with its
+    /// usage status and its type's range (`≥ 0`), not the command's range.
     #[test]
-    fn numbers_beyond_their_type_or_not_numbers_are_refused_by_name() {
-        let parse = |argv: &[&str]| {
-            Cli::command_with_declared_help()
-                .try_get_matches_from(argv)
-                .err()
-                .map(|e| e.to_string())
-                .unwrap_or_default()
-        };
-        let cases = [
-            (
-                &["stillpoint", "generate", "--checkpoint-every", "99999999999999999999999"][..],
-                "invalid --checkpoint-every = 99999999999999999999999: expected a whole number ≤ 18446744073709551615",
-            ),
-            (
-                &["stillpoint", "generate", "--checkpoint-every", "ten"][..],
-                "invalid --checkpoint-every = ten: expected a whole number ≥ 0",
-            ),
-            (
-                &["stillpoint", "plot", "x.csv", "-o", "x.png", "--dims", "2.5"][..],
-                "invalid --dims = 2.5: expected a whole number ≥ 0",
-            ),
-            (
-                &["stillpoint", "plot", "x.csv", "-o", "x.png", "--dims", "-4"][..],
-                "invalid --dims = -4: expected a whole number ≥ 0",
-            ),
-        ];
-        for (argv, want) in cases {
-            let text = parse(argv);
-            assert!(text.contains(want), "{argv:?}: {text}");
+    fn no_flag_is_read_as_a_number_by_clap() {
+        let flags = value_flags();
+        // The walk reaches every subcommand's flags: this many at the time of writing.
+        assert!(flags.len() > 40, "{}", flags.len());
+        for (path, flag, number) in &flags {
+            assert!(!number, "{path:?} {flag} is read as a number by clap");
         }
     }
 
-    /// The range that `--threads` refuses values outside of is the one its help gives.
+    /// The ranges that `--threads` and `bench --reps` refuse values outside of are the
+    /// ones their help gives.
     #[test]
-    fn the_help_of_threads_gives_the_range_accepted() {
+    fn the_help_of_threads_and_reps_gives_the_range_accepted() {
         let cli = Cli::command_with_declared_help();
-        let threads = cli
-            .get_arguments()
-            .find(|a| a.get_long() == Some("threads"))
-            .expect("--threads");
-        let help = threads
-            .get_help()
-            .map(|h| h.to_string())
-            .unwrap_or_default();
+        let help = |c: &clap::Command, long: &str| {
+            c.get_arguments()
+                .find(|a| a.get_long() == Some(long))
+                .and_then(|a| a.get_help())
+                .map(|h| h.to_string())
+                .unwrap_or_default()
+        };
+        let threads = help(&cli, "threads");
         assert!(
-            help.contains(&format!("1 to {}", crate::dispatch::MAX_THREADS)),
-            "{help}"
+            threads.contains(&format!("1 to {}", crate::dispatch::MAX_THREADS)),
+            "{threads}"
+        );
+        let bench = cli.find_subcommand("bench").expect("bench");
+        let reps = help(bench, "reps");
+        assert!(
+            reps.contains(&format!("1 to {}", crate::dispatch::MAX_REPS)),
+            "{reps}"
         );
     }
 }

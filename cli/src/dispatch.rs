@@ -23,45 +23,40 @@ pub(crate) fn real_main(cli: Cli) -> Result<()> {
             quick,
             points,
             reps,
-        } => match points {
-            Some(path) => {
-                if !(1..=MAX_REPS).contains(&reps) {
-                    bail!("invalid --reps = {reps}: expected 1 to {MAX_REPS} repetitions");
-                }
-                bench::run_points(&path, reps, &mut std::io::stdout())?
+        } => {
+            // Read whether or not --points uses it: a flag's value is refused alike
+            // whatever else is given.
+            let reps = whole(
+                "--reps",
+                &reps,
+                1..=MAX_REPS,
+                &format!("1 to {MAX_REPS} repetitions"),
+            )?;
+            match points {
+                Some(path) => bench::run_points(&path, reps, &mut std::io::stdout())?,
+                None => bench::run(quick, &mut std::io::stdout())?,
             }
-            None => bench::run(quick, &mut std::io::stdout())?,
-        },
+        }
     }
     Ok(())
 }
 
 /// The most repetitions `bench --points` times (each is one evaluation of every kernel).
-const MAX_REPS: usize = 100_000;
+pub(crate) const MAX_REPS: usize = 100_000;
 
 /// The most worker threads `--threads` starts (each is a real thread with its own stack;
 /// far beyond the cores they only cost).
 pub(crate) const MAX_THREADS: usize = 1024;
 
-/// `--threads` as typed, read here rather than by clap's type so that every refusal (a
-/// negative count, zero, too many, not a number) states the one range accepted, with the
-/// status of every other refused value.
+/// `--threads` as typed: every refusal (a negative count, zero, too many, not a number)
+/// states the one range accepted, the range its help gives.
 fn threads(typed: &str) -> Result<usize> {
-    match typed.trim().parse::<usize>() {
-        Ok(t) if (1..=MAX_THREADS).contains(&t) => Ok(t),
-        _ => bail!("invalid --threads = {typed}: expected 1 to {MAX_THREADS} threads"),
-    }
-}
-
-/// `--seed` of the commands that pass it to no library request (`baseline`, `study`),
-/// read by the library's declaration of the seed: the same range, refusal and status as
-/// the seed of `generate`, `integrate` and `sensitivity`.
-fn seed_of(typed: &str) -> Result<u64> {
-    let d = Opt::seed.declared();
-    match d.parse(&Arg::from(typed), &flag_name)? {
-        Some(stillpoint::pipeline::options::Value::Seed(seed)) => Ok(seed),
-        _ => bail!("invalid --seed = {typed}: expected {}", (d.expected)()),
-    }
+    whole(
+        "--threads",
+        typed,
+        1..=MAX_THREADS,
+        &format!("1 to {MAX_THREADS} threads"),
+    )
 }
 
 /// `stillpoint eval`: the flags become one library [`Request`], whose resolution
@@ -182,6 +177,13 @@ fn compare_command(c: Command) -> Result<()> {
     else {
         bail!("compare: not this subcommand");
     };
+    // 0 steps compares the starts: the run takes it, unlike generate's --steps.
+    let steps = whole(
+        flag(Opt::steps),
+        &steps,
+        0..=usize::MAX,
+        "a whole number of steps ≥ 0",
+    )?;
     let mut settings = stillpoint_paper::compare::CompareSettings {
         steps,
         discrepancy: DiscrepancyKind::parse(&energy).map_err(|_| {
@@ -216,7 +218,11 @@ fn baseline_command(c: Command) -> Result<()> {
     else {
         bail!("baseline: not this subcommand");
     };
-    let seed = seed_of(&seed)?;
+    // Every value is read before --list, which takes none of them: a value refused with
+    // the list is refused without it too.
+    let n: Option<usize> = n.map(|t| declared(Opt::n, &t)).transpose()?;
+    let s: Option<usize> = s.map(|t| declared(Opt::s, &t)).transpose()?;
+    let seed: u64 = declared(Opt::seed, &seed)?;
     if list {
         for b in Baseline::all() {
             outln!("{} ({}):\n  {}\n", b.name(), b.label(), b.describe());
@@ -380,7 +386,7 @@ fn study_command(c: Command) -> Result<()> {
     else {
         bail!("study: not this subcommand");
     };
-    let seed = seed_of(&seed)?;
+    let seed: u64 = declared(Opt::seed, &seed)?;
     let studies: Vec<Study> = if name.trim().eq_ignore_ascii_case("all") {
         Study::all().to_vec()
     } else {

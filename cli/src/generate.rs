@@ -28,7 +28,7 @@ pub(crate) fn generate(a: GenerateArgs) -> Result<()> {
     // A refused checkpoint is refused before any note, as every other refusal is.
     let plan = checkpoint_plan(
         a.checkpoint.clone(),
-        a.checkpoint_every,
+        &a.checkpoint_every,
         a.resume.clone(),
         Value::Null,
         a.quiet,
@@ -440,7 +440,7 @@ fn resumed_at(plan: &CheckpointPlan) -> Option<(usize, bool)> {
 /// The checkpoint plan of `--checkpoint FILE [--checkpoint-every K] [--resume [FILE]]`.
 pub(crate) fn checkpoint_plan(
     checkpoint: Option<PathBuf>,
-    every: usize,
+    every: &str,
     resume: Option<Option<PathBuf>>,
     extra: Value,
     quiet: bool,
@@ -456,9 +456,12 @@ pub(crate) fn checkpoint_plan(
             )
         }
     };
-    if every == 0 {
-        bail!("invalid --checkpoint-every = 0: expected a number of steps ≥ 1");
-    }
+    let every = whole(
+        "--checkpoint-every",
+        every,
+        1..=usize::MAX,
+        "a number of steps ≥ 1",
+    )?;
     if let Some(r) = &resume_path {
         if !r.is_file() {
             bail!(

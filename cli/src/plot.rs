@@ -7,17 +7,35 @@ use super::*;
 pub(crate) fn plot_points(
     file: &std::path::Path,
     output: &std::path::Path,
-    dims: Option<usize>,
+    dims: Option<String>,
     spec: RegionSpec,
     title: Option<String>,
-    split: Option<usize>,
+    split: Option<String>,
 ) -> Result<()> {
     let points = io::read_points(file)?;
     let s = points.s();
-    let k = dims.unwrap_or(s.min(4));
-    if k == 0 || k > s {
-        bail!("invalid --dims = {k}: expected 1 ≤ K ≤ s = {s} (the file's dimension)");
-    }
+    let n = points.n();
+    // Both ranges end at the file's size, so the values are read once it is known.
+    let k = match &dims {
+        Some(typed) => whole(
+            "--dims",
+            typed,
+            1..=s,
+            &format!("1 ≤ K ≤ s = {s} (the file's dimension)"),
+        )?,
+        None => s.min(4),
+    };
+    let split = split
+        .as_deref()
+        .map(|typed| {
+            whole(
+                "--split",
+                typed,
+                0..=n,
+                &format!("0 ≤ K ≤ n = {n} (the file's number of points)"),
+            )
+        })
+        .transpose()?;
     if let Some(old) = split {
         // Only the scatter plot of s = 2 colours old and new points; the matrix of
         // projections (s ≠ 2, or --dims 1) draws every point alike, so a split there
@@ -30,12 +48,6 @@ pub(crate) fn plot_points(
             bail!(
                 "invalid --split = {old}: expected points of s = 2 drawn as one scatter plot \
                  ({drawn}, which --split does not colour)"
-            );
-        }
-        if old > points.n() {
-            bail!(
-                "invalid --split = {old}: the file has {} points (expected 0 ≤ K ≤ n)",
-                points.n()
             );
         }
     }

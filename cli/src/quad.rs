@@ -155,7 +155,13 @@ pub(crate) fn files_command(files: &[PathBuf], q: QuadArgs, json: bool) -> Resul
     let level = q.level()?;
     let mut means = Vec::with_capacity(files.len());
     let mut rows = Vec::with_capacity(files.len());
-    let mut dim: Option<(usize, String)> = q.s.map(|s| (s, format!("-s {s}")));
+    let mut dim: Option<(usize, String)> = match &q.s {
+        Some(typed) => {
+            let s: usize = declared(Opt::s, typed)?;
+            Some((s, format!("-s {s}")))
+        }
+        None => None,
+    };
     for file in files {
         let source = file.display().to_string();
         let points = io::read_points(file)?;

@@ -21,13 +21,8 @@ pub(crate) struct QuadArgs {
     pub(crate) expr: Option<String>,
     /// Dimension s of --expr (with --var or --space, their count of columns, which it
     /// may repeat).
-    #[arg(
-        short = 's',
-        value_name = "S",
-        id = "dim",
-        allow_negative_numbers = true
-    )]
-    pub(crate) s: Option<usize>,
+    #[arg(short = 's', value_name = "S", id = "dim", allow_hyphen_values = true)]
+    pub(crate) s: Option<String>,
     /// Relative tolerance: stop when the half-width ≤ max(--abs-tol, T·|estimate|).
     #[arg(long, value_name = "T", allow_hyphen_values = true)]
     pub(crate) rel_tol: Option<String>,
@@ -101,7 +96,7 @@ impl QuadArgs {
     /// space's variables.
     pub(crate) fn options(&self) -> anyhow::Result<Request> {
         Ok(self.tolerance.onto(Request {
-            s: self.s.map(|s| Arg::Int(s as i128)),
+            s: typed_arg(&self.s),
             bounds: self.bounds.as_deref().map(Arg::from),
             rel_tol: typed_arg(&self.rel_tol),
             space: space_items(&self.var, self.space.as_deref())?,

@@ -18,8 +18,8 @@ pub(crate) struct SensitivityArgs {
     #[arg(long, value_name = "EXPR", allow_hyphen_values = true)]
     pub(crate) expr: String,
     /// Number of inputs, each uniform on [0, 1] (or on --bounds).
-    #[arg(short = 's', value_name = "S", allow_negative_numbers = true)]
-    pub(crate) s: Option<usize>,
+    #[arg(short = 's', value_name = "S", allow_hyphen_values = true)]
+    pub(crate) s: Option<String>,
     /// An input and its law, as generate takes it (`x=normal(0,1)`, `k=int(1,3)`);
     /// repeat for each input. Independent inputs only.
     #[arg(long = "var", value_name = "NAME=TYPE", allow_hyphen_values = true,
@@ -55,7 +55,7 @@ impl SensitivityArgs {
     /// The options given as the library resolves them ([`Request`]), each value as typed.
     fn given(&self) -> Result<Request> {
         Ok(self.tolerance.onto(Request {
-            s: self.s.map(|s| Arg::Int(s as i128)),
+            s: typed_arg(&self.s),
             bounds: self.bounds.as_deref().map(Arg::from),
             simultaneous: self.simultaneous.then_some(Arg::Bool(true)),
             first_estimator: self.first_estimator.as_deref().map(Arg::from),

@@ -1,9 +1,12 @@
 //! How the command line spells the library's parameters: `log_every` is `--log-every`,
 //! `s` is `-s`. The library names parameters in its errors; these functions turn those
 //! names into flags, so a refusal reads as the command that was typed. Every flag is
-//! read from the option's declaration ([`Opt`]), never written again here.
+//! read from the option's declaration ([`Opt`]), never written again here. A number
+//! typed for a flag is read here too ([`whole`], [`declared`]), never by clap's types: a
+//! refused number gets the wording and the exit status of every refused value.
 
-use stillpoint::pipeline::options::{cli_name, Opt};
+use stillpoint::pipeline::options::{cli_name, Field, FromValue, Opt};
+use stillpoint::pipeline::request::Arg;
 
 /// The flag that sets a library parameter (as the library names it in its settings and
 /// errors, [`stillpoint::pipeline::options::OPTIONS`]), or the name itself when no flag
@@ -67,5 +70,47 @@ pub(crate) fn with_flag_names(e: anyhow::Error) -> anyhow::Error {
         }) => stillpoint::Error::invalid(flag_name(&name), value, expected).into(),
         Ok(other) => other.into(),
         Err(e) => e,
+    }
+}
+
+/// A whole number typed for `flag`, one of `accepted`, or the refusal `invalid FLAG =
+/// VALUE: expected {expected}`, whatever is wrong with it (negative, fractional, not a
+/// number, out of range). `expected` words the range; where the range ends only where
+/// `usize` does, `expected` leaves that end unsaid, so a value beyond it is told it.
+pub(crate) fn whole(
+    flag: &str,
+    typed: &str,
+    accepted: std::ops::RangeInclusive<usize>,
+    expected: &str,
+) -> anyhow::Result<usize> {
+    let t = typed.trim();
+    let digits = t.strip_prefix('+').unwrap_or(t);
+    match t.parse::<usize>() {
+        Ok(v) if accepted.contains(&v) => Ok(v),
+        Err(_)
+            if *accepted.end() == usize::MAX
+                && !digits.is_empty()
+                && digits.bytes().all(|b| b.is_ascii_digit()) =>
+        {
+            anyhow::bail!(
+                "invalid {flag} = {typed}: expected {expected}, at most {}",
+                usize::MAX
+            )
+        }
+        _ => anyhow::bail!("invalid {flag} = {typed}: expected {expected}"),
+    }
+}
+
+/// The value typed for the library's option `opt` by a command that passes it to no
+/// library request (`baseline -n`, `study --seed`), read by the option's declaration:
+/// the range, the refusal and the status of the commands that do (`generate -n`).
+pub(crate) fn declared<T: FromValue + Clone>(opt: Opt, typed: &str) -> anyhow::Result<T> {
+    match Field::<T>::read(opt, Some(&Arg::from(typed)), &flag_name).value()? {
+        Some(v) => Ok(v),
+        None => anyhow::bail!(
+            "invalid {} = {typed}: expected {}",
+            flag(opt),
+            (opt.declared().expected)()
+        ),
     }
 }

@@ -676,6 +676,227 @@ fn every_bad_thread_count_is_refused_with_the_one_range() {
     }
 }
 
+/// One numeric flag of one command: the command line it is given to, the values it
+/// refuses (a negative number, a non-number and, where its range has one, a value past
+/// the upper end) and one value it takes (`None` where a run is too long for a test).
+struct Numeric {
+    args: Vec<String>,
+    flag: &'static str,
+    refused: &'static [&'static str],
+    valid: Option<&'static str>,
+}
+
+/// Every numeric flag of every command refuses a bad value as every refused value is
+/// refused: status 1, one line `invalid FLAG = VALUE: expected …` naming the value as
+/// typed and the one range of the flag (a value past the upper end may be told that end
+/// too), and no file written; a value in range still runs.
+#[test]
+fn every_numeric_flag_refuses_a_bad_value_with_its_range() {
+    let dir = tmpdir("numeric");
+    let points = dir.join("p.csv");
+    std::fs::write(&points, "0.1,0.2\n0.3,0.9\n0.6,0.4\n0.8,0.7\n").unwrap();
+    let path = |name: &str| dir.join(name).to_str().unwrap().to_string();
+    let (p, out, pic, ckpt, cmp) = (
+        path("p.csv"),
+        path("out.csv"),
+        path("pic.png"),
+        path("run.ckpt"),
+        path("cmp"),
+    );
+    let line = |args: &[&str]| -> Vec<String> { args.iter().map(|a| a.to_string()).collect() };
+    // The refused values of each kind of range.
+    const COUNT: &[&str] = &["-3", "ten", "68719476721"];
+    const SEED: &[&str] = &["-1", "abc", "18446744073709551616"];
+    const STEPS: &[&str] = &["-1", "many", "18446744073709551616"];
+    const REAL: &[&str] = &["-1", "abc"];
+    const LEVEL: &[&str] = &["-0.5", "abc", "1.5"];
+    const REPLICATES: &[&str] = &["-8", "abc", "16385"];
+    let n = |flag, refused, valid| Numeric {
+        args: line(&["generate", "-q", "-o", &out, "-n", "5", "-s", "2"]),
+        flag,
+        refused,
+        valid: Some(valid),
+    };
+    let quad = |flag, refused, valid| Numeric {
+        args: line(&["integrate", "--expr", "x1", "-s", "1"]),
+        flag,
+        refused,
+        valid: Some(valid),
+    };
+    let sobol = |flag, refused, valid| Numeric {
+        args: line(&["sensitivity", "--expr", "x1 + x2", "-s", "2"]),
+        flag,
+        refused,
+        valid: Some(valid),
+    };
+    let flags = vec![
+        Numeric {
+            args: line(&["generate", "-q", "-o", &out, "-s", "2"]),
+            flag: "-n",
+            refused: COUNT,
+            valid: Some("5"),
+        },
+        Numeric {
+            args: line(&["generate", "-q", "-o", &out, "-n", "5"]),
+            flag: "-s",
+            refused: COUNT,
+            valid: Some("2"),
+        },
+        n("--seed", SEED, "7"),
+        n("--steps", COUNT, "20"),
+        n("--shifts", &["-1", "some", "1048577"], "4"),
+        n("--log-every", COUNT, "5"),
+        n("--p", REAL, "2"),
+        n("--q", REAL, "0.5"),
+        n("--kappa", REAL, "100"),
+        n("--restart", REAL, "off"),
+        n("--tolerance", REAL, "0.001"),
+        Numeric {
+            args: line(&[
+                "generate",
+                "-q",
+                "-o",
+                &out,
+                "-n",
+                "5",
+                "-s",
+                "2",
+                "--checkpoint",
+                &ckpt,
+            ]),
+            flag: "--checkpoint-every",
+            refused: STEPS,
+            valid: Some("5"),
+        },
+        Numeric {
+            args: line(&["baseline", "sobol", "-o", &out, "-s", "2"]),
+            flag: "-n",
+            refused: COUNT,
+            valid: Some("4"),
+        },
+        Numeric {
+            args: line(&["baseline", "sobol", "-o", &out, "-n", "4"]),
+            flag: "-s",
+            refused: COUNT,
+            valid: Some("2"),
+        },
+        Numeric {
+            args: line(&["baseline", "sobol", "-o", &out, "-n", "4", "-s", "2"]),
+            flag: "--seed",
+            refused: SEED,
+            valid: Some("3"),
+        },
+        Numeric {
+            args: line(&["study", "table5", "--quick", "-q", "--out", &cmp]),
+            flag: "--seed",
+            refused: SEED,
+            valid: None,
+        },
+        Numeric {
+            args: line(&["compare", "--cases", "2x10", "--out", &cmp]),
+            flag: "--steps",
+            refused: STEPS,
+            // No step at all compares the starts.
+            valid: Some("0"),
+        },
+        Numeric {
+            args: line(&["integrate", "--expr", "x1"]),
+            flag: "-s",
+            refused: COUNT,
+            valid: Some("1"),
+        },
+        Numeric {
+            args: line(&["integrate", &p, "--expr", "x1"]),
+            flag: "-s",
+            refused: COUNT,
+            valid: Some("2"),
+        },
+        quad("--rel-tol", REAL, "0.01"),
+        quad("--abs-tol", REAL, "0.001"),
+        quad("--level", LEVEL, "0.9"),
+        quad("--replicates", REPLICATES, "4"),
+        quad("--max-n", SEED, "4096"),
+        quad("--seed", SEED, "1"),
+        Numeric {
+            args: line(&["sensitivity", "--expr", "x1 + x2"]),
+            flag: "-s",
+            refused: COUNT,
+            valid: Some("2"),
+        },
+        sobol("--abs-tol", REAL, "0.01"),
+        sobol("--level", LEVEL, "0.9"),
+        sobol("--replicates", REPLICATES, "4"),
+        sobol("--max-n", SEED, "4096"),
+        sobol("--seed", SEED, "1"),
+        Numeric {
+            args: line(&["plot", &p, "-o", &pic]),
+            flag: "--dims",
+            refused: &["-1", "two", "3"],
+            valid: Some("2"),
+        },
+        Numeric {
+            args: line(&["plot", &p, "-o", &pic]),
+            flag: "--split",
+            refused: &["-1", "x", "5"],
+            valid: Some("1"),
+        },
+        Numeric {
+            args: line(&["bench", "--points", &p]),
+            flag: "--reps",
+            refused: &["-1", "abc", "100001"],
+            valid: Some("1"),
+        },
+        Numeric {
+            args: line(&["eval", &p]),
+            flag: "--threads",
+            refused: &["-1", "abc", "1025"],
+            valid: Some("2"),
+        },
+    ];
+    let run = |args: &[String], flag: &str, value: &str| {
+        let mut all = args.to_vec();
+        all.extend([flag.to_string(), value.to_string()]);
+        let o = Command::new(env!("CARGO_BIN_EXE_stillpoint"))
+            .args(&all)
+            .output()
+            .unwrap();
+        (all, o)
+    };
+    let before = snapshot(&dir);
+    for f in &flags {
+        // The accepted range as the first refusal (of a negative number) words it.
+        let mut range: Option<String> = None;
+        for value in f.refused {
+            let (all, o) = run(&f.args, f.flag, value);
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert_eq!(o.status.code(), Some(1), "{all:?}: {err}");
+            let first = err.lines().next().unwrap_or_default();
+            let head = format!("error: invalid {} = {value}: expected ", f.flag);
+            let expected = first
+                .strip_prefix(&head)
+                .unwrap_or_else(|| panic!("{all:?}: {first:?} does not start with {head:?}"));
+            let range = range.get_or_insert_with(|| expected.to_string());
+            assert!(
+                expected.starts_with(range.as_str()),
+                "{all:?}: {expected:?} is not the range {range:?}"
+            );
+            assert!(
+                snapshot(&dir) == before,
+                "{all:?}: a file was written, changed or left behind"
+            );
+        }
+    }
+    for f in &flags {
+        let Some(value) = f.valid else { continue };
+        let (all, o) = run(&f.args, f.flag, value);
+        assert!(
+            o.status.success(),
+            "{all:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+}
+
 #[test]
 fn library_refuses_bad_input_clearly() {
     use stillpoint::config::{GenerateConfig, Init};

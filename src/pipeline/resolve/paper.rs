@@ -281,10 +281,8 @@ impl Ctx<'_> {
         }
         if let Some(shifts) = self.p.shifts.value()? {
             if shifts > MAX_SHIFTS {
-                return Err(self.refuse(
-                    Opt::shifts,
-                    format!("at most {MAX_SHIFTS} candidate shifts"),
-                ));
+                // The declaration's words: its other refusals state the same range so.
+                return Err(self.refuse(Opt::shifts, (Opt::shifts.declared().expected)()));
             }
             cfg.shifts = shifts;
         }
