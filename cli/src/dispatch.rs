@@ -187,7 +187,13 @@ fn compare_command(c: Command) -> Result<()> {
     let mut settings = stillpoint_paper::compare::CompareSettings {
         steps,
         discrepancy: DiscrepancyKind::parse(&energy).map_err(|_| {
-            anyhow::anyhow!("invalid --energy = {energy}: expected l2star, md, cd or periodic")
+            // The names the help lists, from the same declaration.
+            let names = stillpoint::pipeline::options::words::discrepancies();
+            let (last, rest) = names.split_last().expect("discrepancies are declared");
+            anyhow::anyhow!(
+                "invalid --energy = {energy}: expected {} or {last}",
+                rest.join(", ")
+            )
         })?,
         ..Default::default()
     };
