@@ -45,6 +45,13 @@ Sobol's error, but not in other orders of its inputs).
     NAME=b2proj512 KERNEL=b2 G=0.05 PROJ=512 D=20 ...  among the PROJ best candidates by
                  the table's score, the one whose worst three-dimensional projection
                  through it is least bad, summed over the levels (`worst_triple`)
+    NAME=pick4_v0 KERNEL=b2 G=0.05 PICK=4 SEEDV=0 D=20 ...  at every coordinate after
+                 the first, a candidate drawn uniformly among the PICK lowest-scoring ones
+                 (ties in score kept in candidate order), by a generator seeded with
+                 (SEEDV, the coordinate's index): vectors v0, v1, ... for a mixture drawn
+                 per engine (benches/uq_engine.py's candidate `mix:PREFIX:K`). PICK=1 (the
+                 default) is the argmin, the construction unchanged; PICKHEAD=h keeps
+                 the argmin for coordinates 2..h as well (drawing from coordinate h + 1)
 
 Writes target/engine-vectors/NAME.npy (the first D entries, values below 2^B).
 """
@@ -135,6 +142,9 @@ def guard_mask(z, cand):
 
 
 PROJ = int(os.environ.get("PROJ", 0))
+PICK = int(os.environ.get("PICK", 1))
+SEEDV = int(os.environ.get("SEEDV", 0))
+PICKHEAD = int(os.environ.get("PICKHEAD", 1))
 
 
 def worst_triple(z, cand, w, k):
@@ -188,7 +198,12 @@ def build(d):
             proj = np.full(len(cand), np.inf)
             proj[short] = worst_triple(z, cand[short], w, k)
             score = proj
-        best = int(cand[int(np.argmin(score))])
+        if PICK > 1 and j >= PICKHEAD:
+            short = np.argsort(score, kind="stable")[:PICK]
+            short = short[np.isfinite(score[short])] if np.isfinite(score[short[0]]) else short
+            best = int(cand[int(short[np.random.default_rng([SEEDV, j]).integers(len(short))])])
+        else:
+            best = int(cand[int(np.argmin(score))])
         z.append(best)
         for q, g in zip(Q, GS):
             q += weight(j, g) * w[(k * best) & (N - 1)] * (1 + q)

@@ -46,6 +46,10 @@ among the candidates, which measures it again.
     vec:NAME the sequence (radical-inverse order, one shift, the tent) with the
              prototype generator target/engine-vectors/NAME.npy of
              benches/engine_vector.py (values below 2^B; n <= 2^B) in place of the table
+    mix:PREFIX:K  a mixture of K such vectors drawn per engine: randomisation r (seed
+             SEED0 + r) is `vec:PREFIX_v{(SEED0 + r) % K}` (the same radical-inverse
+             order, shift and tent), e.g. the K vectors of engine_vector.py's PICK=P
+             SEEDV=0..K-1 (each coordinate drawn among the P best by the table's score)
 
     GRID=genz|uq|both (both)  REPS=16  CANDS=seq,ind,owen  CELLS=2:32,5:256 (Genz cells)
     NS=1024,4096 FAM=keister MAXD=20 (uq cells, as uq_rules.py; MAXD skips those of more
@@ -64,7 +68,6 @@ among the candidates, which measures it again.
 Prints per cell and the geometric means per family, per benchmark and over both (every
 family-cell of the Genz grid and every cell of the models counted once).
 """
-import json
 import math
 import os
 import re
@@ -195,6 +198,11 @@ def draw(cand, n, d, r):
         return halves(n, d, seed)
     if cand == "law1":
         return np.asarray(sp._core.law_set([f"x{j}=normal(0,1)" for j in range(d)], n, seed))
+    if cand.startswith("mix:"):
+        # A mixture of K vectors drawn per engine: the engine with seed s uses vector
+        # s mod K, exactly as `vec:` uses its one vector (same order, shift, tent).
+        prefix, kk = cand[4:].rsplit(":", 1)
+        return draw(f"vec:{prefix}_v{seed % int(kk)}", n, d, r)
     if cand.startswith("vec:"):
         z = np.load(os.path.join(ROOT, "target", "engine-vectors", cand[4:] + ".npy"))
         if d > len(z):
@@ -251,22 +259,12 @@ def genz_rows():
 
 def uq_rows():
     import uq_models as U
-    from uq_families import BY_NAME, instance, map_cube
+    from uq_families import map_cube
 
     ns = [int(x) for x in os.environ.get("NS", "1024,4096").split(",")]
     famf = os.environ.get("FAM")
-    data = json.load(open(os.path.join(ROOT, "results", "uq-models", "uq_models.json")))["cells"]
     rows = []
-    for c in data.values():
-        if c["n"] not in ns or (famf and not any(f in c["family"] for f in famf.split(","))):
-            continue
-        if c["d"] > MAXD:
-            continue
-        fam = BY_NAME[c["family"]]
-        v = next(v for v in fam.variants if fam.label(v) == c["variant"])
-        insts = [instance(fam, v, i) for i in range(c["instances"])]
-        ref = np.array(c["reference"])
-        den = c["methods"]["sobol"]["rmse"]
+    for c, fam, v, insts, ref, den in U.stored_cells(ns, famf, MAXD):
         orders = ORDER.split(",")
         if ORDER == "all":
             orders = ["id", "rev", "interleave", "late"] + [f"rand{i}" for i in range(4)]

@@ -239,6 +239,25 @@ def _law_set_columns(n, texts, seed, key):
     return True
 
 
+def stored_cells(ns, families=None, max_d=None):
+    """The cells of results/uq-models/uq_models.json at the sizes `ns` (of the families
+    whose names contain one of the comma-separated `families`; of at most `max_d`
+    coordinates), each as (cell, family, variant, instances, reference values, scrambled
+    Sobol''s stored RMSE): what the prototypes that read the stored denominators share."""
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    path = os.path.join(root, "results", "uq-models", "uq_models.json")
+    for c in json.load(open(path))["cells"].values():
+        if c["n"] not in ns or (families and not any(f in c["family"]
+                                                     for f in families.split(","))):
+            continue
+        if max_d is not None and c["d"] > max_d:
+            continue
+        fam = BY_NAME[c["family"]]
+        v = next(v for v in fam.variants if fam.label(v) == c["variant"])
+        insts = [instance(fam, v, i) for i in range(c["instances"])]
+        yield c, fam, v, insts, np.array(c["reference"]), c["methods"]["sobol"]["rmse"]
+
+
 def relative(q, ref):
     return (q - ref[:, 0]) / np.abs(ref[:, 0])
 

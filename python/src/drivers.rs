@@ -185,7 +185,8 @@ driver!(PySensitivity, "Sensitivity", Sensitivity, SensitivityOptions, {
 
 /// Points [start, start + count) of replicate `replicate` of the extensible randomised
 /// lattice sequence in d dimensions seeded by `seed`, as a (count, d) array; `table`
-/// names its generating vector ('tent', quad's, or 'first-order', the engine's).
+/// names its generating vector ('tent', quad's, or 'first-order', the engine's), or
+/// 'sobol' for Owen-scrambled Sobol' points in natural order instead of the lattice.
 #[pyfunction]
 #[pyo3(signature = (d, seed=0, replicate=0, start=0, count=1, table="tent"))]
 fn sequence_points<'py>(
@@ -197,13 +198,53 @@ fn sequence_points<'py>(
     count: usize,
     table: &str,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-    let table = SequenceTable::from_name(table).map_err(value_error)?;
-    let seq = ExtensibleLattice::with_table(table, d, seed, replicate).map_err(value_error)?;
-    let mut data = vec![0.0; count * d];
-    seq.fill(start, count, &mut data).map_err(value_error)?;
+    let data = if table == "sobol" {
+        owen_sobol(d, seed, replicate, start, count)?
+    } else {
+        let table = SequenceTable::from_name(table).map_err(|_| {
+            value_error(format!(
+                "invalid table = {table}: expected 'tent' (quad's), 'first-order' (the \
+                 engine's) or 'sobol' (Owen-scrambled Sobol' points)"
+            ))
+        })?;
+        let seq = ExtensibleLattice::with_table(table, d, seed, replicate).map_err(value_error)?;
+        let mut data = vec![0.0; count * d];
+        seq.fill(start, count, &mut data).map_err(value_error)?;
+        data
+    };
     Ok(Array2::from_shape_vec((count, d), data)
         .map_err(value_error)?
         .into_pyarray(py))
+}
+
+/// The label of the engine's scrambles ([`stillpoint::sequences::hash2`]), apart from
+/// those `quad` and the Sobol' indices draw from the same seed.
+const ENGINE_SOBOL_KEY: u64 = 0x656e_6769_6e65_736f;
+
+/// Points `start..start + count` of one replicate of Owen-scrambled Sobol' points in
+/// natural order (a sequence of at most 2^20 points, scrambled as `quad`'s Sobol' rule
+/// scrambles one), row-major.
+fn owen_sobol(d: usize, seed: u64, replicate: u64, start: u64, count: usize) -> PyResult<Vec<f64>> {
+    use stillpoint::sequences::{hash2, mix64, sobol_scrambled_short_ranges};
+    const MOST: usize = 1 << 20;
+    let start = usize::try_from(start).map_err(value_error)?;
+    if start.saturating_add(count) > MOST {
+        return Err(value_error(format!(
+            "invalid start = {start}: start + count = {} passes the sequence's {MOST} points",
+            start.saturating_add(count)
+        )));
+    }
+    if count == 0 || d == 0 {
+        return Ok(Vec::new());
+    }
+    let scramble = hash2(hash2(mix64(seed), ENGINE_SOBOL_KEY), replicate);
+    let mut sets = sobol_scrambled_short_ranges(start, start + count, d, &[scramble], MOST)
+        .map_err(value_error)?;
+    Ok(sets
+        .pop()
+        .expect("one set per scramble")
+        .as_slice()
+        .to_vec())
 }
 
 /// Registers the classes and the sequence's points in the extension module.

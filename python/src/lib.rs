@@ -200,6 +200,26 @@ fn design<'py>(
     Ok(out)
 }
 
+/// The unit-scale set `design` would deal into its space, and the phrase of its rule,
+/// without the design's figures: what `Engine(d, space=..., draws='independent')` draws.
+#[pyfunction]
+#[pyo3(signature = (**kwargs))]
+fn space_set<'py>(
+    py: Python<'py>,
+    kwargs: Option<&Bound<'py, PyDict>>,
+) -> PyResult<(Bound<'py, PyArray2<f64>>, &'static str)> {
+    let resolved = resolve(kwargs)?;
+    let (unit, phrase) = detached(py, move || calls::space_set(&resolved))?;
+    Ok((to_array(py, unit)?, phrase))
+}
+
+/// The rule of a randomised sequence under `space` (`'first-order lattice'` or
+/// `'sobol'`) and the space's coordinate each of its columns goes to.
+#[pyfunction]
+fn space_sequence(space: Vec<String>) -> PyResult<(&'static str, Vec<usize>)> {
+    Ok(calls::space_sequence(&self::space(&space, None)?))
+}
+
 /// A design space from its `NAME=TYPE` texts and its correlation, if given.
 fn space(
     texts: &[String],
@@ -387,12 +407,13 @@ macro_rules! add {
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("SEQUENCE_MAX_D", stillpoint::sequences::EXTENSIBLE_MAX_D)?;
+    m.add("SOBOL_MAX_D", stillpoint::sequences::SOBOL_MAX_S)?;
     m.add(
         "ENGINE_SEQUENCE_MAX_D",
         stillpoint::sequences::ENGINE_SEQUENCE_MAX_D,
     )?;
     add!(m: generate, check_generate, design, design_figures, space_values, space_names,
-        estimate, notes, long_run_note, discrepancy, baselines, integrate, randomize,
+        space_set, space_sequence, estimate, notes, long_run_note, discrepancy, baselines, integrate, randomize,
         tent_set, law_set, options, metrics);
     drivers::register(m)
 }

@@ -87,6 +87,14 @@ def options(command: Optional[str] = None) -> List[Dict[str, Any]]:
     (``None`` where Python has no keyword), ``doc``, ``groups``, ``commands``, ``kind``
     (with its bounds), ``words``, ``expected`` and ``default`` (per command)."""
 
+def space_set(**kwargs: Any) -> Tuple[npt.NDArray[np.float64], str]:
+    """The unit-scale set :func:`design` would deal into ``space`` and the phrase of its
+    rule, without the design's figures."""
+
+def space_sequence(space: Sequence[str]) -> Tuple[str, List[int]]:
+    """The rule of a randomised sequence under ``space`` (``'first-order lattice'`` or
+    ``'sobol'``) and the coordinate each of its columns goes to."""
+
 def space_values(
     space: Sequence[str],
     x: npt.NDArray[np.float64],
@@ -106,7 +114,8 @@ def sequence_points(
 ) -> npt.NDArray[np.float64]:
     """Points [start, start + count) of one replicate of the extensible randomised
     lattice sequence; ``table`` names its generating vector ('tent', quad's, or
-    'first-order', the engine's)."""
+    'first-order', the engine's), or 'sobol' for Owen-scrambled Sobol' points in natural
+    order (at most 2^20)."""
 
 class Cubature:
     """The state of an integration to a tolerance (see ``stillpoint.quad``), resolved by

@@ -15,6 +15,8 @@ import numpy as np
 from . import _core
 from ._generate import generate
 from ._request import _check_generate
+from ._rounds import _to_space, _unbounded
+from ._space import _law_name, _space_items
 from ._validate import _engine_seed, _fresh_seed, _int
 
 # Arguments of `generate` that an Engine sets itself or cannot take (it draws in the
@@ -34,6 +36,12 @@ _OWN_TABLE_MAX_D = _core.ENGINE_SEQUENCE_MAX_D
 _EARLIER_SEQUENCE_TABLE = "tent"
 
 _DRAWS = ("sequence", "independent")
+
+# The sequences an engine can be asked for by name (as quad's results name the same
+# rules), and the tables they read: the engine's own lattice, quad's tent lattice, and
+# Owen-scrambled Sobol' points (which the library deals path-first under a space).
+_RULES = {"first-order lattice": "first-order", "lattice": "tent", "sobol": "sobol"}
+_SOBOL_MAX_D = _core.SOBOL_MAX_D
 
 try:  # SciPy is optional: without it Engine is a plain class with the same methods.
     from scipy.stats import qmc as _qmc
@@ -88,6 +96,62 @@ def _optimised(n: int, d: int, kwargs: Dict[str, Any]) -> np.ndarray:
         return _cache.setdefault(key, x)
 
 
+def _engine_space(
+    d: Any, space: Any, correlation: Any, generate_kwargs: Dict[str, Any]
+) -> Tuple[int, Optional[Dict[str, Any]]]:
+    """The engine's dimension and, under ``space``, what its draws and :meth:`to_space`
+    need: the variables' texts (SciPy laws as the uniforms they are mapped from), the
+    texts the rule is chosen from (a SciPy law of unbounded support as a normal one, as
+    ``quad`` takes it), the column names, the correlation and the SciPy laws."""
+    if space is None:
+        if d is None:
+            raise ValueError("invalid d = None: expected the dimension, or space=")
+        if correlation is not None:
+            raise ValueError(
+                "invalid correlation without space: it correlates the variables of space="
+            )
+        return _int("d", d, 0), None
+    if generate_kwargs:
+        key = next(iter(generate_kwargs))
+        raise ValueError(
+            f"invalid {key} with space: an engine under a space draws the rule for its "
+            "laws; name a sequence with rule= instead"
+        )
+    items, frozen = _space_items(space)
+    names = list(_core.space_names(items))
+    if d is not None and _int("d", d, 0) != len(names):
+        raise ValueError(
+            f"invalid d = {d!r}: space has {len(names)} coordinates ({', '.join(names[:6])}"
+            f"{', …' if len(names) > 6 else ''}); leave d out or give {len(names)}"
+        )
+    matrix = None
+    if correlation is not None:
+        try:
+            if isinstance(correlation, (str, bytes)):
+                raise TypeError("a text")
+            matrix = np.ascontiguousarray(correlation, dtype=np.float64)
+        except (TypeError, ValueError) as e:
+            raise ValueError(
+                f"invalid correlation = {correlation!r}: expected a k × k matrix of "
+                f"numbers ({e})"
+            ) from None
+    rule_items = [
+        f"{t.split('=', 1)[0]}=normal(0,1)" if _unbounded(frozen.get(t.split("=", 1)[0])) else t
+        for t in items
+    ]
+    # The library reads the correlation and refuses a bad one, naming it, before any draw.
+    flat = None if matrix is None else [float(v) for v in np.ravel(matrix)]
+    _core.space_values(items, np.full((1, len(names)), 0.5), flat)
+    return len(names), {
+        "items": items,
+        "rule_items": rule_items,
+        "names": names,
+        "correlation": flat,
+        "matrix": matrix,
+        "frozen": frozen,
+    }
+
+
 class Engine(_EngineBase):  # type: ignore[misc,valid-type]
     """A randomised QMC engine whose points are each uniform in [0, 1)^d (an unbiased QMC
     rule).
@@ -127,10 +191,30 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
     ``optimization='random-cd'`` or ``'lloyd'`` is applied after the shift, as SciPy
     does for its engines); a plain class with the same methods otherwise.
 
+    Under a design space (``space=``, the laws of f's inputs, as :func:`quad` takes
+    them) the draws are made for those laws and :meth:`to_space` carries them into the
+    space: successive draws continue Owen-scrambled Sobol' points where the space holds a
+    Brownian path (the net's leading columns dealt to every path's first step, then every
+    path's second, …), and the engine's lattice sequence otherwise; with
+    ``draws='independent'`` each draw is the set ``generate(n, space=...,
+    randomize=True)`` makes for its n on the unit scale (the lattice made for the laws
+    where every law is unbounded). ``rule=`` names the sequence instead, when you know
+    more about f than its laws do.
+
     Parameters
     ----------
-    d : int
-        Dimension (0 to 1 000 for the sequence).
+    d : int, optional
+        Dimension (0 to 1 000 for the lattice sequences, 21 201 for ``rule='sobol'``);
+        under ``space`` its number of coordinates (given, it must agree).
+    space : optional
+        The laws of f's inputs, in any form :func:`design` takes (texts, a dict of types,
+        SciPy frozen laws, Brownian paths ``'brownian(T,m,construction)'``).
+    correlation : array_like, optional
+        The continuous variables' correlation (``space`` only), as :func:`design` takes it.
+    rule : {'first-order lattice', 'lattice', 'sobol'}, optional
+        The sequence draws continue: the engine's lattice (the default), ``quad``'s tent
+        lattice, or Owen-scrambled Sobol' points in natural order. Not with
+        ``draws='independent'``.
     draws : {'sequence', 'independent'}, optional
         Whether draws continue one sequence (the default) or are independent
         randomisations of a set made for each n (the default when ``randomize`` is
@@ -153,15 +237,29 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
 
     def __init__(
         self,
-        d: int,
+        d: Optional[int] = None,
         *,
+        space: Any = None,
+        correlation: Any = None,
+        rule: Optional[str] = None,
         seed: Any = None,
         rng: Any = None,
         optimization: Optional[str] = None,
         draws: Optional[str] = None,
         **generate_kwargs: Any,
     ) -> None:
-        d = _int("d", d, 0)
+        d, self._space = _engine_space(d, space, correlation, generate_kwargs)
+        if rule is not None and rule not in _RULES:
+            raise ValueError(
+                f"invalid rule = {rule!r}: expected one of {', '.join(map(repr, _RULES))} "
+                "(a sequence), or None for the engine's default (or the space's rule)"
+            )
+        if rule is not None and (generate_kwargs or draws == "independent"):
+            raise ValueError(
+                f"invalid rule = {rule!r} with draws='independent' or options of a set: a "
+                "rule names the sequence the draws continue; leave it out for independent "
+                "draws"
+            )
         if seed is not None and rng is not None:
             raise ValueError("invalid seed and rng: give one of them (rng is the newer name)")
         rng = _engine_seed("seed" if rng is None else "rng", seed if rng is None else rng)
@@ -199,9 +297,17 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
                 "these randomise a set made for each n; use draws='independent', or leave "
                 "the options out for the sequence"
             )
-        if draws == "sequence" and d > _SEQUENCE_MAX_D:
+        sobol = rule == "sobol" or (
+            rule is None
+            and self._space is not None
+            and _core.space_sequence(self._space["rule_items"])[0] == "sobol"
+        )
+        most = _SOBOL_MAX_D if sobol else _SEQUENCE_MAX_D
+        if rule == "first-order lattice":
+            most = _OWN_TABLE_MAX_D
+        if draws == "sequence" and d > most:
             raise ValueError(
-                f"invalid d = {d}: the sequence reaches {_SEQUENCE_MAX_D} dimensions; for "
+                f"invalid d = {d}: the sequence reaches {most} dimensions; for "
                 "more use draws='independent' (a set made for each n)"
             )
         # A text goes to SciPy, which names the methods it has (in any case); anything
@@ -218,7 +324,7 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
             kwargs["seed"] = _fresh_seed(kwargs.pop("generate_seed"))
             generate_kwargs = {**generate_kwargs, "generate_seed": kwargs["seed"]}
         # Refuse bad generate arguments now rather than at the first draw.
-        if d > 0:
+        if d > 0 and self._space is None:
             _check_generate(2, d, randomize=kind, **kwargs)
         self._generate_kwargs = kwargs
         if _qmc is not None:
@@ -240,12 +346,31 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
         self._sequence_seed = (
             int(self.rng.integers(0, 2**64, dtype=np.uint64)) if draws == "sequence" else None
         )
-        self._sequence_table = (
-            _SEQUENCE_TABLE if d <= _OWN_TABLE_MAX_D else _EARLIER_SEQUENCE_TABLE
-        )
+        self._order: Optional[list] = None
+        named = rule
+        if self._space is not None:
+            by_law, order = _core.space_sequence(self._space["rule_items"])
+            # Without a path the space's sequence is the engine's default (its own table
+            # up to its reach, the tent table above, as for Engine(d)).
+            if rule is None and by_law == "sobol":
+                rule = by_law
+            # The net's leading columns go to the paths' leading steps; the identity
+            # needs no dealing.
+            if rule == "sobol" and order != sorted(order):
+                self._order = order
+        if rule is None:
+            table = _SEQUENCE_TABLE if d <= _OWN_TABLE_MAX_D else _EARLIER_SEQUENCE_TABLE
+        else:
+            table = _RULES[rule]
+        self._sequence_table = table
+        self._rule = rule
         # What scipy.integrate.qmc_quad passes to build independent copies:
         # type(engine)(seed=..., **engine._init_quad).
         self._init_quad = {"d": d, "optimization": optimization, "draws": draws, **generate_kwargs}
+        if space is not None:
+            self._init_quad.update(space=space, correlation=correlation)
+        if named is not None:
+            self._init_quad["rule"] = named
 
     def _random(self, n: int = 1, *, workers: int = 1) -> np.ndarray:
         """The cached set for n randomised as ``generate(randomize=...)`` does, seeded
@@ -255,6 +380,17 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
             return np.empty((n, self.d))
         if self._continues():
             return self._sequence(n)
+        space = getattr(self, "_space", None)
+        if space is not None:
+            seed = int(self.rng.integers(0, 2**64, dtype=np.uint64))
+            unit, _phrase = _core.space_set(
+                n=n,
+                space=space["rule_items"],
+                correlation=space["matrix"],
+                randomize="tent",
+                seed=seed,
+            )
+            return unit
         if self._randomize == "tent":
             base = _tent_set(n, self.d)
         else:
@@ -279,13 +415,13 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
             )
         if end & (end - 1):
             warnings.warn(
-                "The balance properties of the lattice sequence require n to be a power "
+                "The balance properties of the sequence require n to be a power "
                 f"of 2. {start} points have been previously generated, then: "
                 f"n={start}+{n}={end}. If you still want to do this, the function "
                 "'Engine.fast_forward()' can be used.",
                 stacklevel=4,
             )
-        return _core.sequence_points(
+        x = _core.sequence_points(
             self.d,
             seed=self._sequence_seed,
             replicate=0,
@@ -293,6 +429,12 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
             count=n,
             table=self._table(),
         )
+        order = getattr(self, "_order", None)
+        if order is None:
+            return x
+        dealt = np.empty_like(x)
+        dealt[:, order] = x
+        return dealt
 
     def _table(self) -> str:
         """The generating vector this engine's sequence uses: an engine pickled before
@@ -322,8 +464,69 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
         self.num_generated += n
         return self
 
+    @property
+    def names(self) -> Optional[list]:
+        """The columns' names under ``space`` (a path ``W`` of m steps as ``W_1`` …
+        ``W_m``), None without one."""
+        space = getattr(self, "_space", None)
+        return None if space is None else list(space["names"])
+
+    @property
+    def rule(self) -> Optional[str]:
+        """The sequence the draws continue: ``'first-order lattice'`` (the default),
+        ``'lattice'`` (``quad``'s tent table) or ``'sobol'`` (Owen-scrambled Sobol'); None
+        for independent draws."""
+        if not self._continues():
+            return None
+        rule = getattr(self, "_rule", None)
+        if rule is not None:
+            return rule
+        return {v: k for k, v in _RULES.items()}[self._table()]
+
+    def to_space(self, u: Any) -> np.ndarray:
+        """Draws of this engine (an (n, d) array in [0, 1]) as the values of its
+        ``space``: each continuous variable through the copula and its quantile function
+        (a SciPy law through its ``ppf``), a path through its construction, a discrete
+        variable to level ⌊u·L⌋ (a label as its index). The mean of f over them estimates
+        E f(X) under the space's laws, without bias."""
+        space = getattr(self, "_space", None)
+        if space is None:
+            raise ValueError(
+                "invalid to_space on an engine without space: make it with "
+                "Engine(space=...) to draw values of a space"
+            )
+        try:
+            u = np.asarray(u, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ValueError(f"invalid u: expected an (n, {self.d}) array of numbers") from None
+        if u.ndim != 2 or u.shape[1] != self.d:
+            raise ValueError(
+                f"invalid u of shape {u.shape}: expected (n, {self.d}), one column per "
+                "coordinate of space"
+            )
+        if not np.all((u >= 0.0) & (u <= 1.0)):
+            raise ValueError("invalid u: expected points of the unit cube [0, 1]^d")
+        setup = {
+            "space": space["items"],
+            "correlation": space["correlation"],
+            "names": space["names"],
+            "frozen": space["frozen"],
+        }
+        return _to_space(u, setup)
+
     def __repr__(self) -> str:
         extra = "".join(f", {k}={v!r}" for k, v in self._generate_kwargs.items())
+        space = getattr(self, "_space", None)
+        if space is not None:
+            shown = [
+                f"{t.split('=', 1)[0]}={_law_name(space['frozen'][t.split('=', 1)[0]])}"
+                if t.split("=", 1)[0] in space["frozen"]
+                else t
+                for t in space["items"]
+            ]
+            extra += f", space={shown!r}"
+        if "rule" in getattr(self, "_init_quad", {}):
+            extra += f", rule={self._init_quad['rule']!r}"
         if self._randomize != "tent":
             extra = f", randomize={self._randomize!r}" + extra
         elif not self._continues() and hasattr(self, "_draws"):
@@ -349,6 +552,9 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
             # Independent draws use no table: an engine pickled before the tables had
             # names equals a new one drawing alike.
             self._table() if self._continues() else None,
+            # Engines pickled before spaces had none.
+            _frozen(_space_state(getattr(self, "_space", None))),
+            _frozen(getattr(self, "_order", None)),
         )
 
     def __eq__(self, other: object) -> bool:
@@ -374,6 +580,16 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
     # A pickle names the class `stillpoint.Engine` (the package sets `__module__`), so
     # it loads whichever module defines the class.
     __hash__ = None  # type: ignore[assignment]
+
+
+def _space_state(space: Optional[Dict[str, Any]]) -> Any:
+    """What of a space decides the draws and their values (its SciPy laws by their
+    names and arguments)."""
+    if space is None:
+        return None
+    laws = {k: (type(v.dist).__name__, v.args, tuple(sorted(v.kwds.items())))
+            for k, v in space["frozen"].items()}
+    return (space["items"], space["correlation"], laws)
 
 
 def _optimizer_rng_state(engine: Engine) -> Any:

@@ -1,5 +1,6 @@
 """stillpoint.Engine as a SciPy QMC engine."""
 
+import copy
 import pickle
 import warnings
 
@@ -224,8 +225,8 @@ def test_the_sequence_draws_from_the_engines_own_table():
     # The same shift, another lattice: the first coordinate (z₁ = 1 in both) agrees.
     assert np.array_equal(x[:, 0], tent[:, 0])
     assert sp._core.ENGINE_SEQUENCE_MAX_D == sp._engine._OWN_TABLE_MAX_D
-    with pytest.raises(ValueError, match="invalid table = sobol: expected 'tent'"):
-        sp._core.sequence_points(2, table="sobol")
+    with pytest.raises(ValueError, match="invalid table = halton: expected 'tent'.*'sobol'"):
+        sp._core.sequence_points(2, table="halton")
     # A new engine pickled and loaded keeps its table.
     back = pickle.loads(pickle.dumps(e))
     assert back == e and np.array_equal(back.random(256), e.random(256))
@@ -247,3 +248,145 @@ def test_an_engine_pickled_before_its_own_table_continues_its_sequence():
     assert new._sequence_seed == old._sequence_seed
     assert new != old.reset()
     assert not np.array_equal(new.random(64), expected["first"])
+
+
+# Engines under a design space, and sequences by name.
+
+NORMALS = {"x": "normal(0,1)", "y": "lognormal(0,0.5)", "z": "normal(2,3)"}
+PATHS = {"W": "brownian(1,4,pca)", "x": "normal(0,1)"}
+
+
+def test_under_laws_without_a_path_the_draws_are_the_engine_s_own_sequence():
+    e = sp.Engine(space={**NORMALS, "u": "uniform(0,2)"}, seed=5)
+    assert e.d == 4 and e.rule == "first-order lattice"
+    assert e.names == ["x", "y", "z", "u"]
+    assert np.array_equal(e.random(64), sp.Engine(4, seed=5).random(64))
+    assert sp.Engine(3, seed=5).rule == "first-order lattice"
+    assert sp.Engine(3, seed=5, draws="independent").rule is None
+
+
+def test_under_a_path_the_draws_are_owen_s_net_with_leading_columns_to_leading_steps():
+    e = sp.Engine(space=PATHS, seed=3)
+    assert e.d == 5 and e.rule == "sobol"
+    assert e.names == ["W_1", "W_2", "W_3", "W_4", "x"]
+    net = sp.Engine(5, rule="sobol", seed=3).random(64)
+    x = e.random(64)
+    # x takes the net's first column, then the path its next four in order.
+    assert np.array_equal(x[:, 4], net[:, 0])
+    assert np.array_equal(x[:, :4], net[:, 1:])
+    # Every column of 2^m points of a scrambled net holds one point per 1/2^m.
+    for j in range(5):
+        assert sorted(np.floor(x[:, j] * 64).astype(int)) == list(range(64))
+    # Draws continue one sequence.
+    again = sp.Engine(space=PATHS, seed=3)
+    assert np.array_equal(np.vstack([again.random(32), again.random(32)]), x)
+    # Another seed, another scramble.
+    assert not np.array_equal(sp.Engine(space=PATHS, seed=4).random(64), x)
+
+
+def test_each_named_rule_is_the_sequence_it_names():
+    for rule in ("first-order lattice", "lattice", "sobol"):
+        e = sp.Engine(6, rule=rule, seed=2)
+        assert e.rule == rule
+        x = e.random(128)
+        assert x.shape == (128, 6) and np.all((x >= 0) & (x <= 1))
+        for j in range(6):
+            assert np.unique(np.floor(x[:, j] * 128)).size >= 64
+    # The tent lattice is what an engine unpickled from before its own table draws.
+    assert not np.array_equal(
+        sp.Engine(6, rule="lattice", seed=2).random(64), sp.Engine(6, seed=2).random(64)
+    )
+
+
+def test_independent_draws_under_a_space_are_the_randomised_design_s_unit_set():
+    for space in (NORMALS, {"x": "normal(0,1)", "k": "int(1,3)"}, PATHS):
+        e = sp.Engine(space=space, draws="independent", seed=11)
+        # The seeds each draw takes from the engine's generator.
+        rng = copy.deepcopy(e.rng)
+        for n in (64, 101):
+            seed = int(rng.integers(0, 2**64, dtype=np.uint64))
+            want = sp.design(n, space, randomize=True, seed=seed)
+            assert np.array_equal(e.random(n), want.unit)
+            assert want.unbiased
+
+
+def test_to_space_maps_through_each_law():
+    from scipy import stats
+
+    law = stats.lognorm(0.4, scale=2.0)
+    e = sp.Engine(space={"x": "normal(2,3)", "k": "int(1,3)", "g": law}, seed=0)
+    u = np.array([[0.5, 0.1, 0.25], [0.975, 0.9, 0.5]])
+    v = e.to_space(u)
+    assert np.allclose(v[:, 0], 2 + 3 * stats.norm.ppf(u[:, 0]), rtol=1e-12)
+    assert list(v[:, 1]) == [1, 3]
+    assert np.allclose(v[:, 2], law.ppf(u[:, 2]), rtol=1e-12)
+    # A SciPy law of unbounded support is drawn for as a normal one: no path, so the
+    # engine's own sequence.
+    assert e.rule == "first-order lattice"
+
+
+def test_draws_under_normal_laws_integrate_their_moments():
+    # E exp(sum a_j Z_j) = exp(|a|^2 / 2), over 16 engines: the mean is unbiased and
+    # each engine's error small.
+    a = np.array([0.4, 0.3, 0.2, 0.1])
+    space = {f"z{j}": "normal(0,1)" for j in range(4)}
+    exact = np.exp(a @ a / 2)
+    for draws in ("sequence", "independent"):
+        est = []
+        for seed in range(16):
+            e = sp.Engine(space=space, draws=draws, seed=seed)
+            est.append(np.exp(e.to_space(e.random(1024)) @ a).mean())
+        est = np.array(est)
+        assert abs(est.mean() - exact) < 4 * est.std(ddof=1) / 4 + 1e-12
+        assert np.sqrt(np.mean((est - exact) ** 2)) < 2e-3 * exact
+
+
+def test_qmc_quad_copies_an_engine_under_a_space():
+    e = sp.Engine(space=PATHS, seed=1)
+    copy_ = type(e)(seed=2, **e._init_quad)
+    assert copy_.d == 5 and copy_.rule == "sobol" and copy_.names == e.names
+    res = qmc_quad(lambda u: np.sum(u, axis=0), np.zeros(5), np.ones(5), n_estimates=4,
+                   n_points=256, qrng=e)
+    assert abs(res.integral - 2.5) < 1e-2
+
+
+def test_an_engine_under_a_space_pickles_and_continues():
+    from scipy import stats
+
+    e = sp.Engine(space={**PATHS, "g": stats.gamma(2.0)}, seed=9)
+    e.random(16)
+    f = pickle.loads(pickle.dumps(e))
+    assert f == e and f.names == e.names
+    assert np.array_equal(f.random(16), e.random(16))
+    assert np.array_equal(f.to_space(np.full((1, 6), 0.5)), e.to_space(np.full((1, 6), 0.5)))
+    assert sp.Engine(space=PATHS, seed=9) != sp.Engine(5, rule="sobol", seed=9)
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(d=3, space=NORMALS | {"u": "uniform(0,1)"}), r"invalid d = 3: space has 4"),
+        (dict(space=NORMALS, steps=10), r"invalid steps with space"),
+        (dict(d=2, rule="halton"), r"invalid rule = 'halton'"),
+        (dict(d=2, rule="sobol", draws="independent"), r"invalid rule = 'sobol' with draws"),
+        (dict(d=2, correlation=np.eye(2)), r"invalid correlation without space"),
+        (dict(space=NORMALS, correlation="1,0;0,1"), r"invalid correlation = '1,0;0,1'"),
+        (dict(space=NORMALS, correlation=np.eye(2)), r"correlation"),
+        (dict(), r"invalid d = None"),
+        (dict(d=1001), r"invalid d = 1001: the sequence reaches 1000"),
+        (dict(d=21202, rule="sobol"), r"invalid d = 21202: the sequence reaches 21201"),
+    ],
+)
+def test_engine_refusals_name_the_argument(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        sp.Engine(**kwargs)
+
+
+def test_to_space_refusals():
+    with pytest.raises(ValueError, match="invalid to_space on an engine without space"):
+        sp.Engine(2, seed=0).to_space(np.zeros((1, 2)))
+    e = sp.Engine(space=NORMALS, seed=0)
+    with pytest.raises(ValueError, match=r"invalid u of shape \(1, 2\)"):
+        e.to_space(np.zeros((1, 2)))
+    with pytest.raises(ValueError, match="unit cube"):
+        e.to_space(np.full((1, 3), 1.5))

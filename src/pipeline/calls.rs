@@ -448,6 +448,27 @@ pub fn design(resolved: &Resolved) -> Result<(serde_json::Value, PointSet), Erro
     Ok((v, design.unit))
 }
 
+/// The unit-scale set of the design the resolved request (which holds a space) makes,
+/// and the phrase of its rule ([`super::measure::CubeRule::phrase`]): [`design`]'s set
+/// without the figures, for a front end that draws sets and maps them itself (the
+/// engine under a space).
+pub fn space_set(resolved: &Resolved) -> Result<(PointSet, &'static str), Error> {
+    let outcome = resolved.run(None, |_| {})?;
+    let design = outcome
+        .design
+        .ok_or_else(|| Error::Numerical("a design needs space=".to_string()))?;
+    let phrase = resolved.rule.map_or("", |r| r.phrase());
+    Ok((design.unit, phrase))
+}
+
+/// The rule of a randomised sequence under `space` as front ends name it, and the order
+/// its columns are dealt to the space's coordinates
+/// ([`super::measure::sequence_rule`]).
+pub fn space_sequence(space: &DesignSpace) -> (&'static str, Vec<usize>) {
+    let (rule, order) = super::measure::sequence_rule(space);
+    (rule.as_str(), order)
+}
+
 /// A design space from its `NAME=TYPE` texts and, if given, the continuous variables'
 /// correlation (row-major).
 pub fn space(texts: &[String], correlation: Option<Vec<f64>>) -> Result<DesignSpace, Error> {

@@ -207,24 +207,11 @@ impl CubeRule {
     }
 }
 
-/// The net's columns dealt to the space's coordinates in the order they matter: every
-/// variable that is not a path first, then each path's first step (the bridge's end
-/// point, the first principal component), then each path's second, and so on (the net's
-/// unit-cube column i goes to the i-th coordinate of that order). A digital net's
-/// leading columns are its finest; with two or more paths, giving one path all the
-/// leading columns left the other paths' leading steps to the net's late ones (four
-/// paths of 8 to 64 PCA steps: 1.3–6.5× scrambled Sobol' given the steps interleaved).
-/// With one path and nothing else the order is the set's own.
+/// The net's columns dealt to the space's coordinates in the order they matter
+/// ([`leading_order`]): the net's unit-cube column i goes to coordinate `order[i]`.
 fn leading_first(space: &DesignSpace, points: &PointSet) -> Result<PointSet, Error> {
     let s = points.s();
-    let mut step = vec![0usize; s];
-    for (first, path) in space.paths() {
-        for (k, rank) in step.iter_mut().skip(first).take(path.m).enumerate() {
-            *rank = k + 1;
-        }
-    }
-    let mut order: Vec<usize> = (0..s).collect();
-    order.sort_by_key(|&j| step[j]);
+    let order = leading_order(space);
     let mut data = vec![0.0f64; points.n() * s];
     for (out, row) in data.chunks_exact_mut(s).zip(points.rows()) {
         for (&coordinate, &u) in order.iter().zip(row) {
@@ -234,6 +221,60 @@ fn leading_first(space: &DesignSpace, points: &PointSet) -> Result<PointSet, Err
     PointSet::new(points.n(), s, data)
 }
 
+/// The space's coordinates in the order a digital net's columns are dealt to them: every
+/// variable that is not a path first, then each path's first step (the bridge's end
+/// point, the first principal component), then each path's second, and so on. A digital
+/// net's leading columns are its finest; with two or more paths, giving one path all the
+/// leading columns left the other paths' leading steps to the net's late ones (four
+/// paths of 8 to 64 PCA steps: 1.3–6.5× scrambled Sobol' given the steps interleaved).
+/// With one path and nothing else the order is the set's own.
+pub fn leading_order(space: &DesignSpace) -> Vec<usize> {
+    let s = space.dim();
+    let mut step = vec![0usize; s];
+    for (first, path) in space.paths() {
+        for (k, rank) in step.iter_mut().skip(first).take(path.m).enumerate() {
+            *rank = k + 1;
+        }
+    }
+    let mut order: Vec<usize> = (0..s).collect();
+    order.sort_by_key(|&j| step[j]);
+    order
+}
+
+/// The rule of a randomised *sequence* for a space (points drawn in rounds that continue
+/// one another, as `Engine(d, space=…)` draws them), where [`cube_rule`] decides for a set
+/// made for its n: Owen-scrambled Sobol' with its columns dealt by [`leading_order`]
+/// where the space holds a Brownian path (the reason [`cube_rule`] gives), otherwise the
+/// lattice sequence of the first-order table, which is built for the kernel of unbounded
+/// laws and measured the better of the two tables over bounded laws as well
+/// (results/law-lattice/engine-table.md).
+pub fn sequence_rule(space: &DesignSpace) -> (SequenceRule, Vec<usize>) {
+    if space.paths().is_empty() {
+        (SequenceRule::FirstOrderLattice, (0..space.dim()).collect())
+    } else {
+        (SequenceRule::Sobol, leading_order(space))
+    }
+}
+
+/// A randomised sequence's rule ([`sequence_rule`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SequenceRule {
+    /// The extensible lattice of the first-order table, one shift, the tent.
+    FirstOrderLattice,
+    /// Owen-scrambled Sobol' points in natural order.
+    Sobol,
+}
+
+impl SequenceRule {
+    /// The rule as front ends name it (as `quad`'s results name the same rules).
+    pub fn as_str(self) -> &'static str {
+        match self {
+            SequenceRule::FirstOrderLattice => "first-order lattice",
+            SequenceRule::Sobol => "sobol",
+        }
+    }
+}
+
 /// The unit-cube set carried into a design space by each law's own map (the rule of a
 /// randomised set), kept here under its former path.
 pub use crate::design::mapped;
@@ -241,6 +282,7 @@ pub use crate::design::mapped;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::cubature::Rule;
 
     fn space(items: &[&str]) -> DesignSpace {
         DesignSpace::parse("--var", items).unwrap()
@@ -358,6 +400,34 @@ mod tests {
         let one = space(&["W=brownian(1,4,pca)"]);
         let u4 = PointSet::new(1, 4, row[..4].to_vec()).unwrap();
         assert_eq!(leading_first(&one, &u4).unwrap(), u4);
+    }
+
+    /// A sequence under a space: Owen's net dealt as the set's rule deals it where a path
+    /// is held, the first-order lattice in the space's own order elsewhere.
+    #[test]
+    fn a_sequence_takes_the_net_under_a_path_and_the_first_order_lattice_elsewhere() {
+        let two = space(&[
+            "A=brownian(1,3,pca)",
+            "x=normal(0,1)",
+            "B=brownian(1,3,bridge)",
+        ]);
+        let (rule, order) = sequence_rule(&two);
+        assert_eq!(rule, SequenceRule::Sobol);
+        assert_eq!(order, leading_order(&two));
+        assert_eq!(order, vec![3, 0, 4, 1, 5, 2, 6]);
+        for laws in [
+            &["x=normal(0,1)", "u=uniform(0,1)", "k=int(1,3)"][..],
+            &["x=normal(0,1)", "y=lognormal(0,1)"][..],
+        ] {
+            let (rule, order) = sequence_rule(&space(laws));
+            assert_eq!(rule, SequenceRule::FirstOrderLattice);
+            assert_eq!(order, (0..laws.len()).collect::<Vec<_>>());
+        }
+        assert_eq!(SequenceRule::Sobol.as_str(), Rule::Sobol.as_str());
+        assert_eq!(
+            SequenceRule::FirstOrderLattice.as_str(),
+            Rule::FirstOrderLattice.as_str()
+        );
     }
 
     #[test]
