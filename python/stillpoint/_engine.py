@@ -194,8 +194,8 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
     Under a design space (``space=``, the laws of f's inputs, as :func:`quad` takes
     them) the draws are made for those laws and :meth:`to_space` carries them into the
     space: successive draws continue Owen-scrambled Sobol' points where the space holds a
-    Brownian path (the net's leading columns dealt to every path's first step, then every
-    path's second, …), and the engine's lattice sequence otherwise; with
+    Brownian path, and the engine's lattice sequence otherwise, the sequence's leading
+    columns dealt to every path's first step, then every path's second, …; with
     ``draws='independent'`` each draw is the set ``generate(n, space=...,
     randomize=True)`` makes for its n on the unit scale (the lattice made for the laws
     where every law is unbounded). ``rule=`` names the sequence instead, when you know
@@ -354,9 +354,10 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
             # up to its reach, the tent table above, as for Engine(d)).
             if rule is None and by_law == "sobol":
                 rule = by_law
-            # The net's leading columns go to the paths' leading steps; the identity
-            # needs no dealing.
-            if rule == "sobol" and order != sorted(order):
+            # The sequence's leading columns (its finest, for a net and for a lattice
+            # built coordinate by coordinate) go to the paths' leading steps; the
+            # identity needs no dealing.
+            if order != sorted(order):
                 self._order = order
         if rule is None:
             table = _SEQUENCE_TABLE if d <= _OWN_TABLE_MAX_D else _EARLIER_SEQUENCE_TABLE

@@ -282,6 +282,12 @@ def test_under_a_path_the_draws_are_owen_s_net_with_leading_columns_to_leading_s
     assert np.array_equal(np.vstack([again.random(32), again.random(32)]), x)
     # Another seed, another scramble.
     assert not np.array_equal(sp.Engine(space=PATHS, seed=4).random(64), x)
+    # A lattice by name is dealt alike: the engine's own draws, x on their first column.
+    lat = sp.Engine(space=PATHS, rule="first-order lattice", seed=3)
+    assert lat.rule == "first-order lattice"
+    own = sp.Engine(5, seed=3).random(64)
+    y = lat.random(64)
+    assert np.array_equal(y[:, 4], own[:, 0]) and np.array_equal(y[:, :4], own[:, 1:])
 
 
 def test_each_named_rule_is_the_sequence_it_names():

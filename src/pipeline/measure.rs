@@ -243,17 +243,20 @@ pub fn leading_order(space: &DesignSpace) -> Vec<usize> {
 
 /// The rule of a randomised *sequence* for a space (points drawn in rounds that continue
 /// one another, as `Engine(d, space=…)` draws them), where [`cube_rule`] decides for a set
-/// made for its n: Owen-scrambled Sobol' with its columns dealt by [`leading_order`]
-/// where the space holds a Brownian path (the reason [`cube_rule`] gives), otherwise the
-/// lattice sequence of the first-order table, which is built for the kernel of unbounded
-/// laws and measured the better of the two tables over bounded laws as well
-/// (results/law-lattice/engine-table.md).
+/// made for its n, and the order its columns are dealt in ([`leading_order`], for any
+/// sequence whose leading columns are its finest): Owen-scrambled Sobol' where the space
+/// holds a Brownian path (the rule [`cube_rule`] takes there, for its reason), otherwise
+/// the lattice sequence of the first-order table, which is built for the kernel of
+/// unbounded laws and measured the better of the two tables over bounded laws as well
+/// (results/law-lattice/engine-table.md). On the paths of the models users bring the net
+/// and that lattice, both dealt path-first, measured level (results/law-lattice/engine-space.md).
 pub fn sequence_rule(space: &DesignSpace) -> (SequenceRule, Vec<usize>) {
-    if space.paths().is_empty() {
-        (SequenceRule::FirstOrderLattice, (0..space.dim()).collect())
+    let rule = if space.paths().is_empty() {
+        SequenceRule::FirstOrderLattice
     } else {
-        (SequenceRule::Sobol, leading_order(space))
-    }
+        SequenceRule::Sobol
+    };
+    (rule, leading_order(space))
 }
 
 /// A randomised sequence's rule ([`sequence_rule`]).
