@@ -1495,7 +1495,7 @@ impl Cubature {
             for (u, _) in row.iter_mut().zip(&self.tails).filter(|(_, t)| **t) {
                 let z = sigma * stillpoint_design::Marginal::normal_score(*u);
                 // The smaller tail's probability, exactly, then its complement.
-                let p = 0.5 * libm::erfc(z.abs() * std::f64::consts::FRAC_1_SQRT_2);
+                let p = stillpoint_design::dist::norm_sf(z.abs());
                 let v = if z < 0.0 { p } else { 1.0 - p };
                 *u = v.clamp(TAIL_U_MIN, 1.0 - TAIL_U_MIN);
             }

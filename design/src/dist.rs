@@ -476,8 +476,9 @@ fn norm_cdf(x: f64) -> f64 {
     0.5 * libm::erfc(-x * std::f64::consts::FRAC_1_SQRT_2)
 }
 
-/// 1 − Φ(x) without the cancellation of subtracting from 1.
-fn norm_sf(x: f64) -> f64 {
+/// 1 − Φ(x) without the cancellation of subtracting from 1 (the smaller tail's
+/// probability at |x|, to full relative precision).
+pub fn norm_sf(x: f64) -> f64 {
     0.5 * libm::erfc(x * std::f64::consts::FRAC_1_SQRT_2)
 }
 
