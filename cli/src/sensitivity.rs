@@ -36,6 +36,10 @@ pub(crate) struct SensitivityArgs {
     /// The first-order estimator: saltelli or janon.
     #[arg(long, value_name = "NAME")]
     pub(crate) first_estimator: Option<String>,
+    /// Also every pair's second-order index S_ij (Saltelli 2002; d more evaluations per
+    /// point).
+    #[arg(long)]
+    pub(crate) second_order: bool,
     /// Print one JSON object.
     #[arg(long)]
     pub(crate) json: bool,
@@ -59,6 +63,7 @@ impl SensitivityArgs {
             bounds: self.bounds.as_deref().map(Arg::from),
             simultaneous: self.simultaneous.then_some(Arg::Bool(true)),
             first_estimator: self.first_estimator.as_deref().map(Arg::from),
+            second_order: self.second_order.then_some(Arg::Bool(true)),
             space: space_items(&self.var, None)?,
             ..Request::default()
         }))
@@ -158,6 +163,13 @@ pub(crate) fn sensitivity_command(q: SensitivityArgs) -> Result<()> {
                        "first_half_width": r.first_half_width,
                        "total_half_width": r.total_half_width, "n": r.n,
                        "met": r.met, "reason": reason, "periodic": periodic});
+        if options.second_order {
+            // One entry per pair i < j, in row order.
+            v["second"] = json!(pairs(&r.names)
+                .zip(r.second.iter().zip(&r.second_half_width))
+                .map(|((a, b), (s, h))| json!({"inputs": [a, b], "index": s, "half_width": h}))
+                .collect::<Vec<_>>());
+        }
         record(
             &mut v,
             [
@@ -166,6 +178,7 @@ pub(crate) fn sensitivity_command(q: SensitivityArgs) -> Result<()> {
                 (Opt::simultaneous, json!(options.simultaneous)),
                 (Opt::abs_tol, json!(options.abs_tol)),
                 (Opt::first_estimator, json!(options.first_order.as_str())),
+                (Opt::second_order, json!(options.second_order)),
                 (Opt::rule, json!(options.rule.as_str())),
             ],
         );
@@ -195,6 +208,13 @@ pub(crate) fn sensitivity_command(q: SensitivityArgs) -> Result<()> {
                 r.total_half_width[i]
             );
         }
+        if options.second_order {
+            let pair_width = (2 * width + 1).max(4);
+            outln!("{:pair_width$}  {:>8}  {:>8}", "pair", "second", "±");
+            for ((a, b), (s, h)) in pairs(&r.names).zip(r.second.iter().zip(&r.second_half_width)) {
+                outln!("{:pair_width$}  {s:>8.4}  {h:>8.4}", format!("{a},{b}"));
+            }
+        }
         let which = if options.simultaneous {
             "all together"
         } else {
@@ -212,4 +232,12 @@ pub(crate) fn sensitivity_command(q: SensitivityArgs) -> Result<()> {
         outln!("met          {why}");
     }
     Ok(())
+}
+
+/// The pairs of inputs i < j, in the order of the second-order indices.
+fn pairs(names: &[String]) -> impl Iterator<Item = (&String, &String)> {
+    names
+        .iter()
+        .enumerate()
+        .flat_map(move |(i, a)| names[i + 1..].iter().map(move |b| (a, b)))
 }

@@ -64,6 +64,44 @@ fn ishigami_is_within_the_tolerance_of_its_closed_form() {
     assert_eq!(mixed["periodic"], serde_json::json!(["x1"]));
 }
 
+/// `--second-order`: every pair of Ishigami's inputs, S_13 = V_13 / V and the others 0,
+/// in the JSON and in the table.
+#[test]
+fn second_order_pairs_are_ishigami_s_closed_forms() {
+    let args = ["--expr", ISHIGAMI, "-s", "3", "--second-order"];
+    let bounds = format!("--bounds={PI_BOX}");
+    let v = run_json(&[&args[..], &[bounds.as_str()]].concat());
+    let p4 = std::f64::consts::PI.powi(4);
+    let v13 = 8.0 * 0.01 * p4 * p4 / 225.0;
+    let var = 0.1 * p4 / 5.0 + 0.01 * p4 * p4 / 50.0 + 0.5 + 49.0 / 8.0 + v13;
+    assert_eq!(v["met"], true, "{v}");
+    assert_eq!(v["second_order"], true);
+    let pairs = v["second"].as_array().unwrap();
+    let want = [
+        (["x1", "x2"], 0.0),
+        (["x1", "x3"], v13 / var),
+        (["x2", "x3"], 0.0),
+    ];
+    assert_eq!(pairs.len(), 3);
+    for (pair, (inputs, index)) in pairs.iter().zip(want) {
+        assert_eq!(pair["inputs"], serde_json::json!(inputs));
+        assert!(
+            (pair["index"].as_f64().unwrap() - index).abs() <= 0.01,
+            "{v}"
+        );
+        assert!(pair["half_width"].as_f64().unwrap() <= 0.01, "{v}");
+    }
+    // 2d + 2 evaluations per point of 8 blocks, and the face test's 24.
+    assert_eq!((v["n"].as_u64().unwrap() - 24) % 64, 0, "{v}");
+    let mut cmd = bin();
+    cmd.arg("sensitivity").args(args).arg(&bounds);
+    let (table, _) = succeeded(&mut cmd, &args);
+    assert!(table.contains("pair") && table.contains("x1,x3"), "{table}");
+    // Without the flag, no pairs.
+    let plain = run_json(&["--expr", ISHIGAMI, "-s", "3", &bounds]);
+    assert!(plain.get("second").is_none() && plain["second_order"] == false);
+}
+
 #[test]
 fn laws_give_names_and_the_table_and_plot_are_written() {
     // x1 + 2·x2 with both normal and a third input unused: S = T = (1/5, 4/5, 0).

@@ -191,6 +191,10 @@ pub struct SensitivityOptions {
     /// existed: the tent lattice).
     #[serde(default)]
     pub rule: Rule,
+    /// Whether the second-order indices of every pair of inputs are estimated too (d
+    /// more evaluations per point: f at each BA_i; states saved before: no).
+    #[serde(default)]
+    pub second_order: bool,
 }
 
 impl Default for SensitivityOptions {
@@ -209,18 +213,25 @@ impl Default for SensitivityOptions {
             start_n: DEFAULT_START_N,
             seed: 0,
             rule: DEFAULT_RULE,
+            second_order: false,
         }
     }
 }
-
-/// Every input's first-order and total indices.
-type Indices = (Vec<f64>, Vec<f64>);
 
 /// Sums kept per replicate and output: Σ y_A, Σ y_B, Σ y_A², Σ y_B².
 const HEAD: usize = 4;
 /// Sums kept per replicate, output and input: Σ y_B(y_ABi − y_A), Σ (y_A − y_ABi)²,
 /// Σ y_B·y_ABi, Σ y_ABi, Σ y_ABi².
 const PER_INPUT: usize = 5;
+
+/// With second-order indices, the sums after the inputs': Σ y_A·y_B, then per pair
+/// i < j (row after row) Σ (y_BAi·y_ABj + y_BAj·y_ABi).
+const PAIR_HEAD: usize = 1;
+
+/// The pairs i < j of d inputs.
+fn pairs(d: usize) -> usize {
+    d * d.saturating_sub(1) / 2
+}
 
 /// The state of a sensitivity analysis (see the module documentation): ask for the next
 /// batch of points, feed back f's values, read the indices. Serializable, so a front end
@@ -454,10 +465,10 @@ impl Sensitivity {
         self.k
     }
 
-    /// Evaluations of f so far: (d + 2) per point, all replicates together, and the face
-    /// test's.
+    /// Evaluations of f so far: [`Sensitivity::rows`] per point, all replicates together,
+    /// and the face test's.
     pub fn n(&self) -> u64 {
-        self.per_replicate * self.options.replicates as u64 * (self.d as u64 + 2)
+        self.per_replicate * self.options.replicates as u64 * self.rows() as u64
             + self.face_evaluations
     }
 
@@ -555,10 +566,26 @@ impl Sensitivity {
         }
     }
 
+    /// Evaluations per point: A, B and each AB_i, and each BA_i with second-order
+    /// indices.
+    pub fn rows(&self) -> usize {
+        rows_per_point(self.d, self.options.second_order)
+    }
+
+    /// Sums per replicate and output.
+    fn width(&self) -> usize {
+        HEAD + self.d * PER_INPUT
+            + if self.options.second_order {
+                PAIR_HEAD + pairs(self.d)
+            } else {
+                0
+            }
+    }
+
     /// Evaluations of a batch of `m` points per replicate.
     fn cost(&self, m: u64) -> u64 {
         m.saturating_mul(self.options.replicates as u64)
-            .saturating_mul(self.d as u64 + 2)
+            .saturating_mul(self.rows() as u64)
     }
 
     /// Whether the next doubling would pass the sequence's 2^20 points (per replicate
@@ -615,7 +642,7 @@ impl Sensitivity {
         }
         let (start, len) = self.batch();
         let (d, m, r) = (self.d, self.pending, self.options.replicates as u64);
-        let rows = d + 2;
+        let rows = self.rows();
         let mut raw = vec![0.0; len * 2 * d];
         match self.replicas {
             // Each replicate's new points m at a time, in the batch's stretch of them.
@@ -646,9 +673,14 @@ impl Sensitivity {
             let mut rows_of = block.chunks_exact_mut(d);
             rows_of.next().expect("A").copy_from_slice(a);
             rows_of.next().expect("B").copy_from_slice(b);
-            for (i, row) in rows_of.enumerate() {
+            for (i, row) in rows_of.by_ref().take(d).enumerate() {
                 row.copy_from_slice(a);
                 row[i] = b[i];
+            }
+            // BA_i (B with input i taken from A), with second-order indices.
+            for (i, row) in rows_of.enumerate() {
+                row.copy_from_slice(b);
+                row[i] = a[i];
             }
         }
         for row in data.chunks_exact_mut(d) {
@@ -663,7 +695,7 @@ impl Sensitivity {
     /// (replicate after replicate) and its points.
     fn batch(&self) -> (u64, usize) {
         let left = self.options.replicates as u64 * self.pending - self.fed;
-        let most = (self.most_coordinates / ((self.d + 2) * self.d)).max(1) as u64;
+        let most = (self.most_coordinates / (self.rows() * self.d)).max(1) as u64;
         (self.fed, most.min(left) as usize)
     }
 
@@ -781,13 +813,13 @@ impl Sensitivity {
         if self.face_pending {
             return self.feed_faces(points, values);
         }
-        let (r, d) = (self.options.replicates, self.d);
+        let r = self.options.replicates;
         let (start, len) = if self.pending == 0 {
             (0, 0)
         } else {
             self.batch()
         };
-        let rows = len * (d + 2);
+        let rows = len * self.rows();
         if len == 0 || points.n() != rows {
             return Err(Error::invalid(
                 "values",
@@ -810,11 +842,19 @@ impl Sensitivity {
         refuse_non_finite(points, values, k)?;
         let fresh = self.k == 0;
         if fresh {
-            let (centre, scale) = first_scaling(values, k);
+            // From the A, B and AB_i rows alone, so that the first-order and total
+            // indices are the same whether the BA_i rows are evaluated or not.
+            let rows = self.rows();
+            let kept: Vec<f64> = values
+                .chunks_exact(rows * k)
+                .flat_map(|point| &point[..(self.d + 2) * k])
+                .copied()
+                .collect();
+            let (centre, scale) = first_scaling(&kept, k);
             self.k = k;
             self.centre = centre;
             self.scale = scale;
-            self.sums = vec![0.0; r * k * (HEAD + d * PER_INPUT)];
+            self.sums = vec![0.0; r * k * self.width()];
             self.first_value = values[..k].to_vec();
             self.varies = vec![false; k];
         }
@@ -876,7 +916,7 @@ impl Sensitivity {
         if !self.merges() {
             return self.round_sums.clone();
         }
-        let block = self.k * (HEAD + self.d * PER_INPUT);
+        let block = self.k * self.width();
         let all: Vec<&[f64]> = self
             .sums
             .chunks_exact(block)
@@ -954,13 +994,13 @@ impl Sensitivity {
     /// the order of the points, so that the sums do not depend on how it was cut).
     fn accumulate(&mut self, start: u64, len: usize, values: &[f64]) {
         let (d, k, m) = (self.d, self.k, self.pending);
-        let width = HEAD + d * PER_INPUT;
+        let (width, rows, second) = (self.width(), self.rows(), self.options.second_order);
         let scale: Vec<f64> = self.scale.iter().map(|&e| pow2(-e)).collect();
         let centre = &self.centre;
         let y = |row: usize, j: usize| (values[row * k + j] - centre[j]) * scale[j];
         for p in 0..len {
             let rep = ((start + p as u64) / m) as usize;
-            let base = p * (d + 2);
+            let base = p * rows;
             for j in 0..k {
                 let s = &mut self.round_sums[(rep * k + j) * width..(rep * k + j + 1) * width];
                 let (ya, yb) = (y(base, j), y(base + 1, j));
@@ -977,6 +1017,19 @@ impl Sensitivity {
                     t[3] += yi;
                     t[4] += yi * yi;
                 }
+                if second {
+                    let t = &mut s[HEAD + d * PER_INPUT..];
+                    t[0] += ya * yb;
+                    let mut at = PAIR_HEAD;
+                    for i in 0..d {
+                        let (ab_i, ba_i) = (y(base + 2 + i, j), y(base + 2 + d + i, j));
+                        for jj in i + 1..d {
+                            let (ab_j, ba_j) = (y(base + 2 + jj, j), y(base + 2 + d + jj, j));
+                            t[at] += ba_i * ab_j + ba_j * ab_i;
+                            at += 1;
+                        }
+                    }
+                }
             }
         }
     }
@@ -990,7 +1043,7 @@ impl Sensitivity {
         j: usize,
         keep: impl Fn(usize) -> bool,
     ) -> (Vec<f64>, f64) {
-        let width = HEAD + self.d * PER_INPUT;
+        let width = self.width();
         let mut out = vec![0.0; width];
         let mut count = 0.0;
         for rep in (0..self.options.replicates).filter(|&rep| keep(rep)) {
@@ -1003,14 +1056,23 @@ impl Sensitivity {
         (out, count)
     }
 
-    /// (first, total) of every input from pooled sums over `n` points.
-    fn indices(&self, s: &[f64], n: f64) -> (Vec<f64>, Vec<f64>) {
+    /// Every index from pooled sums over `n` points, flat: the d first-order, the d
+    /// total, then with second order the pairs i < j (row after row).
+    ///
+    /// A pair's index is Saltelli (2002)'s, symmetrised: BA_i and AB_j share inputs i
+    /// (from A) and j (from B) and nothing else, so E y_BAi·y_ABj − E y_A·y_B is the
+    /// variance of E[f | x_i, x_j] (the closed index's), from which the two first-order
+    /// parts are taken: S_ij = V^c_ij / V − S_i − S_j.
+    fn indices(&self, s: &[f64], n: f64) -> Vec<f64> {
+        let d = self.d;
         let mean = (s[0] + s[1]) / (2.0 * n);
         let v = (s[2] + s[3]) / (2.0 * n) - mean * mean;
         let (ma, maa, mb, mbb) = (s[0] / n, s[2] / n, s[1] / n, s[3] / n);
-        let mut first = Vec::with_capacity(self.d);
-        let mut total = Vec::with_capacity(self.d);
-        for t in s[HEAD..].chunks_exact(PER_INPUT) {
+        let mut out = vec![0.0; 2 * d];
+        for (i, t) in s[HEAD..HEAD + d * PER_INPUT]
+            .chunks_exact(PER_INPUT)
+            .enumerate()
+        {
             let over = match self.options.total_order {
                 TotalOrder::Jansen => v,
                 TotalOrder::Janon => {
@@ -1018,8 +1080,8 @@ impl Sensitivity {
                     (maa + t[4] / n) / 2.0 - m * m
                 }
             };
-            total.push(t[1] / (2.0 * n) / over);
-            first.push(match self.options.first_order {
+            out[d + i] = t[1] / (2.0 * n) / over;
+            out[i] = match self.options.first_order {
                 FirstOrder::Saltelli => t[0] / n / v,
                 FirstOrder::Janon => {
                     let m = (mb + t[3] / n) / 2.0;
@@ -1027,15 +1089,27 @@ impl Sensitivity {
                     let den = (mbb + t[4] / n) / 2.0 - m * m;
                     num / den
                 }
-            });
+            };
         }
-        (first, total)
+        if self.options.second_order {
+            let t = &s[HEAD + d * PER_INPUT..];
+            let ab = t[0] / n;
+            let mut at = PAIR_HEAD;
+            for i in 0..d {
+                for j in i + 1..d {
+                    let closed = t[at] / (2.0 * n) - ab;
+                    out.push(closed / v - out[i] - out[j]);
+                    at += 1;
+                }
+            }
+        }
+        out
     }
 
-    /// Per output, the estimates (first, total), their jackknife standard errors and
-    /// the estimates from the sums before the last batch (`None` after one batch).
+    /// Per output, every index ([`Sensitivity::indices`]), its jackknife standard error
+    /// and the indices from the sums before the last batch (`None` after one batch).
     #[allow(clippy::type_complexity)]
-    fn estimates(&self) -> Vec<(Indices, Indices, Option<Indices>)> {
+    fn estimates(&self) -> Vec<(Vec<f64>, Vec<f64>, Option<Vec<f64>>)> {
         let r = self.options.replicates;
         let per = self.per_replicate;
         (0..self.k)
@@ -1048,17 +1122,13 @@ impl Sensitivity {
                         self.indices(&s, n)
                     })
                     .collect();
-                let se = |pick: &dyn Fn(&Indices) -> &Vec<f64>| -> Vec<f64> {
-                    (0..self.d)
-                        .map(|i| {
-                            let mean = loo.iter().map(|l| pick(l)[i]).sum::<f64>() / r as f64;
-                            let ss: f64 =
-                                loo.iter().map(|l| (pick(l)[i] - mean).powi(2)).sum::<f64>();
-                            ((r as f64 - 1.0) / r as f64 * ss).sqrt()
-                        })
-                        .collect()
-                };
-                let errors = (se(&|l| &l.0), se(&|l| &l.1));
+                let errors = (0..whole.len())
+                    .map(|i| {
+                        let mean = loo.iter().map(|l| l[i]).sum::<f64>() / r as f64;
+                        let ss: f64 = loo.iter().map(|l| (l[i] - mean).powi(2)).sum::<f64>();
+                        ((r as f64 - 1.0) / r as f64 * ss).sqrt()
+                    })
+                    .collect();
                 let half = (!self.half_sums.is_empty()).then(|| {
                     let (s, n) = self.pooled(&self.half_sums, per / 2, j, |_| true);
                     self.indices(&s, n)
@@ -1069,48 +1139,84 @@ impl Sensitivity {
     }
 
     /// The t quantile the standard errors are multiplied by: each index's own at
-    /// `level`, or, simultaneous, Bonferroni's over the 2·d·k indices.
+    /// `level`, or, simultaneous, Bonferroni's over the 2·d·k indices (and the pairs'
+    /// with second order).
     fn quantile(&self) -> f64 {
         let o = &self.options;
         let alpha = 1.0 - o.level;
         let alpha = if o.simultaneous {
-            alpha / (2 * self.d * self.k.max(1)) as f64
+            alpha / (self.indices_per_output() * self.k.max(1)) as f64
         } else {
             alpha
         };
         student_t_quantile(1.0 - alpha / 2.0, (o.replicates - 1) as f64)
     }
 
+    /// Indices per output: 2·d, and the pairs' with second order.
+    fn indices_per_output(&self) -> usize {
+        2 * self.d
+            + if self.options.second_order {
+                pairs(self.d)
+            } else {
+                0
+            }
+    }
+
+    /// Every index and its half-width so far, index-major (`[i·k + j]`, the indices in
+    /// the order of [`Sensitivity::indices`]); the round guard raises a half-width to
+    /// the index's change since half the points when that is larger. Empty before the
+    /// first batch.
+    fn all_current(&self) -> (Vec<f64>, Vec<f64>) {
+        let t = self.quantile();
+        let (m, k) = (self.indices_per_output(), self.k);
+        let (mut value, mut half_width) = (vec![0.0; m * k], vec![0.0; m * k]);
+        for (j, (now, se, half)) in self.estimates().into_iter().enumerate() {
+            for i in 0..m {
+                let change = half.as_ref().map_or(0.0, |h| (now[i] - h[i]).abs());
+                value[i * k + j] = now[i];
+                half_width[i * k + j] = (t * se[i]).max(change);
+            }
+        }
+        (value, half_width)
+    }
+
     /// The indices and half-widths so far, each d × k, input-major (`[i·k + j]`):
     /// (first, total, first half-width, total half-width). Empty before the first batch.
     pub fn current(&self) -> [Vec<f64>; 4] {
-        let t = self.quantile();
-        let (d, k) = (self.d, self.k);
-        let mut out: [Vec<f64>; 4] = std::array::from_fn(|_| vec![0.0; d * k]);
-        for (j, ((first, total), (sf, st), half)) in self.estimates().into_iter().enumerate() {
-            // The round guard: the change since half the points, when that is larger.
-            let change = |now: &[f64], i: usize, pick: fn(&Indices) -> &Vec<f64>| {
-                half.as_ref().map_or(0.0, |h| (now[i] - pick(h)[i]).abs())
-            };
-            for i in 0..d {
-                out[0][i * k + j] = first[i];
-                out[1][i * k + j] = total[i];
-                out[2][i * k + j] = (t * sf[i]).max(change(&first, i, |h| &h.0));
-                out[3][i * k + j] = (t * st[i]).max(change(&total, i, |h| &h.1));
-            }
+        let (value, half_width) = self.all_current();
+        let dk = self.d * self.k;
+        if value.is_empty() {
+            return std::array::from_fn(|_| Vec::new());
         }
-        out
+        [
+            value[..dk].to_vec(),
+            value[dk..2 * dk].to_vec(),
+            half_width[..dk].to_vec(),
+            half_width[dk..2 * dk].to_vec(),
+        ]
     }
 
-    /// Whether every index's half-width is within `abs_tol` (and finite).
+    /// The second-order indices and their half-widths so far, pair-major over the pairs
+    /// i < j in row order (`[p·k + j]`); empty without second order or before the first
+    /// batch.
+    pub fn second(&self) -> [Vec<f64>; 2] {
+        let (value, half_width) = self.all_current();
+        let dk = 2 * self.d * self.k;
+        if !self.options.second_order || value.is_empty() {
+            return [Vec::new(), Vec::new()];
+        }
+        [value[dk..].to_vec(), half_width[dk..].to_vec()]
+    }
+
+    /// Whether every half-width is within `abs_tol` (and finite), the pairs' with
+    /// second order.
     pub fn met(&self) -> bool {
         if self.k == 0 {
             return false;
         }
-        let [first, total, hf, ht] = self.current();
+        let (value, half_width) = self.all_current();
         let tol = self.options.abs_tol;
-        first.iter().chain(&total).all(|x| x.is_finite())
-            && hf.iter().chain(&ht).all(|h| h.is_finite() && *h <= tol)
+        value.iter().all(|x| x.is_finite()) && half_width.iter().all(|h| h.is_finite() && *h <= tol)
     }
 
     /// Warnings about the settings: too few replicates for a trustworthy interval.
@@ -1195,10 +1301,11 @@ fn check_budget(o: &SensitivityOptions, d: usize) -> Result<(), Error> {
     } else {
         face_evaluations(d)
     };
+    let rows = rows_per_point(d, o.second_order);
     let first = o
         .start_n
         .saturating_mul(o.replicates as u64)
-        .saturating_mul(d as u64 + 2)
+        .saturating_mul(rows as u64)
         .saturating_add(faces);
     if o.max_n < first {
         return Err(Error::invalid(
@@ -1206,10 +1313,10 @@ fn check_budget(o: &SensitivityOptions, d: usize) -> Result<(), Error> {
             o.max_n,
             format!(
                 "at least one first batch: {} points for each of the {} replicates, each \
-                 {} evaluations (d + 2){}, {first} evaluations",
+                 {rows} evaluations ({}){}, {first} evaluations",
                 o.start_n,
                 o.replicates,
-                d + 2,
+                if o.second_order { "2d + 2" } else { "d + 2" },
                 if faces > 0 {
                     format!(", and the face test's {faces}")
                 } else {
@@ -1219,6 +1326,16 @@ fn check_budget(o: &SensitivityOptions, d: usize) -> Result<(), Error> {
         ));
     }
     Ok(())
+}
+
+/// Evaluations per point of d inputs: A, B and each AB_i (d + 2), and each BA_i with
+/// second-order indices (2d + 2).
+fn rows_per_point(d: usize, second_order: bool) -> usize {
+    if second_order {
+        2 * d + 2
+    } else {
+        d + 2
+    }
 }
 
 /// Refuses NaN or ±∞ among f's `values` (k per point), naming the first one's point and
@@ -1278,6 +1395,13 @@ pub struct SobolResult {
     pub first_half_width: Vec<f64>,
     /// Half-width of each total index's interval.
     pub total_half_width: Vec<f64>,
+    /// Second-order indices of the pairs i < j in row order, pair-major (`[p·k + j]`);
+    /// empty unless asked for (results saved before: empty).
+    #[serde(default)]
+    pub second: Vec<f64>,
+    /// Half-width of each second-order index's interval.
+    #[serde(default)]
+    pub second_half_width: Vec<f64>,
     /// Outputs k.
     pub outputs: usize,
     /// The inputs' names.
@@ -1297,11 +1421,14 @@ pub struct SobolResult {
 impl From<Sensitivity> for SobolResult {
     fn from(state: Sensitivity) -> SobolResult {
         let [first, total, first_half_width, total_half_width] = state.current();
+        let [second, second_half_width] = state.second();
         SobolResult {
             first,
             total,
             first_half_width,
             total_half_width,
+            second,
+            second_half_width,
             outputs: state.outputs(),
             names: state.names().to_vec(),
             n: state.n(),
@@ -1383,17 +1510,28 @@ pub fn check_independent(
 
 impl Sensitivity {
     /// `{prefix}: n=4096  widest half-width=3.1e-02 (T of x2) (target 1.0e-02)  2.3 s`: the
-    /// widest interval of every first-order (S) and total (T) index, named by its input
-    /// (and output, with several).
+    /// widest interval of every first-order (S), total (T) and second-order (S of
+    /// `x1,x3`) index, named by its inputs (and output, with several).
     pub fn progress_line(&self, prefix: &str, seconds: f64) -> String {
         let [_, _, first, total] = self.current();
+        let [_, second] = self.second();
         let k = self.outputs().max(1);
-        let widths = first.iter().map(|h| (*h, 'S')).enumerate();
-        let widths = widths.chain(total.iter().map(|h| (*h, 'T')).enumerate());
-        // The widest; among equals the total, then the later index.
-        let widest =
-            widths.max_by(|(i, (h, s)), (j, (g, t))| h.total_cmp(g).then(s.cmp(t)).then(i.cmp(j)));
-        let Some((i, (h, kind))) = widest else {
+        let names = self.names();
+        let pair_names: Vec<String> = (0..self.d)
+            .flat_map(|i| (i + 1..self.d).map(move |j| (i, j)))
+            .map(|(i, j)| format!("{},{}", names[i], names[j]))
+            .collect();
+        let widths = first.iter().map(|h| (*h, 'S', 0)).enumerate();
+        let widths = widths.chain(total.iter().map(|h| (*h, 'T', 1)).enumerate());
+        let widths = widths.chain(second.iter().map(|h| (*h, 'S', 2)).enumerate());
+        // The widest; among equals the total, then a pair, then the later index.
+        let widest = widths.max_by(|(i, (h, _, a)), (j, (g, _, b))| {
+            h.total_cmp(g)
+                .then((a % 2).cmp(&(b % 2)))
+                .then(a.cmp(b))
+                .then(i.cmp(j))
+        });
+        let Some((i, (h, kind, of))) = widest else {
             return format!("{prefix}: n={}", self.n());
         };
         let output = if k > 1 {
@@ -1401,11 +1539,15 @@ impl Sensitivity {
         } else {
             String::new()
         };
+        let inputs = if of == 2 {
+            &pair_names[i / k]
+        } else {
+            &names[i / k]
+        };
         format!(
-            "{prefix}: n={}  widest half-width={} ({kind} of {}{output}) (target {})  {seconds:.1} s",
+            "{prefix}: n={}  widest half-width={} ({kind} of {inputs}{output}) (target {})  {seconds:.1} s",
             self.n(),
             crate::progress::sci(h, 1),
-            self.names()[i / k],
             crate::progress::sci(self.options().abs_tol, 1)
         )
     }
@@ -1435,6 +1577,101 @@ mod tests {
             max_n: 100_000,
             ..SensitivityOptions::default()
         }
+    }
+
+    /// The pairs (i, j), i < j, in the order of `second`.
+    fn pair_list(d: usize) -> Vec<(usize, usize)> {
+        (0..d)
+            .flat_map(|i| (i + 1..d).map(move |j| (i, j)))
+            .collect()
+    }
+
+    /// Ishigami's function (a = 7, b = 0.1) on [−π, π]³: S_13 = 8b²π⁸/225 / V, the other
+    /// pairs 0, and with no interaction of all three the first-order and second-order
+    /// indices add up to 1.
+    #[test]
+    fn second_order_indices_of_ishigami_s_function_are_its_closed_forms() {
+        let (a, b) = (7.0, 0.1);
+        let pi = std::f64::consts::PI;
+        let v = a * a / 8.0 + b * pi.powi(4) / 5.0 + b * b * pi.powi(8) / 18.0 + 0.5;
+        let s13 = 8.0 * b * b * pi.powi(8) / 225.0 / v;
+        let options = SensitivityOptions {
+            a: Some(vec![-pi; 3]),
+            b: Some(vec![pi; 3]),
+            abs_tol: 0.01,
+            second_order: true,
+            ..SensitivityOptions::default()
+        };
+        let r = sobol_indices(
+            |x| {
+                x.rows()
+                    .map(|p| p[0].sin() + a * p[1].sin().powi(2) + b * p[2].powi(4) * p[0].sin())
+                    .collect()
+            },
+            3,
+            options,
+        )
+        .unwrap();
+        assert!(r.met);
+        assert_eq!(r.second.len(), 3);
+        let want = [0.0, s13, 0.0];
+        for (p, &(i, j)) in pair_list(3).iter().enumerate() {
+            assert!(
+                (r.second[p] - want[p]).abs() <= 0.015,
+                "S_{i}{j} = {} against {}",
+                r.second[p],
+                want[p]
+            );
+            assert!(r.second_half_width[p] <= 0.01);
+        }
+        let sum: f64 = r.first.iter().chain(&r.second).sum();
+        assert!((sum - 1.0).abs() < 0.03, "{sum}");
+        // d + 2 more evaluations per point than without: 2d + 2 in all.
+        let per_point = (r.n - face_evaluations(3)) / (r.state.per_replicate() * 8);
+        assert_eq!(per_point, 8);
+    }
+
+    /// f = x1·x2 (x3 inert): V = 7/144, V_1 = V_2 = 3/144, V_12 = 1/144, so S_12 = 1/7; and
+    /// the first-order and total indices are those of the same points without the BA_i
+    /// rows, bit for bit.
+    #[test]
+    fn second_order_adds_pairs_without_changing_the_other_indices() {
+        let f = |x: &PointSet| x.rows().map(|p| p[0] * p[1]).collect::<Vec<f64>>();
+        let mut with = Sensitivity::new(
+            3,
+            SensitivityOptions {
+                second_order: true,
+                ..options()
+            },
+        )
+        .unwrap();
+        let mut without = Sensitivity::new(3, options()).unwrap();
+        for state in [&mut with, &mut without] {
+            for _ in 0..6 {
+                let x = state.next_points().unwrap();
+                let y = f(&x);
+                state.feed(&x, &y).unwrap();
+            }
+        }
+        assert_eq!(with.current(), without.current());
+        assert!(without.second()[0].is_empty());
+        let [second, half] = with.second();
+        let want = [1.0 / 7.0, 0.0, 0.0];
+        for p in 0..3 {
+            assert!((second[p] - want[p]).abs() < 0.01, "{second:?}");
+            assert!(
+                (second[p] - want[p]).abs() <= half[p].max(1e-3),
+                "{second:?} {half:?}"
+            );
+        }
+        // A state saved without the option reads as one without it.
+        let mut json = serde_json::to_value(&without).unwrap();
+        json["options"]
+            .as_object_mut()
+            .unwrap()
+            .remove("second_order");
+        let back: Sensitivity = serde_json::from_value(json).unwrap();
+        assert_eq!(back, without);
     }
 
     #[test]

@@ -173,6 +173,11 @@ driver!(PySensitivity, "Sensitivity", Sensitivity, SensitivityOptions, {
         let first = o.first_order.as_str();
         (o.abs_tol, o.level, o.simultaneous, first, o.replicates, o.max_n, o.seed)
     };
+    second -> (Vec<f64>, Vec<f64>) = |s: &Sensitivity| {
+        let [a, b] = s.second();
+        (a, b)
+    };
+    second_order -> bool = |s: &Sensitivity| s.options().second_order;
     n -> u64 = Sensitivity::n;
     d -> usize = Sensitivity::d;
     names -> Vec<String> = |s: &Sensitivity| s.names().to_vec();

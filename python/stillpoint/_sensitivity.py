@@ -64,9 +64,37 @@ class SobolResult(_Result):
     first_order = first
     total_order = total
 
+    def _pairs(self, which: int) -> Optional[np.ndarray]:
+        """The second-order indices (which = 0) or their half-widths (1) as a symmetric
+        (d, d) array, (d, d, k) for k outputs, NaN on the diagonal; None unless asked
+        for."""
+        if not self._state.second_order:
+            return None
+        d, k = self.d, max(1, int(self._state.outputs))
+        flat = np.array(self._state.second[which], dtype=np.float64).reshape(-1, k)
+        out = np.full((d, d, k), np.nan)
+        i, j = np.triu_indices(d, 1)
+        out[i, j] = flat
+        out[j, i] = flat
+        return out[:, :, 0] if self._setup.get("scalar", True) and k == 1 else out
+
+    @property
+    def second(self) -> Optional[np.ndarray]:
+        """Second-order indices S_ij (``second_order=True``): the share of the variance
+        due to inputs i and j together beyond each alone, a symmetric (d, d) array
+        ((d, d, k) for k outputs) with NaN on the diagonal; None when not asked for."""
+        return self._pairs(0)
+
+    @property
+    def second_half_width(self) -> Optional[np.ndarray]:
+        """Half-width of each second-order index's interval at ``level``, shaped as
+        ``second``; None when not asked for."""
+        return self._pairs(1)
+
     @property
     def n(self) -> int:
-        """Evaluations of f made, all rounds: (d + 2) per point of every replicate, and
+        """Evaluations of f made, all rounds: (d + 2) per point of every replicate (2d + 2
+        with ``second_order``), and
         over a box or bounded laws the face test's 8·d (f at 4 points with each input in
         turn just inside both ends of its range; the lattice takes the inputs f is
         periodic in without the tent)."""
@@ -133,6 +161,7 @@ def sobol_indices(
     level: Optional[float] = None,
     simultaneous: Optional[bool] = None,
     first_estimator: Optional[str] = None,
+    second_order: Optional[bool] = None,
     replicates: Optional[int] = None,
     max_n: Optional[int] = None,
     seed: Any = _SEED,
@@ -184,6 +213,13 @@ def sobol_indices(
         applies to these wider ones.
     first_estimator : str, optional
         ``"saltelli"`` or ``"janon"``; by default ``"saltelli"``.
+    second_order : bool, optional
+        By default False. True: also every pair's second-order index S_ij (the share of
+        the variance due to inputs i and j together beyond each alone), Saltelli
+        (2002)'s estimator symmetrised, from f at each BA_i (B with input i taken from A)
+        as well: 2d + 2 evaluations per point; the tolerance then applies to these
+        intervals too. The first-order and total indices are those of the same points
+        without them.
     replicates : int, optional
         Replicates R, 2 to 16384 (by default 8): the blocks of the one sequence the
         intervals come from; the estimate uses every point whatever R is.
@@ -198,7 +234,8 @@ def sobol_indices(
         An earlier result to continue from: its evaluations are kept. ``abs_tol``,
         ``level``, ``simultaneous`` and ``max_n`` are honoured when given; ``d`` must
         match; ``space``, ``a`` and ``b`` are refused with it, ``replicates``,
-        ``first_estimator`` and ``seed`` unless equal to the earlier ones.
+        ``first_estimator``, ``second_order`` and ``seed`` unless equal to the earlier
+        ones.
     progress : bool or callable
         After each round: True writes one line to standard error (evaluations, the
         widest half-width against ``abs_tol``, seconds); a callable gets a copy of the
@@ -219,7 +256,7 @@ def sobol_indices(
     """
     given = dict(
         d=d, space=space, a=a, b=b, abs_tol=abs_tol, level=level, simultaneous=simultaneous,
-        first_estimator=first_estimator, replicates=replicates, max_n=max_n, seed=seed,
-        correlation=correlation,
+        first_estimator=first_estimator, second_order=second_order, replicates=replicates,
+        max_n=max_n, seed=seed, correlation=correlation,
     )
     return SobolResult(*_run(SobolResult, f, given, start, executor, progress))

@@ -45,6 +45,39 @@ def test_ishigami_meets_its_closed_form_within_the_tolerance():
     assert (r.n - faces) % (8 * 5) == 0 and ((r.n - faces) // 40) & ((r.n - faces) // 40 - 1) == 0
 
 
+def test_second_order_indices_meet_ishigami_s_closed_form():
+    # V_13 = 8 b² π⁸ / 225 is Ishigami's only interaction: S_13 = T_3, S_12 = S_23 = 0,
+    # and the first-order and second-order indices add up to 1.
+    r = sp.sobol_indices(ishigami, 3, a=-math.pi, b=math.pi, second_order=True)
+    first, total = ishigami_exact()
+    want = np.array([[np.nan, 0, total[2]], [0, np.nan, 0], [total[2], 0, np.nan]])
+    assert r.met and r.second.shape == (3, 3) and r.second_half_width.shape == (3, 3)
+    off = ~np.eye(3, dtype=bool)
+    assert np.all(np.isnan(r.second[~off])) and np.array_equal(r.second, r.second.T, equal_nan=True)
+    assert np.all(np.abs(r.second[off] - want[off]) <= 0.01), r.second
+    assert np.all(r.second_half_width[off] <= 0.01)
+    assert np.all(np.abs(r.first - first) <= 0.01)
+    assert abs(r.first.sum() + r.second[np.triu_indices(3, 1)].sum() - 1) <= 0.02
+    # 2d + 2 evaluations per point of 8 blocks, and the face test's.
+    per = (r.n - 2 * 3 * 4) // 8
+    assert (r.n - 24) % 8 == 0 and per % 8 == 0
+    assert sp.sobol_indices(ishigami, 3, a=-math.pi, b=math.pi).second is None
+
+
+def test_second_order_indices_of_a_product_and_of_several_outputs():
+    # f = x1·x2 on the unit cube (x3 inert): V = 7/144, V_1 = V_2 = 3/144, S_12 = 1/7.
+    r = sp.sobol_indices(lambda x: np.stack([x[:, 0] * x[:, 1], x[:, 2]], axis=1), 3,
+                         second_order=True)
+    assert r.second.shape == (3, 3, 2)
+    assert abs(r.second[0, 1, 0] - 1 / 7) <= 0.01 and abs(r.second[0, 2, 0]) <= 0.01
+    assert np.all(np.abs(r.second[np.triu_indices(3, 1)][:, 1]) <= 0.01)
+    # A continuation keeps the design of its points.
+    with pytest.raises(ValueError, match=r"invalid second_order = False with start: .* design \(second_order = true\)"):
+        sp.sobol_indices(lambda x: x[:, 0] * x[:, 1], 3, start=sp.sobol_indices(
+            lambda x: x[:, 0] * x[:, 1], 3, second_order=True, abs_tol=0.2),
+            second_order=False)
+
+
 def test_d_is_taken_from_the_corners():
     # d inferred from the corners; same seed, same indices as the typed d.
     r1 = sp.sobol_indices(ishigami, a=[-math.pi] * 3, b=[math.pi] * 3)

@@ -345,6 +345,11 @@ trait Integration: Clone {
     /// The word a continuation keeps (the rule, the estimator): its option, the earlier
     /// word and how a refusal names it.
     fn kept_word(&self) -> (Opt, &'static str, String);
+    /// A flag a continuation keeps (the design of its points): its option and the
+    /// earlier value.
+    fn kept_flag(&self) -> Option<(Opt, bool)> {
+        None
+    }
     /// The tolerances given to a continuation, honoured.
     fn set_tolerances(&mut self, r: &Request) -> Result<(), Error>;
     fn set_level(&mut self, level: f64) -> Result<(), Error>;
@@ -401,6 +406,12 @@ fn continued<T: Integration>(earlier: &T, r: &Request, sp: &Spelling) -> Result<
         let (opt, word_then, said) = earlier.kept_word();
         if let Some(w) = word(r, opt)? {
             kept.equal(opt, w == word_then, &said)?;
+        }
+        if let Some((opt, then)) = earlier.kept_flag() {
+            if let Some(given) = flag(r, opt)? {
+                let said = format!("design ({} = {then})", sp.spell(opt.name()));
+                kept.equal(opt, given == then, &said)?;
+            }
         }
         state.set_tolerances(r)?;
         if let Some(level) = real(r, Opt::level)? {
@@ -599,6 +610,7 @@ impl Integration for Sensitivity {
             None => o.first_order,
         };
         let simultaneous = flag(r, Opt::simultaneous)?;
+        let second_order = flag(r, Opt::second_order)?;
         let g = Shared::read(r)?;
         let options = SensitivityOptions {
             a: region.a,
@@ -612,6 +624,7 @@ impl Integration for Sensitivity {
             max_n: g.max_n.unwrap_or(o.max_n),
             seed: g.seed.unwrap_or(o.seed),
             rule: Rule::for_space(space).0,
+            second_order: second_order.unwrap_or(o.second_order),
             ..o
         };
         Sensitivity::new(region.d, options)
@@ -650,6 +663,10 @@ impl Integration for Sensitivity {
             self.set_simultaneous(s);
         }
         Ok(())
+    }
+    fn kept_flag(&self) -> Option<(Opt, bool)> {
+        // The BA_i rows are part of every point's design.
+        Some((Opt::second_order, self.options().second_order))
     }
 }
 

@@ -540,6 +540,10 @@ options! {
         for [Sensitivity],
         bool: Kind::Flag, "true or false", default |_| Some("false".into()),
         "The intervals hold all together at level (Bonferroni), not each on its own.";
+    second_order: "second_order", cli "--second-order", python Some("second_order"),
+        for [Sensitivity],
+        bool: Kind::Flag, "true or false", default |_| Some("false".into()),
+        "Also every pair's second-order index S_ij (Saltelli 2002; d more evaluations per point).";
     first_estimator: "first_estimator", cli "--first-estimator",
         python Some("first_estimator"), for [Sensitivity],
         String: Kind::Word(words::first_estimators), "saltelli or janon",
