@@ -14,6 +14,13 @@ seeds 0..). Also printed: the RMSE of the first-order and total indices of the s
 and how often each pair lay within stillpoint's own half-width (its coverage).
 
     python benches/sensitivity_second.py --bases 1024,8192 --reps 10 [--out DIR]
+    python benches/sensitivity_second.py --tol 0.01 --reps 20 [--out DIR]
+
+With `--tol`, to a tolerance instead: stillpoint runs with `abs_tol=tol` (every index,
+pairs included, to that half-width); SALib doubles its base sample from 64 until every
+bootstrap half-width it reports (`S1_conf`, `ST_conf`, `S2_conf`, 100 resamples) is ≤
+tol, charged the evaluations of its last sample only. Printed: the median evaluations,
+and the share of runs whose every pair landed within tol of the closed form.
 
 Needs SALib (a bench dependency only).
 """
@@ -96,6 +103,56 @@ def salib(f, d, lo, hi, n_base, seed):
     return np.asarray(res["S1"]), np.asarray(res["ST"]), upper(res["S2"]), len(y)
 
 
+def ours_to(f, d, lo, hi, tol, seed):
+    r = sp.sobol_indices(f, d, a=lo, b=hi, abs_tol=tol, second_order=True, seed=seed)
+    return upper(r.second), r.n, r.met
+
+
+def salib_to(f, d, lo, hi, tol, seed, largest=2**16):
+    from SALib.analyze import sobol as sa
+    from SALib.sample import sobol as ss
+
+    problem = {"num_vars": d, "names": [f"x{i}" for i in range(d)], "bounds": [[lo, hi]] * d}
+    n_base = 64
+    while True:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            x = ss.sample(problem, n_base, calc_second_order=True, scramble=True, seed=seed)
+            y = f(x)
+            res = sa.analyze(problem, y, calc_second_order=True, seed=seed,
+                             num_resamples=100)
+        conf = np.r_[res["S1_conf"], res["ST_conf"], upper(res["S2_conf"])]
+        if np.nanmax(conf) <= tol or n_base >= largest:
+            return upper(res["S2"]), len(y), bool(np.nanmax(conf) <= tol)
+        n_base *= 2
+
+
+def to_tolerance(a):
+    rows = []
+    for name, f, d, lo, hi, _, second in models():
+        if d > 8:
+            continue  # SALib's bootstrap over 276 pairs to 0.01 is beyond this bench's time
+        t0 = time.perf_counter()
+        res = {"stillpoint": [], "salib": []}
+        for seed in range(a.reps):
+            for label, run in (("stillpoint", ours_to), ("salib", salib_to)):
+                s2, n, met = run(f, d, lo, hi, a.tol, seed)
+                res[label].append((n, met, bool(np.all(np.abs(s2 - second) <= a.tol))))
+        row = {"model": name, "d": d, "tol": a.tol, "seconds": round(time.perf_counter() - t0, 1)}
+        for label, rs in res.items():
+            row[f"{label}_median_n"] = float(np.median([n for n, _, _ in rs]))
+            row[f"{label}_met"] = float(np.mean([m for _, m, _ in rs]))
+            row[f"{label}_within"] = float(np.mean([w for _, _, w in rs]))
+        row["ratio"] = row["stillpoint_median_n"] / row["salib_median_n"]
+        rows.append(row)
+        print(f"{name:20s} tol {a.tol}  ours median n {row['stillpoint_median_n']:.0f} "
+              f"(met {row['stillpoint_met']:.2f}, every pair within tol "
+              f"{row['stillpoint_within']:.2f})  SALib {row['salib_median_n']:.0f} (met "
+              f"{row['salib_met']:.2f}, within {row['salib_within']:.2f})  ratio "
+              f"{row['ratio']:.2f}  {row['seconds']} s", flush=True)
+    return rows
+
+
 def rms(xs):
     return float(np.sqrt(np.mean(np.square(xs))))
 
@@ -105,7 +162,16 @@ def main():
     ap.add_argument("--bases", default="1024,8192")
     ap.add_argument("--reps", type=int, default=10)
     ap.add_argument("--out", default=None)
+    ap.add_argument("--tol", type=float, default=None)
     a = ap.parse_args()
+    if a.tol is not None:
+        rows = to_tolerance(a)
+        if a.out:
+            os.makedirs(a.out, exist_ok=True)
+            with open(os.path.join(a.out, f"second_order_tol{a.tol}.json"), "w") as fh:
+                json.dump({"command": " ".join(sys.argv), "reps": a.reps, "rows": rows}, fh,
+                          indent=1)
+        return
     rows = []
     for n_base in [int(x) for x in a.bases.split(",")]:
         for name, f, d, lo, hi, (first, total), second in models():

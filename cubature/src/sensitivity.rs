@@ -28,6 +28,9 @@
 //! first:  S_i = (1/n) Σ y_B (y_ABi − y_A) / V                (Saltelli et al. 2010)
 //!     or  S_i = Janon et al. (2014): the correlation of y_B and y_ABi with the means and
 //!               variances pooled over both
+//! pairs:  S_ij = [(1/2n) Σ (y_BAi·y_ABj + y_BAj·y_ABi) − (1/n) Σ y_A·y_B] / V − S_i − S_j
+//!               (Saltelli 2002, symmetrised; by name, `second_order`: f also at each
+//!               BA_i, B with coordinate i taken from A, 2d + 2 evaluations per point)
 //! ```
 //!
 //! Janon's total is 1 minus the pooled correlation of y_A and y_ABi (which share every
