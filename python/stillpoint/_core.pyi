@@ -163,6 +163,8 @@ class Sensitivity:
     def feed(self, values: npt.NDArray[np.float64]) -> None: ...
     def progress_line(self, prefix: str, seconds: float) -> str: ...
     current: Tuple[List[float], List[float], List[float], List[float]]
+    second: Tuple[List[float], List[float]]
+    second_order: bool
     reason: Optional[str]
     settings: Tuple[float, float, bool, str, int, int, int]
     n: int

@@ -26,7 +26,9 @@ class SobolResult(_Result):
     own interval, or all together when ``simultaneous``); ``n`` the evaluations of f, all
     rounds; ``met`` whether every half-width is within ``abs_tol``; ``reason`` why it
     stopped (``"met"``, ``"max_n"`` or ``"sequence"``); ``names`` the inputs' names
-    (the space's, or ``x1`` … ``xd``).
+    (the space's, or ``x1`` … ``xd``); with ``second_order=True``, ``second`` and
+    ``second_half_width`` the pairs' indices, symmetric (d, d) arrays with NaN on the
+    diagonal.
 
     Pass it back as ``sobol_indices(f, d, abs_tol=..., start=result)`` to continue with
     a tighter tolerance: only new points are evaluated. Picklable.
