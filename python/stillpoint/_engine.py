@@ -526,6 +526,8 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
                 for t in space["items"]
             ]
             extra += f", space={shown!r}"
+            if space["matrix"] is not None:
+                extra += f", correlation={space['matrix'].tolist()!r}"
         if "rule" in getattr(self, "_init_quad", {}):
             extra += f", rule={self._init_quad['rule']!r}"
         if self._randomize != "tent":

@@ -366,6 +366,12 @@ def test_an_engine_under_a_space_pickles_and_continues():
     assert np.array_equal(f.random(16), e.random(16))
     assert np.array_equal(f.to_space(np.full((1, 6), 0.5)), e.to_space(np.full((1, 6), 0.5)))
     assert sp.Engine(space=PATHS, seed=9) != sp.Engine(5, rule="sobol", seed=9)
+    # A correlated space maps its draws through the copula, and shows it.
+    c = sp.Engine(space={"x": "normal(0,1)", "y": "normal(0,1)"}, correlation=[[1, 0.8], [0.8, 1]],
+                  seed=1)
+    v = c.to_space(c.random(4096))
+    assert abs(np.corrcoef(v.T)[0, 1] - 0.8) < 0.01
+    assert "correlation=[[1.0, 0.8], [0.8, 1.0]]" in repr(c)
 
 
 @pytest.mark.parametrize(
