@@ -7,7 +7,7 @@ use stillpoint::cubature::StopReason;
 use stillpoint::parse::expr::RegionExpr;
 use stillpoint::pipeline::integration::{FromRequest, Spelling};
 use stillpoint::pipeline::options::Opt;
-use stillpoint::sensitivity::Sensitivity;
+use stillpoint::sensitivity::{Sensitivity, SensitivityOptions, SobolResult};
 
 /// `sensitivity --expr EXPR (-s S | --var NAME=TYPE ...) --abs-tol T ...`.
 #[derive(clap::Args, Debug, Clone)]
@@ -124,113 +124,129 @@ pub(crate) fn sensitivity_command(q: SensitivityArgs) -> Result<()> {
         return Err(refused(e));
     }
     run.map_err(refused)?;
-    let r = stillpoint::sensitivity::SobolResult::from(state);
+    let r = SobolResult::from(state);
     for w in &r.warnings {
         noteln!("warning: {w}");
     }
-    let reason = r.reason.map_or("running", StopReason::as_str);
     if let Some(path) = &q.plot {
-        let chart = stillpoint_plot::BarChart {
-            title: format!("Sobol' indices, intervals at level {}", options.level),
-            y_label: "index".into(),
-            groups: r.names.clone(),
-            bars: vec![
-                stillpoint_plot::Bars {
-                    name: "first order".into(),
-                    values: r.first.clone(),
-                    half_widths: r.first_half_width.clone(),
-                },
-                stillpoint_plot::Bars {
-                    name: "total".into(),
-                    values: r.total.clone(),
-                    half_widths: r.total_half_width.clone(),
-                },
-            ],
-        };
-        stillpoint_plot::save_bar_chart(path, &chart)
-            .with_context(|| format!("--plot {}", path.display()))?;
+        plot_indices(path, &r, options.level)?;
     }
     if q.json {
-        // The inputs the lattice takes without the tent (the face test found f periodic
-        // in them).
-        let periodic: Vec<&String> = r
-            .names
-            .iter()
-            .zip(r.state.periodic())
-            .filter_map(|(name, &p)| p.then_some(name))
-            .collect();
-        let mut v = json!({"expr": text, "names": r.names, "first": r.first, "total": r.total,
-                       "first_half_width": r.first_half_width,
-                       "total_half_width": r.total_half_width, "n": r.n,
-                       "met": r.met, "reason": reason, "periodic": periodic});
-        if options.second_order {
-            // One entry per pair i < j, in row order.
-            v["second"] = json!(pairs(&r.names)
-                .zip(r.second.iter().zip(&r.second_half_width))
-                .map(|((a, b), (s, h))| json!({"inputs": [a, b], "index": s, "half_width": h}))
-                .collect::<Vec<_>>());
-        }
-        record(
-            &mut v,
-            [
-                (Opt::replicates, json!(options.replicates)),
-                (Opt::level, json!(options.level)),
-                (Opt::simultaneous, json!(options.simultaneous)),
-                (Opt::abs_tol, json!(options.abs_tol)),
-                (Opt::first_estimator, json!(options.first_order.as_str())),
-                (Opt::second_order, json!(options.second_order)),
-                (Opt::rule, json!(options.rule.as_str())),
-            ],
-        );
-        outln!("{}", serde_json::to_string_pretty(&v)?);
+        print_json(text, &r, &options)
     } else {
-        let width = r
-            .names
-            .iter()
-            .map(|n| n.chars().count())
-            .max()
-            .unwrap_or(0)
-            .max(5);
-        outln!(
-            "{:width$}  {:>8}  {:>8}  {:>8}  {:>8}",
-            "input",
-            "first",
-            "±",
-            "total",
-            "±"
-        );
-        for (i, name) in r.names.iter().enumerate() {
-            outln!(
-                "{name:width$}  {:>8.4}  {:>8.4}  {:>8.4}  {:>8.4}",
-                r.first[i],
-                r.first_half_width[i],
-                r.total[i],
-                r.total_half_width[i]
-            );
-        }
-        if options.second_order {
-            let pair_width = (2 * width + 1).max(4);
-            outln!("{:pair_width$}  {:>8}  {:>8}", "pair", "second", "±");
-            for ((a, b), (s, h)) in pairs(&r.names).zip(r.second.iter().zip(&r.second_half_width)) {
-                outln!("{:pair_width$}  {s:>8.4}  {h:>8.4}", format!("{a},{b}"));
-            }
-        }
-        let which = if options.simultaneous {
-            "all together"
-        } else {
-            "each on its own"
-        };
-        outln!("intervals    level {} ({which})", options.level);
-        outln!("evaluations  {} ({} replicates)", r.n, options.replicates);
-        let why = match r.reason {
-            Some(StopReason::Met) | None => "yes".to_string(),
-            Some(StopReason::MaxN) => format!("no: --max-n {} reached first", options.max_n),
-            Some(StopReason::Sequence) => {
-                "no: the sequence's 2^20 points reached first".to_string()
-            }
-        };
-        outln!("met          {why}");
+        print_table(&r, &options)
     }
+}
+
+/// Draws the indices as bars with their intervals (`--plot FILE`).
+fn plot_indices(path: &std::path::Path, r: &SobolResult, level: f64) -> Result<()> {
+    let chart = stillpoint_plot::BarChart {
+        title: format!("Sobol' indices, intervals at level {}", level),
+        y_label: "index".into(),
+        groups: r.names.clone(),
+        bars: vec![
+            stillpoint_plot::Bars {
+                name: "first order".into(),
+                values: r.first.clone(),
+                half_widths: r.first_half_width.clone(),
+            },
+            stillpoint_plot::Bars {
+                name: "total".into(),
+                values: r.total.clone(),
+                half_widths: r.total_half_width.clone(),
+            },
+        ],
+    };
+    stillpoint_plot::save_bar_chart(path, &chart)
+        .with_context(|| format!("--plot {}", path.display()))?;
+    Ok(())
+}
+
+/// Prints the indices as one JSON object (`--json`).
+fn print_json(text: &str, r: &SobolResult, options: &SensitivityOptions) -> Result<()> {
+    let reason = r.reason.map_or("running", StopReason::as_str);
+    // The inputs the lattice takes without the tent (the face test found f periodic
+    // in them).
+    let periodic: Vec<&String> = r
+        .names
+        .iter()
+        .zip(r.state.periodic())
+        .filter_map(|(name, &p)| p.then_some(name))
+        .collect();
+    let mut v = json!({"expr": text, "names": r.names, "first": r.first, "total": r.total,
+                   "first_half_width": r.first_half_width,
+                   "total_half_width": r.total_half_width, "n": r.n,
+                   "met": r.met, "reason": reason, "periodic": periodic});
+    if options.second_order {
+        // One entry per pair i < j, in row order.
+        v["second"] = json!(pairs(&r.names)
+            .zip(r.second.iter().zip(&r.second_half_width))
+            .map(|((a, b), (s, h))| json!({"inputs": [a, b], "index": s, "half_width": h}))
+            .collect::<Vec<_>>());
+    }
+    record(
+        &mut v,
+        [
+            (Opt::replicates, json!(options.replicates)),
+            (Opt::level, json!(options.level)),
+            (Opt::simultaneous, json!(options.simultaneous)),
+            (Opt::abs_tol, json!(options.abs_tol)),
+            (Opt::first_estimator, json!(options.first_order.as_str())),
+            (Opt::second_order, json!(options.second_order)),
+            (Opt::rule, json!(options.rule.as_str())),
+        ],
+    );
+    outln!("{}", serde_json::to_string_pretty(&v)?);
+    Ok(())
+}
+
+/// Prints the indices as a table: a row per input, then (with second order) a row per
+/// pair, then the settings and whether the tolerance was met.
+fn print_table(r: &SobolResult, options: &SensitivityOptions) -> Result<()> {
+    let width = r
+        .names
+        .iter()
+        .map(|n| n.chars().count())
+        .max()
+        .unwrap_or(0)
+        .max(5);
+    outln!(
+        "{:width$}  {:>8}  {:>8}  {:>8}  {:>8}",
+        "input",
+        "first",
+        "±",
+        "total",
+        "±"
+    );
+    for (i, name) in r.names.iter().enumerate() {
+        outln!(
+            "{name:width$}  {:>8.4}  {:>8.4}  {:>8.4}  {:>8.4}",
+            r.first[i],
+            r.first_half_width[i],
+            r.total[i],
+            r.total_half_width[i]
+        );
+    }
+    if options.second_order {
+        let pair_width = (2 * width + 1).max(4);
+        outln!("{:pair_width$}  {:>8}  {:>8}", "pair", "second", "±");
+        for ((a, b), (s, h)) in pairs(&r.names).zip(r.second.iter().zip(&r.second_half_width)) {
+            outln!("{:pair_width$}  {s:>8.4}  {h:>8.4}", format!("{a},{b}"));
+        }
+    }
+    let which = if options.simultaneous {
+        "all together"
+    } else {
+        "each on its own"
+    };
+    outln!("intervals    level {} ({which})", options.level);
+    outln!("evaluations  {} ({} replicates)", r.n, options.replicates);
+    let why = match r.reason {
+        Some(StopReason::Met) | None => "yes".to_string(),
+        Some(StopReason::MaxN) => format!("no: --max-n {} reached first", options.max_n),
+        Some(StopReason::Sequence) => "no: the sequence's 2^20 points reached first".to_string(),
+    };
+    outln!("met          {why}");
     Ok(())
 }
 

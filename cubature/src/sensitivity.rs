@@ -236,6 +236,18 @@ fn pairs(d: usize) -> usize {
     d * d.saturating_sub(1) / 2
 }
 
+/// The inputs (i, j) of pair p in row order (i < j).
+fn pair_of(mut p: usize, d: usize) -> (usize, usize) {
+    for i in 0..d {
+        let row = d - 1 - i;
+        if p < row {
+            return (i, i + 1 + p);
+        }
+        p -= row;
+    }
+    unreachable!("pair index within d(d − 1)/2")
+}
+
 /// The state of a sensitivity analysis (see the module documentation): ask for the next
 /// batch of points, feed back f's values, read the indices. Serializable, so a front end
 /// can save it and continue with a tighter tolerance.
@@ -1001,6 +1013,8 @@ impl Sensitivity {
         let scale: Vec<f64> = self.scale.iter().map(|&e| pow2(-e)).collect();
         let centre = &self.centre;
         let y = |row: usize, j: usize| (values[row * k + j] - centre[j]) * scale[j];
+        // A point's AB_i and BA_i values, scaled once for the pairs' O(d²) sums.
+        let (mut ab, mut ba) = (vec![0.0; d], vec![0.0; d]);
         for p in 0..len {
             let rep = ((start + p as u64) / m) as usize;
             let base = p * rows;
@@ -1023,12 +1037,13 @@ impl Sensitivity {
                 if second {
                     let t = &mut s[HEAD + d * PER_INPUT..];
                     t[0] += ya * yb;
+                    for i in 0..d {
+                        (ab[i], ba[i]) = (y(base + 2 + i, j), y(base + 2 + d + i, j));
+                    }
                     let mut at = PAIR_HEAD;
                     for i in 0..d {
-                        let (ab_i, ba_i) = (y(base + 2 + i, j), y(base + 2 + d + i, j));
                         for jj in i + 1..d {
-                            let (ab_j, ba_j) = (y(base + 2 + jj, j), y(base + 2 + d + jj, j));
-                            t[at] += ba_i * ab_j + ba_j * ab_i;
+                            t[at] += ba[i] * ab[jj] + ba[jj] * ab[i];
                             at += 1;
                         }
                     }
@@ -1520,10 +1535,6 @@ impl Sensitivity {
         let [_, second] = self.second();
         let k = self.outputs().max(1);
         let names = self.names();
-        let pair_names: Vec<String> = (0..self.d)
-            .flat_map(|i| (i + 1..self.d).map(move |j| (i, j)))
-            .map(|(i, j)| format!("{},{}", names[i], names[j]))
-            .collect();
         let widths = first.iter().map(|h| (*h, 'S', 0)).enumerate();
         let widths = widths.chain(total.iter().map(|h| (*h, 'T', 1)).enumerate());
         let widths = widths.chain(second.iter().map(|h| (*h, 'S', 2)).enumerate());
@@ -1543,9 +1554,10 @@ impl Sensitivity {
             String::new()
         };
         let inputs = if of == 2 {
-            &pair_names[i / k]
+            let (a, b) = pair_of(i / k, self.d);
+            format!("{},{}", names[a], names[b])
         } else {
-            &names[i / k]
+            names[i / k].clone()
         };
         format!(
             "{prefix}: n={}  widest half-width={} ({kind} of {inputs}{output}) (target {})  {seconds:.1} s",
@@ -1587,6 +1599,14 @@ mod tests {
         (0..d)
             .flat_map(|i| (i + 1..d).map(move |j| (i, j)))
             .collect()
+    }
+
+    #[test]
+    fn pair_of_walks_the_pairs_in_row_order() {
+        for d in 2..7 {
+            let walked: Vec<_> = (0..pairs(d)).map(|p| pair_of(p, d)).collect();
+            assert_eq!(walked, pair_list(d));
+        }
     }
 
     /// Ishigami's function (a = 7, b = 0.1) on [−π, π]³: S_13 = 8b²π⁸/225 / V, the other

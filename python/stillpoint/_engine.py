@@ -15,8 +15,8 @@ import numpy as np
 from . import _core
 from ._generate import generate
 from ._request import _check_generate
-from ._rounds import _to_space, _unbounded
-from ._space import _law_name, _space_items
+from ._rounds import _rule_items, _to_space
+from ._space import _correlation_matrix, _law_name, _space_items
 from ._validate import _engine_seed, _fresh_seed, _int
 
 # Arguments of `generate` that an Engine sets itself or cannot take (it draws in the
@@ -125,20 +125,14 @@ def _engine_space(
             f"{', …' if len(names) > 6 else ''}); leave d out or give {len(names)}"
         )
     matrix = None
+    if isinstance(correlation, (str, bytes)):
+        raise ValueError(
+            f"invalid correlation = {correlation!r}: expected a k × k matrix of numbers "
+            "(not a text)"
+        )
     if correlation is not None:
-        try:
-            if isinstance(correlation, (str, bytes)):
-                raise TypeError("a text")
-            matrix = np.ascontiguousarray(correlation, dtype=np.float64)
-        except (TypeError, ValueError) as e:
-            raise ValueError(
-                f"invalid correlation = {correlation!r}: expected a k × k matrix of "
-                f"numbers ({e})"
-            ) from None
-    rule_items = [
-        f"{t.split('=', 1)[0]}=normal(0,1)" if _unbounded(frozen.get(t.split("=", 1)[0])) else t
-        for t in items
-    ]
+        matrix = _correlation_matrix(correlation)
+    rule_items = _rule_items(items, frozen)
     # The library reads the correlation and refuses a bad one, naming it, before any draw.
     flat = None if matrix is None else [float(v) for v in np.ravel(matrix)]
     _core.space_values(items, np.full((1, len(names)), 0.5), flat)
@@ -150,6 +144,39 @@ def _engine_space(
         "matrix": matrix,
         "frozen": frozen,
     }
+
+
+def _sequence_of(
+    d: int, rule: Optional[str], space: Optional[Dict[str, Any]], draws: str
+) -> Tuple[Optional[str], str, Optional[list]]:
+    """The sequence an engine's draws continue: its rule (None: the default), the table
+    it reads, and the space's coordinate each of its columns goes to (None: its own
+    order). Refuses a d beyond the sequence's reach when draws continue it."""
+    order = None
+    if space is not None:
+        by_law, dealt = _core.space_sequence(space["rule_items"])
+        # Without a path the space's sequence is the engine's default (its own table up
+        # to its reach, the tent table above, as for Engine(d)).
+        if rule is None and by_law == "sobol":
+            rule = by_law
+        # The sequence's leading columns (its finest, for a net and for a lattice built
+        # coordinate by coordinate) go to the paths' leading steps; the identity needs
+        # no dealing.
+        if dealt != sorted(dealt):
+            order = dealt
+    most = {"sobol": _SOBOL_MAX_D, "first-order lattice": _OWN_TABLE_MAX_D}.get(
+        rule or "", _SEQUENCE_MAX_D
+    )
+    if draws == "sequence" and d > most:
+        raise ValueError(
+            f"invalid d = {d}: the sequence reaches {most} dimensions; for more use "
+            "draws='independent' (a set made for each n)"
+        )
+    if rule is None:
+        table = _SEQUENCE_TABLE if d <= _OWN_TABLE_MAX_D else _EARLIER_SEQUENCE_TABLE
+    else:
+        table = _RULES[rule]
+    return rule, table, order
 
 
 class Engine(_EngineBase):  # type: ignore[misc,valid-type]
@@ -297,19 +324,9 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
                 "these randomise a set made for each n; use draws='independent', or leave "
                 "the options out for the sequence"
             )
-        sobol = rule == "sobol" or (
-            rule is None
-            and self._space is not None
-            and _core.space_sequence(self._space["rule_items"])[0] == "sobol"
-        )
-        most = _SOBOL_MAX_D if sobol else _SEQUENCE_MAX_D
-        if rule == "first-order lattice":
-            most = _OWN_TABLE_MAX_D
-        if draws == "sequence" and d > most:
-            raise ValueError(
-                f"invalid d = {d}: the sequence reaches {most} dimensions; for "
-                "more use draws='independent' (a set made for each n)"
-            )
+        # The sequence the laws choose, and the order its columns are dealt in.
+        named = rule
+        rule, table, self._order = _sequence_of(d, rule, self._space, draws)
         # A text goes to SciPy, which names the methods it has (in any case); anything
         # else would fail there as an AttributeError.
         if optimization is not None and not isinstance(optimization, str):
@@ -346,23 +363,6 @@ class Engine(_EngineBase):  # type: ignore[misc,valid-type]
         self._sequence_seed = (
             int(self.rng.integers(0, 2**64, dtype=np.uint64)) if draws == "sequence" else None
         )
-        self._order: Optional[list] = None
-        named = rule
-        if self._space is not None:
-            by_law, order = _core.space_sequence(self._space["rule_items"])
-            # Without a path the space's sequence is the engine's default (its own table
-            # up to its reach, the tent table above, as for Engine(d)).
-            if rule is None and by_law == "sobol":
-                rule = by_law
-            # The sequence's leading columns (its finest, for a net and for a lattice
-            # built coordinate by coordinate) go to the paths' leading steps; the
-            # identity needs no dealing.
-            if order != sorted(order):
-                self._order = order
-        if rule is None:
-            table = _SEQUENCE_TABLE if d <= _OWN_TABLE_MAX_D else _EARLIER_SEQUENCE_TABLE
-        else:
-            table = _RULES[rule]
         self._sequence_table = table
         self._rule = rule
         # What scipy.integrate.qmc_quad passes to build independent copies:

@@ -88,12 +88,7 @@ def _run(
     setup: Dict[str, Any] = {"scalar": True}
     if "space" in given:
         items, frozen = _space_items(given["space"])
-        # SciPy laws are mapped from uniform placeholders by their ppf: the rule is that
-        # of a normal law in place of one with unbounded support.
-        given["space"] = [
-            f"{t.split('=', 1)[0]}=normal(0,1)" if _unbounded(frozen.get(t.split("=", 1)[0])) else t
-            for t in items
-        ]
+        given["space"] = _rule_items(items, frozen)
         setup.update(space=items, frozen=frozen)
     if start is not None:
         if not isinstance(start, kind):
@@ -178,6 +173,16 @@ def _unbounded(law: Any) -> bool:
     except Exception:  # a law without support() is taken as bounded
         return False
     return not (math.isfinite(float(lo)) and math.isfinite(float(hi)))
+
+
+def _rule_items(items: list, frozen: Dict[str, Any]) -> list:
+    """The space's texts the library chooses a rule from: SciPy laws are mapped from
+    uniform placeholders by their ppf, so one of unbounded support stands as a normal
+    law (the rule of such laws), a bounded one as the uniform it is mapped from."""
+    return [
+        f"{t.split('=', 1)[0]}=normal(0,1)" if _unbounded(frozen.get(t.split("=", 1)[0])) else t
+        for t in items
+    ]
 
 
 def _to_space(u: np.ndarray, setup: Dict[str, Any]) -> np.ndarray:

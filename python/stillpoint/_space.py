@@ -19,14 +19,19 @@ def _design_kwargs(n: Any, space: Any, kwargs: Dict[str, Any]) -> Dict[str, Any]
     items, _frozen_laws = _space_items(space)
     kwargs = dict(kwargs)
     if kwargs.get("correlation") is not None and not isinstance(kwargs["correlation"], str):
-        try:
-            kwargs["correlation"] = np.ascontiguousarray(kwargs["correlation"], dtype=np.float64)
-        except (TypeError, ValueError) as e:
-            raise ValueError(
-                f"invalid correlation = {kwargs['correlation']!r}: expected a k × k matrix "
-                f"of numbers ({e})"
-            ) from None
+        kwargs["correlation"] = _correlation_matrix(kwargs["correlation"])
     return _arrays({"n": n, "space": items, **kwargs})
+
+
+def _correlation_matrix(value: Any) -> np.ndarray:
+    """A correlation given as numbers, as a float array (the library checks its shape
+    and entries); refuses what is not numbers, naming ``correlation``."""
+    try:
+        return np.ascontiguousarray(value, dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise ValueError(
+            f"invalid correlation = {value!r}: expected a k × k matrix of numbers ({e})"
+        ) from None
 
 
 def _space_items(space: Any) -> Tuple[list, Dict[str, Any]]:
