@@ -158,7 +158,6 @@ def bayes_bound(y, xi, z=Z, at_points=False):
     n = y.size
     w = walsh_factor(xi if at_points else xi ^ xi[0])
     ft = fwht(y)
-    tiny = 100 * np.finfo(float).eps
 
     def kernel(theta):
         km1 = theta / 10 * w[:, 0]
@@ -172,6 +171,16 @@ def bayes_bound(y, xi, z=Z, at_points=False):
         lam[0] += n / factor
         return np.abs(lam), ring, factor
 
+    return z * mle_fit(ft, kernel, n)[1]
+
+
+def mle_fit(ft, kernel, n):
+    """(the negative log-likelihood at its optimum over ln theta in [-5, 0], the posterior
+    standard deviation of the integral) of a Bayesian cubature whose Gram matrix the
+    transform diagonalises: ``ft`` the values' transform, ``kernel(theta)`` the
+    eigenvalues divided by ``factor``, the first column's transform and ``factor``."""
+    tiny = 100 * np.finfo(float).eps
+
     def objective(lna):
         lam, _, factor = kernel(math.exp(lna))
         keep = lam > tiny
@@ -180,13 +189,13 @@ def bayes_bound(y, xi, z=Z, at_points=False):
         loss1 = float(np.log(np.abs(factor * lam[keep])).sum())
         return loss1 + n * math.log(t1 if t1 != 0 else np.finfo(float).eps)
 
-    lna = optimize.minimize_scalar(objective, bounds=(-5, 0), method="bounded",
-                                   options={"xatol": 1e-2}).x
-    lam, ring, factor = kernel(math.exp(lna))
+    best = optimize.minimize_scalar(objective, bounds=(-5, 0), method="bounded",
+                                    options={"xatol": 1e-2})
+    lam, ring, factor = kernel(math.exp(best.x))
     keep = lam > tiny
     rkhs = float((np.abs(ft[keep]) ** 2 / lam[keep])[1:].sum()) / factor / n
     dsc = abs(factor * ring[0] / (n + factor * ring[0]))
-    return z * math.sqrt(dsc * rkhs / n)
+    return float(best.fun), math.sqrt(dsc * rkhs / n)
 
 
 def run_case(family, s, n, seeds):

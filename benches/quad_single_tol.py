@@ -136,7 +136,8 @@ def save(paths, data, cells):
             bench.save(path, on_disk)
 
 
-def measure(groups, runs, cell_seconds, phases=PHASES, forms=tuple(FORMS), match=None):
+def measure(groups, runs, cell_seconds, phases=PHASES, forms=tuple(FORMS), match=None,
+            version=None):
     """Runs the groups' phases for ``forms``; with ``match`` (a form's name) each phase
     gets as many runs as that form's file holds for it, whatever the time."""
     paths = {m: os.path.join(OUT, f"single-tol-{m}.json.gz") for m in forms}
@@ -145,9 +146,9 @@ def measure(groups, runs, cell_seconds, phases=PHASES, forms=tuple(FORMS), match
     import stillpoint as sp
 
     for m in forms:
-        data[m]["version"] = (f"stillpoint {sp.__version__} baseline('sobol') + NumPy "
-                              "port of QMCPy 2.4's CubBayesNetG bound (benches/"
-                              "quad_single_study.py)")
+        data[m]["version"] = f"stillpoint {sp.__version__}" + (
+            version or (" baseline('sobol') + NumPy port of QMCPy 2.4's CubBayesNetG "
+                        "bound (benches/quad_single_study.py)"))
     for family, s in groups:
         d = s[0] if isinstance(s, tuple) else s
         for tols in phases:

@@ -82,16 +82,18 @@ class QuadResult(_Result):
     def rule(self) -> str:
         """The rule evaluated: ``"lattice"`` (the extensible lattice, shifted and
         tent-transformed), ``"sobol"`` (Owen-scrambled Sobol'), also when a pilot round
-        chose it (``rule="pilot"``), or ``"first-order lattice"`` (the extensible lattice
-        of ``Engine(d)``'s table, which a probe round under unbounded laws keeps for an f
-        even in them or flat at the faces, and a face test over the cube gives an f steep
-        at a face)."""
+        chose it (``rule="pilot"``), ``"first-order lattice"`` (the extensible lattice
+        of ``Engine(d)``'s table, which a face test over the cube gives an f steep at a
+        face), or ``"bayesian lattice"`` (one shift of that lattice without the tent, its
+        interval a Bayesian cubature's posterior: under unbounded laws, for an f the probe
+        round finds even in them or the face test after it flat at the faces)."""
         return str(self._state.rule[0])
 
     @property
     def rule_reason(self) -> str:
         """Why that rule: from the laws of ``space`` (an unbounded law takes Sobol' unless
-        the probe round finds f even, or the face test after it flat at the faces), the
+        the probe round finds f even, or the face test after it flat at the faces: then
+        the Bayesian lattice), the
         box and the face test (the first-order lattice for an f steep at a face), as asked
         through ``rule=``, or the pilot round's ratio of half-widths."""
         return str(self._state.rule[1])
@@ -147,9 +149,11 @@ def quad(
     both points of every pair of the first round has only one point of each later pair
     evaluated (the same estimate, half the evaluations; ``rule_reason`` says so). Under
     unbounded laws (no path) the first round is a probe of 64 points of a lattice made
-    for such laws: an f even in them keeps it, halved; any other is given the face test
-    below, and keeps it whole if flat at the faces (it decays in the laws' tails) or goes
-    on with scrambled Sobol' if steep there, the 64 and 7 evaluations counted. A doubling
+    for such laws: an f even in them, or one the face test below finds flat at the faces
+    (it decays in the laws' tails), goes on with one shifted lattice of 256 points and
+    more, its interval a Bayesian cubature's posterior rather than the spread of
+    replicates (``rule="bayesian lattice"``, ``replicates`` 1); one steep there goes on
+    with scrambled Sobol'; the 64 and 7 evaluations are counted. A doubling
     that ``max_n`` holds three quarters or more of is made short (each replicate takes
     the first points of it the budget holds). No run stops before 64 points per
     replicate. Over the cube, a box or bounded laws, with a
@@ -217,8 +221,11 @@ def quad(
         test (None by default);
         ``"pilot"`` keeps the one whose first round is clearly narrower, the other's first
         round counted in ``n``; ``"first-order lattice"`` the lattice with the table of
-        ``Engine(d)`` (made for unbounded laws), which the probe round keeps for an f even
-        in them (docs/integration.md).
+        ``Engine(d)`` (made for unbounded laws); ``"bayesian lattice"`` one shift of that
+        lattice without the tent and a Bayesian cubature's interval, which the probe round
+        chooses for an f even in the laws or flat at the faces (made for such an f; a
+        smooth f over the cube that is not periodic is outside its kernel's space)
+        (docs/integration.md).
 
     Returns
     -------

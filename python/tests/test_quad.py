@@ -440,17 +440,19 @@ def test_the_rule_follows_the_laws_and_says_why():
                              "w": stats.norm(0, 1)}, rel_tol=1e-2)
     assert r.rule == "sobol", "a SciPy law with unbounded support counts as unbounded"
     # With one unbounded input its tails are reached through the tail map, where
-    # exp(z)·T′ decays: the probe's lattice goes on.
+    # exp(z)·T′ decays: flat at the faces, it goes on with the Bayesian lattice.
     for law in ["normal(0,1)", stats.norm(0, 1)]:
         r = sp.quad(g, 1, space={"z": law}, rel_tol=1e-2)
-        assert r.rule == "first-order lattice" and "tail map" in r.rule_reason
+        assert r.rule == "bayesian lattice" and "tail map" in r.rule_reason
+        assert r.replicates == 1 and "smooth at the faces" in r.rule_reason
         assert r.estimate == pytest.approx(math.exp(0.5), rel=0.03)
-    # f even in Z keeps the probe's lattice and evaluates one point of each pair.
+    # f even in Z: the same lattice, the probe's 64 evaluations counted.
     r = sp.quad(f, 1, space={"z": "normal(0,1)"}, rel_tol=1e-2)
-    assert r.rule == "first-order lattice" and "one point of each pair" in r.rule_reason
-    assert r.estimate == pytest.approx(1.0, rel=0.03)
+    assert r.rule == "bayesian lattice" and "f even under Z" in r.rule_reason
+    assert r.n == 64 + 256 and r.estimate == pytest.approx(1.0, rel=0.03)
     more = sp.quad(f, 1, start=r, rel_tol=1e-3, rule=r.rule)
     assert more.rule == r.rule and more.n > r.n
+    assert more.estimate == pytest.approx(1.0, rel=3e-3)
     # Asked for by name: from its own first round of 64 points per replicate.
     r = sp.quad(g, 1, space={"z": "normal(0,1)"}, rel_tol=1e-2, rule="first-order lattice")
     assert r.rule == "first-order lattice" and r.rule_reason.startswith("as asked")
@@ -545,12 +547,12 @@ def test_a_face_test_reads_f_steep_at_a_face_and_an_infinite_value_there():
 
 def test_under_unbounded_laws_a_face_test_after_the_probe_chooses_lattice_or_sobol():
     # Not even under Z ↦ −Z: after the probe's 64 points, 7 at the faces. A Gaussian bump
-    # of normal inputs is flat there and keeps the probe's first-order lattice; exp(ΣZ)
+    # of normal inputs is flat there and goes on with the Bayesian lattice; exp(ΣZ)
     # is steep there and goes on with Sobol'; both counted.
     laws = [f"z{i}=normal(0,1)" for i in range(3)]
     bump = sp.quad(lambda z: np.exp(-((z - 0.5) ** 2).sum(axis=1)), 3, space=laws,
                    rel_tol=1e-3, seed=3)
-    assert bump.rule == "first-order lattice", bump.rule_reason
+    assert bump.rule == "bayesian lattice", bump.rule_reason
     assert "smooth at the faces" in bump.rule_reason
     exact = (math.exp(-0.25 / 3) / math.sqrt(3)) ** 3
     assert bump.estimate == pytest.approx(exact, rel=3e-3)

@@ -533,9 +533,9 @@ options! {
         in Sensitivity "The most evaluations, all rounds.";
     rule: "rule", cli "", python Some("rule"), for [Quad],
         String: Kind::Word(words::rules),
-        "lattice (the tent-transformed extensible lattice), sobol (Owen-scrambled Sobol'), pilot (the one a first round of both shows narrower) or first-order lattice (the same lattice with Engine(d)'s table, made for unbounded laws)",
+        "lattice (the tent-transformed extensible lattice), sobol (Owen-scrambled Sobol'), pilot (the one a first round of both shows narrower), first-order lattice (the same lattice with Engine(d)'s table, made for unbounded laws) or bayesian lattice (one shift of that lattice without the tent, a Bayesian cubature's interval)",
         default none,
-        "The randomised rule: lattice, sobol, pilot or first-order lattice (by default chosen from the laws).";
+        "The randomised rule: lattice, sobol, pilot, first-order lattice or bayesian lattice (by default chosen from the laws and f).";
     simultaneous: "simultaneous", cli "--simultaneous", python Some("simultaneous"),
         for [Sensitivity],
         bool: Kind::Flag, "true or false", default |_| Some("false".into()),

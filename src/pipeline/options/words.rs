@@ -118,6 +118,7 @@ pub fn rules() -> Vec<&'static str> {
         Rule::Sobol,
         Rule::Pilot,
         Rule::FirstOrderLattice,
+        Rule::BayesLattice,
     ]
     .iter()
     .map(|r| r.as_str())

@@ -1,0 +1,82 @@
+"""Coverage at a fixed n of `stillpoint.quad`'s Bayesian lattice (``rule="bayesian lattice"``,
+the rule the probe chooses under unbounded laws for an f even in them or flat at the faces):
+per model and n, over seeds (instance ``seed`` of benches/quad.py's model family, or a
+fixed model; the lattice's shift from ``seed``), the share of runs whose exact value lies
+within the interval at level 0.95, and the median half-width over the true error. Each
+run is ``quad(f, d, space=..., rule="bayesian lattice", rel_tol=0, max_n=n, seed=seed)``:
+no tolerance, so it stops at exactly n points.
+
+    target/py-venv/bin/python benches/quad_bayes_coverage.py --seeds 300 --n 1024,4096,16384
+        [--models "uq keister:5,uq keister:10,uq gaussian (normal):8"] [--unnamed]
+
+``--unnamed`` adds five models of eight standard normal inputs the rule was not chosen on.
+"""
+
+import argparse
+import math
+import os
+import sys
+import warnings
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(__file__))
+import quad as bench  # noqa: E402
+
+D = 8
+UNNAMED = {
+    "Σz²": (lambda z: (z ** 2).sum(axis=1), D),
+    "exp(−|z|²/8)": (lambda z: np.exp(-(z ** 2).sum(axis=1) / 8), (1 + 2 / 8) ** (-D / 2)),
+    "cos(Σz/3)": (lambda z: np.cos(z.sum(axis=1) / 3), math.exp(-D / 18)),
+    "Π(1 + z²/10)": (lambda z: np.prod(1 + z ** 2 / 10, axis=1), 1.1 ** D),
+    "exp(−|z − ½|²/4)": (lambda z: np.exp(-((z - 0.5) ** 2).sum(axis=1) / 4),
+                         (1.5 ** -0.5 * math.exp(-0.25 / 6)) ** D),
+}
+
+
+def cell(make, n, seeds):
+    import stillpoint as sp
+
+    hits, widths = 0, []
+    for seed in range(seeds):
+        f, d, space, truth = make(seed)
+        r = sp.quad(f, d, space=space, rule="bayesian lattice", rel_tol=0, max_n=n,
+                    seed=seed)
+        assert r.n == n, (r.n, n)
+        err = abs(r.estimate - truth)
+        hits += err <= r.half_width
+        widths.append(r.half_width / max(err, 1e-300))
+    return hits / seeds, float(np.median(widths))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--models", default="uq keister:5,uq keister:10,uq gaussian (normal):8")
+    ap.add_argument("--unnamed", action="store_true")
+    ap.add_argument("--n", default="1024,4096,16384")
+    ap.add_argument("--seeds", type=int, default=300)
+    args = ap.parse_args()
+    warnings.simplefilter("ignore")
+    makers = {}
+    for spec in filter(None, args.models.split(",")):
+        family, s = spec.rsplit(":", 1)
+
+        def make(seed, family=family, s=int(s)):
+            _, texts, on_values, truth = bench.model(family, s, seed)
+            return on_values, s, texts, truth
+
+        makers[f"{family} s={s}"] = make
+    if args.unnamed:
+        laws = [f"z{i}=normal(0,1)" for i in range(D)]
+        for name, (g, truth) in UNNAMED.items():
+            makers[name] = lambda seed, g=g, truth=truth: (g, D, laws, truth)
+    print("| model | n | coverage at 0.95 | median half-width / error |")
+    print("|---|---|---|---|")
+    for name, make in makers.items():
+        for n in [int(v) for v in args.n.split(",")]:
+            cover, width = cell(make, n, args.seeds)
+            print(f"| {name} | {n} | {cover:.1%} | {width:.1f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
