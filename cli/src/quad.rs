@@ -123,7 +123,12 @@ pub(crate) fn quad_command(q: QuadArgs, json: bool) -> Result<()> {
             number(r.half_width[0]),
             options.level
         );
-        outln!("evaluations  {} ({} replicates)", r.n, r.replicates);
+        let shifts = if r.replicates == 1 {
+            "1 shifted lattice, a Bayesian interval".to_string()
+        } else {
+            format!("{} replicates", r.replicates)
+        };
+        outln!("evaluations  {} ({shifts})", r.n);
         outln!("rule         {}", r.rule_reason);
         let why = match r.reason {
             Some(StopReason::Met) | None => "yes".to_string(),

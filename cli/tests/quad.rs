@@ -232,8 +232,8 @@ fn expr_under_a_space_integrates_against_its_laws() {
     assert!((est - 6.0).abs() < 6e-3 * 2.0, "{v}");
     assert_eq!(v["s"], 2);
     // One unbounded law: its tails reached through the tail map, where a² · T′ decays,
-    // so the probe's first-order lattice goes on.
-    assert_eq!(v["rule"], "first-order lattice");
+    // so f is flat at the faces and the Bayesian lattice goes on after the probe.
+    assert_eq!(v["rule"], "bayesian lattice");
     let reason = v["rule_reason"].as_str().unwrap();
     assert!(reason.contains("(a)") && reason.contains("tail map"), "{v}");
     // Bounded laws keep the tent lattice.

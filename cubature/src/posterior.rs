@@ -22,6 +22,10 @@ use rustfft::FftPlanner;
 /// The kernel decays α the likelihood chooses among.
 pub const DECAYS: [f64; 5] = [2.0, 2.5, 3.0, 3.5, 4.0];
 
+/// The most values of η (points × coordinates) gathered once per decay rather than looked
+/// up at every θ tried (32 MiB).
+const GATHERED: usize = 1 << 22;
+
 /// The range of ln θ searched (QMCPy's `CubBayesLatticeG`'s).
 const LN_THETA: (f64, f64) = (-5.0, 0.0);
 
@@ -73,17 +77,19 @@ const ZETA_TERMS: usize = 8;
 /// values), then one FFT.
 pub fn decay_table(alpha: f64, n: usize, planner: &mut FftPlanner<f64>) -> Vec<f64> {
     let scale = (n as f64).powf(-alpha);
-    let mut c: Vec<Complex<f64>> = (0..n)
-        .map(|q| {
-            let v = if q == 0 {
-                2.0 * hurwitz_zeta(alpha, 1.0)
-            } else {
-                let x = q as f64 / n as f64;
-                hurwitz_zeta(alpha, x) + hurwitz_zeta(alpha, 1.0 - x)
-            };
-            Complex::new(v * scale, 0.0)
-        })
-        .collect();
+    let mut c = vec![Complex::new(0.0, 0.0); n];
+    // c_q = c_{n−q} (the same two terms added in the other order, the same bits), so
+    // half of them are computed.
+    for q in 0..=n / 2 {
+        let v = if q == 0 {
+            2.0 * hurwitz_zeta(alpha, 1.0)
+        } else {
+            let x = q as f64 / n as f64;
+            hurwitz_zeta(alpha, x) + hurwitz_zeta(alpha, 1.0 - x)
+        };
+        c[q] = Complex::new(v * scale, 0.0);
+        c[(n - q) % n] = c[q];
+    }
     planner.plan_fft_forward(n).process(&mut c);
     c.iter().map(|v| v.re).collect()
 }
@@ -111,15 +117,28 @@ pub fn posterior(y: &[f64], z: &[u32]) -> Option<Posterior> {
         .map(|&alpha| {
             let mut planner = FftPlanner::new();
             let table = decay_table(alpha, n, &mut planner);
+            let d = z.len();
+            // Every fit reads η at each point and coordinate: gathered once when they fit
+            // in GATHERED values (the same numbers, read in order), else looked up.
+            let gathered: Vec<f64> = if n * d <= GATHERED {
+                (0..n * d).map(|e| table[index(e / d, e % d)]).collect()
+            } else {
+                Vec::new()
+            };
             let mut fit = |ln_theta: f64| {
-                Fit::new(
-                    &table,
-                    z.len(),
-                    &index,
-                    ln_theta.exp(),
-                    &power,
-                    &mut planner,
-                )
+                let theta = ln_theta.exp();
+                if gathered.is_empty() {
+                    Fit::new(n, d, |i, j| table[index(i, j)], theta, &power, &mut planner)
+                } else {
+                    Fit::new(
+                        n,
+                        d,
+                        |i, j| gathered[i * d + j],
+                        theta,
+                        &power,
+                        &mut planner,
+                    )
+                }
             };
             let ln_theta = golden_minimum(|t| fit(t).objective, LN_THETA, LN_THETA_TOL);
             let at = fit(ln_theta);
@@ -155,22 +174,23 @@ struct Fit {
 }
 
 impl Fit {
+    /// The fit at θ for n points in d coordinates, `eta(i, j)` the decay kernel at point
+    /// i's coordinate j (against point 0) and `power` the values' squared transform.
     fn new(
-        table: &[f64],
+        n: usize,
         d: usize,
-        index: &impl Fn(usize, usize) -> usize,
+        eta: impl Fn(usize, usize) -> f64,
         theta: f64,
         power: &[f64],
         planner: &mut FftPlanner<f64>,
     ) -> Fit {
-        let n = table.len();
         // The kernel's first column K(x_i, x_0) − 1, built as Π(1 + θη) − 1 one coordinate
         // at a time so that a product near 1 keeps its digits.
         let mut column: Vec<Complex<f64>> = (0..n)
             .map(|i| {
                 let mut less_one = 0.0;
                 for j in 0..d {
-                    less_one += theta * table[index(i, j)] * (1.0 + less_one);
+                    less_one += theta * eta(i, j) * (1.0 + less_one);
                 }
                 Complex::new(less_one, 0.0)
             })
@@ -383,7 +403,7 @@ mod tests {
         planner.plan_fft_forward(n).process(&mut spectrum);
         let power: Vec<f64> = spectrum.iter().map(|c| c.norm_sqr()).collect();
         let index = |i: usize, j: usize| (i as u64 * z[j] as u64 % n as u64) as usize;
-        let fit = Fit::new(&table, d, &index, theta, &power, &mut planner);
+        let fit = Fit::new(n, d, |i, j| table[index(i, j)], theta, &power, &mut planner);
         assert!((fit.sd() - sd).abs() < 1e-10 * sd, "{} vs {sd}", fit.sd());
         // The likelihood up to the constant n·ln n that the spectrum's scale adds.
         let objective = log_det + n as f64 * (quad_form * n as f64).ln();
