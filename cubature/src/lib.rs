@@ -4563,7 +4563,6 @@ mod tests {
             ..QuadOptions::default()
         };
         let r4 = DEFAULT_REPLICATES as u64;
-        let first = PROBE_POINTS / r4;
         for seed in 0..6 {
             // Even: one lattice without the tent and its posterior, the probe counted.
             let r = quad(radial, 3, opts(seed)).unwrap();
