@@ -1700,19 +1700,20 @@ impl Cubature {
         let probe = self.own_n();
         let laws = self.options.rule_reason.clone();
         if steep {
-            let mut sobol = self.fresh(Rule::Sobol, self.spent + probe);
-            sobol.options.rule_reason = format!(
-                "scrambled Sobol': {laws}, and f not even under Z ↦ −Z at a probe of the \
-                 first-order lattice ({probe} evaluations, counted) and steep at a face by \
-                 {test}: {seen}"
+            *self = self.successor(
+                Rule::Sobol,
+                format!(
+                    "scrambled Sobol': {laws}, and f not even under Z ↦ −Z at a probe of the \
+                     first-order lattice ({probe} evaluations, counted) and steep at a face by \
+                     {test}: {seen}"
+                ),
             );
-            *self = sobol;
         } else {
             let why = format!(
                 "f not even under Z ↦ −Z at a probe of the first-order lattice ({probe} \
                  evaluations, counted) but smooth at the faces by {test}"
             );
-            if let Some(bayes) = self.to_bayes(&why, self.spent + probe) {
+            if let Some(bayes) = self.to_bayes(&why) {
                 *self = bayes;
                 return;
             }
@@ -1724,20 +1725,28 @@ impl Cubature {
         }
     }
 
-    /// A state of [`Rule::BayesLattice`] for the probe's f, `spent` evaluations counted,
-    /// saying `why`; `None` where `max_n` leaves no room for its first round.
-    fn to_bayes(&self, why: &str, spent: u64) -> Option<Cubature> {
-        let mut bayes = self.fresh(Rule::BayesLattice, spent);
-        if self.options.max_n < spent.saturating_add(bayes.first_round()) {
-            return None;
-        }
-        bayes.options.rule_reason = format!(
-            "bayesian lattice: {}, and {why}: one shifted lattice of the first-order table \
-             without the tent, its interval a Bayesian cubature's posterior (the kernel's \
-             decay and scale by maximum likelihood)",
-            self.options.rule_reason
+    /// A state of `rule` from its own first round that says `reason`, with every
+    /// evaluation of this one counted in `n`: how a run leaves a rule after a probe, a
+    /// face test or a first round.
+    fn successor(&self, rule: Rule, reason: String) -> Cubature {
+        let mut next = self.fresh(rule, self.n());
+        next.options.rule_reason = reason;
+        next
+    }
+
+    /// A state of [`Rule::BayesLattice`] for the probe's f, saying `why`; `None` where
+    /// `max_n` leaves no room for its first round.
+    fn to_bayes(&self, why: &str) -> Option<Cubature> {
+        let bayes = self.successor(
+            Rule::BayesLattice,
+            format!(
+                "bayesian lattice: {}, and {why}: one shifted lattice of the first-order \
+                 table without the tent, its interval a Bayesian cubature's posterior (the \
+                 kernel's decay and scale by maximum likelihood)",
+                self.options.rule_reason
+            ),
         );
-        Some(bayes)
+        (self.options.max_n >= self.n().saturating_add(bayes.first_round())).then_some(bayes)
     }
 
     /// After the first round of a [`Rule::BayesLattice`] the probe chose (not one asked for
@@ -1757,15 +1766,16 @@ impl Cubature {
         if skew <= BAYES_SKEW || self.options.max_n < self.n() + self.first_round() {
             return false;
         }
-        let mut sobol = self.fresh(Rule::Sobol, self.n());
-        sobol.options.rule_reason = format!(
-            "scrambled Sobol': {}; but f's values at its first {} points were skewed \
-             (|γ̂| = {skew:.1} > {BAYES_SKEW}), a heavy tail the posterior does not model \
-             (those evaluations counted)",
-            self.options.rule_reason,
-            self.own_n()
+        *self = self.successor(
+            Rule::Sobol,
+            format!(
+                "scrambled Sobol': {}; but f's values at its first {} points were skewed \
+                 (|γ̂| = {skew:.1} > {BAYES_SKEW}), a heavy tail the posterior does not model \
+                 (those evaluations counted)",
+                self.options.rule_reason,
+                self.own_n()
+            ),
         );
-        *self = sobol;
         true
     }
 
@@ -1822,13 +1832,14 @@ impl Cubature {
             self.face_due = true;
             return;
         } else {
-            let mut sobol = self.fresh(Rule::Sobol, self.spent + probe);
-            sobol.options.rule_reason = format!(
-                "scrambled Sobol': {}, and f {shown} at a probe of the first-order \
-                 lattice ({probe} evaluations, counted)",
-                self.options.rule_reason
+            *self = self.successor(
+                Rule::Sobol,
+                format!(
+                    "scrambled Sobol': {}, and f {shown} at a probe of the first-order \
+                     lattice ({probe} evaluations, counted)",
+                    self.options.rule_reason
+                ),
             );
-            *self = sobol;
             return;
         };
         if kept.is_none() {
@@ -1836,7 +1847,7 @@ impl Cubature {
                 "f even under Z ↦ −Z at a probe of the first-order lattice ({probe} \
                  evaluations, counted)"
             );
-            if let Some(bayes) = self.to_bayes(&why, self.spent + probe) {
+            if let Some(bayes) = self.to_bayes(&why) {
                 *self = bayes;
                 return;
             }
@@ -1903,20 +1914,21 @@ impl Cubature {
         } else {
             String::new()
         };
-        let mut sobol = self.fresh(Rule::Sobol, self.spent + self.own_n());
         let sep = if self.options.rule_reason.is_empty() {
             ""
         } else {
             "; "
         };
-        sobol.options.rule_reason = format!(
-            "{}{sep}f took few values in the first round{output}, a step or an event, \
-             whose lattice interval undercovers: scrambled Sobol', the lattice's {} \
-             evaluations counted",
-            self.options.rule_reason,
-            self.own_n()
+        *self = self.successor(
+            Rule::Sobol,
+            format!(
+                "{}{sep}f took few values in the first round{output}, a step or an event, \
+                 whose lattice interval undercovers: scrambled Sobol', the lattice's {} \
+                 evaluations counted",
+                self.options.rule_reason,
+                self.own_n()
+            ),
         );
-        *self = sobol;
         true
     }
 
