@@ -311,30 +311,47 @@ fn several_outputs_are_each_their_own_analysis() {
 #[test]
 fn simultaneous_intervals_are_wider_by_the_bonferroni_quantile() {
     // One batch (64 points on each of R replicates, 5 evaluations each): no round guard
-    // yet, so every half-width is the t quantile's.
+    // yet, so every half-width is the quantile's: Student's over the blocks, the normal's
+    // at 1 − (1 − level)/5 for the posterior.
+    use stillpoint::cubature::sensitivity::Interval;
     let r = stillpoint::sensitivity::REPLICATES;
-    let o = SensitivityOptions {
-        max_n: 64 * r as u64 * 5 + stillpoint::sensitivity::face_evaluations(3),
-        abs_tol: 0.0,
-        ..box3()
-    };
-    let own = sobol_indices(ishigami, 3, o.clone()).unwrap();
-    let all = sobol_indices(
-        ishigami,
-        3,
-        SensitivityOptions {
-            simultaneous: true,
-            ..o
-        },
-    )
-    .unwrap();
     let t = stillpoint::cubature::student_t_quantile;
     let nu = (r - 1) as f64;
-    let ratio = t(1.0 - 0.05 / 12.0, nu) / t(0.975, nu);
-    for (a, b) in all.total_half_width.iter().zip(&own.total_half_width) {
-        assert!((a / b / ratio - 1.0).abs() < 1e-12, "{a} {b}");
+    let z = |p: f64| {
+        stillpoint::design::Marginal::Normal {
+            mu: 0.0,
+            sigma: 1.0,
+        }
+        .ppf(p)
+    };
+    for (interval, ratio) in [
+        (Interval::Blocks, t(1.0 - 0.05 / 12.0, nu) / t(0.975, nu)),
+        (
+            Interval::Posterior,
+            z(1.0 - 0.01 / 12.0) / z(1.0 - 0.01 / 2.0),
+        ),
+    ] {
+        let o = SensitivityOptions {
+            max_n: 64 * r as u64 * 5 + stillpoint::sensitivity::face_evaluations(3),
+            abs_tol: 0.0,
+            interval,
+            ..box3()
+        };
+        let own = sobol_indices(ishigami, 3, o.clone()).unwrap();
+        let all = sobol_indices(
+            ishigami,
+            3,
+            SensitivityOptions {
+                simultaneous: true,
+                ..o
+            },
+        )
+        .unwrap();
+        for (a, b) in all.total_half_width.iter().zip(&own.total_half_width) {
+            assert!((a / b / ratio - 1.0).abs() < 1e-12, "{interval:?}: {a} {b}");
+        }
+        assert_eq!(all.first, own.first);
     }
-    assert_eq!(all.first, own.first);
 }
 
 #[test]
@@ -884,7 +901,7 @@ fn setting<T: std::str::FromStr>(name: &str, default: T) -> T {
 }
 
 #[test]
-#[ignore = "a measurement: SP_RULE=lattice|sobol|first-order SP_R=4 SP_SEEDS=30 [SP_TOL=0.02] [SP_FIRST=janon] \
+#[ignore = "a measurement: SP_RULE=lattice|sobol|first-order SP_R=4 SP_SEEDS=30 [SP_TOL=0.02] [SP_FIRST=janon] [SP_INTERVAL=blocks] \
             [SP_BASES=1024,8192] [SP_MODELS=ishigami,g6] cargo test --release --test \
             sensitivity designs_measured -- --ignored --nocapture"]
 fn designs_measured() {
@@ -899,6 +916,11 @@ fn designs_measured() {
     };
     let reps: usize = setting("SP_R", 4);
     let seeds: u64 = setting("SP_SEEDS", 30);
+    let interval = stillpoint::cubature::sensitivity::Interval::parse(
+        "SP_INTERVAL",
+        &setting("SP_INTERVAL", "posterior".to_string()),
+    )
+    .unwrap();
     type Model = Box<dyn Fn(&PointSet) -> Vec<f64>>;
     type Case = (usize, SensitivityOptions, Indices, Model);
     let lin = [1.0, 2.0, 3.0, 0.5, 0.0];
@@ -959,6 +981,7 @@ fn designs_measured() {
                     seed,
                     abs_tol: tol,
                     rule,
+                    interval,
                     replicates: reps,
                     max_n: 1 << 24,
                     ..o.clone()
@@ -1001,6 +1024,7 @@ fn designs_measured() {
                     seed,
                     abs_tol: 0.0,
                     rule,
+                    interval,
                     replicates: reps,
                     max_n: base * (*d as u64 + 2) + stillpoint::sensitivity::face_evaluations(*d),
                     ..o.clone()

@@ -43,15 +43,23 @@
 //! default is the one with the lower error over the closed-form models
 //! ([`FirstOrder::Saltelli`]).
 //!
-//! The interval: every index is a smooth function of means over the points; the estimate
-//! uses the means pooled over the R blocks (the one rule of N points), and its standard
-//! error is the jackknife over the blocks (leave one block out; each block is itself a
-//! randomised rule, and as they are dependent the jackknife measures the spread of rules
-//! of N/R points, wider than the error of the rule of N when that errs less than R
-//! independent rules of N/R would), with the
-//! Student t quantile on R − 1 degrees of freedom, as `stillpoint::cubature`'s interval,
-//! raised to the index's change since half the points when that is larger (quad's round
-//! guard: it costs no evaluation, and catches replicates that agree by chance).
+//! The interval ([`Interval`]): every index is a smooth function of means over the
+//! points, and the estimate uses the means pooled over the R blocks (the one rule of N
+//! points). By default ([`Interval::Posterior`], on the lattice) its error is priced as a
+//! Bayesian cubature prices the rule of all N points: the index's linearisation ψ at each
+//! point, a shift-invariant kernel over the 2d coordinates weighted by each input's total
+//! index and fitted to ψ by maximum likelihood, and the posterior's normal quantile at
+//! 1 − (1 − level)/[`crate::POSTERIOR_MISS`] (see [`Sensitivity::posterior_sd`]). To
+//! 0.02 it took half the evaluations of the blocks' interval on four of the seven models
+//! of the benchmark and no more on the others (results/sensitivity/sensitivity.md).
+//! Otherwise ([`Interval::Blocks`]; Owen-scrambled points, R not a power of two, states
+//! saved before) the standard error is the jackknife over the blocks (leave one block
+//! out; each block is itself a randomised rule, and as they are dependent the jackknife
+//! measures the spread of rules of N/R points, wider than the error of the rule of N when
+//! that errs less than R independent rules of N/R would), with the Student t quantile on
+//! R − 1 degrees of freedom, as `stillpoint::cubature`'s interval. Either is raised to the
+//! index's change since half the points when that is larger (quad's round guard: it
+//! costs no evaluation, and catches replicates that agree by chance).
 //! Each index has its own interval at `level`; `simultaneous` widens every one
 //! (Bonferroni over the 2·d·k indices) so that all hold together at `level`.
 
@@ -74,6 +82,11 @@ pub const REPLICATES: usize = 8;
 /// tolerance in up to 8× fewer evaluations on a G function with six equal inputs
 /// (results/sensitivity/design.md).
 pub const DEFAULT_RULE: Rule = Rule::TentLattice;
+
+/// The most values of f a state keeps for the posterior interval (2^24, 128 MiB): at the
+/// default budget of 2^22 evaluations every run of up to 4 outputs; a run past it goes on
+/// with the blocks' interval ([`Interval::Blocks`]).
+pub const MOST_VALUES: usize = 1 << 24;
 
 /// Keeps the replicates' scrambles apart from other users of the same seed.
 const SOBOL_KEY: u64 = 0x7365_6e73_536f_626f;
@@ -160,6 +173,43 @@ impl TotalOrder {
     }
 }
 
+/// How each index's interval is computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Interval {
+    /// The posterior of a Bayesian cubature of the index's linearisation over all N
+    /// points of the lattice ([`Sensitivity::posterior_sd`]); the blocks' jackknife where
+    /// it cannot be formed (Owen-scrambled points, R not a power of two) or past
+    /// [`MOST_VALUES`] values kept.
+    #[default]
+    Posterior,
+    /// The jackknife over the R blocks with Student's quantile (states saved before the
+    /// posterior).
+    Blocks,
+}
+
+impl Interval {
+    fn saved() -> Interval {
+        Interval::Blocks
+    }
+
+    /// The name the front ends take.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Interval::Posterior => "posterior",
+            Interval::Blocks => "blocks",
+        }
+    }
+
+    /// Parses `posterior` or `blocks`; any other text is refused naming `name`.
+    pub fn parse(name: &str, text: &str) -> Result<Interval, Error> {
+        match text {
+            "posterior" => Ok(Interval::Posterior),
+            "blocks" => Ok(Interval::Blocks),
+            _ => Err(Error::invalid(name, text, "'posterior' or 'blocks'")),
+        }
+    }
+}
+
 /// Settings of a sensitivity analysis; [`Default`] gives the documented defaults.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SensitivityOptions {
@@ -198,6 +248,10 @@ pub struct SensitivityOptions {
     /// more evaluations per point: f at each BA_i; states saved before: no).
     #[serde(default)]
     pub second_order: bool,
+    /// How each index's interval is computed (states saved before the posterior: the
+    /// blocks').
+    #[serde(default = "Interval::saved")]
+    pub interval: Interval,
 }
 
 impl Default for SensitivityOptions {
@@ -217,6 +271,7 @@ impl Default for SensitivityOptions {
             seed: 0,
             rule: DEFAULT_RULE,
             second_order: false,
+            interval: Interval::default(),
         }
     }
 }
@@ -309,10 +364,24 @@ pub struct Sensitivity {
     first_value: Vec<f64>,
     #[serde(default)]
     varies: Vec<bool>,
+    /// With the posterior interval, every point's values in the sequence's order (rows ×
+    /// k per point, as fed), and after each doubling every index's posterior standard
+    /// deviation (index-major, `[i·k + j]`; empty when none was fitted).
+    #[serde(default)]
+    values: Vec<f64>,
+    #[serde(default)]
+    posterior_sd: Vec<f64>,
     /// The most coordinates of one batch: [`BATCH_COORDINATES`] (less in tests, to cut
     /// small doublings).
     #[serde(skip, default = "batch_coordinates")]
     most_coordinates: usize,
+    /// The most values kept for the posterior: [`MOST_VALUES`] (less in tests).
+    #[serde(skip, default = "most_values")]
+    most_values: usize,
+}
+
+fn most_values() -> usize {
+    MOST_VALUES
 }
 
 fn batch_coordinates() -> usize {
@@ -456,7 +525,10 @@ impl Sensitivity {
             round_sums: Vec::new(),
             first_value: Vec::new(),
             varies: Vec::new(),
+            values: Vec::new(),
+            posterior_sd: Vec::new(),
             most_coordinates: BATCH_COORDINATES,
+            most_values: MOST_VALUES,
         })
     }
 
@@ -901,6 +973,16 @@ impl Sensitivity {
                 self.varies[j] |= *row != self.first_value[j];
             }
         }
+        if self.keeps_values() {
+            if self.values.len() + values.len() > self.most_values {
+                // Beyond the values a state holds, the blocks' interval from here on.
+                self.options.interval = Interval::Blocks;
+                self.values = Vec::new();
+                self.posterior_sd = Vec::new();
+            } else {
+                self.values.extend_from_slice(values);
+            }
+        }
         self.fed += len as u64;
         match merged {
             Some(sums) => self.finish_round(sums),
@@ -916,6 +998,8 @@ impl Sensitivity {
         }
         self.scale = Vec::new();
         self.varies = Vec::new();
+        self.values = Vec::new();
+        self.posterior_sd = Vec::new();
     }
 
     /// Whether the doubling's blocks merge in pairs with the earlier ones (blocks of one
@@ -974,6 +1058,9 @@ impl Sensitivity {
         };
         self.per_replicate += self.pending;
         self.pending = 0;
+        if self.keeps_values() {
+            self.fit_posterior();
+        }
         Ok(())
     }
 
@@ -1170,6 +1257,169 @@ impl Sensitivity {
         student_t_quantile(1.0 - alpha / 2.0, (o.replicates - 1) as f64)
     }
 
+    /// The normal quantile the posterior standard deviations are multiplied by: at
+    /// 1 − (1 − level)/[`crate::POSTERIOR_MISS`], two-sided, Bonferroni's over the
+    /// indices when simultaneous (quad's rule for its Bayesian lattice).
+    fn posterior_quantile(&self) -> f64 {
+        let o = &self.options;
+        let mut miss = (1.0 - o.level) / crate::POSTERIOR_MISS;
+        if o.simultaneous {
+            miss /= (self.indices_per_output() * self.k.max(1)) as f64;
+        }
+        stillpoint_design::Marginal::Normal {
+            mu: 0.0,
+            sigma: 1.0,
+        }
+        .ppf(1.0 - miss / 2.0)
+    }
+
+    /// Whether the run keeps every value for the posterior interval: asked for, on the
+    /// lattice, blocks of one sequence whose N = R·m points are a whole lattice (R a power
+    /// of two).
+    fn keeps_values(&self) -> bool {
+        self.options.interval == Interval::Posterior
+            && self.options.rule != Rule::Sobol
+            && self.replicas == Replicas::Blocks
+            && self.options.replicates.is_power_of_two()
+    }
+
+    /// Every index's posterior standard deviation after the last doubling, index-major as
+    /// the half-widths (`[i·k + j]`, the indices in the order first, total, pairs); empty
+    /// under the blocks' interval.
+    ///
+    /// An index is a smooth function g of means over the points (the sums of
+    /// [`Sensitivity::accumulate`]), so its error is to first order the error of the
+    /// lattice's mean of its linearisation ψ(x) = ∇g · h(x), h(x) the point's terms of
+    /// the sums ([`Sensitivity::influence`]). ψ is a function on the lattice's 2d-
+    /// dimensional cube, periodic as f is after the tent (or periodic itself, for the
+    /// inputs the face test took without it), and its mean's error is what a Bayesian
+    /// cubature prices ([`crate::posterior`]): a shift-invariant kernel fitted to ψ's
+    /// values by maximum likelihood, whose posterior standard deviation is the index's.
+    /// Unlike the blocks' jackknife, which measures the spread of rules of N/R points,
+    /// this prices the rule of all N points that the estimate is.
+    pub fn posterior_sd(&self) -> &[f64] {
+        &self.posterior_sd
+    }
+
+    /// Fits [`Sensitivity::posterior_sd`] to the values of all N points.
+    fn fit_posterior(&mut self) {
+        let (k, rows, m) = (self.k, self.rows(), self.indices_per_output());
+        let n = self.values.len() / (rows * k);
+        let z = &self.options.rule.table().generator()[..2 * self.d];
+        // Indices fitted together, as many as keep their values within 2^22 floats.
+        let chunk = ((1usize << 22) / n.max(1)).clamp(1, m);
+        let mut sd = vec![0.0; m * k];
+        let mut psi = vec![0.0; m];
+        for j in 0..k {
+            let (s, count) = self.pooled(&self.sums, self.per_replicate, j, |_| true);
+            let est = self.indices(&s, count);
+            let weights = self.coordinate_weights(&est);
+            for first in (0..m).step_by(chunk) {
+                let last = (first + chunk).min(m);
+                let mut ys = vec![vec![0.0; n]; last - first];
+                for p in 0..n {
+                    let point = &self.values[p * rows * k..(p + 1) * rows * k];
+                    self.influence(&s, count, &est, point, j, &mut psi);
+                    let at = crate::posterior::natural_index(p, n);
+                    for (y, v) in ys.iter_mut().zip(&psi[first..last]) {
+                        y[at] = *v;
+                    }
+                }
+                for (i, p) in crate::posterior::posteriors(&ys, z, &weights)
+                    .into_iter()
+                    .enumerate()
+                {
+                    sd[(first + i) * k + j] = p.map_or(0.0, |p| p.sd);
+                }
+            }
+        }
+        self.posterior_sd = sd;
+    }
+
+    /// The kernel's weight of each of the 2d coordinates: its input's total index over
+    /// the largest. An input's A and B coordinates enter f only through that input, so
+    /// ψ varies along them about as much as f varies with the input, which its total
+    /// index measures; with one weight for all (θ alone) the kernel is as rough in the
+    /// coordinates of inputs that do not matter as in those that do, and the posterior
+    /// priced the G function of 24 inputs (21 nearly inert) 8× too wide.
+    fn coordinate_weights(&self, est: &[f64]) -> Vec<f64> {
+        let d = self.d;
+        let total = &est[d..2 * d];
+        let top = total.iter().copied().fold(0.0, f64::max);
+        (0..2 * d)
+            .map(|c| {
+                let t = total[self.layout.input_of(c, d)];
+                if top > 0.0 {
+                    (t / top).max(0.0)
+                } else {
+                    1.0
+                }
+            })
+            .collect()
+    }
+
+    /// Every index's linearisation at one point (`point` its rows × k values as fed),
+    /// output j, into `out` in the order of [`Sensitivity::indices`]: the derivative of
+    /// the index's formula along the point's terms of the means it is made of, with `s`
+    /// the pooled sums over `n` points and `est` the indices from them. Constants are left
+    /// out (a cubature's error does not see them).
+    fn influence(&self, s: &[f64], n: f64, est: &[f64], point: &[f64], j: usize, out: &mut [f64]) {
+        let (d, k) = (self.d, self.k);
+        let scale = pow2(-self.scale[j]);
+        let y = |row: usize| (point[row * k + j] - self.centre[j]) * scale;
+        let (ya, yb) = (y(0), y(1));
+        let mean = (s[0] + s[1]) / (2.0 * n);
+        let v = (s[2] + s[3]) / (2.0 * n) - mean * mean;
+        let (ma, maa, mb, mbb) = (s[0] / n, s[2] / n, s[1] / n, s[3] / n);
+        // The variance's own linearisation, which every index divided by V shares.
+        let dv = (ya * ya + yb * yb) / 2.0 - mean * (ya + yb);
+        for (i, t) in s[HEAD..HEAD + d * PER_INPUT]
+            .chunks_exact(PER_INPUT)
+            .enumerate()
+        {
+            let yi = y(2 + i);
+            let total = est[d + i];
+            let term = (ya - yi) * (ya - yi) / 2.0;
+            out[d + i] = match self.options.total_order {
+                TotalOrder::Jansen => (term - total * dv) / v,
+                TotalOrder::Janon => {
+                    let m = (ma + t[3] / n) / 2.0;
+                    let over = (maa + t[4] / n) / 2.0 - m * m;
+                    let dover = (ya * ya + yi * yi) / 2.0 - m * (ya + yi);
+                    (term - total * dover) / over
+                }
+            };
+            let first = est[i];
+            out[i] = match self.options.first_order {
+                FirstOrder::Saltelli => (yb * (yi - ya) - first * dv) / v,
+                FirstOrder::Janon => {
+                    let m = (mb + t[3] / n) / 2.0;
+                    let den = (mbb + t[4] / n) / 2.0 - m * m;
+                    let dnum = yb * yi - m * (yb + yi);
+                    let dden = (yb * yb + yi * yi) / 2.0 - m * (yb + yi);
+                    (dnum - first * dden) / den
+                }
+            };
+        }
+        if self.options.second_order {
+            let t = &s[HEAD + d * PER_INPUT..];
+            let ab = t[0] / n;
+            let mut at = PAIR_HEAD;
+            let mut p = 2 * d;
+            for i in 0..d {
+                for jj in i + 1..d {
+                    let closed = t[at] / (2.0 * n) - ab;
+                    let (abi, abj) = (y(2 + i), y(2 + jj));
+                    let (bai, baj) = (y(2 + d + i), y(2 + d + jj));
+                    let term = (bai * abj + baj * abi) / 2.0 - ya * yb;
+                    out[p] = (term - closed / v * dv) / v - out[i] - out[jj];
+                    at += 1;
+                    p += 1;
+                }
+            }
+        }
+    }
+
     /// Indices per output: 2·d, and the pairs' with second order.
     fn indices_per_output(&self) -> usize {
         2 * self.d
@@ -1187,12 +1437,19 @@ impl Sensitivity {
     fn all_current(&self) -> (Vec<f64>, Vec<f64>) {
         let t = self.quantile();
         let (m, k) = (self.indices_per_output(), self.k);
+        let posterior = self.posterior_sd.len() == m * k;
+        let z = self.posterior_quantile();
         let (mut value, mut half_width) = (vec![0.0; m * k], vec![0.0; m * k]);
         for (j, (now, se, half)) in self.estimates().into_iter().enumerate() {
             for i in 0..m {
                 let change = half.as_ref().map_or(0.0, |h| (now[i] - h[i]).abs());
                 value[i * k + j] = now[i];
-                half_width[i * k + j] = (t * se[i]).max(change);
+                let own = if posterior {
+                    z * self.posterior_sd[i * k + j]
+                } else {
+                    t * se[i]
+                };
+                half_width[i * k + j] = own.max(change);
             }
         }
         (value, half_width)
@@ -1571,6 +1828,135 @@ impl Sensitivity {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Ishigami's function on [−π, π]³ with a = 7, b = 0.1.
+    fn ishigami(x: &PointSet) -> Vec<f64> {
+        x.rows()
+            .map(|p| p[0].sin() + 7.0 * p[1].sin().powi(2) + 0.1 * p[2].powi(4) * p[0].sin())
+            .collect()
+    }
+
+    fn ishigami_options() -> SensitivityOptions {
+        SensitivityOptions {
+            a: Some(vec![-std::f64::consts::PI; 3]),
+            b: Some(vec![std::f64::consts::PI; 3]),
+            abs_tol: 0.0,
+            max_n: 3 * 256 * 8 + face_evaluations(3),
+            second_order: true,
+            ..SensitivityOptions::default()
+        }
+    }
+
+    /// The terms one point adds to the sums of output 0, written out again from the
+    /// estimators' formulas: y_A, y_B, y_A², y_B², per input y_B(y_ABi − y_A),
+    /// (y_A − y_ABi)², y_B·y_ABi, y_ABi, y_ABi², then y_A·y_B and per pair
+    /// y_BAi·y_ABj + y_BAj·y_ABi.
+    fn terms(state: &Sensitivity, p: usize) -> Vec<f64> {
+        let (d, rows) = (state.d, state.rows());
+        let scale = pow2(-state.scale[0]);
+        let y = |row: usize| (state.values[p * rows + row] - state.centre[0]) * scale;
+        let (ya, yb) = (y(0), y(1));
+        let mut h = vec![ya, yb, ya * ya, yb * yb];
+        for i in 0..d {
+            let yi = y(2 + i);
+            h.extend([yb * (yi - ya), (ya - yi).powi(2), yb * yi, yi, yi * yi]);
+        }
+        h.push(ya * yb);
+        for i in 0..d {
+            for j in i + 1..d {
+                h.push(y(2 + d + i) * y(2 + j) + y(2 + d + j) * y(2 + i));
+            }
+        }
+        h
+    }
+
+    #[test]
+    fn the_influence_is_the_derivative_of_every_estimator() {
+        // Weight ε more on point p moves the means to μ + (ε/n)(h_p − μ), so an index
+        // moves by (ε/n)(ψ(p) − ∇g·μ): the difference between two points' moves, times
+        // n/ε, is ψ(p) − ψ(q) for every estimator and the pairs.
+        for (first_order, total_order) in [
+            (FirstOrder::Saltelli, TotalOrder::Jansen),
+            (FirstOrder::Janon, TotalOrder::Janon),
+        ] {
+            let o = SensitivityOptions {
+                first_order,
+                total_order,
+                ..ishigami_options()
+            };
+            let mut state = Sensitivity::new(3, o).unwrap();
+            state.run(ishigami).unwrap();
+            let (s, n) = state.pooled(&state.sums, state.per_replicate, 0, |_| true);
+            let est = state.indices(&s, n);
+            let m = est.len();
+            let eps = 1e-6;
+            let moved = |p: usize| {
+                let h = terms(&state, p);
+                let shifted: Vec<f64> = s.iter().zip(&h).map(|(a, b)| a + eps * b).collect();
+                state.indices(&shifted, n + eps)
+            };
+            let (mut psi_p, mut psi_q) = (vec![0.0; m], vec![0.0; m]);
+            let rows = state.rows();
+            for (p, q) in [(0, 1), (5, 300), (33, 511)] {
+                let row = |p: usize| &state.values[p * rows..(p + 1) * rows];
+                state.influence(&s, n, &est, row(p), 0, &mut psi_p);
+                state.influence(&s, n, &est, row(q), 0, &mut psi_q);
+                let (gp, gq) = (moved(p), moved(q));
+                for i in 0..m {
+                    let fd = ((gp[i] - est[i]) - (gq[i] - est[i])) * n / eps;
+                    let exact = psi_p[i] - psi_q[i];
+                    assert!(
+                        (fd - exact).abs() <= 1e-4 * (1.0 + exact.abs()),
+                        "{first_order:?} {total_order:?} index {i}: {fd} against {exact}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_posterior_interval_prices_the_rule_and_falls_back_to_the_blocks() {
+        // By default the half-widths are the posterior's quantile times its standard
+        // deviations (no round guard after one doubling); asked for by name, or past the
+        // values a state keeps, the blocks' jackknife.
+        let one = SensitivityOptions {
+            second_order: false,
+            max_n: 5 * 64 * 8 + face_evaluations(3),
+            ..ishigami_options()
+        };
+        let mut posterior = Sensitivity::new(3, one.clone()).unwrap();
+        posterior.run(ishigami).unwrap();
+        let z = posterior.posterior_quantile();
+        assert!((z - 2.5758293035489).abs() < 1e-9, "{z}");
+        let [_, _, first_hw, total_hw] = posterior.current();
+        let sd = posterior.posterior_sd();
+        assert_eq!(sd.len(), 6);
+        for (h, s) in first_hw.iter().chain(&total_hw).zip(sd) {
+            assert_eq!(*h, z * s);
+            assert!(*s > 0.0);
+        }
+        let blocks = |o: SensitivityOptions, most: usize| {
+            let mut state = Sensitivity::new(3, o).unwrap();
+            state.most_values = most;
+            state.run(ishigami).unwrap();
+            state
+        };
+        let named = blocks(
+            SensitivityOptions {
+                interval: Interval::Blocks,
+                ..one.clone()
+            },
+            MOST_VALUES,
+        );
+        let full = blocks(one, 5 * 64 * 8 - 1);
+        for state in [&named, &full] {
+            assert!(state.posterior_sd().is_empty() && state.values.is_empty());
+            assert_eq!(state.options.interval, Interval::Blocks);
+            assert_eq!(state.current(), named.current());
+        }
+        assert_eq!(named.current()[0], posterior.current()[0]);
+        assert_ne!(named.current()[2], posterior.current()[2]);
+    }
 
     /// f = x1 + 2·x2·x3 + x3², evaluated batch by batch, recording each batch's
     /// points.
