@@ -40,6 +40,10 @@ pub(crate) struct SensitivityArgs {
     /// point).
     #[arg(long)]
     pub(crate) second_order: bool,
+    /// How each index's interval is computed: posterior (a Bayesian cubature's of the
+    /// rule of all the points, the default) or blocks (Student's over the blocks).
+    #[arg(long, value_name = "NAME")]
+    pub(crate) interval: Option<String>,
     /// Print one JSON object.
     #[arg(long)]
     pub(crate) json: bool,
@@ -63,6 +67,7 @@ impl SensitivityArgs {
             bounds: self.bounds.as_deref().map(Arg::from),
             simultaneous: self.simultaneous.then_some(Arg::Bool(true)),
             first_estimator: self.first_estimator.as_deref().map(Arg::from),
+            interval: self.interval.as_deref().map(Arg::from),
             second_order: self.second_order.then_some(Arg::Bool(true)),
             space: space_items(&self.var, None)?,
             ..Request::default()
@@ -193,6 +198,7 @@ fn print_json(text: &str, r: &SobolResult, options: &SensitivityOptions) -> Resu
             (Opt::abs_tol, json!(options.abs_tol)),
             (Opt::first_estimator, json!(options.first_order.as_str())),
             (Opt::second_order, json!(options.second_order)),
+            (Opt::interval, json!(r.state.interval_used().as_str())),
             (Opt::rule, json!(options.rule.as_str())),
         ],
     );
@@ -239,7 +245,11 @@ fn print_table(r: &SobolResult, options: &SensitivityOptions) -> Result<()> {
     } else {
         "each on its own"
     };
-    outln!("intervals    level {} ({which})", options.level);
+    outln!(
+        "intervals    level {} ({which}; {})",
+        options.level,
+        r.state.interval_used().as_str()
+    );
     outln!("evaluations  {} ({} replicates)", r.n, options.replicates);
     let why = match r.reason {
         Some(StopReason::Met) | None => "yes".to_string(),

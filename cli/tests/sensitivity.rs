@@ -54,6 +54,24 @@ fn ishigami_is_within_the_tolerance_of_its_closed_form() {
     // counted in n) takes every input without the tent.
     assert_eq!(v["periodic"], serde_json::json!(["x1", "x2", "x3"]));
     assert_eq!(v["n"].as_u64().unwrap() % 40, 24, "{v}");
+    assert_eq!(v["interval"], "posterior", "{v}");
+    // By name, the blocks' interval: the same points and indices.
+    let blocks = run_json(&[
+        "--expr",
+        ISHIGAMI,
+        "-s",
+        "3",
+        &format!("--bounds={PI_BOX}"),
+        "--interval",
+        "blocks",
+        "--max-n",
+        &v["n"].to_string(),
+        "--abs-tol",
+        "0",
+    ]);
+    assert_eq!(blocks["interval"], "blocks", "{blocks}");
+    assert_eq!((&blocks["first"], &blocks["n"]), (&v["first"], &v["n"]));
+    assert_ne!(blocks["total_half_width"], v["total_half_width"]);
     let mixed = run_json(&[
         "--expr",
         "sin(x1) + x2",
@@ -149,6 +167,10 @@ fn refusals_name_the_flag_and_the_value_as_typed() {
         (
             vec!["-s", "2", "--first-estimator", "owen"],
             "invalid --first-estimator = owen",
+        ),
+        (
+            vec!["-s", "2", "--interval", "median"],
+            "invalid --interval = median",
         ),
         (vec!["--var", "W=brownian(1,3)"], "invalid --var = W_1"),
         (vec!["-s", "2", "--bounds", "0,1"], "--bounds"),

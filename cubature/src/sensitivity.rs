@@ -640,6 +640,46 @@ impl Sensitivity {
         Ok(())
     }
 
+    /// The interval the half-widths come from: the one asked for, or the blocks' where the
+    /// posterior cannot be formed (Owen-scrambled points, R not a power of two, past
+    /// [`MOST_VALUES`] values).
+    pub fn interval_used(&self) -> Interval {
+        if self.keeps_values() {
+            Interval::Posterior
+        } else {
+            Interval::Blocks
+        }
+    }
+
+    /// Sets how the intervals are computed: the blocks' at any time (the values kept for
+    /// the posterior are let go), the posterior only where it is already computed or
+    /// nothing is fed yet; refuses the posterior after a run that kept no values (the
+    /// blocks' interval, Owen-scrambled points, R not a power of two), naming `interval`.
+    pub fn set_interval(&mut self, interval: Interval) -> Result<(), Error> {
+        if interval == self.options.interval {
+            return Ok(());
+        }
+        if interval == Interval::Blocks {
+            self.options.interval = interval;
+            self.values = Vec::new();
+            self.posterior_sd = Vec::new();
+            return Ok(());
+        }
+        let before = self.options.interval;
+        self.options.interval = interval;
+        if self.k > 0 || !self.keeps_values() {
+            self.options.interval = before;
+            return Err(Error::invalid(
+                "interval",
+                interval.as_str(),
+                "blocks: the posterior needs every value from the first point, which this \
+                 run did not keep (it used the blocks' interval, Owen-scrambled points or a \
+                 count of replicates that is not a power of two)",
+            ));
+        }
+        Ok(())
+    }
+
     /// Whether the intervals hold all together (Bonferroni) or each on its own.
     pub fn set_simultaneous(&mut self, simultaneous: bool) {
         self.options.simultaneous = simultaneous;

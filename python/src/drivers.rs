@@ -178,6 +178,7 @@ driver!(PySensitivity, "Sensitivity", Sensitivity, SensitivityOptions, {
         (a, b)
     };
     second_order -> bool = |s: &Sensitivity| s.options().second_order;
+    interval -> &'static str = |s: &Sensitivity| s.interval_used().as_str();
     n -> u64 = Sensitivity::n;
     d -> usize = Sensitivity::d;
     names -> Vec<String> = |s: &Sensitivity| s.names().to_vec();

@@ -1,8 +1,9 @@
 """Sobol' sensitivity indices to a tolerance: :func:`sobol_indices` evaluates f on a
 pick-freeze design drawn from the extensible randomised lattice in 2d dimensions
 (Owen-scrambled Sobol' points under an unbounded law), doubling the points (never
-discarding an evaluation), the estimate from all of them and the interval from R blocks
-of them, until every index's interval is narrow enough; :class:`SobolResult` holds the indices, their
+discarding an evaluation), the estimate from all of them and each index's interval from a
+Bayesian posterior of the rule of all of them (or from R blocks of them), until every
+index's interval is narrow enough; :class:`SobolResult` holds the indices, their
 half-widths and the state to continue from."""
 
 from __future__ import annotations
@@ -141,6 +142,14 @@ class SobolResult(_Result):
         return int(self._state.settings[4])
 
     @property
+    def interval(self) -> str:
+        """How the half-widths were computed: ``"posterior"`` or ``"blocks"`` (asked
+        for, or where the posterior cannot be formed: Owen-scrambled points under an
+        unbounded law, a count of replicates that is not a power of two, more than 2^24
+        values of f)."""
+        return str(self._state.interval)
+
+    @property
     def warnings(self) -> List[str]:
         """Warnings about the settings (too few replicates)."""
         return list(self._state.warnings)
@@ -164,6 +173,7 @@ def sobol_indices(
     simultaneous: Optional[bool] = None,
     first_estimator: Optional[str] = None,
     second_order: Optional[bool] = None,
+    interval: Optional[str] = None,
     replicates: Optional[int] = None,
     max_n: Optional[int] = None,
     seed: Any = _SEED,
@@ -186,9 +196,13 @@ def sobol_indices(
     is then False). Total indices are Janon et al. (2014)'s; first
     order ones Saltelli et al. (2010)'s by default (the more accurate of the two
     measured, for small indices most of all), Janon et al. (2014)'s by name, each from
-    all N points. The intervals are Student t intervals from a jackknife over the
-    blocks (each a randomised rule of N/R points, so they err on the wide side), raised to
-    each index's change since half the points when that is larger. Up to 500
+    all N points. Each index's interval is by default a Bayesian cubature's posterior
+    of the rule of all N points: the index's linearisation at every point, a
+    shift-invariant kernel weighted per input by the total indices and fitted to it by
+    maximum likelihood, and the posterior's normal quantile at 1 − (1 − level)/5; on
+    Owen-scrambled points, or by name, a Student t interval from a jackknife over the
+    blocks (each a randomised rule of N/R points, so it errs on the wide side). Either is
+    raised to the index's change since half the points when that is larger. Up to 500
     inputs (the sequence's 1 000 coordinates hold A and B).
 
     Parameters
@@ -222,6 +236,10 @@ def sobol_indices(
         as well: 2d + 2 evaluations per point; the tolerance then applies to these
         intervals too. The first-order and total indices are those of the same points
         without them.
+    interval : str, optional
+        ``"posterior"`` (the default; it keeps every value of f, 8 bytes per evaluation
+        and output, up to 2^24 values, then goes on with the blocks) or ``"blocks"``.
+        A continuation may go from the posterior to the blocks, not back.
     replicates : int, optional
         Replicates R, 2 to 16384 (by default 8): the blocks of the one sequence the
         intervals come from; the estimate uses every point whatever R is.
@@ -258,7 +276,8 @@ def sobol_indices(
     """
     given = dict(
         d=d, space=space, a=a, b=b, abs_tol=abs_tol, level=level, simultaneous=simultaneous,
-        first_estimator=first_estimator, second_order=second_order, replicates=replicates,
+        first_estimator=first_estimator, second_order=second_order, interval=interval,
+        replicates=replicates,
         max_n=max_n, seed=seed, correlation=correlation,
     )
     return SobolResult(*_run(SobolResult, f, given, start, executor, progress))

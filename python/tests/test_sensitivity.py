@@ -169,10 +169,38 @@ def test_simultaneous_intervals_are_wider():
     assert not own.met and own.reason == "max_n"
 
 
+def test_the_interval_is_the_posterior_by_default_and_the_blocks_by_name():
+    # The same points and indices either way, other half-widths, each covering the
+    # closed form.
+    o = dict(a=-math.pi, b=math.pi, abs_tol=0.0, max_n=4096 * 5 + 24)
+    post = sp.sobol_indices(ishigami, 3, **o)
+    blocks = sp.sobol_indices(ishigami, 3, interval="blocks", **o)
+    assert post.interval == "posterior" and blocks.interval == "blocks"
+    assert np.array_equal(post.first, blocks.first) and post.n == blocks.n
+    first, total = ishigami_exact()
+    assert np.all(np.abs(post.first - first) <= post.first_half_width)
+    assert np.all(np.abs(post.total - total) <= post.total_half_width)
+    assert not np.array_equal(post.total_half_width, blocks.total_half_width)
+    assert np.all(np.abs(blocks.total - total) <= blocks.total_half_width)
+    # A continuation may leave the posterior for the blocks, not come back.
+    on = sp.sobol_indices(ishigami, 3, start=post, interval="blocks", max_n=8192 * 5 + 24,
+                          abs_tol=0.0)
+    assert on.interval == "blocks" and on.n == 8192 * 5 + 24
+    with pytest.raises(ValueError, match=r"invalid interval = 'posterior'"):
+        sp.sobol_indices(ishigami, 3, start=on, interval="posterior")
+    # Under an unbounded law the points are Owen-scrambled Sobol' points: the blocks'.
+    z = sp.sobol_indices(lambda x: x[:, 0] + 2 * x[:, 1], space={"a": "normal(0,1)",
+                                                                  "b": "normal(0,1)"},
+                         abs_tol=0.05)
+    assert z.interval == "blocks" and z.met
+    assert pickle.loads(pickle.dumps(post)).interval == "posterior"
+
+
 @pytest.mark.parametrize(
     "kwargs, message",
     [
         (dict(d=0), r"invalid d = 0"),
+        (dict(d=3, interval="median"), r"invalid interval = 'median'"),
         (dict(d=501), r"invalid d = 501"),
         (dict(d=3, abs_tol=-1e-3), r"invalid abs_tol = -0\.001"),
         (dict(d=3, level=1.5), r"invalid level = 1\.5"),

@@ -13,7 +13,7 @@ use super::options::{Command, Opt, Value, ALL};
 use super::request::{Arg, Request};
 use crate::cubature::{Cubature, QuadOptions, Rule};
 use crate::design::DesignSpace;
-use crate::sensitivity::{FirstOrder, Sensitivity, SensitivityOptions};
+use crate::sensitivity::{FirstOrder, Interval, Sensitivity, SensitivityOptions};
 use crate::Error;
 
 /// How a front end writes refusals: the option the library calls `name` as its users
@@ -609,6 +609,10 @@ impl Integration for Sensitivity {
             Some(w) => FirstOrder::parse(Opt::first_estimator.name(), &w)?,
             None => o.first_order,
         };
+        let interval = match word(r, Opt::interval)? {
+            Some(w) => Interval::parse(Opt::interval.name(), &w)?,
+            None => o.interval,
+        };
         let simultaneous = flag(r, Opt::simultaneous)?;
         let second_order = flag(r, Opt::second_order)?;
         let g = Shared::read(r)?;
@@ -625,6 +629,7 @@ impl Integration for Sensitivity {
             seed: g.seed.unwrap_or(o.seed),
             rule: Rule::for_space(space).0,
             second_order: second_order.unwrap_or(o.second_order),
+            interval,
             ..o
         };
         Sensitivity::new(region.d, options)
@@ -662,7 +667,10 @@ impl Integration for Sensitivity {
         if let Some(s) = flag(r, Opt::simultaneous)? {
             self.set_simultaneous(s);
         }
-        Ok(())
+        match word(r, Opt::interval)? {
+            Some(w) => self.set_interval(Interval::parse(Opt::interval.name(), &w)?),
+            None => Ok(()),
+        }
     }
     fn kept_flag(&self) -> Option<(Opt, bool)> {
         // The BA_i rows are part of every point's design.

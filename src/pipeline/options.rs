@@ -549,6 +549,10 @@ options! {
         String: Kind::Word(words::first_estimators), "saltelli or janon",
         default |_| Some(crate::sensitivity::FirstOrder::default().as_str().into()),
         "The first-order estimator: saltelli or janon.";
+    interval: "interval", cli "--interval", python Some("interval"), for [Sensitivity],
+        String: Kind::Word(words::intervals), "posterior or blocks",
+        default |_| Some(crate::sensitivity::Interval::default().as_str().into()),
+        "How each index's interval is computed: posterior (a Bayesian cubature's of the rule of all the points) or blocks (Student's over the blocks' spread).";
     start: "start", cli "", python Some("start"), for [Quad, Sensitivity],
         Value: Kind::FrontEnd, "an earlier result of the same command", default none,
         "An earlier result to continue from: its evaluations are kept.";

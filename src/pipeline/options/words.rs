@@ -5,7 +5,7 @@
 use crate::cubature::Rule;
 use crate::energies::discrepancy::DiscrepancyKind;
 use crate::post::randomize::Randomize;
-use crate::sensitivity::FirstOrder;
+use crate::sensitivity::{FirstOrder, Interval};
 use crate::sequences::Baseline;
 
 /// The integration goal's name.
@@ -130,6 +130,14 @@ pub fn first_estimators() -> Vec<&'static str> {
     [FirstOrder::Saltelli, FirstOrder::Janon]
         .iter()
         .map(|f| f.as_str())
+        .collect()
+}
+
+/// `interval`: how the Sobol' indices' intervals are computed.
+pub fn intervals() -> Vec<&'static str> {
+    [Interval::Posterior, Interval::Blocks]
+        .iter()
+        .map(|i| i.as_str())
         .collect()
 }
 
