@@ -13,7 +13,7 @@ use stillpoint::pipeline::options::ALL;
 
 /// The literals ARCHITECTURE.md accounts for: 22 naming an option (the constants of
 /// `parse/src/names.rs`, clap ids) and 20 words of other tables spelt like one.
-const ACCOUNTED: usize = 42;
+const ACCOUNTED: usize = 43;
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     for entry in fs::read_dir(dir).unwrap() {

@@ -41,7 +41,7 @@ pub(crate) struct SensitivityArgs {
     #[arg(long)]
     pub(crate) second_order: bool,
     /// How each index's interval is computed: posterior (a Bayesian cubature's of the
-    /// rule of all the points, the default) or blocks (Student's over the blocks).
+    /// rule of all the points) or blocks (Student's over the blocks' spread).
     #[arg(long, value_name = "NAME")]
     pub(crate) interval: Option<String>,
     /// Print one JSON object.

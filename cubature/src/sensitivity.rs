@@ -670,7 +670,7 @@ impl Sensitivity {
         if self.k > 0 || !self.keeps_values() {
             self.options.interval = before;
             return Err(Error::invalid(
-                "interval",
+                crate::names::INTERVAL,
                 interval.as_str(),
                 "blocks: the posterior needs every value from the first point, which this \
                  run did not keep (it used the blocks' interval, Owen-scrambled points or a \

@@ -7,6 +7,8 @@
 
 /// `abs_tol`.
 pub const ABS_TOL: &str = "abs_tol";
+/// `interval`: how the Sobol' indices' intervals are computed.
+pub const INTERVAL: &str = "interval";
 /// `rel_tol`.
 pub const REL_TOL: &str = "rel_tol";
 /// `level`.

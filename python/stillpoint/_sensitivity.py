@@ -237,9 +237,9 @@ def sobol_indices(
         intervals too. The first-order and total indices are those of the same points
         without them.
     interval : str, optional
-        ``"posterior"`` (the default; it keeps every value of f, 8 bytes per evaluation
-        and output, up to 2^24 values, then goes on with the blocks) or ``"blocks"``.
-        A continuation may go from the posterior to the blocks, not back.
+        ``"posterior"`` or ``"blocks"``; by default ``"posterior"`` (it keeps every value
+        of f, 8 bytes per evaluation and output, up to 2^24 values, then goes on with the
+        blocks). A continuation may go from the posterior to the blocks, not back.
     replicates : int, optional
         Replicates R, 2 to 16384 (by default 8): the blocks of the one sequence the
         intervals come from; the estimate uses every point whatever R is.

@@ -670,6 +670,7 @@ mod tests {
         for (name, opt) in [
             (n::ABS_TOL, Opt::abs_tol),
             (n::REL_TOL, Opt::rel_tol),
+            (n::INTERVAL, Opt::interval),
             (n::LEVEL, Opt::level),
             (n::MAX_N, Opt::max_n),
             (n::REPLICATES, Opt::replicates),
