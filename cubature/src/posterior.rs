@@ -175,7 +175,7 @@ struct Fit {
     norm: f64,
 }
 
-/// Steps of the grid of ln θ over [`LN_THETA`] on which [`posteriors`] fits every output
+/// Steps of the grid of ln θ over [−5, 0] on which [`posteriors`] fits every output
 /// at once (a step of 0.25).
 pub const GRID_STEPS: usize = 20;
 
@@ -184,7 +184,8 @@ pub const GRID_STEPS: usize = 20;
 /// maximum likelihood, θ on a grid of [`GRID_STEPS`] + 1 values of ln θ rather than by a
 /// search per output: every output fitted at a θ shares the kernel's eigenvalues, so the
 /// O(n·d) kernel is built (|DECAYS|)·([`GRID_STEPS`] + 1) times whatever the count of
-/// outputs. `None` for an output that is constant (or fewer than 4 points).
+/// outputs. The kernel is Π_c (1 + θ·weights[c]·η_α(x_c)): a weight scales coordinate c's
+/// roughness (0 drops it). `None` for an output that is constant (or fewer than 4 points).
 pub fn posteriors(ys: &[Vec<f64>], z: &[u32], weights: &[f64]) -> Vec<Option<Posterior>> {
     let Some(n) = ys.first().map(Vec::len) else {
         return Vec::new();

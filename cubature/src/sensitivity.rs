@@ -1328,9 +1328,9 @@ impl Sensitivity {
     /// under the blocks' interval.
     ///
     /// An index is a smooth function g of means over the points (the sums of
-    /// [`Sensitivity::accumulate`]), so its error is to first order the error of the
+    /// `Sensitivity::accumulate`), so its error is to first order the error of the
     /// lattice's mean of its linearisation ψ(x) = ∇g · h(x), h(x) the point's terms of
-    /// the sums ([`Sensitivity::influence`]). ψ is a function on the lattice's 2d-
+    /// the sums (`Sensitivity::influence`). ψ is a function on the lattice's 2d-
     /// dimensional cube, periodic as f is after the tent (or periodic itself, for the
     /// inputs the face test took without it), and its mean's error is what a Bayesian
     /// cubature prices ([`crate::posterior`]): a shift-invariant kernel fitted to ψ's
