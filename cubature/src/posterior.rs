@@ -184,7 +184,7 @@ pub const GRID_STEPS: usize = 20;
 /// maximum likelihood, θ on a grid of [`GRID_STEPS`] + 1 values of ln θ rather than by a
 /// search per output: every output fitted at a θ shares the kernel's eigenvalues, so the
 /// O(n·d) kernel is built (|DECAYS|)·([`GRID_STEPS`] + 1) times whatever the count of
-/// outputs. The kernel is Π_c (1 + θ·weights[c]·η_α(x_c)): a weight scales coordinate c's
+/// outputs. The kernel is `Π_c (1 + θ·weights[c]·η_α(x_c))`: a weight scales coordinate c's
 /// roughness (0 drops it). `None` for an output that is constant (or fewer than 4 points).
 pub fn posteriors(ys: &[Vec<f64>], z: &[u32], weights: &[f64]) -> Vec<Option<Posterior>> {
     let Some(n) = ys.first().map(Vec::len) else {
