@@ -137,8 +137,8 @@ class SobolResult(_Result):
 
     @property
     def replicates(self) -> int:
-        """Replicates R: the blocks of the one randomised sequence the intervals come
-        from."""
+        """Replicates R: the blocks of the one randomised sequence (the blocks' interval
+        comes from their spread)."""
         return int(self._state.settings[4])
 
     @property
@@ -242,7 +242,8 @@ def sobol_indices(
         blocks). A continuation may go from the posterior to the blocks, not back.
     replicates : int, optional
         Replicates R, 2 to 16384 (by default 8): the blocks of the one sequence the
-        intervals come from; the estimate uses every point whatever R is.
+        blocks' interval comes from (the posterior needs R a power of two, and does not
+        depend on it otherwise); the estimate uses every point whatever R is.
     max_n : int, optional
         The most evaluations of f, all rounds; by default 2^22.
     seed : int or None

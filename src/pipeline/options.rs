@@ -522,7 +522,7 @@ options! {
             _ => crate::cubature::DEFAULT_REPLICATES.to_string(),
         }),
         "Independent random shifts (the interval comes from their spread).",
-        in Sensitivity "Blocks of one randomised sequence the intervals come from (their spread); the estimate uses all the points.";
+        in Sensitivity "Blocks of one randomised sequence: the blocks' interval comes from their spread, the posterior needs a power of two; the estimate uses all the points.";
     max_n: "max_n", cli "--max-n", python Some("max_n"), for [Quad, Sensitivity],
         u64: Kind::Count { min: 1, max: u64::MAX }, "a whole number ≥ 1",
         default |c| Some(match c {
