@@ -452,6 +452,16 @@ def test_the_rule_follows_the_laws_and_says_why():
     assert r.n == 64 + 256 and r.estimate == pytest.approx(1.0, rel=0.03)
     more = sp.quad(f, 1, start=r, rel_tol=r.half_width / 8, rule=r.rule)
     assert more.rule == r.rule and more.n > r.n and more.replicates == 1
+    # The result's own count passed back is taken, its one lattice included (a new
+    # run's range, 2 to 16384, refuses 1), as is the count asked for (4); another count
+    # is refused as before.
+    same = sp.quad(f, 1, start=r, rel_tol=r.half_width / 8, rule=r.rule,
+                   replicates=r.replicates)
+    assert (same.n, same.estimate) == (more.n, more.estimate)
+    with pytest.raises(ValueError, match=r"invalid replicates = 8"):
+        sp.quad(f, 1, start=r, rel_tol=r.half_width / 8, replicates=8)
+    with pytest.raises(ValueError, match=r"invalid replicates = 0"):
+        sp.quad(f, 1, start=r, rel_tol=r.half_width / 8, replicates=0)
     assert more.half_width <= r.half_width / 8
     assert more.estimate == pytest.approx(1.0, abs=10 * more.half_width)
     # Asked for by name: from its own first round of 64 points per replicate.

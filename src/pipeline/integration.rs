@@ -340,6 +340,10 @@ trait Integration: Clone {
     fn d(&self) -> usize;
     fn seed(&self) -> u64;
     fn replicates(&self) -> usize;
+    /// The replicates a result reports (the randomisations evaluated).
+    fn evaluated_replicates(&self) -> usize {
+        self.replicates()
+    }
     /// How a continuation's refusal names the earlier replicates.
     fn earlier_replicates(&self) -> String;
     /// The word a continuation keeps (the rule, the estimator): its option, the earlier
@@ -382,6 +386,16 @@ fn from_request<T: Integration>(
     .map_err(|e| sp.error(e, r))
 }
 
+/// Whether `arg` is one of the whole numbers `ns` (as a number, or as its digits).
+fn names_a_count(arg: Option<&Arg>, ns: &[usize]) -> bool {
+    let given = match arg {
+        Some(Arg::Int(i)) => u64::try_from(*i).ok(),
+        Some(Arg::Text(t)) => t.trim().parse::<u64>().ok(),
+        _ => None,
+    };
+    given.is_some_and(|g| ns.iter().any(|&n| n as u64 == g))
+}
+
 /// `earlier` continued with the options given (`earlier` itself is not changed): the
 /// tolerances, level and budget (and what [`Integration::set_more`] takes) are honoured;
 /// the dimension must match; the options of [`Integration::FIXED`] are refused, and the
@@ -399,9 +413,16 @@ fn continued<T: Integration>(earlier: &T, r: &Request, sp: &Spelling) -> Result<
         kept.dimension(earlier.d(), verb, noun)?;
         kept.fixed(T::FIXED)?;
         kept.seed(earlier.seed())?;
-        if let Some(n) = count(r, Opt::replicates)? {
-            let same = n == earlier.replicates() as u64;
-            kept.equal(Opt::replicates, same, &earlier.earlier_replicates())?;
+        // The count the earlier result reports is taken as the same replicates, even
+        // where it differs from the count asked for (replicates added to meet the
+        // tolerance; the one lattice of a run that left for the Bayesian lattice) or a
+        // new run's range refuses it (1): a continuation passes back what it was shown.
+        let counts = [earlier.replicates(), earlier.evaluated_replicates()];
+        if !names_a_count(r.arg(Opt::replicates), &counts) {
+            if let Some(n) = count(r, Opt::replicates)? {
+                let same = n == earlier.replicates() as u64;
+                kept.equal(Opt::replicates, same, &earlier.earlier_replicates())?;
+            }
         }
         let (opt, word_then, said) = earlier.kept_word();
         if let Some(w) = word(r, opt)? {
@@ -524,6 +545,9 @@ impl Integration for Cubature {
     }
     fn replicates(&self) -> usize {
         self.options().replicates
+    }
+    fn evaluated_replicates(&self) -> usize {
+        Cubature::replicates(self)
     }
     fn earlier_replicates(&self) -> String {
         let n = self.options().replicates;
