@@ -504,6 +504,9 @@ def test_added_replicates_are_counted_and_continued():
     # The replicates asked for (4, the default) continue it; doublings keep the added.
     more = sp.quad(product_peak, 3, rel_tol=tol / 10, start=r, replicates=4)
     assert more.met and more.replicates >= r.replicates and more.n > r.n
+    # So does the count the result reports, the added one included.
+    shown = sp.quad(product_peak, 3, rel_tol=tol / 10, start=r, replicates=r.replicates)
+    assert r.replicates > 4 and (shown.n, shown.estimate) == (more.n, more.estimate)
     # A pickled result continues to the same answer.
     back = sp.quad(product_peak, 3, rel_tol=tol / 10, start=pickle.loads(pickle.dumps(r)))
     assert (back.n, back.estimate, back.replicates) == (more.n, more.estimate, more.replicates)
