@@ -2305,11 +2305,7 @@ impl Cubature {
         let h = match self.posterior.get(j).copied().flatten() {
             Some(p) => {
                 let miss = (1.0 - self.options.level) / POSTERIOR_MISS;
-                let z = Marginal::Normal {
-                    mu: 0.0,
-                    sigma: 1.0,
-                }
-                .ppf(1.0 - miss / 2.0);
+                let z = Marginal::normal_score(1.0 - miss / 2.0);
                 let shift = self.shift.get(j).copied().unwrap_or(0);
                 libm::scalbn(z * p.sd * self.volume().0, p.exp - shift)
             }
@@ -2384,11 +2380,7 @@ impl Cubature {
             return None;
         }
         let n = self.moments[j].count;
-        let z = Marginal::Normal {
-            mu: 0.0,
-            sigma: 1.0,
-        }
-        .ppf((1.0 + self.options.level) / 2.0);
+        let z = Marginal::normal_score((1.0 + self.options.level) / 2.0);
         // Plain Monte Carlo's half-width on the same values, in the sums' units (the
         // moments are divided by 2^exp, the sums by 2^shift).
         let shift = self.shift.get(j).copied().unwrap_or(0);

@@ -105,13 +105,8 @@ pub fn posterior(y: &[f64], z: &[u32]) -> Option<Posterior> {
     if n < 4 || !n.is_power_of_two() || y.iter().all(|v| *v == y[0]) {
         return None;
     }
-    let mut planner = FftPlanner::new();
-    let mut spectrum: Vec<Complex<f64>> = y.iter().map(|v| Complex::new(*v, 0.0)).collect();
-    planner.plan_fft_forward(n).process(&mut spectrum);
-    let power: Vec<f64> = spectrum.iter().map(|c| c.norm_sqr()).collect();
-    let mask = (n - 1) as u64;
-    // Each coordinate's index into the decay table at point i: i·z_j mod n.
-    let index = |i: usize, j: usize| ((i as u64).wrapping_mul(z[j] as u64) & mask) as usize;
+    let power = power_spectrum(y, &mut FftPlanner::new());
+    let index = decay_index(n, z);
     use rayon::prelude::*;
     // Each decay's fit on its own thread (the same numbers on any count of threads).
     let fits: Vec<(f64, Posterior)> = DECAYS
@@ -120,13 +115,7 @@ pub fn posterior(y: &[f64], z: &[u32]) -> Option<Posterior> {
             let mut planner = FftPlanner::new();
             let table = decay_table(alpha, n, &mut planner);
             let d = z.len();
-            // Every fit reads η at each point and coordinate: gathered once when they fit
-            // in GATHERED values (the same numbers, read in order), else looked up.
-            let gathered: Vec<f64> = if n * d <= GATHERED {
-                (0..n * d).map(|e| table[index(e / d, e % d)]).collect()
-            } else {
-                Vec::new()
-            };
+            let gathered = gather(&table, n, d, &index, None);
             let mut fit = |ln_theta: f64| {
                 let theta = ln_theta.exp();
                 if gathered.is_empty() {
@@ -152,7 +141,11 @@ pub fn posterior(y: &[f64], z: &[u32]) -> Option<Posterior> {
             (at.objective, found)
         })
         .collect();
-    // The first of the best, in the order of DECAYS.
+    first_best(fits)
+}
+
+/// The first of the fits with the least objective (in the order given: of [`DECAYS`]).
+fn first_best(fits: impl IntoIterator<Item = (f64, Posterior)>) -> Option<Posterior> {
     let mut best: Option<(f64, Posterior)> = None;
     for (objective, found) in fits {
         if best.as_ref().is_none_or(|(o, _)| objective < *o) {
@@ -160,6 +153,40 @@ pub fn posterior(y: &[f64], z: &[u32]) -> Option<Posterior> {
         }
     }
     best.map(|(_, p)| p)
+}
+
+/// |ŷ_k|², the squared discrete Fourier transform of the values.
+fn power_spectrum(y: &[f64], planner: &mut FftPlanner<f64>) -> Vec<f64> {
+    let mut spectrum: Vec<Complex<f64>> = y.iter().map(|v| Complex::new(*v, 0.0)).collect();
+    planner.plan_fft_forward(y.len()).process(&mut spectrum);
+    spectrum.iter().map(|c| c.norm_sqr()).collect()
+}
+
+/// Each coordinate's index into the decay table at point i of n: i·z_j mod n.
+fn decay_index(n: usize, z: &[u32]) -> impl Fn(usize, usize) -> usize + Sync + '_ {
+    let mask = (n - 1) as u64;
+    move |i, j| ((i as u64).wrapping_mul(z[j] as u64) & mask) as usize
+}
+
+/// η (times each coordinate's weight, if any) at every point and coordinate, gathered once
+/// when they fit in [`GATHERED`] values (every fit reads them in order; the same numbers),
+/// else empty and looked up at each fit.
+fn gather(
+    table: &[f64],
+    n: usize,
+    d: usize,
+    index: &impl Fn(usize, usize) -> usize,
+    weights: Option<&[f64]>,
+) -> Vec<f64> {
+    if n * d > GATHERED {
+        return Vec::new();
+    }
+    (0..n * d)
+        .map(|e| {
+            let eta = table[index(e / d, e % d)];
+            weights.map_or(eta, |w| w[e % d] * eta)
+        })
+        .collect()
 }
 
 /// The kernel's eigenvalues at one θ, and what the likelihood and the posterior read from
@@ -198,17 +225,12 @@ pub fn posteriors(ys: &[Vec<f64>], z: &[u32], weights: &[f64]) -> Vec<Option<Pos
         .iter()
         .map(|y| {
             debug_assert_eq!(y.len(), n);
-            if y.iter().all(|v| *v == y[0]) {
-                return None;
-            }
-            let mut spectrum: Vec<Complex<f64>> = y.iter().map(|v| Complex::new(*v, 0.0)).collect();
-            planner.plan_fft_forward(n).process(&mut spectrum);
-            Some(spectrum.iter().map(|c| c.norm_sqr()).collect())
+            let constant = y.iter().all(|v| *v == y[0]);
+            (!constant).then(|| power_spectrum(y, &mut planner))
         })
         .collect();
-    let mask = (n - 1) as u64;
     let d = z.len();
-    let index = |i: usize, j: usize| ((i as u64).wrapping_mul(z[j] as u64) & mask) as usize;
+    let index = decay_index(n, z);
     use rayon::prelude::*;
     // Per decay, each output's best (objective, posterior) over the grid of θ.
     let per_decay: Vec<Vec<Option<(f64, Posterior)>>> = DECAYS
@@ -216,13 +238,7 @@ pub fn posteriors(ys: &[Vec<f64>], z: &[u32], weights: &[f64]) -> Vec<Option<Pos
         .map(|&alpha| {
             let mut planner = FftPlanner::new();
             let table = decay_table(alpha, n, &mut planner);
-            let gathered: Vec<f64> = if n * d <= GATHERED {
-                (0..n * d)
-                    .map(|e| weights[e % d] * table[index(e / d, e % d)])
-                    .collect()
-            } else {
-                Vec::new()
-            };
+            let gathered = gather(&table, n, d, &index, Some(weights));
             let mut best: Vec<Option<(f64, Posterior)>> = vec![None; ys.len()];
             for step in 0..=GRID_STEPS {
                 let ln_theta =
@@ -252,17 +268,7 @@ pub fn posteriors(ys: &[Vec<f64>], z: &[u32], weights: &[f64]) -> Vec<Option<Pos
         .collect();
     // Per output, the first of the best in the order of DECAYS.
     (0..ys.len())
-        .map(|o| {
-            let mut best: Option<(f64, Posterior)> = None;
-            for fits in &per_decay {
-                if let Some((objective, found)) = fits[o] {
-                    if best.as_ref().is_none_or(|(b, _)| objective < *b) {
-                        best = Some((objective, found));
-                    }
-                }
-            }
-            best.map(|(_, p)| p)
-        })
+        .map(|o| first_best(per_decay.iter().filter_map(|fits| fits[o])))
         .collect()
 }
 

@@ -291,6 +291,11 @@ fn pairs(d: usize) -> usize {
     d * d.saturating_sub(1) / 2
 }
 
+/// The pairs (i, j), i < j, of d inputs in row order (the order of the pairs' sums).
+fn row_order(d: usize) -> impl Iterator<Item = (usize, usize)> {
+    (0..d).flat_map(move |i| (i + 1..d).map(move |j| (i, j)))
+}
+
 /// The inputs (i, j) of pair p in row order (i < j).
 fn pair_of(mut p: usize, d: usize) -> (usize, usize) {
     for i in 0..d {
@@ -301,6 +306,27 @@ fn pair_of(mut p: usize, d: usize) -> (usize, usize) {
         p -= row;
     }
     unreachable!("pair index within d(d − 1)/2")
+}
+
+/// The means an output's indices are formed from ([`Sensitivity::moments`]).
+struct Moments {
+    /// The mean of the A and B values together, and their variance V.
+    mean: f64,
+    v: f64,
+    /// Per input.
+    inputs: Vec<InputMoments>,
+    /// Per pair i < j (row after row), the closed index's numerator V^c_ij.
+    closed: Vec<f64>,
+}
+
+/// An input's means: those of Janon's total (the mean of the A and AB_i values together,
+/// and the total's denominator, V itself for Jansen's) and of Janon's first order (the
+/// mean of the B and AB_i values together, and their variance).
+struct InputMoments {
+    total_mean: f64,
+    over: f64,
+    first_mean: f64,
+    den: f64,
 }
 
 /// The state of a sensitivity analysis (see the module documentation): ask for the next
@@ -1210,45 +1236,65 @@ impl Sensitivity {
     /// parts are taken: S_ij = V^c_ij / V − S_i − S_j.
     fn indices(&self, s: &[f64], n: f64) -> Vec<f64> {
         let d = self.d;
+        let mo = self.moments(s, n);
+        let mut out = vec![0.0; 2 * d];
+        for (i, (t, m)) in s[HEAD..HEAD + d * PER_INPUT]
+            .chunks_exact(PER_INPUT)
+            .zip(&mo.inputs)
+            .enumerate()
+        {
+            out[d + i] = t[1] / (2.0 * n) / m.over;
+            out[i] = match self.options.first_order {
+                FirstOrder::Saltelli => t[0] / n / mo.v,
+                FirstOrder::Janon => (t[2] / n - m.first_mean * m.first_mean) / m.den,
+            };
+        }
+        for ((i, j), c) in row_order(d).zip(&mo.closed) {
+            out.push(c / mo.v - out[i] - out[j]);
+        }
+        out
+    }
+
+    /// The means every index is formed from, out of pooled sums `s` over `n` points:
+    /// computed once per output, whether for the indices or for their linearisation at
+    /// each point ([`Sensitivity::influence`]).
+    fn moments(&self, s: &[f64], n: f64) -> Moments {
+        let d = self.d;
         let mean = (s[0] + s[1]) / (2.0 * n);
         let v = (s[2] + s[3]) / (2.0 * n) - mean * mean;
         let (ma, maa, mb, mbb) = (s[0] / n, s[2] / n, s[1] / n, s[3] / n);
-        let mut out = vec![0.0; 2 * d];
-        for (i, t) in s[HEAD..HEAD + d * PER_INPUT]
+        let inputs = s[HEAD..HEAD + d * PER_INPUT]
             .chunks_exact(PER_INPUT)
-            .enumerate()
-        {
-            let over = match self.options.total_order {
-                TotalOrder::Jansen => v,
-                TotalOrder::Janon => {
-                    let m = (ma + t[3] / n) / 2.0;
-                    (maa + t[4] / n) / 2.0 - m * m
+            .map(|t| {
+                let total_mean = (ma + t[3] / n) / 2.0;
+                let first_mean = (mb + t[3] / n) / 2.0;
+                InputMoments {
+                    total_mean,
+                    over: match self.options.total_order {
+                        TotalOrder::Jansen => v,
+                        TotalOrder::Janon => (maa + t[4] / n) / 2.0 - total_mean * total_mean,
+                    },
+                    first_mean,
+                    den: (mbb + t[4] / n) / 2.0 - first_mean * first_mean,
                 }
-            };
-            out[d + i] = t[1] / (2.0 * n) / over;
-            out[i] = match self.options.first_order {
-                FirstOrder::Saltelli => t[0] / n / v,
-                FirstOrder::Janon => {
-                    let m = (mb + t[3] / n) / 2.0;
-                    let num = t[2] / n - m * m;
-                    let den = (mbb + t[4] / n) / 2.0 - m * m;
-                    num / den
-                }
-            };
-        }
-        if self.options.second_order {
+            })
+            .collect();
+        let closed = if self.options.second_order {
             let t = &s[HEAD + d * PER_INPUT..];
             let ab = t[0] / n;
-            let mut at = PAIR_HEAD;
-            for i in 0..d {
-                for j in i + 1..d {
-                    let closed = t[at] / (2.0 * n) - ab;
-                    out.push(closed / v - out[i] - out[j]);
-                    at += 1;
-                }
-            }
+            t[PAIR_HEAD..PAIR_HEAD + pairs(d)]
+                .iter()
+                .map(|x| x / (2.0 * n) - ab)
+                .collect()
+        } else {
+            Vec::new()
+        };
+        Moments {
+            mean,
+            v,
+            inputs,
+            closed,
         }
-        out
     }
 
     /// Per output, every index ([`Sensitivity::indices`]), its jackknife standard error
@@ -1287,30 +1333,27 @@ impl Sensitivity {
     /// `level`, or, simultaneous, Bonferroni's over the 2·d·k indices (and the pairs'
     /// with second order).
     fn quantile(&self) -> f64 {
-        let o = &self.options;
-        let alpha = 1.0 - o.level;
-        let alpha = if o.simultaneous {
+        let nu = (self.options.replicates - 1) as f64;
+        student_t_quantile(1.0 - self.miss() / 2.0, nu)
+    }
+
+    /// The chance each interval may miss: 1 − level, divided (Bonferroni) over the
+    /// indices when they are to hold together.
+    fn miss(&self) -> f64 {
+        let alpha = 1.0 - self.options.level;
+        if self.options.simultaneous {
             alpha / (self.indices_per_output() * self.k.max(1)) as f64
         } else {
             alpha
-        };
-        student_t_quantile(1.0 - alpha / 2.0, (o.replicates - 1) as f64)
+        }
     }
 
     /// The normal quantile the posterior standard deviations are multiplied by: at
-    /// 1 − (1 − level)/[`crate::POSTERIOR_MISS`], two-sided, Bonferroni's over the
-    /// indices when simultaneous (quad's rule for its Bayesian lattice).
+    /// 1 − [`Sensitivity::miss`]/[`crate::POSTERIOR_MISS`], two-sided (quad's rule for
+    /// its Bayesian lattice).
     fn posterior_quantile(&self) -> f64 {
-        let o = &self.options;
-        let mut miss = (1.0 - o.level) / crate::POSTERIOR_MISS;
-        if o.simultaneous {
-            miss /= (self.indices_per_output() * self.k.max(1)) as f64;
-        }
-        stillpoint_design::Marginal::Normal {
-            mu: 0.0,
-            sigma: 1.0,
-        }
-        .ppf(1.0 - miss / 2.0)
+        let miss = self.miss() / crate::POSTERIOR_MISS;
+        stillpoint_design::Marginal::normal_score(1.0 - miss / 2.0)
     }
 
     /// Whether the run keeps every value for the posterior interval: asked for, on the
@@ -1353,13 +1396,14 @@ impl Sensitivity {
         for j in 0..k {
             let (s, count) = self.pooled(&self.sums, self.per_replicate, j, |_| true);
             let est = self.indices(&s, count);
+            let mo = self.moments(&s, count);
             let weights = self.coordinate_weights(&est);
             for first in (0..m).step_by(chunk) {
                 let last = (first + chunk).min(m);
                 let mut ys = vec![vec![0.0; n]; last - first];
                 for p in 0..n {
                     let point = &self.values[p * rows * k..(p + 1) * rows * k];
-                    self.influence(&s, count, &est, point, j, &mut psi);
+                    self.influence(&mo, &est, point, j, &mut psi);
                     let at = crate::posterior::natural_index(p, n);
                     for (y, v) in ys.iter_mut().zip(&psi[first..last]) {
                         y[at] = *v;
@@ -1400,63 +1444,43 @@ impl Sensitivity {
 
     /// Every index's linearisation at one point (`point` its rows × k values as fed),
     /// output j, into `out` in the order of [`Sensitivity::indices`]: the derivative of
-    /// the index's formula along the point's terms of the means it is made of, with `s`
-    /// the pooled sums over `n` points and `est` the indices from them. Constants are left
-    /// out (a cubature's error does not see them).
-    fn influence(&self, s: &[f64], n: f64, est: &[f64], point: &[f64], j: usize, out: &mut [f64]) {
-        let (d, k) = (self.d, self.k);
+    /// the index's formula along the point's terms of the means it is made of, with `mo`
+    /// those means and `est` the indices from them. Constants are left out (a cubature's
+    /// error does not see them).
+    fn influence(&self, mo: &Moments, est: &[f64], point: &[f64], j: usize, out: &mut [f64]) {
+        let (d, k, v) = (self.d, self.k, mo.v);
         let scale = pow2(-self.scale[j]);
         let y = |row: usize| (point[row * k + j] - self.centre[j]) * scale;
         let (ya, yb) = (y(0), y(1));
-        let mean = (s[0] + s[1]) / (2.0 * n);
-        let v = (s[2] + s[3]) / (2.0 * n) - mean * mean;
-        let (ma, maa, mb, mbb) = (s[0] / n, s[2] / n, s[1] / n, s[3] / n);
         // The variance's own linearisation, which every index divided by V shares.
-        let dv = (ya * ya + yb * yb) / 2.0 - mean * (ya + yb);
-        for (i, t) in s[HEAD..HEAD + d * PER_INPUT]
-            .chunks_exact(PER_INPUT)
-            .enumerate()
-        {
+        let dv = (ya * ya + yb * yb) / 2.0 - mo.mean * (ya + yb);
+        for (i, m) in mo.inputs.iter().enumerate() {
             let yi = y(2 + i);
             let total = est[d + i];
             let term = (ya - yi) * (ya - yi) / 2.0;
             out[d + i] = match self.options.total_order {
                 TotalOrder::Jansen => (term - total * dv) / v,
                 TotalOrder::Janon => {
-                    let m = (ma + t[3] / n) / 2.0;
-                    let over = (maa + t[4] / n) / 2.0 - m * m;
-                    let dover = (ya * ya + yi * yi) / 2.0 - m * (ya + yi);
-                    (term - total * dover) / over
+                    let dover = (ya * ya + yi * yi) / 2.0 - m.total_mean * (ya + yi);
+                    (term - total * dover) / m.over
                 }
             };
             let first = est[i];
             out[i] = match self.options.first_order {
                 FirstOrder::Saltelli => (yb * (yi - ya) - first * dv) / v,
                 FirstOrder::Janon => {
-                    let m = (mb + t[3] / n) / 2.0;
-                    let den = (mbb + t[4] / n) / 2.0 - m * m;
-                    let dnum = yb * yi - m * (yb + yi);
-                    let dden = (yb * yb + yi * yi) / 2.0 - m * (yb + yi);
-                    (dnum - first * dden) / den
+                    let mb = m.first_mean;
+                    let dnum = yb * yi - mb * (yb + yi);
+                    let dden = (yb * yb + yi * yi) / 2.0 - mb * (yb + yi);
+                    (dnum - first * dden) / m.den
                 }
             };
         }
-        if self.options.second_order {
-            let t = &s[HEAD + d * PER_INPUT..];
-            let ab = t[0] / n;
-            let mut at = PAIR_HEAD;
-            let mut p = 2 * d;
-            for i in 0..d {
-                for jj in i + 1..d {
-                    let closed = t[at] / (2.0 * n) - ab;
-                    let (abi, abj) = (y(2 + i), y(2 + jj));
-                    let (bai, baj) = (y(2 + d + i), y(2 + d + jj));
-                    let term = (bai * abj + baj * abi) / 2.0 - ya * yb;
-                    out[p] = (term - closed / v * dv) / v - out[i] - out[jj];
-                    at += 1;
-                    p += 1;
-                }
-            }
+        for (p, ((i, jj), closed)) in row_order(d).zip(&mo.closed).enumerate() {
+            let (abi, abj) = (y(2 + i), y(2 + jj));
+            let (bai, baj) = (y(2 + d + i), y(2 + d + jj));
+            let term = (bai * abj + baj * abi) / 2.0 - ya * yb;
+            out[2 * d + p] = (term - closed / v * dv) / v - out[i] - out[jj];
         }
     }
 
@@ -1928,6 +1952,7 @@ mod tests {
             state.run(ishigami).unwrap();
             let (s, n) = state.pooled(&state.sums, state.per_replicate, 0, |_| true);
             let est = state.indices(&s, n);
+            let mo = state.moments(&s, n);
             let m = est.len();
             let eps = 1e-6;
             let moved = |p: usize| {
@@ -1939,8 +1964,8 @@ mod tests {
             let rows = state.rows();
             for (p, q) in [(0, 1), (5, 300), (33, 511)] {
                 let row = |p: usize| &state.values[p * rows..(p + 1) * rows];
-                state.influence(&s, n, &est, row(p), 0, &mut psi_p);
-                state.influence(&s, n, &est, row(q), 0, &mut psi_q);
+                state.influence(&mo, &est, row(p), 0, &mut psi_p);
+                state.influence(&mo, &est, row(q), 0, &mut psi_q);
                 let (gp, gq) = (moved(p), moved(q));
                 for i in 0..m {
                     let fd = ((gp[i] - est[i]) - (gq[i] - est[i])) * n / eps;
