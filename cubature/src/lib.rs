@@ -830,6 +830,11 @@ pub struct Cubature {
     /// (`None` for an output that took one value).
     #[serde(default)]
     posterior: Vec<Option<Fitted>>,
+    /// Under [`Rule::BayesLattice`], whether the last doubling's posterior was left
+    /// unfitted ([`Cubature::fit_can_wait`]): `posterior` is then an earlier round's, and
+    /// whatever reads the interval fits the values as they are.
+    #[serde(default)]
+    posterior_pending: bool,
 }
 
 /// One output's posterior under [`Rule::BayesLattice`]: the standard deviation of its
@@ -1033,6 +1038,7 @@ impl Cubature {
             tail_sigma: 0.0,
             values: Vec::new(),
             posterior: Vec::new(),
+            posterior_pending: false,
         })
     }
 
@@ -1085,8 +1091,12 @@ impl Cubature {
 
     /// Under [`Rule::BayesLattice`], per output, the posterior after the last doubling
     /// (empty under any other rule).
-    pub fn posterior(&self) -> &[Option<Fitted>] {
-        &self.posterior
+    pub fn posterior(&self) -> Vec<Option<Fitted>> {
+        if self.posterior_pending {
+            (0..self.k).map(|j| self.fit_output(j)).collect()
+        } else {
+            self.posterior.clone()
+        }
     }
 
     /// Whether the next batch is a face test's ([`Rule::FaceTest`], or the one after a
@@ -1510,7 +1520,11 @@ impl Cubature {
                 return Ok(());
             }
             self.values.extend_from_slice(values);
-            self.fit_posterior();
+            if self.fit_can_wait() {
+                self.posterior_pending = true;
+            } else {
+                self.fit_posterior();
+            }
         }
         self.pilot();
         Ok(())
@@ -1782,25 +1796,47 @@ impl Cubature {
     /// Fits each output's posterior to the values of the lattice's points so far (a whole
     /// lattice: [`Rule::BayesLattice`] makes no short round).
     fn fit_posterior(&mut self) {
+        self.posterior = (0..self.k).map(|j| self.fit_output(j)).collect();
+        self.posterior_pending = false;
+    }
+
+    /// Output j's posterior from the values of the lattice's points so far.
+    fn fit_output(&self, j: usize) -> Option<Fitted> {
         let (k, n) = (self.k, self.per_replicate as usize);
         let z = &SequenceTable::FirstOrder.generator()[..self.d];
-        self.posterior = (0..k)
-            .map(|j| {
-                let column = self.values.iter().skip(j).step_by(k);
-                let largest = column.clone().fold(0.0f64, |m, v| m.max(v.abs()));
-                let e = libm::frexp(largest).1;
-                let mut y = vec![0.0; n];
-                for (i, v) in column.enumerate() {
-                    y[posterior::natural_index(i, n)] = libm::scalbn(*v, -e);
-                }
-                posterior::posterior(&y, z).map(|p| Fitted {
-                    sd: p.sd,
-                    exp: e,
-                    decay: p.decay,
-                    theta: p.theta,
-                })
-            })
-            .collect();
+        let column = self.values.iter().skip(j).step_by(k);
+        let largest = column.clone().fold(0.0f64, |m, v| m.max(v.abs()));
+        let e = libm::frexp(largest).1;
+        let mut y = vec![0.0; n];
+        for (i, v) in column.enumerate() {
+            y[posterior::natural_index(i, n)] = libm::scalbn(*v, -e);
+        }
+        posterior::posterior(&y, z).map(|p| Fitted {
+            sd: p.sd,
+            exp: e,
+            decay: p.decay,
+            theta: p.theta,
+        })
+    }
+
+    /// Whether the doubling just taken may leave its posterior unfitted: the change of
+    /// some output's estimate since half the points, a floor under its half-width, is
+    /// already beyond its target (so the round cannot meet the tolerance, whatever the
+    /// posterior), and the budget holds another doubling (so the run goes on, and fits
+    /// there). The fit is most of the rule's work outside f, and the rounds before the
+    /// last seldom pass the round guard; a reader of a waiting state's interval (a
+    /// progress display, a run stopped between rounds) fits the values as they are, so
+    /// every interval reported is the posterior of its round, bit for bit.
+    fn fit_can_wait(&self) -> bool {
+        let ruled_out = (0..self.k).any(|j| {
+            let (means, e) = self.scaled(j);
+            let Some(half) = self.scaled_half_estimate(j) else {
+                return false;
+            };
+            let change = (means[0] - half).abs();
+            change.is_finite() && change > self.scaled_target(&means, e)
+        });
+        ruled_out && !self.exhausted()
     }
 
     /// After a probe's first round ([`Rule::Probe`]): an f even under the reflection
@@ -2302,7 +2338,12 @@ impl Cubature {
         if self.constant(j) {
             return 0.0;
         }
-        let h = match self.posterior.get(j).copied().flatten() {
+        let fitted = if self.posterior_pending {
+            self.fit_output(j)
+        } else {
+            self.posterior.get(j).copied().flatten()
+        };
+        let h = match fitted {
             Some(p) => {
                 let miss = (1.0 - self.options.level) / POSTERIOR_MISS;
                 let z = Marginal::normal_score(1.0 - miss / 2.0);
@@ -4561,6 +4602,47 @@ mod tests {
             }
         }
         0.5 * (lo + hi)
+    }
+
+    #[test]
+    fn a_posterior_left_to_wait_is_the_one_fitted_every_round() {
+        // The Bayesian lattice by name on a smooth f to a tolerance it reaches after
+        // several doublings: rounds whose round guard already exceeds the target leave
+        // their fit waiting; a progress observer that reads every round's interval fits
+        // them as they are. Both runs stop at the same round with the same bits, every
+        // interval the observer read is the posterior of its own round, and some round
+        // did wait.
+        fn f(p: &PointSet) -> Vec<f64> {
+            p.rows()
+                .map(|x| x.iter().map(|v| (1.0 + v).ln()).sum::<f64>().exp())
+                .collect()
+        }
+        let options = || QuadOptions {
+            rule: Rule::BayesLattice,
+            rel_tol: 1e-7,
+            max_n: 1 << 16,
+            seed: 3,
+            ..QuadOptions::default()
+        };
+        let mut plain = Cubature::new(3, options()).unwrap();
+        plain.run(f).unwrap();
+        let mut observed = Cubature::new(3, options()).unwrap();
+        let mut waited = 0;
+        observed
+            .run_observed(f, |s| {
+                let mut fitted = s.clone();
+                fitted.fit_posterior();
+                assert_eq!(s.half_width(), fitted.half_width());
+                assert_eq!(s.posterior(), fitted.posterior());
+                waited += usize::from(s.posterior_pending);
+            })
+            .unwrap();
+        assert!(waited > 0, "no round waited");
+        assert!(!plain.posterior_pending && plain.per_replicate() >= 1 << 12);
+        assert_eq!(
+            (plain.estimate(), plain.half_width(), plain.n()),
+            (observed.estimate(), observed.half_width(), observed.n())
+        );
     }
 
     /// A run the probe sent to [`Rule::BayesLattice`]: one replicate, its estimate the mean
