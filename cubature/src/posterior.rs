@@ -153,26 +153,55 @@ impl RealDft {
         RealDft { n, half, twiddles }
     }
 
-    /// X_k = Σ_i x_i·e^{−2πiik/n} for k = 0..=n/2 of the real sequence x_i = `x(i)`,
-    /// i = 0..n (the rest are the conjugates X_{n−k}).
-    fn forward(&self, x: impl Fn(usize) -> f64) -> Vec<Complex<f64>> {
+    /// The work space of one thread's transforms at this n, made once and reused: a
+    /// transform of 2^19 points otherwise maps fresh pages for megabytes each time.
+    fn buffers(&self) -> Buffers {
         let h = self.n / 2;
-        let mut z: Vec<Complex<f64>> = (0..h)
-            .map(|m| Complex::new(x(2 * m), x(2 * m + 1)))
-            .collect();
-        self.half.process(&mut z);
+        Buffers {
+            column: vec![0.0; h + 1],
+            half: vec![Complex::new(0.0, 0.0); h],
+            scratch: vec![Complex::new(0.0, 0.0); self.half.get_inplace_scratch_len()],
+            lambda: vec![0.0; h + 1],
+        }
+    }
+
+    /// X_k = Σ_i x_i·e^{−2πiik/n} for k = 0..=n/2 of the real sequence x_i = `x(i)`,
+    /// i = 0..n (the rest are the conjugates X_{n−k}), each handed to `put(k, X_k)`;
+    /// `half` and `scratch` from [`RealDft::buffers`].
+    fn transform(
+        &self,
+        x: impl Fn(usize) -> f64,
+        half: &mut [Complex<f64>],
+        scratch: &mut [Complex<f64>],
+        mut put: impl FnMut(usize, Complex<f64>),
+    ) {
+        let h = self.n / 2;
+        for (m, z) in half.iter_mut().enumerate() {
+            *z = Complex::new(x(2 * m), x(2 * m + 1));
+        }
+        self.half.process_with_scratch(half, scratch);
         // X_k = E_k + w^k·O_k, E and O the transforms of the even and odd samples, read
         // off Z_k and Z_{h−k} (Z_h = Z_0).
-        (0..=h)
-            .map(|k| {
-                let a = z[if k == h { 0 } else { k }];
-                let b = z[if k == 0 { 0 } else { h - k }].conj();
-                let even = (a + b) * 0.5;
-                let d = (a - b) * 0.5;
-                let odd = Complex::new(d.im, -d.re);
-                even + self.twiddles[k] * odd
-            })
-            .collect()
+        for k in 0..=h {
+            let a = half[if k == h { 0 } else { k }];
+            let b = half[if k == 0 { 0 } else { h - k }].conj();
+            let even = (a + b) * 0.5;
+            let d = (a - b) * 0.5;
+            let odd = Complex::new(d.im, -d.re);
+            put(k, even + self.twiddles[k] * odd);
+        }
+    }
+
+    /// [`RealDft::transform`] into a new vector.
+    fn forward(&self, x: impl Fn(usize) -> f64) -> Vec<Complex<f64>> {
+        let Buffers {
+            mut half,
+            mut scratch,
+            ..
+        } = self.buffers();
+        let mut out = vec![Complex::new(0.0, 0.0); self.n / 2 + 1];
+        self.transform(x, &mut half, &mut scratch, |k, c| out[k] = c);
+        out
     }
 
     /// The transform of the real even sequence x_i = x_{n−i} given by its first half
@@ -184,6 +213,18 @@ impl RealDft {
             .map(|c| c.re)
             .collect()
     }
+}
+
+/// One thread's work space for [`RealDft`] and [`Kernel`] at one n.
+struct Buffers {
+    /// The kernel's first column, its first half.
+    column: Vec<f64>,
+    /// The half-length complex sequence transformed in place.
+    half: Vec<Complex<f64>>,
+    /// The FFT's scratch.
+    scratch: Vec<Complex<f64>>,
+    /// The kernel's eigenvalues, their first half.
+    lambda: Vec<f64>,
 }
 
 /// η_α(k/n) for k = 0..=n/2 (η is even: η_α(k/n) = η_α((n − k)/n)): the Fourier series
@@ -230,12 +271,14 @@ pub fn posterior(y: &[f64], z: &[u32]) -> Option<Posterior> {
             let table = half_decay_table(alpha, &dft);
             let d = z.len();
             let gathered = gather(&table, n, d, &index, None);
-            let fit = |ln_theta: f64| {
+            let mut buffers = dft.buffers();
+            let mut fit = |ln_theta: f64| {
                 let theta = ln_theta.exp();
+                let b = &mut buffers;
                 if gathered.is_empty() {
-                    Fit::new(d, |i, j| table[index(i, j)], theta, &power, &dft)
+                    Fit::new(d, |i, j| table[index(i, j)], theta, &power, &dft, b)
                 } else {
-                    Fit::new(d, |i, j| gathered[i * d + j], theta, &power, &dft)
+                    Fit::new(d, |i, j| gathered[i * d + j], theta, &power, &dft, b)
                 }
             };
             let (ln_theta, at) = brent_minimum(
@@ -357,15 +400,16 @@ pub fn posteriors(ys: &[Vec<f64>], z: &[u32], weights: &[f64]) -> Vec<Option<Pos
             let table = half_decay_table(alpha, &dft);
             let gathered = gather(&table, n, d, &index, Some(weights));
             let mut best: Vec<Option<(f64, Posterior)>> = vec![None; ys.len()];
+            let mut buffers = dft.buffers();
             for step in 0..=GRID_STEPS {
                 let ln_theta =
                     LN_THETA.0 + (LN_THETA.1 - LN_THETA.0) * step as f64 / GRID_STEPS as f64;
                 let theta = ln_theta.exp();
                 let kernel = if gathered.is_empty() {
                     let eta = |i, j| weights[j] * table[index(i, j)];
-                    Kernel::new(d, eta, theta, &dft)
+                    Kernel::new(d, eta, theta, &dft, &mut buffers)
                 } else {
-                    Kernel::new(d, |i, j| gathered[i * d + j], theta, &dft)
+                    Kernel::new(d, |i, j| gathered[i * d + j], theta, &dft, &mut buffers)
                 };
                 for (power, slot) in powers.iter().zip(best.iter_mut()) {
                     let Some(power) = power else { continue };
@@ -391,9 +435,9 @@ pub fn posteriors(ys: &[Vec<f64>], z: &[u32], weights: &[f64]) -> Vec<Option<Pos
 
 /// The kernel's eigenvalues at one θ (divided by `factor`), which every output fitted at
 /// that θ shares: λ_k for k = 0..=n/2 (λ_{n−k} = λ_k).
-struct Kernel {
+struct Kernel<'a> {
     n: usize,
-    lambda: Vec<f64>,
+    lambda: &'a [f64],
     factor: f64,
     /// The transform of the first column at frequency 0 (before the all-ones part).
     ring0: f64,
@@ -407,36 +451,70 @@ struct Kernel {
 /// product passes the range of a double.
 const PRODUCT_BOUND: f64 = 1e150;
 
-impl Kernel {
+impl<'a> Kernel<'a> {
     /// The eigenvalues at θ for the transform's n points in d coordinates, `eta(i, j)` the
-    /// decay kernel at point i's coordinate j (against point 0), read for i = 0..=n/2.
-    fn new(d: usize, eta: impl Fn(usize, usize) -> f64, theta: f64, dft: &RealDft) -> Kernel {
+    /// decay kernel at point i's coordinate j (against point 0), read for i = 0..=n/2;
+    /// built in `buffers` (from [`RealDft::buffers`]), which hold them while it lives.
+    fn new(
+        d: usize,
+        eta: impl Fn(usize, usize) -> f64,
+        theta: f64,
+        dft: &RealDft,
+        buffers: &'a mut Buffers,
+    ) -> Kernel<'a> {
         let n = dft.n;
+        let Buffers {
+            column,
+            half,
+            scratch,
+            lambda,
+        } = buffers;
         // The kernel's first column K(x_i, x_0) − 1, built as Π(1 + θη) − 1 one coordinate
         // at a time so that a product near 1 keeps its digits; even in i, so its first half.
-        let mut column: Vec<f64> = (0..=n / 2)
-            .map(|i| {
-                let mut less_one = 0.0;
-                for j in 0..d {
-                    less_one += theta * eta(i, j) * (1.0 + less_one);
+        // Each entry is a chain of d dependent steps; four entries side by side fill the
+        // lanes one chain leaves idle (the same operations in the same order per entry).
+        let less_one = |i0: usize, lanes: &mut [f64]| {
+            let mut acc = [0.0; 4];
+            for j in 0..d {
+                for (l, a) in acc.iter_mut().enumerate() {
+                    *a += theta * eta(i0 + l, j) * (1.0 + *a);
                 }
-                less_one
-            })
-            .collect();
+            }
+            lanes.copy_from_slice(&acc);
+        };
+        let mut chunks = column.chunks_exact_mut(4);
+        for (c, lanes) in chunks.by_ref().enumerate() {
+            less_one(4 * c, lanes);
+        }
+        let tail = chunks.into_remainder();
+        let start = n / 2 + 1 - tail.len();
+        for (l, v) in tail.iter_mut().enumerate() {
+            let mut a = 0.0;
+            for j in 0..d {
+                a += theta * eta(start + l, j) * (1.0 + a);
+            }
+            *v = a;
+        }
         let largest = column.iter().map(|c| c.abs()).fold(0.0, f64::max);
         // The eigenvalues divided by `largest` (the all-ones part adds n at frequency 0).
         let factor = if largest > 0.0 { largest } else { 1.0 };
         for c in column.iter_mut() {
             *c /= factor;
         }
-        let transform = dft.even(|i| column[i]);
-        let ring0 = transform[0];
-        let lambda: Vec<f64> = transform
-            .iter()
-            .enumerate()
-            .map(|(k, c)| (c + if k == 0 { n as f64 / factor } else { 0.0 }).abs())
-            .collect();
-        let top = lambda.iter().copied().fold(0.0, f64::max);
+        let column = &*column;
+        dft.transform(
+            |i| column[i.min(n - i)],
+            half,
+            scratch,
+            |k, c| lambda[k] = c.re,
+        );
+        let ring0 = lambda[0];
+        lambda[0] += n as f64 / factor;
+        let mut top = 0.0f64;
+        for l in lambda.iter_mut() {
+            *l = l.abs();
+            top = top.max(*l);
+        }
         Kernel {
             n,
             lambda,
@@ -449,7 +527,7 @@ impl Kernel {
     /// The likelihood and posterior of values whose squared transform is `power`
     /// (k = 0..=n/2).
     fn fit(&self, power: &[f64]) -> Fit {
-        let (lambda, factor, n) = (&self.lambda, self.factor, self.n);
+        let (lambda, factor, n) = (self.lambda, self.factor, self.n);
         let h = n / 2;
         let keep = |k: usize| lambda[k] > TINY * self.top;
         // Frequencies 1..n/2 stand for themselves and their mirrors n − k.
@@ -493,8 +571,9 @@ impl Fit {
         theta: f64,
         power: &[f64],
         dft: &RealDft,
+        buffers: &mut Buffers,
     ) -> Fit {
-        Kernel::new(d, eta, theta, dft).fit(power)
+        Kernel::new(d, eta, theta, dft, buffers).fit(power)
     }
 
     /// The posterior standard deviation of the integral: √(left·norm).
@@ -783,7 +862,15 @@ mod tests {
         let table = decay_table(alpha, n);
         let power = power_spectrum(&y, &dft);
         let index = decay_index(n, &z);
-        let fit = Fit::new(d, |i, j| table[index(i, j)], theta, &power, &dft);
+        let mut buffers = dft.buffers();
+        let fit = Fit::new(
+            d,
+            |i, j| table[index(i, j)],
+            theta,
+            &power,
+            &dft,
+            &mut buffers,
+        );
         assert!((fit.sd() - sd).abs() < 1e-10 * sd, "{} vs {sd}", fit.sd());
         // The likelihood up to the constant n·ln n that the spectrum's scale adds.
         let objective = log_det + n as f64 * (quad_form * n as f64).ln();
