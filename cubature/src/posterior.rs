@@ -287,6 +287,7 @@ pub fn posterior(y: &[f64], z: &[u32]) -> Option<Posterior> {
             let table = half_decay_table(alpha, &dft);
             let d = z.len();
             let gathered = gather(&table, n, d, &index, None);
+            let rows = n / 2 + 1;
             let mut buffers = dft.buffers();
             let mut fit = |ln_theta: f64| {
                 let theta = ln_theta.exp();
@@ -294,7 +295,7 @@ pub fn posterior(y: &[f64], z: &[u32]) -> Option<Posterior> {
                 if gathered.is_empty() {
                     Fit::new(d, |i, j| table[index(i, j)], theta, &power, &dft, b)
                 } else {
-                    Fit::new(d, |i, j| gathered[i * d + j], theta, &power, &dft, b)
+                    Fit::new(d, |i, j| gathered[j * rows + i], theta, &power, &dft, b)
                 }
             };
             let (ln_theta, at) = brent_minimum(
@@ -344,9 +345,10 @@ fn decay_index(n: usize, z: &[u32]) -> impl Fn(usize, usize) -> usize + Sync + '
 }
 
 /// η (times each coordinate's weight, if any) at the points i = 0..=n/2 (the kernel's
-/// first column is even: point n − i is point i reflected) and every coordinate, gathered
-/// once when they fit in [`GATHERED`] values (every fit reads them in order; the same
-/// numbers), else empty and looked up at each fit.
+/// first column is even: point n − i is point i reflected) and every coordinate,
+/// coordinate-major (`[j·(n/2 + 1) + i]`: the kernel's column reads neighbouring points
+/// of one coordinate together), gathered once when they fit in [`GATHERED`] values
+/// (every fit reads them; the same numbers), else empty and looked up at each fit.
 fn gather(
     table: &[f64],
     n: usize,
@@ -358,12 +360,19 @@ fn gather(
     if rows * d > GATHERED {
         return Vec::new();
     }
-    (0..rows * d)
-        .map(|e| {
-            let eta = table[index(e / d, e % d)];
-            weights.map_or(eta, |w| w[e % d] * eta)
-        })
-        .collect()
+    let mut out = Vec::with_capacity(rows * d);
+    for j in 0..d {
+        let w = weights.map_or(1.0, |w| w[j]);
+        out.extend((0..rows).map(|i| {
+            let eta = table[index(i, j)];
+            if weights.is_some() {
+                w * eta
+            } else {
+                eta
+            }
+        }));
+    }
+    out
 }
 
 /// The kernel's eigenvalues at one θ, and what the likelihood and the posterior read from
@@ -415,6 +424,7 @@ pub fn posteriors(ys: &[Vec<f64>], z: &[u32], weights: &[f64]) -> Vec<Option<Pos
         .map(|&alpha| {
             let table = half_decay_table(alpha, &dft);
             let gathered = gather(&table, n, d, &index, Some(weights));
+            let rows = n / 2 + 1;
             let mut best: Vec<Option<(f64, Posterior)>> = vec![None; ys.len()];
             let mut buffers = dft.buffers();
             for step in 0..=GRID_STEPS {
@@ -425,7 +435,7 @@ pub fn posteriors(ys: &[Vec<f64>], z: &[u32], weights: &[f64]) -> Vec<Option<Pos
                     let eta = |i, j| weights[j] * table[index(i, j)];
                     Kernel::new(d, eta, theta, &dft, &mut buffers)
                 } else {
-                    Kernel::new(d, |i, j| gathered[i * d + j], theta, &dft, &mut buffers)
+                    Kernel::new(d, |i, j| gathered[j * rows + i], theta, &dft, &mut buffers)
                 };
                 for (power, slot) in powers.iter().zip(best.iter_mut()) {
                     let Some(power) = power else { continue };
