@@ -463,15 +463,19 @@ pub fn posteriors(ys: &[Vec<f64>], z: &[u32], weights: &[f64]) -> Vec<Option<Pos
 /// that θ shares: λ_k for k = 0..=n/2 (λ_{n−k} = λ_k).
 struct Kernel<'a> {
     n: usize,
-    lambda: &'a [f64],
+    /// 2/λ_k (1/λ_{n/2} at n/2) for the kept frequencies k = 1..=n/2 and 0 for the others
+    /// and k = 0: the likelihood's weights of the values' squared transform, the
+    /// eigenvalues below [`TINY`] of the largest left out.
+    weights: &'a [f64],
     factor: f64,
     /// The transform of the first column at frequency 0 (before the all-ones part).
     ring0: f64,
-    /// The largest eigenvalue: those below [`TINY`] of it are left out.
-    top: f64,
+    /// Σ ln(factor·λ_k) over the kept frequencies of 0..n, which every output fitted at
+    /// this θ shares.
+    log_det: f64,
 }
 
-/// [`Kernel::fit`] multiplies eigenvalues together and takes one logarithm of the product
+/// [`Kernel::new`] multiplies eigenvalues together and takes one logarithm of the product
 /// whenever it leaves these bounds of 1: a kept eigenvalue is at least [`TINY`] (the
 /// largest is at least 1, the column's largest entry) and, but λ_0, at most n, so no
 /// product passes the range of a double.
@@ -541,32 +545,14 @@ impl<'a> Kernel<'a> {
             *l = l.abs();
             top = top.max(*l);
         }
-        Kernel {
-            n,
-            lambda,
-            factor,
-            ring0,
-            top,
-        }
-    }
-
-    /// The likelihood and posterior of values whose squared transform is `power`
-    /// (k = 0..=n/2).
-    fn fit(&self, power: &[f64]) -> Fit {
-        let (lambda, factor, n) = (self.lambda, self.factor, self.n);
         let h = n / 2;
-        let keep = |k: usize| lambda[k] > TINY * self.top;
+        let keep = |l: f64| l > TINY * top;
         // Frequencies 1..n/2 stand for themselves and their mirrors n − k.
         let twice = |k: usize| if k == h { 1.0 } else { 2.0 };
-        let ratio: f64 = (1..=h)
-            .filter(|&k| keep(k))
-            .map(|k| twice(k) * power[k] / lambda[k])
-            .sum::<f64>()
-            / factor;
         // Σ ln(factor·λ_k) over the kept k of 0..n, as logarithms of products.
         let (mut logs, mut count, mut product) = (0.0, 0.0, 1.0);
         for (k, &l) in lambda.iter().enumerate() {
-            if !keep(k) {
+            if !keep(l) {
                 continue;
             }
             let times = if k == 0 { 1.0 } else { twice(k) };
@@ -578,7 +564,34 @@ impl<'a> Kernel<'a> {
             }
         }
         let log_det = logs + product.ln() + count * factor.ln();
-        let objective = log_det + n as f64 * ratio.max(f64::MIN_POSITIVE).ln();
+        // The eigenvalues are read once more, as the ratio's weights, in their place.
+        for (k, l) in lambda.iter_mut().enumerate() {
+            *l = if k > 0 && keep(*l) {
+                twice(k) / *l
+            } else {
+                0.0
+            };
+        }
+        Kernel {
+            n,
+            weights: lambda,
+            factor,
+            ring0,
+            log_det,
+        }
+    }
+
+    /// The likelihood and posterior of values whose squared transform is `power`
+    /// (k = 0..=n/2).
+    fn fit(&self, power: &[f64]) -> Fit {
+        let (factor, n) = (self.factor, self.n);
+        let ratio: f64 = power
+            .iter()
+            .zip(self.weights)
+            .map(|(p, w)| p * w)
+            .sum::<f64>()
+            / factor;
+        let objective = self.log_det + n as f64 * ratio.max(f64::MIN_POSITIVE).ln();
         Fit {
             objective,
             left: (factor * self.ring0 / (n as f64 + factor * self.ring0)).abs(),
