@@ -3,8 +3,9 @@
 //! and the posterior of its integral given the n values is normal around their mean
 //! (Jagadeeswaran and Hickernell 2019, "Fast automatic Bayesian cubature using lattice
 //! sampling"; QMCPy's `CubBayesLatticeG`). On a lattice in its natural order the Gram matrix
-//! of such a kernel is circulant, so its eigenvalues are one FFT and every quantity below
-//! costs O(n log n) per output.
+//! of such a kernel is circulant, so its eigenvalues are one FFT (of a real, even sequence:
+//! half of one complex FFT of n/2 points), and every quantity below costs O(n log n) per θ
+//! tried and O(n) more per output fitted at it.
 //!
 //! The kernel is K(x, y) = Π_j (1 + θ·η_α(x_j − y_j)) with
 //! η_α(t) = Σ_{h ≠ 0} e^{2πiht}/|h|^α: a Sobolev space of periodic functions whose Fourier
@@ -459,8 +460,8 @@ pub fn posteriors(ys: &[Vec<f64>], z: &[u32], weights: &[f64]) -> Vec<Option<Pos
         .collect()
 }
 
-/// The kernel's eigenvalues at one θ (divided by `factor`), which every output fitted at
-/// that θ shares: λ_k for k = 0..=n/2 (λ_{n−k} = λ_k).
+/// What the likelihood reads of the kernel's eigenvalues λ_k at one θ (divided by
+/// `factor`; λ_{n−k} = λ_k, so k = 0..=n/2), which every output fitted at that θ shares.
 struct Kernel<'a> {
     n: usize,
     /// 2/λ_k (1/λ_{n/2} at n/2) for the kept frequencies k = 1..=n/2 and 0 for the others
