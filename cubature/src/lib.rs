@@ -1830,11 +1830,8 @@ impl Cubature {
     fn fit_can_wait(&self) -> bool {
         let ruled_out = (0..self.k).any(|j| {
             let (means, e) = self.scaled(j);
-            let Some(half) = self.scaled_half_estimate(j) else {
-                return false;
-            };
-            let change = (means[0] - half).abs();
-            change.is_finite() && change > self.scaled_target(&means, e)
+            self.scaled_round_change(j, &means)
+                .is_some_and(|c| c.is_finite() && c > self.scaled_target(&means, e))
         });
         ruled_out && !self.exhausted()
     }
@@ -2322,10 +2319,7 @@ impl Cubature {
             return h;
         }
         let h = h.max(self.tie_floor(j, means));
-        let h = match self.scaled_half_estimate(j) {
-            Some(half) => h.max((means.iter().sum::<f64>() / means.len() as f64 - half).abs()),
-            None => h,
-        };
+        let h = self.scaled_round_change(j, means).map_or(h, |c| h.max(c));
         self.skew_guarded(j, h).max(self.rounding_floor(j))
     }
 
@@ -2353,10 +2347,7 @@ impl Cubature {
             // Only an output of one value has no posterior; no interval without one.
             None => f64::INFINITY,
         };
-        let h = match self.scaled_half_estimate(j) {
-            Some(half) => h.max((means[0] - half).abs()),
-            None => h,
-        };
+        let h = self.scaled_round_change(j, means).map_or(h, |c| h.max(c));
         h.max(self.rounding_floor(j))
     }
 
@@ -2500,11 +2491,16 @@ impl Cubature {
         (0..self.k)
             .map(|j| {
                 let (m, e) = self.scaled(j);
-                let half = self.scaled_half_estimate(j)?;
-                let mean = m.iter().sum::<f64>() / m.len() as f64;
-                Some(libm::scalbn((mean - half).abs(), e))
+                Some(libm::scalbn(self.scaled_round_change(j, &m)?, e))
             })
             .collect()
+    }
+
+    /// Output j's round guard in the units of [`Cubature::scaled`] (`means` its scaled
+    /// replicate means): |Q_n − Q_{n/2}| (`None` without the half sums).
+    fn scaled_round_change(&self, j: usize, means: &[f64]) -> Option<f64> {
+        let half = self.scaled_half_estimate(j)?;
+        Some((means.iter().sum::<f64>() / means.len() as f64 - half).abs())
     }
 
     /// The half-width each output must reach: max(abs_tol, rel_tol·|estimate|) (empty
