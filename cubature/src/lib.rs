@@ -75,7 +75,12 @@
 //! (results/quad/face/face.md: Keister's and the lognormal family on the cube 0.99 →
 //! 0.86 and 1.34 → 1.06 in the ratio to the best reliable reference's evaluations,
 //! Morokoff–Caflisch under uniform laws 1.45 → 0.92; its seven evaluations cost the
-//! cells where `quad` had exactly the best reference's count).
+//! cells where `quad` had exactly the best reference's count). The first-order lattice's
+//! first points are a probe's round ([`PROBE_POINTS`]): an f steep at a face that is even
+//! under x ↦ 1 − x is an even f of symmetric unbounded laws with their quantile functions
+//! written into it, and goes on with the Bayesian lattice as under those laws; any other
+//! keeps the probe's points as its lattice's first (results/quad/cube-probe: Keister's
+//! family on the cube, cells met 7 → 8 of 12).
 //!
 //! The interval. After each doubling, with μ_r the mean of f over replicate r's n_r
 //! points (each μ_r an unbiased estimate, independent across replicates), the estimate is
@@ -303,8 +308,10 @@ pub enum Rule {
     /// [`PROBE_POINTS`] points of the first-order lattice, which tells whether f is even
     /// under Z ↦ −Z. An even f, and one a face test then finds flat at the faces, goes on
     /// with [`Rule::BayesLattice`]; any other with scrambled Sobol', the probe's
-    /// evaluations counted in `n`. After the first round a state holds the rule chosen,
-    /// never this.
+    /// evaluations counted in `n`. Also after a face test that found f steep at a face
+    /// (over the cube, a box or bounded laws): an even f goes on with
+    /// [`Rule::BayesLattice`], any other with [`Rule::FirstOrderLattice`] from the probe's
+    /// points. After the first round a state holds the rule chosen, never this.
     Probe,
     /// The extensible rank-1 lattice of the first-order table (`Engine(d)`'s, built for the
     /// kernel of unbounded laws: [`SequenceTable::FirstOrder`]), shifted and
@@ -315,11 +322,13 @@ pub enum Rule {
     /// [`FACE_TEST_POINTS`] evaluations first ([`Cubature::face_test_points`]), counted in
     /// `n`. An f that changes by more than [`FACE_SINGULAR`] of its size over the test's
     /// steps toward a corner (or whose changes grow more slowly than the steps, or that is
-    /// not finite there) goes on with [`Rule::FirstOrderLattice`], any other with
+    /// not finite there) goes on with a probe's round of [`Rule::FirstOrderLattice`]
+    /// ([`Rule::Probe`]: [`Rule::BayesLattice`] for an even f), any other with
     /// [`Rule::TentLattice`]. After the test a state holds the rule chosen, never this.
     FaceTest,
     /// Under unbounded laws, for an f the probe finds even or the face test flat at the
-    /// faces (where the first-order lattice is kept): one uniformly shifted lattice of
+    /// faces (where the first-order lattice is kept), and over the cube for an f steep at
+    /// a face that the probe finds even: one uniformly shifted lattice of
     /// the first-order table without the tent, its interval the posterior of a Bayesian
     /// cubature ([`posterior`]) instead of the spread of replicates, so that the estimate
     /// is one rule of all n points rather than the mean of four rules of n/4. Asked for
@@ -803,6 +812,12 @@ pub struct Cubature {
     /// ([`Cubature::settle_probe`]; false in states saved before it existed).
     #[serde(default)]
     face_due: bool,
+    /// Whether the face test has read f, over the cube, a box or bounded laws, and found
+    /// it steep at a face: the probe's round that follows then keeps its lattice for an f
+    /// that is not even ([`Cubature::settle_probe`]; false in states saved before it
+    /// existed).
+    #[serde(default)]
+    faces_read: bool,
     /// Rows of the pending round already handed back, and f's values at them (a round
     /// larger than [`BATCH_COORDINATES`] comes as several batches; its values are added
     /// once it is whole).
@@ -1031,6 +1046,7 @@ impl Cubature {
             spared: 0,
             few_values: Vec::new(),
             face_due: false,
+            faces_read: false,
             fed_rows: 0,
             fed_values: Vec::new(),
             most_coordinates: BATCH_COORDINATES,
@@ -1693,10 +1709,11 @@ impl Cubature {
         let reason = &self.options.rule_reason;
         let laws = reason.strip_prefix(FACE_TEST_FIRST).unwrap_or(reason);
         self.options.rule_reason = if steep {
-            self.options.rule = Rule::FirstOrderLattice;
-            format!(
-                "first-order lattice: f steep at a face by {test}: {seen} within 2^−28 of a corner"
-            )
+            // The probe's points are the first-order lattice's first ones: an f that is
+            // not even keeps them.
+            self.options.rule = Rule::Probe;
+            self.faces_read = true;
+            format!("f steep at a face by {test}: {seen} within 2^−28 of a corner")
         } else {
             self.options.rule = Rule::TentLattice;
             format!("{laws}; f smooth at the faces by {test}")
@@ -1851,6 +1868,10 @@ impl Cubature {
         let k = self.k;
         let many = (0..k).all(|j| distinct_values(values, k, j) > FEW_VALUES);
         let probe = self.own_n();
+        if self.faces_read {
+            self.settle_cube_probe(many, probe);
+            return;
+        }
         let sobol_round = self.options.replicates as u64 * self.options.start_n;
         let shown = "even under Z ↦ −Z but took few values (a step or an event)";
         let kept = if self.halved && many {
@@ -1893,6 +1914,45 @@ impl Cubature {
         self.options.rule_reason =
             format!("first-order lattice{why}: {}", self.options.rule_reason);
         self.options.rule_reason.push_str(&note);
+    }
+
+    /// After a probe's round over the cube, a box or bounded laws (the face test found f
+    /// steep at a face: [`Cubature::faces_read`]). An f even under x ↦ 1 − x is the same
+    /// integrand as an even f of unbounded laws with their quantile functions written
+    /// into it (Keister's function through Φ⁻¹), and goes on as the probe sends one
+    /// there, with [`Rule::BayesLattice`]; one that took few values with scrambled
+    /// Sobol' (the lattice's interval undercovers a step); any other keeps the probe's
+    /// points as the first ones of the first-order lattice, which met no tolerance
+    /// before the replicates' first round is whole ([`Cubature::met`]), so that its
+    /// run is the one it made from that round.
+    fn settle_cube_probe(&mut self, many: bool, probe: u64) {
+        if !many {
+            *self = self.successor(
+                Rule::Sobol,
+                format!(
+                    "scrambled Sobol': {}, but f took few values at a probe of it (a step or \
+                     an event, whose lattice interval undercovers; {probe} evaluations, \
+                     counted)",
+                    self.options.rule_reason
+                ),
+            );
+            return;
+        }
+        if self.halved {
+            let why = format!(
+                "f even under x ↦ 1 − x at a probe of the first-order lattice ({probe} \
+                 evaluations, counted): the quantile functions of symmetric laws written \
+                 into an even f"
+            );
+            if let Some(bayes) = self.to_bayes(&why) {
+                *self = bayes;
+                return;
+            }
+        }
+        let note = self.halving_note();
+        self.options.rule = Rule::FirstOrderLattice;
+        self.options.rule_reason =
+            format!("first-order lattice: {}{note}", self.options.rule_reason);
     }
 
     /// A state of `rule` with this one's settings and nothing evaluated, `spent`
@@ -3915,8 +3975,56 @@ mod tests {
         let mut values = vec![1.0; 7];
         values[1] = f64::INFINITY;
         state.feed(&p, &values).unwrap();
-        assert_eq!(state.options.rule, Rule::FirstOrderLattice);
-        assert!(state.options.rule_reason.contains("not finite"));
+        // Steep: the probe's round of the first-order lattice is next.
+        assert_eq!(state.options.rule, Rule::Probe);
+        assert!(state.faces_read && state.options.rule_reason.contains("not finite"));
+        assert_eq!(state.next_points().unwrap().n() as u64, PROBE_POINTS);
+    }
+
+    /// Over the cube an f steep at a face that is even under x ↦ 1 − x (an even f of
+    /// normal inputs with Φ⁻¹ written into it) goes on as it would under normal laws: one
+    /// lattice and its posterior, the face test's and the probe's evaluations counted; one
+    /// steep there that took few values, with scrambled Sobol' after the probe.
+    #[test]
+    fn over_the_cube_an_even_f_steep_at_a_face_takes_the_bayesian_lattice() {
+        for seed in 0..4 {
+            let r = face_run(radial, 3, seed, Rule::FaceTest);
+            assert_bayes_run(radial, &r, seed, FACE_TEST_POINTS + PROBE_POINTS);
+            assert!(
+                r.rule_reason.contains("steep at a face")
+                    && r.rule_reason.contains("even under x ↦ 1 − x"),
+                "{}",
+                r.rule_reason
+            );
+        }
+        // Steep at x₀ = 0 (a root there) and four values elsewhere.
+        let stairs = |x: &PointSet| -> Vec<f64> {
+            x.rows()
+                .map(|p| {
+                    if p[0] < 1e-6 {
+                        p[0].powf(0.1)
+                    } else {
+                        (4.0 * p[0]).floor()
+                    }
+                })
+                .collect()
+        };
+        let opts = QuadOptions {
+            rel_tol: 1e-2,
+            rule: Rule::FaceTest,
+            ..QuadOptions::default()
+        };
+        let r = quad(stairs, 3, opts.clone()).unwrap();
+        assert_eq!(r.rule, Rule::Sobol, "{}", r.rule_reason);
+        assert!(r.rule_reason.contains("few values"), "{}", r.rule_reason);
+        let alone = QuadOptions {
+            rule: Rule::Sobol,
+            max_n: opts.max_n - FACE_TEST_POINTS - PROBE_POINTS,
+            ..opts
+        };
+        let alone = quad(stairs, 3, alone).unwrap();
+        let spent = FACE_TEST_POINTS + PROBE_POINTS;
+        assert_eq!((r.n, &r.estimate), (alone.n + spent, &alone.estimate));
     }
 
     #[test]

@@ -86,7 +86,8 @@ class QuadResult(_Result):
         of ``Engine(d)``'s table, which a face test over the cube gives an f steep at a
         face), or ``"bayesian lattice"`` (one shift of that lattice without the tent, its
         interval a Bayesian cubature's posterior: under unbounded laws, for an f the probe
-        round finds even in them or the face test after it flat at the faces)."""
+        round finds even in them or the face test after it flat at the faces; over the
+        cube, for an f steep at a face that the probe finds even)."""
         return str(self._state.rule[0])
 
     @property
@@ -94,7 +95,8 @@ class QuadResult(_Result):
         """Why that rule: from the laws of ``space`` (an unbounded law takes Sobol' unless
         the probe round finds f even, or the face test after it flat at the faces: then
         the Bayesian lattice), the
-        box and the face test (the first-order lattice for an f steep at a face), as asked
+        box and the face test (the first-order lattice for an f steep at a face, the
+        Bayesian lattice when its probe round finds f even), as asked
         through ``rule=``, or the pilot round's ratio of half-widths."""
         return str(self._state.rule[1])
 

@@ -559,6 +559,24 @@ def test_a_face_test_reads_f_steep_at_a_face_and_an_infinite_value_there():
     assert r.estimate == pytest.approx(1.5, rel=1e-2)
 
 
+def test_over_the_cube_an_even_f_steep_at_a_face_takes_the_bayesian_lattice():
+    # cos(|Z|/2) with Z = Φ⁻¹(x) written into f: steep at the faces and even under
+    # x ↦ 1 − x, so after the face test's 7 evaluations and the probe's 64 it goes on as
+    # through normal laws. E cos(a|Z|) = (1 − a²)·e^(−a²/2) for Z standard normal in 3-D.
+    from scipy.special import ndtri
+
+    def f(x):
+        return np.cos(0.5 * np.sqrt((ndtri(x) ** 2).sum(axis=1)))
+
+    for seed in range(3):
+        r = sp.quad(f, 3, rel_tol=1e-3, seed=seed)
+        assert r.rule == "bayesian lattice", r.rule_reason
+        assert "steep at a face" in r.rule_reason and "even under x ↦ 1 − x" in r.rule_reason
+        lattice = r.n - 7 - 64
+        assert lattice >= 256 and lattice & (lattice - 1) == 0, r.n
+        assert r.estimate == pytest.approx(0.75 * math.exp(-0.125), rel=3e-3)
+
+
 def test_under_unbounded_laws_a_face_test_after_the_probe_chooses_lattice_or_sobol():
     # Not even under Z ↦ −Z: after the probe's 64 points, 7 at the faces. A Gaussian bump
     # of normal inputs is flat there and goes on with the Bayesian lattice; exp(ΣZ)
