@@ -2,14 +2,14 @@
 own runs and the references in results/quad: reliability, median evaluations, the best
 reliable reference, cells met, and per family the geometric mean of the ratio.
 
-    python3 results/quad/bayes-tent/compare.py DIR
+    [OLD=FILE] python3 results/quad/bayes-tent/compare.py DIR
 """
 import gzip, json, sys, glob, os, statistics as st
 R = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 def load(p):
     d = json.load(gzip.open(p)); return d['cells']
 new = load(sys.argv[1] + '/stillpoint.json.gz')
-old = load(R + '/stillpoint.json.gz')
+old = load(os.environ.get('OLD', R + '/stillpoint.json.gz'))  # OLD=FILE: quad's runs of before
 refs = {os.path.basename(p)[:-8]: load(p) for p in glob.glob(R + '/*.json.gz') if 'stillpoint' not in p and 'single' not in p}
 def stat(cell):
     runs = cell['runs'] if isinstance(cell, dict) else cell
@@ -17,8 +17,10 @@ def stat(cell):
     return ok, st.median(r['n'] for r in runs), len(runs)
 met = [0, 0, 0]
 for key in new:
+    if key not in old:
+        continue
     ok, n, c = stat(new[key])
-    o = stat(old[key]) if key in old else None
+    o = stat(old[key])
     best = None
     for m, cells in refs.items():
         if key in cells:
@@ -31,6 +33,8 @@ print('cells', met[0], 'met new', met[1], 'met old', met[2])
 import math, collections
 g = collections.defaultdict(lambda: [[], []])
 for key in new:
+    if key not in old:
+        continue
     ok, n, c = stat(new[key]); o = stat(old[key])
     best = None
     for m, cells in refs.items():
