@@ -18,7 +18,10 @@
 //! alone 82.5–91 % of the runs on Keister's function met their tolerance within it in four
 //! of five cells, with α = 2 alone the bump took 2–4× the evaluations).
 
-use std::sync::Arc;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
+
+use stillpoint_domains::{vector_build, VectorBuild};
 
 use rustfft::num_complex::Complex;
 use rustfft::{Fft, FftPlanner};
@@ -142,6 +145,17 @@ struct RealDft {
 }
 
 impl RealDft {
+    /// [`RealDft::new`], kept for the process where n ≤ [`SHARED_N`].
+    fn shared(n: usize) -> Arc<RealDft> {
+        static DFTS: OnceLock<Mutex<HashMap<usize, Arc<RealDft>>>> = OnceLock::new();
+        if n > SHARED_N {
+            return Arc::new(RealDft::new(n));
+        }
+        let dfts = DFTS.get_or_init(Default::default);
+        let mut dfts = dfts.lock().expect("no panic holds the lock");
+        Arc::clone(dfts.entry(n).or_insert_with(|| Arc::new(RealDft::new(n))))
+    }
+
     /// The transform for n, a power of two of at least 4.
     fn new(n: usize) -> RealDft {
         let half = FftPlanner::new().plan_fft_forward(n / 2);
@@ -168,7 +182,9 @@ impl RealDft {
 
     /// X_k = Σ_i x_i·e^{−2πiik/n} for k = 0..=n/2 of the real sequence x_i = `x(i)`,
     /// i = 0..n (the rest are the conjugates X_{n−k}), each handed to `put(k, X_k)`;
-    /// `half` and `scratch` from [`RealDft::buffers`].
+    /// `half` and `scratch` from [`RealDft::buffers`]. Inlined, so that its passes take
+    /// the vector registers of the caller's build ([`Kernel::new`]).
+    #[inline(always)]
     fn transform(
         &self,
         x: impl Fn(usize) -> f64,
@@ -236,6 +252,31 @@ pub fn decay_table(alpha: f64, n: usize) -> Vec<f64> {
     half_decay_table(alpha, &RealDft::new(n))
 }
 
+/// The largest n whose transform and decay tables a process keeps once made
+/// ([`RealDft::shared`], [`shared_decay_table`]): every fit at an n it has seen (a
+/// doubling of a later run, another output's or another index's fit) reads them again,
+/// the same numbers, where making them was a fifth of a fit's work at 2^13 points. At
+/// most 5 tables and one transform per power of two up to 2^16, about 3 MB.
+const SHARED_N: usize = 1 << 16;
+
+/// [`half_decay_table`] kept for the process where n ≤ [`SHARED_N`].
+fn shared_decay_table(alpha: f64, dft: &RealDft) -> Arc<Vec<f64>> {
+    type Tables = Mutex<HashMap<(u64, usize), Arc<Vec<f64>>>>;
+    static TABLES: OnceLock<Tables> = OnceLock::new();
+    if dft.n > SHARED_N {
+        return Arc::new(half_decay_table(alpha, dft));
+    }
+    let key = (alpha.to_bits(), dft.n);
+    let tables = TABLES.get_or_init(Default::default);
+    if let Some(t) = tables.lock().expect("no panic holds the lock").get(&key) {
+        return Arc::clone(t);
+    }
+    // Made outside the lock: two threads may both make it, the same numbers.
+    let made = Arc::new(half_decay_table(alpha, dft));
+    let mut tables = tables.lock().expect("no panic holds the lock");
+    Arc::clone(tables.entry(key).or_insert(made))
+}
+
 /// [`decay_table`] at the transform's n.
 fn half_decay_table(alpha: f64, dft: &RealDft) -> Vec<f64> {
     let n = dft.n;
@@ -277,7 +318,7 @@ pub fn posterior(y: &[f64], z: &[u32]) -> Option<Posterior> {
     if n < 4 || !n.is_power_of_two() || y.iter().all(|v| *v == y[0]) {
         return None;
     }
-    let dft = RealDft::new(n);
+    let dft = RealDft::shared(n);
     let power = power_spectrum(y, &dft);
     let index = decay_index(n, z);
     use rayon::prelude::*;
@@ -285,7 +326,7 @@ pub fn posterior(y: &[f64], z: &[u32]) -> Option<Posterior> {
     let fits: Vec<(f64, Posterior)> = DECAYS
         .par_iter()
         .map(|&alpha| {
-            let table = half_decay_table(alpha, &dft);
+            let table = shared_decay_table(alpha, &dft);
             let d = z.len();
             let gathered = gather(&table, n, d, &index, None);
             let rows = n / 2 + 1;
@@ -293,11 +334,8 @@ pub fn posterior(y: &[f64], z: &[u32]) -> Option<Posterior> {
             let mut fit = |ln_theta: f64| {
                 let theta = ln_theta.exp();
                 let b = &mut buffers;
-                if gathered.is_empty() {
-                    Fit::new(d, |i, j| table[index(i, j)], theta, &power, &dft, b)
-                } else {
-                    Fit::new(d, |i, j| gathered[j * rows + i], theta, &power, &dft, b)
-                }
+                let eta = |i, j| table[index(i, j)];
+                Fit::new(Eta::new(d, eta, &gathered, rows), theta, &power, &dft, b)
             };
             let (ln_theta, at) = brent_minimum(
                 |t| {
@@ -407,7 +445,7 @@ pub fn posteriors(ys: &[Vec<f64>], z: &[u32], weights: &[f64]) -> Vec<Option<Pos
     if n < 4 || !n.is_power_of_two() {
         return vec![None; ys.len()];
     }
-    let dft = RealDft::new(n);
+    let dft = RealDft::shared(n);
     let powers: Vec<Option<Vec<f64>>> = ys
         .iter()
         .map(|y| {
@@ -423,7 +461,7 @@ pub fn posteriors(ys: &[Vec<f64>], z: &[u32], weights: &[f64]) -> Vec<Option<Pos
     let per_decay: Vec<Vec<Option<(f64, Posterior)>>> = DECAYS
         .par_iter()
         .map(|&alpha| {
-            let table = half_decay_table(alpha, &dft);
+            let table = shared_decay_table(alpha, &dft);
             let gathered = gather(&table, n, d, &index, Some(weights));
             let rows = n / 2 + 1;
             let mut best: Vec<Option<(f64, Posterior)>> = vec![None; ys.len()];
@@ -432,12 +470,9 @@ pub fn posteriors(ys: &[Vec<f64>], z: &[u32], weights: &[f64]) -> Vec<Option<Pos
                 let ln_theta =
                     LN_THETA.0 + (LN_THETA.1 - LN_THETA.0) * step as f64 / GRID_STEPS as f64;
                 let theta = ln_theta.exp();
-                let kernel = if gathered.is_empty() {
-                    let eta = |i, j| weights[j] * table[index(i, j)];
-                    Kernel::new(d, eta, theta, &dft, &mut buffers)
-                } else {
-                    Kernel::new(d, |i, j| gathered[j * rows + i], theta, &dft, &mut buffers)
-                };
+                let eta = |i, j| weights[j] * table[index(i, j)];
+                let eta = Eta::new(d, eta, &gathered, rows);
+                let kernel = Kernel::new(eta, theta, &dft, &mut buffers);
                 for (power, slot) in powers.iter().zip(best.iter_mut()) {
                     let Some(power) = power else { continue };
                     let at = kernel.fit(power);
@@ -458,6 +493,110 @@ pub fn posteriors(ys: &[Vec<f64>], z: &[u32], weights: &[f64]) -> Vec<Option<Pos
     (0..ys.len())
         .map(|o| first_best(per_decay.iter().filter_map(|fits| fits[o])))
         .collect()
+}
+
+/// The decay kernel η_α at the coordinates of the points i = 0..=n/2 (against point 0), as
+/// the kernel's column reads it: the values [`gather`] made, coordinate-major, or, where it
+/// made none, looked up per point and coordinate.
+enum Eta<'a, F> {
+    Gathered {
+        d: usize,
+        values: &'a [f64],
+        rows: usize,
+    },
+    Lookup {
+        d: usize,
+        eta: F,
+    },
+}
+
+impl<'a, F: Fn(usize, usize) -> f64> Eta<'a, F> {
+    /// The gathered `values` (`rows` per coordinate) when there are any, else `eta(i, j)`.
+    fn new(d: usize, eta: F, values: &'a [f64], rows: usize) -> Eta<'a, F> {
+        if values.is_empty() {
+            Eta::Lookup { d, eta }
+        } else {
+            Eta::Gathered { d, values, rows }
+        }
+    }
+
+    /// The kernel's first column K(x_i, x_0) − 1 for i = 0..=n/2 into `column`, built as
+    /// Π(1 + θη) − 1 one coordinate at a time so that a product near 1 keeps its digits
+    /// (the column is even in i, so its first half). Each entry is a chain of d dependent
+    /// steps; [`COLUMN_LANES`] entries side by side fill the lanes one chain leaves idle,
+    /// in vector registers where the processor has them ([`vector_build`]): the same
+    /// operations in the same order per entry, so the same bits on every build.
+    fn column(&self, theta: f64, column: &mut [f64]) {
+        match *self {
+            Eta::Gathered { d, values, rows } => {
+                debug_assert_eq!(column.len(), rows);
+                match vector_build() {
+                    #[cfg(target_arch = "x86_64")]
+                    // SAFETY: the processor has AVX-512 F (checked by `vector_build`).
+                    VectorBuild::Avx512 => unsafe { column_avx512(d, values, theta, column) },
+                    #[cfg(target_arch = "x86_64")]
+                    // SAFETY: the processor has AVX2 (checked by `vector_build`).
+                    VectorBuild::Avx2 => unsafe { column_avx2(d, values, theta, column) },
+                    _ => column_lanes(d, values, theta, column),
+                }
+            }
+            Eta::Lookup { d, ref eta } => {
+                for (i, v) in column.iter_mut().enumerate() {
+                    let mut a = 0.0;
+                    for j in 0..d {
+                        a += theta * eta(i, j) * (1.0 + a);
+                    }
+                    *v = a;
+                }
+            }
+        }
+    }
+}
+
+/// Entries of the kernel's column built side by side ([`Eta::column`]).
+const COLUMN_LANES: usize = 8;
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+unsafe fn column_avx512(d: usize, values: &[f64], theta: f64, column: &mut [f64]) {
+    column_lanes(d, values, theta, column)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn column_avx2(d: usize, values: &[f64], theta: f64, column: &mut [f64]) {
+    column_lanes(d, values, theta, column)
+}
+
+/// [`Eta::column`] from gathered values, `column.len()` of them per coordinate: each block
+/// of [`COLUMN_LANES`] entries over every coordinate (lane by lane, so that the compiler
+/// keeps the block in vectors; Rust fuses no multiply and add, so each lane rounds as one
+/// entry alone would), then the last entries one by one.
+#[inline(always)]
+fn column_lanes(d: usize, values: &[f64], theta: f64, column: &mut [f64]) {
+    let rows = column.len();
+    let mut blocks = column.chunks_exact_mut(COLUMN_LANES);
+    for (b, block) in blocks.by_ref().enumerate() {
+        let i0 = b * COLUMN_LANES;
+        let mut acc = [0.0; COLUMN_LANES];
+        for j in 0..d {
+            let eta: &[f64; COLUMN_LANES] = values[j * rows + i0..j * rows + i0 + COLUMN_LANES]
+                .try_into()
+                .expect("a block of the lanes' width");
+            for l in 0..COLUMN_LANES {
+                acc[l] += theta * eta[l] * (1.0 + acc[l]);
+            }
+        }
+        block.copy_from_slice(&acc);
+    }
+    let start = rows - blocks.into_remainder().len();
+    for (i, v) in column.iter_mut().enumerate().skip(start) {
+        let mut a = 0.0;
+        for j in 0..d {
+            a += theta * values[j * rows + i] * (1.0 + a);
+        }
+        *v = a;
+    }
 }
 
 /// What the likelihood reads of the kernel's eigenvalues λ_k at one θ (divided by
@@ -483,12 +622,55 @@ struct Kernel<'a> {
 const PRODUCT_BOUND: f64 = 1e150;
 
 impl<'a> Kernel<'a> {
-    /// The eigenvalues at θ for the transform's n points in d coordinates, `eta(i, j)` the
-    /// decay kernel at point i's coordinate j (against point 0), read for i = 0..=n/2;
-    /// built in `buffers` (from [`RealDft::buffers`]), which hold them while it lives.
-    fn new(
-        d: usize,
-        eta: impl Fn(usize, usize) -> f64,
+    /// The eigenvalues at θ for the transform's n points, `eta` the decay kernel at each
+    /// point's coordinates (against point 0), read for i = 0..=n/2; built in `buffers`
+    /// (from [`RealDft::buffers`]), which hold them while it lives.
+    fn new<F: Fn(usize, usize) -> f64>(
+        eta: Eta<'_, F>,
+        theta: f64,
+        dft: &RealDft,
+        buffers: &'a mut Buffers,
+    ) -> Kernel<'a> {
+        // Its passes over the n/2 eigenvalues (scaling, magnitudes, the likelihood's
+        // weights) in vector registers where the processor has them: element by element,
+        // so the same bits on every build.
+        match vector_build() {
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: the processor has AVX-512 F (checked by `vector_build`).
+            VectorBuild::Avx512 => unsafe { Kernel::new_avx512(eta, theta, dft, buffers) },
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: the processor has AVX2 (checked by `vector_build`).
+            VectorBuild::Avx2 => unsafe { Kernel::new_avx2(eta, theta, dft, buffers) },
+            _ => Kernel::build(eta, theta, dft, buffers),
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn new_avx512<F: Fn(usize, usize) -> f64>(
+        eta: Eta<'_, F>,
+        theta: f64,
+        dft: &RealDft,
+        buffers: &'a mut Buffers,
+    ) -> Kernel<'a> {
+        Kernel::build(eta, theta, dft, buffers)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn new_avx2<F: Fn(usize, usize) -> f64>(
+        eta: Eta<'_, F>,
+        theta: f64,
+        dft: &RealDft,
+        buffers: &'a mut Buffers,
+    ) -> Kernel<'a> {
+        Kernel::build(eta, theta, dft, buffers)
+    }
+
+    /// [`Kernel::new`]'s body.
+    #[inline(always)]
+    fn build<F: Fn(usize, usize) -> f64>(
+        eta: Eta<'_, F>,
         theta: f64,
         dft: &RealDft,
         buffers: &'a mut Buffers,
@@ -500,32 +682,7 @@ impl<'a> Kernel<'a> {
             scratch,
             lambda,
         } = buffers;
-        // The kernel's first column K(x_i, x_0) − 1, built as Π(1 + θη) − 1 one coordinate
-        // at a time so that a product near 1 keeps its digits; even in i, so its first half.
-        // Each entry is a chain of d dependent steps; four entries side by side fill the
-        // lanes one chain leaves idle (the same operations in the same order per entry).
-        let less_one = |i0: usize, lanes: &mut [f64]| {
-            let mut acc = [0.0; 4];
-            for j in 0..d {
-                for (l, a) in acc.iter_mut().enumerate() {
-                    *a += theta * eta(i0 + l, j) * (1.0 + *a);
-                }
-            }
-            lanes.copy_from_slice(&acc);
-        };
-        let mut chunks = column.chunks_exact_mut(4);
-        for (c, lanes) in chunks.by_ref().enumerate() {
-            less_one(4 * c, lanes);
-        }
-        let tail = chunks.into_remainder();
-        let start = n / 2 + 1 - tail.len();
-        for (l, v) in tail.iter_mut().enumerate() {
-            let mut a = 0.0;
-            for j in 0..d {
-                a += theta * eta(start + l, j) * (1.0 + a);
-            }
-            *v = a;
-        }
+        eta.column(theta, column);
         let largest = column.iter().map(|c| c.abs()).fold(0.0, f64::max);
         // The eigenvalues divided by `largest` (the all-ones part adds n at frequency 0).
         let factor = if largest > 0.0 { largest } else { 1.0 };
@@ -605,15 +762,14 @@ impl Fit {
     /// The fit at θ for the transform's n points in d coordinates, `eta(i, j)` the decay
     /// kernel at point i's coordinate j (against point 0) and `power` the values' squared
     /// transform.
-    fn new(
-        d: usize,
-        eta: impl Fn(usize, usize) -> f64,
+    fn new<F: Fn(usize, usize) -> f64>(
+        eta: Eta<'_, F>,
         theta: f64,
         power: &[f64],
         dft: &RealDft,
         buffers: &mut Buffers,
     ) -> Fit {
-        Kernel::new(d, eta, theta, dft, buffers).fit(power)
+        Kernel::new(eta, theta, dft, buffers).fit(power)
     }
 
     /// The posterior standard deviation of the integral: √(left·norm).
@@ -909,15 +1065,22 @@ mod tests {
         let power = power_spectrum(&y, &dft);
         let index = decay_index(n, &z);
         let mut buffers = dft.buffers();
-        let fit = Fit::new(
-            d,
-            |i, j| table[index(i, j)],
+        let eta = |i, j| table[index(i, j)];
+        let fit = Fit::new(Eta::new(d, eta, &[], 0), theta, &power, &dft, &mut buffers);
+        assert!((fit.sd() - sd).abs() < 1e-10 * sd, "{} vs {sd}", fit.sd());
+        // The gathered values' column (in vector lanes where the processor has them) is
+        // the looked-up one, bit for bit.
+        let gathered = gather(&table, n, d, &index, None);
+        let rows = n / 2 + 1;
+        let lanes = Fit::new(
+            Eta::new(d, eta, &gathered, rows),
             theta,
             &power,
             &dft,
             &mut buffers,
         );
-        assert!((fit.sd() - sd).abs() < 1e-10 * sd, "{} vs {sd}", fit.sd());
+        assert!(!gathered.is_empty());
+        assert_eq!((lanes.objective, lanes.sd()), (fit.objective, fit.sd()));
         // The likelihood up to the constant n·ln n that the spectrum's scale adds.
         let objective = log_det + n as f64 * (quad_form * n as f64).ln();
         assert!(
