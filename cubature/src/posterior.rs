@@ -621,6 +621,28 @@ struct Kernel<'a> {
 /// product passes the range of a double.
 const PRODUCT_BOUND: f64 = 1e150;
 
+/// What [`Kernel::new`] builds the eigenvalues from.
+struct At<'b, F> {
+    eta: Eta<'b, F>,
+    theta: f64,
+    dft: &'b RealDft,
+}
+
+/// [`Kernel::build`] compiled for a target feature (`unsafe`: the caller checks that the
+/// processor has it).
+macro_rules! kernel_with_feature {
+    ($name:ident, $feature:literal) => {
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = $feature)]
+        unsafe fn $name<F: Fn(usize, usize) -> f64>(
+            at: At<'_, F>,
+            buffers: &'a mut Buffers,
+        ) -> Kernel<'a> {
+            Kernel::build(at, buffers)
+        }
+    };
+}
+
 impl<'a> Kernel<'a> {
     /// The eigenvalues at θ for the transform's n points, `eta` the decay kernel at each
     /// point's coordinates (against point 0), read for i = 0..=n/2; built in `buffers`
@@ -634,47 +656,25 @@ impl<'a> Kernel<'a> {
         // Its passes over the n/2 eigenvalues (scaling, magnitudes, the likelihood's
         // weights) in vector registers where the processor has them: element by element,
         // so the same bits on every build.
+        let at = At { eta, theta, dft };
         match vector_build() {
             #[cfg(target_arch = "x86_64")]
             // SAFETY: the processor has AVX-512 F (checked by `vector_build`).
-            VectorBuild::Avx512 => unsafe { Kernel::new_avx512(eta, theta, dft, buffers) },
+            VectorBuild::Avx512 => unsafe { Kernel::new_avx512(at, buffers) },
             #[cfg(target_arch = "x86_64")]
             // SAFETY: the processor has AVX2 (checked by `vector_build`).
-            VectorBuild::Avx2 => unsafe { Kernel::new_avx2(eta, theta, dft, buffers) },
-            _ => Kernel::build(eta, theta, dft, buffers),
+            VectorBuild::Avx2 => unsafe { Kernel::new_avx2(at, buffers) },
+            _ => Kernel::build(at, buffers),
         }
     }
 
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    unsafe fn new_avx512<F: Fn(usize, usize) -> f64>(
-        eta: Eta<'_, F>,
-        theta: f64,
-        dft: &RealDft,
-        buffers: &'a mut Buffers,
-    ) -> Kernel<'a> {
-        Kernel::build(eta, theta, dft, buffers)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn new_avx2<F: Fn(usize, usize) -> f64>(
-        eta: Eta<'_, F>,
-        theta: f64,
-        dft: &RealDft,
-        buffers: &'a mut Buffers,
-    ) -> Kernel<'a> {
-        Kernel::build(eta, theta, dft, buffers)
-    }
+    kernel_with_feature!(new_avx512, "avx512f");
+    kernel_with_feature!(new_avx2, "avx2");
 
     /// [`Kernel::new`]'s body.
     #[inline(always)]
-    fn build<F: Fn(usize, usize) -> f64>(
-        eta: Eta<'_, F>,
-        theta: f64,
-        dft: &RealDft,
-        buffers: &'a mut Buffers,
-    ) -> Kernel<'a> {
+    fn build<F: Fn(usize, usize) -> f64>(at: At<'_, F>, buffers: &'a mut Buffers) -> Kernel<'a> {
+        let At { eta, theta, dft } = at;
         let n = dft.n;
         let Buffers {
             column,
