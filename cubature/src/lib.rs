@@ -1938,7 +1938,9 @@ impl Cubature {
             );
             return;
         }
-        if self.halved {
+        // A probe's round that met the tolerance (a `start_n` no larger than its points)
+        // ends the run as the first-order lattice's.
+        if self.halved && !self.met() {
             let why = format!(
                 "f even under x ↦ 1 − x at a probe of the first-order lattice ({probe} \
                  evaluations, counted): the quantile functions of symmetric laws written \
@@ -4025,6 +4027,25 @@ mod tests {
         let alone = quad(stairs, 3, alone).unwrap();
         let spent = FACE_TEST_POINTS + PROBE_POINTS;
         assert_eq!((r.n, &r.estimate), (alone.n + spent, &alone.estimate));
+        // With start_n at the probe's size its round may meet a loose tolerance: the run
+        // ends there, the first-order lattice's, not wasted on the Bayesian lattice.
+        let small = QuadOptions {
+            rel_tol: 0.5,
+            start_n: PROBE_POINTS / DEFAULT_REPLICATES as u64,
+            rule: Rule::FaceTest,
+            ..QuadOptions::default()
+        };
+        let r = quad(radial, 3, small).unwrap();
+        assert_eq!(
+            (r.rule, r.n, r.met),
+            (
+                Rule::FirstOrderLattice,
+                FACE_TEST_POINTS + PROBE_POINTS,
+                true
+            ),
+            "{}",
+            r.rule_reason
+        );
     }
 
     #[test]
