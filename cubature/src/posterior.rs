@@ -151,8 +151,11 @@ impl RealDft {
         if n > SHARED_N {
             return Arc::new(RealDft::new(n));
         }
-        let dfts = DFTS.get_or_init(Default::default);
-        let mut dfts = dfts.lock().expect("no panic holds the lock");
+        // A map another thread left by panicking still holds only whole entries.
+        let mut dfts = DFTS
+            .get_or_init(Default::default)
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
         Arc::clone(dfts.entry(n).or_insert_with(|| Arc::new(RealDft::new(n))))
     }
 
@@ -267,14 +270,19 @@ fn shared_decay_table(alpha: f64, dft: &RealDft) -> Arc<Vec<f64>> {
         return Arc::new(half_decay_table(alpha, dft));
     }
     let key = (alpha.to_bits(), dft.n);
-    let tables = TABLES.get_or_init(Default::default);
-    if let Some(t) = tables.lock().expect("no panic holds the lock").get(&key) {
+    // A map another thread left by panicking still holds only whole entries.
+    let lock = || {
+        TABLES
+            .get_or_init(Default::default)
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
+    };
+    if let Some(t) = lock().get(&key) {
         return Arc::clone(t);
     }
     // Made outside the lock: two threads may both make it, the same numbers.
     let made = Arc::new(half_decay_table(alpha, dft));
-    let mut tables = tables.lock().expect("no panic holds the lock");
-    Arc::clone(tables.entry(key).or_insert(made))
+    Arc::clone(lock().entry(key).or_insert(made))
 }
 
 /// [`decay_table`] at the transform's n.
