@@ -1853,13 +1853,21 @@ impl Cubature {
         ruled_out && !self.exhausted()
     }
 
-    /// After a probe's first round ([`Rule::Probe`]): an f even under the reflection
-    /// (Z ↦ −Z through symmetric laws) that took more than [`FEW_VALUES`] values on every
+    /// After a probe's first round ([`Rule::Probe`]): the lattice is kept when its first
+    /// round met the tolerance; an f even under the reflection (Z ↦ −Z through symmetric
+    /// laws, x ↦ 1 − x over the cube) that took more than [`FEW_VALUES`] values on every
     /// output goes on with [`Rule::BayesLattice`] (or, where `max_n` leaves no room for
-    /// its first round, the first-order lattice halved); the lattice is kept whole when its first
-    /// round met the tolerance or `max_n` leaves no room for Sobol's; for an f that is not
-    /// even a face test comes next ([`Cubature::settle_probe_faces`]); an even f of few
-    /// values goes on with scrambled Sobol' from its own first round, the probe's
+    /// its first round, the first-order lattice halved). Under unbounded laws the lattice
+    /// is kept whole where `max_n` leaves no room for Sobol's, and for an f that is not
+    /// even a face test comes next ([`Cubature::settle_probe_faces`]). Over the cube, a
+    /// box or bounded laws the face test came first ([`Cubature::faces_read`]): an even f
+    /// there is an even f of unbounded laws with their quantile functions written into it
+    /// (Keister's function through Φ⁻¹) and goes on as there; any other keeps the probe's
+    /// points as its first-order lattice's first ones, which meet no tolerance before
+    /// the replicates' first round is whole
+    /// ([`Cubature::met`]): its run is the one it made from that round. An even f of few
+    /// values, and over the cube any f of few values, goes on with scrambled Sobol' from
+    /// its own first round (the lattice's interval undercovers a step), the probe's
     /// evaluations counted in `n`.
     fn settle_probe(&mut self, values: &[f64]) {
         if self.options.rule != Rule::Probe {
@@ -1868,38 +1876,54 @@ impl Cubature {
         let k = self.k;
         let many = (0..k).all(|j| distinct_values(values, k, j) > FEW_VALUES);
         let probe = self.own_n();
-        if self.faces_read {
-            self.settle_cube_probe(many, probe);
-            return;
-        }
         let sobol_round = self.options.replicates as u64 * self.options.start_n;
-        let shown = "even under Z ↦ −Z but took few values (a step or an event)";
-        let kept = if self.halved && many {
-            None
-        } else if self.met() {
+        // Over the cube the reflection is x ↦ 1 − x; under symmetric laws it is Z ↦ −Z.
+        let (reflection, even_means) = if self.faces_read {
+            (
+                "x ↦ 1 − x",
+                ": the quantile functions of symmetric laws written into an even f",
+            )
+        } else {
+            ("Z ↦ −Z", "")
+        };
+        // A round that met the tolerance ends the run, whatever f's evenness.
+        let kept = if self.met() {
             Some("its first round met the tolerance")
-        } else if self.options.max_n < probe + 2 * sobol_round + FACE_TEST_POINTS {
+        } else if self.halved && many {
+            None
+        } else if !self.faces_read
+            && self.options.max_n < probe + 2 * sobol_round + FACE_TEST_POINTS
+        {
             Some("max_n leaves no room for Sobol'")
-        } else if !self.halved {
+        } else if !many && (self.halved || self.faces_read) {
+            let even = if self.halved {
+                format!("even under {reflection} but ")
+            } else {
+                String::new()
+            };
+            *self = self.successor(
+                Rule::Sobol,
+                format!(
+                    "scrambled Sobol': {}, and f {even}took few values (a step or an event) \
+                     at a probe of the first-order lattice ({probe} evaluations, counted)",
+                    self.options.rule_reason
+                ),
+            );
+            return;
+        } else if !self.faces_read {
             // Not even: a face test tells a model flat at the faces (kept) from one steep
             // there (Sobol').
             self.face_due = true;
             return;
         } else {
-            *self = self.successor(
-                Rule::Sobol,
-                format!(
-                    "scrambled Sobol': {}, and f {shown} at a probe of the first-order \
-                     lattice ({probe} evaluations, counted)",
-                    self.options.rule_reason
-                ),
-            );
-            return;
+            // Not even, and steep at a face by the test already made: the probe's points
+            // are its lattice's first.
+            Some("")
         };
         if kept.is_none() {
             let why = format!(
-                "f even under Z ↦ −Z at a probe of the first-order lattice ({probe} \
-                 evaluations, counted)"
+                "f even under {reflection} at a probe of the first-order lattice ({probe} \
+                 evaluations, counted){even_means}"
             );
             if let Some(bayes) = self.to_bayes(&why) {
                 *self = bayes;
@@ -1910,51 +1934,12 @@ impl Cubature {
         // The note counts the probe's pairs, so it is made while the state is the probe's.
         let note = self.halving_note();
         self.options.rule = Rule::FirstOrderLattice;
-        let why = kept.map_or(String::new(), |why| format!(" ({why})"));
+        let why = kept
+            .filter(|why| !why.is_empty())
+            .map_or(String::new(), |why| format!(" ({why})"));
         self.options.rule_reason =
             format!("first-order lattice{why}: {}", self.options.rule_reason);
         self.options.rule_reason.push_str(&note);
-    }
-
-    /// After a probe's round over the cube, a box or bounded laws (the face test found f
-    /// steep at a face: [`Cubature::faces_read`]). An f even under x ↦ 1 − x is the same
-    /// integrand as an even f of unbounded laws with their quantile functions written
-    /// into it (Keister's function through Φ⁻¹), and goes on as the probe sends one
-    /// there, with [`Rule::BayesLattice`]; one that took few values with scrambled
-    /// Sobol' (the lattice's interval undercovers a step); any other keeps the probe's
-    /// points as the first ones of the first-order lattice, which met no tolerance
-    /// before the replicates' first round is whole ([`Cubature::met`]), so that its
-    /// run is the one it made from that round.
-    fn settle_cube_probe(&mut self, many: bool, probe: u64) {
-        if !many {
-            *self = self.successor(
-                Rule::Sobol,
-                format!(
-                    "scrambled Sobol': {}, but f took few values at a probe of it (a step or \
-                     an event, whose lattice interval undercovers; {probe} evaluations, \
-                     counted)",
-                    self.options.rule_reason
-                ),
-            );
-            return;
-        }
-        // A probe's round that met the tolerance (a `start_n` no larger than its points)
-        // ends the run as the first-order lattice's.
-        if self.halved && !self.met() {
-            let why = format!(
-                "f even under x ↦ 1 − x at a probe of the first-order lattice ({probe} \
-                 evaluations, counted): the quantile functions of symmetric laws written \
-                 into an even f"
-            );
-            if let Some(bayes) = self.to_bayes(&why) {
-                *self = bayes;
-                return;
-            }
-        }
-        let note = self.halving_note();
-        self.options.rule = Rule::FirstOrderLattice;
-        self.options.rule_reason =
-            format!("first-order lattice: {}{note}", self.options.rule_reason);
     }
 
     /// A state of `rule` with this one's settings and nothing evaluated, `spent`
