@@ -1,13 +1,15 @@
-"""Coverage at a fixed n of `stillpoint.quad`'s Bayesian lattice (``rule="bayesian lattice"``,
-the rule the probe chooses under unbounded laws for an f even in them or flat at the faces):
-per model and n, over seeds (instance ``seed`` of benches/quad.py's model family, or a
-fixed model; the lattice's shift from ``seed``), the share of runs whose exact value lies
-within the interval at level 0.95, and the median half-width over the true error. Each
-run is ``quad(f, d, space=..., rule="bayesian lattice", rel_tol=0, max_n=n, seed=seed)``:
-no tolerance, so it stops at exactly n points.
+"""Coverage at a fixed n of `stillpoint.quad`'s Bayesian rules (``rule="bayesian lattice"``,
+the rule the probe chooses under unbounded laws for an f even in them or flat at the faces;
+``--rule "bayesian net"``, the one for an f steep at a face): per model and n, over seeds
+(instance ``seed`` of benches/quad.py's family, a model family through its laws or a cube
+family such as ``lognormal``, or a fixed model; the rule's randomisation from ``seed``),
+the share of runs whose exact value lies within the interval at level 0.95, and the
+median half-width over the true error. Each run is ``quad(f, d, space=..., rule=RULE,
+rel_tol=0, max_n=n, seed=seed)``: no tolerance, so it stops at exactly n points.
 
     target/py-venv/bin/python benches/quad_bayes_coverage.py --seeds 300 --n 1024,4096,16384
         [--models "uq keister:5,uq keister:10,uq gaussian (normal):8"] [--unnamed]
+        [--rule "bayesian net"]
 
 ``--unnamed`` adds five models of eight standard normal inputs the rule was not chosen on.
 ``--level 0.875`` asks for the interval whose posterior quantile is 0.975, the posterior's
@@ -37,13 +39,13 @@ UNNAMED = {
 }
 
 
-def cell(make, n, seeds, level):
+def cell(make, n, seeds, level, rule):
     import stillpoint as sp
 
     hits, widths = 0, []
     for seed in range(seeds):
         f, d, space, truth = make(seed)
-        r = sp.quad(f, d, space=space, rule="bayesian lattice", rel_tol=0, max_n=n,
+        r = sp.quad(f, d, space=space, rule=rule, rel_tol=0, max_n=n,
                     seed=seed, level=level)
         assert r.n == n, (r.n, n)
         err = abs(r.estimate - truth)
@@ -59,6 +61,7 @@ def main():
     ap.add_argument("--n", default="1024,4096,16384")
     ap.add_argument("--seeds", type=int, default=300)
     ap.add_argument("--level", type=float, default=0.95)
+    ap.add_argument("--rule", default="bayesian lattice")
     args = ap.parse_args()
     warnings.simplefilter("ignore")
     makers = {}
@@ -66,6 +69,9 @@ def main():
         family, s = spec.rsplit(":", 1)
 
         def make(seed, family=family, s=int(s)):
+            if family not in bench.MODEL_FAMILIES:
+                p = bench.instance(family, s, seed)
+                return (lambda x: bench.value(family, p, x)), s, None, bench.exact(family, p)
             _, texts, on_values, truth = bench.model(family, s, seed)
             return on_values, s, texts, truth
 
@@ -78,7 +84,7 @@ def main():
     print("|---|---|---|---|")
     for name, make in makers.items():
         for n in [int(v) for v in args.n.split(",")]:
-            cover, width = cell(make, n, args.seeds, args.level)
+            cover, width = cell(make, n, args.seeds, args.level, args.rule)
             print(f"| {name} | {n} | {cover:.1%} | {width:.1f} |", flush=True)
 
 

@@ -34,15 +34,15 @@ pub const DECAYS: [f64; 5] = [2.0, 2.5, 3.0, 3.5, 4.0];
 const GATHERED: usize = 1 << 22;
 
 /// The range of ln θ searched (QMCPy's `CubBayesLatticeG`'s).
-const LN_THETA: (f64, f64) = (-5.0, 0.0);
+pub(crate) const LN_THETA: (f64, f64) = (-5.0, 0.0);
 
 /// The search for ln θ stops within this of the optimum (SciPy's `fminbound` default
 /// that QMCPy's search uses).
-const LN_THETA_TOL: f64 = 1e-2;
+pub(crate) const LN_THETA_TOL: f64 = 1e-2;
 
 /// Eigenvalues below this share of the largest are left out of the likelihood and the
 /// norm (the kernel is numerically singular along them), as QMCPy leaves them out.
-const TINY: f64 = 100.0 * f64::EPSILON;
+pub(crate) const TINY: f64 = 100.0 * f64::EPSILON;
 
 /// What the likelihood chose and the posterior's standard deviation of the integral.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -794,7 +794,7 @@ impl Fit {
 /// normal inputs it took 13 evaluations a search on average against the golden
 /// section's 15 (10 at α = 2, where the optimum lies inside the range; an optimum at an
 /// end is approached in steps of the tolerance).
-fn brent_minimum<T>(
+pub(crate) fn brent_minimum<T>(
     mut g: impl FnMut(f64) -> (f64, T),
     (lo, hi): (f64, f64),
     tol: f64,
@@ -890,7 +890,7 @@ pub fn natural_index(k: usize, n: usize) -> usize {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// η at α = 2 and 4 in closed form: 2π²B₂(t) and −(2π⁴/3)B₄(t).
@@ -1004,20 +1004,46 @@ mod tests {
         }
     }
 
-    /// Cholesky factor of a dense symmetric positive definite matrix (row-major).
-    fn cholesky(a: &[f64], n: usize) -> Vec<f64> {
+    /// A Gaussian process's posterior written out densely, for the transforms' to be
+    /// checked against: with `gram` the Gram matrix (row-major) of the points where f took
+    /// the values `y`, (the posterior standard deviation of the integral, the negative
+    /// log-likelihood up to the constant n·ln n that a transform's scale adds), by
+    /// Cholesky.
+    pub(crate) fn dense_posterior(gram: &[f64], y: &[f64]) -> (f64, f64) {
+        let n = y.len();
         let mut l = vec![0.0; n * n];
         for i in 0..n {
             for j in 0..=i {
                 let s: f64 = (0..j).map(|k| l[i * n + k] * l[j * n + k]).sum();
                 l[i * n + j] = if i == j {
-                    (a[i * n + i] - s).sqrt()
+                    (gram[i * n + i] - s).sqrt()
                 } else {
-                    (a[i * n + j] - s) / l[j * n + j]
+                    (gram[i * n + j] - s) / l[j * n + j]
                 };
             }
         }
-        l
+        let solve = |b: &[f64]| {
+            let mut w = b.to_vec();
+            for i in 0..n {
+                w[i] = (w[i] - (0..i).map(|k| l[i * n + k] * w[k]).sum::<f64>()) / l[i * n + i];
+            }
+            for i in (0..n).rev() {
+                w[i] = (w[i] - (i + 1..n).map(|k| l[k * n + i] * w[k]).sum::<f64>()) / l[i * n + i];
+            }
+            w
+        };
+        let mean = y.iter().sum::<f64>() / n as f64;
+        let centred: Vec<f64> = y.iter().map(|v| v - mean).collect();
+        let quad_form: f64 = centred
+            .iter()
+            .zip(solve(&centred))
+            .map(|(a, b)| a * b)
+            .sum();
+        let ones_k_ones: f64 = gram.iter().sum();
+        let log_det: f64 = (0..n).map(|i| 2.0 * l[i * n + i].ln()).sum();
+        let left = 1.0 - (n * n) as f64 / ones_k_ones;
+        let sd = (left * quad_form / n as f64).sqrt();
+        (sd, log_det + n as f64 * (quad_form * n as f64).ln())
     }
 
     #[test]
@@ -1045,28 +1071,7 @@ mod tests {
                 .product::<f64>()
         };
         let gram: Vec<f64> = (0..n * n).map(|e| kernel(&x[e / n], &x[e % n])).collect();
-        let l = cholesky(&gram, n);
-        let solve = |b: &[f64]| {
-            let mut w = b.to_vec();
-            for i in 0..n {
-                w[i] = (w[i] - (0..i).map(|k| l[i * n + k] * w[k]).sum::<f64>()) / l[i * n + i];
-            }
-            for i in (0..n).rev() {
-                w[i] = (w[i] - (i + 1..n).map(|k| l[k * n + i] * w[k]).sum::<f64>()) / l[i * n + i];
-            }
-            w
-        };
-        let mean = y.iter().sum::<f64>() / n as f64;
-        let centred: Vec<f64> = y.iter().map(|v| v - mean).collect();
-        let quad_form: f64 = centred
-            .iter()
-            .zip(solve(&centred))
-            .map(|(a, b)| a * b)
-            .sum();
-        let ones_k_ones: f64 = gram.iter().sum();
-        let log_det: f64 = (0..n).map(|i| 2.0 * l[i * n + i].ln()).sum();
-        let left = 1.0 - (n * n) as f64 / ones_k_ones;
-        let sd = (left * quad_form / n as f64).sqrt();
+        let (sd, objective) = dense_posterior(&gram, &y);
 
         let dft = RealDft::new(n);
         let table = decay_table(alpha, n);
@@ -1090,7 +1095,6 @@ mod tests {
         assert!(!gathered.is_empty());
         assert_eq!((lanes.objective, lanes.sd()), (fit.objective, fit.sd()));
         // The likelihood up to the constant n·ln n that the spectrum's scale adds.
-        let objective = log_det + n as f64 * (quad_form * n as f64).ln();
         assert!(
             (fit.objective - objective).abs() < 1e-8,
             "{} vs {objective}",

@@ -541,21 +541,32 @@ def test_tied_replicate_means_of_a_step_claim_no_tolerance():
 
 
 def test_a_face_test_reads_f_steep_at_a_face_and_an_infinite_value_there():
-    # Over the cube: a quantile function inside f takes the first-order lattice, a smooth
-    # f the tent lattice, each after the test's 7 evaluations (counted).
-    from scipy.special import ndtri
+    # Over the cube: a quantile function inside f takes the Bayesian net (after the test's
+    # 7 evaluations and the probe's 64, counted), or with a plateau the first-order
+    # lattice; a smooth f the tent lattice, after the test's 7 evaluations.
+    from scipy.special import ndtri, ndtr
 
-    steep = sp.quad(lambda x: np.exp(0.5 * ndtri(x).sum(axis=1)), 3, rel_tol=1e-3, seed=2)
-    assert steep.rule == "first-order lattice" and "steep at a face" in steep.rule_reason
+    def lognormal(x):
+        return np.exp(0.5 * ndtri(x).sum(axis=1))
+
+    steep = sp.quad(lognormal, 3, rel_tol=1e-3, seed=2)
+    assert steep.rule == "bayesian net" and "steep at a face" in steep.rule_reason
+    alone = sp.quad(lognormal, 3, rel_tol=1e-3, seed=2, rule="bayesian net")
+    assert (steep.n, steep.estimate) == (alone.n + 71, alone.estimate)
     assert steep.estimate == pytest.approx(math.exp(3 / 8), rel=3e-3)
+    # max(e^{S/2}, 1) for S ~ N(0, 3): a plateau at 1 over half the cube.
+    kink = sp.quad(lambda x: np.maximum(lognormal(x), 1.0), 3, rel_tol=1e-3, seed=2)
+    assert kink.rule == "first-order lattice" and "plateau" in kink.rule_reason
+    exact = 0.5 + math.exp(3 / 8) * ndtr(math.sqrt(3) / 2)
+    assert kink.estimate == pytest.approx(exact, rel=3e-3)
     smooth = sp.quad(product_peak, 3, rel_tol=1e-3, seed=2)
     alone = sp.quad(product_peak, 3, rel_tol=1e-3, seed=2, rule="lattice")
     assert (smooth.rule, smooth.n, smooth.estimate) == ("lattice", alone.n + 7, alone.estimate)
     # Infinite only within 1e-7 of the face x1 = 0, which the test's points reach and the
-    # lattice's do not: read as steep, not refused.
+    # net's do not: read as steep, not refused.
     r = sp.quad(lambda x: np.where(x[:, 0] < 1e-7, np.inf, 1 + x[:, 0]), 2, rel_tol=1e-2,
                 seed=0)
-    assert r.rule == "first-order lattice" and "not finite" in r.rule_reason
+    assert r.rule == "bayesian net" and "not finite" in r.rule_reason
     assert r.estimate == pytest.approx(1.5, rel=1e-2)
 
 
@@ -580,7 +591,8 @@ def test_over_the_cube_an_even_f_steep_at_a_face_takes_the_bayesian_lattice():
 def test_under_unbounded_laws_a_face_test_after_the_probe_chooses_lattice_or_sobol():
     # Not even under Z ↦ −Z: after the probe's 64 points, 7 at the faces. A Gaussian bump
     # of normal inputs is flat there and goes on with the Bayesian lattice; exp(ΣZ)
-    # is steep there and goes on with Sobol'; both counted.
+    # is steep there and goes on with the Bayesian net (Sobol' where f shows a plateau);
+    # both counted.
     laws = [f"z{i}=normal(0,1)" for i in range(3)]
     bump = sp.quad(lambda z: np.exp(-((z - 0.5) ** 2).sum(axis=1)), 3, space=laws,
                    rel_tol=1e-3, seed=3)
@@ -589,10 +601,19 @@ def test_under_unbounded_laws_a_face_test_after_the_probe_chooses_lattice_or_sob
     exact = (math.exp(-0.25 / 3) / math.sqrt(3)) ** 3
     assert bump.estimate == pytest.approx(exact, rel=3e-3)
     grow = sp.quad(lambda z: np.exp(z.sum(axis=1) / 3), 3, space=laws, rel_tol=1e-3, seed=3)
-    assert grow.rule == "sobol" and "steep at a face" in grow.rule_reason
+    assert grow.rule == "bayesian net" and "steep at a face" in grow.rule_reason
     assert grow.estimate == pytest.approx(math.exp(1 / 6), rel=3e-3)
+    # A call's payoff max(e^X − 1, 0), X = ΣZ/3 ~ N(0, 1/3): zero on half the space, a
+    # plateau the probe sees, so Sobol's replicates; E = e^{1/6}·Φ(1/√3) − ½.
+    from scipy.special import ndtr
+
+    call = sp.quad(lambda z: np.maximum(np.exp(z.sum(axis=1) / 3) - 1.0, 0.0), 3,
+                   space=laws, rel_tol=1e-3, seed=3)
+    assert call.rule == "sobol" and "plateau" in call.rule_reason, call.rule_reason
+    exact = math.exp(1 / 6) * ndtr(1 / math.sqrt(3)) - 0.5
+    assert call.estimate == pytest.approx(exact, rel=3e-3)
     # An infinite value at the faces' points is read as steep there, not refused.
     inf_tail = sp.quad(lambda z: np.where(np.abs(z[:, 0]) > 5.5, np.inf,
                                           np.exp(-((z - 0.5) ** 2).sum(axis=1))),
                        3, space=laws, rel_tol=1e-2, seed=3)
-    assert inf_tail.rule == "sobol" and "not finite" in inf_tail.rule_reason
+    assert inf_tail.rule == "bayesian net" and "not finite" in inf_tail.rule_reason

@@ -533,9 +533,9 @@ options! {
         in Sensitivity "The most evaluations, all rounds.";
     rule: "rule", cli "", python Some("rule"), for [Quad],
         String: Kind::Word(words::rules),
-        "lattice (the tent-transformed extensible lattice), sobol (Owen-scrambled Sobol'), pilot (the one a first round of both shows narrower), first-order lattice (the same lattice with Engine(d)'s table, made for unbounded laws) or bayesian lattice (one shift of that lattice without the tent, a Bayesian cubature's interval)",
+        "lattice (the tent-transformed extensible lattice), sobol (Owen-scrambled Sobol'), pilot (the one a first round of both shows narrower), first-order lattice (the same lattice with Engine(d)'s table, made for unbounded laws) bayesian lattice (one shift of that lattice without the tent, a Bayesian cubature's interval) or bayesian net (one scrambled Sobol' sequence, a Bayesian cubature's interval with a digital kernel)",
         default none,
-        "The randomised rule: lattice, sobol, pilot, first-order lattice or bayesian lattice (by default chosen from the laws and f).";
+        "The randomised rule: lattice, sobol, pilot, first-order lattice, bayesian lattice or bayesian net (by default chosen from the laws and f).";
     simultaneous: "simultaneous", cli "--simultaneous", python Some("simultaneous"),
         for [Sensitivity],
         bool: Kind::Flag, "true or false", default |_| Some("false".into()),

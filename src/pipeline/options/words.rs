@@ -119,6 +119,7 @@ pub fn rules() -> Vec<&'static str> {
         Rule::Pilot,
         Rule::FirstOrderLattice,
         Rule::BayesLattice,
+        Rule::BayesNet,
     ]
     .iter()
     .map(|r| r.as_str())

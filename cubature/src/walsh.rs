@@ -1,0 +1,288 @@
+//! The error of one scrambled Sobol' sequence as a Bayesian cubature sees it: f is taken
+//! as a draw of a Gaussian process with a constant mean and a covariance that depends on
+//! x ⊕ y, the digit-wise difference of two points, and the posterior of its integral given
+//! the n values is normal around their mean (Jagadeeswaran and Hickernell 2022, "Fast
+//! automatic Bayesian cubature using Sobol' sampling"; QMCPy's `CubBayesNetG`). On a
+//! digital net in its natural order x_i ⊕ x_k is the net's point i ⊕ k less the shift, so
+//! the Gram matrix is diagonal in the Walsh functions: its eigenvalues are one
+//! Walsh–Hadamard transform, O(n log n) per θ tried, with no periodicity asked of f. That
+//! is what a lattice's posterior ([`crate::posterior`]) cannot give an f that is steep at a
+//! face of the cube (a lognormal input's quantile function written into it): the lattice
+//! without the tent sees the jump between its faces and the tent lattice its kink.
+//!
+//! The kernel is K(x, y) = Π_j (1 + θ/10·ω(x_j ⊕ y_j)) with the order-1 Walsh kernel
+//! ω(t) = 1 − 6·2^(⌊log₂ t⌋ − 1) (ω(0) = 1), θ over e^[−5, 0] as QMCPy searches it. The
+//! points come Owen-scrambled, whose nested scramble keeps the net's strata but not its
+//! group: the column is taken at x_i ⊕ x_0 on the points' first [`DIGITS`] digits, which
+//! is the Gram matrix's column for a linearly scrambled net and measured to hold the
+//! interval's level on the nested one (results/quad/single-tol.md).
+
+use crate::posterior::{brent_minimum, Posterior, LN_THETA, LN_THETA_TOL, TINY};
+
+/// The digits of each coordinate the kernel reads: a sequence of at most 2^20 points
+/// tells its points apart within its first 20 digits in every coordinate (each coordinate
+/// of a 2^m net is stratified into 2^m intervals), and the ten more put the kernel of two
+/// points within 1.5·2^−30 of its value at the exact coordinates.
+pub const DIGITS: u32 = 30;
+
+/// The kernel's scale is θ times this (QMCPy's `CubBayesNetG`, whose search for θ over
+/// e^[−5, 0] it keeps).
+const SCALE: f64 = 0.1;
+
+/// The order-1 Walsh kernel ω at a difference whose first nonzero digit is digit
+/// `DIGITS + 1 − b` (b the bit length of the difference's [`DIGITS`] digits as an
+/// integer, ⌊log₂ t⌋ = b − 1 − DIGITS): ω = 1 − 1.5·2^(b − DIGITS), and 1 at b = 0 (the
+/// same point).
+fn omega(b: u8) -> f64 {
+    if b == 0 {
+        1.0
+    } else {
+        1.0 - 1.5 * libm::exp2(f64::from(b) - f64::from(DIGITS))
+    }
+}
+
+/// For points in [0, 1)^d (row-major), the bit length of each coordinate's difference
+/// from the sequence's first point `first` (d coordinates) on their first [`DIGITS`]
+/// digits: what the kernel reads of point i's coordinate j ([`walsh_posterior`]'s
+/// `lengths`).
+pub fn digit_lengths(points: &[f64], first: &[f64]) -> Vec<u8> {
+    let d = first.len();
+    let digits = |x: f64| (x * f64::from(1u32 << DIGITS)) as u32;
+    let first: Vec<u32> = first.iter().map(|&x| digits(x)).collect();
+    points
+        .chunks_exact(d)
+        .flat_map(|row| {
+            row.iter()
+                .zip(&first)
+                .map(|(&x, &x0)| (32 - (digits(x) ^ x0).leading_zeros()) as u8)
+        })
+        .collect()
+}
+
+/// The unnormalised Walsh–Hadamard transform in place: a_k ← Σ_i (−1)^popcount(i & k)·a_i,
+/// n a power of two.
+pub fn fwht(a: &mut [f64]) {
+    let n = a.len();
+    let mut h = 1;
+    while h < n {
+        for block in a.chunks_exact_mut(2 * h) {
+            let (lo, hi) = block.split_at_mut(h);
+            for (x, y) in lo.iter_mut().zip(hi.iter_mut()) {
+                let (u, v) = (*x, *y);
+                *x = u + v;
+                *y = u - v;
+            }
+        }
+        h *= 2;
+    }
+}
+
+/// What the likelihood gives at one θ: its objective (the negative log-likelihood up to
+/// constants) and the posterior standard deviation of the integral.
+#[derive(Debug, Clone, Copy)]
+struct Fit {
+    objective: f64,
+    sd: f64,
+}
+
+/// The fit at scale c = θ·[`SCALE`] of values whose squared transform is `power`, the
+/// points' `lengths` ([`digit_lengths`], d per point); `column` and `lambda` are n-long
+/// work buffers.
+fn fit_at(c: f64, power: &[f64], lengths: &[u8], d: usize, buf: &mut [Vec<f64>; 2]) -> Fit {
+    let n = power.len();
+    let [column, lambda] = buf;
+    // c·ω for each bit length, looked up rather than computed per coordinate.
+    let mut table = [0.0; DIGITS as usize + 1];
+    for (b, t) in table.iter_mut().enumerate() {
+        *t = c * omega(b as u8);
+    }
+    // K(x_i, x_0) − 1 = Π_j (1 + c·ω_ij) − 1 by the recurrence k ← c·ω·(1 + k) + k, which
+    // keeps the small differences of a product near 1.
+    let mut largest = 0.0f64;
+    for (row, out) in lengths.chunks_exact(d).zip(column.iter_mut()) {
+        let mut k = 0.0;
+        for &b in row {
+            k += table[b as usize] * (1.0 + k);
+        }
+        *out = k;
+        largest = largest.max(k.abs());
+    }
+    let factor = if largest > 0.0 { largest } else { 1.0 };
+    for (l, k) in lambda.iter_mut().zip(column.iter()) {
+        *l = k / factor;
+    }
+    fwht(lambda);
+    let ring0 = lambda[0];
+    // The all-ones part of the kernel adds n at frequency 0.
+    lambda[0] += n as f64 / factor;
+    let top = lambda.iter().fold(0.0f64, |m, l| m.max(l.abs()));
+    let (mut log_det, mut ratio) = (0.0, 0.0);
+    for (k, (&l, &p)) in lambda.iter().zip(power).enumerate() {
+        let l = l.abs();
+        if l <= TINY * top {
+            continue;
+        }
+        log_det += (factor * l).ln();
+        if k > 0 {
+            ratio += p / l;
+        }
+    }
+    ratio /= factor;
+    let left = (factor * ring0 / (n as f64 + factor * ring0)).abs();
+    Fit {
+        objective: log_det + n as f64 * ratio.max(f64::MIN_POSITIVE).ln(),
+        sd: (left * ratio / (n as f64 * n as f64)).sqrt(),
+    }
+}
+
+/// The posterior of the integral of f from its values `y` at the first n points of a
+/// scrambled Sobol' sequence in natural order (n a power of two, at least 4), `lengths`
+/// those points' [`digit_lengths`] in d coordinates: θ by maximum likelihood (Brent's
+/// method over ln θ in [−5, 0], as the lattice's posterior searches it). `decay` is 1, the
+/// Walsh kernel's order. `None` for values that are all equal, too few points or lengths
+/// that do not match.
+pub fn walsh_posterior(y: &[f64], lengths: &[u8], d: usize) -> Option<Posterior> {
+    let n = y.len();
+    if n < 4 || !n.is_power_of_two() || d == 0 || lengths.len() != n * d {
+        return None;
+    }
+    if y.iter().all(|v| *v == y[0]) {
+        return None;
+    }
+    let mut power = y.to_vec();
+    fwht(&mut power);
+    for p in power.iter_mut() {
+        *p *= *p;
+    }
+    let mut buf = [vec![0.0; n], vec![0.0; n]];
+    let (ln_theta, fit) = brent_minimum(
+        |t| {
+            let fit = fit_at(t.exp() * SCALE, &power, lengths, d, &mut buf);
+            (fit.objective, fit)
+        },
+        LN_THETA,
+        LN_THETA_TOL,
+    );
+    fit.sd.is_finite().then_some(Posterior {
+        sd: fit.sd,
+        decay: 1.0,
+        theta: ln_theta.exp(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A digital net in natural order with a digital shift: point i's coordinate j is
+    /// C_j·i ⊕ Δ_j on [`DIGITS`] digits, C_j upper triangular with ones on its diagonal
+    /// (given by its columns' bit patterns, the first digit the top bit).
+    fn shifted_net(m: u32, columns: &[[u32; 5]], shift: &[u32]) -> Vec<f64> {
+        let n = 1usize << m;
+        let mut x = Vec::with_capacity(n * columns.len());
+        for i in 0..n {
+            for (c, s) in columns.iter().zip(shift) {
+                let mut v = 0u32;
+                for (r, col) in c.iter().enumerate().take(m as usize) {
+                    if i >> r & 1 == 1 {
+                        v ^= col;
+                    }
+                }
+                x.push(f64::from(v ^ s) / f64::from(1u32 << DIGITS));
+            }
+        }
+        x
+    }
+
+    /// Column r's pattern: digit r + 1 set (the diagonal) and those of `above` that come
+    /// before it (upper triangular, so the net's points are distinct).
+    fn column(r: u32, above: u32) -> u32 {
+        let diagonal = 1u32 << (DIGITS - 1 - r);
+        let before = ((1u32 << DIGITS) - 1) & !(2 * diagonal - 1);
+        diagonal | (above & before)
+    }
+
+    #[test]
+    fn the_transform_is_the_walsh_sum() {
+        let y: Vec<f64> = (0..16).map(|i| ((i * 7 + 3) % 11) as f64 - 4.5).collect();
+        let mut a = y.clone();
+        fwht(&mut a);
+        for (k, a) in a.iter().enumerate() {
+            let want: f64 = y
+                .iter()
+                .enumerate()
+                .map(|(i, v)| {
+                    if (i & k).count_ones() % 2 == 0 {
+                        *v
+                    } else {
+                        -*v
+                    }
+                })
+                .sum();
+            assert!((a - want).abs() < 1e-12, "k {k}: {a} vs {want}");
+        }
+    }
+
+    #[test]
+    fn omega_is_the_order_one_walsh_kernel() {
+        // 1 − 6·2^(⌊log₂ t⌋ − 1) at t in [½, 1), [¼, ½), [2^−30, 2^−29).
+        assert_eq!(omega(30), -0.5);
+        assert_eq!(omega(29), 0.25);
+        assert_eq!(omega(1), 1.0 - 1.5 * 2f64.powi(-29));
+        let lengths = digit_lengths(&[0.25, 0.25, 0.8, 0.25 + 2f64.powi(-29)], &[0.25]);
+        assert_eq!(lengths, vec![0, 0, 30, 2]);
+    }
+
+    #[test]
+    fn the_walsh_posterior_is_the_dense_gaussian_process_posterior() {
+        // On a shifted digital net of 32 points in 3 dimensions, at one θ: the transform's
+        // likelihood and posterior against the Gram matrix built point by point and
+        // solved by Cholesky.
+        let (m, d) = (5u32, 3usize);
+        let n = 1usize << m;
+        let columns: Vec<[u32; 5]> = [0x2a5u32, 0x1337, 0x0f0f]
+            .iter()
+            .map(|&p| std::array::from_fn(|r| column(r as u32, p.rotate_left(7 * r as u32))))
+            .collect();
+        let x = shifted_net(
+            m,
+            &columns,
+            &[0x1234_5678 >> 2, 0x0abc_def0 >> 2, 0x3141_5926 >> 2],
+        );
+        let y: Vec<f64> = x
+            .chunks_exact(d)
+            .map(|p| {
+                (2.0 * p[0]).sin() + p[1] * p[1] * p[2] + (-3.0 * p[2]).exp() / p[0].sqrt().max(0.1)
+            })
+            .collect();
+        let c = 0.3;
+        let digits = |v: f64| (v * f64::from(1u32 << DIGITS)) as u32;
+        let kernel = |a: &[f64], b: &[f64]| {
+            (0..d)
+                .map(|j| {
+                    let b = (32 - (digits(a[j]) ^ digits(b[j])).leading_zeros()) as u8;
+                    1.0 + c * omega(b)
+                })
+                .product::<f64>()
+        };
+        let rows: Vec<&[f64]> = x.chunks_exact(d).collect();
+        let gram: Vec<f64> = (0..n * n)
+            .map(|e| kernel(rows[e / n], rows[e % n]))
+            .collect();
+        let (sd, objective) = crate::posterior::tests::dense_posterior(&gram, &y);
+
+        let mut power = y.clone();
+        fwht(&mut power);
+        power.iter_mut().for_each(|p| *p *= *p);
+        let lengths = digit_lengths(&x, &x[..d]);
+        let mut buf = [vec![0.0; n], vec![0.0; n]];
+        let fit = fit_at(c, &power, &lengths, d, &mut buf);
+        assert!((fit.sd - sd).abs() < 1e-10 * sd, "{} vs {sd}", fit.sd);
+        // The likelihood up to the constant n·ln n that the transform's scale adds.
+        assert!(
+            (fit.objective - objective).abs() < 1e-8,
+            "{} vs {objective}",
+            fit.objective
+        );
+    }
+}
