@@ -898,6 +898,22 @@ pub struct Cubature {
     /// whatever reads the interval fits the values as they are.
     #[serde(default)]
     posterior_pending: bool,
+    /// Under [`Rule::BayesNet`], what its kernel reads of the points fitted so far
+    /// ([`walsh::digit_lengths`]), kept so that a doubling adds its new half only; not
+    /// saved (a state read back remakes it from the seed).
+    #[serde(skip)]
+    net_lengths: NetLengths,
+}
+
+/// [`Cubature::net_lengths`]'s store: derived from the seed, so two states that differ
+/// in it alone are equal.
+#[derive(Debug, Clone, Default)]
+struct NetLengths(Vec<u8>);
+
+impl PartialEq for NetLengths {
+    fn eq(&self, _: &NetLengths) -> bool {
+        true
+    }
 }
 
 /// One output's posterior under [`Rule::BayesLattice`]: the standard deviation of its
@@ -1104,6 +1120,7 @@ impl Cubature {
             values: Vec::new(),
             posterior: Vec::new(),
             posterior_pending: false,
+            net_lengths: NetLengths::default(),
         })
     }
 
@@ -1882,42 +1899,49 @@ impl Cubature {
     /// Fits each output's posterior to the values of the rule's points so far (a whole
     /// lattice or net: a Bayesian rule makes no short round).
     fn fit_posterior(&mut self) {
-        let lengths = self.net_lengths();
-        self.posterior = (0..self.k)
-            .map(|j| self.fit_output_at(j, &lengths))
-            .collect();
+        let mut kept = std::mem::take(&mut self.net_lengths.0);
+        self.extend_net_lengths(&mut kept);
+        self.posterior = (0..self.k).map(|j| self.fit_output_at(j, &kept)).collect();
+        self.net_lengths.0 = kept;
         self.posterior_pending = false;
     }
 
     /// Output j's posterior from the values of the rule's points so far.
     fn fit_output(&self, j: usize) -> Option<Fitted> {
-        self.fit_output_at(j, &self.net_lengths())
+        let mut lengths = self.net_lengths.0.clone();
+        self.extend_net_lengths(&mut lengths);
+        self.fit_output_at(j, &lengths)
     }
 
-    /// Under [`Rule::BayesNet`], what its kernel reads of the sequence's points so far
-    /// ([`walsh::digit_lengths`]), remade from the seed a stretch at a time so that no
-    /// more than [`BATCH_COORDINATES`] of them are held at once; empty under any other
-    /// rule.
-    fn net_lengths(&self) -> Vec<u8> {
+    /// Under [`Rule::BayesNet`], extends `lengths`, what its kernel reads of the
+    /// sequence's first points ([`walsh::digit_lengths`]), to the points so far, remade
+    /// from the seed a stretch at a time so that no more than [`BATCH_COORDINATES`] of
+    /// them are held at once; under any other rule, leaves it empty.
+    fn extend_net_lengths(&self, lengths: &mut Vec<u8>) {
         if self.options.rule != Rule::BayesNet {
-            return Vec::new();
+            lengths.clear();
+            return;
         }
         let (n, d, seed) = (self.per_replicate as usize, self.d, self.options.seed);
-        let rows = (BATCH_COORDINATES / d).max(1).min(n);
+        let have = lengths.len() / d;
+        if have >= n {
+            lengths.truncate(n * d);
+            return;
+        }
+        let rows = (BATCH_COORDINATES / d).max(1).min(n - have);
         let mut first = vec![0.0; d];
         Rule::BayesNet.fill_replicates(d, seed, SOBOL_KEY, 0..1, 0, &mut first);
-        let mut lengths = Vec::with_capacity(n * d);
+        lengths.reserve(n * d - lengths.len());
         let mut points = vec![0.0; rows * d];
-        for start in (0..n).step_by(rows) {
+        for start in (have..n).step_by(rows) {
             let out = &mut points[..(n - start).min(rows) * d];
             Rule::BayesNet.fill_replicates(d, seed, SOBOL_KEY, 0..1, start as u64, out);
             lengths.extend(walsh::digit_lengths(out, &first));
         }
-        lengths
     }
 
     /// Output j's posterior from the values of the rule's points so far, `lengths` the
-    /// net's ([`Cubature::net_lengths`]) under [`Rule::BayesNet`].
+    /// net's ([`Cubature::extend_net_lengths`]) under [`Rule::BayesNet`].
     fn fit_output_at(&self, j: usize, lengths: &[u8]) -> Option<Fitted> {
         let (k, n) = (self.k, self.per_replicate as usize);
         let column = self.values.iter().skip(j).step_by(k);

@@ -59,21 +59,51 @@ pub fn digit_lengths(points: &[f64], first: &[f64]) -> Vec<u8> {
         .collect()
 }
 
+/// The points a thread takes at once in the transform and the kernel's column: the
+/// chunks are the same on any count of threads, and so are the sums over them, so the
+/// posterior has the same bits on any.
+const CHUNK: usize = 1 << 12;
+
 /// The unnormalised Walsh–Hadamard transform in place: a_k ← Σ_i (−1)^popcount(i & k)·a_i,
-/// n a power of two.
+/// n a power of two. The levels within a [`CHUNK`] run chunk by chunk, the others pair
+/// the chunks of two halves, on the thread pool; each element sees the same additions in
+/// the same order either way.
 pub fn fwht(a: &mut [f64]) {
+    use rayon::prelude::*;
     let n = a.len();
-    let mut h = 1;
+    let within = n.min(CHUNK);
+    a.par_chunks_mut(within)
+        .for_each(|c| fwht_levels(c, within));
+    let mut h = within;
     while h < n {
+        a.par_chunks_mut(2 * h).for_each(|block| {
+            let (lo, hi) = block.split_at_mut(h);
+            lo.par_chunks_mut(CHUNK)
+                .zip(hi.par_chunks_mut(CHUNK))
+                .for_each(|(lo, hi)| butterfly(lo, hi));
+        });
+        h *= 2;
+    }
+}
+
+/// The transform's levels of pairs closer than `upto` within `a`.
+fn fwht_levels(a: &mut [f64], upto: usize) {
+    let mut h = 1;
+    while h < upto {
         for block in a.chunks_exact_mut(2 * h) {
             let (lo, hi) = block.split_at_mut(h);
-            for (x, y) in lo.iter_mut().zip(hi.iter_mut()) {
-                let (u, v) = (*x, *y);
-                *x = u + v;
-                *y = u - v;
-            }
+            butterfly(lo, hi);
         }
         h *= 2;
+    }
+}
+
+/// (u, v) ← (u + v, u − v) elementwise.
+fn butterfly(lo: &mut [f64], hi: &mut [f64]) {
+    for (x, y) in lo.iter_mut().zip(hi.iter_mut()) {
+        let (u, v) = (*x, *y);
+        *x = u + v;
+        *y = u - v;
     }
 }
 
@@ -85,10 +115,36 @@ struct Fit {
     sd: f64,
 }
 
+/// Logarithms are taken of running products of eigenvalues, flushed when they leave
+/// these bounds of 1 (a kept eigenvalue·factor is at least [`TINY`] of the largest and
+/// at most n times the column's largest entry, so no product passes a double's range).
+const PRODUCT_BOUND: f64 = 1e150;
+
+/// Σ ln(factor·l) over the kept `lambda` (above `floor`) and Σ p/l over the kept k > 0,
+/// one [`CHUNK`] at a time.
+fn chunk_sums(lambda: &[f64], power: &[f64], first: bool, floor: f64, factor: f64) -> (f64, f64) {
+    let (mut logs, mut product, mut ratio) = (0.0, 1.0, 0.0);
+    for (k, (&l, &p)) in lambda.iter().zip(power).enumerate() {
+        if l <= floor {
+            continue;
+        }
+        product *= factor * l;
+        if !(1.0 / PRODUCT_BOUND..PRODUCT_BOUND).contains(&product) {
+            logs += product.ln();
+            product = 1.0;
+        }
+        if !(first && k == 0) {
+            ratio += p / l;
+        }
+    }
+    (logs + product.ln(), ratio)
+}
+
 /// The fit at scale c = θ·[`SCALE`] of values whose squared transform is `power`, the
 /// points' `lengths` ([`digit_lengths`], d per point); `column` and `lambda` are n-long
 /// work buffers.
 fn fit_at(c: f64, power: &[f64], lengths: &[u8], d: usize, buf: &mut [Vec<f64>; 2]) -> Fit {
+    use rayon::prelude::*;
     let n = power.len();
     let [column, lambda] = buf;
     // c·ω for each bit length, looked up rather than computed per coordinate.
@@ -98,36 +154,50 @@ fn fit_at(c: f64, power: &[f64], lengths: &[u8], d: usize, buf: &mut [Vec<f64>; 
     }
     // K(x_i, x_0) − 1 = Π_j (1 + c·ω_ij) − 1 by the recurrence k ← c·ω·(1 + k) + k, which
     // keeps the small differences of a product near 1.
-    let mut largest = 0.0f64;
-    for (row, out) in lengths.chunks_exact(d).zip(column.iter_mut()) {
-        let mut k = 0.0;
-        for &b in row {
-            k += table[b as usize] * (1.0 + k);
-        }
-        *out = k;
-        largest = largest.max(k.abs());
-    }
+    let largest = column
+        .par_chunks_mut(CHUNK)
+        .zip(lengths.par_chunks(CHUNK * d))
+        .map(|(out, rows)| {
+            let mut largest = 0.0f64;
+            for (o, row) in out.iter_mut().zip(rows.chunks_exact(d)) {
+                let mut k = 0.0;
+                for &b in row {
+                    k += table[b as usize] * (1.0 + k);
+                }
+                *o = k;
+                largest = largest.max(k.abs());
+            }
+            largest
+        })
+        .reduce(|| 0.0, f64::max);
     let factor = if largest > 0.0 { largest } else { 1.0 };
-    for (l, k) in lambda.iter_mut().zip(column.iter()) {
-        *l = k / factor;
-    }
+    lambda
+        .par_chunks_mut(CHUNK)
+        .zip(column.par_chunks(CHUNK))
+        .for_each(|(l, k)| l.iter_mut().zip(k).for_each(|(l, k)| *l = k / factor));
     fwht(lambda);
     let ring0 = lambda[0];
     // The all-ones part of the kernel adds n at frequency 0.
     lambda[0] += n as f64 / factor;
-    let top = lambda.iter().fold(0.0f64, |m, l| m.max(l.abs()));
-    let (mut log_det, mut ratio) = (0.0, 0.0);
-    for (k, (&l, &p)) in lambda.iter().zip(power).enumerate() {
-        let l = l.abs();
-        if l <= TINY * top {
-            continue;
-        }
-        log_det += (factor * l).ln();
-        if k > 0 {
-            ratio += p / l;
-        }
-    }
-    ratio /= factor;
+    let top = lambda
+        .par_chunks_mut(CHUNK)
+        .map(|c| {
+            c.iter_mut().fold(0.0f64, |m, l| {
+                *l = l.abs();
+                m.max(*l)
+            })
+        })
+        .reduce(|| 0.0, f64::max);
+    let sums: Vec<(f64, f64)> = lambda
+        .par_chunks(CHUNK)
+        .zip(power.par_chunks(CHUNK))
+        .enumerate()
+        .map(|(i, (l, p))| chunk_sums(l, p, i == 0, TINY * top, factor))
+        .collect();
+    let (log_det, ratio) = sums
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
+    let ratio = ratio / factor;
     let left = (factor * ring0 / (n as f64 + factor * ring0)).abs();
     Fit {
         objective: log_det + n as f64 * ratio.max(f64::MIN_POSITIVE).ln(),
@@ -221,6 +291,15 @@ mod tests {
                 .sum();
             assert!((a - want).abs() < 1e-12, "k {k}: {a} vs {want}");
         }
+        // Past a chunk, on the thread pool: the same bits as level after level on one.
+        let n = 4 * CHUNK;
+        let y: Vec<f64> = (0..n)
+            .map(|i| ((i * 7919) % 1013) as f64 / 97.0 - 5.0)
+            .collect();
+        let (mut pooled, mut one) = (y.clone(), y);
+        fwht(&mut pooled);
+        fwht_levels(&mut one, n);
+        assert_eq!(pooled, one);
     }
 
     #[test]
