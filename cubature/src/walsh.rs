@@ -65,7 +65,7 @@ pub fn digit_lengths(points: &[f64], first: &[f64]) -> Vec<u8> {
 const CHUNK: usize = 1 << 12;
 
 /// The unnormalised Walsh–Hadamard transform in place: a_k ← Σ_i (−1)^popcount(i & k)·a_i,
-/// n a power of two. The levels within a [`CHUNK`] run chunk by chunk, the others pair
+/// n a power of two. The levels within a chunk of 2^12 run chunk by chunk, the others pair
 /// the chunks of two halves, on the thread pool; each element sees the same additions in
 /// the same order either way.
 pub fn fwht(a: &mut [f64]) {

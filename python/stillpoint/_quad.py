@@ -84,10 +84,12 @@ class QuadResult(_Result):
         tent-transformed), ``"sobol"`` (Owen-scrambled Sobol'), also when a pilot round
         chose it (``rule="pilot"``), ``"first-order lattice"`` (the extensible lattice
         of ``Engine(d)``'s table, which a face test over the cube gives an f steep at a
-        face), or ``"bayesian lattice"`` (one shift of that lattice without the tent, its
+        face), ``"bayesian lattice"`` (one shift of that lattice without the tent, its
         interval a Bayesian cubature's posterior: under unbounded laws, for an f the probe
         round finds even in them or the face test after it flat at the faces; over the
-        cube, for an f steep at a face that the probe finds even)."""
+        cube, for an f steep at a face that the probe finds even), or ``"bayesian net"``
+        (one Owen-scrambled Sobol' sequence, its interval the posterior of a digital
+        kernel: for an f steep at a face that is not even and shows no plateau)."""
         return str(self._state.rule[0])
 
     @property
@@ -155,14 +157,18 @@ def quad(
     (it decays in the laws' tails), goes on with one shifted lattice of 256 points and
     more, its interval a Bayesian cubature's posterior rather than the spread of
     replicates (``rule="bayesian lattice"``, ``replicates`` 1); one steep there goes on
-    with scrambled Sobol'; the 64 and 7 evaluations are counted. A doubling
+    with one scrambled Sobol' sequence and the posterior of a digital kernel
+    (``rule="bayesian net"``), or with scrambled Sobol''s replicates where the probe's
+    values show a plateau (one value at 1/16 of them: a payoff's zero); the 64 and 7
+    evaluations are counted. A doubling
     that ``max_n`` holds three quarters or more of is made short (each replicate takes
     the first points of it the budget holds). No run stops before 64 points per
     replicate. Over the cube, a box or bounded laws, with a
     tolerance, a face test of 7 evaluations (counted) comes first: f near two opposite
     corners; an f whose derivative is unbounded at a face (a quantile function or a power
-    x^α, α < 1, inside it) goes on with that lattice made for unbounded laws, any other
-    with the tent lattice. The rule, the interval and its measured coverage: [Integration, to a
+    x^α, α < 1, inside it) goes on with that lattice's probe and then as under unbounded
+    laws (the Bayesian lattice for an f even under x ↦ 1 − x, the Bayesian net for
+    another, that lattice for one with a plateau), any other with the tent lattice. The rule, the interval and its measured coverage: [Integration, to a
     tolerance](integration.md#to-a-tolerance); examples: [Python and
     SciPy](python.md#integrating-to-a-tolerance).
 
@@ -226,8 +232,10 @@ def quad(
         ``Engine(d)`` (made for unbounded laws); ``"bayesian lattice"`` one shift of that
         lattice without the tent and a Bayesian cubature's interval, which the probe round
         chooses for an f even in the laws or flat at the faces (made for such an f; a
-        smooth f over the cube that is not periodic is outside its kernel's space)
-        (docs/integration.md).
+        smooth f over the cube that is not periodic is outside its kernel's space);
+        ``"bayesian net"`` one scrambled Sobol' sequence and a Bayesian cubature's
+        interval with a digital kernel, which the probe and the face test choose for an f
+        steep at a face (docs/integration.md).
 
     Returns
     -------
