@@ -15,7 +15,8 @@
 //! points come Owen-scrambled, whose nested scramble keeps the net's strata but not its
 //! group: the column is taken at x_i ⊕ x_0 on the points' first [`DIGITS`] digits, which
 //! is the Gram matrix's column for a linearly scrambled net and measured to hold the
-//! interval's level on the nested one (results/quad/single-tol.md).
+//! interval's level on the nested one (results/quad/bayes-net/bayes-net.md: 93.3–100 % at
+//! level 0.95 over 300 seeds on four model families at 1 024–16 384 points).
 
 use crate::posterior::{brent_minimum, Posterior, LN_THETA, LN_THETA_TOL, TINY};
 
