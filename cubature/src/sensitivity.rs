@@ -480,9 +480,17 @@ impl Sensitivity {
     /// (naming `d`), corners of the wrong length or an empty box (`a`, `b`, `a, b`),
     /// names of the wrong length (`names`), a tolerance that is negative or not finite
     /// (`abs_tol`), a level outside (0, 1) (`level`), fewer than 2 replicates
-    /// (`replicates`), a `start_n` that is not a power of two and a `max_n` below one
-    /// first batch.
+    /// (`replicates`), a `start_n` that is not a power of two, a `max_n` below one
+    /// first batch and a rule the indices do not take (`rule`: the tent lattice or
+    /// scrambled Sobol'; `quad`'s probes, tests and Bayesian rules are its own).
     pub fn new(d: usize, options: SensitivityOptions) -> Result<Sensitivity, Error> {
+        if !matches!(options.rule, Rule::TentLattice | Rule::Sobol) {
+            return Err(Error::invalid(
+                "rule",
+                format!("{:?}", options.rule.as_str()),
+                "lattice or sobol (the rules of the Sobol' indices)",
+            ));
+        }
         if d == 0 || d > MAX_INPUTS {
             return Err(Error::invalid(
                 "d",
@@ -2239,6 +2247,32 @@ mod tests {
         let [first, total, ..] = state.current();
         assert!((first[0] - 1.0).abs() < 0.01 && (total[0] - 1.0).abs() < 0.01);
         assert!(first[1].abs() < 0.01 && total[2].abs() < 0.01);
+    }
+
+    #[test]
+    fn a_rule_the_indices_do_not_take_is_refused_by_name() {
+        for rule in [
+            Rule::Pilot,
+            Rule::Probe,
+            Rule::FaceTest,
+            Rule::FirstOrderLattice,
+            Rule::BayesLattice,
+            Rule::BayesNet,
+        ] {
+            let options = SensitivityOptions {
+                rule,
+                ..SensitivityOptions::default()
+            };
+            let e = Sensitivity::new(3, options).unwrap_err().to_string();
+            assert!(e.contains("rule") && e.contains(rule.as_str()), "{e}");
+        }
+        for rule in [Rule::TentLattice, Rule::Sobol] {
+            let options = SensitivityOptions {
+                rule,
+                ..SensitivityOptions::default()
+            };
+            assert!(Sensitivity::new(3, options).is_ok());
+        }
     }
 
     #[test]
