@@ -11,9 +11,9 @@ use std::path::{Path, PathBuf};
 
 use stillpoint::pipeline::options::ALL;
 
-/// The literals ARCHITECTURE.md accounts for: 22 naming an option (the constants of
+/// The literals ARCHITECTURE.md accounts for: 24 naming an option (the constants of
 /// `parse/src/names.rs`, clap ids) and 20 words of other tables spelt like one.
-const ACCOUNTED: usize = 43;
+const ACCOUNTED: usize = 44;
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
     for entry in fs::read_dir(dir).unwrap() {

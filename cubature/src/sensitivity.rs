@@ -486,7 +486,7 @@ impl Sensitivity {
     pub fn new(d: usize, options: SensitivityOptions) -> Result<Sensitivity, Error> {
         if !matches!(options.rule, Rule::TentLattice | Rule::Sobol) {
             return Err(Error::invalid(
-                "rule",
+                crate::names::RULE,
                 format!("{:?}", options.rule.as_str()),
                 "lattice or sobol (the rules of the Sobol' indices)",
             ));

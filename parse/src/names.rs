@@ -41,3 +41,5 @@ pub const CHECKPOINT: &str = "checkpoint";
 pub const RANDOMIZE: &str = "randomize";
 /// `space`: the design space (`NAME=TYPE` variables).
 pub const SPACE: &str = "space";
+/// `rule`: the randomised rule of an integration.
+pub const RULE: &str = "rule";

@@ -686,6 +686,7 @@ mod tests {
             (n::CHECKPOINT, Opt::checkpoint),
             (n::RANDOMIZE, Opt::randomize),
             (n::SPACE, Opt::space),
+            (n::RULE, Opt::rule),
         ] {
             assert_eq!(name, opt.name());
         }
