@@ -1837,7 +1837,7 @@ impl Cubature {
                 "f not even under Z ↦ −Z at a probe of the first-order lattice ({probe} \
                  evaluations, counted) but smooth at the faces by {test}"
             );
-            if let Some(bayes) = self.to_bayes(&why) {
+            if let Some(bayes) = self.to_bayesian(Rule::BayesLattice, &why) {
                 *self = bayes;
                 return;
             }
@@ -1856,12 +1856,6 @@ impl Cubature {
         let mut next = self.fresh(rule, self.n());
         next.options.rule_reason = reason;
         next
-    }
-
-    /// A state of [`Rule::BayesLattice`] for the probe's f, saying `why`; `None` where
-    /// `max_n` leaves no room for its first round.
-    fn to_bayes(&self, why: &str) -> Option<Cubature> {
-        self.to_bayesian(Rule::BayesLattice, why)
     }
 
     /// A state of the Bayesian `rule` ([`Rule::is_bayesian`]) for the probe's f, saying
@@ -1925,9 +1919,15 @@ impl Cubature {
         self.posterior_pending = false;
     }
 
-    /// Output j's posterior from the values of the rule's points so far.
+    /// Output j's posterior from the values of the rule's points so far (the kept net
+    /// lengths read in place where they hold every point, as after a fit).
     fn fit_output(&self, j: usize) -> Option<Fitted> {
-        let mut lengths = self.net_lengths.0.clone();
+        let n = self.per_replicate as usize * self.d;
+        let kept = &self.net_lengths.0;
+        if self.options.rule != Rule::BayesNet || kept.len() == n {
+            return self.fit_output_at(j, kept);
+        }
+        let mut lengths = kept.clone();
         self.extend_net_lengths(&mut lengths);
         self.fit_output_at(j, &lengths)
     }
@@ -2092,7 +2092,7 @@ impl Cubature {
                 "f even under {reflection} at a probe of the first-order lattice ({probe} \
                  evaluations, counted){even_means}"
             );
-            if let Some(bayes) = self.to_bayes(&why) {
+            if let Some(bayes) = self.to_bayesian(Rule::BayesLattice, &why) {
                 *self = bayes;
                 return;
             }

@@ -623,11 +623,41 @@ struct Kernel<'a> {
     log_det: f64,
 }
 
-/// [`Kernel::new`] multiplies eigenvalues together and takes one logarithm of the product
-/// whenever it leaves these bounds of 1: a kept eigenvalue is at least [`TINY`] (the
-/// largest is at least 1, the column's largest entry) and, but λ_0, at most n, so no
-/// product passes the range of a double.
+/// The posteriors multiply eigenvalues together and take one logarithm of the product
+/// whenever it leaves these bounds of 1: a kept eigenvalue is at least [`TINY`] of the
+/// largest and at most n times the column's largest entry (the lattice's: at least
+/// [`TINY`], the largest at least 1, and, but λ_0, at most n), so no product passes the
+/// range of a double.
 const PRODUCT_BOUND: f64 = 1e150;
+
+/// Σ ln x over the factors pushed, as the logarithms of running products flushed at
+/// [`PRODUCT_BOUND`]: one logarithm per few hundred factors rather than one each.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct LogProduct {
+    logs: f64,
+    product: f64,
+}
+
+impl LogProduct {
+    pub(crate) fn new() -> LogProduct {
+        LogProduct {
+            logs: 0.0,
+            product: 1.0,
+        }
+    }
+
+    pub(crate) fn push(&mut self, x: f64) {
+        self.product *= x;
+        if !(1.0 / PRODUCT_BOUND..PRODUCT_BOUND).contains(&self.product) {
+            self.logs += self.product.ln();
+            self.product = 1.0;
+        }
+    }
+
+    pub(crate) fn ln(self) -> f64 {
+        self.logs + self.product.ln()
+    }
+}
 
 /// What [`Kernel::new`] builds the eigenvalues from.
 struct At<'b, F> {
@@ -716,20 +746,16 @@ impl<'a> Kernel<'a> {
         // Frequencies 1..n/2 stand for themselves and their mirrors n − k.
         let twice = |k: usize| if k == h { 1.0 } else { 2.0 };
         // Σ ln(factor·λ_k) over the kept k of 0..n, as logarithms of products.
-        let (mut logs, mut count, mut product) = (0.0, 0.0, 1.0);
+        let (mut logs, mut count) = (LogProduct::new(), 0.0);
         for (k, &l) in lambda.iter().enumerate() {
             if !keep(l) {
                 continue;
             }
             let times = if k == 0 { 1.0 } else { twice(k) };
             count += times;
-            product *= if times == 2.0 { l * l } else { l };
-            if !(1.0 / PRODUCT_BOUND..PRODUCT_BOUND).contains(&product) {
-                logs += product.ln();
-                product = 1.0;
-            }
+            logs.push(if times == 2.0 { l * l } else { l });
         }
-        let log_det = logs + product.ln() + count * factor.ln();
+        let log_det = logs.ln() + count * factor.ln();
         // The eigenvalues are read once more, as the ratio's weights, in their place.
         for (k, l) in lambda.iter_mut().enumerate() {
             *l = if k > 0 && keep(*l) {
