@@ -53,6 +53,10 @@ pub struct Posterior {
     pub decay: f64,
     /// The kernel's scale θ chosen.
     pub theta: f64,
+    /// Half a doubling past a whole rule ([`crate::cosets`]): the estimate's weights on
+    /// the means of its three cosets (the sequence's points 0..m, m..2m, 2m..3m), which
+    /// sum to 1; `None` for a whole lattice or net, whose estimate is the mean.
+    pub cosets: Option<[f64; 3]>,
 }
 
 /// ζ(s, x) = Σ_{j ≥ 0} (x + j)^−s for s > 1 and x in (0, 1], by Euler–Maclaurin after
@@ -357,6 +361,7 @@ pub fn posterior(y: &[f64], z: &[u32]) -> Option<Posterior> {
                 sd: at.sd(),
                 decay: alpha,
                 theta: ln_theta.exp(),
+                cosets: None,
             };
             (at.objective, found)
         })
@@ -489,6 +494,7 @@ pub fn posteriors(ys: &[Vec<f64>], z: &[u32], weights: &[f64]) -> Vec<Option<Pos
                             sd: at.sd(),
                             decay: alpha,
                             theta,
+                            cosets: None,
                         };
                         *slot = Some((at.objective, found));
                     }
@@ -1030,25 +1036,32 @@ pub(crate) mod tests {
         }
     }
 
-    /// A Gaussian process's posterior written out densely, for the transforms' to be
-    /// checked against: with `gram` the Gram matrix (row-major) of the points where f took
-    /// the values `y`, (the posterior standard deviation of the integral, the negative
-    /// log-likelihood up to the constant n·ln n that a transform's scale adds), by
-    /// Cholesky.
-    pub(crate) fn dense_posterior(gram: &[f64], y: &[f64]) -> (f64, f64) {
-        let n = y.len();
-        let mut l = vec![0.0; n * n];
-        for i in 0..n {
-            for j in 0..=i {
-                let s: f64 = (0..j).map(|k| l[i * n + k] * l[j * n + k]).sum();
-                l[i * n + j] = if i == j {
-                    (gram[i * n + i] - s).sqrt()
-                } else {
-                    (gram[i * n + j] - s) / l[j * n + j]
-                };
+    /// A Gram matrix (row-major, n×n) factored by Cholesky, for the transforms' posteriors
+    /// to be checked against.
+    pub(crate) struct Dense {
+        l: Vec<f64>,
+        n: usize,
+    }
+
+    impl Dense {
+        pub(crate) fn new(gram: &[f64], n: usize) -> Dense {
+            let mut l = vec![0.0; n * n];
+            for i in 0..n {
+                for j in 0..=i {
+                    let s: f64 = (0..j).map(|k| l[i * n + k] * l[j * n + k]).sum();
+                    l[i * n + j] = if i == j {
+                        (gram[i * n + i] - s).sqrt()
+                    } else {
+                        (gram[i * n + j] - s) / l[j * n + j]
+                    };
+                }
             }
+            Dense { l, n }
         }
-        let solve = |b: &[f64]| {
+
+        /// K⁻¹b.
+        pub(crate) fn solve(&self, b: &[f64]) -> Vec<f64> {
+            let (l, n) = (&self.l, self.n);
             let mut w = b.to_vec();
             for i in 0..n {
                 w[i] = (w[i] - (0..i).map(|k| l[i * n + k] * w[k]).sum::<f64>()) / l[i * n + i];
@@ -1057,16 +1070,31 @@ pub(crate) mod tests {
                 w[i] = (w[i] - (i + 1..n).map(|k| l[k * n + i] * w[k]).sum::<f64>()) / l[i * n + i];
             }
             w
-        };
+        }
+
+        /// bᵀK⁻¹b.
+        pub(crate) fn form(&self, b: &[f64]) -> f64 {
+            b.iter().zip(self.solve(b)).map(|(a, c)| a * c).sum()
+        }
+
+        pub(crate) fn log_det(&self) -> f64 {
+            (0..self.n).map(|i| 2.0 * self.l[i * self.n + i].ln()).sum()
+        }
+    }
+
+    /// A Gaussian process's posterior written out densely, for the transforms' to be
+    /// checked against: with `gram` the Gram matrix (row-major) of the points where f took
+    /// the values `y`, (the posterior standard deviation of the integral, the negative
+    /// log-likelihood up to the constant n·ln n that a transform's scale adds), by
+    /// Cholesky.
+    pub(crate) fn dense_posterior(gram: &[f64], y: &[f64]) -> (f64, f64) {
+        let n = y.len();
+        let dense = Dense::new(gram, n);
         let mean = y.iter().sum::<f64>() / n as f64;
         let centred: Vec<f64> = y.iter().map(|v| v - mean).collect();
-        let quad_form: f64 = centred
-            .iter()
-            .zip(solve(&centred))
-            .map(|(a, b)| a * b)
-            .sum();
+        let quad_form = dense.form(&centred);
         let ones_k_ones: f64 = gram.iter().sum();
-        let log_det: f64 = (0..n).map(|i| 2.0 * l[i * n + i].ln()).sum();
+        let log_det = dense.log_det();
         let left = 1.0 - (n * n) as f64 / ones_k_ones;
         let sd = (left * quad_form / n as f64).sqrt();
         (sd, log_det + n as f64 * (quad_form * n as f64).ln())
