@@ -265,8 +265,8 @@ pub(crate) fn fit_over_frequencies(
 
 /// The posterior of the integral of f from its values `y` at the first 3m points of a
 /// shifted extensible lattice with generator `z` (m a power of two, at least 2), given
-/// coset by coset ([`OFFSETS`]: the sequence's points 0..m, m..2m, 2m..3m) and each in
-/// L_m's natural order: the kernel's decay α that the likelihood chooses on the whole
+/// coset by coset (the sequence's points 0..m, m..2m and 2m..3m: L_m, L_m + z/2m and
+/// L_m + z/4m) and each in L_m's natural order: the kernel's decay α that the likelihood chooses on the whole
 /// lattice of the first 2m points ([`crate::posterior::posterior`], its fast route: the
 /// fit of the doubling before), then θ by maximum likelihood on all 3m, whose 3×3 solves
 /// would cost five times as much over every decay. `None` for another count of values or

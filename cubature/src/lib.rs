@@ -383,7 +383,7 @@ pub const FACE_TEST_POINTS: u64 = 7;
 pub const FACE_TEST_STEP: f64 = 1.0 / (1u64 << 30) as f64;
 
 /// How far above its target a Bayesian net's half-width may be for half a doubling to be
-/// taken rather than a whole one ([`Cubature::round_size`]): 3/2, the points' ratio, at
+/// taken rather than a whole one: 3/2, the points' ratio, at
 /// which an error falling like n⁻¹ reaches the target (the net's kernel is of order 1;
 /// measured, the half-width fell to 0.75–0.85 of its value at n on the lognormal family
 /// and the models of results/quad/short-bayes).

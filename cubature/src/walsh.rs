@@ -212,7 +212,7 @@ fn fit_at(c: f64, power: &[f64], lengths: &[u8], d: usize, buf: &mut [Vec<f64>; 
 /// d coordinates: θ by maximum likelihood (Brent's method over ln θ in [−5, 0], as the
 /// lattice's posterior searches it). `decay` is 1, the Walsh kernel's order. n is a power
 /// of two (a net), or three times one, m = n/3 ≥ 2 (half a doubling past a net: the net
-/// of 2m points and the first half of its next doubling, [`coset_fit_at`]), whose
+/// of 2m points and the first half of its next doubling: three cosets of the net of m), whose
 /// `lengths` then cover the whole next doubling, 4m points (the last m are read, not
 /// evaluated). `None` for values that are all equal, too few points or lengths that do
 /// not match.
