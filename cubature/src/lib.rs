@@ -157,10 +157,9 @@
 //! ([`cosets`], [`walsh::walsh_posterior`]); the estimate is the posterior's weighted
 //! mean of the three cosets' means (a lattice's high rate is lost by their plain mean,
 //! which weighs the partial coset as much as the whole lattice). The net, whose kernel
-//! is of order 1 (an error falling like n⁻¹), also takes half a doubling where a whole
-//! net missed its tolerance by at most [`HALF_STEP_REACH`]: its interval narrows by about
-//! that much at 3/2 the points, and the doubling's other half is evaluated only if it
-//! did not. No run stops before `start_n` points per replicate (the probe's round of 16 is no
+//! is of order 1, also takes half a doubling where a whole net missed its tolerance by at
+//! most [`HALF_STEP_REACH`]: its interval narrows by about that much at 3/2 the points,
+//! and the doubling's other half is evaluated only if it did not. No run stops before `start_n` points per replicate (the probe's round of 16 is no
 //! stop). Over a box [a, b] the points are scaled and the estimate and half-width
 //! include the volume, as in SciPy's `qmc_quad`.
 //!
@@ -383,11 +382,12 @@ pub const FACE_TEST_POINTS: u64 = 7;
 pub const FACE_TEST_STEP: f64 = 1.0 / (1u64 << 30) as f64;
 
 /// How far above its target a Bayesian net's half-width may be for half a doubling to be
-/// taken rather than a whole one: 3/2, the points' ratio, at
-/// which an error falling like n⁻¹ reaches the target (the net's kernel is of order 1;
-/// measured, the half-width fell to 0.75–0.85 of its value at n on the lognormal family
-/// and the models of results/quad/short-bayes).
-pub const HALF_STEP_REACH: f64 = 1.5;
+/// taken rather than a whole one: 5/4, where the interval's fall over half a doubling
+/// (to 0.8 of its width on the lognormal family of ten inputs, about 0.75–0.85 on the
+/// models of results/quad/short-bayes, where n⁻¹ would give 2/3) reaches the target. A
+/// half step that misses costs a fit of three cosets outside f (two to three times a
+/// whole net's) and no evaluation.
+pub const HALF_STEP_REACH: f64 = 1.25;
 
 /// The share of f's size above which a change over the face test's steps shows a
 /// derivative unbounded at a face: a smooth f changes by about 2^−30·|∇f| of its size, an
@@ -1331,8 +1331,8 @@ impl Cubature {
 
     /// Under [`Rule::BayesNet`], after a whole net that missed its tolerance, whether half
     /// the next doubling is predicted to meet it: every output's half-width within
-    /// [`HALF_STEP_REACH`] times its target, where one sequence's error falling like n⁻¹
-    /// would bring it within the target at 3/2 the points. Elsewhere the doubling is
+    /// [`HALF_STEP_REACH`] times its target, where the interval's measured fall over half
+    /// a doubling brings it within the target at 3/2 the points. Elsewhere the doubling is
     /// taken whole (it was fitted once, where the fits of the half steps that cannot meet
     /// would cost time outside f and no evaluation), and half of it only where the whole
     /// one does not fit the budget.
@@ -4257,7 +4257,7 @@ mod tests {
     #[test]
     fn a_net_within_half_a_doubling_of_its_tolerance_takes_half_of_it() {
         // Round after round of the net asked for by name at 10⁻³: after a whole net that
-        // missed, half the doubling where every half-width is within 3/2 of its target
+        // missed, half the doubling where every half-width is within 5/4 of its target
         // (and the fit did not wait on a round guard already beyond it), the whole
         // doubling otherwise; after half of one, the rest of it.
         let (mut halves, mut wholes) = (0, 0);
