@@ -162,7 +162,10 @@ def quad(
     values show a plateau (one value at 1/16 of them: a payoff's zero); the 64 and 7
     evaluations are counted. A doubling
     that ``max_n`` holds three quarters or more of is made short (each replicate takes
-    the first points of it the budget holds). No run stops before 64 points per
+    the first points of it the budget holds); a Bayesian rule whose doubling does not fit
+    takes half of it, and the Bayesian net also takes half a doubling where its whole net
+    missed the tolerance by at most 5/4 (three cosets of the rule of half the points,
+    whose posterior weighs their means). No run stops before 64 points per
     replicate. Over the cube, a box or bounded laws, with a
     tolerance, a face test of 7 evaluations (counted) comes first: f near two opposite
     corners; an f whose derivative is unbounded at a face (a quantile function or a power
