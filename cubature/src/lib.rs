@@ -159,8 +159,8 @@
 //! which weighs the partial coset as much as the whole lattice). The net, whose kernel
 //! is of order 1, also takes half a doubling where a whole net missed its tolerance by at
 //! most [`HALF_STEP_REACH`]: its interval narrows by about that much at 3/2 the points,
-//! and the doubling's other half is evaluated only if it did not. No run stops before `start_n` points per replicate (the probe's round of 16 is no
-//! stop). Over a box [a, b] the points are scaled and the estimate and half-width
+//! and the doubling's other half is evaluated only if it did not. No run stops before
+//! `start_n` points per replicate (the probe's round of 16 is no stop). Over a box [a, b] the points are scaled and the estimate and half-width
 //! include the volume, as in SciPy's `qmc_quad`.
 //!
 //! Any representable integral of a representable integrand is computed: each output's
@@ -383,9 +383,9 @@ pub const FACE_TEST_STEP: f64 = 1.0 / (1u64 << 30) as f64;
 
 /// How far above its target a Bayesian net's half-width may be for half a doubling to be
 /// taken rather than a whole one: 5/4, where the interval's fall over half a doubling
-/// (to 0.8 of its width on the lognormal family of ten inputs, about 0.75–0.85 on the
-/// models of results/quad/short-bayes, where n⁻¹ would give 2/3) reaches the target. A
-/// half step that misses costs a fit of three cosets outside f (two to three times a
+/// reaches the target (to about 0.8 of its width on the lognormal family of ten inputs
+/// at 10⁻⁵, results/quad/short-bayes, where an error falling like n⁻¹ would give 2/3).
+/// A half step that misses costs a fit of three cosets outside f (two to three times a
 /// whole net's) and no evaluation.
 pub const HALF_STEP_REACH: f64 = 1.25;
 
@@ -1966,8 +1966,8 @@ impl Cubature {
     }
 
     /// Fits each output's posterior to the values of the rule's points so far (a whole
-    /// lattice or net, or the net and half its next doubling: the one short round a
-    /// Bayesian rule makes, [`Cubature::round_size`]).
+    /// lattice or net, or one and half its next doubling: a Bayesian rule's short round,
+    /// [`Cubature::round_size`]).
     fn fit_posterior(&mut self) {
         let mut kept = std::mem::take(&mut self.net_lengths.0);
         self.extend_net_lengths(&mut kept);
@@ -2575,10 +2575,11 @@ impl Cubature {
     }
 
     /// After a Bayesian rule's short round, output j's estimate divided by 2^`shift` (as
-    /// its sums are kept) before the volume: its posterior's weighted mean of the three cosets' means (the sequence's
-    /// points 0..m, m..2m and 2m..3m), which for a lattice's high rate is what the points
-    /// past the doubling add to its accuracy, where their plain mean would weigh the
-    /// partial coset as much as the whole lattice's ([`cosets`]). `None` otherwise.
+    /// its sums are kept) before the volume: its posterior's weighted mean of the three
+    /// cosets' means (the sequence's points 0..m, m..2m and 2m..3m). For a lattice's high
+    /// rate that is what the points past the doubling add to its accuracy; their plain
+    /// mean would weigh the partial coset as much as the whole lattice ([`cosets`]).
+    /// `None` otherwise.
     fn coset_mean(&self, j: usize, shift: i32) -> Option<f64> {
         if !self.options.rule.is_bayesian()
             || self.per_replicate.is_power_of_two()

@@ -16,7 +16,9 @@
 //! group: the column is taken at x_i ⊕ x_0 on the points' first [`DIGITS`] digits, which
 //! is the Gram matrix's column for a linearly scrambled net and measured to hold the
 //! interval's level on the nested one (results/quad/bayes-net/bayes-net.md: 93.3–100 % at
-//! level 0.95 over 300 seeds on four model families at 1 024–16 384 points).
+//! level 0.95 over 300 seeds on four model families at 1 024–16 384 points). Half a
+//! doubling past a net is three cosets of the net of half its points, whose posterior is
+//! a 3×3 solve per Walsh frequency ([`crate::cosets`], results/quad/short-bayes).
 
 use rustfft::num_complex::Complex;
 
@@ -211,8 +213,9 @@ fn fit_at(c: f64, power: &[f64], lengths: &[u8], d: usize, buf: &mut [Vec<f64>; 
 /// scrambled Sobol' sequence in natural order, `lengths` those points' [`digit_lengths`] in
 /// d coordinates: θ by maximum likelihood (Brent's method over ln θ in [−5, 0], as the
 /// lattice's posterior searches it). `decay` is 1, the Walsh kernel's order. n is a power
-/// of two (a net), or three times one, m = n/3 ≥ 2 (half a doubling past a net: the net
-/// of 2m points and the first half of its next doubling: three cosets of the net of m), whose
+/// of two (a net), or three times one, m = n/3 ≥ 2: half a doubling past a net, the net
+/// of 2m points and the first half of its next doubling, three cosets of the net of m
+/// ([`Posterior::cosets`] then holds the estimate's weights on their means). Its
 /// `lengths` then cover the whole next doubling, 4m points (the last m are read, not
 /// evaluated). `None` for values that are all equal, too few points or lengths that do
 /// not match.
