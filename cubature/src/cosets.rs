@@ -78,16 +78,7 @@ impl Block {
         w
     }
 
-    /// Re uᴴ A⁺ v over the kept pivots.
-    pub(crate) fn bilinear(&self, u: &[Complex<f64>; 3], v: &[Complex<f64>; 3]) -> f64 {
-        let (wu, wv) = (self.whiten(u), self.whiten(v));
-        (0..3)
-            .filter(|&i| self.pivots[i] > 0.0)
-            .map(|i| (wu[i].conj() * wv[i]).re / self.pivots[i])
-            .sum()
-    }
-
-    /// vᴴ A⁺ v over the kept pivots ([`Block::bilinear`] of v with itself, one solve).
+    /// vᴴ A⁺ v over the kept pivots.
     pub(crate) fn form(&self, v: &[Complex<f64>; 3]) -> f64 {
         let w = self.whiten(v);
         (0..3)
@@ -113,46 +104,79 @@ pub(crate) struct CosetFit {
 
 /// The fit from the sums over the frequencies 1..m (`log_det`: Σ ln det of the blocks,
 /// `form`: Σ vᴴ A⁻¹ v of the centred values' transforms v), the block at frequency 0
-/// without the kernel's all-ones part (`ring`), the centred values' transforms there
-/// (`v0`), the kernel's scale `factor` (every block is divided by it) and m.
+/// without the kernel's all-ones part (`ring`, real), the centred values' transforms
+/// there (`v0`), the kernel's scale `factor` (every block is divided by it), m and the
+/// pivots' `floor`.
 ///
-/// With the process's mean unknown (generalised least squares, as for the whole rule):
-/// the ones add m/factor to every entry of the block at frequency 0, which
-/// Sherman–Morrison takes apart from the ring R, so that nothing cancels against m:
-/// with τ = 1ᵀR⁺1, the estimate is Σ_a w_a·mean_a with w = R⁺1/τ, det adds
-/// ln(1 + τ·m/factor), the centred values' norm loses (1ᵀR⁺v)²/τ there, and the
-/// posterior variance of the integral is s²·(1/1ᵀK⁻¹1 − 1) = s²·factor/(m·τ), s² the
-/// norm over N = 3m (for a whole rule the cosets are one and this is its posterior).
+/// With the process's mean unknown (generalised least squares, as for the whole rule),
+/// in the basis u₁ = 1/√3 and U, two orthonormal vectors summing to 0: the ones add
+/// 3m/factor along u₁ only, so the block at frequency 0 is [[a + 3m/factor, bᵀ], [b, C]]
+/// with a = u₁ᵀRu₁, b = UᵀRu₁, C = UᵀRU, and nothing cancels against m. Its determinant
+/// is det C times S = a + 3m/factor − bᵀC⁺b; the centred values' norm there is
+/// (Uᵀv)ᵀC⁺(Uᵀv); the estimate's weights on the cosets' means are (u₁ − UC⁺b)/√3; and
+/// the posterior variance of the integral is s²·(1/1ᵀK⁻¹1 − 1) = s²·(a − bᵀC⁺b)/(3m/factor),
+/// s² the norm over N = 3m. On a net the ring is nearly 0 (the net integrates the kernel's
+/// Walsh functions), C's pivots fall below the floor and the weights go to 1/3 each.
 pub(crate) fn finish(
     log_det: f64,
     form: f64,
-    ring: &Block,
+    ring: &[[f64; 3]; 3],
     v0: &[Complex<f64>; 3],
     factor: f64,
     m: usize,
+    floor: f64,
 ) -> CosetFit {
-    let ones = m as f64 / factor;
-    let unit = [Complex::new(1.0, 0.0); 3];
-    let tau = ring.bilinear(&unit, &unit);
-    let tv = ring.bilinear(&unit, v0);
+    let ones = 3.0 * m as f64 / factor;
+    let (r2, r3, r6) = (2f64.sqrt(), 3f64.sqrt(), 6f64.sqrt());
+    let u1 = [1.0 / r3; 3];
+    let u = [[1.0 / r2, -1.0 / r2, 0.0], [1.0 / r6, 1.0 / r6, -2.0 / r6]];
+    let quad = |x: &[f64; 3], y: &[f64; 3]| -> f64 {
+        (0..3)
+            .flat_map(|i| (0..3).map(move |j| (i, j)))
+            .map(|(i, j)| x[i] * ring[i][j] * y[j])
+            .sum()
+    };
+    let a = quad(&u1, &u1);
+    let b = [quad(&u[0], &u1), quad(&u[1], &u1)];
+    let c = [
+        [quad(&u[0], &u[0]), quad(&u[0], &u[1])],
+        [quad(&u[1], &u[0]), quad(&u[1], &u[1])],
+    ];
+    // C = L·D·Lᵀ, a pivot at or below the floor left out.
+    let d0 = if c[0][0] > floor { c[0][0] } else { 0.0 };
+    let l10 = if d0 > 0.0 { c[1][0] / d0 } else { 0.0 };
+    let d1 = c[1][1] - l10 * l10 * d0;
+    let d1 = if d1 > floor { d1 } else { 0.0 };
+    let pinv = |x: [f64; 2]| -> [f64; 2] {
+        let w = [x[0], x[1] - l10 * x[0]];
+        let z = [
+            if d0 > 0.0 { w[0] / d0 } else { 0.0 },
+            if d1 > 0.0 { w[1] / d1 } else { 0.0 },
+        ];
+        [z[0] - l10 * z[1], z[1]]
+    };
+    let cb = pinv(b);
+    let ring_left = a - b[0] * cb[0] - b[1] * cb[1];
     let mut logs = LogProduct::new();
-    ring.push_logs(&mut logs, factor);
-    let log_det = log_det + logs.ln() + (ones * tau).ln_1p();
-    let form = form + ring.form(v0) - tv * tv / tau;
+    for p in [d0, d1].into_iter().filter(|p| *p > 0.0) {
+        logs.push(factor * p);
+    }
+    logs.push(factor * (ring_left + ones));
+    let v: [f64; 3] = std::array::from_fn(|i| v0[i].re);
+    let vu = [
+        (0..3).map(|i| u[0][i] * v[i]).sum::<f64>(),
+        (0..3).map(|i| u[1][i] * v[i]).sum::<f64>(),
+    ];
+    let cv = pinv(vu);
+    let log_det = log_det + logs.ln();
+    let form = form + vu[0] * cv[0] + vu[1] * cv[1];
     let n = (3 * m) as f64;
     let quad_form = form / (m as f64 * factor);
-    let weights: [f64; 3] = std::array::from_fn(|a| {
-        let mut e = [Complex::new(0.0, 0.0); 3];
-        e[a] = Complex::new(1.0, 0.0);
-        ring.bilinear(&e, &unit) / tau
-    });
+    let weights: [f64; 3] =
+        std::array::from_fn(|i| (u1[i] - u[0][i] * cb[0] - u[1][i] * cb[1]) / r3);
     CosetFit {
         objective: log_det + n * (quad_form * n).max(f64::MIN_POSITIVE).ln(),
-        sd: if tau > 0.0 {
-            (quad_form / n / (ones * tau)).sqrt()
-        } else {
-            f64::INFINITY
-        },
+        sd: (quad_form / n * (ring_left / ones).abs()).sqrt(),
         weights,
     }
 }
@@ -240,16 +264,20 @@ fn fit_at(
         Block::new(&a, floor)
     };
     let values_at = |k: usize| -> [Complex<f64>; 3] { std::array::from_fn(|a| data[a][k]) };
-    fit_over_frequencies(m, factor, block_at, values_at)
+    let ring: [[f64; 3]; 3] =
+        std::array::from_fn(|i| std::array::from_fn(|j| columns[block_column(i, j).0][0].re));
+    fit_over_frequencies(m, factor, floor, &ring, block_at, values_at)
 }
 
 /// The fit from each frequency's block and values (the m frequencies of three cosets of
 /// m points): Σ ln det and Σ vᴴA⁻¹v over the frequencies 1..m a chunk at a time (the same
 /// chunks and the same order of sums on any count of threads), then [`finish`] with the
-/// block at frequency 0.
+/// block at frequency 0 without the kernel's all-ones part, `ring`.
 pub(crate) fn fit_over_frequencies(
     m: usize,
     factor: f64,
+    floor: f64,
+    ring: &[[f64; 3]; 3],
     block_at: impl Fn(usize) -> Block + Sync,
     values_at: impl Fn(usize) -> [Complex<f64>; 3] + Sync,
 ) -> CosetFit {
@@ -268,7 +296,7 @@ pub(crate) fn fit_over_frequencies(
     let (log_det, form) = sums
         .iter()
         .fold((0.0, 0.0), |(a, b), (x, y)| (a + x, b + y));
-    finish(log_det, form, &block_at(0), &values_at(0), factor, m)
+    finish(log_det, form, ring, &values_at(0), factor, m, floor)
 }
 
 /// The posterior of the integral of f from its values `y` at the first 3m points of a

@@ -4364,6 +4364,29 @@ mod tests {
     }
 
     #[test]
+    fn half_a_doubling_on_a_rule_that_integrates_its_kernel_almost_exactly_stays_finite() {
+        // z1 + 2·z2 of normal scores, whose integral is 0, on the Bayesian lattice to
+        // 2^19 points and half a doubling, where the kernel's ring part at frequency 0 is
+        // small against the ones. The same f through correlated normal laws (the CLI's
+        // options walk) once gave NaN weights where that ring fell below the pivots'
+        // floor; here the interval is finite, covers 0 and the weights sum to 1.
+        let odd = |x: &PointSet| -> Vec<f64> {
+            x.rows()
+                .map(|p| Marginal::normal_score(p[0]) + 2.0 * Marginal::normal_score(p[1]))
+                .collect()
+        };
+        let r = quad(odd, 2, fixed_n(Rule::BayesLattice, 786_432, 3)).unwrap();
+        assert_eq!(r.n, 786_432);
+        let (e, h) = (r.estimate[0], r.half_width[0]);
+        assert!(
+            e.is_finite() && h.is_finite() && e.abs() <= h.max(1e-9),
+            "{e} ± {h}"
+        );
+        let w = r.state.posterior()[0].unwrap().cosets.unwrap();
+        assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-9, "{w:?}");
+    }
+
+    #[test]
     fn a_face_test_gives_the_bayesian_net_to_an_f_steep_at_a_face() {
         for f in [root_product, lognormal_on_the_cube] {
             for seed in 0..3 {

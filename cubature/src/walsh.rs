@@ -344,7 +344,8 @@ fn coset_fit_at(
     let values_at = |k: usize| -> [Complex<f64>; 3] {
         std::array::from_fn(|a| Complex::new(cosets.transformed[a][k], 0.0))
     };
-    cosets::fit_over_frequencies(m, factor, block_at, values_at)
+    let ring: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| buf[i ^ j][0]));
+    cosets::fit_over_frequencies(m, factor, floor, &ring, block_at, values_at)
 }
 
 #[cfg(test)]
