@@ -8,9 +8,11 @@
 //! whose next doubling passes the budget take half of it (`quad`'s one short round of a
 //! Bayesian rule), as [`crate::walsh`] does for the net.
 
+use std::ops::{Add, Div, Mul, Sub};
+
 use rayon::prelude::*;
 use rustfft::num_complex::Complex;
-use rustfft::FftPlanner;
+use rustfft::{Fft, FftPlanner};
 
 use crate::posterior::{
     brent_minimum, decay_table, LogProduct, Posterior, DECAYS, LN_THETA, LN_THETA_TOL, TINY,
@@ -41,28 +43,82 @@ fn block_column(a: usize, b: usize) -> (usize, bool) {
 /// the same order of sums, on any count of threads.
 const CHUNK: usize = 1 << 12;
 
+/// An entry of a block: complex on the lattice's Fourier frequencies, real on the net's
+/// Walsh frequencies (whose transform of a real column is real). A real entry takes the
+/// operations a complex one with a zero imaginary part would, with the same bits (its
+/// products, sums and quotients are the complex ones' real parts exactly), at a quarter
+/// of the arithmetic.
+pub(crate) trait Entry:
+    Copy
+    + Send
+    + Sync
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Mul<f64, Output = Self>
+    + Div<f64, Output = Self>
+{
+    const ZERO: Self;
+    const ONE: Self;
+    fn conj(self) -> Self;
+    fn norm_sqr(self) -> f64;
+    fn re(self) -> f64;
+}
+
+impl Entry for f64 {
+    const ZERO: f64 = 0.0;
+    const ONE: f64 = 1.0;
+    fn conj(self) -> f64 {
+        self
+    }
+    fn norm_sqr(self) -> f64 {
+        self * self
+    }
+    fn re(self) -> f64 {
+        self
+    }
+}
+
+impl Entry for Complex<f64> {
+    const ZERO: Complex<f64> = Complex::new(0.0, 0.0);
+    const ONE: Complex<f64> = Complex::new(1.0, 0.0);
+    fn conj(self) -> Complex<f64> {
+        Complex::conj(&self)
+    }
+    fn norm_sqr(self) -> f64 {
+        Complex::norm_sqr(&self)
+    }
+    fn re(self) -> f64 {
+        self.re
+    }
+}
+
+/// Σ of the terms from [`Entry::ZERO`], in order (as `Complex`'s `Sum` adds them).
+fn sum<T: Entry>(terms: impl Iterator<Item = T>) -> T {
+    terms.fold(T::ZERO, |a, b| a + b)
+}
+
 /// A Hermitian positive semidefinite 3×3 block as L·D·Lᴴ, L unit lower triangular; a
 /// pivot at or below the floor leaves its direction out, as the whole lattice's route
 /// leaves out eigenvalues below [`TINY`] of the largest.
-pub(crate) struct Block {
-    l: [[Complex<f64>; 3]; 3],
+pub(crate) struct Block<T> {
+    l: [[T; 3]; 3],
     pivots: [f64; 3],
 }
 
-impl Block {
-    pub(crate) fn new(a: &[[Complex<f64>; 3]; 3], floor: f64) -> Block {
-        let zero = Complex::new(0.0, 0.0);
-        let mut l = [[zero; 3]; 3];
+impl<T: Entry> Block<T> {
+    pub(crate) fn new(a: &[[T; 3]; 3], floor: f64) -> Block<T> {
+        let mut l = [[T::ZERO; 3]; 3];
         let mut pivots = [0.0; 3];
         for i in 0..3 {
-            let p = a[i][i].re - (0..i).map(|k| l[i][k].norm_sqr() * pivots[k]).sum::<f64>();
-            l[i][i] = Complex::new(1.0, 0.0);
+            let p = a[i][i].re() - (0..i).map(|k| l[i][k].norm_sqr() * pivots[k]).sum::<f64>();
+            l[i][i] = T::ONE;
             if p <= floor {
                 continue;
             }
             pivots[i] = p;
             for j in i + 1..3 {
-                let s: Complex<f64> = (0..i).map(|k| l[j][k] * l[i][k].conj() * pivots[k]).sum();
+                let s = sum((0..i).map(|k| l[j][k] * l[i][k].conj() * pivots[k]));
                 l[j][i] = (a[j][i] - s) / p;
             }
         }
@@ -70,20 +126,20 @@ impl Block {
     }
 
     /// L⁻¹v.
-    fn whiten(&self, v: &[Complex<f64>; 3]) -> [Complex<f64>; 3] {
-        let mut w = [Complex::new(0.0, 0.0); 3];
+    fn whiten(&self, v: &[T; 3]) -> [T; 3] {
+        let mut w = [T::ZERO; 3];
         for i in 0..3 {
-            w[i] = v[i] - (0..i).map(|k| self.l[i][k] * w[k]).sum::<Complex<f64>>();
+            w[i] = v[i] - sum((0..i).map(|k| self.l[i][k] * w[k]));
         }
         w
     }
 
     /// vᴴ A⁺ v over the kept pivots.
-    pub(crate) fn form(&self, v: &[Complex<f64>; 3]) -> f64 {
+    pub(crate) fn form(&self, v: &[T; 3]) -> f64 {
         let w = self.whiten(v);
         (0..3)
             .filter(|&i| self.pivots[i] > 0.0)
-            .map(|i| (w[i].conj() * w[i]).re / self.pivots[i])
+            .map(|i| (w[i].conj() * w[i]).re() / self.pivots[i])
             .sum()
     }
 
@@ -117,11 +173,11 @@ pub(crate) struct CosetFit {
 /// the posterior variance of the integral is s²·(1/1ᵀK⁻¹1 − 1) = s²·(a − bᵀC⁺b)/(3m/factor),
 /// s² the norm over N = 3m. On a net the ring is nearly 0 (the net integrates the kernel's
 /// Walsh functions), C's pivots fall below the floor and the weights go to 1/3 each.
-pub(crate) fn finish(
+pub(crate) fn finish<T: Entry>(
     log_det: f64,
     form: f64,
     ring: &[[f64; 3]; 3],
-    v0: &[Complex<f64>; 3],
+    v0: &[T; 3],
     factor: f64,
     m: usize,
     floor: f64,
@@ -162,7 +218,7 @@ pub(crate) fn finish(
         logs.push(factor * p);
     }
     logs.push(factor * (ring_left + ones));
-    let v: [f64; 3] = std::array::from_fn(|i| v0[i].re);
+    let v: [f64; 3] = std::array::from_fn(|i| v0[i].re());
     let vu = [
         (0..3).map(|i| u[0][i] * v[i]).sum::<f64>(),
         (0..3).map(|i| u[1][i] * v[i]).sum::<f64>(),
@@ -181,30 +237,41 @@ pub(crate) fn finish(
     }
 }
 
-/// The values' transforms: each coset's values (in L_m's natural order) less the mean of
-/// all, transformed.
-fn transformed(y: &[f64], m: usize) -> Vec<Vec<Complex<f64>>> {
-    let fft = FftPlanner::new().plan_fft_forward(m);
+/// The values' transforms: each coset's m values (in its rule's natural order) less the
+/// mean of all, as entries (`lift`), transformed in place (`transform`: the lattice's
+/// Fourier transform, the net's Walsh–Hadamard transform).
+pub(crate) fn centred_transforms<T>(
+    y: &[f64],
+    m: usize,
+    lift: impl Fn(f64) -> T,
+    transform: impl Fn(&mut [T]),
+) -> Vec<Vec<T>> {
     let mean = y.iter().sum::<f64>() / y.len() as f64;
     y.chunks_exact(m)
         .map(|coset| {
-            let mut t: Vec<Complex<f64>> =
-                coset.iter().map(|v| Complex::new(v - mean, 0.0)).collect();
-            fft.process(&mut t);
+            let mut t: Vec<T> = coset.iter().map(|v| lift(v - mean)).collect();
+            transform(&mut t);
             t
         })
         .collect()
 }
 
+/// [`centred_transforms`] of the lattice's cosets, `fft` the forward transform of m.
+fn transformed(y: &[f64], m: usize, fft: &dyn Fft<f64>) -> Vec<Vec<Complex<f64>>> {
+    centred_transforms(y, m, |v| Complex::new(v, 0.0), |t| fft.process(t))
+}
+
 /// The fit at decay table `table` (η_α(k/4m), k = 0..=2m) and θ of the three cosets'
-/// transformed values `data`; `columns` holds [`DIFFERENCES`]'s work columns of m. The
-/// dense Gaussian-process posterior's with the mean unknown ([`finish`]; the test).
+/// transformed values `data`; `columns` holds [`DIFFERENCES`]'s work columns of m, `fft`
+/// the forward transform of m. The dense Gaussian-process posterior's with the mean
+/// unknown ([`finish`]; the test).
 fn fit_at(
     table: &[f64],
     theta: f64,
     z: &[u32],
     data: &[Vec<Complex<f64>>],
     columns: &mut [Vec<Complex<f64>>],
+    fft: &dyn Fft<f64>,
 ) -> CosetFit {
     let m = data[0].len();
     let quarters = 4 * m as u64;
@@ -236,7 +303,6 @@ fn fit_at(
         largest = largest.max(top);
     }
     let factor = if largest > 0.0 { largest } else { 1.0 };
-    let fft = FftPlanner::new().plan_fft_forward(m);
     for column in columns.iter_mut() {
         column.par_iter_mut().for_each(|v| *v /= factor);
         fft.process(column);
@@ -273,13 +339,13 @@ fn fit_at(
 /// m points): Σ ln det and Σ vᴴA⁻¹v over the frequencies 1..m a chunk at a time (the same
 /// chunks and the same order of sums on any count of threads), then [`finish`] with the
 /// block at frequency 0 without the kernel's all-ones part, `ring`.
-pub(crate) fn fit_over_frequencies(
+pub(crate) fn fit_over_frequencies<T: Entry>(
     m: usize,
     factor: f64,
     floor: f64,
     ring: &[[f64; 3]; 3],
-    block_at: impl Fn(usize) -> Block + Sync,
-    values_at: impl Fn(usize) -> [Complex<f64>; 3] + Sync,
+    block_at: impl Fn(usize) -> Block<T> + Sync,
+    values_at: impl Fn(usize) -> [T; 3] + Sync,
 ) -> CosetFit {
     let sums: Vec<(f64, f64)> = (0..m.div_ceil(CHUNK))
         .into_par_iter()
@@ -315,12 +381,14 @@ pub fn coset_posterior(y: &[f64], z: &[u32]) -> Option<Posterior> {
     // L_2m's natural order interleaves L_m and L_m + z/2m.
     let whole: Vec<f64> = (0..2 * m).map(|l| y[(l % 2) * m + l / 2]).collect();
     let alpha = crate::posterior::posterior(&whole, z).map_or(DECAYS[0], |p| p.decay);
-    let data = transformed(y, m);
+    // One plan for the values and every θ tried.
+    let fft = FftPlanner::new().plan_fft_forward(m);
+    let data = transformed(y, m, fft.as_ref());
     let table = decay_table(alpha, 4 * m);
     let mut columns = vec![vec![Complex::new(0.0, 0.0); m]; DIFFERENCES.len()];
     let (ln_theta, fit) = brent_minimum(
         |t| {
-            let fit = fit_at(&table, t.exp(), z, &data, &mut columns);
+            let fit = fit_at(&table, t.exp(), z, &data, &mut columns, fft.as_ref());
             (fit.objective, fit)
         },
         LN_THETA,
@@ -352,6 +420,59 @@ pub(crate) mod tests {
         let sd = (quad_form / n as f64 * (1.0 / t - 1.0)).sqrt();
         let objective = dense.log_det() + n as f64 * (quad_form * n as f64).ln();
         (sd, objective, mean)
+    }
+
+    #[test]
+    fn a_real_block_is_the_complex_block_of_its_values_bit_for_bit() {
+        // Symmetric positive semidefinite 3×3 blocks (Gram matrices of three vectors, one
+        // of them rank-deficient) and values: the real entries give the pivots, the
+        // determinant's logarithms and the form of the complex entries with zero
+        // imaginary parts, to the bit, as the net's real blocks claim.
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for case in 0..200 {
+            let vectors: [[f64; 4]; 3] = std::array::from_fn(|_| std::array::from_fn(|_| next()));
+            let mut a = [[0.0; 3]; 3];
+            for i in 0..3 {
+                for j in 0..3 {
+                    let (u, v) = (
+                        vectors[i],
+                        if case % 7 == 0 && j == 2 {
+                            vectors[0]
+                        } else {
+                            vectors[j]
+                        },
+                    );
+                    let w = if case % 7 == 0 && i == 2 {
+                        vectors[0]
+                    } else {
+                        u
+                    };
+                    a[i][j] = (0..4).map(|k| w[k] * v[k]).sum::<f64>();
+                }
+            }
+            let complex: [[Complex<f64>; 3]; 3] =
+                std::array::from_fn(|i| std::array::from_fn(|j| Complex::new(a[i][j], 0.0)));
+            let values: [f64; 3] = std::array::from_fn(|_| next());
+            let floor = 1e-12;
+            let (real, lifted) = (Block::new(&a, floor), Block::new(&complex, floor));
+            assert_eq!(real.pivots, lifted.pivots, "case {case}");
+            let (mut x, mut y) = (LogProduct::new(), LogProduct::new());
+            real.push_logs(&mut x, 3.0);
+            lifted.push_logs(&mut y, 3.0);
+            assert_eq!(x.ln().to_bits(), y.ln().to_bits(), "case {case}");
+            let v = values.map(|v| Complex::new(v, 0.0));
+            assert_eq!(
+                real.form(&values).to_bits(),
+                lifted.form(&v).to_bits(),
+                "case {case}"
+            );
+        }
     }
 
     #[test]
@@ -398,7 +519,9 @@ pub(crate) mod tests {
             natural[a * m + crate::posterior::natural_index(r, m)] = *v;
         }
         let mut columns = vec![vec![Complex::new(0.0, 0.0); m]; DIFFERENCES.len()];
-        let fit = fit_at(&table, theta, &z, &transformed(&natural, m), &mut columns);
+        let fft = FftPlanner::new().plan_fft_forward(m);
+        let data = transformed(&natural, m, fft.as_ref());
+        let fit = fit_at(&table, theta, &z, &data, &mut columns, fft.as_ref());
         assert!((fit.sd - sd).abs() < 1e-10 * sd, "{} vs {sd}", fit.sd);
         assert!(
             (fit.objective - objective).abs() < 1e-8,

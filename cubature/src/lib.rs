@@ -2589,19 +2589,13 @@ impl Cubature {
         }
         let weights = self.posterior.get(j).copied().flatten()?.cosets?;
         let m = self.per_replicate as usize / 3;
-        let column: Vec<f64> = self
-            .values
-            .iter()
-            .skip(j)
-            .step_by(self.k)
-            .copied()
-            .collect();
+        let column = self.values.iter().skip(j).step_by(self.k);
         (column.len() == 3 * m).then(|| {
-            column
-                .chunks_exact(m)
+            (0..3)
                 .zip(weights)
-                .map(|(coset, w)| {
-                    w * coset.iter().map(|v| libm::scalbn(*v, -shift)).sum::<f64>() / m as f64
+                .map(|(a, w)| {
+                    let coset = column.clone().skip(a * m).take(m);
+                    w * coset.map(|v| libm::scalbn(*v, -shift)).sum::<f64>() / m as f64
                 })
                 .sum()
         })

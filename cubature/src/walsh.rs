@@ -20,8 +20,6 @@
 //! doubling past a net is three cosets of the net of half its points, whose posterior is
 //! a 3×3 solve per Walsh frequency ([`crate::cosets`], results/quad/short-bayes).
 
-use rustfft::num_complex::Complex;
-
 use crate::cosets::{self, Block, CosetFit};
 use crate::posterior::{brent_minimum, LogProduct, Posterior, LN_THETA, LN_THETA_TOL, TINY};
 
@@ -147,8 +145,25 @@ fn kernel_column(table: &[f64], lengths: &[u8], d: usize, column: &mut [f64]) ->
         .par_chunks_mut(CHUNK)
         .zip(lengths.par_chunks(CHUNK * d))
         .map(|(out, rows)| {
-            let mut largest = 0.0f64;
-            for (o, row) in out.iter_mut().zip(rows.chunks_exact(d)) {
+            let (mut largest, len) = (0.0f64, out.len());
+            // Each entry is a chain of d dependent steps, which one entry at a time
+            // leaves waiting on the last; LANES entries side by side overlap their
+            // chains, each entry's steps the same and in the same order (the same bits).
+            let mut blocks = out.chunks_exact_mut(LANES);
+            for (block, rows) in blocks.by_ref().zip(rows.chunks_exact(LANES * d)) {
+                let mut k = [0.0; LANES];
+                for j in 0..d {
+                    for (l, k) in k.iter_mut().enumerate() {
+                        *k += table[rows[l * d + j] as usize] * (1.0 + *k);
+                    }
+                }
+                for (o, k) in block.iter_mut().zip(k) {
+                    *o = k;
+                    largest = largest.max(k.abs());
+                }
+            }
+            let done = len - blocks.into_remainder().len();
+            for (o, row) in out[done..].iter_mut().zip(rows[done * d..].chunks_exact(d)) {
                 let mut k = 0.0;
                 for &b in row {
                     k += table[b as usize] * (1.0 + k);
@@ -160,6 +175,9 @@ fn kernel_column(table: &[f64], lengths: &[u8], d: usize, column: &mut [f64]) ->
         })
         .reduce(|| 0.0, f64::max)
 }
+
+/// Entries of the kernel's column built side by side ([`kernel_column`]).
+const LANES: usize = 8;
 
 /// The fit at scale c = θ·[`SCALE`] of values whose squared transform is `power`, the
 /// points' `lengths` ([`digit_lengths`], d per point); `column` and `lambda` are n-long
@@ -282,15 +300,7 @@ struct Cosets {
 impl Cosets {
     fn new(y: &[f64]) -> Cosets {
         let m = y.len() / 3;
-        let mean = y.iter().sum::<f64>() / y.len() as f64;
-        let transformed = y
-            .chunks_exact(m)
-            .map(|coset| {
-                let mut t: Vec<f64> = coset.iter().map(|v| v - mean).collect();
-                fwht(&mut t);
-                t
-            })
-            .collect();
+        let transformed = cosets::centred_transforms(y, m, |v| v, fwht);
         Cosets { transformed, m }
     }
 }
@@ -336,14 +346,12 @@ fn coset_fit_at(
         .max(3.0 * m as f64 / factor + buf[0][0].abs());
     let floor = TINY * top;
     let buf = &*buf;
+    // The blocks are real: a Walsh transform of a real column is real.
     let block_at = |k: usize| {
-        let a: [[Complex<f64>; 3]; 3] =
-            std::array::from_fn(|i| std::array::from_fn(|j| Complex::new(buf[i ^ j][k], 0.0)));
+        let a: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| buf[i ^ j][k]));
         Block::new(&a, floor)
     };
-    let values_at = |k: usize| -> [Complex<f64>; 3] {
-        std::array::from_fn(|a| Complex::new(cosets.transformed[a][k], 0.0))
-    };
+    let values_at = |k: usize| -> [f64; 3] { std::array::from_fn(|a| cosets.transformed[a][k]) };
     let ring: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| buf[i ^ j][0]));
     cosets::fit_over_frequencies(m, factor, floor, &ring, block_at, values_at)
 }
