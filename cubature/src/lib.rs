@@ -933,9 +933,10 @@ pub struct Cubature {
     /// whatever reads the interval fits the values as they are.
     #[serde(default)]
     posterior_pending: bool,
-    /// Under [`Rule::BayesNet`], what its kernel reads of the points fitted so far
-    /// ([`walsh::digit_lengths`]), kept so that a doubling adds its new half only; not
-    /// saved (a state read back remakes it from the seed).
+    /// Under [`Rule::BayesNet`], what its kernel reads of the points handed out or fitted
+    /// so far ([`walsh::digit_lengths`]), kept as the batches come
+    /// ([`Cubature::keep_net_lengths`]) so that a fit makes no point again; not saved (a
+    /// state read back remakes it from the seed).
     #[serde(skip)]
     net_lengths: NetLengths,
 }
@@ -1508,8 +1509,39 @@ impl Cubature {
             };
         }
         let mut data = self.unit_batch();
+        self.keep_net_lengths(&data);
         self.to_box(&mut data);
         Some(PointSet::new(data.len() / self.d, self.d, data).expect("non-empty batch"))
+    }
+
+    /// Under [`Rule::BayesNet`], adds the batch's points `unit` to what its kernel reads
+    /// ([`Cubature::net_lengths`]) when they are the sequence's next ones after those it
+    /// holds, so that the fit reads them rather than making the points again from the
+    /// seed (the scramble is most of the points' cost); a batch asked for again, or
+    /// points past a gap, are left to [`Cubature::extend_net_lengths`].
+    fn keep_net_lengths(&mut self, unit: &[f64]) {
+        let (reps, start) = self.pending_replicates();
+        if self.options.rule != Rule::BayesNet
+            || reps != (0..1)
+            || self.halved
+            || self.tail_mapped()
+        {
+            return;
+        }
+        let (d, seed) = (self.d, self.options.seed);
+        let from = start as usize + self.batch().0;
+        if self.net_lengths.0.len() != from * d {
+            return;
+        }
+        let mut first = vec![0.0; d];
+        if from == 0 {
+            first.copy_from_slice(&unit[..d]);
+        } else {
+            Rule::BayesNet.fill_replicates(d, seed, SOBOL_KEY, 0..1, 0, &mut first);
+        }
+        self.net_lengths
+            .0
+            .extend(walsh::digit_lengths(unit, &first));
     }
 
     /// The pending batch's points in the unit cube (through the tail map where it is
@@ -5974,7 +6006,7 @@ mod tests {
             QuadOptions,
             fn(&QuadResult) -> bool,
         );
-        let cases: [Case; 5] = [
+        let cases: [Case; 7] = [
             // The tent lattice after the face test.
             (exp_sum, 3, o(1e-9, 1 << 16, Rule::FaceTest, false), |r| {
                 r.rule == Rule::TentLattice
@@ -5995,10 +6027,22 @@ mod tests {
             (exp_sum, 3, o(1e-15, 3500, Rule::TentLattice, true), |r| {
                 r.replicates > 4
             }),
+            // The Bayesian net, whose kernel reads the batches' points as they come.
+            (exp_sum, 3, o(1e-15, 1 << 12, Rule::BayesNet, true), |r| {
+                r.rule == Rule::BayesNet && r.state.per_replicate() == 1 << 12
+            }),
+            // The same where the budget leaves half a doubling.
+            (exp_sum, 3, o(1e-15, 3 << 10, Rule::BayesNet, true), |r| {
+                r.rule == Rule::BayesNet && r.state.per_replicate() == 3 << 10
+            }),
         ];
         for (f, d, opts, made) in cases {
             let (whole, all) = run_in_batches(f, d, &opts, None);
             assert!(made(&whole), "{opts:?}: {whole:?}");
+            // What the net's kernel kept of the points handed out is what the seed makes.
+            let mut remade = Vec::new();
+            whole.state.extend_net_lengths(&mut remade);
+            assert_eq!(whole.state.net_lengths.0, remade, "{opts:?}");
             let (mut cut, batches) = run_in_batches(f, d, &opts, Some(7));
             cut.state.most_coordinates = BATCH_COORDINATES;
             assert!(batches.len() > 4 * all.len(), "{opts:?}");
